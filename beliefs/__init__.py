@@ -1,0 +1,28 @@
+"""The belief management system (paper section 5): language, memory, updaters."""
+
+from .errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
+from .expression import Comparison, Conjunction, Goal, Negation
+from .memory import BeliefChange, BeliefMemory
+from .parser import parse_belief, parse_expression, parse_term
+from .terms import ListTerm, Struct, Var, format_term, term, to_python
+
+__all__ = [
+    "BeliefChange",
+    "BeliefMemory",
+    "BeliefError",
+    "BeliefSyntaxError",
+    "UnknownPredicateError",
+    "Comparison",
+    "Conjunction",
+    "Goal",
+    "Negation",
+    "ListTerm",
+    "Struct",
+    "Var",
+    "format_term",
+    "parse_belief",
+    "parse_expression",
+    "parse_term",
+    "term",
+    "to_python",
+]

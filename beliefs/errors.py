@@ -1,0 +1,38 @@
+"""Errors of the belief language, in the paper's wording (Table 1, WRONG_FORMAT)."""
+
+from __future__ import annotations
+
+
+class BeliefError(ValueError):
+    """A belief expression the memory cannot accept; ``kind`` is the paper's error type."""
+
+    kind = "WRONG_FORMAT"
+
+    def __init__(self, message: str, expression: str = "") -> None:
+        super().__init__(message)
+        self.message = message
+        self.expression = expression
+
+
+class BeliefSyntaxError(BeliefError):
+    """The text is not a belief expression: says where and what was expected."""
+
+    def __init__(self, expression: str, detail: str = "", column: int | None = None) -> None:
+        shown = expression if len(expression) <= 120 else expression[:117] + "..."
+        message = f"The format of the belief expression {shown} is not correct"
+        if detail:
+            message += f" ({detail})"
+        super().__init__(message, expression)
+        self.detail = detail
+        self.column = column
+
+
+class UnknownPredicateError(BeliefError):
+    """The expression uses a predicate outside the declared vocabulary."""
+
+    def __init__(self, predicate: str, expression: str, detail: str = "") -> None:
+        message = f"The predicate {predicate} of the belief expression {expression} does not exist"
+        if detail:
+            message += f" ({detail})"
+        super().__init__(message, expression)
+        self.predicate = predicate

@@ -1,0 +1,326 @@
+"""The belief memory (paper section 5.1): add, remove and consult symbolic beliefs.
+
+Beliefs are ground terms such as ``charge(battery, 80)``. The memory keeps them
+consistent (adding a value of a mutually exclusive predicate retracts the old
+one), forgets beliefs whose persistence has run out, answers belief expressions
+by unification through its indexes, and tells listeners of every change. It is
+not thread-safe: the engine serializes access to it on its own loop.
+"""
+
+from __future__ import annotations
+
+import heapq
+import logging
+import time
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, Iterator, Mapping
+
+from .errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
+from .expression import BUILTIN_PREDICATES, Conjunction, Goal
+from .parser import parse_belief, parse_expression
+from .query import CompiledQuery
+from .relation import Relation, Relations
+from .steps import FactStep
+from .terms import Struct, Var, format_term, from_python
+
+log = logging.getLogger(__name__)
+
+Expression = str | Conjunction | Struct
+
+
+@dataclass(frozen=True, slots=True)
+class BeliefChange:
+    """One change of the memory: ``kind`` is "added" or "removed".
+
+    ``reason`` says why: "add", "remove", "replaced" (retracted by an exclusive
+    value), "expired" (its persistence ran out) or "clear".
+    """
+
+    kind: str
+    belief: Struct
+    reason: str
+    time: float
+
+    def __str__(self) -> str:
+        sign = "+" if self.kind == "added" else "-"
+        return f"{sign}{format_term(self.belief)} ({self.reason})"
+
+
+class BeliefMemory:
+    """An indexed memory of beliefs answering belief expressions by unification.
+
+    ``multivalued`` names predicates whose values are not mutually exclusive;
+    ``persistence`` maps a predicate to its lifetime in seconds (permanent
+    otherwise), measured on ``clock`` (a callable or an object with ``now()``);
+    ``predicates`` declares the vocabulary (name -> arity): once declared, an
+    expression using an unknown predicate is refused.
+    """
+
+    def __init__(
+        self,
+        multivalued: Iterable[str] = (),
+        persistence: Mapping[str, float] | None = None,
+        clock: Any = None,
+        predicates: Mapping[str, int] | None = None,
+    ) -> None:
+        self._relations = Relations()
+        self._multivalued = set(multivalued)
+        self._persistence: dict[str, float] = dict(persistence or {})
+        if clock is None:
+            clock = time.monotonic
+        self._now: Callable[[], float] = clock.now if hasattr(clock, "now") else clock
+        self._vocabulary: dict[str, int] = dict(predicates or {})
+        self._computed: dict[tuple[str, int], tuple[Callable, int]] = {}
+        self._queries: dict[Any, CompiledQuery] = {}
+        self._listeners: list[Callable[[BeliefChange], None]] = []
+        self._expiry: dict[tuple, float] = {}
+        self._heap: list[tuple[float, int, tuple, tuple]] = []
+        self._sequence = 0
+
+    # -- configuration ------------------------------------------------------------
+    def declare(
+        self,
+        name: str,
+        arity: int,
+        multivalued: bool = False,
+        persistence: float | None = None,
+    ) -> None:
+        """Add a predicate to the vocabulary, with its exclusivity and persistence."""
+        self._vocabulary[name] = arity
+        if multivalued:
+            self._multivalued.add(name)
+        if persistence is not None:
+            self._persistence[name] = float(persistence)
+        self._queries.clear()
+
+    def register(self, name: str, arity: int, function: Callable, inputs: int | None = None) -> None:
+        """Answer ``name/arity`` with ``function`` instead of stored beliefs.
+
+        The first ``inputs`` arguments (default: all but the last) must be bound when
+        the goal is reached; the function receives their values and returns ``None``
+        for no solution, or the value (a tuple for several) of the remaining arguments.
+        """
+        inputs = arity - 1 if inputs is None else inputs
+        if not 0 <= inputs <= arity:
+            raise ValueError(f"{name}/{arity} cannot have {inputs} input arguments")
+        self._computed[(name, arity)] = (function, inputs)
+        self._queries.clear()
+
+    def subscribe(self, listener: Callable[[BeliefChange], None]) -> Callable[[], None]:
+        """Call ``listener`` with every :class:`BeliefChange`; returns an unsubscribe function."""
+        self._listeners.append(listener)
+        return lambda: self._listeners.remove(listener) if listener in self._listeners else None
+
+    # -- changes ------------------------------------------------------------------
+    def add(self, belief: str | Struct) -> bool:
+        """Add a ground belief; returns False when it was already there (its lifetime renews)."""
+        if type(belief) is not Struct:
+            belief = self._parse_belief(belief)
+        if self._heap:
+            self._expire_due()
+        args = belief.args
+        signature = (belief.name, len(args))
+        rel = self._relations.get(signature)
+        if rel is None:
+            rel = self._new_relation(belief)
+        ttl = self._persistence.get(signature[0]) if self._persistence else None
+        if ttl is not None:
+            self._schedule(signature, args, ttl)
+        if args in rel.rows:
+            return False
+        displaced = rel.insert(args)
+        if displaced is None:
+            size = len(rel.rows)
+            if not size & (size - 1):
+                self._relations.epoch += 1
+        else:
+            if self._expiry:
+                self._expiry.pop((signature, displaced), None)
+            if self._listeners:
+                self._notify("removed", Struct(signature[0], displaced), "replaced")
+        if self._listeners:
+            self._notify("added", belief, "add")
+        return True
+
+    def add_all(self, beliefs: Iterable[str | Struct]) -> int:
+        """Add many beliefs; returns how many were new."""
+        return sum(1 for b in beliefs if self.add(b))
+
+    def remove(self, pattern: str | Struct) -> int:
+        """Remove every belief matching ``pattern`` (variables allowed); returns how many."""
+        goal = pattern if type(pattern) is Struct else self._parse_goal(pattern)
+        if self._heap:
+            self._expire_due()
+        rel = self._relations.get(goal.signature)
+        if rel is None:
+            return 0
+        rows = FactStep(goal, rel.by_key is not None).matching_rows(rel, {})
+        for args in rows:
+            self._delete(goal.signature, rel, args, "remove")
+        return len(rows)
+
+    def clear(self) -> None:
+        """Forget every belief."""
+        for signature, rel in list(self._relations.items()):
+            for args in list(rel.rows):
+                self._delete(signature, rel, args, "clear")
+
+    # -- consulting ---------------------------------------------------------------
+    def query(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> dict | None:
+        """The first unification as ``{"?X": value}``; ``{}`` if a ground expression holds; None.
+
+        ``bindings`` gives values to variables before solving (``{"?Y": (1, 2, 3)}``).
+        """
+        if self._heap:
+            self._expire_due()
+        compiled = self._queries.get(expression)
+        if compiled is None:
+            compiled = self._compile(expression)
+        return compiled.first(self._relations, self._bind(compiled, bindings) if bindings else None)
+
+    def query_all(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> list[dict]:
+        """Every unification of the expression, as a list of ``{"?X": value}`` dictionaries."""
+        if self._heap:
+            self._expire_due()
+        compiled = self._queries.get(expression)
+        if compiled is None:
+            compiled = self._compile(expression)
+        return compiled.all(self._relations, self._bind(compiled, bindings) if bindings else None)
+
+    def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
+        """True when the expression has at least one unification."""
+        return self.query(expression, bindings) is not None
+
+    def consult(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> tuple[bool, dict]:
+        """The paper's ``consultBelief``: ``(success, unification)`` of the first solution."""
+        found = self.query(expression, bindings)
+        return (found is not None, found or {})
+
+    def check(self, expression: str | Conjunction) -> Conjunction:
+        """Parse an expression and check its predicates against the vocabulary, without solving."""
+        conjunction = expression if type(expression) is Conjunction else parse_expression(expression)
+        self._check_vocabulary(conjunction)
+        return conjunction
+
+    # -- inspection ---------------------------------------------------------------
+    def __len__(self) -> int:
+        if self._heap:
+            self._expire_due()
+        return sum(len(r.rows) for r in self._relations.values())
+
+    def __iter__(self) -> Iterator[Struct]:
+        if self._heap:
+            self._expire_due()
+        for (name, _), rel in sorted(self._relations.items()):
+            for args in sorted(rel.rows, key=format_term):
+                yield Struct(name, args)
+
+    def __contains__(self, belief: str | Struct) -> bool:
+        if type(belief) is not Struct:
+            belief = self._parse_belief(belief)
+        return self.holds(belief)
+
+    def beliefs(self, predicate: str | None = None) -> list[Struct]:
+        """The stored beliefs (of one predicate, if named), in a stable order."""
+        return [b for b in self if predicate is None or b.name == predicate]
+
+    # -- internals ----------------------------------------------------------------
+    def _compile(self, expression: Expression) -> CompiledQuery:
+        if type(expression) is Struct:
+            conjunction = Conjunction((Goal(expression),), format_term(expression))
+        elif type(expression) is Conjunction:
+            conjunction = expression
+        elif isinstance(expression, str):
+            conjunction = parse_expression(expression)
+        else:
+            raise BeliefSyntaxError(repr(expression), "a belief expression is text")
+        self._check_vocabulary(conjunction)
+        compiled = CompiledQuery(conjunction, self._is_exclusive, self._computed)
+        if len(self._queries) > 4096:
+            self._queries.clear()
+        self._queries[expression] = compiled
+        return compiled
+
+    def _bind(self, compiled: CompiledQuery, bindings: Mapping[str, Any]) -> dict:
+        return {Var(name): from_python(value) for name, value in bindings.items()}
+
+    def _is_exclusive(self, name: str) -> bool:
+        return name not in self._multivalued
+
+    def _check_vocabulary(self, conjunction: Conjunction) -> None:
+        if not self._vocabulary:
+            return
+        for name, arity in conjunction.predicates:
+            if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
+                continue
+            declared = self._vocabulary.get(name)
+            if declared is None:
+                raise UnknownPredicateError(name, conjunction.text or str(conjunction))
+            if declared != arity:
+                raise UnknownPredicateError(
+                    f"{name}/{arity}",
+                    conjunction.text or str(conjunction),
+                    f"{name} takes {declared} argument{'s' if declared != 1 else ''}",
+                )
+
+    def _parse_belief(self, text: Any) -> Struct:
+        if not isinstance(text, str):
+            raise BeliefSyntaxError(repr(text), "a belief is text or a term")
+        belief = parse_belief(text)
+        self._check_vocabulary(Conjunction((Goal(belief),), text))
+        return belief
+
+    def _parse_goal(self, text: Any) -> Struct:
+        if not isinstance(text, str):
+            raise BeliefSyntaxError(repr(text), "a belief pattern is text or a term")
+        expr = parse_expression(text)
+        if len(expr.literals) != 1 or type(expr.literals[0]) is not Goal:
+            raise BeliefSyntaxError(text, "expected a single predicate such as visible(?X)")
+        self._check_vocabulary(expr)
+        return expr.literals[0].term
+
+    def _new_relation(self, belief: Struct) -> Relation:
+        name, arity = belief.signature
+        if self._vocabulary:
+            self._check_vocabulary(Conjunction((Goal(belief),), format_term(belief)))
+        if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
+            raise BeliefError(f"{name} is computed by the engine and cannot be stored as a belief")
+        rel = Relation(name, arity, self._is_exclusive(name))
+        self._relations[(name, arity)] = rel
+        self._relations.epoch += 1
+        return rel
+
+    def _delete(self, signature: tuple, rel: Relation, args: tuple, reason: str) -> None:
+        rel.delete(args)
+        self._relations.resized(rel)
+        self._expiry.pop((signature, args), None)
+        if self._listeners:
+            self._notify("removed", Struct(signature[0], args), reason)
+
+    def _notify(self, kind: str, belief: Struct, reason: str) -> None:
+        change = BeliefChange(kind, belief, reason, self._now())
+        for listener in list(self._listeners):
+            try:
+                listener(change)
+            except Exception:  # a faulty listener must not corrupt the memory
+                log.exception("belief listener %r failed on %s", listener, change)
+
+    def _schedule(self, signature: tuple, args: tuple, ttl: float) -> None:
+        due = self._now() + ttl
+        self._expiry[(signature, args)] = due
+        self._sequence += 1
+        heapq.heappush(self._heap, (due, self._sequence, signature, args))
+
+    def _expire_due(self) -> None:
+        now = self._now()
+        heap = self._heap
+        while heap and heap[0][0] <= now:
+            due, _, signature, args = heapq.heappop(heap)
+            if self._expiry.get((signature, args)) != due:
+                continue  # renewed or already removed
+            rel = self._relations.get(signature)
+            if rel is not None and args in rel.rows:
+                self._delete(signature, rel, args, "expired")
+            else:
+                self._expiry.pop((signature, args), None)
+

@@ -1,0 +1,248 @@
+"""Parse belief expressions with Lark from ``grammar/beliefs.lark``, caching the results."""
+
+from __future__ import annotations
+
+import ast
+import re
+import threading
+from functools import lru_cache
+from importlib import resources
+
+from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
+from lark.exceptions import UnexpectedToken, VisitError
+
+from .errors import BeliefSyntaxError
+from .expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
+from .terms import ListTerm, Struct, Var, format_term, is_ground
+
+__all__ = ["parse_expression", "parse_belief", "parse_term"]
+
+#: Longest expression accepted; longer text is refused before parsing.
+MAX_EXPRESSION_LENGTH = 200_000
+
+_TERMINAL_NAMES = {
+    "NAME": "a name",
+    "VARIABLE": "a variable",
+    "NUMBER": "a number",
+    "STRING": "a quoted string",
+    "COMPARATOR": "a comparison (< > <= >= = !=)",
+    "LPAR": "'('",
+    "RPAR": "')'",
+    "LSQB": "'['",
+    "RSQB": "']'",
+    "COMMA": "','",
+    "$END": "the end of the expression",
+}
+
+
+class _Build(Transformer):
+    """Turns parse-tree nodes into terms and literals as the LALR parser reduces them."""
+
+    def start(self, items):
+        return [_as_literal(item) for item in items]
+
+    def comparison(self, items):
+        left, op, right = items
+        return Comparison(str(op), left, right)
+
+    def compound(self, items):
+        name, *args = items
+        if args == [None]:
+            args = []
+        if str(name) == "not":
+            if not args:
+                raise _Invalid("not() needs a belief expression inside")
+            return Negation(Conjunction(tuple(_as_literal(a) for a in args)))
+        for a in args:
+            if type(a) in (Comparison, Negation):
+                raise _Invalid(f"{a} can only stand at the top of an expression or inside not()")
+        return Struct(str(name), tuple(args))
+
+    def tuple(self, items):
+        return tuple(i for i in items if i is not None)
+
+    def list(self, items):
+        return ListTerm(i for i in items if i is not None)
+
+    def atom(self, items):
+        return str(items[0])
+
+    def number(self, items):
+        text = str(items[0])
+        if any(c in text for c in ".eE"):
+            return float(text)
+        return int(text)
+
+    def string(self, items):
+        return ast.literal_eval(str(items[0]))
+
+    def var(self, items):
+        return Var(str(items[0]))
+
+
+class _Invalid(Exception):
+    """Raised inside the transformer for a well-formed parse that is not a valid expression."""
+
+
+def _as_literal(item):
+    if type(item) in (Comparison, Negation):
+        return item
+    if type(item) is Struct:
+        return Goal(item)
+    if type(item) is str:  # a proposition such as `hovering`
+        return Goal(Struct(item, ()))
+    raise _Invalid(f"{format_term(item)} is not a predicate")
+
+
+@lru_cache(maxsize=1)
+def _parser() -> tuple[Lark, threading.Lock]:
+    grammar = resources.files("aeroexec.grammar").joinpath("beliefs.lark").read_text()
+    parser = Lark(grammar, parser="lalr", transformer=_Build(), maybe_placeholders=True)
+    return parser, threading.Lock()
+
+
+def _describe(expected) -> str:
+    names = sorted({_TERMINAL_NAMES.get(t, t) for t in expected})
+    if not names:
+        return ""
+    if len(names) == 1:
+        return names[0]
+    return ", ".join(names[:-1]) + " or " + names[-1]
+
+
+def _exact_expected(exc: UnexpectedInput) -> set[str] | None:
+    """The terminals the parser would really accept here (LALR's own list over-approximates)."""
+    if not isinstance(exc, UnexpectedToken) or exc.interactive_parser is None:
+        return None
+    try:
+        return set(exc.interactive_parser.accepts())
+    except Exception:  # accepts() replays the parser; any failure just means "no better list"
+        return None
+
+
+def _syntax_error(text: str, exc: UnexpectedInput) -> BeliefSyntaxError:
+    column = getattr(exc, "column", None)
+    if isinstance(exc, UnexpectedEOF) or (
+        isinstance(exc, UnexpectedToken) and exc.token.type == "$END"
+    ):
+        detail = "the expression ends too early"
+    elif isinstance(exc, UnexpectedToken):
+        detail = f"unexpected {str(exc.token)!r} at column {column}"
+    elif isinstance(exc, UnexpectedCharacters):
+        detail = f"unexpected {text[exc.pos_in_stream]!r} at column {column}"
+    else:
+        detail = f"at column {column}"
+    expected = _exact_expected(exc) or getattr(exc, "expected", None) or getattr(exc, "allowed", None)
+    if expected:
+        detail += f"; expected {_describe(expected)}"
+    return BeliefSyntaxError(text, detail, column)
+
+
+@lru_cache(maxsize=8192)
+def parse_expression(text: str) -> Conjunction:
+    """Parse a belief expression (a conjunction); raises :class:`BeliefSyntaxError`.
+
+    Results are cached: parsing the same text again costs a dictionary look-up.
+    """
+    if not isinstance(text, str):
+        raise BeliefSyntaxError(repr(text), "a belief expression is text")
+    stripped = text.strip()
+    if not stripped:
+        raise BeliefSyntaxError(text, "the expression is empty")
+    if len(stripped) > MAX_EXPRESSION_LENGTH:
+        raise BeliefSyntaxError(
+            text, f"{len(stripped)} characters is longer than {MAX_EXPRESSION_LENGTH}"
+        )
+    parser, lock = _parser()
+    try:
+        with lock:  # a Lark parser with an inline transformer is not re-entrant
+            literals = parser.parse(stripped)
+    except UnexpectedInput as exc:
+        raise _syntax_error(text, exc) from None
+    except VisitError as exc:
+        detail = str(exc.orig_exc) if isinstance(exc.orig_exc, _Invalid) else "not a term"
+        raise BeliefSyntaxError(text, detail) from None
+    except _Invalid as exc:
+        raise BeliefSyntaxError(text, str(exc)) from None
+    except RecursionError:
+        raise BeliefSyntaxError(text, "the expression is nested too deeply") from None
+    for lit in literals:
+        if type(lit) is Comparison and lit.op not in COMPARISON_OPERATORS:
+            raise BeliefSyntaxError(text, f"unknown comparison {lit.op}")
+    return Conjunction(tuple(literals), text)
+
+
+@lru_cache(maxsize=1)
+def _flat_fact() -> tuple[re.Pattern, re.Pattern, re.Pattern]:
+    """Regexes for a flat ground fact, made of the grammar's own terminals.
+
+    Loading beliefs from text is dominated by Lark's per-call overhead, so facts
+    whose arguments are names, numbers, strings, or tuples and lists of those
+    (``position(o1, (1.0, 2.5, -3))``) are read with these instead; anything else
+    goes through Lark. Tests check that both readings agree.
+    """
+    parser, _ = _parser()
+    terminal = {t.name: t.pattern.to_regexp() for t in parser.terminals}
+    scalar = f"(?:{terminal['NUMBER']})|(?:{terminal['STRING']})|(?:{terminal['NAME']})"
+    scalars = rf"(?:{scalar})(?:\s*,\s*(?:{scalar}))*"
+    group = rf"\(\s*(?:{scalars}\s*,?\s*)?\)|\[\s*(?:{scalars}\s*)?\]"
+    argument = rf"{scalar}|{group}"
+    whole = re.compile(
+        rf"\s*({terminal['NAME']})\s*\(\s*((?:{argument})(?:\s*,\s*(?:{argument}))*)\s*\)\s*"
+    )
+    item = re.compile(
+        rf"(?P<number>{terminal['NUMBER']})|(?P<string>{terminal['STRING']})"
+        rf"|(?P<name>{terminal['NAME']})|(?P<tuple>\((?:[^()\"']|{terminal['STRING']})*\))"
+        rf"|(?P<list>\[(?:[^\[\]\"']|{terminal['STRING']})*\])"
+    )
+    return whole, item, re.compile(scalar)
+
+
+def _read_items(text: str, item: re.Pattern) -> list:
+    values = []
+    for token in item.finditer(text):
+        kind = token.lastgroup
+        value = token.group(kind)
+        if kind == "name":
+            values.append(value)
+        elif kind == "number":
+            values.append(float(value) if "." in value or "e" in value or "E" in value else int(value))
+        elif kind == "string":
+            values.append(ast.literal_eval(value))
+        elif kind == "tuple":
+            values.append(tuple(_read_items(value[1:-1], item)))
+        else:
+            values.append(ListTerm(_read_items(value[1:-1], item)))
+    return values
+
+
+def _read_flat(text: str) -> Struct | None:
+    whole, item, _ = _flat_fact()
+    found = whole.fullmatch(text)
+    if found is None or found.group(1) == "not":
+        return None
+    return Struct(found.group(1), tuple(_read_items(found.group(2), item)))
+
+
+def parse_belief(text: str) -> Struct:
+    """Parse one ground belief such as ``charge(battery, 80)``."""
+    if isinstance(text, str) and len(text) < 1000:
+        flat = _read_flat(text)
+        if flat is not None:
+            return flat
+    expr = parse_expression(text)
+    if len(expr.literals) != 1 or type(expr.literals[0]) is not Goal:
+        raise BeliefSyntaxError(text, "a belief is a single predicate such as charge(battery, 80)")
+    belief = expr.literals[0].term
+    if not is_ground(belief):
+        raise BeliefSyntaxError(text, "a belief cannot hold variables")
+    return belief
+
+
+def parse_term(text: str):
+    """Parse a single term (a value), such as ``(1.0, 2.5, -3)`` or ``[a, b]``."""
+    expr = parse_expression(f"value({text})")
+    goal = expr.literals[0]
+    if len(expr.literals) != 1 or type(goal) is not Goal or len(goal.term.args) != 1:
+        raise BeliefSyntaxError(text, "expected a single value")
+    return goal.term.args[0]

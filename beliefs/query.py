@@ -1,0 +1,225 @@
+"""Compiled belief queries: plan the order of a conjunction's goals, then solve it.
+
+The planner orders goals so that each step touches as few beliefs as the indexes
+predict (not left to right): filters run as soon as their variables are bound,
+and the stored goal with the smallest expected answer comes next. Plans are cached
+until some relation of the memory doubles or halves in size (the memory's epoch). Asking for every
+solution joins goals that share a single variable by intersecting cached sets.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Iterator
+
+from .expression import Comparison, Conjunction, Goal, Negation, literal_variables
+from .steps import (
+    NUMERIC_ORDER_OPS,
+    BelongStep,
+    ComparisonStep,
+    ComputedStep,
+    FactStep,
+    NegationStep,
+)
+from .terms import Var, to_python, variables
+
+_FLIP = {"<": ">", ">": "<", "<=": ">=", ">=": "<="}
+
+
+class CompiledQuery:
+    """A conjunction compiled against a memory's vocabulary; reusable across calls."""
+
+    def __init__(
+        self,
+        conjunction: Conjunction,
+        exclusive: Callable[[str], bool],
+        computed: dict,
+        outer_vars: frozenset = frozenset(),
+    ) -> None:
+        self.text = conjunction.text or str(conjunction)
+        self.names: tuple[Var, ...] = conjunction.variables
+        literals = conjunction.literals
+        all_vars = frozenset(v for lit in literals for v in literal_variables(lit))
+        self.vars = all_vars
+        self.steps: list = []
+        for i, lit in enumerate(literals):
+            others = frozenset(
+                v for j, o in enumerate(literals) if j != i for v in literal_variables(o)
+            )
+            self.steps.append(_compile(lit, exclusive, computed, others | outer_vars))
+        self.ranges = _ranges(self.steps)
+        self.signatures = tuple({s.signature for s in self.steps if type(s) is FactStep})
+        self._plans: dict = {}
+        only = self.steps[0] if len(self.steps) == 1 else None
+        self._single = only if type(only) is FactStep and not only.nested else None
+        # a single exclusive goal asking for its value, its key given: one dictionary look-up
+        self._keyed = None
+        if self._single is not None and only.exclusive and len(only.simple) == 1:
+            position, var = only.simple[0]
+            if position == len(only.pattern) - 1:
+                self._keyed = (only.pattern[:-1], "" if var.anonymous else var.name)
+
+    # -- planning ---------------------------------------------------------------
+    def plan(self, relations: dict, bindings: dict) -> list:
+        """The steps in execution order for the current statistics of the memory."""
+        epoch = relations.epoch
+        key = (epoch, frozenset(bindings)) if bindings else epoch
+        order = self._plans.get(key)
+        if order is None:
+            order = self._order(relations, bindings)
+            if len(self._plans) > 64:
+                self._plans.clear()
+            self._plans[key] = order
+        return order
+
+    def _order(self, relations: dict, bindings: dict) -> list:
+        bound = set(bindings)
+        remaining = list(self.steps)
+        order = []
+        while remaining:
+            pick = next(
+                (s for s in remaining if type(s) is not FactStep and s.ready(bound)), None
+            )
+            if pick is None:
+                best_cost = None
+                for step in remaining:
+                    if type(step) is FactStep:
+                        cost = step.estimate(relations, bound, bindings, self.ranges)
+                        if best_cost is None or cost < best_cost:
+                            pick, best_cost = step, cost
+            if pick is None:  # only steps whose variables never get bound: they fail
+                return order + remaining
+            order.append(pick)
+            remaining.remove(pick)
+            if type(pick) is not NegationStep:
+                bound |= pick.vars
+        return order
+
+    # -- solving ----------------------------------------------------------------
+    def solutions(self, relations: dict, bindings: dict, first: bool = False) -> Iterator[dict]:
+        """Every unification (as Var -> value dicts) extending ``bindings``."""
+        order = self.plan(relations, bindings)
+        start = 0 if first else _star_length(order, bindings)
+        if start < 2:
+            return _dfs(order, 0, relations, bindings, self.ranges)
+        return self._star(order, start, relations, bindings)
+
+    def _star(self, order: list, length: int, relations: dict, bindings: dict) -> Iterator[dict]:
+        var = order[0].simple[0][1]
+        sets = []
+        for step in order[:length]:
+            rel = relations.get(step.signature)
+            if rel is None:
+                return
+            sets.append(rel.projection(step.constants, step.simple[0][0]))
+        sets.sort(key=len)
+        values = sets[0].intersection(*sets[1:])
+        for value in list(values):
+            extended = dict(bindings)
+            extended[var] = value
+            yield from _dfs(order, length, relations, extended, self.ranges)
+
+    def first(self, relations: dict, bindings: dict | None = None) -> dict | None:
+        """The first unification as ``{"?X": value}``, ``{}`` for a true ground query, or None."""
+        single = self._single
+        if single is not None and not bindings:
+            rel = relations.get(single.signature)
+            if rel is None:
+                return None
+            if not single.simple:
+                return {} if single.pattern in rel.rows else None
+            if self._keyed is not None and rel.by_key is not None:
+                row = rel.by_key.get(self._keyed[0])
+                if row is None:
+                    return None
+                name = self._keyed[1]
+                return {name: to_python(row[-1])} if name else {}
+        for solution in self.solutions(relations, bindings or {}, first=True):
+            return self.result(solution)
+        return None
+
+    def all(self, relations: dict, bindings: dict | None = None) -> list[dict]:
+        """Every unification, as ``{"?X": value}`` dictionaries."""
+        return [self.result(s) for s in self.solutions(relations, bindings or {})]
+
+    def result(self, solution: dict) -> dict:
+        return {v.name: to_python(solution[v]) for v in self.names if v in solution}
+
+
+def _dfs(order: list, i: int, relations: dict, bindings: dict, ranges: dict) -> Iterator[dict]:
+    if i == len(order):
+        yield bindings
+        return
+    step = order[i]
+    if i + 1 == len(order):
+        yield from step.solve(relations, bindings, ranges)
+        return
+    if i + 2 == len(order):
+        last = order[i + 1].solve
+        for extended in step.solve(relations, bindings, ranges):
+            yield from last(relations, extended, ranges)
+        return
+    for extended in step.solve(relations, bindings, ranges):
+        yield from _dfs(order, i + 1, relations, extended, ranges)
+
+
+def _star_length(order: list, bindings: dict) -> int:
+    """How many leading stored goals constrain one same unbound variable and nothing else."""
+    var = None
+    length = 0
+    for step in order:
+        if type(step) is not FactStep or step.nested or len(step.simple) != 1:
+            break
+        candidate = step.simple[0][1]
+        if var is None:
+            if candidate in bindings:
+                break
+            var = candidate
+        elif candidate != var:
+            break
+        length += 1
+    return length
+
+
+def _compile(lit, exclusive: Callable[[str], bool], computed: dict, outer: frozenset):
+    if type(lit) is Goal:
+        goal = lit.term
+        name, arity = goal.signature
+        if (name, arity) in computed:
+            function, inputs = computed[(name, arity)]
+            return ComputedStep(goal, function, inputs)
+        if name == "belong" and arity == 2:
+            return BelongStep(goal.args[0], goal.args[1], frozenset(variables(goal)))
+        if name in ("less_than", "greater_than") and arity == 2:
+            op = "<" if name == "less_than" else ">"
+            return ComparisonStep(op, goal.args[0], goal.args[1], frozenset(variables(goal)))
+        return FactStep(goal, exclusive(name))
+    if type(lit) is Comparison:
+        vars_ = frozenset([*variables(lit.left), *variables(lit.right)])
+        return ComparisonStep(lit.op, lit.left, lit.right, vars_)
+    if type(lit) is Negation:
+        inner = CompiledQuery(lit.body, exclusive, computed, outer)
+        return NegationStep(inner, outer)
+    raise TypeError(f"not a literal: {lit!r}")
+
+
+def _ranges(steps: list) -> dict[Var, Any]:
+    """Numeric bounds that comparisons with constants put on single variables."""
+    ranges: dict[Var, Any] = {}
+    for step in steps:
+        if type(step) is not ComparisonStep or step.op not in NUMERIC_ORDER_OPS:
+            continue
+        op, left, right = step.op, step.left, step.right
+        if type(right) is Var and type(left) in (int, float):
+            op, left, right = _FLIP[op], right, left
+        if type(left) is not Var or type(right) not in (int, float):
+            continue
+        low, high, (low_in, high_in) = ranges.get(left, (None, None, (True, True)))
+        if op in (">", ">=") and (low is None or right >= low):
+            low, low_in = right, op == ">="
+        elif op in ("<", "<=") and (high is None or right <= high):
+            high, high_in = right, op == "<="
+        ranges[left] = (low, high, (low_in, high_in))
+    return ranges
+
+
+__all__ = ["CompiledQuery"]

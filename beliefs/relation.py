@@ -1,0 +1,158 @@
+"""The beliefs of one predicate, indexed by argument value, by key and by numeric order.
+
+A :class:`Relation` holds the argument tuples of every belief ``name(a1, ..., an)``:
+
+- ``rows``: the set of argument tuples (membership of a ground belief in O(1));
+- ``by_pos[p]``: for each position, value -> the rows with that value there (the
+  row itself while it is the only one, a set from the second on);
+- ``by_key``: for mutually exclusive predicates of two or more arguments, the key
+  (all arguments but the last) -> the one row holding it (section 5.1);
+- ``ordered[p]``: built the first time a range is asked of position ``p``, the
+  distinct numeric values there, sorted, and kept up to date afterwards.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Iterable, Iterator
+
+from sortedcontainers import SortedList
+
+
+def is_number(value: Any) -> bool:
+    kind = type(value)
+    return kind is int or kind is float
+
+
+class Relation:
+    """Indexed storage of one predicate's beliefs (a name and an arity)."""
+
+    __slots__ = ("name", "arity", "rows", "by_pos", "by_key", "ordered", "version", "_projections")
+
+    def __init__(self, name: str, arity: int, exclusive: bool) -> None:
+        self.name = name
+        self.arity = arity
+        self.rows: set[tuple] = set()
+        self.by_pos: list[dict[Any, set[tuple]]] = [{} for _ in range(arity)]
+        self.by_key: dict[tuple, tuple] | None = {} if exclusive and arity >= 2 else None
+        self.ordered: dict[int, SortedList] = {}
+        self.version = 0
+        self._projections: dict[tuple, tuple[int, frozenset]] = {}
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def insert(self, args: tuple) -> tuple | None:
+        """Store a row not stored yet; returns the row its key displaced, if exclusive."""
+        displaced = None
+        by_key = self.by_key
+        if by_key is not None:
+            key = args[:-1]
+            displaced = by_key.get(key)
+            if displaced is not None:
+                self.delete(displaced)
+            by_key[key] = args
+        self.rows.add(args)
+        ordered = self.ordered
+        for p, index in enumerate(self.by_pos):
+            value = args[p]
+            bucket = index.get(value)
+            if bucket is None:
+                index[value] = args
+                if ordered and p in ordered and is_number(value):
+                    ordered[p].add(value)
+            elif type(bucket) is set:
+                bucket.add(args)
+            else:
+                index[value] = {bucket, args}
+        self.version += 1
+        return displaced
+
+    def delete(self, args: tuple) -> None:
+        """Forget a stored row."""
+        self.rows.discard(args)
+        ordered = self.ordered
+        for p, index in enumerate(self.by_pos):
+            value = args[p]
+            bucket = index[value]
+            if type(bucket) is set:
+                bucket.discard(args)
+                if len(bucket) == 1:
+                    index[value] = next(iter(bucket))
+            else:
+                del index[value]
+                if ordered and p in ordered and is_number(value):
+                    ordered[p].remove(value)
+        if self.by_key is not None and self.by_key.get(args[:-1]) == args:
+            del self.by_key[args[:-1]]
+        self.version += 1
+
+    def bucket(self, position: int, value: Any) -> Any:
+        """Rows whose argument at ``position`` equals ``value`` (may be empty)."""
+        bucket = self.by_pos[position].get(value)
+        if bucket is None:
+            return _EMPTY
+        return bucket if type(bucket) is set else (bucket,)
+
+    def average_bucket(self, position: int) -> float:
+        """Expected rows per value at ``position``: the planner's guess for an unknown value."""
+        distinct = len(self.by_pos[position])
+        return len(self.rows) / distinct if distinct else 0.0
+
+    def _ordered(self, position: int) -> SortedList:
+        index = self.ordered.get(position)
+        if index is None:
+            index = SortedList(v for v in self.by_pos[position] if is_number(v))
+            self.ordered[position] = index
+        return index
+
+    def count_in_range(self, position: int, low: Any, high: Any, inclusive: tuple) -> int:
+        """How many distinct numeric values at ``position`` lie in the range."""
+        index = self._ordered(position)
+        lo = 0 if low is None else (
+            index.bisect_left(low) if inclusive[0] else index.bisect_right(low)
+        )
+        hi = len(index) if high is None else (
+            index.bisect_right(high) if inclusive[1] else index.bisect_left(high)
+        )
+        return max(0, hi - lo)
+
+    def rows_in_range(self, position: int, low: Any, high: Any, inclusive: tuple) -> Iterator:
+        """Rows whose numeric value at ``position`` lies in the range, from the ordered index."""
+        index = self._ordered(position)
+        for value in list(index.irange(low, high, inclusive)):
+            yield from list(self.bucket(position, value))
+
+    def projection(self, constants: tuple, position: int) -> frozenset:
+        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs).
+
+        Cached until the relation changes, so repeated joins intersect sets at C speed.
+        """
+        key = (constants, position)
+        cached = self._projections.get(key)
+        if cached is not None and cached[0] == self.version:
+            return cached[1]
+        rows: Iterable[tuple] = self.rows
+        if constants:
+            rows = min((self.bucket(p, v) for p, v in constants), key=len)
+            if len(constants) > 1:
+                rows = [r for r in rows if all(r[p] == v for p, v in constants)]
+        values = frozenset(r[position] for r in rows)
+        if len(self._projections) > 256:
+            self._projections.clear()
+        self._projections[key] = (self.version, values)
+        return values
+
+
+class Relations(dict):
+    """The memory's relations by (name, arity), with an ``epoch`` that moves whenever one
+    is created or its size crosses a power of two: cached query plans are keyed on it."""
+
+    epoch: int = 0
+
+    def resized(self, rel: Relation) -> None:
+        size = len(rel.rows)
+        if not size & (size - 1):
+            self.epoch += 1
+
+
+_EMPTY: frozenset = frozenset()

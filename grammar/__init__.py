@@ -1,0 +1,1 @@
+"""The grammar of the belief language (`beliefs.lark`), shipped as package data."""
