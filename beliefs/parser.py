@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import ast
 import re
 import threading
 from functools import lru_cache
@@ -13,7 +12,7 @@ from lark.exceptions import UnexpectedToken, VisitError
 
 from .errors import BeliefSyntaxError
 from .expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
-from .terms import ListTerm, Struct, Var, format_term, is_ground
+from .terms import ListTerm, Struct, Var, format_term, is_ground, unquote
 
 __all__ = ["parse_expression", "parse_belief", "parse_term"]
 
@@ -74,7 +73,7 @@ class _Build(Transformer):
         return int(text)
 
     def string(self, items):
-        return ast.literal_eval(str(items[0]))
+        return unquote(str(items[0]))
 
     def var(self, items):
         return Var(str(items[0]))
@@ -208,7 +207,7 @@ def _read_items(text: str, item: re.Pattern) -> list:
         elif kind == "number":
             values.append(float(value) if "." in value or "e" in value or "E" in value else int(value))
         elif kind == "string":
-            values.append(ast.literal_eval(value))
+            values.append(unquote(value))
         elif kind == "tuple":
             values.append(tuple(_read_items(value[1:-1], item)))
         else:
