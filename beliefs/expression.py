@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Union
+from typing import Any
 
 from .terms import Struct, Var, format_term, variables
 
@@ -39,13 +39,13 @@ class Comparison:
 class Negation:
     """``not(...)``: negation as failure of a conjunction."""
 
-    body: "Conjunction"
+    body: Conjunction
 
     def __str__(self) -> str:
         return f"not({self.body})"
 
 
-Literal = Union[Goal, Comparison, Negation]
+Literal = Goal | Comparison | Negation
 
 
 @dataclass(frozen=True, slots=True)

@@ -12,8 +12,9 @@ from __future__ import annotations
 import heapq
 import logging
 import time
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Iterator, Mapping
+from typing import Any
 
 from .errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
 from .expression import BUILTIN_PREDICATES, Conjunction, Goal

@@ -14,7 +14,7 @@ from .errors import BeliefSyntaxError
 from .expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
 from .terms import ListTerm, Struct, Var, format_term, is_ground, unquote
 
-__all__ = ["parse_expression", "parse_belief", "parse_term"]
+__all__ = ["parse_belief", "parse_expression", "parse_term"]
 
 #: Longest expression accepted; longer text is refused before parsing.
 MAX_EXPRESSION_LENGTH = 200_000

@@ -9,7 +9,8 @@ solution joins goals that share a single variable by intersecting cached sets.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Iterator
+from collections.abc import Callable, Iterator
+from typing import Any
 
 from .expression import Comparison, Conjunction, Goal, Negation, literal_variables
 from .steps import (

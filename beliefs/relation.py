@@ -13,7 +13,8 @@ A :class:`Relation` holds the argument tuples of every belief ``name(a1, ..., an
 
 from __future__ import annotations
 
-from typing import Any, Iterable, Iterator
+from collections.abc import Iterable, Iterator
+from typing import Any
 
 from sortedcontainers import SortedList
 
@@ -26,7 +27,7 @@ def is_number(value: Any) -> bool:
 class Relation:
     """Indexed storage of one predicate's beliefs (a name and an arity)."""
 
-    __slots__ = ("name", "arity", "rows", "by_pos", "by_key", "ordered", "version", "_projections")
+    __slots__ = ("_projections", "arity", "by_key", "by_pos", "name", "ordered", "rows", "version")
 
     def __init__(self, name: str, arity: int, exclusive: bool) -> None:
         self.name = name

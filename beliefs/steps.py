@@ -7,8 +7,9 @@ solutions it will produce (for the planner), and enumerates the extended binding
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any, Callable, Iterator
+from typing import Any
 
 from .relation import Relation, is_number
 from .terms import Struct, Var, from_python, is_ground, match, substitute, variables
@@ -30,8 +31,15 @@ class FactStep:
     """A goal answered from stored beliefs through the relation's indexes."""
 
     __slots__ = (
-        "signature", "pattern", "constants", "simple", "nested", "vars", "exclusive", "flat",
+        "constants",
+        "exclusive",
+        "flat",
+        "nested",
+        "pattern",
+        "signature",
+        "simple",
         "solve",
+        "vars",
     )
 
     needs: frozenset = frozenset()
@@ -93,11 +101,11 @@ class FactStep:
         if len(bound) == len(self.pattern):
             row = tuple(v for _, v in sorted(bound, key=lambda pv: pv[0]))
             return (row,) if row in rel.rows else ()
-        if self.exclusive and len(bound) == len(self.pattern) - 1:
-            if all(p != len(self.pattern) - 1 for p, _ in bound):
-                key = tuple(v for _, v in sorted(bound, key=lambda pv: pv[0]))
-                row = rel.by_key.get(key) if rel.by_key is not None else None
-                return (row,) if row is not None else ()
+        last = len(self.pattern) - 1
+        if self.exclusive and len(bound) == last and all(p != last for p, _ in bound):
+            key = tuple(v for _, v in sorted(bound, key=lambda pv: pv[0]))
+            row = rel.by_key.get(key) if rel.by_key is not None else None
+            return (row,) if row is not None else ()
         if bound:
             return min((rel.bucket(p, v) for p, v in bound), key=len)
         for p, var in self.simple:
@@ -209,9 +217,7 @@ class ComparisonStep:
         right = substitute(self.right, bindings)
         if self.op == "=":
             extended = dict(bindings)
-            if is_ground(right) and match(left, right, extended):
-                yield extended
-            elif is_ground(left) and match(right, left, extended):
+            if is_ground(right) and match(left, right, extended) or is_ground(left) and match(right, left, extended):
                 yield extended
             return
         if not (is_ground(left) and is_ground(right)):
@@ -258,7 +264,7 @@ class ComputedStep:
     a tuple of them.
     """
 
-    __slots__ = ("goal", "function", "inputs", "vars", "needs")
+    __slots__ = ("function", "goal", "inputs", "needs", "vars")
 
     def __init__(self, goal: Struct, function: Callable, inputs: int) -> None:
         self.goal = goal
@@ -290,14 +296,14 @@ class ComputedStep:
             log.error("computed predicate %s returned %r", self.goal.name, result)
             return
         extended = dict(bindings)
-        if all(match(p, from_python(v), extended) for p, v in zip(args[self.inputs:], values)):
+        if all(match(p, from_python(v), extended) for p, v in zip(args[self.inputs:], values, strict=True)):
             yield extended
 
 
 class NegationStep:
     """``not(...)``: succeeds when its body has no solution under the current bindings."""
 
-    __slots__ = ("query", "vars", "needs")
+    __slots__ = ("needs", "query", "vars")
 
     def __init__(self, query: Any, outer_vars: frozenset) -> None:
         self.query = query
@@ -319,4 +325,4 @@ class _Unknown:
 
 _UNKNOWN = _Unknown()
 NUMERIC_ORDER_OPS = frozenset(_NUMERIC_OPS)
-__all__ = ["FactStep", "ComparisonStep", "BelongStep", "ComputedStep", "NegationStep"]
+__all__ = ["BelongStep", "ComparisonStep", "ComputedStep", "FactStep", "NegationStep"]

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import itertools
 import re
-from typing import Any, Iterator
+from collections.abc import Iterator
+from typing import Any
 
 _anonymous_ids = itertools.count()
 
@@ -26,9 +27,9 @@ class Var(str):
     """
 
     __slots__ = ()
-    _interned: dict[str, "Var"] = {}
+    _interned: dict[str, Var] = {}
 
-    def __new__(cls, name: str) -> "Var":
+    def __new__(cls, name: str) -> Var:
         if name == "?":
             return super().__new__(cls, f"?_{next(_anonymous_ids)}")
         known = cls._interned.get(name)
@@ -64,7 +65,7 @@ class ListTerm(tuple):
 class Struct:
     """A compound term ``name(arg, ...)``; beliefs are ground Structs."""
 
-    __slots__ = ("name", "args", "_hash")
+    __slots__ = ("_hash", "args", "name")
 
     def __init__(self, name: str, args: tuple = ()) -> None:
         self.name = name
@@ -191,14 +192,14 @@ def match(pattern: Any, value: Any, bindings: dict) -> bool:
             type(value) is Struct
             and value.name == pattern.name
             and len(value.args) == len(pattern.args)
-            and all(match(p, v, bindings) for p, v in zip(pattern.args, value.args))
+            and all(match(p, v, bindings) for p, v in zip(pattern.args, value.args, strict=False))
         )
     if kind is tuple or kind is ListTerm:
         return (
             isinstance(value, tuple)
             and type(value) is not Struct
             and len(value) == len(pattern)
-            and all(match(p, v, bindings) for p, v in zip(pattern, value))
+            and all(match(p, v, bindings) for p, v in zip(pattern, value, strict=False))
         )
     return pattern == value and _same_kind(pattern, value)
 

@@ -1,8 +1,6 @@
 """The belief language: every expression of the paper parses; bad text gets the paper's error."""
 
 import pytest
-from hypothesis import given, settings, strategies as st
-
 from aeroexec.beliefs import (
     BeliefSyntaxError,
     Comparison,
@@ -17,6 +15,8 @@ from aeroexec.beliefs import (
     parse_term,
 )
 from aeroexec.beliefs.parser import _read_flat
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 # Every belief expression quoted in the paper: section 5.1, Tables 5-7, the
 # catalog's reactive conditions (Figure 6, Appendix B), Table 8 and Figure 10.

@@ -1,7 +1,6 @@
 """The belief memory: unification, exclusivity, persistence, negation, comparisons, listeners."""
 
 import pytest
-
 from aeroexec.beliefs import (
     BeliefError,
     BeliefMemory,
@@ -171,8 +170,8 @@ def test_a_failing_listener_does_not_break_the_memory(caplog):
 def test_computed_predicates():
     m = BeliefMemory()
     m.add("position(self, (0.0, 0.0, 1.0))")
-    m.register("distance", 3, lambda a, b: sum((x - y) ** 2 for x, y in zip(a, b)) ** 0.5)
-    m.register("approximate_travel_time", 3, lambda a, b: sum(abs(x - y) for x, y in zip(a, b)) / 2.0)
+    m.register("distance", 3, lambda a, b: sum((x - y) ** 2 for x, y in zip(a, b, strict=False)) ** 0.5)
+    m.register("approximate_travel_time", 3, lambda a, b: sum(abs(x - y) for x, y in zip(a, b, strict=False)) / 2.0)
     assert m.query("position(self, ?P), distance(?P, (3.0, 4.0, 1.0), ?D)")["?D"] == 5.0
     assert m.holds("position(self, ?P), approximate_travel_time(?P, ?Y, ?T), ?T < 30",
                    {"?Y": (10.0, 0.0, 1.0)})

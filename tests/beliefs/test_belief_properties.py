@@ -1,11 +1,10 @@
 """Property tests: the indexed, reordered evaluation finds exactly what a naive one finds."""
 
-from hypothesis import HealthCheck, given, settings, strategies as st
-
 from aeroexec.beliefs import BeliefMemory, Struct, Var
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation
 from aeroexec.beliefs.terms import from_python
-
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from naive_evaluator import facts_of, solve
 
 PREDICATES = {"p": 2, "q": 2, "r": 1, "s": 3, "m": 2}  # m is multi-valued

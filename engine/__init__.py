@@ -1,0 +1,1 @@
+"""aeroexec.engine"""
