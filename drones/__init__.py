@@ -1,1 +1,23 @@
-"""aeroexec.drones"""
+"""Drones: the drone interface, the simulated drone and world, and the MAVSDK adapter."""
+
+from .interface import (
+    CommandHandle,
+    Drone,
+    DroneEvent,
+    Failure,
+    LandedState,
+    Observation,
+    Telemetry,
+    Vector,
+)
+
+__all__ = [
+    "CommandHandle",
+    "Drone",
+    "DroneEvent",
+    "Failure",
+    "LandedState",
+    "Observation",
+    "Telemetry",
+    "Vector",
+]

@@ -1,0 +1,209 @@
+"""The drone interface: the commands and telemetry every drone implementation serves.
+
+The engine talks to one :class:`Drone`. Two implementations serve it: the
+simulated drone (``aeroexec.drones.sim``, in-process on the engine's clock) and
+the MAVSDK adapter (``aeroexec.drones.mavsdk``). Commands never block the
+engine's tick: each returns a :class:`CommandHandle` that completes when the
+vehicle accepts or refuses the command (not when the manoeuvre ends: behaviors
+watch the telemetry for that).
+
+Frames: positions and velocities are local ENU meters from the home point
+(x east, y north, z up); yaw is in degrees, 0 = east (x), counterclockwise
+positive, in (-180, 180] (ROS REP 103).
+"""
+
+from __future__ import annotations
+
+import abc
+import enum
+import threading
+from dataclasses import dataclass, field
+
+Vector = tuple[float, float, float]
+
+
+class LandedState(enum.Enum):
+    """Where the vehicle is in its flight, as autopilots report it."""
+
+    UNKNOWN = "unknown"
+    ON_GROUND = "on_ground"
+    TAKING_OFF = "taking_off"
+    IN_AIR = "in_air"
+    LANDING = "landing"
+
+
+class Failure(enum.Enum):
+    """Why a command failed."""
+
+    DENIED = "denied"  # the vehicle refused it (not armable, wrong state, out of bounds...)
+    TIMEOUT = "timeout"  # no answer in time
+    LINK_LOST = "link_lost"  # the link to the vehicle is down
+    UNSUPPORTED = "unsupported"  # this vehicle cannot do it
+    CANCELLED = "cancelled"  # superseded or the drone was closed
+
+
+@dataclass(frozen=True, slots=True)
+class Telemetry:
+    """A snapshot of the vehicle's state, readable at any time without blocking."""
+
+    time: float = 0.0  # seconds on the clock of the drone's owner when sampled
+    position: Vector = (0.0, 0.0, 0.0)  # ENU meters from home
+    velocity: Vector = (0.0, 0.0, 0.0)  # ENU m/s
+    yaw: float = 0.0  # degrees, 0 = east, counterclockwise positive
+    battery_percent: float = 100.0  # 0..100
+    battery_voltage: float = 16.8  # volts
+    armed: bool = False
+    landed_state: LandedState = LandedState.UNKNOWN
+    flight_mode: str = "UNKNOWN"  # e.g. HOLD, TAKEOFF, LAND, OFFBOARD, RETURN, MANUAL
+    link_ok: bool = True  # False once the link has been silent for too long
+    home: tuple[float, float, float] | None = None  # latitude, longitude, altitude (m AMSL)
+
+    @property
+    def altitude(self) -> float:
+        return self.position[2]
+
+    @property
+    def speed(self) -> float:
+        vx, vy, vz = self.velocity
+        return (vx * vx + vy * vy + vz * vz) ** 0.5
+
+
+class CommandHandle:
+    """The pending outcome of a command; completed once, from any thread.
+
+    Poll ``done`` from the engine's tick; ``wait`` is for tests and scripts.
+    """
+
+    __slots__ = ("command", "_event", "_failure", "_reason")
+
+    def __init__(self, command: str) -> None:
+        self.command = command
+        self._event = threading.Event()
+        self._failure: Failure | None = None
+        self._reason = ""
+
+    @classmethod
+    def succeeded(cls, command: str) -> CommandHandle:
+        handle = cls(command)
+        handle.succeed()
+        return handle
+
+    @classmethod
+    def failed(cls, command: str, failure: Failure, reason: str) -> CommandHandle:
+        handle = cls(command)
+        handle.fail(failure, reason)
+        return handle
+
+    def succeed(self) -> None:
+        if not self._event.is_set():
+            self._event.set()
+
+    def fail(self, failure: Failure, reason: str) -> None:
+        if not self._event.is_set():
+            self._failure = failure
+            self._reason = reason
+            self._event.set()
+
+    @property
+    def done(self) -> bool:
+        return self._event.is_set()
+
+    @property
+    def ok(self) -> bool:
+        """True when done and accepted."""
+        return self._event.is_set() and self._failure is None
+
+    @property
+    def failure(self) -> Failure | None:
+        return self._failure
+
+    @property
+    def reason(self) -> str:
+        """A sentence for the operator when the command failed, e.g. "arming denied: ..."."""
+        return self._reason
+
+    def wait(self, timeout: float) -> bool:
+        """Block until done or ``timeout`` seconds; True when done. Never call from a tick."""
+        return self._event.wait(timeout)
+
+    def __repr__(self) -> str:
+        state = "pending" if not self.done else ("ok" if self.ok else f"{self._failure.value}: {self._reason}")
+        return f"<{self.command} {state}>"
+
+
+@dataclass(frozen=True, slots=True)
+class Observation:
+    """Something the drone's camera sees now (simulated drones; empty elsewhere)."""
+
+    kind: str  # "marker" or "object"
+    name: str  # e.g. "marker_3", "red_box"
+    position: Vector  # ENU meters
+    marker_id: int | None = None  # ArUco id for markers
+    color: str | None = None
+    shape: str | None = None
+    distance: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class DroneEvent:
+    """Something that happened to the vehicle that the engine must hear of."""
+
+    time: float
+    kind: str  # "collision", "failsafe", "link_lost", "link_restored", "out_of_bounds", ...
+    detail: str = ""
+    data: dict = field(default_factory=dict)
+
+
+class Drone(abc.ABC):
+    """What the engine needs from a drone. Implementations must never block in these calls."""
+
+    @abc.abstractmethod
+    def update(self, now: float) -> None:
+        """Called by the engine on every tick with its clock's time.
+
+        The simulated drone integrates its motion up to ``now``; a real drone's adapter
+        only refreshes its view (its I/O runs elsewhere).
+        """
+
+    @abc.abstractmethod
+    def telemetry(self) -> Telemetry:
+        """The latest state, without blocking."""
+
+    @abc.abstractmethod
+    def arm(self) -> CommandHandle: ...
+
+    @abc.abstractmethod
+    def disarm(self) -> CommandHandle: ...
+
+    @abc.abstractmethod
+    def takeoff(self, altitude: float) -> CommandHandle:
+        """Climb vertically to ``altitude`` meters above home (arms first if the vehicle needs it)."""
+
+    @abc.abstractmethod
+    def land(self) -> CommandHandle: ...
+
+    @abc.abstractmethod
+    def goto(self, position: Vector, yaw: float | None = None, speed: float | None = None) -> CommandHandle:
+        """Fly to a local ENU point; ``yaw`` in degrees at arrival; ``speed`` in m/s (vehicle default if None)."""
+
+    @abc.abstractmethod
+    def set_velocity(self, velocity: Vector, yaw_rate: float = 0.0) -> CommandHandle:
+        """Fly at an ENU velocity (m/s) and yaw rate (deg/s, counterclockwise) until told otherwise."""
+
+    @abc.abstractmethod
+    def hold(self) -> CommandHandle:
+        """Stop and hover where the vehicle is."""
+
+    @abc.abstractmethod
+    def return_to_launch(self) -> CommandHandle: ...
+
+    def observations(self) -> list[Observation]:
+        """What the camera sees now; drones without a simulated camera see nothing."""
+        return []
+
+    def events(self) -> list[DroneEvent]:
+        """Events since the last call (collisions, failsafes, link changes), oldest first."""
+        return []
+
+    def close(self) -> None:
+        """Release the drone: stop I/O threads. Must return promptly, never hang."""
