@@ -1,0 +1,1 @@
+"""The simulated drone and its world: kinematics on an external clock, obstacles, markers, camera."""
