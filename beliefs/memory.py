@@ -150,15 +150,10 @@ class BeliefMemory:
     def remove(self, pattern: str | Struct) -> int:
         """Remove every belief matching ``pattern`` (variables allowed); returns how many."""
         goal = pattern if type(pattern) is Struct else self._parse_goal(pattern)
-        if self._heap:
-            self._expire_due()
-        rel = self._relations.get(goal.signature)
-        if rel is None:
-            return 0
-        rows = FactStep(goal, rel.by_key is not None).matching_rows(rel, {})
-        for args in rows:
-            self._delete(goal.signature, rel, args, "remove")
-        return len(rows)
+        found = self.matching(goal)
+        for belief in found:
+            self._delete(goal.signature, self._relations[goal.signature], belief.args, "remove")
+        return len(found)
 
     def clear(self) -> None:
         """Forget every belief."""
@@ -220,6 +215,17 @@ class BeliefMemory:
         if type(belief) is not Struct:
             belief = self._parse_belief(belief)
         return self.holds(belief)
+
+    def matching(self, pattern: str | Struct) -> list[Struct]:
+        """The stored beliefs that unify with one predicate pattern such as ``visible(?)``."""
+        goal = pattern if type(pattern) is Struct else self._parse_goal(pattern)
+        if self._heap:
+            self._expire_due()
+        rel = self._relations.get(goal.signature)
+        if rel is None:
+            return []
+        rows = FactStep(goal, rel.by_key is not None).matching_rows(rel, {})
+        return [Struct(goal.name, args) for args in rows]
 
     def beliefs(self, predicate: str | None = None) -> list[Struct]:
         """The stored beliefs (of one predicate, if named), in a stable order."""
