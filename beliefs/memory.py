@@ -172,7 +172,7 @@ class BeliefMemory:
         compiled = self._queries.get(expression)
         if compiled is None:
             compiled = self._compile(expression)
-        return compiled.first(self._relations, self._bind(compiled, bindings) if bindings else None)
+        return compiled.first(self._relations, self._bind(bindings) if bindings else None)
 
     def query_all(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> list[dict]:
         """Every unification of the expression, as a list of ``{"?X": value}`` dictionaries."""
@@ -181,7 +181,7 @@ class BeliefMemory:
         compiled = self._queries.get(expression)
         if compiled is None:
             compiled = self._compile(expression)
-        return compiled.all(self._relations, self._bind(compiled, bindings) if bindings else None)
+        return compiled.all(self._relations, self._bind(bindings) if bindings else None)
 
     def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
         """True when the expression has at least one unification."""
@@ -248,7 +248,8 @@ class BeliefMemory:
         self._queries[expression] = compiled
         return compiled
 
-    def _bind(self, compiled: CompiledQuery, bindings: Mapping[str, Any]) -> dict:
+    @staticmethod
+    def _bind(bindings: Mapping[str, Any]) -> dict:
         return {Var(name): from_python(value) for name, value in bindings.items()}
 
     def _is_exclusive(self, name: str) -> bool:

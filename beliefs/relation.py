@@ -53,27 +53,26 @@ class Relation:
                 self.delete(displaced)
             by_key[key] = args
         self.rows.add(args)
-        ordered = self.ordered
-        for p, index in enumerate(self.by_pos):
-            value = args[p]
+        for index, value in zip(self.by_pos, args):
             bucket = index.get(value)
             if bucket is None:
                 index[value] = args
-                if ordered and p in ordered and is_number(value):
-                    ordered[p].add(value)
             elif type(bucket) is set:
                 bucket.add(args)
             else:
                 index[value] = {bucket, args}
+        if self.ordered:
+            for p, values in self.ordered.items():
+                value = args[p]
+                if is_number(value) and self.by_pos[p][value] is args:  # a value new here
+                    values.add(value)
         self.version += 1
         return displaced
 
     def delete(self, args: tuple) -> None:
         """Forget a stored row."""
         self.rows.discard(args)
-        ordered = self.ordered
-        for p, index in enumerate(self.by_pos):
-            value = args[p]
+        for p, (index, value) in enumerate(zip(self.by_pos, args)):
             bucket = index[value]
             if type(bucket) is set:
                 bucket.discard(args)
@@ -81,8 +80,8 @@ class Relation:
                     index[value] = next(iter(bucket))
             else:
                 del index[value]
-                if ordered and p in ordered and is_number(value):
-                    ordered[p].remove(value)
+                if self.ordered and p in self.ordered and is_number(value):
+                    self.ordered[p].remove(value)
         if self.by_key is not None and self.by_key.get(args[:-1]) == args:
             del self.by_key[args[:-1]]
         self.version += 1

@@ -42,8 +42,6 @@ class FactStep:
         "vars",
     )
 
-    needs: frozenset = frozenset()
-
     def __init__(self, goal: Struct, exclusive: bool) -> None:
         self.signature = goal.signature
         self.pattern = goal.args
@@ -66,8 +64,6 @@ class FactStep:
         if self.vars <= bound:
             return 0.5  # a membership test
         best = float(len(rel.rows))
-        key_bound = self.exclusive
-        last = len(self.pattern) - 1
         for p, arg in enumerate(self.pattern):
             if is_ground(arg):
                 best = min(best, len(rel.bucket(p, arg)))
@@ -79,11 +75,7 @@ class FactStep:
                 low, high, inclusive = ranges[arg]
                 count = rel.count_in_range(p, low, high, inclusive)
                 best = min(best, count * max(1.0, rel.average_bucket(p)))
-            elif p < last:
-                key_bound = False
-        if key_bound and all(
-            is_ground(a) or (type(a) is Var and a in bound) for a in self.pattern[:-1]
-        ):
+        if self.exclusive and all(is_ground(a) or (type(a) is Var and a in bound) for a in self.pattern[:-1]):
             best = min(best, 1.0)
         return best
 
@@ -198,12 +190,6 @@ class ComparisonStep:
     left: Any
     right: Any
     vars: frozenset
-
-    @property
-    def needs(self) -> frozenset:
-        if self.op == "=":
-            return frozenset()
-        return self.vars
 
     def ready(self, bound: set) -> bool:
         if self.op != "=":

@@ -228,3 +228,12 @@ def test_answers_stay_right_as_the_memory_changes():
         m.remove(f"code(o{k}, ?)")
     expected = sorted(j for j in range(200) if j % 2 and j > 10 and j % 3)
     assert sorted(s["?C"] for s in m.query_all(query)) == expected
+
+
+def test_check_verifies_an_expression_without_solving():
+    m = BeliefMemory(predicates={"charge": 2})
+    assert m.check("charge(battery, ?X), ?X < 10").predicates == {("charge", 2)}
+    with pytest.raises(UnknownPredicateError):
+        m.check("battery(?X)")
+    with pytest.raises(BeliefSyntaxError):
+        m.check("charge(battery")
