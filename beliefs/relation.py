@@ -53,7 +53,7 @@ class Relation:
                 self.delete(displaced)
             by_key[key] = args
         self.rows.add(args)
-        for index, value in zip(self.by_pos, args):
+        for index, value in zip(self.by_pos, args):  # noqa: B905 (a row has the arity of its relation)
             bucket = index.get(value)
             if bucket is None:
                 index[value] = args
@@ -72,7 +72,7 @@ class Relation:
     def delete(self, args: tuple) -> None:
         """Forget a stored row."""
         self.rows.discard(args)
-        for p, (index, value) in enumerate(zip(self.by_pos, args)):
+        for p, (index, value) in enumerate(zip(self.by_pos, args)):  # noqa: B905
             bucket = index[value]
             if type(bucket) is set:
                 bucket.discard(args)
