@@ -1,0 +1,102 @@
+"""Connection plumbing of the MAVSDK adapter: URL checks, telemetry rates, MAVSDK-to-aeroexec name maps and
+forwarding MAVSDK's native log into Python ``logging``.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+import threading
+from dataclasses import dataclass
+
+from mavsdk import LogLevel, log_subscribe
+from mavsdk.asyncio.plugins.telemetry import FlightMode
+from mavsdk.asyncio.plugins.telemetry import LandedState as MavsdkLandedState
+
+from ..interface import LandedState
+
+native_logger = logging.getLogger("aeroexec.drones.mavsdk.native")
+
+_NETWORK = re.compile(r"^(udpin|udpout|tcpin|tcpout|udp|tcp)://([^:/]*):(\d+)$")
+_SERIAL = re.compile(r"^(serial|serial_flowcontrol)://(/?[^:]+)(:\d+)?$")
+URL_EXAMPLES = "udpin://0.0.0.0:14540, tcpout://127.0.0.1:5760 or serial:///dev/ttyUSB0:57600"
+
+
+@dataclass(frozen=True, slots=True)
+class TelemetryRates:
+    """Rates (Hz) the adapter asks the autopilot for; ArduPilot streams nothing unless asked. 0 leaves one alone."""
+
+    position: float = 10.0  # GLOBAL_POSITION_INT: position and velocity
+    attitude: float = 10.0  # ATTITUDE: yaw
+    landed_state: float = 4.0  # EXTENDED_SYS_STATE
+    health: float = 1.0  # SYS_STATUS: pre-arm and sensor health
+    battery: float = 1.0
+    gps_info: float = 1.0
+    home: float = 0.5
+
+
+def check_url(url: str) -> str:
+    """The URL if MAVSDK can open that kind of connection; ValueError saying what is expected otherwise."""
+    text = url.strip() if isinstance(url, str) else ""
+    network = _NETWORK.match(text)
+    if network:
+        if not 0 < int(network.group(3)) < 65536:
+            raise ValueError(f"bad MAVSDK connection URL {url!r}: port {network.group(3)} out of range")
+        if network.group(1) in ("udpout", "tcpout", "tcp") and not network.group(2):
+            raise ValueError(f"bad MAVSDK connection URL {url!r}: {network.group(1)} needs a host")
+        return text
+    if _SERIAL.match(text):
+        return text
+    raise ValueError(f"bad MAVSDK connection URL {url!r}: expected e.g. {URL_EXAMPLES}")
+
+
+_LANDED = {
+    MavsdkLandedState.UNKNOWN: LandedState.UNKNOWN,
+    MavsdkLandedState.ON_GROUND: LandedState.ON_GROUND,
+    MavsdkLandedState.IN_AIR: LandedState.IN_AIR,
+    MavsdkLandedState.TAKING_OFF: LandedState.TAKING_OFF,
+    MavsdkLandedState.LANDING: LandedState.LANDING,
+}
+_MODES = {
+    FlightMode.RETURN_TO_LAUNCH: "RETURN",
+    FlightMode.FOLLOW_ME: "FOLLOW_ME",
+}
+
+
+def landed_state(value) -> LandedState:
+    return _LANDED.get(value, LandedState.UNKNOWN)
+
+
+def flight_mode_name(mode, ardupilot: bool) -> str:
+    """The interface's flight-mode name; MAVSDK reports ArduPilot's GUIDED as OFFBOARD, we call it GUIDED."""
+    if ardupilot and mode == FlightMode.OFFBOARD:
+        return "GUIDED"
+    return _MODES.get(mode, getattr(mode, "name", "UNKNOWN"))
+
+
+_log_lock = threading.Lock()
+_log_installed = False
+_LEVELS = {
+    LogLevel.DEBUG: logging.DEBUG,
+    LogLevel.INFO: logging.INFO,
+    LogLevel.WARN: logging.WARNING,
+    LogLevel.ERROR: logging.ERROR,
+}
+
+
+def forward_native_log() -> None:
+    """Route MAVSDK's own log (printed to stdout by default) to the ``aeroexec.drones.mavsdk.native`` logger.
+
+    MAVSDK has one log callback per process; the first adapter installs it, later calls do nothing.
+    """
+    global _log_installed
+    with _log_lock:
+        if _log_installed:
+            return
+
+        def forward(level, message, file, line) -> bool:
+            native_logger.log(_LEVELS.get(level, logging.INFO), "%s", message)
+            return True  # handled: MAVSDK does not print it
+
+        log_subscribe(forward)
+        _log_installed = True

@@ -1,0 +1,231 @@
+"""The MAVSDK adapter: a PX4, ArduPilot or ``aeroexec sim`` vehicle behind the drone interface (mavsdk 4.1).
+
+Commands return at once; their handles complete when the autopilot accepts or refuses them. Telemetry is a
+latest-value cache converted to local ENU meters from the vehicle's home position.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+import threading
+import time
+
+from mavsdk.asyncio.plugins.offboard import VelocityNedYaw
+
+from ..interface import CommandHandle, Drone, DroneEvent, Failure, Telemetry, Vector
+from .connection import TelemetryRates
+from .errors import AdapterError
+from .frames import enu_to_geodetic, enu_to_ned, yaw_to_heading
+from .session import MavsdkSession
+
+logger = logging.getLogger(__name__)
+
+_YAW_STEP = 0.1  # s between two heading updates of a velocity setpoint with a yaw rate
+
+
+class MavsdkDrone(Drone):
+    """A MAVLink vehicle reached through MAVSDK.
+
+    ``url`` is a MAVSDK connection URL: ``udpin://0.0.0.0:14540`` (PX4 SITL, ``aeroexec sim``),
+    ``tcpout://127.0.0.1:5760`` (ArduPilot SITL), ``serial:///dev/ttyUSB0:57600``. The adapter connects in
+    the background; :meth:`wait_ready` blocks until the vehicle can be flown, and ``arm``/``takeoff`` wait
+    for that themselves (up to ``ready_timeout``). The link counts as lost after ``link_timeout`` seconds
+    without telemetry. ArduPilot's GUIDED mode, which MAVSDK reports as OFFBOARD, is named GUIDED here.
+    """
+
+    def __init__(
+        self,
+        url: str,
+        *,
+        command_timeout: float = 15.0,
+        ready_timeout: float = 30.0,
+        link_timeout: float = 1.5,
+        rates: TelemetryRates | None = None,
+        close_timeout: float = 3.0,
+    ) -> None:
+        self.command_timeout = command_timeout
+        self.ready_timeout = ready_timeout
+        self.close_timeout = close_timeout
+        self._time_lock = threading.Lock()
+        self._owner_time: tuple[float, float] | None = None  # (owner's now, monotonic) at the last update()
+        self._session = MavsdkSession(url, clock=self._now, rates=rates or TelemetryRates(), link_timeout=link_timeout)
+        self._yaw_task: asyncio.Task | None = None
+        self._session.start()
+
+    # --- state -------------------------------------------------------------------------------------
+    @property
+    def url(self) -> str:
+        return self._session.url
+
+    @property
+    def connection_error(self) -> str | None:
+        """Why the connection could not be opened (bad port, missing serial device), None otherwise."""
+        return self._session.error
+
+    @property
+    def autopilot(self) -> str:
+        return "ardupilot" if self._session.ardupilot else "px4"
+
+    def wait_ready(self, timeout: float) -> bool:
+        """Block until connected, armable, with global and home positions (for scripts and tests, not ticks)."""
+        return self._session.wait_ready(timeout)
+
+    def not_ready_because(self) -> list[str]:
+        """What the vehicle lacks before it can be flown, in words; empty when ready."""
+        if self._session.error is not None:
+            return [self._session.error]
+        if not self._session.cache.connected:
+            return ["no vehicle connected"]
+        return self._session.cache.missing()
+
+    def _now(self) -> float:
+        """The owner's clock, extrapolated on wall time from the last ``update(now)``."""
+        with self._time_lock:
+            if self._owner_time is None:
+                return time.monotonic()
+            owner, wall = self._owner_time
+        return owner + (time.monotonic() - wall)
+
+    def update(self, now: float) -> None:
+        with self._time_lock:
+            self._owner_time = (now, time.monotonic())
+
+    def telemetry(self) -> Telemetry:
+        return self._session.cache.snapshot()
+
+    def events(self) -> list[DroneEvent]:
+        return self._session.cache.events()
+
+    def close(self) -> None:
+        self._session.close(self.close_timeout)
+
+    def __enter__(self) -> MavsdkDrone:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # --- commands ----------------------------------------------------------------------------------
+    def arm(self) -> CommandHandle:
+        return self._submit("arm", self._arm)
+
+    def disarm(self) -> CommandHandle:
+        return self._submit("disarm", lambda: self._session.call(self._session.action.disarm()))
+
+    def takeoff(self, altitude: float) -> CommandHandle:
+        if not (math.isfinite(altitude) and altitude > 0.0):
+            return CommandHandle.failed(
+                "takeoff", Failure.DENIED, f"takeoff denied: altitude {altitude} m is not above home"
+            )
+
+        async def body() -> None:
+            s = self._session
+            await self._leave_offboard()
+            await s.call(s.action.set_takeoff_altitude(float(altitude)))
+            if not s.cache.armed:
+                await self._arm()
+            await s.call(s.action.takeoff())
+
+        return self._submit("takeoff", body, self.ready_timeout + self.command_timeout)
+
+    def land(self) -> CommandHandle:
+        return self._submit("land", self._simple("land"))
+
+    def return_to_launch(self) -> CommandHandle:
+        return self._submit("return_to_launch", self._simple("return_to_launch"))
+
+    def hold(self) -> CommandHandle:
+        async def body() -> None:
+            if await self._leave_offboard():
+                return  # leaving offboard puts the vehicle in HOLD
+            await self._session.call(self._session.action.hold())
+
+        return self._submit("hold", body)
+
+    def goto(self, position: Vector, yaw: float | None = None, speed: float | None = None) -> CommandHandle:
+        if len(position) != 3 or not all(math.isfinite(v) for v in position):
+            return CommandHandle.failed("goto", Failure.DENIED, f"goto denied: bad position {position!r}")
+        if speed is not None and not (math.isfinite(speed) and speed > 0.0):
+            return CommandHandle.failed("goto", Failure.DENIED, f"goto denied: bad speed {speed!r}")
+        target = tuple(float(v) for v in position)
+
+        async def body() -> None:
+            s = self._session
+            home = s.cache.home
+            if home is None:
+                raise AdapterError(Failure.DENIED, "the vehicle has no home position yet")
+            lat, lon, alt = enu_to_geodetic(target, home)
+            heading = yaw_to_heading(yaw) if yaw is not None else math.nan
+            await self._leave_offboard()
+            await s.call(s.action.goto_location(lat, lon, alt, heading))
+            if speed is not None:
+                await s.call(s.action.set_current_speed(float(speed)))
+
+        return self._submit("goto", body)
+
+    def set_velocity(self, velocity: Vector, yaw_rate: float = 0.0) -> CommandHandle:
+        if len(velocity) != 3 or not all(math.isfinite(v) for v in (*velocity, yaw_rate)):
+            return CommandHandle.failed(
+                "set_velocity", Failure.DENIED, f"set_velocity denied: bad velocity {velocity!r}"
+            )
+        north, east, down = enu_to_ned(tuple(float(v) for v in velocity))
+
+        async def body() -> None:
+            s = self._session
+            self._stop_yaw()
+            heading = s.cache.heading
+            await s.call(s.offboard.set_velocity_ned(VelocityNedYaw(north, east, down, heading)))
+            if not await s.call(s.offboard.is_active()):
+                await s.call(s.offboard.start())
+            if yaw_rate:
+                self._yaw_task = s.spawn(self._turn(north, east, down, heading, yaw_rate))
+
+        return self._submit("set_velocity", body)
+
+    # --- helpers (on the adapter's loop) -------------------------------------------------------------
+    def _submit(self, name: str, body, timeout: float | None = None) -> CommandHandle:
+        return self._session.submit(name, body, timeout or self.command_timeout)
+
+    def _simple(self, action: str):
+        async def body() -> None:
+            await self._leave_offboard()
+            await self._session.call(getattr(self._session.action, action)())
+
+        return body
+
+    async def _arm(self) -> None:
+        s = self._session
+        if not await s.wait_until(lambda: s.cache.ready() or s.cache.armed, self.ready_timeout):
+            missing = ", ".join(s.cache.missing()) or "not ready"
+            raise AdapterError(Failure.DENIED, f"the vehicle is not ready after {self.ready_timeout:g} s: {missing}")
+        await s.call(s.action.arm())
+
+    async def _leave_offboard(self) -> bool:
+        """Stop streaming velocity setpoints (the vehicle goes to HOLD); True when offboard was active."""
+        s = self._session
+        self._stop_yaw()
+        if not await s.call(s.offboard.is_active()):
+            return False
+        await s.call(s.offboard.stop())
+        return True
+
+    def _stop_yaw(self) -> None:
+        if self._yaw_task is not None:
+            self._yaw_task.cancel()
+            self._yaw_task = None
+
+    async def _turn(self, north: float, east: float, down: float, heading: float, yaw_rate: float) -> None:
+        """Advance the setpoint's heading at ``yaw_rate`` (deg/s, counterclockwise) while the velocity holds."""
+        s = self._session
+        loop = asyncio.get_running_loop()
+        start = loop.time()
+        while True:
+            await asyncio.sleep(_YAW_STEP)
+            target = (heading - yaw_rate * (loop.time() - start)) % 360.0
+            try:
+                await s.call(s.offboard.set_velocity_ned(VelocityNedYaw(north, east, down, target)))
+            except Exception as exc:
+                logger.info("velocity setpoint update failed: %s", exc)
+                return
