@@ -1,0 +1,111 @@
+"""Obstacle solids of the simulated world: axis-aligned boxes and vertical cylinders, with their geometry.
+
+Each solid answers three questions in local ENU meters: the signed distance from a point to its surface
+(negative inside), whether a straight segment passes through it, and whether a point lies inside it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+Vector = tuple[float, float, float]
+
+_EPS = 1e-12
+
+
+@dataclass(frozen=True, slots=True)
+class Box:
+    """An axis-aligned box: ``center`` and full ``size`` (x, y, z extents) in meters."""
+
+    name: str
+    center: Vector
+    size: Vector
+
+    @property
+    def lower(self) -> Vector:
+        return tuple(c - s / 2.0 for c, s in zip(self.center, self.size, strict=True))  # type: ignore[return-value]
+
+    @property
+    def upper(self) -> Vector:
+        return tuple(c + s / 2.0 for c, s in zip(self.center, self.size, strict=True))  # type: ignore[return-value]
+
+    def signed_distance(self, point: Vector) -> float:
+        """Meters from ``point`` to the surface; negative inside."""
+        d = [abs(p - c) - s / 2.0 for p, c, s in zip(point, self.center, self.size, strict=True)]
+        outside = math.sqrt(sum(max(v, 0.0) ** 2 for v in d))
+        inside = min(max(d[0], d[1], d[2]), 0.0)
+        return outside + inside
+
+    def segment_hits(self, a: Vector, b: Vector) -> bool:
+        """Whether the segment from ``a`` to ``b`` touches the box (slab test)."""
+        t0, t1 = 0.0, 1.0
+        for lo, hi, pa, pb in zip(self.lower, self.upper, a, b, strict=True):
+            d = pb - pa
+            if abs(d) < _EPS:
+                if pa < lo or pa > hi:
+                    return False
+                continue
+            ta, tb = (lo - pa) / d, (hi - pa) / d
+            if ta > tb:
+                ta, tb = tb, ta
+            t0, t1 = max(t0, ta), min(t1, tb)
+            if t0 > t1:
+                return False
+        return True
+
+
+@dataclass(frozen=True, slots=True)
+class Cylinder:
+    """A vertical cylinder standing on ``base`` (m up) at ``center`` (x, y), ``radius`` and ``height`` meters."""
+
+    name: str
+    center: tuple[float, float]
+    radius: float
+    height: float
+    base: float = 0.0
+
+    @property
+    def top(self) -> float:
+        return self.base + self.height
+
+    def signed_distance(self, point: Vector) -> float:
+        """Meters from ``point`` to the surface; negative inside."""
+        radial = math.hypot(point[0] - self.center[0], point[1] - self.center[1]) - self.radius
+        half = self.height / 2.0
+        vertical = abs(point[2] - (self.base + half)) - half
+        outside = math.hypot(max(radial, 0.0), max(vertical, 0.0))
+        return outside + min(max(radial, vertical), 0.0)
+
+    def segment_hits(self, a: Vector, b: Vector) -> bool:
+        """Whether the segment from ``a`` to ``b`` touches the cylinder."""
+        # Parameter interval where the segment is within the height range.
+        t0, t1 = 0.0, 1.0
+        dz = b[2] - a[2]
+        if abs(dz) < _EPS:
+            if a[2] < self.base or a[2] > self.top:
+                return False
+        else:
+            ta, tb = (self.base - a[2]) / dz, (self.top - a[2]) / dz
+            if ta > tb:
+                ta, tb = tb, ta
+            t0, t1 = max(t0, ta), min(t1, tb)
+            if t0 > t1:
+                return False
+        # Parameter interval where the segment is within the radius (a quadratic in t).
+        ox, oy = a[0] - self.center[0], a[1] - self.center[1]
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        qa = dx * dx + dy * dy
+        qc = ox * ox + oy * oy - self.radius * self.radius
+        if qa < _EPS:
+            return qc <= 0.0
+        qb = 2.0 * (ox * dx + oy * dy)
+        disc = qb * qb - 4.0 * qa * qc
+        if disc < 0.0:
+            return False
+        root = math.sqrt(disc)
+        ra, rb = (-qb - root) / (2.0 * qa), (-qb + root) / (2.0 * qa)
+        return max(t0, ra) <= min(t1, rb)
+
+
+Obstacle = Box | Cylinder

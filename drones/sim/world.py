@@ -1,0 +1,202 @@
+"""The simulated world: home point, geofence bounds, obstacles, ArUco markers, objects and a moving platform.
+
+A :class:`World` is an immutable record with the geometric queries the simulated drone, its camera and the
+engine's predicates need. Worlds come from YAML files (:func:`load_world`) or the packaged default.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
+from .shapes import Box, Cylinder, Obstacle
+
+Vector = tuple[float, float, float]
+
+__all__ = [
+    "Bounds",
+    "Box",
+    "CameraSettings",
+    "Cylinder",
+    "Marker",
+    "Obstacle",
+    "Platform",
+    "World",
+    "WorldError",
+    "WorldObject",
+    "default_world",
+    "load_world",
+]
+
+
+class WorldError(ValueError):
+    """A world file that cannot be used; the message starts with ``file:line:`` when it can."""
+
+
+@dataclass(frozen=True, slots=True)
+class Bounds:
+    """The geofence: an ENU box the drone must stay in."""
+
+    lower: Vector
+    upper: Vector
+
+    def contains(self, point: Vector) -> bool:
+        return all(lo <= p <= hi for lo, p, hi in zip(self.lower, point, self.upper, strict=True))
+
+    def clamp(self, point: Vector, margin: float = 0.0) -> Vector:
+        """The point of the bounds (shrunk by ``margin`` where possible) nearest to ``point``."""
+        out = []
+        for lo, p, hi in zip(self.lower, point, self.upper, strict=True):
+            m = min(margin, (hi - lo) / 2.0)
+            out.append(min(max(p, lo + m), hi - m))
+        return tuple(out)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, slots=True)
+class Marker:
+    """An ArUco marker: ``id`` (0..1023), ``position``, and the direction its face looks at.
+
+    ``yaw`` (degrees, 0 = east, counterclockwise) and ``pitch`` (degrees, 0 = horizontal, 90 = facing up).
+    """
+
+    id: int
+    position: Vector
+    yaw: float = 0.0
+    pitch: float = 0.0
+    name: str = ""
+
+    @property
+    def normal(self) -> Vector:
+        y, p = math.radians(self.yaw), math.radians(self.pitch)
+        return (math.cos(p) * math.cos(y), math.cos(p) * math.sin(y), math.sin(p))
+
+
+@dataclass(frozen=True, slots=True)
+class WorldObject:
+    """A colored, shaped object a camera can recognize (not an obstacle)."""
+
+    name: str
+    color: str
+    shape: str
+    position: Vector
+
+
+@dataclass(frozen=True, slots=True)
+class Platform:
+    """A platform moving along ``path`` (ENU points) at ``speed`` m/s, looping or going back and forth.
+
+    An optional ArUco ``marker_id`` lies on its deck, facing up.
+    """
+
+    name: str
+    path: tuple[Vector, ...]
+    speed: float
+    loop: bool = True
+    marker_id: int | None = None
+
+    def position(self, t: float) -> Vector:
+        """Where the platform is at time ``t`` (seconds from the start of the simulation)."""
+        points = list(self.path)
+        if self.loop and len(points) > 1:
+            points.append(points[0])
+        legs = [(a, b, math.dist(a, b)) for a, b in zip(points, points[1:], strict=False)]
+        total = sum(length for _, _, length in legs)
+        if total <= 0.0 or self.speed <= 0.0:
+            return points[0]
+        s = max(t, 0.0) * self.speed
+        if self.loop:
+            s = math.fmod(s, total)
+        else:  # back and forth
+            s = math.fmod(s, 2.0 * total)
+            if s > total:
+                s = 2.0 * total - s
+        for a, b, length in legs:
+            if s <= length and length > 0.0:
+                f = s / length
+                return tuple(pa + (pb - pa) * f for pa, pb in zip(a, b, strict=True))  # type: ignore[return-value]
+            s -= length
+        return points[-1]
+
+
+@dataclass(frozen=True, slots=True)
+class CameraSettings:
+    """The simulated camera: fields of view (degrees), range (m), mounting pitch (degrees, negative = down)."""
+
+    hfov: float = 80.0
+    vfov: float = 60.0
+    range: float = 12.0
+    pitch: float = -20.0
+
+
+@dataclass(frozen=True)
+class World:
+    """Everything the simulated drone flies in; coordinates are ENU meters from ``home``."""
+
+    home: Geodetic
+    bounds: Bounds
+    obstacles: tuple[Obstacle, ...] = ()
+    markers: tuple[Marker, ...] = ()
+    objects: tuple[WorldObject, ...] = ()
+    platform: Platform | None = None
+    camera: CameraSettings = field(default_factory=CameraSettings)
+    name: str = "world"
+    source: str | None = None  # the file it was loaded from
+
+    # --- frames ----------------------------------------------------------------------------------
+    def to_geodetic(self, enu: Vector) -> Geodetic:
+        """(latitude, longitude, altitude m AMSL) of an ENU point."""
+        return enu_to_geodetic(enu, self.home)
+
+    def to_enu(self, lat: float, lon: float, alt: float) -> Vector:
+        """ENU meters from home of a geodetic point."""
+        return geodetic_to_enu((lat, lon, alt), self.home)
+
+    # --- geometry --------------------------------------------------------------------------------
+    def inside(self, point: Vector) -> bool:
+        """Whether ``point`` is within the bounds (the geofence)."""
+        return self.bounds.contains(point)
+
+    def collides(self, point: Vector, radius: float = 0.0) -> Obstacle | None:
+        """The first obstacle a sphere of ``radius`` at ``point`` touches, or None."""
+        for obstacle in self.obstacles:
+            if obstacle.signed_distance(point) < radius:
+                return obstacle
+        return None
+
+    def distance_to_obstacle(self, point: Vector) -> float:
+        """Meters from ``point`` to the nearest obstacle surface (0 inside one, inf without obstacles)."""
+        if not self.obstacles:
+            return math.inf
+        return max(min(o.signed_distance(point) for o in self.obstacles), 0.0)
+
+    def segment_clear(self, a: Vector, b: Vector) -> bool:
+        """Whether the straight segment from ``a`` to ``b`` passes through no obstacle (line of sight)."""
+        return not any(o.segment_hits(a, b) for o in self.obstacles)
+
+    def platform_position(self, t: float) -> Vector | None:
+        """Where the moving platform is at time ``t``, or None when the world has none."""
+        return None if self.platform is None else self.platform.position(t)
+
+    def marker(self, marker_id: int) -> Marker | None:
+        return next((m for m in self.markers if m.id == marker_id), None)
+
+
+def load_world(path: str | Path) -> World:
+    """Read a YAML world file; raises :class:`WorldError` naming ``file:line`` on any mistake."""
+    from .world_file import parse_world  # the file format lives apart from the model
+
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise WorldError(f"{path}: cannot read the world file: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise WorldError(f"{path}: the world file is not UTF-8 text") from None
+    return parse_world(text, str(path))
+
+
+def default_world() -> World:
+    """The world that ships with the package (``default_world.yaml``): a 40 x 40 x 20 m field."""
+    return load_world(Path(__file__).with_name("default_world.yaml"))
