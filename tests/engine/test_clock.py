@@ -4,7 +4,6 @@ import threading
 import time
 
 import pytest
-
 from aeroexec.beliefs import BeliefMemory
 from aeroexec.engine.clock import SimulatedClock, WallClock
 

@@ -1,0 +1,142 @@
+"""Behavior arguments: what values an argument allows (range, enumeration or type) and checking a value against it."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from aeroexec.beliefs import BeliefError, parse_expression
+
+#: Value types a catalog may name in ``allowed_values`` or ``type``.
+VALUE_TYPES = {
+    "TEXT": "a text",
+    "IMAGE": "an image name",
+    "NUMBER": "a number",
+    "INTEGER": "an integer",
+    "BOOLEAN": "true or false",
+    "POINT": "a point (x, y, z)",
+    "PATH": "a list of points (x, y, z)",
+    "TEXT_LIST": "a list of texts",
+    "BELIEF": "a belief expression",
+}
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _fmt(number: float) -> str:
+    return f"{number:g}"
+
+
+@dataclass(frozen=True, slots=True)
+class ArgumentDescriptor:
+    """One argument of a behavior as the catalog describes it.
+
+    ``minimum``/``maximum`` give a numeric range, ``choices`` an enumeration,
+    ``value_type`` one of :data:`VALUE_TYPES`; ``dimensions`` is how many numbers
+    a value has (a point has 3). With none of them any value is accepted.
+    """
+
+    name: str
+    minimum: float | None = None
+    maximum: float | None = None
+    choices: tuple[str, ...] = ()
+    value_type: str | None = None
+    dimensions: int = 1
+    required: bool = False
+    default: Any = None
+    description: str = ""
+    line: int = 0
+
+    @property
+    def is_range(self) -> bool:
+        return self.minimum is not None
+
+    def expected(self) -> str:
+        """What a correct value looks like, for the paper's "(... is expected)"."""
+        within = f" between {_fmt(self.minimum)} and {_fmt(self.maximum)}" if self.is_range else ""
+        if self.choices:
+            return "one of " + ", ".join(self.choices)
+        if self.value_type == "PATH":
+            return "a list of points (x, y, z)" + (f" with coordinates{within}" if within else "")
+        if self.value_type == "POINT" or (self.dimensions == 3 and self.value_type is None and self.is_range):
+            return f"a point (x, y, z){' with coordinates' + within if within else ''}"
+        if self.dimensions > 1:
+            return f"{self.dimensions} numbers{within}"
+        if self.value_type is not None:
+            return VALUE_TYPES[self.value_type] + within
+        return f"a number{within}" if within else "any value"
+
+    def describe(self) -> str:
+        """The allowed values as the catalog listing shows them."""
+        if self.choices:
+            return "{" + ", ".join(self.choices) + "}"
+        text = self.value_type or ""
+        if self.is_range:
+            text = f"{text} [{_fmt(self.minimum)}, {_fmt(self.maximum)}]".strip()
+        if self.dimensions > 1 and self.value_type not in ("POINT", "PATH"):
+            text += f" x{self.dimensions}"
+        return text or "any"
+
+    def accepts(self, value: Any) -> bool:
+        """True when ``value`` is allowed for this argument."""
+        if self.choices:
+            return isinstance(value, str) and value in self.choices
+        kind = self.value_type
+        if kind in ("TEXT", "IMAGE"):
+            return isinstance(value, str)
+        if kind == "BOOLEAN":
+            return isinstance(value, bool)
+        if kind == "BELIEF":
+            return isinstance(value, str) and _is_belief(value)
+        if kind == "TEXT_LIST":
+            return _is_sequence(value) and all(isinstance(v, str) for v in value)
+        if kind == "PATH":
+            return _is_sequence(value) and len(value) > 0 and all(self._numbers(p, 3) for p in value)
+        if kind == "POINT":
+            return self._numbers(value, 3)
+        if kind == "INTEGER" and not (isinstance(value, int) and not isinstance(value, bool)):
+            return False
+        if kind == "NUMBER" or kind == "INTEGER" or self.is_range or self.dimensions > 1:
+            return self._numbers(value, self.dimensions)
+        return True
+
+    def _numbers(self, value: Any, dimensions: int) -> bool:
+        if dimensions == 1 and not _is_sequence(value):
+            items: Sequence = (value,)
+        elif _is_sequence(value) and len(value) == dimensions:
+            items = value
+        else:
+            return False
+        return all(_is_number(v) and self._in_range(v) for v in items)
+
+    def _in_range(self, number: float) -> bool:
+        return not self.is_range or self.minimum <= number <= self.maximum
+
+
+def _is_sequence(value: Any) -> bool:
+    return isinstance(value, list | tuple)
+
+
+def _is_belief(text: str) -> bool:
+    try:
+        parse_expression(text)
+    except BeliefError:
+        return False
+    return True
+
+
+def format_value(value: Any) -> str:
+    """A value as the operator wrote it, for error messages."""
+    if isinstance(value, str):
+        return value if value else "''"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if _is_sequence(value):
+        return "(" + ", ".join(format_value(v) for v in value) + ")"
+    if value is None:
+        return "(none)"
+    return str(value)

@@ -1,0 +1,56 @@
+"""Specification errors of the engine in the paper's wording (Table 1), and catalog problems with file and line."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+WRONG_FORMAT = "WRONG_FORMAT"
+WRONG_VALUE = "WRONG_VALUE"
+WRONG_SEQUENCE = "WRONG_SEQUENCE"
+
+
+class SpecificationError(ValueError):
+    """A mistake in what the operator wrote, found before execution.
+
+    ``kind`` is WRONG_FORMAT, WRONG_VALUE or WRONG_SEQUENCE; ``message`` is the
+    paper's sentence; ``step`` is the index of the offending request when a
+    sequence was checked; ``others`` holds further errors found in the same request.
+    """
+
+    def __init__(self, kind: str, message: str, *, behavior: str = "", step: int | None = None,
+                 others: tuple[SpecificationError, ...] = ()) -> None:
+        super().__init__(message)
+        self.kind = kind
+        self.message = message
+        self.behavior = behavior
+        self.step = step
+        self.others = others
+
+    def __str__(self) -> str:
+        return self.message
+
+    def __repr__(self) -> str:
+        return f"SpecificationError({self.kind}: {self.message})"
+
+
+@dataclass(frozen=True, slots=True)
+class Problem:
+    """One finding while loading a catalog: an error stops the load, a warning does not."""
+
+    severity: str  # "error" or "warning"
+    message: str
+    file: str
+    line: int  # 1-based; 0 when unknown
+
+    def __str__(self) -> str:
+        where = f"{self.file}:{self.line}" if self.line else self.file
+        return f"{where}: {self.severity}: {self.message}"
+
+
+class CatalogError(ValueError):
+    """A catalog that cannot be loaded; ``problems`` lists every error and warning found."""
+
+    def __init__(self, problems: list[Problem]) -> None:
+        self.problems = list(problems)
+        self.errors = [p for p in self.problems if p.severity == "error"]
+        super().__init__("\n".join(str(p) for p in self.errors) or "the catalog cannot be loaded")

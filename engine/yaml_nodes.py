@@ -1,0 +1,171 @@
+"""Reading YAML by its nodes, so that every problem found in a file names its line.
+
+:class:`NodeReader` composes a document with PyYAML and hands out mappings,
+sequences and scalars while recording errors and warnings as :class:`Problem`
+records with the file and the 1-based line of the node at fault.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .errors import Problem
+
+MAP = "tag:yaml.org,2002:map"
+SEQ = "tag:yaml.org,2002:seq"
+_NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
+
+
+def suggestion(name: str, known: Iterable[str]) -> str:
+    """`` (did you mean X?)`` for a misspelt name, or an empty string."""
+    close = difflib.get_close_matches(str(name), list(known), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]}?)" if close else ""
+
+
+def line_of(node: yaml.Node | None) -> int:
+    return node.start_mark.line + 1 if node is not None else 0
+
+
+class NodeReader:
+    """Composes one YAML document and reads it node by node, collecting problems."""
+
+    def __init__(self, text: str, file: str) -> None:
+        self.file = file
+        self.problems: list[Problem] = []
+        self._loader = yaml.SafeLoader(text)
+        self.root: yaml.Node | None = None
+        try:
+            self.root = self._loader.get_single_node()
+        except yaml.MarkedYAMLError as exc:
+            mark = exc.problem_mark or exc.context_mark
+            detail = " ".join(part for part in (exc.context, exc.problem) if part)
+            self.problems.append(Problem("error", f"not valid YAML: {detail}", file, mark.line + 1 if mark else 0))
+        except yaml.YAMLError as exc:
+            self.problems.append(Problem("error", f"not valid YAML: {exc}", file, 0))
+        finally:
+            self._loader.dispose()
+
+    @classmethod
+    def from_file(cls, path: str | Path) -> NodeReader:
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            reader = cls("", str(path))
+            reader.problems.append(Problem("error", f"cannot read the file: {exc}", str(path), 0))
+            return reader
+        return cls(text, str(path))
+
+    # -- problems ---------------------------------------------------------------
+    def error(self, node: yaml.Node | None, message: str) -> None:
+        self.problems.append(Problem("error", message, self.file, line_of(node)))
+
+    def warning(self, node: yaml.Node | None, message: str) -> None:
+        self.problems.append(Problem("warning", message, self.file, line_of(node)))
+
+    def error_at(self, line: int, message: str) -> None:
+        self.problems.append(Problem("error", message, self.file, line))
+
+    def warning_at(self, line: int, message: str) -> None:
+        self.problems.append(Problem("warning", message, self.file, line))
+
+    @property
+    def failed(self) -> bool:
+        return any(p.severity == "error" for p in self.problems)
+
+    # -- structure --------------------------------------------------------------
+    def mapping(self, node: yaml.Node, what: str, known: Iterable[str] = (),
+                aliases: dict[str, str] | None = None) -> dict[str, tuple[yaml.Node, yaml.Node]] | None:
+        """The entries of a mapping node by key; unknown keys are errors, ``aliases`` are accepted with a warning."""
+        if node.tag != MAP:
+            self.error(node, f"{what} must be a mapping of keys to values")
+            return None
+        known = set(known)
+        aliases = aliases or {}
+        entries: dict[str, tuple[yaml.Node, yaml.Node]] = {}
+        for key_node, value_node in node.value:
+            key = str(key_node.value) if isinstance(key_node, yaml.ScalarNode) else "?"
+            if key in aliases:
+                self.warning(key_node, f"{what}: key {key} is not standard, read as {aliases[key]}")
+                key = aliases[key]
+            elif known and key not in known:
+                self.error(key_node, f"{what}: unknown key {key}{suggestion(key, known)}")
+                continue
+            if key in entries:
+                self.error(key_node, f"{what}: key {key} is given twice (first at line {line_of(entries[key][0])})")
+                continue
+            entries[key] = (key_node, value_node)
+        return entries
+
+    def sequence(self, node: yaml.Node, what: str) -> list[yaml.Node] | None:
+        """The items of a sequence node; an empty value (``key:`` alone) is an empty list."""
+        if self.is_null(node):
+            return []
+        if node.tag != SEQ:
+            self.error(node, f"{what} must be a list")
+            return None
+        return list(node.value)
+
+    def names(self, node: yaml.Node, what: str) -> list[tuple[str, yaml.Node]]:
+        """A list of names (or a single name) with the node of each."""
+        items = [node] if isinstance(node, yaml.ScalarNode) and not self.is_null(node) else self.sequence(node, what)
+        found = []
+        for item in items or ():
+            if not isinstance(item, yaml.ScalarNode) or self.is_null(item):
+                self.error(item, f"{what} must be a list of names")
+                continue
+            found.append((str(item.value), item))
+        return found
+
+    # -- scalars ----------------------------------------------------------------
+    @staticmethod
+    def is_null(node: yaml.Node) -> bool:
+        return isinstance(node, yaml.ScalarNode) and node.tag == "tag:yaml.org,2002:null"
+
+    def value(self, node: yaml.Node) -> Any:
+        """The Python value of a node as YAML 1.1 reads it."""
+        return self._loader.construct_object(node, deep=True)
+
+    def text(self, node: yaml.Node, what: str) -> str | None:
+        """A scalar as written (``ON`` stays ``ON``, not ``True``)."""
+        if not isinstance(node, yaml.ScalarNode) or self.is_null(node):
+            self.error(node, f"{what} must be a single value")
+            return None
+        return str(node.value)
+
+    def number(self, node: yaml.Node, what: str, positive: bool = False) -> float | None:
+        if not (isinstance(node, yaml.ScalarNode) and node.tag in _NUMBER_TAGS):
+            self.error(node, f"{what} must be a number, not {self.shown(node)}")
+            return None
+        number = self.value(node)
+        if number != number or number in (float("inf"), float("-inf")) or (positive and number <= 0):
+            self.error(node, f"{what} must be a {'positive ' if positive else ''}number, not {self.shown(node)}")
+            return None
+        return number
+
+    def integer(self, node: yaml.Node, what: str, minimum: int = 0) -> int | None:
+        if not (isinstance(node, yaml.ScalarNode) and node.tag == _NUMBER_TAGS[0]) or self.value(node) < minimum:
+            self.error(node, f"{what} must be a whole number of at least {minimum}, not {self.shown(node)}")
+            return None
+        return int(self.value(node))
+
+    def flag(self, node: yaml.Node, what: str) -> bool | None:
+        value = self.value(node) if isinstance(node, yaml.ScalarNode) else None
+        if not isinstance(value, bool):
+            self.error(node, f"{what} must be yes or no, not {self.shown(node)}")
+            return None
+        return value
+
+    def shown(self, node: yaml.Node) -> str:
+        if isinstance(node, yaml.ScalarNode):
+            return repr(node.value) if node.value else "nothing"
+        return "a list" if node.tag == SEQ else "a mapping"
+
+    @staticmethod
+    def is_number(node: yaml.Node) -> bool:
+        return isinstance(node, yaml.ScalarNode) and node.tag in _NUMBER_TAGS
