@@ -1,0 +1,102 @@
+"""``aeroexec sim``: the simulated drone exposed over MAVLink as a PX4 multicopter, until Ctrl-C or SIGTERM.
+
+MAVSDK scripts (``python -m aeroexec.drones.mavsdk.demo``), ``aeroexec run --drone udpin://...`` or
+QGroundControl can then fly it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import signal
+import sys
+import threading
+from pathlib import Path
+
+from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
+from aeroexec.drones.sim.world import WorldError, default_world, load_world
+
+logger = logging.getLogger("aeroexec.sim")
+
+DEFAULT_URL = "udpout://127.0.0.1:14540"
+
+
+def _speed(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number, not {text}")
+    return value
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``aeroexec sim``."""
+    parser.add_argument("--world", type=Path, help="world file (YAML); the packaged default world if omitted")
+    parser.add_argument(
+        "--connect",
+        default=DEFAULT_URL,
+        metavar="URL",
+        help=f"where the vehicle talks MAVLink (default {DEFAULT_URL}, where MAVSDK and PX4 SITL clients listen; "
+        "also udpin://HOST:PORT, tcpin://HOST:PORT, tcpout://HOST:PORT)",
+    )
+    parser.add_argument(
+        "--speed", type=_speed, default=1.0, metavar="N", help="simulated seconds per wall second (default 1)"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed of the simulation's sensor noise (default 0)")
+    parser.add_argument("--system-id", type=int, default=1, help="MAVLink system id of the vehicle (default 1)")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the vehicle until interrupted; 0 on a clean stop, 2 on a bad URL, world file or port."""
+    if not logging.getLogger().handlers:
+        logging.basicConfig(level=logging.INFO, stream=sys.stderr, format="%(asctime)s %(levelname)s %(message)s")
+    try:
+        normalize_url(args.connect)
+        world = load_world(args.world) if args.world is not None else default_world()
+    except (MavlinkVehicleError, WorldError) as exc:
+        print(f"aeroexec sim: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"aeroexec sim: cannot read the world file {args.world}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    drone = SimulatedDrone(world, seed=args.seed)
+    try:
+        vehicle = MavlinkVehicle(drone, connect=args.connect, speed=args.speed, system_id=args.system_id)
+        vehicle.start()
+    except (MavlinkVehicleError, ValueError) as exc:
+        print(f"aeroexec sim: {exc}", file=sys.stderr)
+        return 2
+    stop = threading.Event()
+    previous = _on_signals(stop)
+    logger.info("simulated drone ready on %s (Ctrl-C to stop)", args.connect)
+    try:
+        while not stop.wait(0.5):
+            if not vehicle.running:
+                print("aeroexec sim: the vehicle stopped unexpectedly", file=sys.stderr)
+                return 1
+    except KeyboardInterrupt:
+        pass
+    finally:
+        _restore_signals(previous)
+        vehicle.stop()
+    logger.info("simulated drone stopped")
+    return 0
+
+
+def _on_signals(stop: threading.Event) -> dict:
+    """SIGINT and SIGTERM set ``stop`` (only the main thread may install handlers)."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        previous[sig] = signal.signal(sig, lambda signum, frame: stop.set())
+    return previous
+
+
+def _restore_signals(previous: dict) -> None:
+    for sig, handler in previous.items():
+        signal.signal(sig, handler)
