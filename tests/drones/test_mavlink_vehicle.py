@@ -1,0 +1,221 @@
+"""The MAVLink simulated vehicle seen by a plain pymavlink client on loopback: what a PX4 would answer."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim.mavlink_telemetry import px4_custom_mode
+from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
+from pymavlink import mavutil
+from pymavlink.dialects.v20 import common as mavlink
+
+pytestmark = pytest.mark.mavsdk
+
+TIMEOUT = 5.0  # s, wall: every wait below is bounded by it
+
+
+@pytest.fixture
+def link():
+    """A pymavlink client listening on a free loopback port, and the vehicle (10x real time) talking to it."""
+    client = mavutil.mavlink_connection("udpin:127.0.0.1:0", source_system=255, source_component=190)
+    port = client.port.getsockname()[1]
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=10.0)
+    vehicle.start()
+    try:
+        wait_for(client, "HEARTBEAT")
+        yield client, vehicle
+    finally:
+        vehicle.stop()
+        client.close()
+
+
+def wait_for(client, kind: str, predicate=lambda m: True, timeout: float = TIMEOUT):
+    """The first ``kind`` message satisfying ``predicate``; fails the test after ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        msg = client.recv_match(type=kind, blocking=True, timeout=0.1)
+        if msg is not None and predicate(msg):
+            return msg
+    pytest.fail(f"no {kind} matching the condition within {timeout} s")
+
+
+def command(client, cmd: int, *params: float, texts: list | None = None) -> int:
+    """Send a COMMAND_LONG and return the final COMMAND_ACK result; STATUSTEXTs before it go to ``texts``."""
+    p = list(params) + [0.0] * (7 - len(params))
+    client.mav.command_long_send(1, 1, cmd, 0, *p)
+    deadline = time.monotonic() + TIMEOUT
+    while time.monotonic() < deadline:
+        msg = client.recv_match(type=["COMMAND_ACK", "STATUSTEXT"], blocking=True, timeout=0.1)
+        if msg is None:
+            continue
+        if msg.get_type() == "STATUSTEXT":
+            if texts is not None:
+                texts.append(msg.text)
+        elif msg.command == cmd and msg.result != mavlink.MAV_RESULT_IN_PROGRESS:
+            return msg.result
+    pytest.fail(f"no final COMMAND_ACK for command {cmd} within {TIMEOUT} s")
+
+
+def test_heartbeat_is_a_px4_quadrotor_in_its_simulated_mode_and_disarmed(link):
+    client, vehicle = link
+    hb = wait_for(client, "HEARTBEAT")
+    assert hb.autopilot == mavlink.MAV_AUTOPILOT_PX4
+    assert hb.type == mavlink.MAV_TYPE_QUADROTOR
+    assert hb.base_mode & mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+    assert not hb.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED
+    assert hb.custom_mode == px4_custom_mode(vehicle.telemetry().flight_mode)
+    assert hb.custom_mode != px4_custom_mode("OFFBOARD")
+    status = wait_for(client, "SYS_STATUS")
+    assert status.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_PREARM_CHECK  # armable
+    assert status.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_SENSOR_GPS
+    home = wait_for(client, "HOME_POSITION")
+    pos = wait_for(client, "GLOBAL_POSITION_INT")
+    assert (pos.lat, pos.lon) == (home.latitude, home.longitude)
+    assert abs(pos.relative_alt) < 100  # mm: on the ground at home
+
+
+def test_arm_is_acknowledged_and_an_extra_heartbeat_tells_it_at_once(link):
+    client, _ = link
+    wait_for(client, "HEARTBEAT")  # the periodic one; the next comes in a second unless something changes
+    sent = time.monotonic()
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mavlink.MAV_RESULT_ACCEPTED
+    wait_for(client, "HEARTBEAT", lambda m: m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
+    assert time.monotonic() - sent < 0.5
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 0) == mavlink.MAV_RESULT_ACCEPTED
+    wait_for(client, "HEARTBEAT", lambda m: not m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
+
+
+def test_takeoff_climbs_to_the_takeoff_altitude_parameter_and_reports_in_air(link):
+    client, _ = link
+    client.mav.param_set_send(1, 1, b"MIS_TAKEOFF_ALT", 3.0, mavlink.MAV_PARAM_TYPE_REAL32)
+    wait_for(client, "PARAM_VALUE", lambda m: m.param_id == "MIS_TAKEOFF_ALT" and m.param_value == 3.0)
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mavlink.MAV_RESULT_ACCEPTED
+    nan = math.nan
+    assert command(client, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, nan, nan, nan, nan) == mavlink.MAV_RESULT_ACCEPTED
+    wait_for(client, "EXTENDED_SYS_STATE", lambda m: m.landed_state == mavlink.MAV_LANDED_STATE_IN_AIR, timeout=10)
+    pos = wait_for(client, "GLOBAL_POSITION_INT", lambda m: m.relative_alt > 2800, timeout=10)
+    assert pos.relative_alt < 3300
+    local = wait_for(client, "LOCAL_POSITION_NED")
+    assert local.z == pytest.approx(-3.0, abs=0.3)  # NED: up is negative z
+
+
+def test_refused_commands_are_denied_with_a_statustext_saying_why(link):
+    client, _ = link
+    texts: list[str] = []
+    nan = math.nan
+    # A take-off to an AMSL altitude below home, a reposition on the ground: the simulated state decides.
+    result = command(client, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, nan, nan, nan, -5.0, texts=texts)
+    assert result == mavlink.MAV_RESULT_DENIED
+    assert any("takeoff" in t.lower() for t in texts), texts
+    texts.clear()
+    assert command(client, mavlink.MAV_CMD_DO_REPOSITION, -1, 0, 0, nan, nan, nan, nan, texts=texts) in (
+        mavlink.MAV_RESULT_DENIED,
+        mavlink.MAV_RESULT_FAILED,
+    )
+    assert texts
+    assert command(client, 31337) == mavlink.MAV_RESULT_UNSUPPORTED
+
+
+def test_parameters_read_set_and_list(link):
+    client, _ = link
+    client.mav.param_request_read_send(1, 1, b"MIS_TAKEOFF_ALT", -1)
+    value = wait_for(client, "PARAM_VALUE", lambda m: m.param_id == "MIS_TAKEOFF_ALT")
+    assert value.param_type == mavlink.MAV_PARAM_TYPE_REAL32
+    client.mav.param_set_send(1, 1, b"MIS_TAKEOFF_ALT", 7.5, mavlink.MAV_PARAM_TYPE_REAL32)
+    assert wait_for(client, "PARAM_VALUE", lambda m: m.param_id == "MIS_TAKEOFF_ALT").param_value == 7.5
+    client.mav.param_set_send(1, 1, b"MIS_TAKEOFF_ALT", 500.0, mavlink.MAV_PARAM_TYPE_REAL32)  # out of range
+    assert wait_for(client, "PARAM_VALUE", lambda m: m.param_id == "MIS_TAKEOFF_ALT").param_value == 7.5
+    client.mav.param_request_list_send(1, 1)
+    first = wait_for(client, "PARAM_VALUE")
+    names = {first.param_id}
+    while len(names) < first.param_count:
+        names.add(wait_for(client, "PARAM_VALUE").param_id)
+    assert {"MIS_TAKEOFF_ALT", "MPC_XY_CRUISE", "NAV_ACC_RAD", "MAV_SYS_ID"} <= names
+
+
+def test_message_interval_changes_a_stream_and_request_message_sends_one(link):
+    client, _ = link
+    attitude = mavlink.MAVLINK_MSG_ID_ATTITUDE
+    assert command(client, mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, attitude, 20_000) == mavlink.MAV_RESULT_ACCEPTED
+    assert count(client, "ATTITUDE", 0.5) >= 15  # 50 Hz asked, 10 Hz by default
+    assert command(client, mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, attitude, -1) == mavlink.MAV_RESULT_ACCEPTED
+    time.sleep(0.05)
+    assert count(client, "ATTITUDE", 0.5) == 0
+    assert command(client, mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, 9999, 1000) == mavlink.MAV_RESULT_UNSUPPORTED
+    version = mavlink.MAVLINK_MSG_ID_AUTOPILOT_VERSION
+    assert command(client, mavlink.MAV_CMD_REQUEST_MESSAGE, version) == mavlink.MAV_RESULT_ACCEPTED
+    reply = wait_for(client, "AUTOPILOT_VERSION")
+    assert reply.capabilities & mavlink.MAV_PROTOCOL_CAPABILITY_MISSION_INT
+
+
+def count(client, kind: str, seconds: float) -> int:
+    n, end = 0, time.monotonic() + seconds
+    while (left := end - time.monotonic()) > 0:
+        if client.recv_match(type=kind, blocking=True, timeout=left) is not None:
+            n += 1
+    return n
+
+
+def test_mission_upload_and_download(link):
+    client, vehicle = link
+    home = wait_for(client, "HOME_POSITION")
+    frame = mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT
+    items = [
+        (mavlink.MAV_CMD_NAV_TAKEOFF, home.latitude, home.longitude, 5.0),
+        (mavlink.MAV_CMD_NAV_WAYPOINT, home.latitude + 900, home.longitude, 5.0),  # ~10 m north
+        (mavlink.MAV_CMD_NAV_LAND, 0, 0, 0.0),
+    ]
+    client.mav.mission_count_send(1, 1, len(items), mavlink.MAV_MISSION_TYPE_MISSION)
+    for _ in items:
+        req = wait_for(client, "MISSION_REQUEST_INT")
+        cmd, lat, lon, alt = items[req.seq]
+        client.mav.mission_item_int_send(1, 1, req.seq, frame, cmd, 0, 1, 0, 0, 0, math.nan, lat, lon, alt, 0)
+    ack = wait_for(client, "MISSION_ACK")
+    assert ack.type == mavlink.MAV_MISSION_ACCEPTED
+    assert len(vehicle.mission.items) == 3
+    client.mav.mission_request_list_send(1, 1, mavlink.MAV_MISSION_TYPE_MISSION)
+    assert wait_for(client, "MISSION_COUNT").count == 3
+    client.mav.mission_request_int_send(1, 1, 1, mavlink.MAV_MISSION_TYPE_MISSION)
+    item = wait_for(client, "MISSION_ITEM_INT")
+    assert (item.seq, item.command, item.x) == (1, mavlink.MAV_CMD_NAV_WAYPOINT, home.latitude + 900)
+    client.mav.mission_ack_send(1, 1, mavlink.MAV_MISSION_ACCEPTED, mavlink.MAV_MISSION_TYPE_MISSION)
+
+
+def test_offboard_needs_streaming_setpoints_then_follows_them(link):
+    client, _ = link
+    offboard = (mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, 6, 0)
+    assert command(client, mavlink.MAV_CMD_DO_SET_MODE, *offboard) == mavlink.MAV_RESULT_DENIED  # no setpoints yet
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mavlink.MAV_RESULT_ACCEPTED
+    assert command(client, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, math.nan, math.nan, math.nan, math.nan) == (
+        mavlink.MAV_RESULT_ACCEPTED
+    )
+    wait_for(client, "EXTENDED_SYS_STATE", lambda m: m.landed_state == mavlink.MAV_LANDED_STATE_IN_AIR, timeout=10)
+    mask = 0b0000_1111_1111_1000  # position only
+
+    def setpoint():  # 4 m north, 2 m up (NED), streamed as PX4 requires
+        client.mav.set_position_target_local_ned_send(
+            0, 1, 1, mavlink.MAV_FRAME_LOCAL_NED, mask, 4, 0, -2, 0, 0, 0, 0, 0, 0, 0, 0
+        )
+
+    setpoint()
+    assert command(client, mavlink.MAV_CMD_DO_SET_MODE, *offboard) == mavlink.MAV_RESULT_ACCEPTED
+    wait_for(client, "HEARTBEAT", lambda m: m.custom_mode == px4_custom_mode("OFFBOARD"))
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        setpoint()
+        local = client.recv_match(type="LOCAL_POSITION_NED", blocking=True, timeout=0.1)
+        if local is not None and abs(local.x - 4) < 0.3 and abs(local.z + 2) < 0.3:
+            break
+    else:
+        pytest.fail("the vehicle did not reach the offboard setpoint")
+    # Setpoints stop: after COM_OF_LOSS_T (wall time) the vehicle leaves OFFBOARD.
+    wait_for(client, "HEARTBEAT", lambda m: m.custom_mode != px4_custom_mode("OFFBOARD"), timeout=4)
+
+
+def test_a_bad_url_is_refused_with_a_clear_message():
+    with pytest.raises(MavlinkVehicleError, match="bad MAVLink URL"):
+        normalize_url("udp-out:nowhere")
+    assert normalize_url("udpout://127.0.0.1:14540") == "udpout:127.0.0.1:14540"

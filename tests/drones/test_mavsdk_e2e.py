@@ -1,0 +1,139 @@
+"""End to end: the MAVLink simulated vehicle on a free loopback port, flown through the MAVSDK adapter."""
+
+from __future__ import annotations
+
+import math
+import socket
+import time
+
+import pytest
+from aeroexec.drones.interface import Failure, LandedState
+from aeroexec.drones.mavsdk import MavsdkDrone
+from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle
+
+pytestmark = pytest.mark.mavsdk
+
+SPEED = 8.0  # simulated seconds per wall second
+READY_S = 15.0  # s, wall: longest wait for the adapter to see a flyable vehicle
+STEP_S = 15.0  # s, wall: longest wait for any flight phase
+AGREE_M = 0.3  # m: adapter telemetry and simulated state agree this well while hovering
+
+
+def free_udp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def flight():
+    port = free_udp_port()
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED)
+    vehicle.start()
+    drone = MavsdkDrone(f"udpin://127.0.0.1:{port}", link_timeout=1.5)
+    try:
+        assert drone.wait_ready(READY_S), drone.not_ready_because()
+        yield drone, vehicle
+    finally:
+        drone.close()
+        vehicle.stop()
+
+
+def until(condition, timeout: float = STEP_S, what: str = "the condition") -> float:
+    """Wait (wall time) until ``condition()``; the seconds it took, or the test fails after ``timeout``."""
+    start = time.monotonic()
+    while not condition():
+        if time.monotonic() - start > timeout:
+            pytest.fail(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(0.02)
+    return time.monotonic() - start
+
+
+def settled(drone, vehicle, target, tol: float = 0.3) -> bool:
+    """Both sides see the vehicle at ``target`` and still."""
+    seen, true = drone.telemetry(), vehicle.telemetry()
+    return math.dist(seen.position, target) < tol and math.dist(true.position, target) < tol and seen.speed < 0.2
+
+
+def assert_agree(drone, vehicle) -> None:
+    seen, true = drone.telemetry(), vehicle.telemetry()
+    assert math.dist(seen.position, true.position) < AGREE_M, (seen.position, true.position)
+    assert seen.armed == true.armed
+    assert seen.landed_state == true.landed_state
+    assert seen.battery_percent == pytest.approx(true.battery_percent, abs=1.0)
+    assert seen.link_ok
+
+
+def test_connect_arm_take_off_fly_10_m_land_and_disarm(flight):
+    drone, vehicle = flight
+    ground = drone.telemetry()
+    assert ground.home is not None and ground.landed_state == LandedState.ON_GROUND and not ground.armed
+    assert_agree(drone, vehicle)
+
+    refused = drone.goto((5.0, 0.0, 3.0))  # not flying yet: the vehicle says no, with a reason
+    assert refused.wait(STEP_S) and refused.failure == Failure.DENIED and "goto" in refused.reason
+
+    assert drone.arm().wait(STEP_S)
+    until(lambda: drone.telemetry().armed, what="armed telemetry")
+    takeoff = drone.takeoff(3.0)
+    assert takeoff.wait(STEP_S) and takeoff.ok, takeoff
+    until(lambda: settled(drone, vehicle, (0.0, 0.0, 3.0)), what="hovering at 3 m")
+    until(lambda: drone.telemetry().landed_state == LandedState.IN_AIR, what="in air")
+    assert_agree(drone, vehicle)
+
+    goto = drone.goto((10.0, 0.0, 3.0), yaw=90.0)  # 10 m east, facing north
+    assert goto.wait(STEP_S) and goto.ok, goto
+    until(lambda: settled(drone, vehicle, (10.0, 0.0, 3.0)), what="arrival 10 m east")
+    assert_agree(drone, vehicle)
+    until(lambda: abs(drone.telemetry().yaw - 90.0) < 5.0, what="facing north")
+    assert drone.telemetry().yaw == pytest.approx(vehicle.telemetry().yaw, abs=3.0)
+
+    land = drone.land()
+    assert land.wait(STEP_S) and land.ok, land
+    until(lambda: drone.telemetry().landed_state == LandedState.ON_GROUND, what="touchdown")
+    disarm = drone.disarm()
+    assert disarm.wait(STEP_S) and disarm.ok, disarm
+    until(lambda: not drone.telemetry().armed and not vehicle.telemetry().armed, what="disarmed")
+    ground = vehicle.telemetry().position
+    assert ground[2] == pytest.approx(0.0, abs=0.05) and math.dist(ground[:2], (10.0, 0.0)) < 0.5
+    until(lambda: settled(drone, vehicle, ground, tol=0.1), what="the landed position")  # streams lag a sample
+    assert_agree(drone, vehicle)
+    kinds = [event.kind for event in drone.events()]
+    assert "landed" in kinds and "disarmed" in kinds
+
+
+def test_link_loss_is_reported_within_3_s_and_pending_commands_fail(flight):
+    drone, vehicle = flight
+    drone.events()
+    vehicle.link_cut = True
+    pending = drone.arm()  # no answer will come
+    took = until(lambda: not drone.telemetry().link_ok, timeout=5.0, what="link_ok False")
+    assert took < 3.0
+    assert pending.wait(1.0) and pending.failure == Failure.LINK_LOST, pending
+    assert any(event.kind == "link_lost" for event in drone.events())
+    late = drone.takeoff(3.0)
+    assert late.done and late.failure == Failure.LINK_LOST  # fails at once while the link is down
+
+    vehicle.link_cut = False
+    until(lambda: drone.telemetry().link_ok, timeout=5.0, what="the link back")
+    assert any(event.kind == "link_restored" for event in drone.events())
+    assert drone.arm().wait(STEP_S)
+
+
+def test_close_returns_promptly_even_with_a_command_in_flight(flight):
+    drone, vehicle = flight
+    vehicle.link_cut = True  # the arm below stays unanswered: MAVSDK retries it
+    pending = drone.arm()
+    time.sleep(0.2)
+    start = time.monotonic()
+    drone.close()
+    assert time.monotonic() - start < drone.close_timeout + 0.5
+    assert pending.done and pending.failure == Failure.CANCELLED
+    after = drone.land()
+    assert after.done and after.failure == Failure.CANCELLED
+
+
+def test_a_bad_connection_url_is_one_clear_error():
+    with pytest.raises(ValueError, match="bad MAVSDK connection URL"):
+        MavsdkDrone("udp-in:14540")
