@@ -1,0 +1,298 @@
+"""The built-in simulated drone: the :class:`Drone` interface over a kinematic multicopter in a :class:`World`.
+
+It owns no clock: ``update(now)`` integrates fixed substeps up to ``now``, so the same world, seed and
+commands at the same times give the same trajectory. Commands are accepted or refused at once.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import random
+import threading
+from collections.abc import Callable
+from functools import wraps
+from typing import TypeVar
+
+from ..interface import CommandHandle, Drone, DroneEvent, Failure, Observation, Telemetry, Vector
+from .camera import Camera
+from .config import SimConfig
+from .motion import wrap180
+from .multicopter import FALL, IDLE, TAKEOFF, Multicopter
+from .world import World, default_world
+
+logger = logging.getLogger(__name__)
+
+_F = TypeVar("_F", bound=Callable)
+
+MODES = ("HOLD", "TAKEOFF", "LAND", "RETURN", "OFFBOARD")
+
+
+def _locked(method: _F) -> _F:
+    @wraps(method)
+    def wrapper(self: SimulatedDrone, *args, **kwargs):
+        with self._lock:
+            return method(self, *args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def _fmt(point: Vector) -> str:
+    return "(" + ", ".join(f"{v:.1f}" for v in point) + ")"
+
+
+class SimulatedDrone(Drone):
+    """A simulated multicopter starting disarmed on the ground at home; thread-safe (one lock)."""
+
+    def __init__(self, world: World | None = None, *, config: SimConfig | None = None, seed: int = 0,
+                 start_time: float = 0.0) -> None:
+        self.world = world if world is not None else default_world()
+        self.config = config if config is not None else SimConfig()
+        self.camera = Camera.from_settings(self.world.camera)
+        self.seed = seed
+        self._rng = random.Random(seed)
+        self._lock = threading.RLock()
+        self._start = start_time
+        self._steps = 0
+        self._now = start_time
+        self._vehicle = Multicopter(self.world, self.config, start_time)
+        self._noise: Vector = (0.0, 0.0, 0.0)
+        self._observations: list[Observation] | None = None
+
+    # --- time --------------------------------------------------------------------------------------
+    @_locked
+    def update(self, now: float) -> None:
+        """Integrate fixed substeps up to ``now`` (earlier times are ignored)."""
+        if now <= self._now:
+            return
+        self._now = now
+        dt = self.config.substep
+        target = math.floor((now - self._start) / dt + 1e-9)
+        v = self._vehicle
+        if not v.armed and v.phase != FALL:
+            self._steps = max(self._steps, target)  # nothing moves: skip ahead
+            v.time = self._start + self._steps * dt
+        while self._steps < target:
+            self._steps += 1
+            v.step(self._start + self._steps * dt, dt)
+            if not v.armed and v.phase != FALL:
+                self._steps = target
+                v.time = self._start + target * dt
+        if self.config.position_noise_std > 0.0:
+            s = self.config.position_noise_std
+            self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
+        self._observations = None
+
+    # --- state -------------------------------------------------------------------------------------
+    @_locked
+    def telemetry(self) -> Telemetry:
+        v = self._vehicle
+        # The state is at the last whole substep; carry it over the remainder (< one substep) to ``time``.
+        ahead = max(self._now - v.time, 0.0)
+        x, y, z = (p + u * ahead for p, u in zip(v.position, v.velocity, strict=True))
+        position: Vector = (x, y, max(z, 0.0))
+        yaw = wrap180(v.yaw + v.yaw_rate * ahead)
+        if self.config.position_noise_std > 0.0:
+            position = tuple(p + n for p, n in zip(position, self._noise, strict=True))  # type: ignore[assignment]
+        return Telemetry(
+            time=self._now,
+            position=position,
+            velocity=v.velocity,
+            yaw=yaw,
+            battery_percent=v.battery.percent,
+            battery_voltage=v.battery.voltage,
+            armed=v.armed,
+            landed_state=v.landed_state,
+            flight_mode=v.mode,
+            link_ok=True,
+            home=self.world.home,
+        )
+
+    @property
+    def crashed(self) -> str | None:
+        """Why the drone crashed, or None while it is fine."""
+        return self._vehicle.crashed
+
+    @_locked
+    def observations(self) -> list[Observation]:
+        """What the camera sees from the drone's true pose now, nearest first."""
+        if self._observations is None:
+            v = self._vehicle
+            self._observations = self.camera.observe(self.world, v.position, v.yaw, self._now)
+        return list(self._observations)
+
+    @_locked
+    def events(self) -> list[DroneEvent]:
+        out, self._vehicle.events = self._vehicle.events, []
+        return out
+
+    # --- commands ------------------------------------------------------------------------------------
+    def _refuse(self, command: str, why: str, failure: Failure = Failure.DENIED) -> CommandHandle:
+        logger.info("simulated drone: %s denied: %s", command, why)
+        return CommandHandle.failed(command, failure, f"{command} denied: {why}")
+
+    def _unflyable(self, command: str) -> CommandHandle | None:
+        """A refusal when the drone cannot take flight commands (crashed, or landing on low battery)."""
+        v = self._vehicle
+        if v.crashed:
+            return self._refuse(command, f"the drone has crashed ({v.crashed})")
+        if v.failsafe and v.airborne:
+            return self._refuse(command, f"low-battery failsafe: landing (battery {v.battery.percent:.1f}%)")
+        return None
+
+    def _outside(self, command: str, point: Vector) -> CommandHandle | None:
+        if len(point) != 3 or not all(math.isfinite(p) for p in point):
+            return self._refuse(command, f"the point {point} is not three finite numbers")
+        if not self.world.inside(point):
+            return self._refuse(command, f"{_fmt(point)} is outside the world's bounds (geofence)")
+        return None
+
+    @_locked
+    def arm(self) -> CommandHandle:
+        v = self._vehicle
+        if v.crashed:
+            return self._refuse("arm", f"the drone has crashed ({v.crashed})")
+        if v.armed:
+            if v.airborne:
+                return self._refuse("arm", "the drone is already flying")
+            return CommandHandle.succeeded("arm")
+        threshold = self.config.failsafe_battery_percent
+        if v.battery.percent <= threshold:
+            return self._refuse("arm", f"battery {v.battery.percent:.1f}% is at or below the {threshold:g}% minimum")
+        v.arm()
+        return CommandHandle.succeeded("arm")
+
+    @_locked
+    def disarm(self) -> CommandHandle:
+        v = self._vehicle
+        if v.airborne and not v.crashed:
+            return self._refuse("disarm", "the drone is flying (land first)")
+        if v.armed:
+            v.disarm("by command")
+        return CommandHandle.succeeded("disarm")
+
+    @_locked
+    def takeoff(self, altitude: float) -> CommandHandle:
+        v = self._vehicle
+        refusal = self._unflyable("takeoff")
+        if refusal is not None:
+            return refusal
+        if not math.isfinite(altitude) or altitude <= 0.0:
+            return self._refuse("takeoff", f"altitude {altitude} m is not above the ground")
+        x, y, _ = v.position
+        refusal = self._outside("takeoff", (x, y, altitude))
+        if refusal is not None:
+            return refusal
+        if not v.armed:
+            armed = self.arm()
+            if not armed.ok:
+                return CommandHandle.failed("takeoff", Failure.DENIED, f"takeoff denied: {armed.reason}")
+        v.take_off(altitude)
+        return CommandHandle.succeeded("takeoff")
+
+    @_locked
+    def land(self) -> CommandHandle:
+        v = self._vehicle
+        if v.crashed:
+            return self._refuse("land", f"the drone has crashed ({v.crashed})")
+        if not v.airborne:
+            if v.armed and v.phase == TAKEOFF:  # still on the ground: cancel the take-off
+                v.fly_to(v.position, mode="LAND", phase=IDLE)
+                return CommandHandle.succeeded("land")
+            return self._refuse("land", "the drone is already on the ground")
+        v.land()
+        return CommandHandle.succeeded("land")
+
+    @_locked
+    def goto(self, position: Vector, yaw: float | None = None, speed: float | None = None) -> CommandHandle:
+        v = self._vehicle
+        refusal = self._unflyable("goto") or self._outside("goto", tuple(position))
+        if refusal is not None:
+            return refusal
+        if not v.armed or not (v.airborne or v.phase == TAKEOFF):
+            return self._refuse("goto", "the drone is on the ground (take off first)")
+        if speed is not None and not (math.isfinite(speed) and speed > 0.0):
+            return self._refuse("goto", f"speed {speed} m/s is not a positive number")
+        if yaw is not None and not math.isfinite(yaw):
+            return self._refuse("goto", f"yaw {yaw} is not a number")
+        speed = min(speed if speed is not None else self.config.cruise_speed, self.config.max_speed)
+        v.fly_to(tuple(float(p) for p in position), mode="HOLD", speed=speed, yaw=yaw,  # type: ignore[arg-type]
+                 face_travel=yaw is None, arrival_event=True)
+        return CommandHandle.succeeded("goto")
+
+    @_locked
+    def set_velocity(self, velocity: Vector, yaw_rate: float = 0.0) -> CommandHandle:
+        v = self._vehicle
+        refusal = self._unflyable("set_velocity")
+        if refusal is not None:
+            return refusal
+        if len(velocity) != 3 or not all(math.isfinite(c) for c in velocity) or not math.isfinite(yaw_rate):
+            return self._refuse("set_velocity", f"the velocity {velocity} / yaw rate {yaw_rate} is not finite numbers")
+        if not v.armed:
+            return self._refuse("set_velocity", "the drone is not armed")
+        v.fly_velocity(tuple(float(c) for c in velocity), float(yaw_rate))  # type: ignore[arg-type]
+        return CommandHandle.succeeded("set_velocity")
+
+    @_locked
+    def offboard_position(self, position: Vector, yaw: float | None = None) -> CommandHandle:
+        """Fly to an ENU setpoint in OFFBOARD mode (as PX4 does with streamed position setpoints)."""
+        v = self._vehicle
+        refusal = self._unflyable("offboard") or self._outside("offboard", tuple(position))
+        if refusal is not None:
+            return refusal
+        if not v.armed:
+            return self._refuse("offboard", "the drone is not armed")
+        v.fly_to(tuple(float(p) for p in position), mode="OFFBOARD",  # type: ignore[arg-type]
+                 yaw=yaw if yaw is not None and math.isfinite(yaw) else None)
+        return CommandHandle.succeeded("offboard")
+
+    @_locked
+    def hold(self) -> CommandHandle:
+        refusal = self._unflyable("hold")
+        if refusal is not None:
+            return refusal
+        self._vehicle.hold_here("HOLD")
+        return CommandHandle.succeeded("hold")
+
+    @_locked
+    def return_to_launch(self) -> CommandHandle:
+        v = self._vehicle
+        refusal = self._unflyable("return_to_launch")
+        if refusal is not None:
+            return refusal
+        if not v.airborne:
+            return self._refuse("return_to_launch", "the drone is on the ground")
+        v.return_home()
+        return CommandHandle.succeeded("return_to_launch")
+
+    @_locked
+    def set_mode(self, name: str) -> CommandHandle:
+        """Switch flight mode: HOLD, TAKEOFF (to the default altitude), LAND, RETURN or OFFBOARD."""
+        mode = str(name).upper()
+        if mode == "HOLD":
+            return self.hold()
+        if mode == "TAKEOFF":
+            return self.takeoff(self.config.default_takeoff_altitude)
+        if mode == "LAND":
+            return self.land()
+        if mode == "RETURN":
+            return self.return_to_launch()
+        if mode == "OFFBOARD":
+            refusal = self._unflyable("offboard")
+            if refusal is not None:
+                return refusal
+            self._vehicle.hold_here("OFFBOARD")
+            return CommandHandle.succeeded("set_mode")
+        return self._refuse("set_mode", f"mode {name!r} is not available in the simulation "
+                            f"(one of {', '.join(MODES)})", Failure.UNSUPPORTED)
+
+    def close(self) -> None:
+        """Nothing to release: the simulation has no threads."""
+
+    def __repr__(self) -> str:
+        v = self._vehicle
+        state = "crashed" if v.crashed else ("armed" if v.armed else "disarmed")
+        return f"<SimulatedDrone {self.world.name!r} t={self._now:.2f} {_fmt(v.position)} {v.mode} {state}>"
+
+
+__all__ = ["MODES", "SimulatedDrone"]

@@ -1,0 +1,310 @@
+"""The simulated multicopter's physical state and flight phases, advanced one fixed substep at a time.
+
+It does not check commands (``SimulatedDrone`` does): it flies the phase it is given, detects touch-down,
+collisions, geofence breaches and low battery, and records what happened as :class:`DroneEvent`s.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+from ..interface import DroneEvent, LandedState
+from .battery import Battery
+from .config import SimConfig
+from .motion import (
+    Limits,
+    accelerate,
+    clamp_velocity,
+    desired_velocity,
+    heading_to,
+    stopping_point,
+    turn_yaw,
+    wrap180,
+)
+from .world import World
+
+logger = logging.getLogger(__name__)
+
+Vector = tuple[float, float, float]
+
+_GROUND_CONTACT = 0.02  # m: at or below this height, descending, the drone is on the ground
+_ALTITUDE_REACHED = 0.1  # m: take-off and return climbs are done within it
+_FACE_TRAVEL_MIN = 1.0  # m: farther than this from a target, the drone turns to face it
+
+# Flight phases (what the drone is doing); the flight mode is what the autopilot reports.
+IDLE, TAKEOFF, POSITION, VELOCITY, LAND, RETURN_CLIMB, RETURN_TRAVEL, RETURN_LAND, FALL = (
+    "idle", "takeoff", "position", "velocity", "land", "return_climb", "return_travel", "return_land", "fall")
+
+
+class Multicopter:
+    """Position, velocity, yaw, motors, battery and the current flight phase of one simulated vehicle."""
+
+    def __init__(self, world: World, config: SimConfig, start_time: float) -> None:
+        self.world = world
+        self.config = config
+        self.time = start_time
+        self.position: Vector = (0.0, 0.0, 0.0)
+        self.velocity: Vector = (0.0, 0.0, 0.0)
+        self.yaw = 0.0
+        self.yaw_rate = 0.0  # deg/s over the last substep
+        self.armed = False
+        self.airborne = False
+        self.mode = "MANUAL"
+        self.phase = IDLE
+        self.crashed: str | None = None  # why, once crashed
+        self.failsafe = False  # latched by low battery
+        self.battery = Battery(config)
+        self.events: list[DroneEvent] = []
+        self._target: Vector = self.position
+        self._speed = config.cruise_speed
+        self._target_yaw: float | None = None
+        self._face_travel = False
+        self._arrival_pending = False
+        self._velocity_cmd: Vector = (0.0, 0.0, 0.0)
+        self._yaw_rate_cmd = 0.0
+        self._ground_since = start_time
+        self._flew_since_armed = False
+        self._outside = False
+
+    # --- reported state -----------------------------------------------------------------------------
+    @property
+    def landed_state(self) -> LandedState:
+        if not self.airborne:
+            return LandedState.TAKING_OFF if self.phase == TAKEOFF else LandedState.ON_GROUND
+        if self.phase == TAKEOFF and not self._flew_since_armed:
+            return LandedState.TAKING_OFF
+        if self.phase in (LAND, RETURN_LAND):
+            return LandedState.LANDING
+        return LandedState.IN_AIR
+
+    def emit(self, kind: str, detail: str = "", **data: object) -> None:
+        logger.info("simulated drone at t=%.2f: %s%s", self.time, kind, f" ({detail})" if detail else "")
+        self.events.append(DroneEvent(self.time, kind, detail, dict(data)))
+
+    def limits(self, speed: float | None = None, climb: float | None = None) -> Limits:
+        c = self.config
+        return Limits(
+            horizontal_speed=min(speed if speed is not None else c.cruise_speed, c.max_speed),
+            climb_rate=climb if climb is not None else c.max_climb_rate,
+            descent_rate=c.descent_rate,
+            horizontal_acceleration=c.max_acceleration,
+            vertical_acceleration=c.vertical_acceleration,
+            position_gain=c.position_gain,
+        )
+
+    # --- phases (set by the drone's commands) ---------------------------------------------------------
+    def arm(self) -> None:
+        self.armed = True
+        self._ground_since = self.time
+        self._flew_since_armed = False
+        if self.mode == "MANUAL":
+            self.mode = "HOLD"
+        self.phase = IDLE
+        self.emit("armed")
+
+    def disarm(self, why: str = "") -> None:
+        self.armed = False
+        self.mode = "MANUAL"
+        self.phase = IDLE
+        self.velocity = (0.0, 0.0, 0.0)
+        self.emit("disarmed", why)
+
+    def fly_to(self, target: Vector, *, mode: str, speed: float | None = None, yaw: float | None = None,
+               face_travel: bool = False, arrival_event: bool = False, phase: str = POSITION) -> None:
+        self.phase = phase
+        self.mode = mode
+        self._target = target
+        self._speed = speed if speed is not None else self.config.cruise_speed
+        self._target_yaw = yaw
+        self._face_travel = face_travel
+        self._arrival_pending = arrival_event
+
+    def hold_here(self, mode: str = "HOLD") -> None:
+        if self.airborne:
+            stop = stopping_point(self.position, self.velocity, self.limits())
+            self.fly_to(stop, mode=mode)
+        else:
+            self.mode = mode
+            self.phase = IDLE
+
+    def fly_velocity(self, velocity: Vector, yaw_rate: float) -> None:
+        self.phase = VELOCITY
+        self.mode = "OFFBOARD"
+        self._velocity_cmd = clamp_velocity(velocity, self.limits(self.config.max_speed))
+        self._yaw_rate_cmd = max(-self.config.yaw_rate, min(self.config.yaw_rate, yaw_rate))
+
+    def take_off(self, altitude: float) -> None:
+        x, y, _ = self.position
+        self.fly_to((x, y, altitude), mode="TAKEOFF", phase=TAKEOFF)
+
+    def land(self, mode: str = "LAND") -> None:
+        stop = stopping_point(self.position, self.velocity, self.limits())
+        self.fly_to((stop[0], stop[1], 0.0), mode=mode, phase=LAND if mode == "LAND" else RETURN_LAND)
+
+    def return_home(self) -> None:
+        ceiling = self.world.bounds.upper[2] - 1.0
+        altitude = max(self.position[2], min(self.config.return_altitude, ceiling))
+        if math.hypot(self.position[0], self.position[1]) <= self.config.acceptance_radius:
+            self.fly_to((0.0, 0.0, 0.0), mode="RETURN", phase=RETURN_LAND)
+        else:
+            self.fly_to((self.position[0], self.position[1], altitude), mode="RETURN", phase=RETURN_CLIMB)
+
+    # --- one substep ----------------------------------------------------------------------------------
+    def step(self, t: float, dt: float) -> None:
+        """Advance the vehicle from ``self.time`` to ``t`` (``dt`` seconds later)."""
+        self.time = round(t, 9)
+        if self.phase == FALL:
+            self._fall(dt)
+            return
+        if not self.armed:
+            self.yaw_rate = 0.0
+            return
+        yaw_before = self.yaw
+        desired, limits = self._desired(dt)
+        self.yaw_rate = wrap180(self.yaw - yaw_before) / dt
+        velocity = accelerate(self.velocity, desired, limits, dt)
+        if not self.airborne and velocity[2] <= 0.0:
+            self.velocity = (0.0, 0.0, 0.0)
+            self._ground_idle()
+            self.battery.drain(dt, True, False, 0.0, 0.0)
+            return
+        self.velocity = velocity
+        self.position = tuple(p + v * dt for p, v in zip(self.position, velocity, strict=True))  # type: ignore[assignment]
+        if not self.airborne and self.position[2] > 0.0:
+            self.airborne = True
+        self.battery.drain(dt, True, True, math.hypot(velocity[0], velocity[1]), velocity[2])
+        if self.position[2] <= _GROUND_CONTACT and velocity[2] <= 0.0:
+            self._touch_down()
+            return
+        if self._check_collision() or self._check_battery():
+            return
+        self._check_bounds()
+        self._progress()
+
+    def _desired(self, dt: float) -> tuple[Vector, Limits]:
+        c = self.config
+        if self.phase == VELOCITY:
+            self.yaw = wrap180(self.yaw + self._yaw_rate_cmd * dt)
+            return self._velocity_cmd, self.limits(c.max_speed)
+        if self.phase in (TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL):
+            limits = self.limits(self._speed, c.climb_rate if self.phase == TAKEOFF else None)
+            target_yaw = self._target_yaw
+            far = math.dist(self.position[:2], self._target[:2]) > _FACE_TRAVEL_MIN
+            if target_yaw is None and self._face_travel and far:
+                target_yaw = heading_to(self.position, self._target)
+            if target_yaw is not None:
+                self.yaw = turn_yaw(self.yaw, target_yaw, c.yaw_rate, dt)
+            return desired_velocity(self.position, self.velocity, self._target, limits, dt), limits
+        if self.phase in (LAND, RETURN_LAND):
+            limits = self.limits()
+            x, y, z = self.position
+            above_target = (self._target[0], self._target[1], z)
+            vx, vy, _ = desired_velocity(self.position, self.velocity, above_target, limits, dt)
+            return (vx, vy, -self._landing_speed(z)), limits
+        return (0.0, 0.0, 0.0), self.limits()
+
+    def _landing_speed(self, z: float) -> float:
+        c = self.config
+        if z >= c.land_fast_altitude:
+            return c.descent_rate
+        if z <= c.land_slow_altitude:
+            return c.land_speed
+        f = (z - c.land_slow_altitude) / (c.land_fast_altitude - c.land_slow_altitude)
+        return c.land_speed + f * (c.descent_rate - c.land_speed)
+
+    def _ground_idle(self) -> None:
+        """On the ground with motors armed: auto-disarm after the landing or pre-flight delay."""
+        c = self.config
+        delay = c.disarm_delay if self._flew_since_armed else c.preflight_disarm_delay
+        if self.phase == TAKEOFF:
+            return
+        if self.time - self._ground_since >= delay - 1e-9:
+            why = "auto-disarmed after landing" if self._flew_since_armed else "auto-disarmed: armed without taking off"
+            self.disarm(why)
+
+    def _touch_down(self) -> None:
+        speed = -self.velocity[2]
+        x, y, _ = self.position
+        self.position = (x, y, 0.0)
+        self.velocity = (0.0, 0.0, 0.0)
+        self.airborne = False
+        if speed > self.config.crash_speed:
+            self._crash(f"hit the ground at {speed:.1f} m/s", kind="collision", obstacle="ground")
+            return
+        self._flew_since_armed = True
+        self._ground_since = self.time
+        self.phase = IDLE
+        self.emit("landed", f"at ({x:.1f}, {y:.1f})", position=(x, y, 0.0))
+
+    def _crash(self, why: str, kind: str, **data: object) -> None:
+        self.crashed = why
+        self.armed = False
+        self.mode = "MANUAL"
+        self.phase = FALL if self.airborne else IDLE
+        self.velocity = (0.0, 0.0, min(self.velocity[2], 0.0))
+        self.emit(kind, why, position=self.position, **data)
+
+    def _fall(self, dt: float) -> None:
+        vz = self.velocity[2] - self.config.gravity * dt
+        x, y, z = self.position
+        z += vz * dt
+        if z <= 0.0:
+            self.position, self.velocity, self.airborne, self.phase = (x, y, 0.0), (0.0, 0.0, 0.0), False, IDLE
+        else:
+            self.position, self.velocity = (x, y, z), (0.0, 0.0, vz)
+
+    def _check_collision(self) -> bool:
+        obstacle = self.world.collides(self.position, self.config.drone_radius)
+        if obstacle is None:
+            return False
+        x, y, z = self.position
+        self._crash(f"collided with '{obstacle.name}' at ({x:.1f}, {y:.1f}, {z:.1f})", kind="collision",
+                    obstacle=obstacle.name)
+        return True
+
+    def _check_battery(self) -> bool:
+        percent = self.battery.percent
+        if percent <= 0.0:
+            self._crash("the battery is empty: the motors stopped", kind="battery_empty")
+            return True
+        if not self.failsafe and percent <= self.config.failsafe_battery_percent:
+            self.failsafe = True
+            threshold = self.config.failsafe_battery_percent
+            self.emit("failsafe", f"battery {percent:.1f}% at or below {threshold:g}%: landing",
+                      battery_percent=percent)
+            self.land()
+        return False
+
+    def _check_bounds(self) -> None:
+        if self.world.inside(self.position):
+            self._outside = False
+            return
+        if self._outside:
+            return
+        self._outside = True
+        x, y, z = self.position
+        self.emit("out_of_bounds", f"left the geofence at ({x:.1f}, {y:.1f}, {z:.1f}): holding inside",
+                  position=self.position)
+        if self.phase in (POSITION, VELOCITY, TAKEOFF):
+            self.fly_to(self.world.bounds.clamp(self.position, margin=0.5), mode="HOLD")
+
+    def _progress(self) -> None:
+        """Finish phases whose goal is reached."""
+        c = self.config
+        if self.phase in (TAKEOFF, RETURN_CLIMB) and abs(self.position[2] - self._target[2]) <= _ALTITUDE_REACHED:
+            if self.phase == TAKEOFF:
+                self._flew_since_armed = True
+                self.fly_to(self._target, mode="HOLD")
+                self.emit("takeoff_complete", f"at {self.position[2]:.1f} m")
+            else:
+                self.fly_to((0.0, 0.0, self._target[2]), mode="RETURN", face_travel=True, phase=RETURN_TRAVEL)
+        elif self.phase == RETURN_TRAVEL and math.hypot(*self.position[:2]) <= c.acceptance_radius:
+            self.fly_to((0.0, 0.0, 0.0), mode="RETURN", phase=RETURN_LAND)
+        elif (self.phase == POSITION and self._arrival_pending
+              and math.dist(self.position, self._target) <= c.acceptance_radius):
+            self._arrival_pending = False
+            x, y, z = self._target
+            self.emit("arrived", f"at ({x:.1f}, {y:.1f}, {z:.1f})", position=self._target)
+        if self.airborne and self.phase not in (TAKEOFF,):
+            self._flew_since_armed = True
