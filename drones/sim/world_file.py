@@ -2,6 +2,20 @@
 
 The file is read as a YAML node tree (PyYAML keeps each node's position), then checked key by key into
 the records of :mod:`aeroexec.drones.sim.world`. Example: ``default_world.yaml`` next to this module.
+
+Keys (ENU meters from home, angles in degrees; ``?`` = optional)::
+
+    name?: text
+    home: {lat, lon, alt}                      # alt in m AMSL
+    bounds: {min: [x, y, z], max: [x, y, z]}   # the geofence; must contain home (0, 0, 0)
+    obstacles?: - {type: box, center: [x, y, z], size: [sx, sy, sz], name?}
+                - {type: cylinder, center: [x, y], radius, height, base?: 0, name?}
+    markers?: - {id: 0..1023, position: [x, y, z], yaw?: 0, pitch?: 0, name?: marker_<id>}
+    objects?: - {name, color, shape, position: [x, y, z]}
+    platform?: {path: [[x, y, z], ...], speed, loop?: true, name?: platform, marker_id?}
+    camera?: {hfov?: 80, vfov?: 60, range?: 12, pitch?: -20}
+
+Names are unique across obstacles, markers, objects and the platform; marker ids are unique.
 """
 
 from __future__ import annotations
@@ -18,7 +32,7 @@ from .world import Bounds, CameraSettings, Marker, Platform, World, WorldError, 
 
 Vector = tuple[float, float, float]
 
-MAX_MARKER_ID = 1023  # the largest ArUco dictionary (DICT_ARUCO_ORIGINAL / 6x6_1000 ...) fits 0..1023
+MAX_MARKER_ID = 1023  # ArUco's original dictionary has 1024 markers: ids 0..1023
 
 _TOP_KEYS = {"name", "home", "bounds", "obstacles", "markers", "objects", "platform", "camera"}
 
