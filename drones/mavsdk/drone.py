@@ -52,6 +52,7 @@ class MavsdkDrone(Drone):
         self._owner_time: tuple[float, float] | None = None  # (owner's now, monotonic) at the last update()
         self._session = MavsdkSession(url, clock=self._now, rates=rates or TelemetryRates(), link_timeout=link_timeout)
         self._yaw_task: asyncio.Task | None = None
+        self._offboard = False  # we started offboard control and stream velocity setpoints
         self._session.start()
 
     # --- state -------------------------------------------------------------------------------------
@@ -177,8 +178,9 @@ class MavsdkDrone(Drone):
             self._stop_yaw()
             heading = s.cache.heading
             await s.call(s.offboard.set_velocity_ned(VelocityNedYaw(north, east, down, heading)))
-            if not await s.call(s.offboard.is_active()):
-                await s.call(s.offboard.start())
+            if not (self._offboard and s.cache.flight_mode in ("OFFBOARD", "GUIDED")):
+                await s.call(s.offboard.start())  # MAVSDK streams the setpoint from now on
+                self._offboard = True
             if yaw_rate:
                 self._yaw_task = s.spawn(self._turn(north, east, down, heading, yaw_rate))
 
@@ -206,9 +208,10 @@ class MavsdkDrone(Drone):
         """Stop streaming velocity setpoints (the vehicle goes to HOLD); True when offboard was active."""
         s = self._session
         self._stop_yaw()
-        if not await s.call(s.offboard.is_active()):
+        if not self._offboard:
             return False
         await s.call(s.offboard.stop())
+        self._offboard = False
         return True
 
     def _stop_yaw(self) -> None:

@@ -103,6 +103,26 @@ def test_connect_arm_take_off_fly_10_m_land_and_disarm(flight):
     assert "landed" in kinds and "disarmed" in kinds
 
 
+def test_velocity_control_hold_and_return_to_launch(flight):
+    drone, vehicle = flight
+    assert drone.takeoff(3.0).wait(STEP_S)
+    until(lambda: settled(drone, vehicle, (0.0, 0.0, 3.0)), what="hovering at 3 m")
+    velocity = drone.set_velocity((0.0, 1.5, 0.0))  # north, through offboard setpoints
+    assert velocity.wait(STEP_S) and velocity.ok, velocity
+    until(lambda: drone.telemetry().flight_mode == "OFFBOARD", what="OFFBOARD mode")
+    until(lambda: math.dist(drone.telemetry().velocity, (0.0, 1.5, 0.0)) < 0.1, what="flying north at 1.5 m/s")
+    assert vehicle.telemetry().velocity == pytest.approx((0.0, 1.5, 0.0), abs=0.1)
+    hold = drone.hold()
+    assert hold.wait(STEP_S) and hold.ok, hold
+    until(lambda: drone.telemetry().flight_mode == "HOLD" and drone.telemetry().speed < 0.1, what="holding")
+    assert drone.telemetry().position[1] > 1.0
+    rtl = drone.return_to_launch()
+    assert rtl.wait(STEP_S) and rtl.ok, rtl
+    until(lambda: drone.telemetry().flight_mode == "RETURN", what="RETURN mode")
+    until(lambda: not vehicle.telemetry().armed, timeout=30.0, what="landing at home")
+    until(lambda: settled(drone, vehicle, (0.0, 0.0, 0.0), tol=0.5), what="home")
+
+
 def test_link_loss_is_reported_within_3_s_and_pending_commands_fail(flight):
     drone, vehicle = flight
     drone.events()
