@@ -159,13 +159,13 @@ def count(client, kind: str, seconds: float) -> int:
     return n
 
 
-def test_mission_upload_and_download(link):
-    client, vehicle = link
+def upload_mission(client) -> tuple:
+    """Take off to 5 m, fly ~10 m north, land; returns the HOME_POSITION message."""
     home = wait_for(client, "HOME_POSITION")
     frame = mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT
     items = [
         (mavlink.MAV_CMD_NAV_TAKEOFF, home.latitude, home.longitude, 5.0),
-        (mavlink.MAV_CMD_NAV_WAYPOINT, home.latitude + 900, home.longitude, 5.0),  # ~10 m north
+        (mavlink.MAV_CMD_NAV_WAYPOINT, home.latitude + 900, home.longitude, 5.0),  # 9e-5 degree: ~10 m north
         (mavlink.MAV_CMD_NAV_LAND, 0, 0, 0.0),
     ]
     client.mav.mission_count_send(1, 1, len(items), mavlink.MAV_MISSION_TYPE_MISSION)
@@ -175,6 +175,12 @@ def test_mission_upload_and_download(link):
         client.mav.mission_item_int_send(1, 1, req.seq, frame, cmd, 0, 1, 0, 0, 0, math.nan, lat, lon, alt, 0)
     ack = wait_for(client, "MISSION_ACK")
     assert ack.type == mavlink.MAV_MISSION_ACCEPTED
+    return home
+
+
+def test_mission_upload_and_download(link):
+    client, vehicle = link
+    home = upload_mission(client)
     assert len(vehicle.mission.items) == 3
     client.mav.mission_request_list_send(1, 1, mavlink.MAV_MISSION_TYPE_MISSION)
     assert wait_for(client, "MISSION_COUNT").count == 3
@@ -182,6 +188,19 @@ def test_mission_upload_and_download(link):
     item = wait_for(client, "MISSION_ITEM_INT")
     assert (item.seq, item.command, item.x) == (1, mavlink.MAV_CMD_NAV_WAYPOINT, home.latitude + 900)
     client.mav.mission_ack_send(1, 1, mavlink.MAV_MISSION_ACCEPTED, mavlink.MAV_MISSION_TYPE_MISSION)
+
+
+def test_an_uploaded_mission_flies_in_auto_mission_mode(link):
+    client, vehicle = link
+    upload_mission(client)
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mavlink.MAV_RESULT_ACCEPTED
+    assert command(client, mavlink.MAV_CMD_MISSION_START, 0, 0) == mavlink.MAV_RESULT_ACCEPTED
+    wait_for(client, "HEARTBEAT", lambda m: m.custom_mode == px4_custom_mode("MISSION"))
+    wait_for(client, "MISSION_ITEM_REACHED", lambda m: m.seq == 1, timeout=10)
+    x, y, z = vehicle.telemetry().position
+    assert abs(y - 10.0) < 2.5 and abs(x) < 0.5 and z == pytest.approx(5.0, abs=1.0)  # NAV_ACC_RAD is 2 m
+    wait_for(client, "EXTENDED_SYS_STATE", lambda m: m.landed_state == mavlink.MAV_LANDED_STATE_ON_GROUND, timeout=10)
+    assert vehicle.telemetry().position[1] == pytest.approx(10.0, abs=2.5)
 
 
 def test_offboard_needs_streaming_setpoints_then_follows_them(link):
