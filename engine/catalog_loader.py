@@ -135,7 +135,8 @@ class CatalogReader:
                 self.content.lists[name] = tuple(m for m, _ in members)
 
     def _capability_descriptors(self, node: yaml.Node) -> None:
-        keys = ("capability", "process_sequence", "incompatible_capabilities", "permanent_active")
+        keys = ("capability", "process_sequence", "incompatible_capabilities", "permanent_active",
+                "alternative_processes")
         for item in self.r.sequence(node, "capability_descriptors") or ():
             e = self.r.mapping(item, "a capability descriptor", keys)
             if e is None or not self._required(e, item, "capability", "a capability descriptor"):
@@ -152,10 +153,19 @@ class CatalogReader:
             for other, other_node in incompatible:
                 self.content.references.append(("capability", other, f"capability {name}", other_node))
             permanent = "permanent_active" in e and self.r.flag(e["permanent_active"][1], "permanent_active")
+            alternatives = {}
+            if "alternative_processes" in e:
+                pairs = self.r.mapping(e["alternative_processes"][1], f"alternative_processes of {name}") or {}
+                for process, (key_node, value_node) in pairs.items():
+                    if process not in {p for p, _ in processes}:
+                        self.r.error(key_node, f"capability {name}: {process} is not in its process_sequence")
+                    alternative = self.r.text(value_node, f"the alternative to {process}")
+                    if alternative is not None:
+                        alternatives[process] = alternative
             if name is not None:
                 self.content.capabilities[name] = CapabilityDescriptor(
                     name, tuple(p for p, _ in processes), tuple(c for c, _ in incompatible), bool(permanent),
-                    item.start_mark.line + 1)
+                    alternatives, item.start_mark.line + 1)
 
     def _behavior_descriptors(self, node: yaml.Node) -> None:
         for item in self.r.sequence(node, "behavior_descriptors") or ():

@@ -47,6 +47,7 @@ class CapabilityDescriptor:
     processes: tuple[str, ...] = ()
     incompatible: tuple[str, ...] = ()
     permanent: bool = False
+    alternatives: dict[str, str] = field(default_factory=dict)  # process -> the process to run if it fails
     line: int = 0
 
 

@@ -1,0 +1,215 @@
+"""The Python mission API (paper section 6.1, Table 8): what a mission program calls, from its own thread.
+
+``import aeroexec.engine.api as api`` then ``api.execute_behavior("TAKE_OFF")``.
+The paper's and Aerostack's spellings are aliases (``executeBehavior``,
+``consultBelief``, ``startTask``...). Argument names match the catalog without
+regard to case: ``coordinates=`` is ``COORDINATES``. Reserved keywords:
+``timeout=`` (seconds, overrides the catalog's), and for recurrent behaviors
+``activation_delay=``, ``activation_distance=((x, y, z), meters)`` and
+``activation_yaw=(min, max)`` (Appendix A's activation conditions).
+"""
+
+from __future__ import annotations
+
+import threading
+import traceback
+from pathlib import Path
+from typing import Any
+
+from .activation import ActivationConditions
+from .descriptors import RECURRENT
+from .events import Outcome
+from .mission_bridge import MissionAborted
+
+_bound: dict[str, Any] = {"engine": None}
+_lock = threading.Lock()
+_PACKAGE = str(Path(__file__).resolve().parents[1])
+RESERVED = ("timeout", "activation_delay", "activation_distance", "activation_yaw")
+
+OK = "OK"
+FAILED_PRECONDITIONS = Outcome.FAILED_PRECONDITIONS
+GOAL_ACHIEVED = ACHIEVED_GOAL = Outcome.GOAL_ACHIEVED
+TIME_OUT = Outcome.TIME_OUT
+WRONG_PROGRESS = Outcome.WRONG_PROGRESS
+INTERRUPTED = Outcome.INTERRUPTED
+
+
+class Unification(dict):
+    """Variable values by name as written (``'?X'``); ``'X'`` is accepted too, as Figure 10 reads them."""
+
+    def __missing__(self, key: str) -> Any:
+        if isinstance(key, str) and not key.startswith("?") and "?" + key in self:
+            return self["?" + key]
+        raise KeyError(key)
+
+
+def bind(engine: Any) -> None:
+    """Make ``engine`` the one the API talks to (done by the engine for its mission thread)."""
+    with _lock:
+        _bound["engine"] = engine
+
+
+def unbind() -> None:
+    with _lock:
+        _bound["engine"] = None
+
+
+def _engine() -> Any:
+    engine = _bound["engine"]
+    if engine is None:
+        raise RuntimeError("no engine is running this mission: run it with `aeroexec run MISSION.py`")
+    return engine
+
+
+def _request(name: str, arguments: dict[str, Any]) -> tuple[str, dict[str, Any], dict[str, Any]]:
+    """The behavior name and catalog-cased arguments, and the reserved options apart."""
+    engine = _engine()
+    name = str(name).upper()
+    descriptor = engine.catalog.behavior(name)
+    known = {a.upper(): a for a in descriptor.arguments} if descriptor else {}
+    options = {k: arguments.pop(k) for k in RESERVED if k in arguments}
+    cased = {}
+    for key, value in arguments.items():
+        cased[known.get(key.upper(), key.upper())] = list_to_tuple(value)
+    return name, cased, options
+
+
+def list_to_tuple(value: Any) -> Any:
+    """Points written as lists ``[2, 5, 1.3]`` are the catalog's tuples."""
+    if isinstance(value, list | tuple):
+        return tuple(list_to_tuple(v) for v in value)
+    return value
+
+
+def _conditions(options: dict[str, Any]) -> ActivationConditions | None:
+    if not any(k.startswith("activation_") for k in options):
+        return None
+    point, distance = options.get("activation_distance", (None, None))
+    yaw = options.get("activation_yaw")
+    return ActivationConditions(tuple(point) if point is not None else None, distance,
+                                options.get("activation_delay"), tuple(yaw) if yaw is not None else None)
+
+
+def _run_behavior(name: str, arguments: dict[str, Any]) -> tuple[Outcome, Any]:
+    name, args, options = _request(name, arguments)
+    engine = _engine()
+    descriptor = engine.catalog.behavior(name)
+    if descriptor is not None and descriptor.category == RECURRENT and "timeout" not in options:
+        raise ValueError(f"The behavior {name} is recurrent: it has no goal to wait for "
+                         f"(use activate_behavior, or give timeout=)")
+
+    def register(resolve: Any) -> None:
+        result = engine.coordinator.activate(name, args, timeout=options.get("timeout"), source="mission",
+                                             on_end=lambda outcome, message, value: resolve((outcome, value)))
+        if not result.accepted:
+            resolve((result.outcome or Outcome.FAILED_PRECONDITIONS, None))
+
+    return engine.bridge.wait_for(register)
+
+
+def execute_behavior(name: str, **arguments: Any) -> Outcome:
+    """Execute a goal-based behavior and wait until it ends: GOAL_ACHIEVED, TIME_OUT, WRONG_PROGRESS,
+    FAILED_PRECONDITIONS or INTERRUPTED."""
+    return _run_behavior(name, arguments)[0]
+
+
+def ask_behavior(name: str, **arguments: Any) -> Any:
+    """Execute a deliberative behavior and return its result (None when it did not reach its goal)."""
+    outcome, value = _run_behavior(name, arguments)
+    return value if outcome is Outcome.GOAL_ACHIEVED else None
+
+
+def activate_behavior(name: str, **arguments: Any) -> str:
+    """Activate a behavior and return at once: OK or FAILED_PRECONDITIONS."""
+    name, args, options = _request(name, arguments)
+    engine = _engine()
+    conditions = _conditions(options)
+
+    def activate() -> str:
+        result = engine.coordinator.activate(name, args, timeout=options.get("timeout"), source="mission",
+                                             conditions=conditions)
+        return OK if result.accepted else str(Outcome.FAILED_PRECONDITIONS)
+
+    return engine.bridge.call(activate)
+
+
+def inhibit_behavior(name: str) -> bool:
+    """Stop a behavior (INTERRUPTED) and keep reactions from restarting it; always succeeds."""
+    engine = _engine()
+    engine.bridge.call(lambda: engine.coordinator.inhibit(str(name).upper(), "inhibited by the mission"))
+    return True
+
+
+def is_active_behavior(name: str) -> bool:
+    engine = _engine()
+    return engine.bridge.call(lambda: engine.coordinator.is_active(str(name).upper()))
+
+
+def consult_belief(expression: str) -> tuple[bool, Unification]:
+    """``(success, unification)`` of the first match of a belief expression."""
+    engine = _engine()
+    success, unification = engine.bridge.call(lambda: engine.memory.consult(expression))
+    return success, Unification(unification)
+
+
+def true_belief(expression: str) -> bool:
+    engine = _engine()
+    return engine.bridge.call(lambda: engine.memory.holds(expression))
+
+
+def add_belief(belief: str) -> bool:
+    engine = _engine()
+    return engine.bridge.call(lambda: engine.memory.add(belief))
+
+
+def remove_belief(pattern: str) -> int:
+    engine = _engine()
+    return engine.bridge.call(lambda: engine.memory.remove(pattern))
+
+
+def wait(seconds: float) -> None:
+    """Let ``seconds`` of engine time pass (use this, not ``time.sleep``, so simulated time is respected)."""
+    engine = _engine()
+    if seconds < 0:
+        raise ValueError(f"cannot wait {seconds} seconds")
+
+    def register(resolve: Any) -> None:
+        engine.timers.after(seconds, lambda: resolve(None))
+
+    engine.bridge.wait_for(register)
+
+
+def now() -> float:
+    """The engine's clock, in seconds since it started."""
+    return _engine().now()
+
+
+def mission_location(exc: BaseException) -> str:
+    """`` at FILE:LINE``: the last place in the mission's own code that the exception went through."""
+    frames = [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(_PACKAGE)]
+    if not frames:
+        return ""
+    frame = frames[-1]
+    return f" at {Path(frame.filename).name}:{frame.lineno}"
+
+
+# The paper's (Table 8) and Aerostack's spellings.
+executeBehavior = execute_behavior
+activateBehavior = activate_behavior
+askBehavior = ask_behavior
+inhibitBehavior = inhibit_behavior
+deactivateBehavior = inhibit_behavior
+isActiveBehavior = is_active_behavior
+consultBelief = consult_belief
+queryBelief = consult_belief
+trueBelief = true_belief
+addBelief = add_belief
+removeBelief = remove_belief
+executeTask = execute_behavior
+startTask = activate_behavior
+stopTask = inhibit_behavior
+
+__all__ = [
+    "MissionAborted", "Unification", "activate_behavior", "add_belief", "ask_behavior", "consult_belief",
+    "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief", "true_belief", "wait",
+]

@@ -1,0 +1,231 @@
+"""The execution engine: one loop at a fixed rate that drives the drone, the beliefs, the behaviors and the mission.
+
+Each tick: read the clock, let the drone integrate or refresh, record its
+events, run the belief updaters, step the capability processes, monitor the
+active behaviors and run the reactive rules, then serve the mission. Build one
+with :class:`Engine` and either ``run()`` it in this thread or ``start()`` it in
+its own.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import heapq
+import logging
+import threading
+import time
+from collections.abc import Callable, Iterable
+from typing import Any
+
+from aeroexec.beliefs import BeliefMemory, BeliefUpdater
+from aeroexec.drones import Drone
+
+from .catalog import BehaviorCatalog, default_catalog
+from .clock import Clock, SimulatedClock
+from .coordinator import BehaviorCoordinator
+from .events import EventLog
+from .mission_bridge import DONE, MissionBridge
+from .process import BehaviorContext, BehaviorLibrary, EngineSettings
+from .resources import ProcessRegistry, ResourceManager
+from .specialist import BehaviorSpecialist
+from .updaters import ObstacleMap, TelemetryUpdater, register_computed
+
+logger = logging.getLogger(__name__)
+
+
+class Timers:
+    """Callbacks due at a time of the engine's clock, run by the loop (e.g. a mission's ``wait``)."""
+
+    def __init__(self, clock: Callable[[], float]) -> None:
+        self._clock = clock
+        self._due: list[tuple[float, int, Callable[[], None]]] = []
+        self._count = 0
+
+    def after(self, seconds: float, callback: Callable[[], None]) -> None:
+        self._count += 1
+        heapq.heappush(self._due, (self._clock() + seconds, self._count, callback))
+
+    def run_due(self) -> None:
+        now = self._clock()
+        while self._due and self._due[0][0] <= now + 1e-9:
+            _, _, callback = heapq.heappop(self._due)
+            try:
+                callback()
+            except Exception:
+                logger.exception("a timer callback failed")
+
+
+class Engine:
+    """Everything of the paper's execution engine wired together around one drone."""
+
+    def __init__(self, drone: Drone, *, catalog: BehaviorCatalog | None = None,
+                 library: BehaviorLibrary | None = None, processes: ProcessRegistry | None = None,
+                 clock: Clock | None = None, rate: float = 20.0, settings: EngineSettings | None = None,
+                 updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
+                 capability_grace: float = 2.0) -> None:
+        if not rate > 0:
+            raise ValueError(f"the engine rate must be positive, not {rate}")
+        self.drone = drone
+        self.catalog = catalog or default_catalog()
+        self.clock = clock or SimulatedClock()
+        self.period = 1.0 / rate
+        self.settings = settings or EngineSettings()
+        self.memory = BeliefMemory(clock=self.clock)
+        self.catalog.declare_vocabulary(self.memory)
+        register_computed(self.memory, drone, self.settings.cruise_speed, obstacles)
+        self.log = EventLog(self.clock.now)
+        self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings)
+        if library is None:
+            from .behaviors import default_library
+
+            library = default_library()
+        if processes is None:
+            from .behaviors import default_processes
+
+            processes = default_processes()
+        self.library = library
+        self.specialist = BehaviorSpecialist(self.catalog)
+        self.resources = ResourceManager(self.catalog, processes, self.log, self.context, capability_grace)
+        self.coordinator = BehaviorCoordinator(self.context, library, self.resources, self.specialist)
+        self.updaters: list[BeliefUpdater] = [TelemetryUpdater(drone), *updaters]
+        self.bridge = MissionBridge()
+        self.timers = Timers(self.clock.now)
+        self._started = False
+        self._stop = threading.Event()
+        self._closed = False
+        self._thread: threading.Thread | None = None
+        self._lock = threading.RLock()
+
+    # -- the loop ------------------------------------------------------------------------------
+    def now(self) -> float:
+        return self.clock.now()
+
+    def tick(self) -> None:
+        """One period of the engine, at the clock's current time."""
+        with self._lock:
+            if not self._started:
+                self._begin()
+            now = self.clock.now()
+            self.drone.update(now)
+            for event in self.drone.events():
+                self.log.record(f"drone_{event.kind}", detail=event.detail, **event.data)
+            for updater in self.updaters:
+                updater.tick(self.memory, now)
+            for capability, reason in self.resources.update(now):
+                self.coordinator.fail_users(capability, reason)
+            self.coordinator.tick()
+            self.timers.run_due()
+
+    def _begin(self) -> None:
+        self._started = True
+        self.log.record("engine_started", detail=f"{len(self.catalog)} behaviors, {1 / self.period:g} Hz")
+        now = self.clock.now()
+        self.drone.update(now)
+        for updater in self.updaters:
+            updater.tick(self.memory, now)
+        self.resources.start_permanent()
+        self.coordinator.react()
+
+    def step(self, seconds: float) -> None:
+        """Run ticks for ``seconds`` of clock time (simulated clocks jump; tests and scripts)."""
+        end = self.clock.now() + seconds - 1e-9
+        while self.clock.now() < end and not self._stop.is_set():
+            self._one_period(lockstep=True)
+
+    def run_until(self, condition: Callable[[], bool], timeout: float) -> bool:
+        """Tick until ``condition()`` holds or ``timeout`` seconds of clock time pass; True if it held."""
+        end = self.clock.now() + timeout
+        while not condition():
+            if self.clock.now() >= end or self._stop.is_set():
+                return condition()
+            self._one_period(lockstep=True)
+        return True
+
+    def _one_period(self, lockstep: bool) -> None:
+        self.tick()
+        deadline = self.clock.now() + self.period
+        simulated = isinstance(self.clock, SimulatedClock)
+        if simulated:
+            self.bridge.serve(lockstep=True)
+        else:
+            self.bridge.serve(lockstep=False, until_wall=time.monotonic() + max(0.0, deadline - self.clock.now()))
+        self.clock.sleep_until(deadline, self._stop)
+
+    def run(self, mission: Callable[[], Any] | None = None, max_time: float | None = None) -> None:
+        """Run the loop in this thread until the mission ends (or ``max_time`` clock seconds), then stop."""
+        if mission is not None:
+            self.start_mission(mission)
+        end = None if max_time is None else self.clock.now() + max_time
+        try:
+            while not self._stop.is_set():
+                if mission is not None and self.bridge.state == DONE:
+                    break
+                if end is not None and self.clock.now() >= end:
+                    self.log.record("engine_time_limit", detail=f"{max_time:g} s of engine time have passed")
+                    break
+                self._one_period(lockstep=True)
+        finally:
+            self.stop()
+
+    # -- missions ------------------------------------------------------------------------------
+    def start_mission(self, mission: Callable[[], Any], name: str = "mission") -> threading.Thread:
+        """Run ``mission()`` in its own thread; its API calls are served by this engine's loop."""
+        from . import api
+
+        def body() -> None:
+            api.bind(self)
+            self.bridge.mission_started()
+            try:
+                mission()
+                self.bridge.call(lambda: self.log.record("mission_completed", detail=name))
+            except api.MissionAborted:
+                pass
+            except Exception as exc:
+                detail = f"{name}{api.mission_location(exc)}: {type(exc).__name__}: {exc}"
+                logger.error("the mission failed: %s", detail)
+                with contextlib.suppress(api.MissionAborted):
+                    self.bridge.call(lambda: self.log.record("mission_failed", detail=detail))
+            finally:
+                self.bridge.mission_finished()
+                api.unbind()
+
+        self.bridge.mission_started()
+        self.log.record("mission_started", detail=name)
+        thread = threading.Thread(target=body, name=f"aeroexec-{name}", daemon=True)
+        thread.start()
+        return thread
+
+    # -- threads -------------------------------------------------------------------------------
+    def start(self) -> None:
+        """Run the loop in a background thread (for embedding); ``stop()`` ends it."""
+        if self._thread is not None:
+            return
+        self._thread = threading.Thread(target=self._loop, name="aeroexec-engine", daemon=True)
+        self._thread.start()
+
+    def _loop(self) -> None:
+        try:
+            while not self._stop.is_set():
+                self._one_period(lockstep=False)
+        except Exception:
+            logger.exception("the engine loop failed")
+            raise
+
+    def stop(self, reason: str = "engine stopped") -> None:
+        """Stop behaviors, capabilities and the mission; never hangs."""
+        if self._closed:
+            return
+        self._closed = True
+        self._stop.set()
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=5.0)
+            self._thread = None
+        with self._lock:
+            self.coordinator.stop_all(reason)
+            self.resources.shutdown()
+            self.bridge.close()
+            self.log.record("engine_stopped", detail=reason)
+
+    @property
+    def stopped(self) -> bool:
+        return self._stop.is_set()

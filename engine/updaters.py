@@ -1,0 +1,103 @@
+"""The engine's belief updaters: the drone's own state from telemetry, and the predicates computed when consulted.
+
+:class:`TelemetryUpdater` writes ``position(self, (x, y, z))``, ``flight_state``,
+``charge(battery, N)``, ``battery_level``, ``armed``, ``orientation``, ``speed``,
+``flight_mode`` and ``communication(wireless, ok|lost)``; :func:`register_computed`
+answers ``distance``, ``distance_to``, ``approximate_travel_time`` and the
+obstacle distances from functions.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any, Protocol
+
+from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Struct
+from aeroexec.drones import Drone, LandedState, Telemetry
+
+MOVING_ABOVE = 0.5  # m/s: faster is moving
+HOVERING_BELOW = 0.25  # m/s: slower is hovering (in between, the state does not change)
+
+
+class ObstacleMap(Protocol):
+    """What the engine knows of obstacles: the simulated world, or a map an embedding robot provides."""
+
+    def distance_to_obstacle(self, point: tuple[float, float, float]) -> float: ...
+
+
+def flight_state(telemetry: Telemetry, previous: str | None) -> str:
+    """The qualitative flight state: landed, taking_off, hovering, moving or landing."""
+    landed = telemetry.landed_state
+    if landed is LandedState.ON_GROUND or (landed is LandedState.UNKNOWN and not telemetry.armed):
+        return "landed"
+    if landed is LandedState.TAKING_OFF:
+        return "taking_off"
+    if landed is LandedState.LANDING:
+        return "landing"
+    speed = telemetry.speed
+    if speed > MOVING_ABOVE:
+        return "moving"
+    if speed < HOVERING_BELOW or previous not in ("moving", "hovering"):
+        return "hovering"
+    return previous
+
+
+def battery_level(percent: float) -> str:
+    return "low" if percent < 20 else "medium" if percent < 50 else "high"
+
+
+class TelemetryUpdater(BeliefUpdater):
+    """Beliefs about the robot itself, from the drone's telemetry snapshot."""
+
+    def __init__(self, drone: Drone, period: float = 0.1) -> None:
+        super().__init__("telemetry", period)
+        self.drone = drone
+        self._state: str | None = None
+
+    def update(self, memory: BeliefMemory, now: float) -> None:
+        t = self.drone.telemetry()
+        self._state = flight_state(t, self._state)
+        x, y, z = (round(v, 2) for v in t.position)
+        facts = [
+            Struct("position", ("self", (x, y, z))),
+            Struct("flight_state", ("self", self._state)),
+            Struct("charge", ("battery", int(math.floor(t.battery_percent)))),
+            Struct("battery_level", ("self", battery_level(t.battery_percent))),
+            Struct("armed", ("self", "yes" if t.armed else "no")),
+            Struct("orientation", ("self", round(t.yaw))),
+            Struct("speed", ("self", round(t.speed, 1))),
+            Struct("flight_mode", ("self", t.flight_mode)),
+            Struct("communication", ("wireless", "ok" if t.link_ok else "lost")),
+        ]
+        for fact in facts:
+            memory.add(fact)
+
+
+def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
+                      obstacles: ObstacleMap | None = None) -> None:
+    """Register the predicates answered by functions (Table 7)."""
+
+    def point(value: Any) -> tuple[float, float, float] | None:
+        if isinstance(value, tuple) and len(value) == 3 and all(isinstance(v, int | float) for v in value):
+            return tuple(float(v) for v in value)
+        return None
+
+    def guarded(function: Callable[..., float | None]) -> Callable[..., float | None]:
+        def answer(*args: Any) -> float | None:
+            points = [point(a) for a in args]
+            return None if any(p is None for p in points) else function(*points)
+        return answer
+
+    def travel_time(a: tuple, b: tuple) -> float:
+        # a trapezoidal profile at cruise speed with 1 s to accelerate and 1 s to brake
+        return round(math.dist(a, b) / cruise_speed + 1.0, 2)
+
+    def to_obstacle(p: tuple) -> float:
+        return round(obstacles.distance_to_obstacle(p), 2) if obstacles is not None else math.inf
+
+    memory.register("distance", 3, guarded(lambda a, b: round(math.dist(a, b), 2)))
+    memory.register("distance_to", 2, guarded(lambda p: round(math.dist(drone.telemetry().position, p), 2)))
+    memory.register("approximate_travel_time", 3, guarded(travel_time))
+    memory.register("minimum_distance_to_obstacle", 2, guarded(to_obstacle))
+    memory.register("distance_to_obstacle", 2, guarded(to_obstacle))
