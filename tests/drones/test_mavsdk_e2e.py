@@ -157,3 +157,18 @@ def test_close_returns_promptly_even_with_a_command_in_flight(flight):
 def test_a_bad_connection_url_is_one_clear_error():
     with pytest.raises(ValueError, match="bad MAVSDK connection URL"):
         MavsdkDrone("udp-in:14540")
+
+
+def test_a_port_in_use_is_a_connection_error_and_commands_fail_link_lost():
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as taken:
+        taken.bind(("127.0.0.1", 0))
+        drone = MavsdkDrone(f"udpin://127.0.0.1:{taken.getsockname()[1]}")
+        try:
+            until(lambda: drone.connection_error is not None, timeout=5.0, what="the connection error")
+            assert "cannot open the connection" in drone.connection_error
+            handle = drone.arm()
+            assert handle.wait(1.0) and handle.failure == Failure.LINK_LOST
+            assert drone.not_ready_because() == [drone.connection_error]
+            assert [event.kind for event in drone.events()] == ["link_lost"]
+        finally:
+            drone.close()
