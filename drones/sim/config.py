@@ -36,7 +36,7 @@ class SimConfig:
     battery_idle_drain: float = 0.1  # armed on the ground, as a fraction of hover drain
     battery_cells: int = 4  # LiPo cells in series (4S: 16.8 V full)
     initial_battery_percent: float = 100.0
-    failsafe_battery_percent: float = 10.0  # at or below it: no arming, and a flying drone lands (BAT_CRIT_THR)
+    failsafe_battery_percent: float = 7.0  # at or below it: no arming, and a flying drone lands (BAT_CRIT_THR)
 
     # Landing and safety
     disarm_delay: float = 2.0  # s on the ground after landing before auto-disarm, COM_DISARM_LAND

@@ -28,7 +28,6 @@ logger = logging.getLogger(__name__)
 
 _LOOP_S = 0.01  # longest wait for input between two rounds of the vehicle's loop
 _MAX_RATE_HZ = 100.0
-_MIN_ARM_BATTERY = 10.0  # percent: below it the pre-arm check fails
 _SEVERITY = {
     "collision": mavlink.MAV_SEVERITY_CRITICAL,
     "failsafe": mavlink.MAV_SEVERITY_CRITICAL,
@@ -308,11 +307,17 @@ class MavlinkVehicle:
             geodetic=tuple(self.drone.world.to_geodetic(tel.position)),
             home=self.home(),
             mode="MISSION" if mission.active else tel.flight_mode,
-            armable=tel.battery_percent >= _MIN_ARM_BATTERY,
+            armable=self._armable(tel),
             yaw_rate=self._yaw_rate,
             mission_seq=mission.current,
             mission_total=len(mission.items),
         )
+
+    def _armable(self, tel: Telemetry) -> bool:
+        """The pre-arm check: what the simulated drone's arm() would accept (battery above failsafe, not crashed)."""
+        if getattr(self.drone, "crashed", None):
+            return False
+        return tel.battery_percent > getattr(self.drone.config, "failsafe_battery_percent", 7.0)
 
     def _send(self, wall: float) -> None:
         state = self._state()

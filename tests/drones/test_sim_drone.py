@@ -15,9 +15,15 @@ DT = 0.05  # the engine's tick in these tests
 
 def field(*obstacles, markers=(), objects=(), platform=None, size=100.0, ceiling=40.0):
     """An open field ``2*size`` wide centred on home."""
-    return World(home=HOME, bounds=Bounds((-size, -size, 0.0), (size, size, ceiling)), obstacles=tuple(obstacles),
-                 markers=tuple(markers), objects=tuple(objects), platform=platform,
-                 camera=CameraSettings(hfov=80.0, vfov=60.0, range=12.0, pitch=0.0))
+    return World(
+        home=HOME,
+        bounds=Bounds((-size, -size, 0.0), (size, size, ceiling)),
+        obstacles=tuple(obstacles),
+        markers=tuple(markers),
+        objects=tuple(objects),
+        platform=platform,
+        camera=CameraSettings(hfov=80.0, vfov=60.0, range=12.0, pitch=0.0),
+    )
 
 
 class Run:
@@ -170,10 +176,10 @@ def test_the_battery_drains_with_time_and_more_when_moving():
 
 
 def test_low_battery_triggers_the_failsafe_landing_and_blocks_flying():
-    run = airborne(5.0, config=SimConfig(initial_battery_percent=11.0))
+    run = airborne(5.0, config=SimConfig(initial_battery_percent=8.0))
     run.run(120.0, until=lambda tel: tel.flight_mode == "LAND")
     failsafe = run.event("failsafe")
-    assert "battery" in failsafe.detail and failsafe.data["battery_percent"] <= 10.0
+    assert "battery" in failsafe.detail and failsafe.data["battery_percent"] <= 7.0
     refused = run.drone.goto((5.0, 0.0, 5.0))
     assert refused.failure == Failure.DENIED and "failsafe" in refused.reason
     run.run(60.0, until=lambda tel: not tel.armed)
@@ -286,9 +292,13 @@ def test_the_camera_sees_a_marker_in_front_within_range_and_in_sight():
 
 def test_the_drone_reports_objects_and_the_moving_platform_its_camera_sees():
     platform = Platform("rover", ((6.0, -20.0, 0.5), (6.0, 20.0, 0.5)), speed=2.0, loop=False, marker_id=42)
-    world = World(home=HOME, bounds=Bounds((-50, -50, 0), (50, 50, 30)), platform=platform,
-                  objects=(WorldObject("red_ball", "red", "sphere", (5.0, 1.0, 0.2)),),
-                  camera=CameraSettings(hfov=80.0, vfov=60.0, range=12.0, pitch=-30.0))
+    world = World(
+        home=HOME,
+        bounds=Bounds((-50, -50, 0), (50, 50, 30)),
+        platform=platform,
+        objects=(WorldObject("red_ball", "red", "sphere", (5.0, 1.0, 0.2)),),
+        camera=CameraSettings(hfov=80.0, vfov=60.0, range=12.0, pitch=-30.0),
+    )
     drone = SimulatedDrone(world)
     assert drone.takeoff(3.0).ok
     rover_seen = []  # (time, observed position)
@@ -324,7 +334,8 @@ def test_same_world_seed_and_commands_give_the_same_trajectory():
         run.drone.return_to_launch()
         run.run(40.0)
         return [(t.time, t.position, t.velocity, t.yaw, t.battery_percent, t.flight_mode) for t in run.log], [
-            (e.time, e.kind) for e in run.events]
+            (e.time, e.kind) for e in run.events
+        ]
 
     first, second = mission(7), mission(7)
     assert first == second
