@@ -6,7 +6,7 @@ import math
 import time
 
 import pytest
-from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink_telemetry import px4_custom_mode
 from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
 from pymavlink import mavutil
@@ -117,6 +117,24 @@ def test_refused_commands_are_denied_with_a_statustext_saying_why(link):
     )
     assert texts
     assert command(client, 31337) == mavlink.MAV_RESULT_UNSUPPORTED
+
+
+def test_a_low_battery_fails_the_pre_arm_check_and_arming_is_denied():
+    client = mavutil.mavlink_connection("udpin:127.0.0.1:0", source_system=255, source_component=190)
+    port = client.port.getsockname()[1]
+    drone = SimulatedDrone(config=SimConfig(initial_battery_percent=5.0))
+    vehicle = MavlinkVehicle(drone, connect=f"udpout://127.0.0.1:{port}", speed=10.0)
+    vehicle.start()
+    try:
+        status = wait_for(client, "SYS_STATUS")
+        assert status.onboard_control_sensors_present & mavlink.MAV_SYS_STATUS_PREARM_CHECK
+        assert not status.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_PREARM_CHECK
+        texts: list[str] = []
+        assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1, texts=texts) == mavlink.MAV_RESULT_DENIED
+        assert any("battery" in t for t in texts), texts
+    finally:
+        vehicle.stop()
+        client.close()
 
 
 def test_parameters_read_set_and_list(link):

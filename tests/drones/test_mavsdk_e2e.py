@@ -9,7 +9,7 @@ import time
 import pytest
 from aeroexec.drones.interface import Failure, LandedState
 from aeroexec.drones.mavsdk import MavsdkDrone
-from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle
 
 pytestmark = pytest.mark.mavsdk
@@ -152,6 +152,24 @@ def test_close_returns_promptly_even_with_a_command_in_flight(flight):
     assert pending.done and pending.failure == Failure.CANCELLED
     after = drone.land()
     assert after.done and after.failure == Failure.CANCELLED
+
+
+def test_arming_waits_for_pre_arm_checks_and_is_denied_with_the_reason():
+    port = free_udp_port()
+    low = SimulatedDrone(config=SimConfig(initial_battery_percent=5.0))  # below the failsafe: not armable
+    vehicle = MavlinkVehicle(low, connect=f"udpout://127.0.0.1:{port}", speed=SPEED)
+    vehicle.start()
+    drone = MavsdkDrone(f"udpin://127.0.0.1:{port}", ready_timeout=1.0)
+    try:
+        assert not drone.wait_ready(4.0)  # global and home positions come, the pre-arm check never passes
+        assert drone.not_ready_because() == ["pre-arm checks failing (not armable)"]
+        arm = drone.arm()
+        assert arm.wait(STEP_S) and arm.failure == Failure.DENIED, arm
+        assert "not armable" in arm.reason
+        assert not vehicle.telemetry().armed
+    finally:
+        drone.close()
+        vehicle.stop()
 
 
 def test_a_bad_connection_url_is_one_clear_error():
