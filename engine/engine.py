@@ -28,7 +28,7 @@ from .mission_bridge import DONE, MissionBridge
 from .process import BehaviorContext, BehaviorLibrary, EngineSettings
 from .resources import ProcessRegistry, ResourceManager
 from .specialist import BehaviorSpecialist
-from .updaters import ObstacleMap, TelemetryUpdater, register_computed
+from .updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
 
 logger = logging.getLogger(__name__)
 
@@ -72,6 +72,9 @@ class Engine:
         self.settings = settings or EngineSettings()
         self.memory = BeliefMemory(clock=self.clock)
         self.catalog.declare_vocabulary(self.memory)
+        for name, arity in TELEMETRY_PREDICATES.items():
+            if name not in self.catalog.predicates:
+                self.memory.declare(name, arity)
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles)
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings)

@@ -47,6 +47,11 @@ def battery_level(percent: float) -> str:
     return "low" if percent < 20 else "medium" if percent < 50 else "high"
 
 
+#: The predicates the telemetry updater writes, declared by the engine when a catalog does not.
+TELEMETRY_PREDICATES = {"position": 2, "flight_state": 2, "charge": 2, "battery_level": 2, "armed": 2,
+                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2}
+
+
 class TelemetryUpdater(BeliefUpdater):
     """Beliefs about the robot itself, from the drone's telemetry snapshot."""
 
