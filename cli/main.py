@@ -11,7 +11,9 @@ from aeroexec import __version__
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
 COMMANDS = {
+    "run": ("run", "check a Python mission, then fly it on the simulator or a MAVSDK drone"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
+    "sim": ("sim", "run the simulated drone behind a MAVLink (PX4) endpoint for MAVSDK or QGroundControl"),
 }
 
 

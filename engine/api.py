@@ -11,10 +11,13 @@ regard to case: ``coordinates=`` is ``COORDINATES``. Reserved keywords:
 
 from __future__ import annotations
 
+import os
 import threading
 import traceback
 from pathlib import Path
 from typing import Any
+
+from aeroexec import beliefs, drones
 
 from .activation import ActivationConditions
 from .descriptors import RECURRENT
@@ -23,7 +26,8 @@ from .mission_bridge import MissionAborted
 
 _bound: dict[str, Any] = {"engine": None}
 _lock = threading.Lock()
-_PACKAGE = str(Path(__file__).resolve().parents[1])
+#: Where aeroexec's own code lives: frames there are not the mission's.
+_LIBRARY = tuple(str(Path(p).resolve().parent) + os.sep for p in (__file__, beliefs.__file__, drones.__file__))
 RESERVED = ("timeout", "activation_delay", "activation_distance", "activation_yaw")
 
 OK = "OK"
@@ -186,7 +190,8 @@ def now() -> float:
 
 def mission_location(exc: BaseException) -> str:
     """`` at FILE:LINE``: the last place in the mission's own code that the exception went through."""
-    frames = [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(_PACKAGE)]
+    frames = [f for f in traceback.extract_tb(exc.__traceback__)
+              if not str(Path(f.filename).resolve()).startswith(_LIBRARY)]
     if not frames:
         return ""
     frame = frames[-1]

@@ -317,7 +317,7 @@ class BehaviorCoordinator:
         return self._order
 
     def _refuse(self, name: str, kind: str, message: str) -> ActivationResult:
-        self.log.record("rejected", name, message, kind=kind)
+        self.log.record("rejected", name, message, error=kind)
         return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
 
 

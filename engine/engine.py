@@ -154,21 +154,24 @@ class Engine:
             self.bridge.serve(lockstep=False, until_wall=time.monotonic() + max(0.0, deadline - self.clock.now()))
         self.clock.sleep_until(deadline, self._stop)
 
-    def run(self, mission: Callable[[], Any] | None = None, max_time: float | None = None) -> None:
-        """Run the loop in this thread until the mission ends (or ``max_time`` clock seconds), then stop."""
+    def run(self, mission: Callable[[], Any] | None = None, max_time: float | None = None,
+            name: str = "mission") -> None:
+        """Run the loop in this thread until the mission ends, ``max_time`` clock seconds pass, or ``stop()``.
+
+        The engine stays usable afterwards (e.g. to land); call :meth:`stop` when done.
+        """
         if mission is not None:
-            self.start_mission(mission)
+            self.start_mission(mission, name)
         end = None if max_time is None else self.clock.now() + max_time
-        try:
-            while not self._stop.is_set():
-                if mission is not None and self.bridge.state == DONE:
-                    break
-                if end is not None and self.clock.now() >= end:
-                    self.log.record("engine_time_limit", detail=f"{max_time:g} s of engine time have passed")
-                    break
-                self._one_period(lockstep=True)
-        finally:
-            self.stop()
+        while not self._stop.is_set():
+            if mission is not None and self.bridge.state == DONE:
+                break
+            if end is not None and self.clock.now() >= end:
+                self.log.record("engine_time_limit", detail=f"{max_time:g} s of engine time have passed")
+                break
+            self._one_period(lockstep=True)
+        if mission is not None:
+            self.bridge.close()
 
     # -- missions ------------------------------------------------------------------------------
     def start_mission(self, mission: Callable[[], Any], name: str = "mission") -> threading.Thread:
@@ -189,8 +192,8 @@ class Engine:
                 with contextlib.suppress(api.MissionAborted):
                     self.bridge.call(lambda: self.log.record("mission_failed", detail=detail))
             finally:
-                self.bridge.mission_finished()
                 api.unbind()
+                self.bridge.mission_finished()
 
         self.bridge.mission_started()
         self.log.record("mission_started", detail=name)

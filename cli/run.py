@@ -1,0 +1,185 @@
+"""``aeroexec run MISSION.py``: check a Python mission, then fly it on the built-in simulator or a MAVSDK drone.
+
+The events are printed as they happen. A mission that fails the static check
+never flies. When the mission ends (or the operator presses Ctrl-C) with the
+drone in the air, the drone lands before the command returns.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import logging
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TextIO
+
+from aeroexec.drones import Drone, LandedState
+from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
+from aeroexec.engine.clock import SimulatedClock, WallClock
+from aeroexec.engine.engine import Engine
+from aeroexec.engine.errors import CatalogError
+from aeroexec.engine.events import EngineEvent, Outcome
+
+logger = logging.getLogger(__name__)
+LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
+
+
+class RunError(Exception):
+    """A problem that stops ``aeroexec run`` before flight, already phrased for the operator."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function")
+    add_flight_arguments(parser)
+
+
+def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options every way of flying a mission shares (run, and the behavior-tree runner)."""
+    parser.add_argument("--drone", default="sim", metavar="sim|mavsdk:URL",
+                        help="the built-in simulated drone (default) or a MAVSDK vehicle, "
+                             "e.g. mavsdk:udpin://0.0.0.0:14540")
+    parser.add_argument("--world", metavar="FILE", help="the simulated world (default: the built-in one)")
+    parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    parser.add_argument("--speed", type=float, metavar="N",
+                        help="simulated time N times faster than real time (default: as fast as possible)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
+    parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
+                        help="stop the mission after S seconds of mission time (default 1800)")
+    parser.add_argument("--log", metavar="FILE", help="also write the events to FILE, one JSON object per line")
+    parser.add_argument("--quiet", action="store_true", help="print only the outcome")
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
+        function = load_mission(Path(args.mission), catalog)
+        return fly(args, catalog, function, Path(args.mission).name)
+    except RunError as error:
+        print(error, file=sys.stderr)
+        return 1
+    except CatalogError as error:
+        for problem in error.problems:
+            print(problem, file=sys.stderr)
+        return 1
+
+
+def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any]:
+    """Check a Python mission statically, then import it and return its mission function."""
+    from aeroexec.engine.mission_check import check_mission_source
+
+    try:
+        source = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RunError(f"{path}: cannot read the mission: {exc}") from None
+    problems = check_mission_source(source, str(path), catalog)
+    errors = [p for p in problems if p.severity == "error"]
+    for problem in problems:
+        print(problem, file=sys.stderr)
+    if errors:
+        raise RunError(f"{path}: {len(errors)} error{'s' if len(errors) != 1 else ''}; the mission will not fly")
+    spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:
+        raise RunError(f"{path}: the mission cannot be loaded: {type(exc).__name__}: {exc}") from None
+    function = getattr(module, "mission", None) or getattr(module, "runMission", None)
+    if not callable(function):
+        raise RunError(f"{path}: no mission() or runMission() function")
+    return function
+
+
+def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
+    """The drone, the world it flies in (obstacles for the planner), and whether it runs on simulated time."""
+    from aeroexec.drones.sim import WorldError, default_world, load_world
+
+    try:
+        world = load_world(args.world) if args.world else default_world()
+    except WorldError as error:
+        raise RunError(str(error)) from None
+    if args.drone == "sim":
+        from aeroexec.drones.sim import SimulatedDrone
+
+        return SimulatedDrone(world, seed=args.seed), world, True
+    if args.drone.startswith("mavsdk:"):
+        from aeroexec.drones.mavsdk import MavsdkDrone
+
+        url = args.drone[len("mavsdk:"):]
+        try:
+            drone = MavsdkDrone(url)
+        except ValueError as error:
+            raise RunError(f"--drone {args.drone}: {error}") from None
+        print(f"connecting to {url} ...", file=sys.stderr)
+        if not drone.wait_ready(60.0):
+            why = "; ".join(drone.not_ready_because()) or "no answer"
+            drone.close()
+            raise RunError(f"--drone {args.drone}: the vehicle is not ready to fly after 60 s ({why})")
+        return drone, world if args.world else None, False
+    raise RunError(f"--drone {args.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540)")
+
+
+def fly(args: argparse.Namespace, catalog: BehaviorCatalog, function: Callable[[], Any], name: str) -> int:
+    drone, world, simulated = make_drone(args)
+    clock = SimulatedClock(speed=args.speed) if simulated else WallClock()
+    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world)
+    log_file = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115 - closed below
+    engine.log.subscribe(printer(None if args.quiet else sys.stdout, log_file))
+    try:
+        try:
+            engine.run(function, max_time=args.max_time, name=name)
+        except KeyboardInterrupt:
+            print("interrupted by the operator", file=sys.stderr)
+            engine.log.record("operator_interrupt", detail="Ctrl-C")
+        land_if_flying(engine)
+    except KeyboardInterrupt:
+        print("interrupted again: leaving the drone as it is", file=sys.stderr)
+    finally:
+        engine.stop()
+        drone.close()
+        if log_file is not None:
+            log_file.close()
+    return summary(engine, name)
+
+
+def land_if_flying(engine: Engine) -> None:
+    """Land the drone if the mission left it in the air (higher priority than anything else)."""
+    if engine.drone.telemetry().landed_state in (LandedState.ON_GROUND, LandedState.UNKNOWN):
+        return
+    engine.bridge.close()
+    engine.log.record("landing", detail="the mission ended with the drone in the air")
+    result = engine.coordinator.activate("LAND", priority="higher", source="engine")
+    if result.accepted:
+        engine.run_until(lambda: not engine.coordinator.is_active("LAND"), LANDING_TIMEOUT)
+
+
+def summary(engine: Engine, name: str) -> int:
+    failed = engine.log.events(kind="mission_failed")
+    completed = engine.log.events(kind="mission_completed")
+    outcomes = [e for e in engine.log.events() if e.kind in {o.value for o in Outcome}]
+    print(f"{name}: {'completed' if completed and not failed else 'failed' if failed else 'stopped'} at "
+          f"t={engine.now():.1f} s; {len(outcomes)} behavior events, "
+          f"{sum(e.kind == 'GOAL_ACHIEVED' for e in outcomes)} goals achieved", file=sys.stderr)
+    return 0 if completed and not failed else 1
+
+
+def printer(out: TextIO | None, log_file: TextIO | None) -> Callable[[EngineEvent], None]:
+    def show(event: EngineEvent) -> None:
+        if out is not None:
+            print(event, file=out, flush=True)
+        if log_file is not None:
+            record = {"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
+                      "detail": event.detail, **{k: _plain(v) for k, v in event.data.items()}}
+            log_file.write(json.dumps(record) + "\n")
+
+    return show
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, str | int | float | bool) or value is None:
+        return value
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    return str(value)
