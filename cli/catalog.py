@@ -73,6 +73,8 @@ def listing(catalog: BehaviorCatalog, names: list[str] | None = None) -> str:
                 notes.append("required")
             if argument.default is not None:
                 notes.append(f"default {argument.default}")
+            if argument.aliases:
+                notes.append("also " + ", ".join(argument.aliases))
             if argument.description:
                 notes.append(argument.description)
             lines.append(f"    {argument.name:<{width}}  {argument.describe()}"

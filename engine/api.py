@@ -70,7 +70,9 @@ def _request(name: str, arguments: dict[str, Any]) -> tuple[str, dict[str, Any],
     engine = _engine()
     name = str(name).upper()
     descriptor = engine.catalog.behavior(name)
-    known = {a.upper(): a for a in descriptor.arguments} if descriptor else {}
+    known = {}
+    for argument in descriptor.arguments.values() if descriptor else ():
+        known.update({alias.upper(): argument.name for alias in (argument.name, *argument.aliases)})
     options = {k: arguments.pop(k) for k in RESERVED if k in arguments}
     cased = {}
     for key, value in arguments.items():

@@ -49,6 +49,7 @@ class ArgumentDescriptor:
     required: bool = False
     default: Any = None
     description: str = ""
+    aliases: tuple[str, ...] = ()  # other names a request may use (the paper's Table 8 writes point=)
     line: int = 0
 
     @property

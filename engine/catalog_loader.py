@@ -29,7 +29,8 @@ SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists",
             "capability_descriptors", "behavior_transitions", "phenomena", "predicates")
 BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "arguments",
                  "preconditions", "description", "one_of", "ROS_service_calls")
-ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description")
+ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
+                 "aliases")
 TRANSITION_KEYS = ("behavior", "behaviors", "physical_phenomenon", "argument", "argument_value",
                    "initial_state", "final_state")
 
@@ -314,6 +315,8 @@ class CatalogReader:
             spec["dimensions"] = 3
         if "required" in e:
             spec["required"] = bool(self.r.flag(e["required"][1], f"required of {what}"))
+        if "aliases" in e:
+            spec["aliases"] = tuple(a for a, _ in self.r.names(e["aliases"][1], f"the aliases of {what}"))
         if name is None:
             return None
         argument = ArgumentDescriptor(**spec)

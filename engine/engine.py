@@ -62,7 +62,7 @@ class Engine:
                  library: BehaviorLibrary | None = None, processes: ProcessRegistry | None = None,
                  clock: Clock | None = None, rate: float = 20.0, settings: EngineSettings | None = None,
                  updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
-                 capability_grace: float = 2.0) -> None:
+                 capability_grace: float = 2.0, belief_period: float = 0.1) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = drone
@@ -77,7 +77,8 @@ class Engine:
                 self.memory.declare(name, arity)
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles)
         self.log = EventLog(self.clock.now)
-        self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings)
+        self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
+                                       obstacles=obstacles)
         if library is None:
             from .behaviors import default_library
 
@@ -90,12 +91,13 @@ class Engine:
         self.specialist = BehaviorSpecialist(self.catalog)
         self.resources = ResourceManager(self.catalog, processes, self.log, self.context, capability_grace)
         self.coordinator = BehaviorCoordinator(self.context, library, self.resources, self.specialist)
-        self.updaters: list[BeliefUpdater] = [TelemetryUpdater(drone), *updaters]
+        self.updaters: list[BeliefUpdater] = [TelemetryUpdater(drone, belief_period), *updaters]
         self.bridge = MissionBridge()
         self.timers = Timers(self.clock.now)
         self._started = False
         self._stop = threading.Event()
         self._closed = False
+        self._missions: list[threading.Thread] = []
         self._thread: threading.Thread | None = None
         self._lock = threading.RLock()
 
@@ -199,6 +201,7 @@ class Engine:
         self.log.record("mission_started", detail=name)
         thread = threading.Thread(target=body, name=f"aeroexec-{name}", daemon=True)
         thread.start()
+        self._missions.append(thread)
         return thread
 
     # -- threads -------------------------------------------------------------------------------
@@ -231,6 +234,9 @@ class Engine:
             self.resources.shutdown()
             self.bridge.close()
             self.log.record("engine_stopped", detail=reason)
+        for thread in self._missions:  # a waiting mission unwinds with MissionAborted; give it a moment
+            if thread is not threading.current_thread():
+                thread.join(timeout=2.0)
 
     @property
     def stopped(self) -> bool:

@@ -47,6 +47,7 @@ class BehaviorContext:
     catalog: BehaviorCatalog
     log: EventLog
     settings: EngineSettings = field(default_factory=EngineSettings)
+    obstacles: Any = None  # an ObstacleMap (distance_to_obstacle, maybe bounds) or None when nothing is known
 
     def now(self) -> float:
         return self.clock()

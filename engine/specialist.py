@@ -50,6 +50,13 @@ def as_request(step: Step | Request) -> Request:
     return Request(name, dict(arguments or {}))
 
 
+def canonical_arguments(descriptor: BehaviorDescriptor, arguments: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The arguments under the catalog's names: an alias (``POINT`` for ``COORDINATES``) is renamed."""
+    aliases = {alias: a.name for a in descriptor.arguments.values() for alias in a.aliases}
+    return {aliases.get(key, key) if key not in descriptor.arguments else key: value
+            for key, value in (arguments or {}).items()}
+
+
 class BehaviorSpecialist:
     """Knows how each behavior must be requested and which behaviors and sequences are possible."""
 
@@ -71,7 +78,7 @@ class BehaviorSpecialist:
         if descriptor is None:
             return [SpecificationError(WRONG_FORMAT, f"The behavior {name} does not exist"
                                                      f"{self.catalog.suggest(str(name))}", behavior=str(name))]
-        arguments = dict(arguments or {})
+        arguments = canonical_arguments(descriptor, arguments)
         errors = []
 
         def error(kind: str, message: str) -> None:
@@ -103,7 +110,7 @@ class BehaviorSpecialist:
         """A checked request's arguments with the catalog's defaults filled in."""
         descriptor = self.check_request(name, arguments)
         resolved = {a.name: a.default for a in descriptor.arguments.values() if a.default is not None}
-        resolved.update(arguments or {})
+        resolved.update(canonical_arguments(descriptor, arguments))
         return resolved
 
     def check_expression(self, text: str | Conjunction) -> Conjunction:

@@ -17,8 +17,8 @@ def runMission():
         raise RuntimeError("position unknown")
     x, y, z = unification["x"], unification["y"], unification["z"]
 
-    api.executeBehavior("GO_TO_POINT", coordinates=[2, 5, 1.3])
-    api.executeBehavior("GO_TO_POINT", coordinates=[x, y, z])
+    api.executeBehavior("GO_TO_POINT", point=[2, 5, 1.3])
+    api.executeBehavior("GO_TO_POINT", point=[x, y, z])
 
     api.inhibitBehavior("PAY_ATTENTION_TO_VISUAL_MARKERS")
 

@@ -1,13 +1,16 @@
 """Perception (paper Table A.3, "understanding"): capability processes that turn what the camera sees into beliefs,
 and the PAY_ATTENTION_TO_* behaviors that activate them.
 
-While VISUAL_MARKERS_RECOGNITION runs, every marker in view gives ``object(marker_N, marker)``,
+While VISUAL_MARKERS_RECOGNITION runs, every marker in view gives ``object(marker_N, aruco)`` (and
+``object(marker_N, marker)``, the class the paper's queries use),
 ``code(marker_N, N)``, ``position(marker_N, (x, y, z))`` and ``visible(marker_N)``; colors and shapes
 likewise give ``object``, ``color``/``shape``, ``position`` and ``visible``. ``visible`` is retracted
 when the thing leaves the view (the paper's null persistence); the rest is remembered.
 """
 
 from __future__ import annotations
+
+import abc
 
 from aeroexec.beliefs import Struct
 from aeroexec.drones import Observation
@@ -18,7 +21,7 @@ from ..resources import Process
 PERIOD = 0.2  # s between two looks at the camera
 
 
-class Recognizer(Process):
+class Recognizer(Process, abc.ABC):
     """A detector process: every period, the observations it recognizes become beliefs."""
 
     def __init__(self, name: str) -> None:
@@ -26,11 +29,13 @@ class Recognizer(Process):
         self._visible: set[str] = set()
         self._last: float | None = None
 
+    @abc.abstractmethod
     def recognizes(self, observation: Observation) -> bool:
-        raise NotImplementedError
+        """True for the observations this detector recognizes."""
 
+    @abc.abstractmethod
     def beliefs(self, observation: Observation) -> list[Struct]:
-        raise NotImplementedError
+        """What it believes about one of them (position and visibility are added for all)."""
 
     def step(self, now: float) -> None:
         if self._last is not None and now - self._last < PERIOD - 1e-9:
@@ -61,8 +66,9 @@ class MarkerRecognizer(Recognizer):
         return observation.kind == "marker" and observation.marker_id is not None
 
     def beliefs(self, observation: Observation) -> list[Struct]:
-        return [Struct("object", (observation.name, "marker")), Struct("code", (observation.name,
-                                                                               observation.marker_id))]
+        name = observation.name
+        return [Struct("object", (name, "marker")), Struct("object", (name, "aruco")),
+                Struct("code", (name, observation.marker_id))]
 
 
 class ColorRecognizer(Recognizer):
