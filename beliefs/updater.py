@@ -47,6 +47,11 @@ class BeliefUpdater(abc.ABC):
         except Exception:
             log.exception("belief updater %s failed", self.name)
 
+    def refresh(self, memory: BeliefMemory, now: float) -> None:
+        """Update at once, whatever the period (e.g. before a decision that must see the latest state)."""
+        self._last = None
+        self.tick(memory, now)
+
     @abc.abstractmethod
     def update(self, memory: BeliefMemory, now: float) -> None:
         """Observe and write beliefs; use :func:`publish` for sets of beliefs."""

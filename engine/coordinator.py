@@ -123,6 +123,7 @@ class BehaviorCoordinator:
                 previous.on_end.append(on_end)
             return ActivationResult(True, activation=previous)
         process = cls(self.catalog.behaviors[name], arguments, self.context)
+        self.context.refresh()  # decide on the drone's state now, not as of the last belief update
         situation = self._check_situation(process)  # step 1
         if situation is not None:
             outcome, message = situation
@@ -284,6 +285,8 @@ class BehaviorCoordinator:
         """
         event = self._react
         self._react = False
+        if event:
+            self.context.refresh()
         self._seen_version = self._memory_version
         for index, rule in enumerate(self.catalog.reactive_rules):
             holds = self._holds(rule)

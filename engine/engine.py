@@ -91,7 +91,9 @@ class Engine:
         self.specialist = BehaviorSpecialist(self.catalog)
         self.resources = ResourceManager(self.catalog, processes, self.log, self.context, capability_grace)
         self.coordinator = BehaviorCoordinator(self.context, library, self.resources, self.specialist)
-        self.updaters: list[BeliefUpdater] = [TelemetryUpdater(drone, belief_period), *updaters]
+        telemetry = TelemetryUpdater(drone, belief_period)
+        self.updaters: list[BeliefUpdater] = [telemetry, *updaters]
+        self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
         self.bridge = MissionBridge()
         self.timers = Timers(self.clock.now)
         self._started = False

@@ -179,7 +179,7 @@ class MissionChecker:
     def request(self, call: ast.Call, descriptor: BehaviorDescriptor
                 ) -> tuple[dict[str, Any], set[str], bool, dict[str, ast.AST]]:
         """Catalog-cased arguments (opaque where not literal), the opaque names, whether ``**`` is used, nodes."""
-        known = {a.upper(): a for a in descriptor.arguments}
+        known = {alias.upper(): a.name for a in descriptor.arguments.values() for alias in (a.name, *a.aliases)}
         arguments: dict[str, Any] = {}
         opaque: set[str] = set()
         nodes: dict[str, ast.AST] = {}

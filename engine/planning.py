@@ -299,7 +299,8 @@ class PathPlanner:
             return self._none(f"the destination {goal} is inside an obstacle or closer than {margin:g} m to one")
         if not _inside(start, lower, upper):
             return self._none(f"the start {start} is outside the bounds {lower}-{upper}")
-        start_margin = min(margin, 0.9 * self.clearance(start))  # a drone too near an obstacle may still leave it
+        clearance = self.clearance(start)  # a drone already nearer than the margin may still leave with less
+        start_margin = margin if clearance >= margin else 0.9 * clearance
         if math.dist(start, goal) < 1e-9:
             return [goal]
         if segment_clear(self.obstacles, start, goal, start_margin):

@@ -48,6 +48,7 @@ class BehaviorContext:
     log: EventLog
     settings: EngineSettings = field(default_factory=EngineSettings)
     obstacles: Any = None  # an ObstacleMap (distance_to_obstacle, maybe bounds) or None when nothing is known
+    refresh: Callable[[], None] = lambda: None  # bring the drone's own beliefs up to date now
 
     def now(self) -> float:
         return self.clock()

@@ -7,16 +7,17 @@ from ..resources import ProcessRegistry
 from .basic import Wait
 from .motion import MOTION_BEHAVIORS
 from .perception import PERCEPTION_BEHAVIORS, PERCEPTION_PROCESSES
+from .planning import PLANNING_BEHAVIORS, PLANNING_PROCESSES
 
 
 def default_library() -> BehaviorLibrary:
     """Every behavior implemented for the aerial catalog."""
-    return BehaviorLibrary([*MOTION_BEHAVIORS, *PERCEPTION_BEHAVIORS, Wait])
+    return BehaviorLibrary([*MOTION_BEHAVIORS, *PERCEPTION_BEHAVIORS, *PLANNING_BEHAVIORS, Wait])
 
 
 def default_processes() -> ProcessRegistry:
     """The capability processes; names without an implementation run as idle processes."""
-    return ProcessRegistry(dict(PERCEPTION_PROCESSES))
+    return ProcessRegistry({**PERCEPTION_PROCESSES, **PLANNING_PROCESSES})
 
 
 __all__ = ["default_library", "default_processes"]

@@ -6,6 +6,7 @@ ROTATE and LOOK_AT_A_POINT here; the flights through points and patterns are in 
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import ClassVar
 
@@ -27,6 +28,9 @@ from .flight_control import (
 )
 from .flight_patterns import Flip, FollowPath, GoToPoint, KeepLoitering
 
+logger = logging.getLogger(__name__)
+
+ABORT_LAND_BELOW = 1.0  # m: a take-off stopped below this lands again rather than hover near the ground
 HOVER_DRIFT_LIMIT = 1.5  # m: KEEP_HOVERING fails farther than this from where it stopped
 SETTLED_SPEED = 0.25  # m/s: slower than this, a hovering drone has stopped
 SPIN_RATE = 40.0  # deg/s: turns longer than FINISH_ARC spin at this yaw rate first
@@ -55,6 +59,16 @@ class TakeOff(MotionBehavior):
                 and self.memory.holds(FLYING)):
             return Outcome.GOAL_ACHIEVED
         return self.no_progress(f"climbing to {self.target:.1f} m (at {telemetry.altitude:.1f} m)", error)
+
+    def on_stop(self, outcome: Outcome) -> None:
+        """An aborted take-off too close to the ground to hover safely lands again."""
+        t = self.telemetry()
+        if outcome is not Outcome.GOAL_ACHIEVED and t.armed and t.altitude < ABORT_LAND_BELOW:
+            handle = self.drone.land()
+            if handle.done and not handle.ok:
+                logger.warning("TAKE_OFF: could not land after the aborted take-off: %s", handle.reason)
+            return
+        super().on_stop(outcome)
 
 
 class Land(MotionBehavior):

@@ -166,13 +166,19 @@ def test_lower_priority_reaction_waits_for_the_active_motion_to_finish(engine):
     assert engine.log.events(kind="reactive", behavior="HOVER")
 
 
-def test_battery_below_10_preempts_the_mission(engine):
-    engine.coordinator.activate("MOVE")
-    engine.memory.add("charge(battery, 9)")  # what the telemetry updater writes when the battery runs low
-    engine.drone.telemetry()  # (the simulated battery is at 60 %: the updater will write it back next period)
-    engine.coordinator.tick()
-    assert kinds(engine, "MOVE")[-1] == "INTERRUPTED"
+def test_battery_below_10_preempts_the_mission():
+    catalog = parse_catalog(textwrap.dedent(CATALOG), "test.yaml")
+    drone = SimulatedDrone(config=SimConfig(initial_battery_percent=10.2))
+    engine = Engine(drone, catalog=catalog, library=library())
+    drone.takeoff(2.0)  # flying drains the battery: below 10 % within a few seconds
+    engine.step(0.1)
+    assert engine.coordinator.activate("HOVER").accepted  # the mission's, deliberative
+    assert engine.run_until(lambda: engine.coordinator.is_active("EMERGENCY"), 30.0)
+    assert engine.memory.query("charge(battery, ?X)")["?X"] < 10
+    assert kinds(engine, "HOVER") == ["activated", "INTERRUPTED"]
     assert engine.coordinator.active()["EMERGENCY"].source == "reactive"
+    assert not engine.coordinator.activate("MOVE").accepted  # the mission cannot take over again
+    engine.stop()
 
 
 def test_inhibit_interrupts_and_keeps_reactions_away(engine):
