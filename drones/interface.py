@@ -205,5 +205,5 @@ class Drone(abc.ABC):
         """Events since the last call (collisions, failsafes, link changes), oldest first."""
         return []
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 - optional: a drone with nothing to release keeps this one
         """Release the drone: stop I/O threads. Must return promptly, never hang."""

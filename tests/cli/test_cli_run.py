@@ -1,0 +1,95 @@
+"""``aeroexec run``: the example missions fly to completion on the simulator, and through MAVSDK against
+``aeroexec sim``; a wrong mission never flies."""
+
+import json
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).parents[2]
+MISSIONS = ROOT / "missions"
+
+
+def aeroexec(*args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "aeroexec.cli.main", *args], capture_output=True, text=True,
+                          timeout=timeout, cwd=ROOT)
+
+
+def events(stdout: str, kind: str) -> list[str]:
+    return [line for line in stdout.splitlines() if f"] {kind} " in line or line.endswith(f"] {kind}")]
+
+
+def test_figure_10_flies_to_completion_on_the_simulator(tmp_path):
+    log = tmp_path / "events.jsonl"
+    result = aeroexec("run", str(MISSIONS / "figure10.py"), "--log", str(log))
+    assert result.returncode == 0, result.stderr + result.stdout
+    assert "figure10.py: completed" in result.stderr
+    achieved = [line.split("GOAL_ACHIEVED ")[1].split(":")[0] for line in events(result.stdout, "GOAL_ACHIEVED")]
+    assert achieved == ["TAKE_OFF", "GO_TO_POINT", "GO_TO_POINT", "LAND"]
+    assert events(result.stdout, "activated") and "PAY_ATTENTION_TO_VISUAL_MARKERS" in result.stdout
+    assert any("KEEP_HOVERING" in line for line in events(result.stdout, "reactive"))  # between the goals
+    records = [json.loads(line) for line in log.read_text().splitlines()]
+    assert records[-1]["kind"] == "engine_stopped" and any(r["kind"] == "mission_completed" for r in records)
+
+
+def test_square_patrol_flies_to_completion_and_sees_markers():
+    result = aeroexec("run", str(MISSIONS / "square_patrol.py"))
+    assert result.returncode == 0, result.stderr + result.stdout
+    assert len(events(result.stdout, "GOAL_ACHIEVED")) == 1 + 2 * 4 + 1 + 1
+    assert "first marker seen:" in result.stdout
+
+
+def test_a_wrong_mission_never_flies(tmp_path):
+    mission = tmp_path / "wrong.py"
+    mission.write_text(
+        "import aeroexec.engine.api as api\n"
+        "\n"
+        "def mission():\n"
+        "    api.execute_behavior('TAKE_OF')\n"
+        "    api.execute_behavior('GO_TO_POINT', coordinates=[1, 2])\n"
+        "    api.consult_belief('charge(battery, ?X')\n")
+    result = aeroexec("run", str(mission))
+    assert result.returncode == 1
+    assert f"{mission}:4" in result.stderr and "The behavior TAKE_OF does not exist (did you mean TAKE_OFF?)" in \
+        result.stderr
+    assert f"{mission}:5" in result.stderr and "The value (1, 2) of argument COORDINATES" in result.stderr
+    assert f"{mission}:6" in result.stderr and "The format of the belief expression" in result.stderr
+    assert "the mission will not fly" in result.stderr and "activated" not in result.stdout
+    assert "Traceback" not in result.stderr
+
+
+def test_bad_options_are_one_clear_line(tmp_path):
+    result = aeroexec("run", str(MISSIONS / "figure10.py"), "--drone", "gazebo")
+    assert result.returncode == 1 and "expected sim or mavsdk:URL" in result.stderr
+    result = aeroexec("run", str(tmp_path / "missing.py"))
+    assert result.returncode == 1 and "cannot read the mission" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def free_udp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.mavsdk
+def test_figure_10_flies_through_mavsdk_against_aeroexec_sim():
+    port = free_udp_port()
+    sim = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "sim", "--speed", "4",
+                            "--connect", f"udpout://127.0.0.1:{port}"],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        result = aeroexec("run", str(MISSIONS / "figure10.py"), "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
+                          timeout=150)
+    finally:
+        sim.terminate()
+        try:
+            sim.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            sim.kill()
+    assert result.returncode == 0, result.stderr + result.stdout
+    achieved = [line.split("GOAL_ACHIEVED ")[1].split(":")[0] for line in events(result.stdout, "GOAL_ACHIEVED")]
+    assert achieved == ["TAKE_OFF", "GO_TO_POINT", "GO_TO_POINT", "LAND"]
