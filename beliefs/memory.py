@@ -107,6 +107,10 @@ class BeliefMemory:
         self._computed[(name, arity)] = (function, inputs)
         self._queries.clear()
 
+    def is_computed(self, name: str, arity: int) -> bool:
+        """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
+        return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES
+
     def subscribe(self, listener: Callable[[BeliefChange], None]) -> Callable[[], None]:
         """Call ``listener`` with every :class:`BeliefChange`; returns an unsubscribe function."""
         self._listeners.append(listener)

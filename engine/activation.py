@@ -30,6 +30,16 @@ class ActivationConditions:
         if self.delay is not None and self.delay < 0:
             raise ValueError(f"the delay of an activation condition cannot be negative, not {self.delay}")
 
+    def __str__(self) -> str:
+        parts = []
+        if self.delay is not None:
+            parts.append(f"{self.delay:g} s after the request")
+        if self.point is not None:
+            parts.append(f"within {self.distance:g} m of {tuple(self.point)}")
+        if self.yaw_range is not None:
+            parts.append(f"yaw between {self.yaw_range[0]:g} and {self.yaw_range[1]:g} degrees")
+        return "starts " + ", ".join(parts)
+
     def hold(self, context: Any, requested_at: float | None = None) -> bool:
         """True when every condition holds now (``context`` is the behavior context)."""
         telemetry = context.drone.telemetry()

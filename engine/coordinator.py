@@ -148,23 +148,38 @@ class BehaviorCoordinator:
                timeout: float | None, conditions: ActivationConditions | None,
                on_end: Callable | None, now: float) -> ActivationResult:
         name = process.name
-        try:  # Algorithm 1, step 1: activate the resources
-            self.resources.acquire(name, process.descriptor.capabilities)
-        except ResourceError as error:
-            message = f"{failed_preconditions_message(name)} Its resources cannot be activated: {error}"
-            self.log.record("failed_preconditions", name, message, source=source)
-            return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
+        ready = conditions is None or conditions.hold(self.context, now)
+        if ready:
+            try:  # Algorithm 1, step 1: activate the resources
+                self.resources.acquire(name, process.descriptor.capabilities)
+            except ResourceError as error:
+                message = f"{failed_preconditions_message(name)} Its resources cannot be activated: {error}"
+                self.log.record("failed_preconditions", name, message, source=source)
+                return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
         timeout = timeout if timeout is not None else process.descriptor.timeout
         activation = Activation(name, arguments, process, level, self._next_order(), source, now, timeout,
                                 conditions, now, on_end=[on_end] if on_end else [])
         self._active[name] = activation
         self.log.record("activated", name, _describe_arguments(arguments), source=source,
-                        priority=_priority_name(level), timeout=timeout)
-        ready = conditions is None or conditions.hold(self.context, now)
+                        priority=_priority_name(level), timeout=timeout,
+                        waiting=None if ready else str(conditions))
         if ready and not self._begin(activation):
             return ActivationResult(False, Outcome.WRONG_PROGRESS, process.reason)
         self._react = True
         return ActivationResult(True, activation=activation)
+
+    def _begin_when_ready(self, activation: Activation) -> None:
+        """A behavior that waited for its activation conditions: its resources, then its start."""
+        if not activation.conditions.hold(self.context, activation.requested_at):
+            return
+        try:
+            self.resources.acquire(activation.name, activation.process.descriptor.capabilities)
+        except ResourceError as error:
+            self._finish(activation, Outcome.WRONG_PROGRESS,
+                         f"{wrong_progress_message(activation.name)} (its resources cannot be activated: {error})")
+            return
+        self.log.record("started", activation.name, "its activation conditions hold")
+        self._begin(activation)
 
     def _begin(self, activation: Activation) -> bool:
         """Algorithm 1, steps 2-5: start the timer and the behavior's own start."""
@@ -224,8 +239,7 @@ class BehaviorCoordinator:
             if self._active.get(activation.name) is not activation:
                 continue  # finished while another one was monitored
             if not activation.running:
-                if activation.conditions.hold(self.context, activation.requested_at):
-                    self._begin(activation)
+                self._begin_when_ready(activation)
                 continue
             outcome, message = self._monitor(activation, now)
             if outcome is not None:

@@ -32,7 +32,7 @@ def _sentence(memory: BeliefMemory, expression: Conjunction, literal: Any, solut
     known = {name: value for name, value in solution.items() if name in str(literal)}
     if known:
         sentence += " with " + ", ".join(f"{name} = {format_term(value)}" for name, value in sorted(known.items()))
-    if isinstance(literal, Goal):
+    if isinstance(literal, Goal) and not memory.is_computed(literal.term.name, len(literal.term.args)):
         pattern = _pattern(literal.term)
         holds = memory.matching(pattern) if pattern is not None else []
         if holds:
