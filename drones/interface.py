@@ -197,6 +197,14 @@ class Drone(abc.ABC):
     @abc.abstractmethod
     def return_to_launch(self) -> CommandHandle: ...
 
+    def capture_image(self) -> bytes | None:
+        """A PNG of what the camera sees now, or None when this drone has no camera it can read."""
+        return None
+
+    def release_payload(self) -> CommandHandle:
+        """Open the payload release (drop what the drone carries)."""
+        return CommandHandle.failed("release_payload", Failure.UNSUPPORTED, "this drone has no payload release")
+
     def observations(self) -> list[Observation]:
         """What the camera sees now; drones without a simulated camera see nothing."""
         return []

@@ -15,6 +15,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable, Iterable
+from pathlib import Path
 from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater
@@ -62,7 +63,8 @@ class Engine:
                  library: BehaviorLibrary | None = None, processes: ProcessRegistry | None = None,
                  clock: Clock | None = None, rate: float = 20.0, settings: EngineSettings | None = None,
                  updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
-                 capability_grace: float = 2.0, belief_period: float = 0.1) -> None:
+                 capability_grace: float = 2.0, belief_period: float = 0.1, operator: Any = None,
+                 bus: Any = None, output_dir: str | Path | None = None) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = drone
@@ -78,7 +80,8 @@ class Engine:
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles)
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
-                                       obstacles=obstacles)
+                                       obstacles=obstacles, operator=operator, bus=bus,
+                                       output_dir=Path(output_dir) if output_dir is not None else None)
         if library is None:
             from .behaviors import default_library
 

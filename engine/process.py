@@ -11,6 +11,7 @@ import logging
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, ClassVar
 
 from aeroexec.beliefs import BeliefMemory
@@ -49,6 +50,9 @@ class BehaviorContext:
     settings: EngineSettings = field(default_factory=EngineSettings)
     obstacles: Any = None  # an ObstacleMap (distance_to_obstacle, maybe bounds) or None when nothing is known
     refresh: Callable[[], None] = lambda: None  # bring the drone's own beliefs up to date now
+    operator: Any = None  # the operator channel (notify, ask) of this run; None: messages are only logged
+    bus: Any = None  # the message bus shared with the other drones of the run; None: flying alone
+    output_dir: Path | None = None  # where photos, videos and maps of this run are written
 
     def now(self) -> float:
         return self.clock()
