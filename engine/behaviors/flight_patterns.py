@@ -1,6 +1,7 @@
 """Motion behaviors that fly through points or patterns: GO_TO_POINT, FOLLOW_PATH, KEEP_LOITERING and FLIP.
 
-Points are local ENU meters from home. Flights are straight lines (SPLINE and obstacle avoidance are not
+Points are local ENU meters from home. GO_TO_POINT flies the route of the path planner around the obstacles
+it knows (straight when there is no obstacle map); the other flights are straight lines (SPLINE is not
 implemented: a straight line into an obstacle ends in WRONG_PROGRESS when the drone hits it).
 """
 
@@ -28,6 +29,7 @@ from .flight_control import (
     wrap180,
     yaw_error,
 )
+from .planning import plan_route
 
 logger = logging.getLogger(__name__)
 
@@ -99,12 +101,25 @@ class GoToPoint(PointFlight):
         facing = self.final_yaw is None or yaw_error(t.yaw, self.final_yaw) <= self.settings.yaw_tolerance
         if math.dist(t.position, self.destination) <= self.settings.position_tolerance and facing:
             return Situation(Outcome.GOAL_ACHIEVED, f"the drone is already at {fmt_point(self.destination)}")
+        self.route, detail = plan_route(self.context, self.destination)  # avoiding obstacles (Table A.2)
+        if not self.route:  # Table 3's goal and environment conflicts
+            conflict = ("The destination is too far for behavior" if "outside the bounds" in detail
+                        else "There is an impassable barrier to complete behavior")
+            return Situation(Outcome.FAILED_PRECONDITIONS, f"{conflict} {self.name} ({detail})")
+        if len(self.route) > 1:
+            logger.info("%s: %s", self.name, detail)
         return None
 
     def begin(self, telemetry: Telemetry) -> None:
         self.look = self.arguments.get("POINT_TO_LOOK_DURING_FLIGHT")
         self.aimed_at = -math.inf
-        self.fly_to(self.destination, self._yaw_now(telemetry), self._speed(telemetry))
+        self.leg = 0
+        self._fly_leg(telemetry)
+
+    def _fly_leg(self, telemetry: Telemetry) -> None:
+        """Fly to the next waypoint of the route; the last one is the destination, with the final yaw."""
+        on_the_way = self.leg < len(self.route) - 1 and self.look is None  # face the travel
+        self.fly_to(self.route[self.leg], None if on_the_way else self._yaw_now(telemetry), self._speed(telemetry))
 
     def _speed(self, telemetry: Telemetry) -> float | None:
         speed = self.arguments.get("SPEED")
@@ -127,11 +142,17 @@ class GoToPoint(PointFlight):
             return
         self.aimed_at = self.now()
         self.yaw = yaw
-        self.command(self.drone.goto(self.destination, yaw=yaw, speed=self.speed))
+        self.command(self.drone.goto(self.point, yaw=yaw, speed=self.speed))
 
     def step(self, telemetry: Telemetry) -> Outcome | None:
         if self.look is not None and self.now() - self.aimed_at >= LOOK_RECOMMAND_PERIOD:
             self._aim(self._yaw_now(telemetry))
+        if self.leg < len(self.route) - 1:  # a waypoint on the way: pass it without stopping
+            if math.dist(telemetry.position, self.point) <= self.settings.position_tolerance * 2:
+                self.leg += 1
+                self._fly_leg(telemetry)
+                return None
+            return self.approach(telemetry)
         if self.reached(telemetry) and (self.final_yaw is None or self.yaw == self.final_yaw):
             return Outcome.GOAL_ACHIEVED
         return self.approach(telemetry)

@@ -6,7 +6,7 @@ import math
 
 import pytest
 from aeroexec.drones import CommandHandle, LandedState
-from aeroexec.drones.sim import SimulatedDrone, default_world
+from aeroexec.drones.sim import SimulatedDrone, default_world, load_world
 from aeroexec.engine.behaviors.flight_control import wrap180
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
@@ -176,17 +176,56 @@ def test_go_to_point_before_take_off_fails_its_preconditions():
     assert "preconditions are not satisfied" in result.message and "flight_state" in result.message
 
 
-def test_go_to_point_through_an_obstacle_ends_in_wrong_progress():
+def test_go_to_point_flies_around_an_obstacle_on_the_way():
     engine = airborne()
-    event = execute(engine, "GO_TO_POINT", {"COORDINATES": [12, 12, 2]})  # the tower is on the way
+    world = engine.context.obstacles
+    nearest = []
+    event = execute(engine, "GO_TO_POINT", {"COORDINATES": [12, 12, 2]},  # the tower is on the straight line
+                    watch=lambda t: nearest.append(world.distance_to_obstacle(t.position)))
+    assert event.kind == "GOAL_ACHIEVED"
+    assert math.dist(tel(engine).position, (12, 12, 2)) <= 0.3
+    assert min(nearest) > 0.8  # kept (nearly) the planner's 1 m margin all the way
+
+
+def test_go_to_point_without_an_obstacle_map_flies_straight_and_hits_what_is_there():
+    engine = Engine(SimulatedDrone(default_world()))  # nothing known of the obstacles
+    assert execute(engine, "TAKE_OFF", {"ALTITUDE": 2.0}).kind == "GOAL_ACHIEVED"
+    event = execute(engine, "GO_TO_POINT", {"COORDINATES": [12, 12, 2]})
     assert event.kind == "WRONG_PROGRESS" and "tower" in event.detail
 
 
-def test_go_to_point_outside_the_bounds_ends_in_wrong_progress_with_the_drones_reason():
+def test_go_to_point_outside_the_bounds_is_refused_before_flying():
     engine = airborne()
+    result = engine.coordinator.activate("GO_TO_POINT", {"COORDINATES": [30, 0, 2]})
+    assert not result.accepted and result.outcome is Outcome.FAILED_PRECONDITIONS
+    assert "The destination is too far for behavior GO_TO_POINT" in result.message
+
+
+def test_go_to_point_outside_the_bounds_without_a_map_ends_with_the_drones_reason():
+    engine = Engine(SimulatedDrone(default_world()))
+    assert execute(engine, "TAKE_OFF", {"ALTITUDE": 2.0}).kind == "GOAL_ACHIEVED"
     event = execute(engine, "GO_TO_POINT", {"COORDINATES": [30, 0, 2]})
     assert event.kind == "WRONG_PROGRESS" and "geofence" in event.detail
     holding_still(engine)
+
+
+def test_go_to_point_to_an_enclosed_point_meets_an_impassable_barrier(tmp_path):
+    world_file = tmp_path / "pen.yaml"
+    world_file.write_text(
+        "home: {lat: 47.397742, lon: 8.545594, alt: 488.0}\n"
+        "bounds: {min: [-20, -20, 0], max: [20, 20, 10]}\n"
+        "obstacles:\n"
+        "  - {name: north, type: box, center: [10, 15, 5], size: [12, 1, 10]}\n"
+        "  - {name: south, type: box, center: [10, 5, 5], size: [12, 1, 10]}\n"
+        "  - {name: east, type: box, center: [15.5, 10, 5], size: [1, 11, 10]}\n"
+        "  - {name: west, type: box, center: [4.5, 10, 5], size: [1, 11, 10]}\n"
+        "  - {name: roof, type: box, center: [10, 10, 9.5], size: [12, 11, 1]}\n")
+    world = load_world(world_file)
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    assert execute(engine, "TAKE_OFF", {"ALTITUDE": 2.0}).kind == "GOAL_ACHIEVED"
+    result = engine.coordinator.activate("GO_TO_POINT", {"COORDINATES": [10, 10, 4]})
+    assert not result.accepted
+    assert "There is an impassable barrier to complete behavior GO_TO_POINT" in result.message
 
 
 def test_go_to_point_with_too_short_a_timeout_times_out_and_holds():
