@@ -8,7 +8,8 @@ survives the planner process being stopped between two requests; while ``explora
 the points the drone flies over.
 
 Settings read from ``EngineSettings.extra``: ``planning_resolution`` (m, 0.5), ``planning_margin`` (m, 1.0),
-``exploration_footprint`` (m, 6.0), ``exploration_overlap`` (0.2), ``exploration_reach`` (m, 1.0).
+``exploration_footprint`` (m, 6.0), ``exploration_overlap`` (0.2), ``exploration_reach`` (m, 1.0),
+``exploration_margin`` (m, 3.0).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ logger = logging.getLogger(__name__)
 
 MARK_PERIOD = 0.2  # s between two coverage updates of the exploration planner process
 _STORE_ATTRIBUTE = "exploration_store"
+EXPLORATION_MARGIN = 3.0  # m from obstacles, as the aerial catalog's GO_TO_POINT precondition asks
 
 
 def planner_settings(settings: EngineSettings) -> PlannerSettings:
@@ -44,7 +46,9 @@ def exploration_settings(settings: EngineSettings) -> ExplorationSettings:
     return ExplorationSettings(footprint=float(extra.get("exploration_footprint", default.footprint)),
                                overlap=float(extra.get("exploration_overlap", default.overlap)),
                                reach=float(extra.get("exploration_reach", default.reach)),
-                               margin=float(extra.get("planning_margin", default.margin)))
+                               # a point to explore must be a valid GO_TO_POINT destination (its precondition
+                               # asks 3 m from obstacles)
+                               margin=float(extra.get("exploration_margin", EXPLORATION_MARGIN)))
 
 
 def exploration_store(context: BehaviorContext) -> ExplorationStore:

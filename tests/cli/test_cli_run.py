@@ -93,3 +93,18 @@ def test_figure_10_flies_through_mavsdk_against_aeroexec_sim():
     assert result.returncode == 0, result.stderr + result.stdout
     achieved = [line.split("GOAL_ACHIEVED ")[1].split(":")[0] for line in events(result.stdout, "GOAL_ACHIEVED")]
     assert achieved == ["TAKE_OFF", "GO_TO_POINT", "GO_TO_POINT", "LAND"]
+
+
+def test_marker_search_finds_marker_3_and_lands_on_it():
+    result = aeroexec("run", str(MISSIONS / "marker_search.py"))
+    assert result.returncode == 0, result.stderr + result.stdout
+    landed = events(result.stdout, "drone_landed")[-1]
+    x, y = (float(v) for v in landed.split("at (")[1].rstrip(")").split(","))
+    assert abs(x - -13) < 0.5 and abs(y - -15) < 0.5  # marker 3's pad
+
+
+@pytest.mark.parametrize("mission", ["go_to_point_y.py", "explore_region.py"])
+def test_the_complex_behaviors_of_appendix_a_fly_to_completion(mission):
+    result = aeroexec("run", str(MISSIONS / mission))
+    assert result.returncode == 0, result.stderr + result.stdout
+    assert not events(result.stdout, "WRONG_PROGRESS") and not events(result.stdout, "failed_preconditions")
