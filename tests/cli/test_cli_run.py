@@ -19,7 +19,8 @@ def aeroexec(*args: str, timeout: float = 120) -> subprocess.CompletedProcess:
 
 
 def events(stdout: str, kind: str) -> list[str]:
-    return [line for line in stdout.splitlines() if f"] {kind} " in line or line.endswith(f"] {kind}")]
+    return [line for line in stdout.splitlines()
+            if f"] {kind} " in line or f"] {kind}:" in line or line.endswith(f"] {kind}")]
 
 
 def test_figure_10_flies_to_completion_on_the_simulator(tmp_path):
