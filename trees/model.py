@@ -1,0 +1,64 @@
+"""Behavior-tree missions as read from a file, before they are verified or built: nodes with their ports and places.
+
+Every loader (BehaviorTree.CPP v4 XML, nested YAML, Aerostack's flat YAML) produces a
+:class:`TreeDocument`; verification reads it and reports problems at ``file:line``;
+the builder turns it into a ``py_trees`` tree that runs on the engine.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+
+@dataclass
+class TreeNode:
+    """One node: its type (``Sequence``, ``GO_TO_POINT``, ``Condition``, ``SubTree``...), its name and ports.
+
+    ``ports`` keeps the attribute values as written (text), blackboard references such as ``{P}``
+    included; ``name`` is the ``name`` attribute (or the type when there is none). ``file`` and
+    ``line`` say where the node was written (1-based; 0 when unknown).
+    """
+
+    type: str
+    name: str = ""
+    ports: dict[str, str] = field(default_factory=dict)
+    children: list[TreeNode] = field(default_factory=list)
+    file: str = ""
+    line: int = 0
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            self.name = self.type
+
+    @property
+    def where(self) -> str:
+        return f"{self.file}:{self.line}" if self.line else self.file
+
+    def walk(self) -> Iterator[TreeNode]:
+        """This node and every node below it, depth first, in document order."""
+        yield self
+        for child in self.children:
+            yield from child.walk()
+
+
+@dataclass
+class TreeDocument:
+    """A mission file: its behavior trees by ID and the one to execute."""
+
+    trees: dict[str, TreeNode]  # BehaviorTree ID -> the root node of that tree
+    main: str  # the ID of the tree to execute
+    file: str = ""
+    lines: dict[str, int] = field(default_factory=dict)  # BehaviorTree ID -> the line it is declared on
+
+    @property
+    def root(self) -> TreeNode:
+        return self.trees[self.main]
+
+
+class TreeFormatError(ValueError):
+    """A mission file that cannot be read as a behavior tree; ``problems`` are ``(file, line, message)``."""
+
+    def __init__(self, problems: list[tuple[str, int, str]]) -> None:
+        self.problems = list(problems)
+        super().__init__("\n".join(f"{f}:{line}: {m}" if line else f"{f}: {m}" for f, line, m in self.problems))
