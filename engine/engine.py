@@ -95,6 +95,7 @@ class Engine:
         self.resources = ResourceManager(self.catalog, processes, self.log, self.context, capability_grace)
         self.coordinator = BehaviorCoordinator(self.context, library, self.resources, self.specialist)
         telemetry = TelemetryUpdater(drone, belief_period)
+        self.context.position_source = telemetry.position_source  # self-localization may claim position(self)
         self.updaters: list[BeliefUpdater] = [telemetry, *updaters]
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
         self.bridge = MissionBridge()

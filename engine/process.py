@@ -53,6 +53,7 @@ class BehaviorContext:
     operator: Any = None  # the operator channel (notify, ask) of this run; None: messages are only logged
     bus: Any = None  # the message bus shared with the other drones of the run; None: flying alone
     output_dir: Path | None = None  # where photos, videos and maps of this run are written
+    position_source: Any = None  # a PositionSource: whether the telemetry or an estimator writes position(self)
 
     def now(self) -> float:
         return self.clock()

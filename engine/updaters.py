@@ -4,7 +4,8 @@
 ``charge(battery, N)``, ``battery_level``, ``armed``, ``orientation``, ``speed``,
 ``flight_mode`` and ``communication(wireless, ok|lost)``; :func:`register_computed`
 answers ``distance``, ``distance_to``, ``approximate_travel_time`` and the
-obstacle distances from functions.
+obstacle distances from functions. A :class:`PositionSource` says whether the
+telemetry or a self-localization estimator writes ``position(self, ...)``.
 """
 
 from __future__ import annotations
@@ -52,12 +53,34 @@ TELEMETRY_PREDICATES = {"position": 2, "flight_state": 2, "charge": 2, "battery_
                         "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2}
 
 
-class TelemetryUpdater(BeliefUpdater):
-    """Beliefs about the robot itself, from the drone's telemetry snapshot."""
+class PositionSource:
+    """Who writes ``position(self, ...)``: the telemetry updater, unless a state estimator process has claimed it."""
 
-    def __init__(self, drone: Drone, period: float = 0.1) -> None:
+    def __init__(self) -> None:
+        self.owner: str | None = None  # the claiming process's name; None: the telemetry writes it
+
+    def claim(self, owner: str) -> None:
+        self.owner = owner
+
+    def release(self, owner: str) -> None:
+        if self.owner == owner:
+            self.owner = None
+
+    @property
+    def from_telemetry(self) -> bool:
+        return self.owner is None
+
+
+class TelemetryUpdater(BeliefUpdater):
+    """Beliefs about the robot itself, from the drone's telemetry snapshot.
+
+    ``position(self, ...)`` is left to the estimator that claimed :attr:`position_source`, if any.
+    """
+
+    def __init__(self, drone: Drone, period: float = 0.1, position_source: PositionSource | None = None) -> None:
         super().__init__("telemetry", period)
         self.drone = drone
+        self.position_source = position_source or PositionSource()
         self._state: str | None = None
 
     def update(self, memory: BeliefMemory, now: float) -> None:
@@ -65,7 +88,6 @@ class TelemetryUpdater(BeliefUpdater):
         self._state = flight_state(t, self._state)
         x, y, z = (round(v, 2) for v in t.position)
         facts = [
-            Struct("position", ("self", (x, y, z))),
             Struct("flight_state", ("self", self._state)),
             Struct("charge", ("battery", int(math.floor(t.battery_percent)))),
             Struct("battery_level", ("self", battery_level(t.battery_percent))),
@@ -75,6 +97,8 @@ class TelemetryUpdater(BeliefUpdater):
             Struct("flight_mode", ("self", t.flight_mode)),
             Struct("communication", ("wireless", "ok" if t.link_ok else "lost")),
         ]
+        if self.position_source.from_telemetry:
+            facts.append(Struct("position", ("self", (x, y, z))))
         for fact in facts:
             memory.add(fact)
 
