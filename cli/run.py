@@ -50,6 +50,9 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help="stop the mission after S seconds of mission time (default 1800)")
     parser.add_argument("--log", metavar="FILE", help="also write the events to FILE, one JSON object per line")
     parser.add_argument("--quiet", action="store_true", help="print only the outcome")
+    parser.add_argument("--answers", metavar="FILE",
+                        help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
+                             "default: ask at the terminal when interactive, else the first possible answer")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -122,9 +125,10 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
 
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, function: Callable[[], Any], name: str) -> int:
+    operator = make_operator(args)
     drone, world, simulated = make_drone(args)
     clock = SimulatedClock(speed=args.speed) if simulated else WallClock()
-    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world)
+    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator)
     log_file = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115 - closed below
     engine.log.subscribe(printer(None if args.quiet else sys.stdout, log_file))
     try:
@@ -138,10 +142,22 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, function: Callable[[
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:
         engine.stop()
+        operator.close()
         drone.close()
         if log_file is not None:
             log_file.close()
     return summary(engine, name)
+
+
+def make_operator(args: argparse.Namespace) -> Any:
+    """The operator channel: --answers FILE, else the terminal when interactive, else logged default answers."""
+    from aeroexec.engine.operator import OperatorError
+    from aeroexec.engine.operator import make_operator as operator_for
+
+    try:
+        return operator_for(getattr(args, "answers", None), interactive=sys.stdin is not None and sys.stdin.isatty())
+    except OperatorError as error:
+        raise RunError(f"--answers {error}") from None
 
 
 def land_if_flying(engine: Engine) -> None:

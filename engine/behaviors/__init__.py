@@ -5,6 +5,7 @@ from __future__ import annotations
 from ..process import BehaviorLibrary
 from ..resources import ProcessRegistry
 from .basic import Wait
+from .communication import COMMUNICATION_BEHAVIORS, COMMUNICATION_PROCESSES
 from .localization import LOCALIZATION_BEHAVIORS, LOCALIZATION_PROCESSES
 from .motion import MOTION_BEHAVIORS
 from .perception import PERCEPTION_BEHAVIORS, PERCEPTION_PROCESSES
@@ -14,13 +15,14 @@ from .verify import VERIFY_BEHAVIORS
 
 def default_library() -> BehaviorLibrary:
     """Every behavior implemented for the aerial catalog."""
-    return BehaviorLibrary([*MOTION_BEHAVIORS, *PERCEPTION_BEHAVIORS, *PLANNING_BEHAVIORS, *LOCALIZATION_BEHAVIORS,
-                            *VERIFY_BEHAVIORS, Wait])
+    return BehaviorLibrary([*MOTION_BEHAVIORS, *PERCEPTION_BEHAVIORS, *COMMUNICATION_BEHAVIORS, *PLANNING_BEHAVIORS,
+                            *LOCALIZATION_BEHAVIORS, *VERIFY_BEHAVIORS, Wait])
 
 
 def default_processes() -> ProcessRegistry:
     """The capability processes; names without an implementation run as idle processes."""
-    return ProcessRegistry({**PERCEPTION_PROCESSES, **PLANNING_PROCESSES, **LOCALIZATION_PROCESSES})
+    return ProcessRegistry({**PERCEPTION_PROCESSES, **COMMUNICATION_PROCESSES, **PLANNING_PROCESSES,
+                            **LOCALIZATION_PROCESSES})
 
 
 __all__ = ["default_library", "default_processes"]
