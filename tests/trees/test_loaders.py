@@ -130,17 +130,19 @@ def test_missing_include_is_reported_on_its_line():
 
 
 # -- Aerostack's format ------------------------------------------------------------------------------
-def test_a_real_aerostack_mission_loads():
-    document = load_mission_tree(DATA / "aerostack_airplane_inspection.yaml")
+def test_a_mission_in_aerostacks_format_loads():
+    document = load_mission_tree(DATA / "aerostack_tower_inspection.yaml")
     root = document.root
-    assert (root.type, root.name, root.line) == ("Sequence", "Airplane inspection", 6)
+    assert (root.type, root.name, root.line) == ("Sequence", "Tower inspection", 6)
     assert [child.type for child in root.children] == ["TAKE_OFF", "Sequence", "FOLLOW_PATH", "Sequence", "LAND"]
-    right, left = root.children[1], root.children[3]
-    assert [c.type for c in right.children] == ["FOLLOW_PATH", "ROTATE", "FOLLOW_PATH"]
-    assert right.children[0].ports == {"PATH": "[[0, 0, 2.4]]"}
-    assert root.children[2].ports == {"PATH": "[[0, 10, 4], [-5.2, 10, 4]]"}
-    assert left.children[1].ports == {"RELATIVE_ANGLE": "-180", "_wait_for_completion": "false"}
-    assert left.children[1].line == 77
+    south, west = root.children[1], root.children[3]
+    assert [c.type for c in south.children] == ["FOLLOW_PATH", "ROTATE"]
+    assert south.children[0].ports == {"PATH": "[[8, 2, 3]]"}
+    assert south.children[0].name == "“Stand off the south face”"
+    assert south.children[1].ports == {"ANGLE": "90"}
+    assert root.children[2].ports == {"PATH": "[[2, 2, 3], [2, 8, 3]]"}
+    assert west.children[0].ports == {"RELATIVE_ANGLE": "-90", "_wait_for_completion": "false"}
+    assert west.children[0].line == 59
 
 
 def test_aerostack_variables_become_blackboard_references():
