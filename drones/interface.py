@@ -205,6 +205,10 @@ class Drone(abc.ABC):
         """Open the payload release (drop what the drone carries)."""
         return CommandHandle.failed("release_payload", Failure.UNSUPPORTED, "this drone has no payload release")
 
+    def payload(self) -> list[str]:
+        """The names of the items the drone carries now; empty when it carries nothing or cannot tell."""
+        return []
+
     def observations(self) -> list[Observation]:
         """What the camera sees now; drones without a simulated camera see nothing."""
         return []

@@ -2,7 +2,8 @@
 
 :class:`TelemetryUpdater` writes ``position(self, (x, y, z))``, ``flight_state``,
 ``charge(battery, N)``, ``battery_level``, ``armed``, ``orientation``, ``speed``,
-``flight_mode`` and ``communication(wireless, ok|lost)``; :func:`register_computed`
+``flight_mode``, ``communication(wireless, ok|lost)`` and ``carry(self, X)`` for
+each item the drone says it carries; :func:`register_computed`
 answers ``distance``, ``distance_to``, ``approximate_travel_time`` and the
 obstacle distances from functions. A :class:`PositionSource` says whether the
 telemetry or a self-localization estimator writes ``position(self, ...)``.
@@ -82,6 +83,7 @@ class TelemetryUpdater(BeliefUpdater):
         self.drone = drone
         self.position_source = position_source or PositionSource()
         self._state: str | None = None
+        self._carried: set[str] = set()  # the items the drone said it carries, as believed
 
     def update(self, memory: BeliefMemory, now: float) -> None:
         t = self.drone.telemetry()
@@ -101,6 +103,12 @@ class TelemetryUpdater(BeliefUpdater):
             facts.append(Struct("position", ("self", (x, y, z))))
         for fact in facts:
             memory.add(fact)
+        carried = set(self.drone.payload())  # carry(self, X) follows what the drone says it carries
+        for item in sorted(carried - self._carried):
+            memory.add(Struct("carry", ("self", item)))
+        for item in sorted(self._carried - carried):
+            memory.remove(Struct("carry", ("self", item)))
+        self._carried = carried
 
 
 def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,

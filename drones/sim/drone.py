@@ -19,6 +19,7 @@ from .camera import Camera
 from .config import SimConfig
 from .motion import wrap180
 from .multicopter import FALL, IDLE, TAKEOFF, Multicopter
+from .payload import PayloadBay
 from .world import World, default_world
 
 logger = logging.getLogger(__name__)
@@ -58,6 +59,8 @@ class SimulatedDrone(Drone):
         self._vehicle = Multicopter(self.world, self.config, start_time)
         self._noise: Vector = (0.0, 0.0, 0.0)
         self._observations: list[Observation] | None = None
+        self._payload = PayloadBay(self.config.payload if self.config.payload is not None else self.world.payload)
+        self._renderer = None  # the camera image renderer, built on the first capture
 
     # --- time --------------------------------------------------------------------------------------
     @_locked
@@ -82,6 +85,7 @@ class SimulatedDrone(Drone):
             s = self.config.position_noise_std
             self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
         self._observations = None
+        self._settle_payload()
 
     # --- state -------------------------------------------------------------------------------------
     @_locked
@@ -285,6 +289,46 @@ class SimulatedDrone(Drone):
             return CommandHandle.succeeded("set_mode")
         return self._refuse("set_mode", f"mode {name!r} is not available in the simulation "
                             f"(one of {', '.join(MODES)})", Failure.UNSUPPORTED)
+
+    # --- camera image and payload ---------------------------------------------------------------------
+    @_locked
+    def capture_image(self, width: int = 640, height: int = 480) -> bytes | None:
+        """A PNG of what the front camera sees now: the world rendered from the drone's true pose."""
+        from .render import SceneRenderer, to_png  # numpy and Pillow load on the first image
+
+        if self._renderer is None or self._renderer.world is not self.world:
+            self._renderer = SceneRenderer(self.world)
+        v = self._vehicle
+        return to_png(self._renderer.render(v.position, v.yaw, self.camera, self._now, width, height))
+
+    @_locked
+    def payload(self) -> list[str]:
+        """The items the drone carries, in the order they are released."""
+        return list(self._payload.carried)
+
+    @_locked
+    def release_payload(self) -> CommandHandle:
+        """Drop the first item carried: it falls and lands as an object of the world (see :mod:`.payload`)."""
+        v = self._vehicle
+        if v.crashed:
+            return self._refuse("release_payload", f"the drone has crashed ({v.crashed})")
+        item = self._payload.release(self.world, v.position, v.velocity, self._now, self.config.gravity)
+        if item is None:
+            return self._refuse("release_payload", "the drone carries nothing")
+        v.events.append(DroneEvent(self._now, "payload_released", f"{item.name} released above "
+                                   f"{_fmt(item.landing)}", {"item": item.name}))
+        self._settle_payload()
+        return CommandHandle.succeeded("release_payload")
+
+    def _settle_payload(self) -> None:
+        """Falling items that have landed become objects of the world."""
+        if self._payload.falling:
+            self.world, landed = self._payload.settle(self.world, self._now)
+            for obj in landed:
+                self._vehicle.events.append(DroneEvent(self._now, "payload_landed", f"{obj.name} landed at "
+                                                       f"{_fmt(obj.position)}", {"item": obj.name}))
+            if landed:
+                self._observations = None
 
     def close(self) -> None:
         """Nothing to release: the simulation has no threads."""

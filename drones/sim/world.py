@@ -141,6 +141,7 @@ class World:
     objects: tuple[WorldObject, ...] = ()
     platform: Platform | None = None
     camera: CameraSettings = field(default_factory=CameraSettings)
+    payload: tuple[str, ...] = ()  # names of the items the drone carries at the start
     name: str = "world"
     source: str | None = None  # the file it was loaded from
 

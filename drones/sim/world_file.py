@@ -14,8 +14,9 @@ Keys (ENU meters from home, angles in degrees; ``?`` = optional)::
     objects?: - {name, color, shape, position: [x, y, z]}
     platform?: {path: [[x, y, z], ...], speed, loop?: true, name?: platform, marker_id?}
     camera?: {hfov?: 80, vfov?: 60, range?: 12, pitch?: -20}
+    payload?: [name, ...]                      # items the drone carries; a dropped one lands as an object
 
-Names are unique across obstacles, markers, objects and the platform; marker ids are unique.
+Names are unique across obstacles, markers, objects, the platform and the payload; marker ids are unique.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ Vector = tuple[float, float, float]
 
 MAX_MARKER_ID = 1023  # ArUco's original dictionary has 1024 markers: ids 0..1023
 
-_TOP_KEYS = {"name", "home", "bounds", "obstacles", "markers", "objects", "platform", "camera"}
+_TOP_KEYS = {"name", "home", "bounds", "obstacles", "markers", "objects", "platform", "camera", "payload"}
 
 
 class _Reader:
@@ -154,8 +155,9 @@ class _WorldParser:
         platform = self.platform(keys["platform"], ids) if "platform" in keys else None
         camera = self.camera(keys["camera"]) if "camera" in keys else CameraSettings()
         name = r.string(keys["name"], "the world's name") if "name" in keys else "world"
+        payload = tuple(self.unique(n, r.string(n, f"payload item {i + 1}")) for i, n in self.items(keys, "payload"))
         return World(home=home, bounds=bounds, obstacles=obstacles, markers=markers, objects=objects,
-                     platform=platform, camera=camera, name=name, source=r.source)
+                     platform=platform, camera=camera, payload=payload, name=name, source=r.source)
 
     def item_nodes(self, keys: dict[str, Node], key: str) -> list[Node]:
         return self.r.sequence(keys[key], f"'{key}'") if key in keys else []

@@ -1,0 +1,287 @@
+"""Data recording (paper Table A.3): TAKE_PHOTO, RECORD_VIDEO and BUILD_MAP, with the ``video_recorder`` and
+``map_builder`` capability processes that capture frames and scan the camera's view each period.
+
+Files go to the run's output folder (``context.output_dir``; without one, ``aeroexec_output/<date-time>`` in the
+working directory, chosen on first use): ``photo_N.png``, ``video_N/frame_NNNNN.png`` and ``video_N.gif``,
+``map_N.png`` (and ``map_N_height.png`` for a 3D map). Beliefs: ``photo(self, File)``, ``video(self, File)``,
+``map(self, File)``. The recordings in progress live on the behavior context, so the behavior (which opens and
+closes them) and its capability's process (which does the periodic work) share them.
+
+Settings read from ``EngineSettings.extra``: ``video_rate`` (frames per second, 2.0), ``video_gif_frames``
+(most frames kept for the GIF, 240), ``map_resolution`` (m, 0.5), ``map_period`` (s between scans, 0.5),
+``map_save_period`` (s between saves while building, 10.0), ``map_extent`` (m around home without map bounds, 50).
+"""
+
+from __future__ import annotations
+
+import io
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from aeroexec.beliefs import Struct
+from PIL import Image
+
+from ..events import Outcome
+from ..mapping import CameraModel, OccupancyMap
+from ..planning import map_bounds
+from ..process import BehaviorContext, BehaviorProcess
+from ..resources import Process
+from .manipulation import MANIPULATION_BEHAVIORS, MANIPULATION_PROCESSES
+
+logger = logging.getLogger(__name__)
+
+NO_IMAGE = "the drone gives no camera image (it has no camera this engine can read)"
+GIF_SIZE = (320, 240)  # the GIF's frames are shrunk to fit this
+
+
+def output_folder(context: BehaviorContext) -> Path:
+    """The run's output folder, created if needed; chosen (and kept on the context) on first use without one."""
+    if context.output_dir is None:
+        context.output_dir = Path("aeroexec_output") / time.strftime("%Y%m%d-%H%M%S")
+        context.log.record("output_folder", detail=f"recordings go to {context.output_dir}")
+    folder = Path(context.output_dir)
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def next_path(folder: Path, stem: str, suffix: str) -> Path:
+    """``folder/stem_N<suffix>`` with the first N (from 1) not taken by a file or a folder of that name."""
+    n = 1
+    while (folder / f"{stem}_{n}{suffix}").exists() or (folder / f"{stem}_{n}").exists():
+        n += 1
+    return folder / f"{stem}_{n}{suffix}"
+
+
+def capture(context: BehaviorContext) -> tuple[bytes | None, str]:
+    """The camera's image now (a PNG), or None and why not; a camera that raises is a camera that failed."""
+    try:
+        image = context.drone.capture_image()
+    except Exception as exc:
+        logger.exception("capture_image failed")
+        return None, f"the camera failed: {type(exc).__name__}: {exc}"
+    return (image, "") if image else (None, NO_IMAGE)
+
+
+def _extra(context: BehaviorContext, key: str, default: float) -> float:
+    return float(context.settings.extra.get(key, default))
+
+
+class TakePhoto(BehaviorProcess):
+    """TAKE_PHOTO: the camera's image now, as ``photo_N.png``; result and ``photo(self, File)`` name the file."""
+
+    behavior = "TAKE_PHOTO"
+
+    def on_start(self) -> None:
+        image, self._error = capture(self.context)
+        if image is None:
+            return
+        path = next_path(output_folder(self.context), "photo", ".png")
+        path.write_bytes(image)
+        self.result = str(path)
+        self.memory.add(Struct("photo", ("self", str(path))))
+        self.context.log.record("photo_taken", self.name, str(path), bytes=len(image))
+
+    def on_run(self) -> Outcome | None:
+        return self.fail(self._error) if self._error else Outcome.GOAL_ACHIEVED
+
+
+# --- video -------------------------------------------------------------------------------------------------
+
+class VideoRecording:
+    """One video: every frame as a PNG in ``video_N/``, and shrunk copies for ``video_N.gif`` written at the end.
+
+    When more than ``gif_frames`` frames are kept, every other one is dropped and only every other one is kept
+    from then on, so a long recording gives a GIF of bounded size covering all of it.
+    """
+
+    def __init__(self, folder: Path, period: float, gif_frames: int) -> None:
+        self.gif = next_path(folder, "video", ".gif")
+        self.folder = self.gif.with_suffix("")
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.period = period
+        self.gif_frames = max(2, gif_frames)
+        self.frames = 0
+        self.missed = 0  # captures that gave no image
+        self._thumbs: list[Image.Image] = []
+        self._stride = 1
+        self._last: float | None = None
+
+    def due(self, now: float) -> bool:
+        return self._last is None or now - self._last >= self.period - 1e-9
+
+    def capture(self, image: bytes | None, now: float) -> None:
+        """Keep one frame (``image`` is a PNG, or None when the camera gave nothing)."""
+        self._last = now
+        if not image:
+            self.missed += 1
+            return
+        self.missed = 0
+        self.frames += 1
+        (self.folder / f"frame_{self.frames:05d}.png").write_bytes(image)
+        if (self.frames - 1) % self._stride:
+            return
+        thumb = Image.open(io.BytesIO(image)).convert("RGB")
+        thumb.thumbnail(GIF_SIZE)
+        self._thumbs.append(thumb.quantize(colors=128))
+        if len(self._thumbs) > self.gif_frames:
+            self._thumbs = self._thumbs[::2]
+            self._stride *= 2
+
+    def finish(self) -> Path | None:
+        """Write the GIF; None when no frame was captured."""
+        if not self._thumbs:
+            return None
+        duration = max(20, round(self.period * self._stride * 1000))
+        first, rest = self._thumbs[0], self._thumbs[1:]
+        first.save(self.gif, save_all=True, append_images=rest, duration=duration, loop=0)
+        self._thumbs = []
+        return self.gif
+
+
+@dataclass
+class Recordings:
+    """What is being recorded in a run: the open video, and the map being built (kept between activations)."""
+
+    video: VideoRecording | None = None
+    map: OccupancyMap | None = None
+    map_file: Path | None = None  # where the map of the active BUILD_MAP is saved
+    map_dimension: str = "THREE"
+    map_saved_at: float | None = None
+
+
+def recordings(context: BehaviorContext) -> Recordings:
+    """The run's recordings, created on first use and kept on the behavior context."""
+    found = getattr(context, "recordings", None)
+    if found is None:
+        found = Recordings()
+        context.recordings = found  # type: ignore[attr-defined]
+    return found
+
+
+class RecordVideo(BehaviorProcess):
+    """RECORD_VIDEO: frames while active (``video_recorder`` captures them), ``video_N.gif`` when stopped."""
+
+    behavior = "RECORD_VIDEO"
+
+    def on_start(self) -> None:
+        image, self._error = capture(self.context)
+        if image is None:
+            return
+        rate = _extra(self.context, "video_rate", 2.0)
+        video = VideoRecording(output_folder(self.context), 1.0 / max(rate, 1e-3),
+                               int(_extra(self.context, "video_gif_frames", 240)))
+        video.capture(image, self.now())
+        recordings(self.context).video = video
+        self.context.log.record("video_started", self.name, str(video.folder), rate=rate)
+
+    def on_run(self) -> Outcome | None:
+        if self._error:
+            return self.fail(self._error)
+        video = recordings(self.context).video
+        if video is not None and video.missed >= 3:
+            return self.fail("the camera stopped giving images")
+        return None
+
+    def on_stop(self, outcome: Outcome) -> None:
+        store = recordings(self.context)
+        video, store.video = store.video, None
+        if video is None:
+            return
+        gif = video.finish()
+        if gif is not None:
+            self.result = str(gif)
+            self.memory.add(Struct("video", ("self", str(gif))))
+        self.context.log.record("video_saved", self.name, str(gif or video.folder), frames=video.frames)
+
+
+class VideoRecorder(Process):
+    """video_recorder: while a video is open, a camera frame every period."""
+
+    def step(self, now: float) -> None:
+        video = recordings(self.context).video
+        if video is not None and video.due(now):
+            video.capture(capture(self.context)[0], now)
+
+
+# --- map ---------------------------------------------------------------------------------------------------
+
+def new_map(context: BehaviorContext) -> OccupancyMap:
+    """An empty map of the obstacle map's bounds (or ``map_extent`` m around home) at ``map_resolution``."""
+    resolution = _extra(context, "map_resolution", 0.5)
+    bounds = map_bounds(context.obstacles) if context.obstacles is not None else None
+    if bounds is None:
+        extent = _extra(context, "map_extent", 50.0)
+        bounds = ((-extent, -extent, 0.0), (extent, extent, min(extent, 30.0)))
+    return OccupancyMap(bounds[0], bounds[1], resolution, context.obstacles)
+
+
+def save_map(context: BehaviorContext, store: Recordings, now: float) -> None:
+    """Write the map's images and believe ``map(self, File)``."""
+    if store.map is None or store.map_file is None:
+        return
+    store.map.top_image().save(store.map_file)
+    if store.map_dimension == "THREE":
+        store.map.height_image().save(store.map_file.with_name(store.map_file.stem + "_height.png"))
+    store.map_saved_at = now
+    context.memory.add(Struct("map", ("self", str(store.map_file))))
+    context.log.record("map_saved", "BUILD_MAP", str(store.map_file), scans=store.map.scans, **store.map.counts())
+
+
+class BuildMap(BehaviorProcess):
+    """BUILD_MAP: the occupancy map of what the camera sees (``map_builder`` scans), saved now and then and on stop."""
+
+    behavior = "BUILD_MAP"
+
+    def on_start(self) -> None:
+        store = recordings(self.context)
+        if store.map is None:
+            store.map = new_map(self.context)
+        store.map_dimension = str(self.arguments.get("DIMENSION", "THREE")).upper()
+        store.map_file = next_path(output_folder(self.context), "map", ".png")
+        store.map_saved_at = self.now()
+        MapBuilder.integrate(self.context, store.map)
+        self.context.log.record("map_started", self.name, str(store.map_file), dimension=store.map_dimension)
+
+    def on_stop(self, outcome: Outcome) -> None:
+        store = recordings(self.context)
+        save_map(self.context, store, self.now())
+        self.result = str(store.map_file) if store.map_file else None
+        store.map_file = None
+
+
+class MapBuilder(Process):
+    """map_builder: while a map is being built, a scan of the camera's view every period, and periodic saves."""
+
+    def __init__(self, name: str) -> None:
+        super().__init__(name)
+        self._last: float | None = None
+
+    @staticmethod
+    def integrate(context: BehaviorContext, occupancy: OccupancyMap) -> None:
+        """One look: what perception sees becomes landmarks, and the camera's rays are cast through the world."""
+        telemetry = context.drone.telemetry()
+        occupancy.observe(context.drone.observations())
+        camera = CameraModel.of(getattr(context.obstacles, "camera", None))
+        occupancy.scan(telemetry.position, telemetry.yaw, camera)
+
+    def step(self, now: float) -> None:
+        store = recordings(self.context)
+        if store.map is None or store.map_file is None:
+            return
+        if self._last is not None and now - self._last < _extra(self.context, "map_period", 0.5) - 1e-9:
+            return
+        self._last = now
+        self.integrate(self.context, store.map)
+        period = _extra(self.context, "map_save_period", 10.0)
+        if store.map_saved_at is None or now - store.map_saved_at >= period - 1e-9:
+            save_map(self.context, store, now)
+
+
+RECORDING_BEHAVIORS: list[type[BehaviorProcess]] = [TakePhoto, RecordVideo, BuildMap, *MANIPULATION_BEHAVIORS]
+RECORDING_PROCESSES: dict[str, Callable[[str], Process]] = {"video_recorder": VideoRecorder,
+                                                            "map_builder": MapBuilder, **MANIPULATION_PROCESSES}
+
+__all__ = ["RECORDING_BEHAVIORS", "RECORDING_PROCESSES", "Recordings", "output_folder", "recordings"]
