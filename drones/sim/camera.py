@@ -1,7 +1,8 @@
-"""The simulated camera: what markers, objects and platform a drone sees from where it is.
+"""The simulated cameras: what markers, objects and platform a drone sees from where it is.
 
 The camera looks along the drone's yaw, tilted by its mounting pitch; a thing is seen when it lies within
 both fields of view and the range, with no obstacle in the way. Markers are seen only from their front.
+The drone also has a bottom camera looking straight down (:meth:`Camera.downward`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from .world import CameraSettings, World
 Vector = tuple[float, float, float]
 
 _SURFACE_CLEARANCE = 0.05  # m: a line of sight ends this short of its target (markers sit on surfaces)
+DOWNWARD_FOV = 80.0  # degrees: the bottom camera's fields of view (with the front one's, no gap below)
 
 
 def _dot(a: Vector, b: Vector) -> float:
@@ -37,6 +39,11 @@ class Camera:
     @classmethod
     def from_settings(cls, settings: CameraSettings) -> Camera:
         return cls(hfov=settings.hfov, vfov=settings.vfov, range=settings.range, pitch=settings.pitch)
+
+    @classmethod
+    def downward(cls, settings: CameraSettings) -> Camera:
+        """The bottom camera (looking straight down, ``DOWNWARD_FOV`` wide) that landing and alignment use."""
+        return cls(hfov=DOWNWARD_FOV, vfov=DOWNWARD_FOV, range=settings.range, pitch=-90.0)
 
     def axes(self, yaw: float) -> tuple[Vector, Vector, Vector]:
         """(forward, left, up) unit vectors of the camera on a drone with ``yaw`` degrees."""
@@ -102,3 +109,14 @@ class Camera:
                                             marker_id=platform.marker_id, distance=distance))
         seen.sort(key=lambda o: (o.distance, o.kind, o.name))
         return seen
+
+
+def merge_observations(*views: list[Observation]) -> list[Observation]:
+    """What several cameras see together: each thing once (its nearest sighting), nearest first."""
+    best: dict[tuple[str, str], Observation] = {}
+    for view in views:
+        for o in view:
+            key = (o.kind, o.name)
+            if key not in best or o.distance < best[key].distance:
+                best[key] = o
+    return sorted(best.values(), key=lambda o: (o.distance, o.kind, o.name))

@@ -43,6 +43,7 @@ class SimConfig:
     preflight_disarm_delay: float = 10.0  # s armed on the ground without taking off, COM_DISARM_PRFLT
     drone_radius: float = 0.3  # m: a collision is the obstacle closer than this to the drone's center
     crash_speed: float = 3.0  # m/s: touching the ground faster than this is a crash
+    touch_distance: float = 0.5  # m: the drone touches an object whose position is this close to its center
     gravity: float = 9.81  # m/s^2: how a crashed drone falls (and a dropped item)
     payload: tuple[str, ...] | None = None  # names of the items carried (None: the world's ``payload``)
 

@@ -15,7 +15,7 @@ from functools import wraps
 from typing import TypeVar
 
 from ..interface import CommandHandle, Drone, DroneEvent, Failure, Observation, Telemetry, Vector
-from .camera import Camera
+from .camera import Camera, merge_observations
 from .config import SimConfig
 from .motion import wrap180
 from .multicopter import FALL, IDLE, TAKEOFF, Multicopter
@@ -50,6 +50,7 @@ class SimulatedDrone(Drone):
         self.world = world if world is not None else default_world()
         self.config = config if config is not None else SimConfig()
         self.camera = Camera.from_settings(self.world.camera)
+        self.bottom_camera = Camera.downward(self.world.camera)
         self.seed = seed
         self._rng = random.Random(seed)
         self._lock = threading.RLock()
@@ -81,6 +82,7 @@ class SimulatedDrone(Drone):
             if not v.armed and v.phase != FALL:
                 self._steps = target
                 v.time = self._start + target * dt
+        v.ride_deck()  # landed on the moving platform (even disarmed): carried along
         if self.config.position_noise_std > 0.0:
             s = self.config.position_noise_std
             self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
@@ -119,10 +121,12 @@ class SimulatedDrone(Drone):
 
     @_locked
     def observations(self) -> list[Observation]:
-        """What the camera sees from the drone's true pose now, nearest first."""
+        """What the front and bottom cameras see from the drone's true pose now, nearest first."""
         if self._observations is None:
             v = self._vehicle
-            self._observations = self.camera.observe(self.world, v.position, v.yaw, self._now)
+            self._observations = merge_observations(
+                self.camera.observe(self.world, v.position, v.yaw, self._now),
+                self.bottom_camera.observe(self.world, v.position, v.yaw, self._now))
         return list(self._observations)
 
     @_locked

@@ -12,6 +12,7 @@ import math
 from ..interface import DroneEvent, LandedState
 from .battery import Battery
 from .config import SimConfig
+from .contact import Contacts
 from .motion import (
     Limits,
     accelerate,
@@ -66,6 +67,7 @@ class Multicopter:
         self._ground_since = start_time
         self._flew_since_armed = False
         self._outside = False
+        self.contacts = Contacts(world, config.touch_distance)  # the platform's deck, touched objects
 
     # --- reported state -----------------------------------------------------------------------------
     @property
@@ -160,12 +162,13 @@ class Multicopter:
         if not self.armed:
             self.yaw_rate = 0.0
             return
-        yaw_before = self.yaw
+        yaw_before, previous_z = self.yaw, self.position[2]
         desired, limits = self._desired(dt)
         self.yaw_rate = wrap180(self.yaw - yaw_before) / dt
         velocity = accelerate(self.velocity, desired, limits, dt)
         if not self.airborne and velocity[2] <= 0.0:
             self.velocity = (0.0, 0.0, 0.0)
+            self.ride_deck()
             self._ground_idle()
             self.battery.drain(dt, True, False, 0.0, 0.0)
             return
@@ -173,12 +176,17 @@ class Multicopter:
         self.position = tuple(p + v * dt for p, v in zip(self.position, velocity, strict=True))  # type: ignore[assignment]
         if not self.airborne and self.position[2] > 0.0:
             self.airborne = True
+            self.contacts.leave()
         self.battery.drain(dt, True, True, math.hypot(velocity[0], velocity[1]), velocity[2])
-        if self.position[2] <= _GROUND_CONTACT and velocity[2] <= 0.0:
-            self._touch_down()
+        deck = self.contacts.deck_below(self.position, self.time, previous_z)
+        if self.position[2] <= (deck or 0.0) + _GROUND_CONTACT and velocity[2] <= 0.0:
+            self._touch_down(deck)
             return
         if self._check_collision() or self._check_battery():
             return
+        for name, where in self.contacts.touches(self.position, self.time):
+            self.emit("touched", f"{name} at ({where[0]:.1f}, {where[1]:.1f}, {where[2]:.1f})", object=name,
+                      position=where)
         self._check_bounds()
         self._progress()
 
@@ -223,19 +231,35 @@ class Multicopter:
             why = "auto-disarmed after landing" if self._flew_since_armed else "auto-disarmed: armed without taking off"
             self.disarm(why)
 
-    def _touch_down(self) -> None:
+    def ride_deck(self) -> None:
+        """On the platform's deck: move with it (the drone stands where the deck carries it)."""
+        riding = self.contacts.ride(self.time)
+        if riding is not None and not self.airborne:
+            self.position, self.velocity = riding
+
+    def _touch_down(self, deck: float | None = None) -> None:
+        """Touch the ground, or the platform's deck at height ``deck``."""
         speed = -self.velocity[2]
         x, y, _ = self.position
-        self.position = (x, y, 0.0)
+        self.position = (x, y, 0.0 if deck is None else deck)
         self.velocity = (0.0, 0.0, 0.0)
         self.airborne = False
+        platform = self.world.platform.name if deck is not None and self.world.platform else ""
+        surface = "the ground" if deck is None else f"the deck of '{platform}'"
         if speed > self.config.crash_speed:
-            self._crash(f"hit the ground at {speed:.1f} m/s", kind="collision", obstacle="ground")
+            if deck is not None:  # the wreck lies on the deck and rides along
+                self.position = self.contacts.board(self.position, self.time)[0]
+            self._crash(f"hit {surface} at {speed:.1f} m/s", kind="collision", obstacle=platform or "ground")
             return
         self._flew_since_armed = True
         self._ground_since = self.time
         self.phase = IDLE
-        self.emit("landed", f"at ({x:.1f}, {y:.1f})", position=(x, y, 0.0))
+        if deck is None:
+            self.emit("landed", f"at ({x:.1f}, {y:.1f})", position=(x, y, 0.0))
+            return
+        self.position, self.velocity = self.contacts.board(self.position, self.time)
+        self.emit("landed", f"on {surface} at ({x:.1f}, {y:.1f}, {deck:.1f})", position=self.position,
+                  platform=platform)
 
     def _crash(self, why: str, kind: str, **data: object) -> None:
         self.crashed = why

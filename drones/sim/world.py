@@ -14,6 +14,7 @@ from ..geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
 from .shapes import Box, Cylinder, Obstacle
 
 Vector = tuple[float, float, float]
+DECK_RADIUS = 0.75  # m: a platform's landing deck unless its world file says otherwise
 
 __all__ = [
     "Bounds",
@@ -87,7 +88,8 @@ class WorldObject:
 class Platform:
     """A platform moving along ``path`` (ENU points) at ``speed`` m/s, looping or going back and forth.
 
-    An optional ArUco ``marker_id`` lies on its deck, facing up.
+    An optional ArUco ``marker_id`` lies on its deck, facing up. The deck is a disc of ``deck_radius`` m
+    around ``position(t)`` (its height is the path's z): a drone can land on it and ride along.
     """
 
     name: str
@@ -95,6 +97,14 @@ class Platform:
     speed: float
     loop: bool = True
     marker_id: int | None = None
+    deck_radius: float = DECK_RADIUS
+
+    def velocity(self, t: float, dt: float = 0.02) -> Vector:
+        """The platform's velocity (m/s) over the ``dt`` seconds before ``t`` (at ``t`` itself from the start)."""
+        t0 = max(t - dt, 0.0)
+        t1 = t0 + dt
+        a, b = self.position(t0), self.position(t1)
+        return tuple((q - p) / dt for p, q in zip(a, b, strict=True))  # type: ignore[return-value]
 
     def position(self, t: float) -> Vector:
         """Where the platform is at time ``t`` (seconds from the start of the simulation)."""

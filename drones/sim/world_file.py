@@ -12,7 +12,7 @@ Keys (ENU meters from home, angles in degrees; ``?`` = optional)::
                 - {type: cylinder, center: [x, y], radius, height, base?: 0, name?}
     markers?: - {id: 0..1023, position: [x, y, z], yaw?: 0, pitch?: 0, name?: marker_<id>}
     objects?: - {name, color, shape, position: [x, y, z]}
-    platform?: {path: [[x, y, z], ...], speed, loop?: true, name?: platform, marker_id?}
+    platform?: {path: [[x, y, z], ...], speed, loop?: true, name?: platform, marker_id?, deck_radius?: 0.75}
     camera?: {hfov?: 80, vfov?: 60, range?: 12, pitch?: -20}
     payload?: [name, ...]                      # items the drone carries; a dropped one lands as an object
 
@@ -29,7 +29,7 @@ from yaml.constructor import ConstructorError, SafeConstructor
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from .shapes import Box, Cylinder, Obstacle
-from .world import Bounds, CameraSettings, Marker, Platform, World, WorldError, WorldObject
+from .world import DECK_RADIUS, Bounds, CameraSettings, Marker, Platform, World, WorldError, WorldObject
 
 Vector = tuple[float, float, float]
 
@@ -241,7 +241,7 @@ class _WorldParser:
 
     def platform(self, node: Node, marker_ids: dict[int, int]) -> Platform:
         r = self.r
-        k = r.mapping(node, "the platform", {"path", "speed"}, {"name", "loop", "marker_id"})
+        k = r.mapping(node, "the platform", {"path", "speed"}, {"name", "loop", "marker_id", "deck_radius"})
         name = self.unique(k["name"], r.string(k["name"], "the platform's name")) if "name" in k else "platform"
         path = tuple(r.vector(p, f"point {i + 1} of the platform's path")
                      for i, p in enumerate(r.sequence(k["path"], "the platform's path")))
@@ -259,6 +259,8 @@ class _WorldParser:
             speed=r.number(k["speed"], "the platform's speed", minimum=0.0),
             loop=r.boolean(k["loop"], "the platform's loop") if "loop" in k else True,
             marker_id=marker_id,
+            deck_radius=(r.number(k["deck_radius"], "the platform's deck_radius", positive=True)
+                         if "deck_radius" in k else DECK_RADIUS),
         )
 
     def camera(self, node: Node) -> CameraSettings:
