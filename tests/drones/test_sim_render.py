@@ -7,7 +7,8 @@ import pytest
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.camera import Camera
 from aeroexec.drones.sim.payload import surface_below
-from aeroexec.drones.sim.render import COLORS, SceneRenderer, render_map
+from aeroexec.drones.sim.render import COLORS, SceneRenderer
+from aeroexec.drones.sim.topview import render_map
 from aeroexec.drones.sim.world import WorldError
 from aeroexec.drones.sim.world_file import parse_world
 from PIL import Image
