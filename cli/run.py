@@ -50,6 +50,8 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help="stop the mission after S seconds of mission time (default 1800)")
     parser.add_argument("--log", metavar="FILE", help="also write the events to FILE, one JSON object per line")
     parser.add_argument("--quiet", action="store_true", help="print only the outcome")
+    parser.add_argument("--output", metavar="DIR",
+                        help="where photos, videos and maps go (default: aeroexec_output/<date-time>)")
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
                              "default: ask at the terminal when interactive, else the first possible answer")
@@ -128,7 +130,8 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, function: Callable[[
     operator = make_operator(args)
     drone, world, simulated = make_drone(args)
     clock = SimulatedClock(speed=args.speed) if simulated else WallClock()
-    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator)
+    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator,
+                    output_dir=getattr(args, "output", None))
     log_file = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115 - closed below
     engine.log.subscribe(printer(None if args.quiet else sys.stdout, log_file))
     try:

@@ -109,3 +109,10 @@ def test_the_complex_behaviors_of_appendix_a_fly_to_completion(mission):
     result = aeroexec("run", str(MISSIONS / mission))
     assert result.returncode == 0, result.stderr + result.stdout
     assert not events(result.stdout, "WRONG_PROGRESS") and not events(result.stdout, "failed_preconditions")
+
+
+def test_inspection_takes_a_photo_at_each_station(tmp_path):
+    result = aeroexec("run", str(MISSIONS / "inspection.py"), "--output", str(tmp_path))
+    assert result.returncode == 0, result.stderr + result.stdout
+    photos = sorted(tmp_path.glob("photo_*.png"))
+    assert len(photos) == 4 and all(p.read_bytes().startswith(b"\x89PNG") for p in photos)
