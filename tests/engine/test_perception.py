@@ -54,3 +54,19 @@ def test_colors_and_shapes(engine):
     assert engine.memory.holds("color(red_box, red), visible(red_box)")
     assert engine.memory.holds("shape(red_box, box), object(red_box, box)")
     assert engine.memory.query("color(?O, blue)") is None  # the blue ball is behind the drone
+
+
+def test_wait_for_a_duration_and_until_a_marker_is_observed(engine):
+    assert engine.coordinator.activate("WAIT", {"DURATION": 2.0}).accepted
+    start = engine.now()
+    engine.run_until(lambda: not engine.coordinator.is_active("WAIT"), 10)
+    assert engine.log.events(kind="GOAL_ACHIEVED", behavior="WAIT")
+    assert engine.now() - start == pytest.approx(2.0, abs=0.06)
+    engine.coordinator.activate("PAY_ATTENTION_TO_VISUAL_MARKERS")
+    assert engine.coordinator.activate("WAIT", {"UNTIL_OBSERVED_VISUAL_MARKER": 1}).accepted
+    engine.step(3.0)
+    assert engine.coordinator.is_active("WAIT")  # marker 1 is not in view from home
+    engine.drone.goto((8.0, 0.0, 2.0), yaw=90)  # now it comes into view
+    assert engine.run_until(lambda: not engine.coordinator.is_active("WAIT"), 30)
+    assert len(engine.log.events(kind="GOAL_ACHIEVED", behavior="WAIT")) == 2
+    assert engine.memory.holds("code(?M, 1), visible(?M)")
