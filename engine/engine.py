@@ -100,6 +100,8 @@ class Engine:
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
         self.bridge = MissionBridge()
         self.timers = Timers(self.clock.now)
+        #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
+        self.tick_callbacks: list[Callable[[], None]] = []
         self._started = False
         self._stop = threading.Event()
         self._closed = False
@@ -126,6 +128,11 @@ class Engine:
                 self.coordinator.fail_users(capability, reason)
             self.coordinator.tick()
             self.timers.run_due()
+            for callback in list(self.tick_callbacks):
+                try:
+                    callback()
+                except Exception:
+                    logger.exception("a tick callback failed")
 
     def _begin(self) -> None:
         self._started = True

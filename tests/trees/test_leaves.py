@@ -1,0 +1,163 @@
+"""Leaves on the engine: behaviors, beliefs, the blackboard from QueryBelief to ports, SubTree remapping, halting."""
+
+from __future__ import annotations
+
+import pytest
+from aeroexec.drones.sim import SimulatedDrone, default_world
+from aeroexec.engine.engine import Engine
+from aeroexec.trees.blackboard import Blackboard
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runner import TreeMission
+from py_trees.common import Status
+
+
+def N(kind: str, *children: TreeNode, name: str = "", line: int = 0, **ports: str) -> TreeNode:  # noqa: N802
+    return TreeNode(kind, name, dict(ports), list(children), "mission.xml", line)
+
+
+@pytest.fixture
+def engine():
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    yield engine
+    engine.stop()
+
+
+def run(engine: Engine, root: TreeNode, max_time: float = 120.0, **trees: TreeNode) -> TreeMission:
+    mission = TreeMission(TreeDocument({"Main": root, **trees}, "Main", "mission.xml"), engine)
+    mission.run(max_time)
+    return mission
+
+
+def statuses(engine: Engine, node: str) -> list[str]:
+    return [e.data["new"] for e in engine.log.events(kind="node_status") if e.data["node"] == node]
+
+
+def activated(engine: Engine, behavior: str) -> list[str]:
+    return [e.detail for e in engine.log.events(kind="activated", behavior=behavior)]
+
+
+def test_take_off_go_to_point_land_runs_to_success(engine):
+    mission = run(engine, N("Sequence", N("TAKE_OFF", ALTITUDE="2"), N("GO_TO_POINT", COORDINATES="2, -1, 2"),
+                            N("LAND")))
+    assert mission.status == Status.SUCCESS
+    assert engine.log.events(kind="mission_completed")
+    assert statuses(engine, "GO_TO_POINT") == ["RUNNING", "SUCCESS"]
+    assert [e.behavior for e in engine.log.events(kind="GOAL_ACHIEVED")] == ["TAKE_OFF", "GO_TO_POINT", "LAND"]
+    x, y, z = engine.drone.telemetry().position
+    assert (x, y, z) == pytest.approx((2, -1, 0), abs=0.3)
+    assert "[SUCCESS] LAND" in mission.display()
+
+
+def test_query_belief_variables_flow_to_a_behavior_port(engine):
+    for belief in ("object(pad, marker)", "code(pad, 3)", "position(pad, (2, -1, 2))"):
+        engine.memory.add(belief)
+    mission = run(engine, N("Sequence", N("TAKE_OFF"),
+                            N("QueryBelief", belief="object(?X, marker), code(?X, 3), position(?X, ?P)"),
+                            N("GO_TO_POINT", COORDINATES="{P}")))
+    assert mission.status == Status.SUCCESS
+    assert mission.blackboard["X"] == "pad" and mission.blackboard["P"] == (2, -1, 2)
+    assert "COORDINATES=(2, -1, 2)" in activated(engine, "GO_TO_POINT")[0]
+
+
+def test_subtree_ports_remap_keys_and_set_literals(engine):
+    engine.memory.add("position(pad, (2, -1, 2))")
+    fly = N("Sequence", N("TAKE_OFF", ALTITUDE="{height}"), N("GO_TO_POINT", COORDINATES="{target}"),
+            N("QueryBelief", belief="position(pad, ?Inner)"))
+    mission = run(engine, N("Sequence", N("QueryBelief", belief="position(pad, ?P)"),
+                            N("SubTree", ID="Fly", target="{P}", height="2.5")), Fly=fly)
+    assert mission.status == Status.SUCCESS
+    assert "ALTITUDE=2.5" in activated(engine, "TAKE_OFF")[0]
+    assert "COORDINATES=(2, -1, 2)" in activated(engine, "GO_TO_POINT")[0]
+    assert set(mission.blackboard) == {"P"}  # the subtree's own keys stay in its blackboard
+
+
+def test_blackboard_remapping_and_autoremap():
+    parent = Blackboard(values={"goal": (1, 2, 3), "shared": 1})
+    isolated = Blackboard.for_subtree(parent, {"ID": "X", "target": "{goal}", "speed": "1.5"})
+    assert isolated["target"] == (1, 2, 3) and isolated["speed"] == "1.5" and "shared" not in isolated
+    isolated["target"] = (4, 5, 6)
+    isolated["local"] = True
+    assert parent["goal"] == (4, 5, 6) and "local" not in parent
+    shared = Blackboard.for_subtree(parent, {"ID": "X", "_autoremap": "true"})
+    shared["result"] = 42
+    assert shared["shared"] == 1 and parent["result"] == 42
+
+
+def test_ask_behavior_puts_a_deliberative_result_on_the_blackboard(engine):
+    mission = run(engine, N("Sequence", N("TAKE_OFF"),
+                            N("AskBehavior", behavior="GENERATE_PATH_FREE_OF_OBSTACLES", DESTINATION="2, -1, 2",
+                              result="{path}"),
+                            N("FOLLOW_PATH", PATH="{path}")))
+    assert mission.status == Status.SUCCESS
+    assert mission.blackboard["path"][-1] == pytest.approx([2, -1, 2], abs=0.01)
+    assert engine.log.events(kind="GOAL_ACHIEVED", behavior="FOLLOW_PATH")
+
+
+def test_beliefs_conditions_and_skip_if(engine):
+    mission = run(engine, N("Sequence", N("AddBelief", belief="code(box, 7)"), N("Condition", belief="code(box, 7)"),
+                            N("TAKE_OFF", _skipIf="code(box, 7)"), N("RemoveBelief", belief="code(box, ?C)"),
+                            N("Inverter", N("Condition", belief="code(box, ?C)"))))
+    assert mission.status == Status.SUCCESS
+    assert not engine.log.events(kind="activated", behavior="TAKE_OFF")
+    assert statuses(engine, "TAKE_OFF") == ["SKIPPED"]
+
+
+def test_a_refused_activation_fails_the_leaf(engine):
+    mission = run(engine, N("Sequence", N("LAND")))
+    assert mission.status == Status.FAILURE
+    assert statuses(engine, "LAND") == ["FAILURE"]
+    assert engine.log.events(kind="failed_preconditions", behavior="LAND")
+    assert engine.log.events(kind="mission_failed")
+
+
+def test_timeout_halts_the_running_behavior_which_is_interrupted(engine):
+    mission = run(engine, N("Sequence", N("TAKE_OFF"),
+                            N("Timeout", N("GO_TO_POINT", COORDINATES="8, -1, 2", line=7), msec="1000")))
+    assert mission.status == Status.FAILURE
+    interrupted = engine.log.events(kind="INTERRUPTED", behavior="GO_TO_POINT")
+    assert interrupted and interrupted[0].detail == "halted by the behavior tree (mission.xml:7)"
+    assert statuses(engine, "Timeout") == ["RUNNING", "FAILURE"]
+    assert statuses(engine, "GO_TO_POINT") == ["RUNNING", "IDLE"]
+
+
+def test_halting_the_tree_stops_every_behavior_it_started(engine):
+    tree = N("Sequence", N("TAKE_OFF"),
+             N("Parallel", N("KEEP_MOVING", DIRECTION="FORWARD", SPEED="0.5"),
+               N("PAY_ATTENTION_TO_VISUAL_MARKERS")))
+    mission = run(engine, tree, max_time=5.0)
+    assert mission.done and mission.status == Status.RUNNING  # it was still running when halted
+    stopped = {e.behavior for e in engine.log.events(kind="INTERRUPTED")}
+    assert {"KEEP_MOVING", "PAY_ATTENTION_TO_VISUAL_MARKERS"} <= stopped
+    assert not engine.coordinator.is_active("KEEP_MOVING")
+    assert engine.log.events(kind="mission_failed")[-1].detail == "Main: halted (time limit)"
+
+
+def test_a_recurrent_behavior_node_succeeds_once_active_without_waiting(engine):
+    tree = N("Sequence", N("TAKE_OFF"), N("PAY_ATTENTION_TO_VISUAL_MARKERS", _wait_for_completion="false"),
+             N("GO_TO_POINT", COORDINATES="2, -1, 2"))
+    mission = run(engine, tree)
+    assert mission.status == Status.SUCCESS
+    assert statuses(engine, "PAY_ATTENTION_TO_VISUAL_MARKERS") == ["SUCCESS"]
+    ended = engine.log.events(kind="INTERRUPTED", behavior="PAY_ATTENTION_TO_VISUAL_MARKERS")
+    assert ended and ended[0].time >= engine.log.events(kind="GOAL_ACHIEVED", behavior="GO_TO_POINT")[0].time
+
+
+def test_a_missing_blackboard_key_fails_the_leaf_with_an_explanation(engine):
+    mission = run(engine, N("Sequence", N("TAKE_OFF"), N("GO_TO_POINT", COORDINATES="{nowhere}")))
+    assert mission.status == Status.FAILURE
+    errors = engine.log.events(kind="tree_error")
+    assert errors and "the blackboard has no value for {nowhere}" in errors[0].detail
+
+
+def test_an_aerostack_flat_yaml_mission_verifies_and_runs(engine):
+    from pathlib import Path
+
+    from aeroexec.trees.loader import load_mission_tree
+    from aeroexec.trees.verify import verify_document
+
+    document = load_mission_tree(Path(__file__).parent / "data" / "aerostack_tower_inspection.yaml")
+    assert verify_document(document, engine.catalog) == []
+    mission = TreeMission(document, engine)
+    assert mission.run(300.0) == Status.SUCCESS
+    assert [e.behavior for e in engine.log.events(kind="GOAL_ACHIEVED")][-1] == "LAND"

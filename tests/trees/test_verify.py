@@ -1,0 +1,169 @@
+"""Verification before flight: every problem with the paper's words and its line; WRONG_SEQUENCE never falsely."""
+
+from __future__ import annotations
+
+import pytest
+from aeroexec.trees.loader import read_mission_tree
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.verify import verify_document
+
+BAD = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <LAND/>
+      <TAKE_OF/>
+      <TAKE_OFF ALTITUDE="80"/>
+      <GO_TO_POINT COORDINATE="1, 2, 3"/>
+      <GO_TO_POINT COORDINATES="1, 2"/>
+      <Condition belief="flight_state(self, "/>
+      <Condition belief="colour(box, red)"/>
+      <GO_TO_POINT COORDINATES="{target}"/>
+      <Inverter/>
+      <Repeat num_cycles="many"><AlwaysSuccess/></Repeat>
+      <SubTree ID="Mising"/>
+      <SubTree ID="Loop"/>
+      <Parallel success_count="3"><AlwaysSuccess/><AlwaysSuccess/></Parallel>
+      <Timeout msecs="100"><AlwaysSuccess/></Timeout>
+      <KEEP_MOVING DIRECTION="SIDEWAYS"/>
+      <TAKE_OFF _skipIf="not(flying(self)"/>
+      <QueryBelief belief="position(?X, ?P)"/>
+      <AskBehavior behavior="GENERATE_PATH_FREE_OF_OBSTACLES" DESTINATION="{P}" result="{path}"/>
+      <FOLLOW_PATH PATH="{path}"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Missing"><AlwaysSuccess/></BehaviorTree>
+  <BehaviorTree ID="Loop">
+    <SubTree ID="Loop"/>
+  </BehaviorTree>
+</root>
+"""
+
+EXPECTED = [
+    (4, "WRONG_SEQUENCE", "The execution of behavior LAND cannot be done at the start of the mission (flight is "
+                          "landed; LAND needs hovering or moving)"),
+    (5, "WRONG_FORMAT", "The behavior TAKE_OF does not exist (did you mean TAKE_OFF?)"),
+    (6, "WRONG_VALUE", "The value 80 of argument ALTITUDE for behavior TAKE_OFF is not correct (a number between "
+                       "0.5 and 50 is expected)"),
+    (7, "WRONG_FORMAT", "The argument COORDINATE of behavior GO_TO_POINT does not exist (did you mean COORDINATES?)"),
+    (8, "WRONG_VALUE", "The value (1, 2) of argument COORDINATES for behavior GO_TO_POINT is not correct (a point "
+                       "(x, y, z) with coordinates between -100 and 100 is expected)"),
+    (10, "WRONG_FORMAT", "The predicate colour of the belief expression colour(box, red) does not exist"),
+    (11, "WRONG_FORMAT", "The blackboard key target is read before any node writes it"),
+    (12, "WRONG_FORMAT", "The node Inverter must have exactly one child, not 0"),
+    (13, "WRONG_VALUE", "The value many of port num_cycles of node Repeat is not correct (an integer (-1: forever) "
+                        "is expected)"),
+    (14, "WRONG_FORMAT", "The tree Mising does not exist (did you mean Missing?)"),
+    (16, "WRONG_VALUE", "The value 3 of port success_count of node Parallel is not correct (it has 2 children)"),
+    (17, "WRONG_FORMAT", "The port msecs of node Timeout does not exist (did you mean msec?)"),
+    (17, "WRONG_FORMAT", "The node Timeout needs the port msec"),
+    (18, "WRONG_VALUE", "The value SIDEWAYS of argument DIRECTION for behavior KEEP_MOVING is not correct (one of "
+                        "FORWARD, BACKWARD, LEFT, RIGHT, UPWARD, DOWNWARD is expected)"),
+    (19, "WRONG_SEQUENCE", "The execution of behavior TAKE_OFF cannot be done after the execution of KEEP_MOVING "
+                           "(flight is moving; TAKE_OFF needs landed)"),
+    (27, "WRONG_FORMAT", "The tree Loop includes itself (Loop -> Loop)"),
+]
+
+
+def test_every_problem_is_reported_with_its_message_and_line():
+    problems = verify_document(read_mission_tree(BAD, "bad.xml"))
+    found = [(p.line, p.kind, p.message) for p in problems]
+    for expected in EXPECTED:
+        assert expected in found
+    assert all(p.file == "bad.xml" for p in problems)
+    syntax = [p for p in problems if p.line == 9]
+    assert len(syntax) == 1 and syntax[0].message.startswith("The format of the belief expression "
+                                                              "flight_state(self,  is not correct")
+    assert any(p.line == 19 and p.message.startswith("The format of the belief expression not(flying(self)")
+               for p in problems)
+    assert not [p for p in problems if p.line in (20, 21, 22)]  # keys written by QueryBelief and AskBehavior
+    assert len({(p.line, p.message) for p in problems}) >= 18
+    assert str(problems[0]).startswith("bad.xml:4: error: WRONG_SEQUENCE: The execution of behavior LAND")
+
+
+def N(kind: str, *children: TreeNode, line: int = 0, **ports: str) -> TreeNode:  # noqa: N802
+    return TreeNode(kind, "", dict(ports), list(children), "m.xml", line)
+
+
+def sequence_problems(root: TreeNode, **trees: TreeNode) -> list[tuple[int, str]]:
+    problems = verify_document(TreeDocument({"Main": root, **trees}, "Main", "m.xml"))
+    assert all(p.kind == "WRONG_SEQUENCE" for p in problems), problems
+    return [(p.line, p.message) for p in problems]
+
+
+def test_land_after_land_is_a_wrong_sequence():
+    found = sequence_problems(N("Sequence", N("TAKE_OFF", line=1), N("LAND", line=2), N("LAND", line=3)))
+    assert found == [(3, "The execution of behavior LAND cannot be done after the execution of LAND (flight is "
+                         "landed; LAND needs hovering or moving)")]
+
+
+def test_each_branch_is_checked_from_the_state_it_starts_in():
+    root = N("Sequence", N("IfThenElse", N("Condition", belief="code(box, 1)"), N("TAKE_OFF", line=2),
+                           N("LAND", line=3)))
+    assert sequence_problems(root) == [(3, "The execution of behavior LAND cannot be done at the start of the "
+                                           "mission (flight is landed; LAND needs hovering or moving)")]
+
+
+@pytest.mark.parametrize("root", [
+    # the alternative may start after TAKE_OFF succeeded and GO_TO_POINT failed
+    N("Fallback", N("Sequence", N("TAKE_OFF"), N("GO_TO_POINT", COORDINATES="1, 1, 2")), N("LAND")),
+    # another branch of the Parallel changes the flight while this one waits
+    N("Parallel", N("Sequence", N("TAKE_OFF"), N("GO_TO_POINT", COORDINATES="1, 1, 2")),
+      N("Delay", N("LAND"), delay_msec="5000")),
+    # a condition on the flight state: the memory may know better than the state machine
+    N("Sequence", N("TAKE_OFF"), N("Condition", belief="flight_state(self, landed)"), N("TAKE_OFF")),
+    # a loop: the second pass starts after the first
+    N("Repeat", N("Sequence", N("TAKE_OFF"), N("LAND")), num_cycles="3"),
+    # a skipped node may leave the flight as it was
+    N("Sequence", N("TAKE_OFF", _skipIf="code(box, 1)"), N("LAND")),
+    # a reactive sequence ticks its children again while one runs
+    N("ReactiveSequence", N("Condition", belief="code(box, 1)"), N("SubTree", ID="Fly")),
+])
+def test_no_wrong_sequence_where_a_run_could_avoid_it(root):
+    fly = N("Sequence", N("TAKE_OFF"), N("GO_TO_POINT", COORDINATES="1, 1, 2"), N("LAND"))
+    assert sequence_problems(root, Fly=fly) == []
+
+
+def test_a_subtree_is_checked_where_it_is_used():
+    land = N("Sequence", N("LAND", line=9))
+    found = sequence_problems(N("Sequence", N("TAKE_OFF"), N("SubTree", ID="Land"), N("SubTree", ID="Land")),
+                              Land=land)
+    assert found == [(9, "The execution of behavior LAND cannot be done after the execution of LAND (flight is "
+                         "landed; LAND needs hovering or moving)")]
+
+
+def test_blackboard_keys_through_subtree_remapping_and_loops():
+    inner = N("Sequence", N("GO_TO_POINT", COORDINATES="{goal}", line=5),
+              N("QueryBelief", belief="position(self, ?Here)"))
+    ok = N("Sequence", N("TAKE_OFF"), N("QueryBelief", belief="position(pad, ?P)"),
+           N("SubTree", ID="Go", goal="{P}"),
+           N("Repeat", N("Sequence", N("Condition", belief="position(self, {Last})", _skipIf="code(first, 1)"),
+                         N("QueryBelief", belief="position(self, ?Last)")), num_cycles="2"))
+    problems = verify_document(TreeDocument({"Main": ok, "Go": inner}, "Main", "m.xml"), known_keys=())
+    assert problems == []
+    unmapped = N("Sequence", N("TAKE_OFF"), N("QueryBelief", belief="position(pad, ?P)"), N("SubTree", ID="Go"))
+    problems = verify_document(TreeDocument({"Main": unmapped, "Go": inner}, "Main", "m.xml"))
+    assert [(p.line, p.message) for p in problems] == [(5, "The blackboard key goal is read before any node "
+                                                           "writes it")]
+    remapped = N("Sequence", N("TAKE_OFF"), N("SubTree", ID="Go", goal="{target}"))
+    problems = verify_document(TreeDocument({"Main": remapped, "Go": inner}, "Main", "m.xml"),
+                               known_keys=["target"])
+    assert problems == []
+
+
+def test_the_main_tree_must_exist_and_ask_behavior_is_checked_against_the_catalog():
+    ask = N("AskBehavior", behavior="GENERATE_PATH_FREE_OF_OBSTACLE", result="{p}", line=3)
+    document = TreeDocument({"Main": ask}, "Mian", "m.xml")
+    messages = [p.message for p in verify_document(document)]
+    assert messages[0] == "The main tree Mian does not exist (did you mean Main?)"
+    document.main = "Main"
+    assert [(p.line, p.message) for p in verify_document(document)] == [
+        (3, "The behavior GENERATE_PATH_FREE_OF_OBSTACLE does not exist (did you mean "
+            "GENERATE_PATH_FREE_OF_OBSTACLES?)")]
+
+
+def test_add_belief_declares_new_predicates_for_the_rest_of_the_mission():
+    root = N("Sequence", N("AddBelief", belief="inspected(wing)", multivalued="true"),
+             N("Condition", belief="inspected(?X)"), N("Condition", belief="inspectd(?X)", line=4))
+    problems = verify_document(TreeDocument({"Main": root}, "Main", "m.xml"))
+    assert [(p.line, p.message) for p in problems] == [
+        (4, "The predicate inspectd of the belief expression inspectd(?X) does not exist")]

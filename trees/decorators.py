@@ -1,0 +1,205 @@
+"""BehaviorTree.CPP v4's decorators as ``py_trees`` decorators, and the pre-conditions wrapper.
+
+Inverter, ForceSuccess, ForceFailure; Repeat (``num_cycles``, -1 forever: repeat while the child succeeds);
+RetryUntilSuccessful (``num_attempts``, -1 forever: tick again while the child fails); KeepRunningUntilFailure;
+Timeout (``msec`` on the engine clock: when it runs out the child is halted and the node fails); Delay
+(``delay_msec`` before the child is first ticked); RunOnce (the child completes once; then SKIPPED, or its
+first result with ``then_skip="false"``). A child that completes on the very tick it started returns control
+to the tree before a loop ticks it again, as BehaviorTree.CPP does with its wake-up signal, so a loop of
+instantaneous nodes never spins inside one tick. SubTree passes its child's status through.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import py_trees
+from py_trees.behaviour import Behaviour
+from py_trees.common import Status
+
+from .control import SKIPPED, Result, Ticking, halt, run_tick, tick_child
+
+
+class Decorator(py_trees.decorators.Decorator):
+    """A decorator whose ``run()`` generator decides when and whether to tick its child."""
+
+    def __init__(self, name: str, child: Behaviour) -> None:
+        super().__init__(name=name, child=child)
+        self.skipped = False
+
+    def run(self) -> Ticking:
+        return (yield from tick_child(self.decorated))
+
+    def tick(self) -> Any:
+        return run_tick(self, lambda: None)
+
+    def update(self) -> Status:  # unused: ``run()`` decides
+        return self.status
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID:
+            self.halted()
+
+    def halted(self) -> None:
+        """Reset what a halt resets."""
+
+
+class Inverter(Decorator):
+    def run(self) -> Ticking:
+        result = yield from tick_child(self.decorated)
+        return {Status.SUCCESS: Status.FAILURE, Status.FAILURE: Status.SUCCESS}.get(result, result)
+
+
+class Force(Decorator):
+    """ForceSuccess / ForceFailure: a completed child becomes ``status``; RUNNING and SKIPPED pass through."""
+
+    def __init__(self, name: str, child: Behaviour, status: Status) -> None:
+        super().__init__(name, child)
+        self.forced = status
+
+    def run(self) -> Ticking:
+        result = yield from tick_child(self.decorated)
+        return self.forced if result in (Status.SUCCESS, Status.FAILURE) else result
+
+
+class Loop(Decorator):
+    """Repeat (``until`` FAILURE ends it, SUCCESS counts) and RetryUntilSuccessful (SUCCESS ends it, FAILURE counts)."""
+
+    def __init__(self, name: str, child: Behaviour, cycles: int, *, retry: bool) -> None:
+        super().__init__(name, child)
+        self.cycles, self.retry = cycles, retry
+        self.count = 0
+        self.counted = Status.FAILURE if retry else Status.SUCCESS
+
+    def run(self) -> Ticking:
+        while self.cycles < 0 or self.count < self.cycles:
+            before = self.decorated.status
+            result = yield from tick_child(self.decorated)
+            if result == Status.RUNNING:
+                return Status.RUNNING
+            if result == SKIPPED:
+                halt(self.decorated)
+                return SKIPPED
+            if result != self.counted:
+                self.count = 0
+                halt(self.decorated)
+                return result
+            self.count += 1
+            halt(self.decorated)
+            if before != Status.RUNNING and (self.cycles < 0 or self.count < self.cycles):
+                return Status.RUNNING  # completed on its first tick: go on at the next tick
+        self.count = 0
+        return Status.FAILURE if self.retry else Status.SUCCESS
+
+    def halted(self) -> None:
+        self.count = 0
+
+
+class KeepRunningUntilFailure(Decorator):
+    def run(self) -> Ticking:
+        result = yield from tick_child(self.decorated)
+        if result == Status.FAILURE:
+            halt(self.decorated)
+            return Status.FAILURE
+        if result == Status.SUCCESS:
+            halt(self.decorated)
+        return Status.RUNNING
+
+
+class Timed(Decorator):
+    """A decorator measuring ``seconds`` of engine time from the tick that starts it."""
+
+    def __init__(self, name: str, child: Behaviour, seconds: float, clock: Callable[[], float]) -> None:
+        super().__init__(name, child)
+        self.seconds, self.clock = seconds, clock
+        self.started_at: float | None = None
+
+    def elapsed(self) -> bool:
+        """True once ``seconds`` have passed since the node started (starting it now if it was not)."""
+        now = self.clock()
+        if self.started_at is None:
+            self.started_at = now
+        return now - self.started_at >= self.seconds - 1e-9
+
+    def tick_decorated(self) -> Ticking:
+        result = yield from tick_child(self.decorated)
+        if result != Status.RUNNING:
+            self.started_at = None
+        return result
+
+    def halted(self) -> None:
+        self.started_at = None
+
+
+class Timeout(Timed):
+    """Fails when ``seconds`` of engine time pass before the child completes, halting the child."""
+
+    def run(self) -> Ticking:
+        if self.seconds > 0 and self.elapsed():
+            self.started_at = None
+            self.feedback_message = f"timed out after {self.seconds:g} s"
+            halt(self.decorated)
+            return Status.FAILURE
+        return (yield from self.tick_decorated())
+
+
+class Delay(Timed):
+    """Ticks the child only once ``seconds`` of engine time have passed since the node started."""
+
+    def run(self) -> Ticking:
+        if not self.elapsed():
+            return Status.RUNNING
+        return (yield from self.tick_decorated())
+
+
+class RunOnce(Decorator):
+    """The child runs to completion once; afterwards SKIPPED (``then_skip``) or its first result again."""
+
+    def __init__(self, name: str, child: Behaviour, then_skip: bool = True) -> None:
+        super().__init__(name, child)
+        self.then_skip = then_skip
+        self.first: Result | None = None
+
+    def run(self) -> Ticking:
+        if self.first is not None:
+            return SKIPPED if self.then_skip else self.first
+        result = yield from tick_child(self.decorated)
+        if result in (Status.SUCCESS, Status.FAILURE):
+            self.first = result
+        return result
+
+
+class PassThrough(Decorator):
+    """A SubTree: its child is the referenced tree, on a blackboard of its own."""
+
+
+class Preconditions(Decorator):
+    """BehaviorTree.CPP's ``_failureIf``, ``_successIf``, ``_skipIf`` and ``_while`` around a node.
+
+    ``conditions`` maps each attribute to a function telling whether its belief expression holds. The first three
+    and a false ``_while`` are checked when the node starts (FAILURE, SUCCESS, SKIPPED without ticking it); a
+    ``_while`` that becomes false while the node runs halts it and the node is SKIPPED.
+    """
+
+    ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
+
+    def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]]) -> None:
+        super().__init__(name, child)
+        self.conditions = conditions
+
+    def run(self) -> Ticking:
+        starting = self.status != Status.RUNNING
+        for attribute in self.ORDER:
+            check = self.conditions.get(attribute)
+            if check is None:
+                continue
+            holds = check()
+            if starting and holds and attribute != "_while":
+                self.feedback_message = f"{attribute} holds"
+                return {"_failureIf": Status.FAILURE, "_successIf": Status.SUCCESS}.get(attribute, SKIPPED)
+            if attribute == "_while" and not holds:
+                self.feedback_message = "_while does not hold"
+                halt(self.decorated)
+                return SKIPPED
+        return (yield from tick_child(self.decorated))

@@ -1,0 +1,109 @@
+"""Running a behavior-tree mission on the engine: the tree is ticked by the engine's own loop, once per period.
+
+``TreeMission(document, engine).run(max_time)`` builds the tree, ticks it at the end of every engine tick (the
+engine's ``tick_callbacks``) until its root completes, and records events the terminal can show:
+``mission_started``, ``node_status`` for every change of a node's status (``node``, ``old``, ``new``, ``line``,
+``depth``), then ``mission_completed`` (root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit).
+Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping
+from typing import Any
+
+from py_trees.behaviour import Behaviour
+from py_trees.common import Status
+
+from .blackboard import Blackboard
+from .builder import build_tree, describe, model_of
+from .control import status_name
+from .model import TreeDocument
+from .nodes import TreeContext
+
+logger = logging.getLogger(__name__)
+
+
+class TreeMission:
+    """One run of a tree document on an engine (build it after verification; see ``trees.verify``)."""
+
+    def __init__(self, document: TreeDocument, engine: Any, name: str | None = None,
+                 blackboard: Mapping[str, Any] | None = None) -> None:
+        self.document, self.engine = document, engine
+        self.name = name or document.main
+        self.context = TreeContext(engine)
+        self.blackboard = Blackboard(values=blackboard)
+        self.root: Behaviour = build_tree(document, self.context, self.blackboard)
+        self.nodes = describe(self.root)
+        self._statuses: dict[int, str] = {}
+        self.status: Status = Status.INVALID
+        self.started = False
+        self.done = False
+
+    # -- on the engine loop --------------------------------------------------------------------
+    def start(self) -> None:
+        """Tick the tree from the next engine tick on."""
+        if self.started:
+            return
+        self.started = True
+        self.engine.log.record("mission_started", detail=self.name, tree=self.document.main)
+        self.engine.tick_callbacks.append(self.tick)
+
+    def tick(self) -> None:
+        """One tick of the tree (the engine calls it each period); finishes the mission when the root completes."""
+        if self.done:
+            return
+        try:
+            self.root.tick_once()
+        except Exception as exc:  # a bug in a node: the mission stops, the engine goes on
+            logger.exception("the behavior tree %s failed", self.name)
+            self._report()
+            self.halt(f"{type(exc).__name__}: {exc}")
+            return
+        self.status = self.root.status
+        self._report()
+        if self.status in (Status.SUCCESS, Status.FAILURE):
+            self._finish("mission_completed" if self.status == Status.SUCCESS else "mission_failed",
+                         f"{self.name}: the tree ended {status_name(self.root)}")
+
+    def halt(self, reason: str = "halted") -> None:
+        """Halt every running node and stop every behavior the tree started."""
+        if self.done:
+            return
+        if self.root.status != Status.INVALID:
+            self.root.stop(Status.INVALID)
+        self._report()
+        self._finish("mission_failed", f"{self.name}: halted ({reason})")
+
+    def _finish(self, kind: str, detail: str) -> None:
+        self.done = True
+        if self.tick in self.engine.tick_callbacks:
+            self.engine.tick_callbacks.remove(self.tick)
+        self.context.stop_started(f"the behavior tree {self.name} ended")
+        self.engine.log.record(kind, detail=detail, tree=self.document.main)
+
+    def _report(self) -> None:
+        for depth, node in self.nodes:
+            new = status_name(node)
+            old = self._statuses.get(id(node), "IDLE")
+            if new == old:
+                continue
+            self._statuses[id(node)] = new
+            model = model_of(node)
+            self.engine.log.record("node_status", detail=f"{node.name}: {old} -> {new}", node=node.name,
+                                   old=old, new=new, type=getattr(model, "type", ""),
+                                   line=getattr(model, "line", 0), depth=depth)
+
+    # -- from the caller's thread --------------------------------------------------------------
+    def run(self, max_time: float | None = None) -> Status:
+        """Run the engine loop until the tree completes (or ``max_time`` engine seconds pass: then it is halted)."""
+        self.start()
+        self.engine.run_until(lambda: self.done, max_time if max_time is not None else float("inf"))
+        if not self.done:
+            self.halt("time limit" if not self.engine.stopped else "engine stopped")
+        return self.status
+
+    def display(self) -> str:
+        """The tree as text, one node a line with its status (``[RUNNING] GO_TO_POINT``)."""
+        return "\n".join(f"{'  ' * depth}[{status_name(node)}] {node.name}" for depth, node in self.nodes)

@@ -1,0 +1,264 @@
+"""WRONG_SEQUENCE in behavior trees: the phenomena's state machines (flight, light) followed along every path.
+
+Each node is analysed from the states it may be entered in and gives the states after it succeeds and after it
+fails. A phenomenon is known (the same state on every path reaching the node) or unknown, and a behavior is
+checked with the specialist's ``advance`` against the known phenomena only, so nothing is reported that a run
+reaching the behavior could avoid. The policy, conservative everywhere:
+
+- a behavior that fails may have stopped half-way: the phenomena it changes are unknown after its failure;
+- sequences thread the success state; fallbacks try each alternative from the state the previous one failed
+  in (from the same state when that alternative only consults beliefs); IfThenElse takes the condition's
+  success state into its then branch and its failure state into its else branch;
+- a Condition or QueryBelief (or a ``_skipIf``...) that consults a predicate named after a phenomenon
+  (``flight_state`` for flight, ``light`` for light) makes that phenomenon unknown: the memory may disagree
+  with the state machine;
+- loops (Repeat, RetryUntilSuccessful, KeepRunningUntilFailure) and nodes that tick their children again
+  (ReactiveSequence, ReactiveFallback, WhileDoElse) are checked from the state every pass starts in, found
+  silently by iterating to a fixed point;
+- children of a Parallel run together: each is checked with the phenomena the others change unknown;
+- a node with a pre-condition may not run at all: its exits are joined with the state before it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from aeroexec.engine.errors import WRONG_SEQUENCE
+from aeroexec.engine.specialist import BehaviorSpecialist, PhenomenonState, Request
+
+from .model import TreeDocument, TreeNode
+from .node_types import BUILT_IN, LOOPING, PRECONDITIONS
+from .ports import parse_number, request_from_ports, template_keys
+
+State = dict[str, PhenomenonState | None]  # None: unknown
+Exits = tuple[State | None, State | None]  # after SUCCESS, after FAILURE; None when it cannot end that way
+Report = Callable[[TreeNode, str, str], None]
+
+
+def join(*states: State | None) -> State | None:
+    """What is known on every one of these paths (None: no path)."""
+    reached = [s for s in states if s is not None]
+    if not reached:
+        return None
+    result: State = {}
+    for phenomenon in reached[0]:
+        values = [s[phenomenon] for s in reached]
+        first = values[0]
+        if any(v is None or first is None or v.state != first.state for v in values):
+            result[phenomenon] = None
+            continue
+        behaviors = dict.fromkeys(b for v in values if v.since for b in v.since.split(" or "))
+        result[phenomenon] = PhenomenonState(first.state, " or ".join(behaviors) or None)
+    return result
+
+
+class SequenceChecker:
+    """Walks a document's main tree with the phenomena's states, reporting WRONG_SEQUENCE through ``report``."""
+
+    def __init__(self, document: TreeDocument, specialist: BehaviorSpecialist, report: Report) -> None:
+        self.document, self.specialist, self.report = document, specialist, report
+        self.catalog = specialist.catalog
+        self.unknown: State = dict.fromkeys(self.specialist.initial_states())
+        self.silent = 0
+        self.stack: list[str] = []
+
+    def check(self) -> None:
+        if self.document.main in self.document.trees:
+            self.stack = [self.document.main]
+            self.flow(self.document.root, dict(self.specialist.initial_states()), False)
+
+    # -- helpers -------------------------------------------------------------------------------
+    def forget(self, state: State | None, phenomena: set[str]) -> State | None:
+        return None if state is None else {p: None if p in phenomena else s for p, s in state.items()}
+
+    def related(self, expression: str) -> set[str]:
+        """Phenomena a belief expression consults (its predicates are named after them)."""
+        words = {w for w in _words(expression)}
+        return {p for p in self.unknown if any(w == p or w.startswith(p + "_") for w in words)}
+
+    def touched(self, node: TreeNode, seen: tuple[str, ...] = ()) -> set[str]:
+        """Every phenomenon a behavior anywhere below ``node`` (subtrees included) may change."""
+        found: set[str] = set()
+        for n in node.walk():
+            if n.type == "SubTree":
+                tree = n.ports.get("ID", "").strip()
+                if tree in self.document.trees and tree not in seen:
+                    found |= self.touched(self.document.trees[tree], (*seen, tree))
+            name = n.ports.get("behavior", "").strip() if n.type == "AskBehavior" else n.type
+            found |= {t.phenomenon for t in self.catalog.transitions if name in t.behaviors}
+            if n.type not in BUILT_IN and n.type not in self.catalog:
+                found |= set(self.unknown)
+        return found
+
+    def quietly(self, function: Callable[[], Exits]) -> Exits:
+        self.silent += 1
+        try:
+            return function()
+        finally:
+            self.silent -= 1
+
+    def loop(self, start: State, body: Callable[[State], tuple[Exits, State | None]]) -> Exits:
+        """Exits of a node whose body runs again from the states ``body`` hands back, checked from its fixed point."""
+        head = start
+        for _ in range(len(self.unknown) + 2):
+            _, back = self.quietly(lambda h=head: body(h))  # type: ignore[misc,return-value]
+            following = join(start, back)
+            if _names(following) == _names(head):
+                break
+            head = following  # type: ignore[assignment]
+        else:
+            head = dict(self.unknown)
+        exits, _ = body(head)
+        return exits
+
+    # -- the walk ------------------------------------------------------------------------------
+    def flow(self, node: TreeNode, state: State, looping: bool) -> Exits:
+        conditions = [node.ports[a] for a in PRECONDITIONS if node.ports.get(a, "").strip()]
+        if not conditions:
+            return self.node(node, state, looping)
+        entry = self.forget(state, set().union(*(self.related(c) for c in conditions)))
+        success, failure = self.node(node, entry, looping)
+        return join(success, entry), join(failure, entry)
+
+    def node(self, node: TreeNode, state: State, looping: bool) -> Exits:
+        kind = node.type
+        children = node.children
+        looping = looping or kind in LOOPING
+        if kind in ("Sequence", "SequenceWithMemory", "ReactiveSequence"):
+            if kind == "ReactiveSequence":
+                return self.loop(state, lambda s: self.series(children, s, False, True))
+            return self.series(children, state, False, looping, looping and kind == "SequenceWithMemory")[0]
+        if kind in ("Fallback", "ReactiveFallback"):
+            if kind == "ReactiveFallback":
+                return self.loop(state, lambda s: self.series(children, s, True, True))
+            return self.series(children, state, True, looping)[0]
+        if kind == "Parallel":
+            return self.parallel(children, state, looping)
+        if kind == "IfThenElse" and len(children) in (2, 3):
+            return self.branches(children, state, looping)[0]
+        if kind == "WhileDoElse" and len(children) in (2, 3):
+            return self.loop(state, lambda s: self.branches(children, s, True))
+        if kind in BUILT_IN and BUILT_IN[kind].max_children == 1 and len(children) == 1:
+            return self.decorator(node, state, looping)
+        if kind == "SubTree":
+            return self.subtree(node, state, looping)
+        if kind in ("Condition", "QueryBelief"):
+            after = self.forget(state, self.related(node.ports.get("belief", "")))
+            return after, after
+        if kind in ("AddBelief", "RemoveBelief", "AlwaysSuccess", "AlwaysFailure"):
+            return (None if kind == "AlwaysFailure" else state), (None if kind == "AlwaysSuccess" else state)
+        behavior = node.ports.get("behavior", "").strip() if kind == "AskBehavior" else kind
+        if behavior in self.catalog and not children:
+            return self.behavior(node, behavior, state)
+        opaque = self.forget(state, self.touched(node))
+        for child in children:  # an unknown node: still look inside it
+            self.flow(child, dict(self.unknown), looping)
+        return opaque, opaque
+
+    def series(self, children: list[TreeNode], state: State, fallback: bool, looping: bool,
+               resume: bool = False) -> tuple[Exits, State | None]:
+        """Children in order (``fallback``: until one succeeds); ``resume``: a failed child may be entered again.
+
+        Returns the exits and every state a child may end in (for nodes that tick their children again).
+        """
+        current: State | None = state
+        others: list[State | None] = []
+        every: list[State | None] = []
+        for child in children:
+            if current is None:
+                break
+            entry = self.forget(current, self.touched(child)) if resume else current
+            success, failure = self.flow(child, entry, looping)
+            every += [success, failure]
+            others.append(success if fallback else failure)
+            current = failure if fallback else success
+        exits = (join(*others), current) if fallback else (current, join(*others))
+        return exits, join(*every)
+
+    def branches(self, children: list[TreeNode], state: State, looping: bool) -> tuple[Exits, State | None]:
+        test_success, test_failure = self.flow(children[0], state, looping)
+        then = self.flow(children[1], test_success, looping) if test_success is not None else (None, None)
+        other = self.flow(children[2], test_failure, looping) if len(children) == 3 and test_failure is not None \
+            else (None, test_failure)
+        exits = join(then[0], other[0]), join(then[1], other[1])
+        return exits, join(*then, *other)
+
+    def parallel(self, children: list[TreeNode], state: State, looping: bool) -> Exits:
+        touched = [self.touched(child) for child in children]
+        ends: list[State | None] = []
+        for index, child in enumerate(children):
+            others = set().union(*(t for i, t in enumerate(touched) if i != index))
+            ends.append(join(*self.flow(child, self.forget(state, others), looping)))
+        merged: State = {}
+        for phenomenon, before in state.items():
+            changed = [e[phenomenon] for e in ends if e is not None and e[phenomenon] != before]
+            merged[phenomenon] = before if not changed else join(*({phenomenon: c} for c in changed))[phenomenon]  # type: ignore[index]
+        return merged, merged
+
+    def decorator(self, node: TreeNode, state: State, looping: bool) -> Exits:
+        kind, child = node.type, node.children[0]
+        if kind == "Repeat" or kind == "KeepRunningUntilFailure":
+            if kind == "Repeat" and parse_number(node.ports.get("num_cycles", "")) == 0:
+                return state, None
+            exits = self.loop(state, lambda s: (lambda e: (e, e[0]))(self.flow(child, s, True)))
+            return (exits[0] if kind == "Repeat" else None), exits[1]
+        if kind == "RetryUntilSuccessful":
+            return self.loop(state, lambda s: (lambda e: (e, e[1]))(self.flow(child, s, True)))
+        success, failure = self.flow(child, state, looping)
+        if kind == "Inverter":
+            return failure, success
+        if kind == "ForceSuccess":
+            return join(success, failure), None
+        if kind == "ForceFailure":
+            return None, join(success, failure)
+        if kind == "RunOnce" and looping:
+            return join(success, state), failure
+        return success, failure
+
+    def subtree(self, node: TreeNode, state: State, looping: bool) -> Exits:
+        tree = node.ports.get("ID", "").strip()
+        if tree not in self.document.trees or tree in self.stack:
+            unknown = dict(self.unknown)
+            return unknown, unknown
+        self.stack.append(tree)
+        try:
+            return self.flow(self.document.trees[tree], state, looping)
+        finally:
+            self.stack.pop()
+
+    def behavior(self, node: TreeNode, behavior: str, state: State) -> Exits:
+        descriptor = self.catalog.behavior(behavior)
+        skip = ("behavior", "result") if node.type == "AskBehavior" else ()
+        arguments, _ = request_from_ports(descriptor, node.ports, None, skip)
+        uncertain = {name for name, value in arguments.items() if isinstance(value, str) and template_keys(value)}
+        transitions = [t for t in self.catalog.transitions if behavior in t.behaviors]
+        touched = {t.phenomenon for t in transitions}
+        known = {p: s for p, s in state.items() if s is not None}
+        advanced, errors = self.specialist.advance(known, Request(behavior, arguments))
+        if not self.silent:
+            for error in errors:
+                self.report(node, error.message, WRONG_SEQUENCE)
+        success: State = {**state, **advanced}
+        for phenomenon in touched:
+            mine = [t for t in transitions if t.phenomenon == phenomenon]
+            if any(t.argument and t.argument in uncertain for t in mine):
+                success[phenomenon] = None
+            elif state[phenomenon] is None:
+                finals = {t.final_state for t in mine if t.applies(behavior, arguments)}
+                success[phenomenon] = PhenomenonState(finals.pop(), behavior) if len(finals) == 1 else None
+        return success, self.forget(state, touched)
+
+
+def _words(text: str) -> list[str]:
+    word, words = "", []
+    for char in text + " ":
+        if char.isalnum() or char == "_":
+            word += char
+        elif word:
+            words.append(word)
+            word = ""
+    return words
+
+
+def _names(state: State | None) -> dict[str, str | None] | None:
+    return None if state is None else {p: s.state if s else None for p, s in state.items()}
