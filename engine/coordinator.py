@@ -221,6 +221,10 @@ class BehaviorCoordinator:
     def inhibit(self, name: str, reason: str = "inhibited") -> bool:
         """Stop ``name`` with INTERRUPTED and keep reactive rules from starting it again until requested."""
         self._inhibited.add(name)
+        return self.stop(name, reason)
+
+    def stop(self, name: str, reason: str = "stopped") -> bool:
+        """Stop ``name`` with INTERRUPTED; reactive rules may start it again (a halted tree node, for example)."""
         activation = self._active.get(name)
         if activation is None:
             return False

@@ -58,11 +58,11 @@ class TreeContext:
         return holds
 
     def stop_started(self, reason: str) -> None:
-        """Inhibit every behavior this tree started that is still active (INTERRUPTED)."""
+        """Stop every behavior this tree started that is still active (INTERRUPTED)."""
         coordinator = self.engine.coordinator
         for activation in reversed(self.started):
             if coordinator.active().get(activation.name) is activation:
-                coordinator.inhibit(activation.name, reason)
+                coordinator.stop(activation.name, reason)
         self.started.clear()
 
 
@@ -147,7 +147,7 @@ class BehaviorLeaf(Leaf):
         coordinator = self.context.engine.coordinator
         self._run += 1  # the INTERRUPTED event belongs to this halt, not to a later run
         if coordinator.active().get(self.behavior) is self.activation:
-            coordinator.inhibit(self.behavior, f"halted by the behavior tree ({self.where})")
+            coordinator.stop(self.behavior, f"halted by the behavior tree ({self.where})")
 
 
 class AskBehaviorLeaf(BehaviorLeaf):
