@@ -11,7 +11,9 @@ from aeroexec import __version__
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
 COMMANDS = {
-    "run": ("run", "check a Python mission, then fly it on the simulator or a MAVSDK drone"),
+    "run": ("run", "check a mission (Python or behavior tree), then fly it on the simulator or a MAVSDK drone"),
+    "verify": ("verify", "check missions without flying: every error with file:line"),
+    "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
     "sim": ("sim", "run the simulated drone behind a MAVLink (PX4) endpoint for MAVSDK or QGroundControl"),
 }

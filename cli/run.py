@@ -1,4 +1,5 @@
-"""``aeroexec run MISSION.py``: check a Python mission, then fly it on the built-in simulator or a MAVSDK drone.
+"""``aeroexec run MISSION``: check a mission (Python, or a behavior tree in XML or YAML), then fly it on the
+built-in simulator or a MAVSDK drone.
 
 The events are printed as they happen. A mission that fails the static check
 never flies. When the mission ends (or the operator presses Ctrl-C) with the
@@ -8,7 +9,6 @@ drone in the air, the drone lands before the command returns.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import logging
 import sys
@@ -22,6 +22,10 @@ from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.errors import CatalogError
 from aeroexec.engine.events import EngineEvent, Outcome
+from aeroexec.trees import TreeDocument
+from aeroexec.trees.runner import TreeMission
+
+from .mission_files import MissionFileError, check_mission, mission_function
 
 logger = logging.getLogger(__name__)
 LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
@@ -58,11 +62,12 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    path = Path(args.mission)
     try:
         catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
-        function = load_mission(Path(args.mission), catalog)
-        return fly(args, catalog, function, Path(args.mission).name)
-    except RunError as error:
+        mission = load_mission(path, catalog)
+        return fly(args, catalog, mission, path.name)
+    except (RunError, MissionFileError) as error:
         print(error, file=sys.stderr)
         return 1
     except CatalogError as error:
@@ -71,30 +76,15 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any]:
-    """Check a Python mission statically, then import it and return its mission function."""
-    from aeroexec.engine.mission_check import check_mission_source
-
-    try:
-        source = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RunError(f"{path}: cannot read the mission: {exc}") from None
-    problems = check_mission_source(source, str(path), catalog)
-    errors = [p for p in problems if p.severity == "error"]
-    for problem in problems:
+def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any] | TreeDocument:
+    """Check a mission before flight (printing every problem); the Python function or the tree to fly."""
+    checked = check_mission(path, catalog)
+    for problem in checked.problems:
         print(problem, file=sys.stderr)
-    if errors:
-        raise RunError(f"{path}: {len(errors)} error{'s' if len(errors) != 1 else ''}; the mission will not fly")
-    spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
-    module = importlib.util.module_from_spec(spec)
-    try:
-        spec.loader.exec_module(module)
-    except Exception as exc:
-        raise RunError(f"{path}: the mission cannot be loaded: {type(exc).__name__}: {exc}") from None
-    function = getattr(module, "mission", None) or getattr(module, "runMission", None)
-    if not callable(function):
-        raise RunError(f"{path}: no mission() or runMission() function")
-    return function
+    if checked.errors:
+        count = len(checked.errors)
+        raise RunError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not fly")
+    return checked.tree if checked.tree is not None else mission_function(path)
 
 
 def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
@@ -126,7 +116,8 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
     raise RunError(f"--drone {args.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540)")
 
 
-def fly(args: argparse.Namespace, catalog: BehaviorCatalog, function: Callable[[], Any], name: str) -> int:
+def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
+        name: str) -> int:
     operator = make_operator(args)
     drone, world, simulated = make_drone(args)
     clock = SimulatedClock(speed=args.speed) if simulated else WallClock()
@@ -136,7 +127,10 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, function: Callable[[
     engine.log.subscribe(printer(None if args.quiet else sys.stdout, log_file))
     try:
         try:
-            engine.run(function, max_time=args.max_time, name=name)
+            if isinstance(mission, TreeDocument):
+                TreeMission(mission, engine, name=name).run(max_time=args.max_time)
+            else:
+                engine.run(mission, max_time=args.max_time, name=name)
         except KeyboardInterrupt:
             print("interrupted by the operator", file=sys.stderr)
             engine.log.record("operator_interrupt", detail="Ctrl-C")
@@ -187,7 +181,7 @@ def summary(engine: Engine, name: str) -> int:
 def printer(out: TextIO | None, log_file: TextIO | None) -> Callable[[EngineEvent], None]:
     def show(event: EngineEvent) -> None:
         if out is not None:
-            print(event, file=out, flush=True)
+            print(_shown(event), file=out, flush=True)
         if log_file is not None:
             record = {"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
                       "detail": event.detail, **{k: _plain(v) for k, v in event.data.items()}}
@@ -202,3 +196,12 @@ def _plain(value: Any) -> Any:
     if isinstance(value, list | tuple):
         return [_plain(v) for v in value]
     return str(value)
+
+
+def _shown(event: EngineEvent) -> str:
+    """An event as a line; a tree node's status change is indented at the node's depth in the tree."""
+    if event.kind != "node_status":
+        return str(event)
+    data = event.data
+    return f"[{event.time:8.2f}] tree {'  ' * int(data.get('depth', 0))}{data.get('node')}: " \
+           f"{data.get('old')} -> {data.get('new')}"

@@ -1,0 +1,36 @@
+"""``aeroexec groot-model``: the TreeNodesModel palette of a catalog, for Groot2."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from aeroexec.engine.catalog import default_catalog, load_catalog
+from aeroexec.engine.errors import CatalogError
+from aeroexec.trees.groot import tree_nodes_model
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    parser.add_argument("-o", "--output", metavar="FILE", help="write the palette here (default: standard output)")
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
+    except CatalogError as error:
+        for problem in error.problems:
+            print(problem, file=sys.stderr)
+        return 1
+    text = tree_nodes_model(catalog)
+    if not args.output:
+        sys.stdout.write(text)
+        return 0
+    try:
+        Path(args.output).write_text(text, encoding="utf-8")
+    except OSError as error:
+        print(f"{args.output}: cannot write the palette: {error}", file=sys.stderr)
+        return 1
+    print(f"{args.output}: {len(catalog)} behaviors for Groot2", file=sys.stderr)
+    return 0

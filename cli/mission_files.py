@@ -1,0 +1,77 @@
+"""Reading and checking a mission file of any kind: a Python program, or a behavior tree in XML or YAML.
+
+``check_mission(path, catalog)`` returns what would fly (the mission function or the tree document)
+and every problem found before flight, each naming the file and line.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine.catalog import BehaviorCatalog
+from aeroexec.engine.errors import Problem
+from aeroexec.engine.mission_check import check_mission_source
+from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
+from aeroexec.trees.verify import verify_document
+
+
+class MissionFileError(Exception):
+    """A mission that cannot be flown, already phrased for the operator."""
+
+
+@dataclass
+class CheckedMission:
+    """A mission file after its checks: ``tree`` for a behavior tree, ``source`` for a Python program."""
+
+    path: Path
+    problems: list[Problem] = field(default_factory=list)
+    tree: TreeDocument | None = None
+    source: str | None = None
+
+    @property
+    def errors(self) -> list[Problem]:
+        return [p for p in self.problems if p.severity == "error"]
+
+
+def is_tree(path: Path) -> bool:
+    return path.suffix.lower() in MISSION_EXTENSIONS
+
+
+def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
+    """Read and check a mission without flying it; raises :class:`MissionFileError` when it cannot be read."""
+    checked = CheckedMission(path)
+    if is_tree(path):
+        try:
+            checked.tree = load_mission_tree(path)
+        except TreeFormatError as error:
+            checked.problems = [Problem("error", message, file, line) for file, line, message in error.problems]
+            return checked
+        checked.problems = verify_document(checked.tree, catalog)
+        return checked
+    if path.suffix.lower() != ".py":
+        raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
+                               f"({', '.join(sorted(MISSION_EXTENSIONS))})")
+    try:
+        checked.source = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise MissionFileError(f"{path}: cannot read the mission: {exc}") from None
+    checked.problems = check_mission_source(checked.source, str(path), catalog)
+    return checked
+
+
+def mission_function(path: Path) -> Callable[[], Any]:
+    """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function."""
+    spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:
+        raise MissionFileError(f"{path}: the mission cannot be loaded: {type(exc).__name__}: {exc}") from None
+    function = getattr(module, "mission", None) or getattr(module, "runMission", None)
+    if not callable(function):
+        raise MissionFileError(f"{path}: no mission() or runMission() function")
+    return function
