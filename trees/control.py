@@ -19,6 +19,7 @@ as BehaviorTree.CPP does (passed over; all children skipped -> the composite is 
 
 from __future__ import annotations
 
+import abc
 from collections.abc import Generator, Sequence
 from typing import Any
 
@@ -87,9 +88,9 @@ class Control(py_trees.composites.Composite):
         super().__init__(name, list(children or []))
         self.skipped = False
 
-    def run(self) -> Ticking:  # pragma: no cover - every control node overrides it
-        raise NotImplementedError
-        yield
+    @abc.abstractmethod
+    def run(self) -> Ticking:
+        """One tick of this control node, as a generator (every control node says how it ticks)."""
 
     def tick(self) -> Any:
         return run_tick(self, self.restart)

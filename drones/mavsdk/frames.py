@@ -7,8 +7,7 @@ clockwise.
 
 from __future__ import annotations
 
-import math
-
+from ..angles import wrap180 as wrap_degrees
 from ..geodesy import enu_to_geodetic, geodetic_to_enu
 
 Vector = tuple[float, float, float]
@@ -34,16 +33,6 @@ def enu_to_ned(vector: Vector) -> Vector:
     """(north, east, down) of an ENU vector."""
     e, n, u = vector
     return (n, e, -u)
-
-
-def wrap_degrees(angle: float) -> float:
-    """An angle in (-180, 180]."""
-    angle = math.fmod(angle, 360.0)
-    if angle <= -180.0:
-        angle += 360.0
-    elif angle > 180.0:
-        angle -= 360.0
-    return angle
 
 
 def heading_to_yaw(heading: float) -> float:

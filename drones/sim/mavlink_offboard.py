@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from pymavlink.dialects.v20 import common as mavlink
 
+from ..angles import wrap180 as _wrap180
 from ..interface import CommandHandle, Failure, Telemetry
 from .mavlink_telemetry import heading_to_yaw
 
@@ -33,11 +34,6 @@ class Setpoint:
     velocity: tuple[float, float, float] | None = None
     yaw: float | None = None  # degrees, ENU
     yaw_rate: float | None = None  # deg/s, counterclockwise
-
-
-def _wrap180(angle: float) -> float:
-    angle = (angle + 180.0) % 360.0 - 180.0
-    return 180.0 if angle == -180.0 else angle
 
 
 def _body_to_enu(forward: float, right: float, down: float, yaw_deg: float) -> tuple[float, float, float]:

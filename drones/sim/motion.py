@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..angles import wrap180
+
 Vector = tuple[float, float, float]
 
 
@@ -20,16 +22,6 @@ class Limits:
     horizontal_acceleration: float
     vertical_acceleration: float
     position_gain: float  # 1/s, the final approach
-
-
-def wrap180(angle: float) -> float:
-    """An angle in degrees in (-180, 180]."""
-    angle = math.fmod(angle, 360.0)
-    if angle <= -180.0:
-        angle += 360.0
-    elif angle > 180.0:
-        angle -= 360.0
-    return angle
 
 
 def turn_yaw(yaw: float, target: float, max_rate: float, dt: float) -> float:

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from typing import Any, ClassVar
 
 from aeroexec.drones import CommandHandle, Failure, LandedState, Telemetry, Vector
+from aeroexec.drones.angles import wrap180
 
 from ..events import Outcome
 from ..process import BehaviorProcess, Situation
@@ -34,14 +35,6 @@ RELATIVE_HEADINGS = {"FORWARD": 0.0, "FRONT": 0.0, "LEFT": 90.0, "BACKWARD": 180
 
 
 # -- geometry ---------------------------------------------------------------------------------------------
-def wrap180(angle: float) -> float:
-    """An angle in degrees in (-180, 180]."""
-    angle = math.fmod(angle, 360.0)
-    if angle <= -180.0:
-        angle += 360.0
-    elif angle > 180.0:
-        angle -= 360.0
-    return angle
 
 
 def yaw_error(yaw: float, target: float) -> float:

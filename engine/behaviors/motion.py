@@ -6,6 +6,7 @@ ROTATE and LOOK_AT_A_POINT here; the flights through points and patterns are in 
 
 from __future__ import annotations
 
+import abc
 import logging
 import math
 from typing import ClassVar
@@ -141,8 +142,9 @@ class Turn(MotionBehavior):
 
     progress_steps: ClassVar[tuple[float, ...]] = (YAW_PROGRESS_STEP,)
 
+    @abc.abstractmethod
     def plan_turn(self, telemetry: Telemetry) -> float:
-        raise NotImplementedError
+        """How far to turn from ``telemetry``'s yaw, degrees counterclockwise."""
 
     def check_situation(self) -> Situation | None:
         trouble = super().check_situation()
