@@ -22,12 +22,7 @@ def run(args: argparse.Namespace) -> int:
     logging.getLogger("aeroexec.engine.catalog").setLevel(logging.ERROR)  # problems are printed below
     if args.check:
         return _check(args.check)
-    try:
-        catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
-    except CatalogError as exc:
-        for problem in exc.problems:
-            print(problem, file=sys.stderr)
-        return 1
+    catalog = chosen_catalog(args.catalog)
     for warning in catalog.warnings:
         print(warning, file=sys.stderr)
     unknown = [name for name in args.behaviors if name not in catalog]
@@ -37,6 +32,11 @@ def run(args: argparse.Namespace) -> int:
         return 1
     print(listing(catalog, args.behaviors or None))
     return 0
+
+
+def chosen_catalog(path: str | None) -> BehaviorCatalog:
+    """The catalog of a ``--catalog`` option (the aerial one without it); raises CatalogError."""
+    return load_catalog(path) if path else default_catalog()
 
 
 def _check(path: str) -> int:

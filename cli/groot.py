@@ -6,9 +6,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from aeroexec.engine.catalog import default_catalog, load_catalog
-from aeroexec.engine.errors import CatalogError
 from aeroexec.trees.groot import tree_nodes_model
+
+from .catalog import chosen_catalog
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -17,12 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    try:
-        catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
-    except CatalogError as error:
-        for problem in error.problems:
-            print(problem, file=sys.stderr)
-        return 1
+    catalog = chosen_catalog(args.catalog)
     text = tree_nodes_model(catalog)
     if not args.output:
         sys.stdout.write(text)

@@ -7,6 +7,8 @@ import importlib
 import logging
 import sys
 
+from aeroexec.engine.errors import CatalogError
+
 from aeroexec import __version__
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
@@ -43,6 +45,10 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         return int(args.run(args) or 0)
+    except CatalogError as error:  # a --catalog that cannot be loaded: every problem, file:line
+        for problem in error.problems:
+            print(problem, file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         return 130
 

@@ -17,14 +17,14 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from aeroexec.drones import Drone, LandedState
-from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
+from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.errors import CatalogError
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.runner import TreeMission
 
+from .catalog import chosen_catalog
 from .mission_files import MissionFileError, check_mission, mission_function
 
 logger = logging.getLogger(__name__)
@@ -64,15 +64,11 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     path = Path(args.mission)
     try:
-        catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
+        catalog = chosen_catalog(args.catalog)
         mission = load_mission(path, catalog)
         return fly(args, catalog, mission, path.name)
     except (RunError, MissionFileError) as error:
         print(error, file=sys.stderr)
-        return 1
-    except CatalogError as error:
-        for problem in error.problems:
-            print(problem, file=sys.stderr)
         return 1
 
 

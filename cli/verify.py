@@ -3,12 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from aeroexec.engine.catalog import default_catalog, load_catalog
-from aeroexec.engine.errors import CatalogError
-
+from .catalog import chosen_catalog
 from .mission_files import MissionFileError, check_mission
 
 
@@ -19,12 +16,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    try:
-        catalog = load_catalog(args.catalog) if args.catalog else default_catalog()
-    except CatalogError as error:
-        for problem in error.problems:
-            print(problem, file=sys.stderr)
-        return 1
+    catalog = chosen_catalog(args.catalog)
     failed = False
     for name in args.missions:
         try:

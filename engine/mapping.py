@@ -18,6 +18,8 @@ from typing import Any
 import numpy as np
 from PIL import Image, ImageColor, ImageDraw
 
+from .planning import split_block
+
 logger = logging.getLogger(__name__)
 
 Point = tuple[float, float, float]
@@ -110,14 +112,7 @@ def _classify(obstacles: Any, lower: Point, shape: tuple[int, int, int], resolut
         if i1 - i0 == j1 - j0 == k1 - k0 == 1:
             out[i0, j0, k0] = d <= 0.0
             continue
-        sizes = (i1 - i0, j1 - j0, k1 - k0)
-        axis = sizes.index(max(sizes))
-        bounds = [i0, i1, j0, j1, k0, k1]
-        mid = (bounds[2 * axis] + bounds[2 * axis + 1]) // 2
-        low, high = list(bounds), list(bounds)
-        low[2 * axis + 1], high[2 * axis] = mid, mid
-        stack.append(tuple(low))  # type: ignore[arg-type]
-        stack.append(tuple(high))  # type: ignore[arg-type]
+        stack.extend(split_block(i0, i1, j0, j1, k0, k1))
 
 
 @dataclass

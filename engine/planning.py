@@ -90,6 +90,17 @@ def segment_clear(obstacles: ObstacleMap, a: Point, b: Point, margin: float) -> 
         t = min(1.0, t + room / length)
 
 
+def split_block(i0: int, i1: int, j0: int, j1: int, k0: int, k1: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """A block of cells ``[i0, i1) x [j0, j1) x [k0, k1)`` cut in two halves across its longest side."""
+    sizes = (i1 - i0, j1 - j0, k1 - k0)
+    axis = sizes.index(max(sizes))
+    bounds = [i0, i1, j0, j1, k0, k1]
+    mid = (bounds[2 * axis] + bounds[2 * axis + 1]) // 2
+    low, high = list(bounds), list(bounds)
+    low[2 * axis + 1], high[2 * axis] = mid, mid
+    return tuple(low), tuple(high)
+
+
 class OccupancyGrid:
     """Free cells of a box at a resolution, padded by one blocked layer; cells are flat indices ``(k*NY + j)*NX + i``.
 
@@ -158,14 +169,7 @@ class OccupancyGrid:
             elif d + reach < self.threshold:
                 continue  # all blocked, as the grid starts
             else:
-                sizes = (i1 - i0, j1 - j0, k1 - k0)
-                axis = sizes.index(max(sizes))
-                bounds = [i0, i1, j0, j1, k0, k1]
-                mid = (bounds[2 * axis] + bounds[2 * axis + 1]) // 2
-                low, high = list(bounds), list(bounds)
-                low[2 * axis + 1], high[2 * axis] = mid, mid
-                stack.append(tuple(low))  # type: ignore[arg-type]
-                stack.append(tuple(high))  # type: ignore[arg-type]
+                stack.extend(split_block(i0, i1, j0, j1, k0, k1))
 
     def _fill(self, i0: int, i1: int, j0: int, j1: int, k0: int, k1: int) -> None:
         ones = b"\x01" * (i1 - i0)
