@@ -9,7 +9,6 @@ drone in the air, the drone lands before the command returns.
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
 from collections.abc import Callable
@@ -21,7 +20,10 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
+from aeroexec.engine.flight_log import FlightLogWriter
+from aeroexec.engine.output import make_output_folder
 from aeroexec.trees import TreeDocument
+from aeroexec.trees.btlog import BtlogWriter
 from aeroexec.trees.runner import TreeMission
 
 from .catalog import chosen_catalog
@@ -52,10 +54,13 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
                         help="stop the mission after S seconds of mission time (default 1800)")
-    parser.add_argument("--log", metavar="FILE", help="also write the events to FILE, one JSON object per line")
+    parser.add_argument("--log", metavar="FILE",
+                        help="write the event log (one JSON object per line) to FILE (default: events.jsonl "
+                             "in the output folder)")
     parser.add_argument("--quiet", action="store_true", help="print only the outcome")
     parser.add_argument("--output", metavar="DIR",
-                        help="where photos, videos and maps go (default: aeroexec_output/<date-time>)")
+                        help="where the event log, photos, videos and maps go (default: "
+                             "aeroexec_output/<date-time>)")
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
                              "default: ask at the terminal when interactive, else the first possible answer")
@@ -117,14 +122,27 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     operator = make_operator(args)
     drone, world, simulated = make_drone(args)
     clock = SimulatedClock(speed=args.speed) if simulated else WallClock()
-    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator,
-                    output_dir=getattr(args, "output", None))
-    log_file = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115 - closed below
-    engine.log.subscribe(printer(None if args.quiet else sys.stdout, log_file))
+    folder = make_output_folder(getattr(args, "output", None))
+    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder)
+    log_path = Path(args.log) if args.log else folder / "events.jsonl"
+    try:
+        flight_log = FlightLogWriter(engine, log_path, meta={"mission": name, "world": _absolute(args.world),
+                                                             "drone": args.drone, "seed": args.seed,
+                                                             "output": str(folder)})
+    except OSError as error:
+        engine.stop()
+        operator.close()
+        drone.close()
+        raise RunError(f"the event log {log_path} cannot be written: {error}") from None
+    print(f"event log: {log_path}", file=sys.stderr)
+    engine.log.subscribe(printer(None if args.quiet else sys.stdout))
+    btlog = None
     try:
         try:
             if isinstance(mission, TreeDocument):
-                TreeMission(mission, engine, name=name).run(max_time=args.max_time)
+                tree_mission = TreeMission(mission, engine, name=name)
+                btlog = BtlogWriter(tree_mission, folder / "mission.btlog", catalog)
+                tree_mission.run(max_time=args.max_time)
             else:
                 engine.run(mission, max_time=args.max_time, name=name)
         except KeyboardInterrupt:
@@ -135,10 +153,11 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:
         engine.stop()
+        flight_log.close()
+        if btlog is not None:
+            btlog.close()
         operator.close()
         drone.close()
-        if log_file is not None:
-            log_file.close()
     return summary(engine, name)
 
 
@@ -174,24 +193,16 @@ def summary(engine: Engine, name: str) -> int:
     return 0 if completed and not failed else 1
 
 
-def printer(out: TextIO | None, log_file: TextIO | None) -> Callable[[EngineEvent], None]:
+def _absolute(path: str | None) -> str | None:
+    return str(Path(path).resolve()) if path else None
+
+
+def printer(out: TextIO | None) -> Callable[[EngineEvent], None]:
     def show(event: EngineEvent) -> None:
         if out is not None:
             print(_shown(event), file=out, flush=True)
-        if log_file is not None:
-            record = {"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
-                      "detail": event.detail, **{k: _plain(v) for k, v in event.data.items()}}
-            log_file.write(json.dumps(record) + "\n")
 
     return show
-
-
-def _plain(value: Any) -> Any:
-    if isinstance(value, str | int | float | bool) or value is None:
-        return value
-    if isinstance(value, list | tuple):
-        return [_plain(v) for v in value]
-    return str(value)
 
 
 def _shown(event: EngineEvent) -> str:

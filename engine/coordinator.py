@@ -161,7 +161,7 @@ class BehaviorCoordinator:
                                 conditions, now, on_end=[on_end] if on_end else [])
         self._active[name] = activation
         self.log.record("activated", name, _describe_arguments(arguments), source=source,
-                        priority=_priority_name(level), timeout=timeout,
+                        priority=_priority_name(level), timeout=timeout, arguments=dict(arguments),
                         waiting=None if ready else str(conditions))
         if ready and not self._begin(activation):
             return ActivationResult(False, Outcome.WRONG_PROGRESS, process.reason)

@@ -3,7 +3,8 @@
 ``TreeMission(document, engine).run(max_time)`` builds the tree, ticks it at the end of every engine tick (the
 engine's ``tick_callbacks``) until its root completes, and records events the terminal can show:
 ``mission_started``, ``node_status`` for every change of a node's status (``node``, ``old``, ``new``, ``line``,
-``depth``), then ``mission_completed`` (root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit).
+``depth``, ``uid``: the node's 1-based place in ``nodes``, as in the Groot2 log), then ``mission_completed``
+(root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit).
 Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
 """
 
@@ -84,7 +85,7 @@ class TreeMission:
         self.engine.log.record(kind, detail=detail, tree=self.document.main)
 
     def _report(self) -> None:
-        for depth, node in self.nodes:
+        for uid, (depth, node) in enumerate(self.nodes, 1):  # uid: the node's place in document order
             new = status_name(node)
             old = self._statuses.get(id(node), "IDLE")
             if new == old:
@@ -93,7 +94,7 @@ class TreeMission:
             model = model_of(node)
             self.engine.log.record("node_status", detail=f"{node.name}: {old} -> {new}", node=node.name,
                                    old=old, new=new, type=getattr(model, "type", ""),
-                                   line=getattr(model, "line", 0), depth=depth)
+                                   line=getattr(model, "line", 0), depth=depth, uid=uid)
 
     # -- from the caller's thread --------------------------------------------------------------
     def run(self, max_time: float | None = None) -> Status:

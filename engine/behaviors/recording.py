@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import io
 import logging
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +25,7 @@ from PIL import Image
 
 from ..events import Outcome
 from ..mapping import CameraModel, OccupancyMap
+from ..output import choose_output_folder
 from ..planning import map_bounds
 from ..process import BehaviorContext, BehaviorProcess
 from ..resources import Process
@@ -40,7 +40,7 @@ GIF_SIZE = (320, 240)  # the GIF's frames are shrunk to fit this
 def output_folder(context: BehaviorContext) -> Path:
     """The run's output folder, created if needed; chosen (and kept on the context) on first use without one."""
     if context.output_dir is None:
-        context.output_dir = Path("aeroexec_output") / time.strftime("%Y%m%d-%H%M%S")
+        context.output_dir = choose_output_folder()
         context.log.record("output_folder", detail=f"recordings go to {context.output_dir}")
     folder = Path(context.output_dir)
     folder.mkdir(parents=True, exist_ok=True)

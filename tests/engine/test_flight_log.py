@@ -1,0 +1,83 @@
+"""The event log writer on an in-process engine, reading a log back, and the summary ``aeroexec report`` draws."""
+
+import json
+
+import aeroexec.engine.api as api
+import pytest
+from aeroexec.drones.sim import SimulatedDrone, default_world
+from aeroexec.engine.engine import Engine
+from aeroexec.engine.flight_log import FlightLogWriter, plain, read_flight_log
+from aeroexec.engine.flight_summary import final_beliefs, summarize
+from aeroexec.engine.output import choose_output_folder, make_output_folder
+
+
+def test_the_writer_logs_events_belief_changes_and_samples_then_closes(tmp_path):
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    writer = FlightLogWriter(engine, tmp_path / "log" / "events.jsonl", sample_period=1.0, meta={"mission": "t"})
+
+    def mission():
+        api.execute_behavior("TAKE_OFF")
+        api.execute_behavior("GO_TO_POINT", coordinates=[3, 0, 2])
+        api.execute_behavior("GO_TO_POINT", coordinates=[99, 0, 2])  # outside the world: refused
+        api.execute_behavior("LAND")
+
+    try:
+        engine.run(mission, max_time=120)
+    finally:
+        engine.stop()
+        writer.close()
+    writer.close()  # twice is harmless
+    lines = (tmp_path / "log" / "events.jsonl").read_text().splitlines()
+    records = [json.loads(line) for line in lines]
+    assert records == read_flight_log(tmp_path / "log" / "events.jsonl")
+    assert records[0]["mission"] == "t" and records[-1]["kind"] == "log_closed"
+    samples = [r for r in records if r["kind"] == "state"]
+    assert all(round(b["time"] - a["time"], 3) == 1.0 for a, b in zip(samples, samples[1:-1], strict=False))
+    summary = summarize(records)
+    assert summary.outcome == "completed" and 5.5 < summary.distance < 12
+    assert [(s.behavior, s.outcome) for s in summary.behaviors if s.source == "mission"] == [
+        ("TAKE_OFF", "GOAL_ACHIEVED"), ("GO_TO_POINT", "GOAL_ACHIEVED"), ("LAND", "GOAL_ACHIEVED")]
+    refused = [f for f in summary.failures if f.behavior == "GO_TO_POINT"]
+    assert refused and refused[0].kind in ("failed_preconditions", "rejected") and "GO_TO_POINT" in refused[0].reason
+    go = next(s for s in summary.behaviors if s.behavior == "GO_TO_POINT")
+    assert go.arguments["COORDINATES"] == [3, 0, 2]
+    assert go.end_position is not None and abs(go.end_position[0] - 3) < 0.6
+    assert summary.battery_used is not None and summary.battery_used > 0
+    assert "flight_state(self, landed)" in final_beliefs(records)
+    assert engine.log.events(kind="GOAL_ACHIEVED")  # the engine is untouched by its log
+
+
+def test_a_torn_last_line_is_left_out_and_a_torn_middle_line_is_an_error(tmp_path):
+    log = tmp_path / "events.jsonl"
+    log.write_text('{"time": 0, "kind": "log_started"}\n{"time": 1, "kind": "sta')
+    assert read_flight_log(log) == [{"time": 0, "kind": "log_started"}]
+    log.write_text('{"time": 0, "kind": "log_started"}\n{"time": 1, "ki\n{"time": 2, "kind": "x"}\n')
+    with pytest.raises(ValueError, match=":2:"):
+        read_flight_log(log)
+
+
+def test_summary_of_a_log_cut_short_keeps_running_behaviors_open():
+    records = [{"time": 0.0, "kind": "log_started"},
+               {"time": 0.0, "kind": "state", "position": [0, 0, 0], "battery": 100.0},
+               {"time": 0.5, "kind": "activated", "behavior": "GO_TO_POINT", "arguments": {}},
+               {"time": 0.5, "kind": "belief_added", "belief": "flight_state(self, moving)", "reason": "add"},
+               {"time": 1.0, "kind": "state", "position": [3, 4, 0], "battery": 99.0},
+               {"time": 1.5, "kind": "TIME_OUT", "behavior": "WAIT", "reason": "never activated"}]
+    summary = summarize(records)
+    assert summary.outcome == "incomplete" and summary.distance == 5.0 and summary.battery_used == 1.0
+    assert summary.behaviors[0].outcome == "RUNNING" and summary.behaviors[0].end == 1.5
+    assert summary.behaviors[0].start_position == (1.5, 2.0, 0.0)  # interpolated between the samples
+    assert [b.belief for b in summary.beliefs] == ["flight_state(self, moving)"] and not summary.beliefs[0].removed
+    assert [f.kind for f in summary.failures] == ["TIME_OUT"]
+
+
+def test_plain_values_are_json(tmp_path):
+    assert plain({"a": (1, float("nan")), "p": tmp_path}) == {"a": [1, None], "p": str(tmp_path)}
+
+
+def test_the_output_folder_is_chosen_in_one_place(tmp_path):
+    assert choose_output_folder(tmp_path / "x") == tmp_path / "x"
+    first = make_output_folder(base=tmp_path)
+    second = make_output_folder(base=tmp_path)
+    assert first != second and first.is_dir() and second.is_dir() and first.parent == tmp_path
