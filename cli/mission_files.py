@@ -16,7 +16,7 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.mission_check import check_mission_source
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.verify import verify_document
+from aeroexec.trees.tml_verify import verify_mission_document
 
 
 class MissionFileError(Exception):
@@ -50,7 +50,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
         except TreeFormatError as error:
             checked.problems = [Problem("error", message, file, line) for file, line, message in error.problems]
             return checked
-        checked.problems = verify_document(checked.tree, catalog)
+        checked.problems = verify_mission_document(checked.tree, catalog)  # TML missions too
         return checked
     if path.suffix.lower() != ".py":
         raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "

@@ -131,8 +131,15 @@ class TreeBuilder:
 
 
 def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackboard | None = None) -> Behaviour:
-    """The py_trees root of ``document``'s main tree for a run in ``context``."""
-    return TreeBuilder(document, context).build(blackboard if blackboard is not None else Blackboard())
+    """The py_trees root of ``document``'s main tree for a run in ``context``.
+
+    A document with a ``build(context, blackboard)`` method builds itself (a TML mission: see ``trees.tml_compile``).
+    """
+    board = blackboard if blackboard is not None else Blackboard()
+    build = getattr(document, "build", None)
+    if callable(build):
+        return build(context, board)
+    return TreeBuilder(document, context).build(board)
 
 
 def describe(root: Behaviour) -> list[tuple[int, Behaviour]]:

@@ -1,6 +1,7 @@
 """Reading a behavior-tree mission file of any supported kind: the format is chosen by the file's extension.
 
-``load_mission_tree(path)`` reads ``.xml`` (BehaviorTree.CPP v4, :mod:`aeroexec.trees.xml_loader`) and
+``load_mission_tree(path)`` reads ``.xml`` (BehaviorTree.CPP v4, :mod:`aeroexec.trees.xml_loader`, or a TML
+mission when the document element is ``<mission>``, :mod:`aeroexec.trees.tml_compile`) and
 ``.yaml``/``.yml`` (the nested form or Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.yaml_loader`)
 into a :class:`~aeroexec.trees.model.TreeDocument`. Every problem, whatever the format, is raised as
 one :class:`~aeroexec.trees.model.TreeFormatError` listing ``(file, line, message)``.
@@ -11,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .model import TreeDocument, TreeFormatError
-from .xml_loader import load_xml, read_xml
+from .tml_compile import load_xml_mission, read_xml_mission
 from .yaml_loader import load_yaml, read_yaml
 
 MISSION_EXTENSIONS = (".xml", ".yaml", ".yml")
@@ -21,7 +22,7 @@ def load_mission_tree(path: str | Path) -> TreeDocument:
     """The behavior-tree mission in ``path`` (.xml, .yaml or .yml)."""
     suffix = Path(path).suffix.lower()
     if suffix == ".xml":
-        return load_xml(path)
+        return load_xml_mission(path)
     if suffix in (".yaml", ".yml"):
         return load_yaml(path)
     raise TreeFormatError([(str(path), 0, f"unknown mission file type {suffix or '(no extension)'}: "
@@ -32,7 +33,7 @@ def read_mission_tree(text: str | bytes, file: str) -> TreeDocument:
     """A mission from text; ``file`` (its extension chooses the format) names it in problems."""
     suffix = Path(file).suffix.lower()
     if suffix == ".xml":
-        return read_xml(text, file)
+        return read_xml_mission(text, file)
     if suffix in (".yaml", ".yml"):
         try:
             return read_yaml(text.decode("utf-8") if isinstance(text, bytes) else text, file)
