@@ -15,22 +15,24 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
-from aeroexec.drones import Drone, LandedState
+from aeroexec.drones import Drone
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.engine.flight_log import FlightLogWriter
 from aeroexec.engine.output import make_output_folder
+from aeroexec.engine.supervision import land_if_flying
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.btlog import BtlogWriter
 from aeroexec.trees.runner import TreeMission
 
 from .catalog import chosen_catalog
+from .live import OperatorConsole
+from .live import wanted as live_view_wanted
 from .mission_files import MissionFileError, check_mission, mission_function
 
 logger = logging.getLogger(__name__)
-LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
 
 
 class RunError(Exception):
@@ -58,6 +60,8 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write the event log (one JSON object per line) to FILE (default: events.jsonl "
                              "in the output folder)")
     parser.add_argument("--quiet", action="store_true", help="print only the outcome")
+    parser.add_argument("--plain", action="store_true",
+                        help="one line per event instead of the live view (always so when stdout is no terminal)")
     parser.add_argument("--output", metavar="DIR",
                         help="where the event log, photos, videos and maps go (default: "
                              "aeroexec_output/<date-time>)")
@@ -119,9 +123,10 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
         name: str) -> int:
-    operator = make_operator(args)
+    live = live_view_wanted(args)  # the live view paces the simulator to real time unless --speed says
+    operator = make_operator(args, live)
     drone, world, simulated = make_drone(args)
-    clock = SimulatedClock(speed=args.speed) if simulated else WallClock()
+    clock = SimulatedClock(speed=args.speed or (1.0 if live else None)) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
     engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder)
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
@@ -135,7 +140,9 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
         drone.close()
         raise RunError(f"the event log {log_path} cannot be written: {error}") from None
     print(f"event log: {log_path}", file=sys.stderr)
-    engine.log.subscribe(printer(None if args.quiet else sys.stdout))
+    if not live:
+        engine.log.subscribe(printer(None if args.quiet else sys.stdout))
+    console = OperatorConsole(engine, folder, name, mission, live).start()  # control socket, live view, keys
     btlog = None
     try:
         try:
@@ -146,12 +153,15 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
             else:
                 engine.run(mission, max_time=args.max_time, name=name)
         except KeyboardInterrupt:
-            print("interrupted by the operator", file=sys.stderr)
+            print("interrupted by the operator: aborting and landing (Ctrl-C again leaves the drone as it is)",
+                  file=sys.stderr)
             engine.log.record("operator_interrupt", detail="Ctrl-C")
+            engine.supervisor.execute("abort", "Ctrl-C: aborted by the operator", origin="keyboard")
         land_if_flying(engine)
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:
+        console.close()
         engine.stop()
         flight_log.close()
         if btlog is not None:
@@ -161,26 +171,18 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     return summary(engine, name)
 
 
-def make_operator(args: argparse.Namespace) -> Any:
-    """The operator channel: --answers FILE, else the terminal when interactive, else logged default answers."""
-    from aeroexec.engine.operator import OperatorError
+def make_operator(args: argparse.Namespace, live: bool = False) -> Any:
+    """The operator channel: --answers FILE, else the live view's (questions wait for t or ``aeroexec ctl
+    answer``), else the terminal when interactive, else logged default answers."""
+    from aeroexec.engine.operator import OperatorError, RemoteOperator
     from aeroexec.engine.operator import make_operator as operator_for
 
+    if live and getattr(args, "answers", None) is None:
+        return RemoteOperator()
     try:
         return operator_for(getattr(args, "answers", None), interactive=sys.stdin is not None and sys.stdin.isatty())
     except OperatorError as error:
         raise RunError(f"--answers {error}") from None
-
-
-def land_if_flying(engine: Engine) -> None:
-    """Land the drone if the mission left it in the air (higher priority than anything else)."""
-    if engine.drone.telemetry().landed_state in (LandedState.ON_GROUND, LandedState.UNKNOWN):
-        return
-    engine.bridge.close()
-    engine.log.record("landing", detail="the mission ended with the drone in the air")
-    result = engine.coordinator.activate("LAND", priority="higher", source="engine")
-    if result.accepted:
-        engine.run_until(lambda: not engine.coordinator.is_active("LAND"), LANDING_TIMEOUT)
 
 
 def summary(engine: Engine, name: str) -> int:

@@ -101,8 +101,10 @@ class BehaviorCoordinator:
     def activate(self, name: str, arguments: Mapping[str, Any] | None = None, *, priority: str = "deliberative",
                  source: str = "mission", timeout: float | None = None,
                  conditions: ActivationConditions | None = None,
-                 on_end: Callable[[Outcome, str, Any], None] | None = None) -> ActivationResult:
-        """Request ``name`` active (Algorithm 4). ``on_end(outcome, message, result)`` is told when it finishes."""
+                 on_end: Callable[[Outcome, str, Any], None] | None = None,
+                 resume: Activation | None = None) -> ActivationResult:
+        """Request ``name`` active (Algorithm 4). ``on_end(outcome, message, result)`` is told when it finishes.
+        ``resume``: an ended activation to reuse (with its listeners) for this request (the operator's resume)."""
         now = self.context.now()
         arguments = dict(arguments or {})
         try:
@@ -142,11 +144,11 @@ class BehaviorCoordinator:
             conflicts.append(previous)
         for other in conflicts:  # step 10: stop the incompatible ones of lower or equal priority
             self._finish(other, Outcome.INTERRUPTED, f"stopped for {name} ({source})")
-        return self._start(process, arguments, level, source, timeout, conditions, on_end, now)
+        return self._start(process, arguments, level, source, timeout, conditions, on_end, now, resume)
 
     def _start(self, process: BehaviorProcess, arguments: dict[str, Any], level: int, source: str,
                timeout: float | None, conditions: ActivationConditions | None,
-               on_end: Callable | None, now: float) -> ActivationResult:
+               on_end: Callable | None, now: float, resume: Activation | None = None) -> ActivationResult:
         name = process.name
         ready = conditions is None or conditions.hold(self.context, now)
         if ready:
@@ -157,8 +159,15 @@ class BehaviorCoordinator:
                 self.log.record("failed_preconditions", name, message, source=source)
                 return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
         timeout = timeout if timeout is not None else process.descriptor.timeout
-        activation = Activation(name, arguments, process, level, self._next_order(), source, now, timeout,
-                                conditions, now, on_end=[on_end] if on_end else [])
+        if resume is not None:  # the same request again: whoever waits on it hears how this one ends
+            activation = resume
+            activation.process, activation.priority, activation.order = process, level, self._next_order()
+            activation.source, activation.started_at, activation.requested_at = source, now, now
+            activation.timeout, activation.conditions, activation.running = timeout, conditions, False
+            activation.on_end.extend([on_end] if on_end else [])
+        else:
+            activation = Activation(name, arguments, process, level, self._next_order(), source, now, timeout,
+                                    conditions, now, on_end=[on_end] if on_end else [])
         self._active[name] = activation
         self.log.record("activated", name, _describe_arguments(arguments), source=source,
                         priority=_priority_name(level), timeout=timeout, arguments=dict(arguments),

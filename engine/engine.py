@@ -29,6 +29,7 @@ from .mission_bridge import DONE, MissionBridge
 from .process import BehaviorContext, BehaviorLibrary, EngineSettings
 from .resources import ProcessRegistry, ResourceManager
 from .specialist import BehaviorSpecialist
+from .supervision import Supervisor
 from .updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
 
 logger = logging.getLogger(__name__)
@@ -102,6 +103,8 @@ class Engine:
         self.timers = Timers(self.clock.now)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
         self.tick_callbacks: list[Callable[[], None]] = []
+        #: The operator's commands (pause, resume, abort...), run on this loop's thread (engine/supervision.py).
+        self.supervisor = Supervisor(self)
         self._started = False
         self._stop = threading.Event()
         self._closed = False

@@ -46,6 +46,7 @@ class MissionBridge:
         self._state = DONE
         self._pending: set[_Request] = set()
         self._closed = False
+        self._held = False
 
     # -- the mission's side ------------------------------------------------------------
     def call(self, function: Callable[[], Any]) -> Any:
@@ -84,11 +85,17 @@ class MissionBridge:
     def state(self) -> str:
         return self._state
 
+    def hold(self, held: bool) -> None:
+        """While held (the operator paused), :meth:`serve` runs nothing: the mission's next call waits."""
+        with self._cond:
+            self._held = held
+            self._cond.notify_all()
+
     def serve(self, lockstep: bool, until_wall: float | None = None) -> None:
         """Execute queued calls. In lockstep, return only when the mission waits or is done;
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
         warned_at = time.monotonic() + _STALL_WARNING
-        while True:
+        while not self._held:
             try:
                 request = self._queue.get_nowait()
             except queue.Empty:

@@ -83,6 +83,7 @@ class OperatorChannel:
         self.images_shown = 0
         self.voice_command: str | None = None
         self._lock = threading.Lock()
+        self._asked: list[PendingAnswer] = []  # questions and image requests, for answer_pending
 
     @property
     def last_voice_command(self) -> str | None:
@@ -110,6 +111,7 @@ class OperatorChannel:
     def ask(self, question: str, answers: Sequence[str] = ()) -> PendingAnswer:
         """Ask a question; poll the returned answer's ``done`` and ``value``."""
         pending = PendingAnswer(question, answers)
+        self._track(pending)
         self._answer(pending)
         return pending
 
@@ -119,8 +121,29 @@ class OperatorChannel:
         pending = PendingAnswer("select an object in the camera image", candidates)
         if image_png is not None:
             self.display(image_png)
+        self._track(pending)
         self._select(pending)
         return pending
+
+    def pending_questions(self) -> list[PendingAnswer]:
+        """The questions still waiting for an answer, oldest first."""
+        with self._lock:
+            self._asked = [p for p in self._asked if not p.done]
+            return list(self._asked)
+
+    def answer_pending(self, text: str, note: str = "answered by the operator") -> PendingAnswer | None:
+        """Answer the oldest waiting question with ``text`` (or the possible answer numbered ``text``), from any
+        thread (the live view, ``aeroexec ctl answer``); the question, or None when none waits."""
+        for pending in self.pending_questions():
+            if text.isdigit() and 1 <= int(text) <= len(pending.answers):
+                text = pending.answers[int(text) - 1]
+            pending.set(text, note)
+            return pending
+        return None
+
+    def _track(self, pending: PendingAnswer) -> None:
+        with self._lock:
+            self._asked = [p for p in self._asked if not p.done] + [pending]
 
     def close(self) -> None:
         """Release what the channel holds; never hangs."""
@@ -303,6 +326,21 @@ class ConsoleOperator(OperatorChannel):
             self.output.flush()
         except (OSError, ValueError):
             logger.debug("the console is gone: %s", text)
+
+
+class RemoteOperator(OperatorChannel):
+    """Questions wait until :meth:`answer_pending` answers them (the live view's keys, ``aeroexec ctl answer``);
+    :meth:`close` gives each waiting one its first possible answer."""
+
+    def _answer(self, pending: PendingAnswer) -> None:
+        logger.info("the robot asks: %s %s", pending.question, list(pending.answers))
+
+    def _select(self, pending: PendingAnswer) -> None:
+        self._answer(pending)
+
+    def close(self) -> None:
+        for pending in self.pending_questions():
+            pending.set(first_answer(pending.answers, None), "the run ended: the first possible answer")
 
 
 def make_operator(answers: str | Path | None = None, interactive: bool = False) -> OperatorChannel:

@@ -41,6 +41,7 @@ class TreeMission:
         self.status: Status = Status.INVALID
         self.started = False
         self.done = False
+        self.paused = False  # by the operator (engine.supervisor): the tree is not ticked
 
     # -- on the engine loop --------------------------------------------------------------------
     def start(self) -> None:
@@ -50,10 +51,12 @@ class TreeMission:
         self.started = True
         self.engine.log.record("mission_started", detail=self.name, tree=self.document.main)
         self.engine.tick_callbacks.append(self.tick)
+        if getattr(self.engine, "supervisor", None) is not None:
+            self.engine.supervisor.attach(self)
 
     def tick(self) -> None:
         """One tick of the tree (the engine calls it each period); finishes the mission when the root completes."""
-        if self.done:
+        if self.done or self.paused:
             return
         try:
             self.root.tick_once()
@@ -77,10 +80,19 @@ class TreeMission:
         self._report()
         self._finish("mission_failed", f"{self.name}: halted ({reason})")
 
+    def pause(self) -> None:
+        """Stop ticking the tree (the operator's pause); its running behaviors are the supervisor's business."""
+        self.paused = True
+
+    def resume(self) -> None:
+        self.paused = False
+
     def _finish(self, kind: str, detail: str) -> None:
         self.done = True
         if self.tick in self.engine.tick_callbacks:
             self.engine.tick_callbacks.remove(self.tick)
+        if getattr(self.engine, "supervisor", None) is not None:
+            self.engine.supervisor.detach(self)
         self.context.stop_started(f"the behavior tree {self.name} ended")
         self.engine.log.record(kind, detail=detail, tree=self.document.main)
 

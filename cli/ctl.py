@@ -1,0 +1,87 @@
+"""``aeroexec ctl COMMAND``: command a running ``aeroexec run`` from another terminal, over its control socket.
+
+``--run DIR`` names the run's output folder (its ``control.json`` holds the port and token); without it, the
+newest run under ``aeroexec_output/`` that is still going. ``--port P --token T`` skips the file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from aeroexec.engine.control import CONTROL_FILE, read_control_file, send_command
+from aeroexec.engine.output import DEFAULT_BASE
+
+COMMANDS = {
+    "pause": "stop the mission where it is; the drone hovers",
+    "resume": "go on with the mission",
+    "abort": "stop every behavior and the mission, then land",
+    "inhibit": "NAME: stop a behavior and keep reactions from starting it again",
+    "answer": "TEXT: answer the oldest question the drone asked (ASK_OPERATOR)",
+    "add": "BELIEF: add a belief, e.g. visible(marker_3)",
+    "remove": "PATTERN: remove the beliefs matching a pattern, e.g. visible(?x)",
+    "status": "where the run is: state, active behaviors, questions, drone",
+}
+NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--run", dest="run_dir", metavar="DIR",
+                        help=f"the run's output folder (default: the newest running one under {DEFAULT_BASE}/)")
+    parser.add_argument("--port", type=int, metavar="P", help="the run's control port (with --token)")
+    parser.add_argument("--token", metavar="T", help="the run's control token (with --port)")
+    parser.add_argument("--json", action="store_true", help="print the answer as JSON")
+    parser.add_argument("command", choices=list(COMMANDS), metavar="COMMAND",
+                        help="; ".join(f"{name} {text}" for name, text in COMMANDS.items()))
+    parser.add_argument("argument", nargs="*", help="the command's argument (NAME, TEXT, BELIEF or PATTERN)")
+
+
+def run(args: argparse.Namespace) -> int:
+    argument = " ".join(args.argument)
+    if args.command in NEEDS_ARGUMENT and not argument:
+        print(f"aeroexec ctl {args.command}: {COMMANDS[args.command]}; give the argument", file=sys.stderr)
+        return 2
+    try:
+        port, token = endpoint(args)
+        answer = send_command(port, token, args.command, argument)
+    except ValueError as error:
+        print(error, file=sys.stderr)
+        return 1
+    except OSError as error:
+        print(f"cannot reach the run on port {args.port or 'from ' + CONTROL_FILE}: {error}", file=sys.stderr)
+        return 1
+    if args.json:
+        print(json.dumps(answer, indent=2))
+    elif answer.get("ok"):
+        print(answer.get("message", "ok"))
+        if "status" in answer:
+            print(describe_status(answer["status"]))
+    else:
+        print(f"refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
+    return 0 if answer.get("ok") else 1
+
+
+def endpoint(args: argparse.Namespace) -> tuple[int, str]:
+    """The port and token from --port/--token, --run DIR or the newest running run; ``ValueError`` if none."""
+    if args.port is not None or args.token is not None:
+        if args.port is None or args.token is None:
+            raise ValueError("--port and --token go together")
+        return args.port, args.token
+    if args.run_dir:
+        return read_control_file(args.run_dir)
+    files = sorted(DEFAULT_BASE.glob(f"*/{CONTROL_FILE}"), key=lambda p: p.stat().st_mtime)
+    if not files:
+        raise ValueError(f"no running mission found under {DEFAULT_BASE}/: give --run DIR (the run's --output)")
+    return read_control_file(files[-1].parent)
+
+
+def describe_status(status: dict) -> str:
+    lines = [f"  drone: position {tuple(status.get('position', ()))}, speed {status.get('speed')} m/s, "
+             f"battery {status.get('battery')} %, {status.get('landed_state')}"]
+    for active in status.get("active", []):
+        timeout = f"/{active['timeout']:g} s" if active.get("timeout") else " s"
+        lines.append(f"  {active['name']} ({active['priority']}, {active['source']}) {active['elapsed']:.1f}"
+                     f"{timeout}")
+    lines += [f"  question waiting: {question}" for question in status.get("questions", [])]
+    return "\n".join(lines)

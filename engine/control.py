@@ -1,0 +1,180 @@
+"""The control socket of a run: ``aeroexec ctl`` sends the operator's commands from another terminal.
+
+Protocol (JSON lines over TCP on 127.0.0.1 only): each request is one line
+``{"token": T, "command": C, "argument": A}``; each answer is one line ``{"ok": bool, "message": text}``
+(plus ``"status": {...}`` for ``status``). A connection may send several requests. A wrong token gets
+``{"ok": false, "error": "wrong token", ...}`` and the connection is closed. The port and the token (random,
+one per run) are written to ``control.json`` in the run's output folder, readable by its owner only.
+
+Commands go to :meth:`Supervisor.submit`, so they execute on the engine's thread; a connection waits for
+the result at most ``COMMAND_TIMEOUT`` seconds. Every thread here is a daemon with timeouts: the server
+closes itself when the engine stops and never holds up the process.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hmac
+import json
+import logging
+import os
+import secrets
+import socket
+import threading
+from pathlib import Path
+from typing import Any
+
+logger = logging.getLogger(__name__)
+
+HOST = "127.0.0.1"
+CONTROL_FILE = "control.json"
+COMMAND_TIMEOUT = 5.0  # wall seconds a connection waits for the engine to execute a command
+IDLE_TIMEOUT = 30.0  # wall seconds a connection may stay silent
+MAX_LINE = 64 * 1024
+
+
+class ControlServer:
+    """Serves one engine's supervisor on a free loopback port; ``start()``, then ``close()`` (or stop the engine)."""
+
+    def __init__(self, engine: Any, folder: str | Path | None = None, port: int = 0) -> None:
+        self.engine = engine
+        self.token = secrets.token_hex(16)
+        self.file: Path | None = None
+        self._folder = Path(folder) if folder is not None else None
+        self._socket = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        self._socket.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self._socket.bind((HOST, port))
+        self._socket.listen(8)
+        self._socket.settimeout(0.2)
+        self.port: int = self._socket.getsockname()[1]
+        self._closed = threading.Event()
+        self._thread = threading.Thread(target=self._accept, name="aeroexec-control", daemon=True)
+
+    def start(self) -> ControlServer:
+        """Write ``control.json`` (mode 0600) in the folder, then accept connections in a daemon thread."""
+        if self._folder is not None:
+            self.file = write_control_file(self._folder, self.port, self.token)
+        self._thread.start()
+        logger.info("control socket on %s:%d", HOST, self.port)
+        return self
+
+    def close(self) -> None:
+        """Stop accepting and remove ``control.json``; returns promptly."""
+        if self._closed.is_set():
+            return
+        self._closed.set()
+        with contextlib.suppress(OSError):
+            self._socket.close()
+        if self.file is not None:
+            with contextlib.suppress(OSError):
+                self.file.unlink()
+        if self._thread.is_alive() and self._thread is not threading.current_thread():
+            self._thread.join(timeout=1.0)
+
+    @property
+    def closed(self) -> bool:
+        return self._closed.is_set()
+
+    def __enter__(self) -> ControlServer:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- the threads ---------------------------------------------------------------------------
+    def _accept(self) -> None:
+        while not self._closed.is_set():
+            if self.engine.stopped:
+                break
+            try:
+                connection, _ = self._socket.accept()
+            except TimeoutError:
+                continue
+            except OSError:
+                break
+            threading.Thread(target=self._serve, args=(connection,), name="aeroexec-control-client",
+                             daemon=True).start()
+        self.close()
+
+    def _serve(self, connection: socket.socket) -> None:
+        connection.settimeout(IDLE_TIMEOUT)
+        with connection, contextlib.suppress(OSError):
+            reader = connection.makefile("rb")
+            while not self._closed.is_set():
+                line = reader.readline(MAX_LINE + 1)
+                if not line:
+                    return
+                answer, keep = self._answer(line)
+                connection.sendall((json.dumps(answer) + "\n").encode())
+                if not keep:
+                    return
+
+    def _answer(self, line: bytes) -> tuple[dict[str, Any], bool]:
+        """The reply to one request line, and whether the connection stays open."""
+        if len(line) > MAX_LINE:
+            return {"ok": False, "error": "request too long"}, False
+        try:
+            request = json.loads(line)
+            if not isinstance(request, dict):
+                raise ValueError("not an object")
+        except ValueError:
+            return {"ok": False, "error": "bad request: expected one JSON object per line"}, False
+        token = str(request.get("token", ""))
+        if not hmac.compare_digest(token.encode(), self.token.encode()):
+            logger.warning("control socket: a request with a wrong token was refused")
+            return {"ok": False, "error": "wrong token: this run's token is in its output folder's "
+                                          f"{CONTROL_FILE}"}, False
+        command, argument = str(request.get("command", "")), str(request.get("argument", "") or "")
+        if self.engine.stopped:
+            return {"ok": False, "error": "the engine has stopped"}, False
+        ticket = self.engine.supervisor.submit(command, argument, origin="ctl")
+        result = ticket.wait(COMMAND_TIMEOUT)
+        if result is None:
+            return {"ok": False, "error": f"the engine did not run {command!r} within {COMMAND_TIMEOUT:g} s "
+                                          f"(it is not ticking)"}, True
+        answer: dict[str, Any] = {"ok": result.ok, "message": result.message}
+        if not result.ok:
+            answer["error"] = result.message
+        if command == "status":
+            answer["status"] = result.data
+        return answer, True
+
+
+def write_control_file(folder: Path, port: int, token: str) -> Path:
+    """``folder/control.json`` with the port and token, created readable and writable by its owner only."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / CONTROL_FILE
+    with contextlib.suppress(FileNotFoundError):
+        path.unlink()
+    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(descriptor, "w", encoding="utf-8") as file:
+        json.dump({"host": HOST, "port": port, "token": token, "pid": os.getpid()}, file)
+    return path
+
+
+def read_control_file(folder: str | Path) -> tuple[int, str]:
+    """The port and token of the run whose output folder is ``folder``; raises ``ValueError`` with a sentence."""
+    path = Path(folder) / CONTROL_FILE
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        return int(data["port"]), str(data["token"])
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such file (is the run still going? it is removed when the run ends)") \
+            from None
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise ValueError(f"{path}: not a control file ({error})") from None
+
+
+def send_command(port: int, token: str, command: str, argument: str = "", timeout: float = 10.0) -> dict[str, Any]:
+    """Send one command to a run's control socket and return its answer; raises ``OSError`` when unreachable."""
+    request = json.dumps({"token": token, "command": command, "argument": argument}) + "\n"
+    with socket.create_connection((HOST, port), timeout=timeout) as connection:
+        connection.sendall(request.encode())
+        reader = connection.makefile("rb")
+        line = reader.readline(MAX_LINE + 1)
+    if not line:
+        raise ConnectionError("the run closed the connection without answering")
+    try:
+        return json.loads(line)
+    except ValueError:
+        raise ConnectionError("the run answered something that is not JSON") from None

@@ -1,0 +1,249 @@
+"""The control socket (engine/control.py, ``aeroexec ctl``) on a simulated mission paced at 20x real time, and
+the live view (cli/live.py) rendered once to text."""
+
+from __future__ import annotations
+
+import importlib.util
+import io
+import math
+import os
+import socket
+import stat
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from aeroexec.cli.live import KeyReader, LiveView
+from aeroexec.drones import LandedState
+from aeroexec.drones.sim import SimulatedDrone, default_world
+from aeroexec.engine.clock import SimulatedClock
+from aeroexec.engine.control import CONTROL_FILE, ControlServer, read_control_file, send_command
+from aeroexec.engine.engine import Engine
+from aeroexec.engine.operator import RemoteOperator
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runner import TreeMission
+from rich.console import Console
+
+ROOT = Path(__file__).parents[2]
+WAIT = 60.0  # wall seconds any condition may take on a loaded machine
+
+
+def until(condition: Callable[[], object], timeout: float = WAIT) -> object:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.02)
+    raise AssertionError("the condition did not hold in time")
+
+
+MISSION = '''
+from aeroexec.engine import api
+
+steps = []
+
+
+def mission():
+    api.execute_behavior("TAKE_OFF", altitude=3)
+    steps.append("took off")
+    steps.append(api.ask_behavior("ASK_OPERATOR", question="Fly east?", possible_answers=["yes", "no"]))
+    api.execute_behavior("GO_TO_POINT", coordinates=(10, 0, 3))
+    steps.append("arrived")
+    api.ask_behavior("ASK_OPERATOR", question="Go north?")
+    api.execute_behavior("GO_TO_POINT", coordinates=(10, 8, 3))
+    steps.append("second point")
+'''
+
+
+def load_mission(tmp_path: Path):
+    path = tmp_path / "ctl_mission.py"
+    path.write_text(MISSION)
+    spec = importlib.util.spec_from_file_location("ctl_mission", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture
+def run(tmp_path):
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world, clock=SimulatedClock(speed=20),
+                    operator=RemoteOperator())
+    server = ControlServer(engine, tmp_path / "out").start()
+    yield engine, server, tmp_path / "out"
+    server.close()
+    engine.stop()
+
+
+def test_pause_resume_answer_and_abort_through_the_socket(run, tmp_path):
+    engine, server, folder = run
+    module = load_mission(tmp_path)
+    port, token = read_control_file(folder)
+    assert port == server.port and stat.S_IMODE(os.stat(folder / CONTROL_FILE).st_mode) == 0o600
+
+    def ctl(command: str, argument: str = "") -> dict:
+        return send_command(port, token, command, argument)
+
+    engine.start_mission(module.mission, "ctl_mission")
+    engine.start()
+    until(lambda: engine.context.operator.pending_questions())
+    assert ctl("status")["status"]["questions"] == ["Fly east?"]
+    answer = ctl("answer", "yes")
+    assert answer["ok"], answer
+    until(lambda: engine.coordinator.is_active("GO_TO_POINT"))
+    assert module.steps == ["took off", "yes"] and engine.memory.holds("answer('Fly east?', yes)")
+
+    assert ctl("pause")["ok"]
+    status = ctl("status")["status"]
+    assert status["state"] == "paused" and "GO_TO_POINT" not in [a["name"] for a in status["active"]]
+    until(lambda: engine.drone.telemetry().speed < 0.1 and engine.now() > 0)
+    time.sleep(0.1)
+    held, start = engine.drone.telemetry().position, engine.now()
+    until(lambda: engine.now() > start + 4)  # 4 s of paused flight
+    assert math.dist(held, engine.drone.telemetry().position) < 0.3 and module.steps == ["took off", "yes"]
+
+    assert ctl("resume")["ok"]
+    until(lambda: "arrived" in module.steps)  # the mission went on from where it was
+    assert engine.drone.telemetry().position[0] == pytest.approx(10, abs=0.5)
+    until(lambda: engine.context.operator.pending_questions())  # the mission waits for its second answer
+    abort = ctl("abort")
+    assert abort["ok"] and "landing" in abort["message"]
+    until(lambda: engine.drone.telemetry().landed_state is LandedState.ON_GROUND)
+    assert "second point" not in module.steps and engine.bridge.state == "done"
+    kinds = [(e.data["command"], e.data["origin"]) for e in engine.log.events(kind="operator_command")]
+    assert kinds == [("answer", "ctl"), ("pause", "ctl"), ("resume", "ctl"), ("abort", "ctl")]
+
+
+def test_a_wrong_token_is_refused_and_the_server_stops_with_the_engine(run):
+    engine, server, folder = run
+    port, token = read_control_file(folder)
+    engine.start()
+    refused = send_command(port, "0" * len(token), "abort")
+    assert not refused["ok"] and "wrong token" in refused["error"]
+    assert not engine.log.events(kind="operator_command")
+    with socket.create_connection(("127.0.0.1", port), timeout=5) as connection:  # not JSON
+        connection.sendall(b"pause\n")
+        assert b"bad request" in connection.makefile("rb").readline()
+    assert send_command(port, token, "status")["ok"]
+    began = time.monotonic()
+    engine.stop()
+    until(lambda: server.closed, 5)
+    assert time.monotonic() - began < 5 and not (folder / CONTROL_FILE).exists()
+    with pytest.raises(OSError):
+        send_command(port, token, "status", timeout=2)
+
+
+def test_a_command_the_engine_cannot_run_says_so(tmp_path, monkeypatch):
+    monkeypatch.setattr("aeroexec.engine.control.COMMAND_TIMEOUT", 0.3)
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)  # never ticked
+    with ControlServer(engine, tmp_path) as server:
+        answer = send_command(server.port, server.token, "pause")
+        assert not answer["ok"] and "not ticking" in answer["error"]
+    engine.stop()
+
+
+def test_aeroexec_ctl_commands_a_run(tmp_path):
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "aeroexec.cli.main"]
+    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "4",
+                               "--output", str(out), "--plain"], cwd=ROOT, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True)
+    try:
+        until(lambda: (out / CONTROL_FILE).exists())
+
+        def ctl(*args: str) -> subprocess.CompletedProcess:
+            return subprocess.run([*command, "ctl", *args], cwd=ROOT, capture_output=True, text=True, timeout=60)
+
+        status = ctl("--run", str(out), "status")
+        assert status.returncode == 0 and "running at t=" in status.stdout, status.stderr
+        wrong = ctl("--port", str(read_control_file(out)[0]), "--token", "nope", "pause")
+        assert wrong.returncode == 1 and "wrong token" in wrong.stderr
+        until(lambda: "GO_TO_POINT" in (out / "events.jsonl").read_text())  # flying
+        aborted = ctl("--run", str(out), "abort")
+        assert aborted.returncode == 0 and "mission aborted" in aborted.stdout
+        stdout, stderr = flying.communicate(timeout=120)
+    finally:
+        if flying.poll() is None:
+            flying.kill()
+            flying.communicate()
+    assert flying.returncode == 1 and "stopped at" in stderr
+    assert "operator_command: abort" in stdout and "GOAL_ACHIEVED LAND" in stdout
+    assert not (out / CONTROL_FILE).exists()
+
+
+# -- the live view -----------------------------------------------------------------------------------------
+def rendered(view: LiveView) -> str:
+    console = Console(record=True, width=140, file=io.StringIO())
+    view.refresh()
+    console.print(view.render())
+    return console.export_text()
+
+
+def test_the_live_view_shows_the_mission_line_behaviors_beliefs_events_and_drone(tmp_path):
+    module = load_mission(tmp_path)
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world, operator=RemoteOperator())
+    try:
+        view = LiveView(engine, "ctl_mission.py", mission_file=tmp_path / "ctl_mission.py")
+        engine.start_mission(module.mission, "ctl_mission")
+        assert engine.run_until(lambda: engine.coordinator.is_active("TAKE_OFF"), 10)
+        engine.step(1.0)
+        engine.memory.add("visible(marker_7)")
+        text = rendered(view)
+        for section in ("mission", "active behaviors", "beliefs", "events", "drone", "battery", "RUNNING"):
+            assert section in text
+        assert "ctl_mission.py:8" in text and 'api.execute_behavior("TAKE_OFF"' in text  # the current line
+        assert "TAKE_OFF" in text and "deliberative" in text and "visible(marker_7)" in text
+        assert "activated TAKE_OFF" in text
+        assert engine.run_until(lambda: engine.context.operator.pending_questions(), 30)
+        assert "the drone asks: Fly east?" in rendered(view)
+        engine.supervisor.execute("pause")
+        assert "PAUSED" in rendered(view)
+        view.stop()
+    finally:
+        engine.stop()
+
+
+def test_the_live_view_shows_a_tree_with_node_statuses():
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    try:
+        root = TreeNode("Sequence", "", {}, [TreeNode("TAKE_OFF", "", {}, [], "m.xml", 2),
+                                             TreeNode("LAND", "", {}, [], "m.xml", 3)], "m.xml", 1)
+        tree = TreeMission(TreeDocument({"Main": root}, "Main", "m.xml"), engine)
+        view = LiveView(engine, "m.xml")
+        tree.start()
+        engine.step(1.0)
+        text = rendered(view)
+        assert "[RUNNING] Sequence" in text and "[RUNNING] TAKE_OFF" in text and "[IDLE] LAND" in text
+    finally:
+        engine.stop()
+
+
+def test_keys_become_commands():
+    submitted = []
+
+    class Supervisor:
+        def submit(self, command: str, argument: str, origin: str):
+            submitted.append((command, argument, origin))
+
+            class Ticket:
+                def wait(self, timeout: float):
+                    return None
+
+            return Ticket()
+
+    keys = KeyReader(Supervisor(), stream=io.StringIO())
+    assert keys.start() is keys  # not a terminal: no reader thread
+    for key in "pri" + "keep_hoverx\x7fing\r" + "t" + "yes\x1b" + "t2\n" + "q":
+        keys.press(key)
+    keys.stop()
+    assert submitted == [("pause", "", "keyboard"), ("resume", "", "keyboard"),
+                         ("inhibit", "keep_hovering", "keyboard"), ("answer", "2", "keyboard"),
+                         ("abort", "", "keyboard")]
+

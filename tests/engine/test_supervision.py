@@ -1,0 +1,201 @@
+"""The operator's commands on the engine (engine/supervision.py), in lockstep on simulated time: pause holds the
+drone and the mission, resume asks again for what the pause stopped, abort lands, answer reaches ASK_OPERATOR."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from aeroexec.drones import LandedState
+from aeroexec.drones.sim import SimulatedDrone, default_world
+from aeroexec.engine import api
+from aeroexec.engine.engine import Engine
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.operator import LoggingOperator, RemoteOperator
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runner import TreeMission
+from py_trees.common import Status
+
+FAR = (12.0, 0.0, 3.0)
+
+
+@pytest.fixture
+def engine():
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world, operator=RemoteOperator())
+    yield engine
+    engine.stop()
+
+
+def flight(results: list, steps: list) -> callable:
+    def mission() -> None:
+        results.append(api.execute_behavior("TAKE_OFF", altitude=3))
+        steps.append("took off")
+        results.append(api.execute_behavior("GO_TO_POINT", coordinates=FAR))
+        steps.append("arrived")
+        results.append(api.execute_behavior("LAND"))
+        steps.append("landed")
+
+    return mission
+
+
+def flying_east(engine: Engine) -> tuple[list, list]:
+    """Start the flight and tick until it is on its way to FAR: the mission's results and steps so far."""
+    results: list = []
+    steps: list = []
+    engine.start_mission(flight(results, steps))
+    assert engine.run_until(lambda: engine.coordinator.is_active("GO_TO_POINT"), 60)
+    return results, steps
+
+
+def commands(engine: Engine) -> list[tuple[str, bool]]:
+    return [(e.data["command"], e.data["ok"]) for e in engine.log.events(kind="operator_command")]
+
+
+def test_pause_holds_the_drone_and_the_mission_and_resume_goes_on(engine):
+    results, steps = flying_east(engine)
+    engine.step(1.0)
+    result = engine.supervisor.execute("pause", origin="test")
+    assert result.ok and "GO_TO_POINT" in result.message
+    assert engine.coordinator.active()["KEEP_HOVERING"].source == "operator"
+    engine.step(4.0)  # brakes, then holds
+    held = engine.drone.telemetry().position
+    engine.step(10.0)
+    telemetry = engine.drone.telemetry()
+    assert math.dist(held, telemetry.position) < 0.3 and telemetry.speed < 0.2
+    assert steps == ["took off"] and not engine.coordinator.is_active("GO_TO_POINT")
+    assert not engine.supervisor.execute("pause").ok  # already paused
+    assert engine.supervisor.execute("resume").ok
+    assert engine.coordinator.is_active("GO_TO_POINT") and not engine.coordinator.is_active("KEEP_HOVERING")
+    assert engine.run_until(lambda: len(steps) == 3, 120)
+    assert results == [Outcome.GOAL_ACHIEVED] * 3  # the mission never saw the pause's INTERRUPTED
+    assert engine.drone.telemetry().position[0] == pytest.approx(FAR[0], abs=0.5)
+    assert commands(engine) == [("pause", True), ("pause", False), ("resume", True)]
+    assert engine.log.events(kind="INTERRUPTED", behavior="GO_TO_POINT")[0].detail == "paused by the operator"
+
+
+def test_a_paused_python_mission_does_not_call_the_engine(engine):
+    calls = []
+
+    def mission() -> None:
+        for _ in range(100):
+            calls.append(api.now())
+            api.wait(0.5)
+
+    engine.start_mission(mission)
+    engine.step(2.0)
+    engine.supervisor.execute("pause")
+    engine.step(0.2)
+    before = len(calls)
+    engine.step(5.0)
+    assert len(calls) == before
+    engine.supervisor.execute("resume")
+    engine.step(2.0)
+    assert len(calls) > before
+
+
+def test_abort_stops_the_mission_and_lands(engine):
+    results, steps = flying_east(engine)
+    engine.step(1.0)
+    result = engine.supervisor.execute("abort", origin="test")
+    assert result.ok and "landing" in result.message
+    assert set(engine.coordinator.active()) <= {"LAND", "SELF_LOCALIZE_BY_ODOMETRY"}
+    assert engine.run_until(lambda: engine.drone.telemetry().landed_state is LandedState.ON_GROUND, 60)
+    assert engine.run_until(lambda: engine.bridge.state == "done", 5)
+    assert steps == ["took off"]  # the mission never went on
+    assert engine.drone.telemetry().position[0] < FAR[0] - 3
+    assert not engine.supervisor.execute("resume").ok
+
+
+def test_abort_while_paused_ends_the_waiting_call_and_lands(engine):
+    results, steps = flying_east(engine)
+    engine.supervisor.execute("pause")
+    engine.step(1.0)
+    engine.supervisor.execute("abort")
+    assert engine.run_until(lambda: engine.bridge.state == "done", 5)
+    assert engine.run_until(lambda: engine.drone.telemetry().landed_state is LandedState.ON_GROUND, 60)
+    assert steps == ["took off"]
+
+
+def test_answer_reaches_ask_operator(engine):
+    answers = []
+
+    def mission() -> None:
+        answers.append(api.ask_behavior("ASK_OPERATOR", question="Go on?", possible_answers=["yes", "no"]))
+
+    assert not engine.supervisor.execute("answer", "yes").ok  # nothing asked yet
+    engine.start_mission(mission)
+    assert engine.run_until(lambda: engine.context.operator.pending_questions(), 10)
+    engine.step(3.0)
+    assert not answers  # the question waits for the operator
+    result = engine.supervisor.execute("answer", "2")  # the second possible answer
+    assert result.ok and "'no'" in result.message
+    assert engine.run_until(lambda: answers, 5)
+    assert answers == ["no"] and engine.memory.holds("answer('Go on?', no)")
+
+
+def test_inhibit_add_remove_and_unknown_commands(engine):
+    engine.step(1.0)
+    assert engine.coordinator.is_active("SELF_LOCALIZE_BY_ODOMETRY")
+    assert engine.supervisor.execute("inhibit", "self_localize_by_odometry").ok
+    engine.step(1.0)
+    assert not engine.coordinator.is_active("SELF_LOCALIZE_BY_ODOMETRY")  # reactions do not start it again
+    assert not engine.supervisor.execute("inhibit", "FLY_AWAY").ok
+    assert engine.supervisor.execute("add", "visible(marker_3)").ok
+    assert engine.memory.holds("visible(marker_3)")
+    assert "1 belief" in engine.supervisor.execute("remove", "visible(?x)").message
+    assert not engine.memory.holds("visible(?x)")
+    assert not engine.supervisor.execute("add", "visible(").ok
+    assert not engine.supervisor.execute("jump").ok
+    status = engine.supervisor.execute("status")
+    assert status.data["state"] == "running" and status.data["landed_state"] == "on_ground"
+    assert [c for c, _ in commands(engine)] == ["inhibit", "inhibit", "add", "remove", "add", "jump"]
+
+
+def test_commands_submitted_from_another_thread_run_on_the_tick(engine):
+    ticket = engine.supervisor.submit("add", "visible(marker_1)", origin="test")
+    assert ticket.wait(0.05) is None  # nothing runs it until the engine ticks
+    engine.step(0.1)
+    assert ticket.wait(1.0).ok and engine.memory.holds("visible(marker_1)")
+
+
+def N(kind: str, *children: TreeNode, **ports: str) -> TreeNode:  # noqa: N802
+    return TreeNode(kind, "", dict(ports), list(children), "mission.xml", 0)
+
+
+def test_a_paused_tree_stops_ticking_and_its_leaf_resumes_with_the_behavior():
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world, operator=LoggingOperator())
+    try:
+        tree = TreeMission(TreeDocument({"Main": N("Sequence", N("TAKE_OFF", ALTITUDE="3"),
+                                                   N("GO_TO_POINT", COORDINATES="12, 0, 3"), N("LAND"))},
+                                        "Main", "mission.xml"), engine)
+        tree.start()
+        assert engine.supervisor.missions == (tree,)
+        assert engine.run_until(lambda: engine.coordinator.is_active("GO_TO_POINT"), 60)
+        engine.supervisor.execute("pause")
+        engine.step(5.0)
+        assert tree.paused and not engine.coordinator.is_active("GO_TO_POINT")
+        assert "[RUNNING] GO_TO_POINT" in tree.display()  # the leaf still waits for its behavior
+        engine.supervisor.execute("resume")
+        assert engine.run_until(lambda: tree.done, 120)
+        assert tree.status == Status.SUCCESS and engine.supervisor.missions == ()
+        assert [e.behavior for e in engine.log.events(kind="GOAL_ACHIEVED")][-2:] == ["GO_TO_POINT", "LAND"]
+    finally:
+        engine.stop()
+
+
+def test_abort_halts_a_tree_and_lands():
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    try:
+        tree = TreeMission(TreeDocument({"Main": N("Sequence", N("TAKE_OFF", ALTITUDE="3"),
+                                                   N("GO_TO_POINT", COORDINATES="12, 0, 3"))},
+                                        "Main", "mission.xml"), engine)
+        tree.start()
+        assert engine.run_until(lambda: engine.coordinator.is_active("GO_TO_POINT"), 60)
+        engine.supervisor.execute("abort")
+        assert tree.done and engine.log.events(kind="mission_failed")
+        assert engine.run_until(lambda: engine.drone.telemetry().landed_state is LandedState.ON_GROUND, 60)
+    finally:
+        engine.stop()
