@@ -5,17 +5,19 @@ import json
 import socket
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
+RUNS = tempfile.TemporaryDirectory(prefix="aeroexec-runs-")  # where runs write their output folders
 
 
 def aeroexec(*args: str, timeout: float = 120) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "aeroexec.cli.main", *args], capture_output=True, text=True,
-                          timeout=timeout, cwd=ROOT)
+                          timeout=timeout, cwd=RUNS.name)
 
 
 def events(stdout: str, kind: str) -> list[str]:
@@ -82,7 +84,7 @@ def test_figure_10_flies_through_mavsdk_against_aeroexec_sim():
     port = free_udp_port()
     sim = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "sim", "--speed", "4",
                             "--connect", f"udpout://127.0.0.1:{port}"],
-                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=RUNS.name)
     try:
         result = aeroexec("run", str(MISSIONS / "figure10.py"), "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
                           timeout=150)

@@ -2,17 +2,19 @@
 
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
+RUNS = tempfile.TemporaryDirectory(prefix="aeroexec-runs-")  # where runs write their output folders
 
 
 def aeroexec(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "aeroexec.cli.main", *args], capture_output=True, text=True,
-                          timeout=120, cwd=ROOT)
+                          timeout=120, cwd=RUNS.name)
 
 
 TREES = ["figure10.xml", "square_patrol.yaml", "iarc7.xml", "iarc7.yaml"]

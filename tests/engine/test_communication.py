@@ -396,12 +396,12 @@ def test_aeroexec_run_with_an_answers_file(tmp_path):
     answers = tmp_path / "answers.yaml"
     answers.write_text("Which side first?: right\n")
     result = subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "run", str(mission), "--answers",
-                             str(answers)], capture_output=True, text=True, timeout=60, cwd=ROOT,
+                             str(answers)], capture_output=True, text=True, timeout=60, cwd=tmp_path,
                             stdin=subprocess.DEVNULL)
     assert result.returncode == 0, result.stderr + result.stdout
     assert "operator ASK_OPERATOR: Which side first? right" in result.stdout
     assert "operator NOTIFY_OPERATOR: starting on the right" in result.stdout
     bad = subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "run", str(mission), "--answers",
-                          str(tmp_path / "none.yaml")], capture_output=True, text=True, timeout=60, cwd=ROOT,
+                          str(tmp_path / "none.yaml")], capture_output=True, text=True, timeout=60, cwd=tmp_path,
                          stdin=subprocess.DEVNULL)
     assert bad.returncode == 1 and "--answers" in bad.stderr and "cannot read" in bad.stderr
