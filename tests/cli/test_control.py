@@ -51,7 +51,7 @@ def mission():
     api.execute_behavior("TAKE_OFF", altitude=3)
     steps.append("took off")
     steps.append(api.ask_behavior("ASK_OPERATOR", question="Fly east?", possible_answers=["yes", "no"]))
-    api.execute_behavior("GO_TO_POINT", coordinates=(10, 0, 3))
+    api.execute_behavior("GO_TO_POINT", coordinates=(10, 0, 3), speed=0.5)  # 20 s: long enough to pause
     steps.append("arrived")
     api.ask_behavior("ASK_OPERATOR", question="Go north?")
     api.execute_behavior("GO_TO_POINT", coordinates=(10, 8, 3))
