@@ -75,7 +75,7 @@ def _draw_behavior_places(ax: Any, summary: FlightSummary) -> None:
         shown = texts if len(texts) <= 8 else [*texts[:7], f"... {len(texts) - 7} more"]
         ax.annotate("\n".join(shown), (x, y), textcoords="offset points", xytext=(8, -4), fontsize=6.5,
                     va="top", zorder=7, bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "#cccccc",
-                                              "alpha": 0.85})
+                                              "alpha": 0.6})
 
 
 def _draw_world(ax: Any, world: Any) -> None:
