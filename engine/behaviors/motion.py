@@ -39,8 +39,6 @@ FINISH_ARC = 150.0  # degrees: the last part of a turn is a position hold with t
 SETTLED_YAW_RATE = 2.0  # deg/s: slower than this, a turn has stopped
 # TAKE_OFF and LAND end once the beliefs agree (the catalog's final flight state), so that the next request's
 # preconditions, checked against the beliefs, see the drone as it is.
-FLYING = "flight_state(self, ?x), belong(?x, [moving, hovering])"
-LANDED = "flight_state(self, landed)"
 
 
 class TakeOff(MotionBehavior):
@@ -56,8 +54,7 @@ class TakeOff(MotionBehavior):
 
     def step(self, telemetry: Telemetry) -> Outcome | None:
         error = abs(telemetry.altitude - self.target)
-        if (telemetry.landed_state is LandedState.IN_AIR and error <= self.settings.hover_altitude_tolerance
-                and self.memory.holds(FLYING)):
+        if telemetry.landed_state is LandedState.IN_AIR and error <= self.settings.hover_altitude_tolerance:
             return Outcome.GOAL_ACHIEVED
         return self.no_progress(f"climbing to {self.target:.1f} m (at {telemetry.altitude:.1f} m)", error)
 
@@ -82,7 +79,7 @@ class Land(MotionBehavior):
         self.command(self.drone.land())
 
     def step(self, telemetry: Telemetry) -> Outcome | None:
-        if telemetry.landed_state is LandedState.ON_GROUND and self.memory.holds(LANDED):
+        if telemetry.landed_state is LandedState.ON_GROUND:
             return Outcome.GOAL_ACHIEVED
         return self.no_progress(f"descending (at {telemetry.altitude:.1f} m)", telemetry.altitude)
 

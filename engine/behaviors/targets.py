@@ -23,7 +23,7 @@ from aeroexec.drones import LandedState, Telemetry, Vector
 from ..events import Outcome
 from ..process import BehaviorProcess
 from .flight_control import ARRIVAL_SPEED, PROGRESS_STEP, MotionBehavior, fmt_point, heading_to, wrap180
-from .motion import LANDED, TakeOff
+from .motion import TakeOff
 from .target_tracking import TARGET_PROCESSES, Track, TrackStore, observe, target_tracks
 
 logger = logging.getLogger(__name__)
@@ -264,7 +264,7 @@ class LandOnMovingPlatform(TargetBehavior):
         if telemetry.altitude <= ON_DECK_HEIGHT:
             return self.fail(f"the drone landed on the ground at {fmt_point(telemetry.position)}, "
                              f"not on the deck of {self.target or 'the platform'}")
-        return Outcome.GOAL_ACHIEVED if self.memory.holds(LANDED) else None
+        return Outcome.GOAL_ACHIEVED
 
     def servo(self, telemetry: Telemetry, track: Track) -> Outcome | None:
         deck = track.predict(self.now())
