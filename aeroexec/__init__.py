@@ -2,7 +2,11 @@
 
 The subpackages live in the repository's top-level folders (``beliefs/``,
 ``engine/``, ``drones/``, ``trees/``, ...) and are mapped into this namespace
-by ``pyproject.toml``; see ``shared/DESIGN.md`` for the layers.
+by ``pyproject.toml``; ``docs/ARCHITECTURE.md`` describes the parts and layers.
 """
 
-__version__ = "0.1.0"
+from aeroexec import _moved
+
+__version__ = "0.2.0"
+
+_moved.install()

@@ -1,11 +1,11 @@
 """The belief management system (paper section 5): language, memory, updaters."""
 
-from .errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
-from .expression import Comparison, Conjunction, Goal, Negation
-from .memory import BeliefChange, BeliefMemory
-from .parser import parse_belief, parse_expression, parse_term
-from .terms import ListTerm, Struct, Var, format_term, term, to_python
-from .updater import BeliefUpdater, FunctionUpdater, publish
+from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
+from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation
+from aeroexec.beliefs.memory import BeliefChange, BeliefMemory
+from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_term
+from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, term, to_python
+from aeroexec.beliefs.updater import BeliefUpdater, FunctionUpdater, publish
 
 __all__ = [
     "BeliefChange",

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .terms import Struct, Var, format_term, variables
+from aeroexec.beliefs.terms import Struct, Var, format_term, variables
 
 #: Predicates the evaluator answers itself rather than from stored beliefs.
 BUILTIN_PREDICATES = {("belong", 2), ("less_than", 2), ("greater_than", 2)}

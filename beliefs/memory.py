@@ -16,13 +16,13 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
-from .expression import BUILTIN_PREDICATES, Conjunction, Goal
-from .parser import parse_belief, parse_expression
-from .query import CompiledQuery
-from .relation import Relation, Relations
-from .steps import FactStep
-from .terms import Struct, Var, format_term, from_python
+from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
+from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
+from aeroexec.beliefs.parser import parse_belief, parse_expression
+from aeroexec.beliefs.query import CompiledQuery
+from aeroexec.beliefs.relation import Relation, Relations
+from aeroexec.beliefs.steps import FactStep
+from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
 
 log = logging.getLogger(__name__)
 

@@ -7,12 +7,11 @@ import threading
 from functools import lru_cache
 from importlib import resources
 
+from aeroexec.beliefs.errors import BeliefSyntaxError
+from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
+from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground, unquote
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from lark.exceptions import UnexpectedToken, VisitError
-
-from .errors import BeliefSyntaxError
-from .expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
-from .terms import ListTerm, Struct, Var, format_term, is_ground, unquote
 
 __all__ = ["parse_belief", "parse_expression", "parse_term"]
 

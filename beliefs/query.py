@@ -12,8 +12,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from typing import Any
 
-from .expression import Comparison, Conjunction, Goal, Negation, literal_variables
-from .steps import (
+from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, literal_variables
+from aeroexec.beliefs.steps import (
     NUMERIC_ORDER_OPS,
     BelongStep,
     ComparisonStep,
@@ -21,7 +21,7 @@ from .steps import (
     FactStep,
     NegationStep,
 )
-from .terms import Var, to_python, variables
+from aeroexec.beliefs.terms import Var, to_python, variables
 
 _FLIP = {"<": ">", ">": "<", "<=": ">=", ">=": "<="}
 

@@ -11,8 +11,8 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from .relation import Relation, is_number
-from .terms import Struct, Var, from_python, is_ground, match, substitute, variables
+from aeroexec.beliefs.relation import Relation, is_number
+from aeroexec.beliefs.terms import Struct, Var, from_python, is_ground, match, substitute, variables
 
 log = logging.getLogger(__name__)
 

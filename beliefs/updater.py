@@ -13,10 +13,10 @@ import abc
 import logging
 from collections.abc import Callable, Iterable
 
-from .expression import Goal
-from .memory import BeliefMemory
-from .parser import parse_belief, parse_expression
-from .terms import Struct, match
+from aeroexec.beliefs.expression import Goal
+from aeroexec.beliefs.memory import BeliefMemory
+from aeroexec.beliefs.parser import parse_belief, parse_expression
+from aeroexec.beliefs.terms import Struct, match
 
 log = logging.getLogger(__name__)
 

@@ -14,8 +14,9 @@ import time
 
 from aeroexec.drones.sim import default_world
 from aeroexec.drones.sim.shapes import Box
-from aeroexec.engine import planning
-from aeroexec.engine.exploration import ExplorationPlanner, ExplorationSettings
+from aeroexec.engine.planning import grid as grids
+from aeroexec.engine.planning import path_planner as planning
+from aeroexec.engine.planning.exploration import ExplorationPlanner, ExplorationSettings
 
 QUERIES = [
     ("home -> behind the tower", (0.0, 0.0, 2.0), (12.0, 12.0, 2.0)),
@@ -43,7 +44,7 @@ def main() -> None:
     settings = planning.PlannerSettings(resolution=options.resolution, margin=options.margin)
     planner = planning.PathPlanner(world, settings)
 
-    planning._GRIDS.clear()
+    grids._GRIDS.clear()
     began = time.perf_counter()
     grid = planner.grid()
     built = time.perf_counter() - began

@@ -16,8 +16,8 @@ import time
 from aeroexec.drones.sim import default_world
 from aeroexec.drones.sim.camera import Camera
 from aeroexec.drones.sim.render import SceneRenderer, to_png
-from aeroexec.engine.mapping import CameraModel, OccupancyMap
-from aeroexec.engine.planning import map_bounds
+from aeroexec.engine.planning.mapping import CameraModel, OccupancyMap
+from aeroexec.engine.planning.path_planner import map_bounds
 
 PLACES = [(0.0, 0.0, 2.0), (8.0, 0.0, 2.0), (-6.0, -8.0, 4.0), (4.0, 12.0, 1.5), (-15.0, 15.0, 8.0)]
 

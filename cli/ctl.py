@@ -10,8 +10,8 @@ import argparse
 import json
 import sys
 
-from aeroexec.engine.control import CONTROL_FILE, read_control_file, send_command
-from aeroexec.engine.output import DEFAULT_BASE
+from aeroexec.engine.supervision.control import CONTROL_FILE, read_control_file, send_command
+from aeroexec.engine.supervision.output import DEFAULT_BASE
 
 COMMANDS = {
     "pause": "stop the mission where it is; the drone hovers",

@@ -6,9 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.trees.groot import tree_nodes_model
-
-from .catalog import chosen_catalog
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

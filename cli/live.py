@@ -24,9 +24,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
-from aeroexec.engine.control import ControlServer
 from aeroexec.engine.events import EngineEvent
-from aeroexec.engine.operator import operator_of
+from aeroexec.engine.supervision.control import ControlServer
+from aeroexec.engine.supervision.operator import operator_of
 from rich.console import Console, Group, RenderableType
 from rich.live import Live
 from rich.panel import Panel

@@ -14,9 +14,9 @@ from typing import Any
 
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.mission_check import check_mission_source
+from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.tml_verify import verify_mission_document
+from aeroexec.trees.tml.verify import verify_mission_document
 
 
 class MissionFileError(Exception):

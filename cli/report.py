@@ -9,8 +9,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from aeroexec.engine.flight_log import read_flight_log
-from aeroexec.engine.flight_summary import summarize
+from aeroexec.engine.supervision.flight_log import read_flight_log
+from aeroexec.engine.supervision.flight_summary import summarize
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -21,8 +21,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from .report_html import write_html
-    from .report_render import draw_path, draw_timeline
+    from aeroexec.cli.report_html import write_html
+    from aeroexec.cli.report_render import draw_path, draw_timeline
 
     log = Path(args.log)
     try:

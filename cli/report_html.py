@@ -7,9 +7,8 @@ import base64
 from html import escape
 from pathlib import Path
 
-from aeroexec.engine.flight_summary import FlightSummary
-
-from .report_render import OUTCOME_COLORS
+from aeroexec.cli.report_render import OUTCOME_COLORS
+from aeroexec.engine.supervision.flight_summary import FlightSummary
 
 STYLE = """
 body { font-family: sans-serif; margin: 2em; color: #222; }

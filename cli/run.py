@@ -15,22 +15,21 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
+from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli.live import OperatorConsole
+from aeroexec.cli.live import wanted as live_view_wanted
+from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
 from aeroexec.drones import Drone
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.engine.flight_log import FlightLogWriter
-from aeroexec.engine.output import make_output_folder
-from aeroexec.engine.supervision import land_if_flying
+from aeroexec.engine.supervision.flight_log import FlightLogWriter
+from aeroexec.engine.supervision.output import make_output_folder
+from aeroexec.engine.supervision.supervisor import land_if_flying
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.btlog import BtlogWriter
 from aeroexec.trees.runner import TreeMission
-
-from .catalog import chosen_catalog
-from .live import OperatorConsole
-from .live import wanted as live_view_wanted
-from .mission_files import MissionFileError, check_mission, mission_function
 
 logger = logging.getLogger(__name__)
 
@@ -174,8 +173,8 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
 def make_operator(args: argparse.Namespace, live: bool = False) -> Any:
     """The operator channel: --answers FILE, else the live view's (questions wait for t or ``aeroexec ctl
     answer``), else the terminal when interactive, else logged default answers."""
-    from aeroexec.engine.operator import OperatorError, RemoteOperator
-    from aeroexec.engine.operator import make_operator as operator_for
+    from aeroexec.engine.supervision.operator import OperatorError, RemoteOperator
+    from aeroexec.engine.supervision.operator import make_operator as operator_for
 
     if live and getattr(args, "answers", None) is None:
         return RemoteOperator()

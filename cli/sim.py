@@ -14,9 +14,8 @@ import sys
 import threading
 from pathlib import Path
 
-from aeroexec.drones.sim import SimulatedDrone
-from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
-from aeroexec.drones.sim.world import WorldError, default_world, load_world
+from aeroexec.drones.sim import SimulatedDrone, WorldError, default_world, load_world
+from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
 
 logger = logging.getLogger("aeroexec.sim")
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .catalog import chosen_catalog
-from .mission_files import MissionFileError, check_mission
+from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli.mission_files import MissionFileError, check_mission
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

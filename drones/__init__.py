@@ -1,6 +1,6 @@
 """Drones: the drone interface, the simulated drone and world, and the MAVSDK adapter."""
 
-from .interface import (
+from aeroexec.drones.interface import (
     CommandHandle,
     Drone,
     DroneEvent,

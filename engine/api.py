@@ -17,12 +17,12 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-from aeroexec import beliefs, drones
+from aeroexec.engine.catalog.descriptors import RECURRENT
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.activation import ActivationConditions
+from aeroexec.engine.missions.bridge import MissionAborted
 
-from .activation import ActivationConditions
-from .descriptors import RECURRENT
-from .events import Outcome
-from .mission_bridge import MissionAborted
+from aeroexec import beliefs, drones
 
 _bound: dict[str, Any] = {"engine": None}
 _lock = threading.Lock()

@@ -20,17 +20,16 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater
 from aeroexec.drones import Drone
-
-from .catalog import BehaviorCatalog, default_catalog
-from .clock import Clock, SimulatedClock
-from .coordinator import BehaviorCoordinator
-from .events import EventLog
-from .mission_bridge import DONE, MissionBridge
-from .process import BehaviorContext, BehaviorLibrary, EngineSettings
-from .resources import ProcessRegistry, ResourceManager
-from .specialist import BehaviorSpecialist
-from .supervision import Supervisor
-from .updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
+from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
+from aeroexec.engine.clock import Clock, SimulatedClock
+from aeroexec.engine.events import EventLog
+from aeroexec.engine.execution.coordinator import BehaviorCoordinator
+from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, EngineSettings
+from aeroexec.engine.execution.resources import ProcessRegistry, ResourceManager
+from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
+from aeroexec.engine.library import default_library, default_processes
+from aeroexec.engine.missions.bridge import DONE, MissionBridge
+from aeroexec.engine.supervision.supervisor import Supervisor
 
 logger = logging.getLogger(__name__)
 
@@ -84,12 +83,8 @@ class Engine:
                                        obstacles=obstacles, operator=operator, bus=bus,
                                        output_dir=Path(output_dir) if output_dir is not None else None)
         if library is None:
-            from .behaviors import default_library
-
             library = default_library()
         if processes is None:
-            from .behaviors import default_processes
-
             processes = default_processes()
         self.library = library
         self.specialist = BehaviorSpecialist(self.catalog)
@@ -194,7 +189,7 @@ class Engine:
     # -- missions ------------------------------------------------------------------------------
     def start_mission(self, mission: Callable[[], Any], name: str = "mission") -> threading.Thread:
         """Run ``mission()`` in its own thread; its API calls are served by this engine's loop."""
-        from . import api
+        from aeroexec.engine import api
 
         def body() -> None:
             api.bind(self)

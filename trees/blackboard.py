@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, MutableMapping
 from typing import Any
 
-from .node_types import COMMON_ATTRIBUTES, bare_key
+from aeroexec.trees.node_types import COMMON_ATTRIBUTES, bare_key
 
 
 class Blackboard(MutableMapping[str, Any]):

@@ -32,10 +32,9 @@ from pathlib import Path
 from typing import Any
 
 import defusedxml.ElementTree as SafeElementTree
+from aeroexec.trees.builder import model_of
+from aeroexec.trees.groot import tree_nodes_model
 from py_trees.behaviour import Behaviour
-
-from .builder import model_of
-from .groot import tree_nodes_model
 
 STATUS_CODES = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3, "SKIPPED": 4}
 STATUS_NAMES = {code: name for name, code in STATUS_CODES.items()}

@@ -10,12 +10,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from py_trees.behaviour import Behaviour
-from py_trees.common import Status
-
-from .blackboard import Blackboard
-from .control import make_control
-from .decorators import (
+from aeroexec.trees.blackboard import Blackboard
+from aeroexec.trees.control import make_control
+from aeroexec.trees.decorators import (
     Delay,
     Force,
     Inverter,
@@ -26,10 +23,12 @@ from .decorators import (
     RunOnce,
     Timeout,
 )
-from .model import TreeDocument, TreeNode
-from .node_types import CONTROL_TYPES, PRECONDITIONS
-from .nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
-from .ports import parse_number
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.node_types import CONTROL_TYPES, PRECONDITIONS
+from aeroexec.trees.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
+from aeroexec.trees.ports import parse_number
+from py_trees.behaviour import Behaviour
+from py_trees.common import Status
 
 BELIEF_LEAVES = ("Condition", "QueryBelief", "AddBelief", "RemoveBelief")
 

@@ -16,13 +16,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
-from aeroexec.engine.descriptors import RECURRENT
+from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
+from aeroexec.trees.node_types import WAIT_FOR_COMPLETION, output_key
+from aeroexec.trees.ports import MissingKey, request_from_ports, substitute
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
-
-from .node_types import WAIT_FOR_COMPLETION, output_key
-from .ports import MissingKey, request_from_ports, substitute
 
 logger = logging.getLogger(__name__)
 

@@ -13,12 +13,11 @@ from typing import Any
 
 from aeroexec.beliefs import format_term
 from aeroexec.beliefs.terms import from_python
-from aeroexec.engine.arguments import ArgumentDescriptor
-from aeroexec.engine.descriptors import BehaviorDescriptor
+from aeroexec.engine.catalog import BehaviorSpecialist
+from aeroexec.engine.catalog.arguments import ArgumentDescriptor
+from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_VALUE, SpecificationError
-from aeroexec.engine.specialist import BehaviorSpecialist
-
-from .node_types import COMMON_ATTRIBUTES, bare_key
+from aeroexec.trees.node_types import COMMON_ATTRIBUTES, bare_key
 
 _KEY = re.compile(r"\{([^{}]+)\}")
 _NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")

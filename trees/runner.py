@@ -14,14 +14,13 @@ import logging
 from collections.abc import Mapping
 from typing import Any
 
+from aeroexec.trees.blackboard import Blackboard
+from aeroexec.trees.builder import build_tree, describe, model_of
+from aeroexec.trees.control import status_name
+from aeroexec.trees.model import TreeDocument
+from aeroexec.trees.nodes import TreeContext
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
-
-from .blackboard import Blackboard
-from .builder import build_tree, describe, model_of
-from .control import status_name
-from .model import TreeDocument
-from .nodes import TreeContext
 
 logger = logging.getLogger(__name__)
 

@@ -18,16 +18,14 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
-from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
+from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
-from aeroexec.engine.mission_check import MissionProblem
-from aeroexec.engine.specialist import BehaviorSpecialist
+from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.engine.yaml_nodes import suggestion
-
-from .model import TreeDocument, TreeNode
-from .node_types import BUILT_IN, COMMON_ATTRIBUTES, LOOPING, PRECONDITIONS, bare_key, output_key
-from .ports import parse_number, port_errors, template_keys
-from .sequence_check import SequenceChecker
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.node_types import BUILT_IN, COMMON_ATTRIBUTES, LOOPING, PRECONDITIONS, bare_key, output_key
+from aeroexec.trees.ports import parse_number, port_errors, template_keys
+from aeroexec.trees.sequence_check import SequenceChecker
 
 Problem = MissionProblem
 _INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0}

@@ -1,6 +1,6 @@
 """The MAVSDK adapter: any MAVLink vehicle (PX4, ArduPilot, aeroexec sim) behind the drone interface."""
 
-from .connection import TelemetryRates, check_url
-from .drone import MavsdkDrone
+from aeroexec.drones.mavsdk.connection import TelemetryRates, check_url
+from aeroexec.drones.mavsdk.drone import MavsdkDrone
 
 __all__ = ["MavsdkDrone", "TelemetryRates", "check_url"]

@@ -9,11 +9,10 @@ import re
 import threading
 from dataclasses import dataclass
 
+from aeroexec.drones.interface import LandedState
 from mavsdk import LogLevel, log_subscribe
 from mavsdk.asyncio.plugins.telemetry import FlightMode
 from mavsdk.asyncio.plugins.telemetry import LandedState as MavsdkLandedState
-
-from ..interface import LandedState
 
 native_logger = logging.getLogger("aeroexec.drones.mavsdk.native")
 

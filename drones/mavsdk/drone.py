@@ -12,13 +12,12 @@ import math
 import threading
 import time
 
+from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure, Telemetry, Vector
+from aeroexec.drones.mavsdk.connection import TelemetryRates
+from aeroexec.drones.mavsdk.errors import AdapterError
+from aeroexec.drones.mavsdk.frames import enu_to_geodetic, enu_to_ned, yaw_to_heading
+from aeroexec.drones.mavsdk.session import MavsdkSession
 from mavsdk.asyncio.plugins.offboard import VelocityNedYaw
-
-from ..interface import CommandHandle, Drone, DroneEvent, Failure, Telemetry, Vector
-from .connection import TelemetryRates
-from .errors import AdapterError
-from .frames import enu_to_geodetic, enu_to_ned, yaw_to_heading
-from .session import MavsdkSession
 
 logger = logging.getLogger(__name__)
 

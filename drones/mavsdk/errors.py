@@ -9,7 +9,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 
-from ..interface import Failure
+from aeroexec.drones.interface import Failure
 
 _BY_RESULT: dict[str, tuple[Failure, str]] = {
     "NO_SYSTEM": (Failure.LINK_LOST, "no vehicle is connected"),

@@ -7,8 +7,8 @@ clockwise.
 
 from __future__ import annotations
 
-from ..angles import wrap180 as wrap_degrees
-from ..geodesy import enu_to_geodetic, geodetic_to_enu
+from aeroexec.drones.angles import wrap180 as wrap_degrees
+from aeroexec.drones.geodesy import enu_to_geodetic, geodetic_to_enu
 
 Vector = tuple[float, float, float]
 Geodetic = tuple[float, float, float]  # latitude (deg), longitude (deg), altitude (m AMSL)

@@ -18,15 +18,20 @@ import time
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any
 
+from aeroexec.drones.interface import CommandHandle, Failure
+from aeroexec.drones.mavsdk.connection import (
+    TelemetryRates,
+    check_url,
+    flight_mode_name,
+    forward_native_log,
+    landed_state,
+)
+from aeroexec.drones.mavsdk.errors import AdapterError, describe_failure
+from aeroexec.drones.mavsdk.telemetry_cache import TelemetryCache
 from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.offboard import OffboardAsync
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
-
-from ..interface import CommandHandle, Failure
-from .connection import TelemetryRates, check_url, flight_mode_name, forward_native_log, landed_state
-from .errors import AdapterError, describe_failure
-from .telemetry_cache import TelemetryCache
 
 logger = logging.getLogger(__name__)
 

@@ -11,8 +11,8 @@ import threading
 import time
 from collections.abc import Callable
 
-from ..interface import DroneEvent, LandedState, Telemetry
-from .frames import geodetic_to_enu, heading_to_yaw, ned_to_enu
+from aeroexec.drones.interface import DroneEvent, LandedState, Telemetry
+from aeroexec.drones.mavsdk.frames import geodetic_to_enu, heading_to_yaw, ned_to_enu
 
 _EVENT_SEVERITIES = ("WARNING", "ERROR", "CRITICAL", "ALERT", "EMERGENCY")
 _MAX_EVENTS = 1000

@@ -1,8 +1,9 @@
 """The simulated drone and its world: kinematics on an external clock, obstacles, markers, camera."""
 
-from .camera import Camera
-from .config import SimConfig
-from .drone import SimulatedDrone
-from .world import World, WorldError, default_world, load_world
+from aeroexec.drones.sim.camera import Camera
+from aeroexec.drones.sim.config import SimConfig
+from aeroexec.drones.sim.drone import SimulatedDrone
+from aeroexec.drones.sim.world import World, WorldError
+from aeroexec.drones.sim.world_file import default_world, load_world
 
 __all__ = ["Camera", "SimConfig", "SimulatedDrone", "World", "WorldError", "default_world", "load_world"]

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import bisect
 
-from .config import SimConfig
+from aeroexec.drones.sim.config import SimConfig
 
 # Resting voltage of one LiPo cell by state of charge (percent), a common 4S-pack discharge table.
 _CURVE_PERCENT = (0, 5, 10, 15, 20, 25, 30, 35, 40, 45, 50, 55, 60, 65, 70, 75, 80, 85, 90, 95, 100)

@@ -10,8 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..interface import Observation
-from .world import CameraSettings, World
+from aeroexec.drones.interface import Observation
+from aeroexec.drones.sim.world import CameraSettings, World
 
 Vector = tuple[float, float, float]
 

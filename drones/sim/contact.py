@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from .world import World
+from aeroexec.drones.sim.world import World
 
 Vector = tuple[float, float, float]
 

@@ -14,13 +14,14 @@ from collections.abc import Callable
 from functools import wraps
 from typing import TypeVar
 
-from ..interface import CommandHandle, Drone, DroneEvent, Failure, Observation, Telemetry, Vector
-from .camera import Camera, merge_observations
-from .config import SimConfig
-from .motion import wrap180
-from .multicopter import FALL, IDLE, TAKEOFF, Multicopter
-from .payload import PayloadBay
-from .world import World, default_world
+from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure, Observation, Telemetry, Vector
+from aeroexec.drones.sim.camera import Camera, merge_observations
+from aeroexec.drones.sim.config import SimConfig
+from aeroexec.drones.sim.motion import wrap180
+from aeroexec.drones.sim.multicopter import FALL, IDLE, TAKEOFF, Multicopter
+from aeroexec.drones.sim.payload import PayloadBay
+from aeroexec.drones.sim.world import World
+from aeroexec.drones.sim.world_file import default_world
 
 logger = logging.getLogger(__name__)
 
@@ -298,7 +299,7 @@ class SimulatedDrone(Drone):
     @_locked
     def capture_image(self, width: int = 640, height: int = 480) -> bytes | None:
         """A PNG of what the front camera sees now: the world rendered from the drone's true pose."""
-        from .render import SceneRenderer, to_png  # numpy and Pillow load on the first image
+        from aeroexec.drones.sim.render import SceneRenderer, to_png  # numpy and Pillow load on the first image
 
         if self._renderer is None or self._renderer.world is not self.world:
             self._renderer = SceneRenderer(self.world)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..angles import wrap180
+from aeroexec.drones.angles import wrap180
 
 Vector = tuple[float, float, float]
 

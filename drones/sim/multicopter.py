@@ -9,11 +9,11 @@ from __future__ import annotations
 import logging
 import math
 
-from ..interface import DroneEvent, LandedState
-from .battery import Battery
-from .config import SimConfig
-from .contact import Contacts
-from .motion import (
+from aeroexec.drones.interface import DroneEvent, LandedState
+from aeroexec.drones.sim.battery import Battery
+from aeroexec.drones.sim.config import SimConfig
+from aeroexec.drones.sim.contact import Contacts
+from aeroexec.drones.sim.motion import (
     Limits,
     accelerate,
     clamp_velocity,
@@ -23,7 +23,7 @@ from .motion import (
     turn_yaw,
     wrap180,
 )
-from .world import World
+from aeroexec.drones.sim.world import World
 
 logger = logging.getLogger(__name__)
 

@@ -12,8 +12,8 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from .shapes import Box, Cylinder
-from .world import World, WorldObject
+from aeroexec.drones.sim.shapes import Box, Cylinder
+from aeroexec.drones.sim.world import World, WorldObject
 
 Vector = tuple[float, float, float]
 

@@ -15,11 +15,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from aeroexec.drones.sim.camera import Camera
+from aeroexec.drones.sim.shapes import Box, Cylinder
+from aeroexec.drones.sim.world import Marker, World, WorldObject
 from PIL import Image, ImageDraw
-
-from .camera import Camera
-from .shapes import Box, Cylinder
-from .world import Marker, World, WorldObject
 
 Vector = tuple[float, float, float]
 RGB = tuple[int, int, int]

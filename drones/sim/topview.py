@@ -6,9 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 
-from PIL import Image, ImageDraw
-
-from .render import (
+from aeroexec.drones.sim.render import (
     BLACK,
     BOX_COLOR,
     CYLINDER_COLOR,
@@ -21,8 +19,9 @@ from .render import (
     WHITE,
     color_of,
 )
-from .shapes import Box, Cylinder
-from .world import World
+from aeroexec.drones.sim.shapes import Box, Cylinder
+from aeroexec.drones.sim.world import World
+from PIL import Image, ImageDraw
 
 
 def render_map(world: World, trail: Iterable[Sequence[float]] = (), time: float = 0.0,

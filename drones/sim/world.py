@@ -1,17 +1,16 @@
 """The simulated world: home point, geofence bounds, obstacles, ArUco markers, objects and a moving platform.
 
 A :class:`World` is an immutable record with the geometric queries the simulated drone, its camera and the
-engine's predicates need. Worlds come from YAML files (:func:`load_world`) or the packaged default.
+engine's predicates need. Worlds come from YAML files (:mod:`~aeroexec.drones.sim.world_file`) or the packaged default.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
-from ..geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
-from .shapes import Box, Cylinder, Obstacle
+from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
+from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
 
 Vector = tuple[float, float, float]
 DECK_RADIUS = 0.75  # m: a platform's landing deck unless its world file says otherwise
@@ -27,8 +26,6 @@ __all__ = [
     "World",
     "WorldError",
     "WorldObject",
-    "default_world",
-    "load_world",
 ]
 
 
@@ -192,22 +189,3 @@ class World:
 
     def marker(self, marker_id: int) -> Marker | None:
         return next((m for m in self.markers if m.id == marker_id), None)
-
-
-def load_world(path: str | Path) -> World:
-    """Read a YAML world file; raises :class:`WorldError` naming ``file:line`` on any mistake."""
-    from .world_file import parse_world  # the file format lives apart from the model
-
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise WorldError(f"{path}: cannot read the world file: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise WorldError(f"{path}: the world file is not UTF-8 text") from None
-    return parse_world(text, str(path))
-
-
-def default_world() -> World:
-    """The world that ships with the package (``default_world.yaml``): a 40 x 40 x 20 m field."""
-    return load_world(Path(__file__).with_name("default_world.yaml"))

@@ -23,13 +23,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
+from pathlib import Path
 
 import yaml
+from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
+from aeroexec.drones.sim.world import (
+    DECK_RADIUS,
+    Bounds,
+    CameraSettings,
+    Marker,
+    Platform,
+    World,
+    WorldError,
+    WorldObject,
+)
 from yaml.constructor import ConstructorError, SafeConstructor
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
-
-from .shapes import Box, Cylinder, Obstacle
-from .world import DECK_RADIUS, Bounds, CameraSettings, Marker, Platform, World, WorldError, WorldObject
 
 Vector = tuple[float, float, float]
 
@@ -288,3 +297,20 @@ def parse_world(text: str, source: str = "<world>") -> World:
     if root is None:
         raise WorldError(f"{source}:1: the world file is empty")
     return _WorldParser(source).world(root)
+
+
+def load_world(path: str | Path) -> World:
+    """Read a YAML world file; raises :class:`WorldError` naming ``file:line`` on any mistake."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise WorldError(f"{path}: cannot read the world file: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise WorldError(f"{path}: the world file is not UTF-8 text") from None
+    return parse_world(text, str(path))
+
+
+def default_world() -> World:
+    """The world that ships with the package (``default_world.yaml``): a 40 x 40 x 20 m field."""
+    return load_world(Path(__file__).with_name("default_world.yaml"))

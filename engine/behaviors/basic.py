@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ..events import Outcome
-from ..process import BehaviorProcess
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorProcess
 
 
 class Wait(BehaviorProcess):

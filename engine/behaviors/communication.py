@@ -28,12 +28,11 @@ from collections.abc import Callable
 from typing import Any
 
 from aeroexec.beliefs import Struct
-
-from ..events import EngineEvent, Outcome
-from ..operator import PendingAnswer, operator_of
-from ..process import BehaviorProcess
-from ..resources import Process
-from .speech import SpeechSynthesizer, speak
+from aeroexec.engine.behaviors.speech import SpeechSynthesizer, speak
+from aeroexec.engine.events import EngineEvent, Outcome
+from aeroexec.engine.execution.process import BehaviorProcess
+from aeroexec.engine.execution.resources import Process
+from aeroexec.engine.supervision.operator import PendingAnswer, operator_of
 
 logger = logging.getLogger(__name__)
 

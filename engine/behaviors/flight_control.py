@@ -16,9 +16,8 @@ from typing import Any, ClassVar
 
 from aeroexec.drones import CommandHandle, Failure, LandedState, Telemetry, Vector
 from aeroexec.drones.angles import wrap180
-
-from ..events import Outcome
-from ..process import BehaviorProcess, Situation
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorProcess, Situation
 
 logger = logging.getLogger(__name__)
 

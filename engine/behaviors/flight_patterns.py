@@ -13,10 +13,7 @@ from collections.abc import Sequence
 from typing import ClassVar
 
 from aeroexec.drones import Telemetry, Vector
-
-from ..events import Outcome
-from ..process import Situation
-from .flight_control import (
+from aeroexec.engine.behaviors.flight_control import (
     PROGRESS_STEP,
     RELATIVE_HEADINGS,
     YAW_PROGRESS_STEP,
@@ -29,7 +26,9 @@ from .flight_control import (
     wrap180,
     yaw_error,
 )
-from .planning import plan_route
+from aeroexec.engine.behaviors.planning import plan_route
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import Situation
 
 logger = logging.getLogger(__name__)
 

@@ -3,7 +3,7 @@
 SELF_LOCALIZE_BY_ODOMETRY, SELF_LOCALIZE_BY_VISUAL_MARKERS and SLAM_BY_VISUAL_MARKERS (recurrent, mutually
 incompatible) set the localization mode, believed as ``localization(self, odometry|visual_markers|slam)``.
 While a mode is set, ``position(self, (x, y, z))`` holds the estimate of these capability processes instead of
-the telemetry (the engine's :class:`~aeroexec.engine.updaters.PositionSource` says who writes it):
+the telemetry (the engine's :class:`~aeroexec.engine.execution.updaters.PositionSource` says who writes it):
 
 - ``odometry_state_estimator`` integrates the telemetry velocity with a seeded drift (a bias plus a random walk,
   a few cm per meter travelled), so the belief drifts from the truth as the drone flies;
@@ -32,9 +32,8 @@ from typing import Any, ClassVar
 
 from aeroexec.beliefs import Struct
 from aeroexec.drones import Observation
-
-from ..process import BehaviorContext, BehaviorProcess, EngineSettings
-from ..resources import Process
+from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess, EngineSettings
+from aeroexec.engine.execution.resources import Process
 
 logger = logging.getLogger(__name__)
 

@@ -13,9 +13,8 @@ import logging
 
 from aeroexec.beliefs import Struct
 from aeroexec.drones import CommandHandle, Failure
-
-from ..events import Outcome
-from ..process import BehaviorProcess, Situation
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorProcess, Situation
 
 logger = logging.getLogger(__name__)
 

@@ -12,10 +12,7 @@ import math
 from typing import ClassVar
 
 from aeroexec.drones import LandedState, Telemetry
-
-from ..events import Outcome
-from ..process import BehaviorProcess, Situation
-from .flight_control import (
+from aeroexec.engine.behaviors.flight_control import (
     PROGRESS_STEP,
     RELATIVE_HEADINGS,
     YAW_PROGRESS_STEP,
@@ -27,7 +24,9 @@ from .flight_control import (
     wrap180,
     yaw_error,
 )
-from .flight_patterns import Flip, FollowPath, GoToPoint, KeepLoitering
+from aeroexec.engine.behaviors.flight_patterns import Flip, FollowPath, GoToPoint, KeepLoitering
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorProcess, Situation
 
 logger = logging.getLogger(__name__)
 

@@ -14,9 +14,8 @@ import abc
 
 from aeroexec.beliefs import Struct
 from aeroexec.drones import Observation
-
-from ..process import BehaviorProcess
-from ..resources import Process
+from aeroexec.engine.execution.process import BehaviorProcess
+from aeroexec.engine.execution.resources import Process
 
 PERIOD = 0.2  # s between two looks at the camera
 

@@ -1,9 +1,9 @@
 """Deliberative planning behaviors (paper Table A.3): GENERATE_PATH_FREE_OF_OBSTACLES and
 GENERATE_NEXT_POINT_TO_EXPLORE, and the capability processes ``path_planner`` and ``exploration_planner``.
 
-The path comes from :mod:`aeroexec.engine.planning` over the engine's obstacle map (``context.obstacles``);
+The path comes from :mod:`aeroexec.engine.planning.path_planner` over the engine's obstacle map (``context.obstacles``);
 without a map the path is the straight line to the destination, and the event log says so. Exploration
-progress lives in an :class:`~aeroexec.engine.exploration.ExplorationStore` kept on the behavior context, so it
+progress lives in an :class:`~aeroexec.engine.planning.exploration.ExplorationStore` kept on the behavior context, so it
 survives the planner process being stopped between two requests; while ``exploration_planner`` runs, it covers
 the points the drone flies over.
 
@@ -19,12 +19,11 @@ from collections.abc import Callable
 from typing import Any
 
 from aeroexec.beliefs import ListTerm, Struct
-
-from ..events import Outcome
-from ..exploration import ExplorationSettings, ExplorationStore
-from ..planning import PathPlanner, PlannerSettings, Point, map_bounds
-from ..process import BehaviorContext, BehaviorProcess, EngineSettings
-from ..resources import Process
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess, EngineSettings
+from aeroexec.engine.execution.resources import Process
+from aeroexec.engine.planning.exploration import ExplorationSettings, ExplorationStore
+from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, Point, map_bounds
 
 logger = logging.getLogger(__name__)
 

@@ -21,15 +21,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from aeroexec.beliefs import Struct
+from aeroexec.engine.behaviors.manipulation import MANIPULATION_BEHAVIORS, MANIPULATION_PROCESSES
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess
+from aeroexec.engine.execution.resources import Process
+from aeroexec.engine.planning.mapping import CameraModel, OccupancyMap
+from aeroexec.engine.planning.path_planner import map_bounds
+from aeroexec.engine.supervision.output import choose_output_folder
 from PIL import Image
-
-from ..events import Outcome
-from ..mapping import CameraModel, OccupancyMap
-from ..output import choose_output_folder
-from ..planning import map_bounds
-from ..process import BehaviorContext, BehaviorProcess
-from ..resources import Process
-from .manipulation import MANIPULATION_BEHAVIORS, MANIPULATION_PROCESSES
 
 logger = logging.getLogger(__name__)
 

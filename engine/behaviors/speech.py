@@ -15,8 +15,8 @@ import subprocess
 from collections import deque
 from typing import Any
 
-from ..operator import operator_of
-from ..resources import Process
+from aeroexec.engine.execution.resources import Process
+from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
 

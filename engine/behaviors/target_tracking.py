@@ -19,9 +19,8 @@ from dataclasses import dataclass
 
 from aeroexec.beliefs import Struct
 from aeroexec.drones import Observation, Vector
-
-from ..process import BehaviorContext
-from .perception import Recognizer
+from aeroexec.engine.behaviors.perception import Recognizer
+from aeroexec.engine.execution.process import BehaviorContext
 
 VELOCITY_SMOOTHING = 0.3  # weight of a new finite-difference velocity in the estimate
 STALE_AFTER = 1.0  # s: a sighting older than this gives no velocity (the target is taken afresh)

@@ -19,12 +19,18 @@ import math
 from typing import ClassVar
 
 from aeroexec.drones import LandedState, Telemetry, Vector
-
-from ..events import Outcome
-from ..process import BehaviorProcess
-from .flight_control import ARRIVAL_SPEED, PROGRESS_STEP, MotionBehavior, fmt_point, heading_to, wrap180
-from .motion import TakeOff
-from .target_tracking import TARGET_PROCESSES, Track, TrackStore, observe, target_tracks
+from aeroexec.engine.behaviors.flight_control import (
+    ARRIVAL_SPEED,
+    PROGRESS_STEP,
+    MotionBehavior,
+    fmt_point,
+    heading_to,
+    wrap180,
+)
+from aeroexec.engine.behaviors.motion import TakeOff
+from aeroexec.engine.behaviors.target_tracking import TARGET_PROCESSES, Track, TrackStore, observe, target_tracks
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorProcess
 
 logger = logging.getLogger(__name__)
 

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..events import Outcome
-from ..process import BehaviorProcess
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.execution.process import BehaviorProcess
 
 
 def last_voice_command(operator: Any) -> str | None:

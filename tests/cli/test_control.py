@@ -20,9 +20,9 @@ from aeroexec.cli.live import KeyReader, LiveView
 from aeroexec.drones import LandedState
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.clock import SimulatedClock
-from aeroexec.engine.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.operator import RemoteOperator
+from aeroexec.engine.supervision.control import CONTROL_FILE, ControlServer, read_control_file, send_command
+from aeroexec.engine.supervision.operator import RemoteOperator
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runner import TreeMission
 from rich.console import Console
@@ -138,7 +138,7 @@ def test_a_wrong_token_is_refused_and_the_server_stops_with_the_engine(run):
 
 
 def test_a_command_the_engine_cannot_run_says_so(tmp_path, monkeypatch):
-    monkeypatch.setattr("aeroexec.engine.control.COMMAND_TIMEOUT", 0.3)
+    monkeypatch.setattr("aeroexec.engine.supervision.control.COMMAND_TIMEOUT", 0.3)
     world = default_world()
     engine = Engine(SimulatedDrone(world), obstacles=world)  # never ticked
     with ControlServer(engine, tmp_path) as server:

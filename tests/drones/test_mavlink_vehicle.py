@@ -7,8 +7,8 @@ import time
 
 import pytest
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
-from aeroexec.drones.sim.mavlink_telemetry import px4_custom_mode
-from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
+from aeroexec.drones.sim.mavlink.telemetry import px4_custom_mode
+from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
 from pymavlink import mavutil
 from pymavlink.dialects.v20 import common as mavlink
 

@@ -10,7 +10,7 @@ import pytest
 from aeroexec.drones.interface import Failure, LandedState
 from aeroexec.drones.mavsdk import MavsdkDrone
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
-from aeroexec.drones.sim.mavlink_vehicle import MavlinkVehicle
+from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
 
 pytestmark = pytest.mark.mavsdk
 

@@ -8,7 +8,7 @@ from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.catalog import parse_catalog
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.process import BehaviorLibrary, BehaviorProcess
+from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 
 CATALOG = """
 predicates:

@@ -15,8 +15,14 @@ from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.behaviors.communication import describe_tasks
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.messages import MessageBus
-from aeroexec.engine.operator import ConsoleOperator, LoggingOperator, OperatorError, ScriptedOperator, make_operator
+from aeroexec.engine.supervision.messages import MessageBus
+from aeroexec.engine.supervision.operator import (
+    ConsoleOperator,
+    LoggingOperator,
+    OperatorError,
+    ScriptedOperator,
+    make_operator,
+)
 
 ROOT = Path(__file__).parents[2]
 PNG = b"\x89PNG\r\n\x1a\nfake camera frame"
@@ -98,7 +104,7 @@ def test_ask_operator_from_a_scripted_answers_file(engines, tmp_path):
 
 def test_an_unknown_question_gets_the_first_possible_answer_and_a_warning(engines, caplog):
     engine = engines(ScriptedOperator({"Something else?": "no"}))
-    with caplog.at_level(logging.WARNING, logger="aeroexec.engine.operator"):
+    with caplog.at_level(logging.WARNING, logger="aeroexec.engine.supervision.operator"):
         outcome, answer = run(engine, "ASK_OPERATOR", {"QUESTION": "Continue?", "POSSIBLE_ANSWERS": ("yes", "no")})
     assert (outcome, answer) == (Outcome.GOAL_ACHIEVED, "yes")
     assert "does not answer 'Continue?'" in caplog.text

@@ -7,8 +7,8 @@ from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.engine.catalog import parse_catalog
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.process import BehaviorLibrary, BehaviorProcess, Situation
-from aeroexec.engine.resources import Process, ProcessRegistry, ResourceError
+from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess, Situation
+from aeroexec.engine.execution.resources import Process, ProcessRegistry, ResourceError
 
 CATALOG = """
 default_behavior_values: {timeout: 5, category: goal_based}

@@ -6,9 +6,9 @@ import aeroexec.engine.api as api
 import pytest
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.flight_log import FlightLogWriter, plain, read_flight_log
-from aeroexec.engine.flight_summary import final_beliefs, summarize
-from aeroexec.engine.output import choose_output_folder, make_output_folder
+from aeroexec.engine.supervision.flight_log import FlightLogWriter, plain, read_flight_log
+from aeroexec.engine.supervision.flight_summary import final_beliefs, summarize
+from aeroexec.engine.supervision.output import choose_output_folder, make_output_folder
 
 
 def test_the_writer_logs_events_belief_changes_and_samples_then_closes(tmp_path):

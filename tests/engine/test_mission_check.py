@@ -4,7 +4,7 @@ from pathlib import Path
 from textwrap import dedent
 
 import pytest
-from aeroexec.engine.mission_check import MissionProblem, check_mission_file, check_mission_source
+from aeroexec.engine.missions.check import MissionProblem, check_mission_file, check_mission_source
 
 DATA = Path(__file__).parent / "data" / "missions"
 HEADER = "import aeroexec.engine.api as api\n\n\ndef mission():\n"  # the body starts on line 5

@@ -10,12 +10,12 @@ from aeroexec.beliefs import ListTerm
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.drones.sim.shapes import Box, Cylinder
 from aeroexec.drones.sim.world import Bounds
-from aeroexec.engine.behaviors import default_library, default_processes
 from aeroexec.engine.behaviors.planning import PLANNING_BEHAVIORS, PLANNING_PROCESSES, exploration_store
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.exploration import ExplorationPlanner, ExplorationSettings, lawnmower
-from aeroexec.engine.planning import PathPlanner, PlannerSettings, plan_path
+from aeroexec.engine.library import default_library, default_processes
+from aeroexec.engine.planning.exploration import ExplorationPlanner, ExplorationSettings, lawnmower
+from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, plan_path
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 

@@ -9,7 +9,7 @@ from aeroexec.drones.sim.world_file import parse_world
 from aeroexec.engine.behaviors.recording import recordings
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.mapping import FREE, OCCUPIED, UNKNOWN
+from aeroexec.engine.planning.mapping import FREE, OCCUPIED, UNKNOWN
 from PIL import Image
 
 WORLD = """

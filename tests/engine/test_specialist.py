@@ -1,8 +1,8 @@
 """The behavior specialist: Table 1's messages for bad requests, compatibility, and sequence verification."""
 
 import pytest
+from aeroexec.engine.catalog.specialist import BehaviorSpecialist, Request
 from aeroexec.engine.errors import SpecificationError
-from aeroexec.engine.specialist import BehaviorSpecialist, Request
 
 
 @pytest.fixture(scope="module")

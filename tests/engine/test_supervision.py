@@ -11,7 +11,7 @@ from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine import api
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.operator import LoggingOperator, RemoteOperator
+from aeroexec.engine.supervision.operator import LoggingOperator, RemoteOperator
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runner import TreeMission
 from py_trees.common import Status

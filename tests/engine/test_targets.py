@@ -8,7 +8,7 @@ from aeroexec.drones import LandedState
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.behaviors.flight_control import heading_to, yaw_error
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.process import EngineSettings
+from aeroexec.engine.execution.process import EngineSettings
 
 ENDINGS = {"GOAL_ACHIEVED", "WRONG_PROGRESS", "TIME_OUT", "INTERRUPTED", "failed_preconditions"}
 

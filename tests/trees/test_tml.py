@@ -14,8 +14,8 @@ from aeroexec.engine.catalog import default_catalog
 from aeroexec.engine.engine import Engine
 from aeroexec.trees import TreeFormatError, load_mission_tree, read_mission_tree
 from aeroexec.trees.runner import TreeMission
-from aeroexec.trees.tml_compile import TmlDocument, read_tml_document
-from aeroexec.trees.tml_verify import verify_tml
+from aeroexec.trees.tml.compiler import TmlDocument, read_tml_document
+from aeroexec.trees.tml.verify import verify_tml
 from py_trees.common import Status
 
 ROOT = Path(__file__).parents[2]

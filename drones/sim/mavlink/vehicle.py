@@ -1,0 +1,338 @@
+"""The simulated drone exposed over MAVLink as a PX4 multicopter, so MAVSDK scripts and QGroundControl can fly it.
+
+:class:`MavlinkVehicle` owns a thread that advances the simulated drone on wall time x ``speed``, answers
+commands, parameters, missions and offboard setpoints, and streams telemetry at rates a client may change
+(SET_MESSAGE_INTERVAL, REQUEST_MESSAGE). Streams and every timer that waits on a client (offboard loss,
+mission retries) run on wall time, so a fast simulation does not make a client look slow.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import threading
+import time
+
+from aeroexec.drones.interface import LandedState, Telemetry
+from aeroexec.drones.sim.mavlink.commands import CommandHandler
+from aeroexec.drones.sim.mavlink.mission import MissionManager
+from aeroexec.drones.sim.mavlink.offboard import OffboardControl, setpoint_from_global_int, setpoint_from_local_ned
+from aeroexec.drones.sim.mavlink.params import ParameterServer, px4_parameters
+from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ, TelemetryEncoder, VehicleState
+from pymavlink import mavutil
+from pymavlink.dialects.v20 import common as mavlink
+
+logger = logging.getLogger(__name__)
+
+_LOOP_S = 0.01  # longest wait for input between two rounds of the vehicle's loop
+_MAX_RATE_HZ = 100.0
+_SEVERITY = {
+    "collision": mavlink.MAV_SEVERITY_CRITICAL,
+    "failsafe": mavlink.MAV_SEVERITY_CRITICAL,
+    "out_of_bounds": mavlink.MAV_SEVERITY_WARNING,
+}
+
+
+class MavlinkVehicleError(RuntimeError):
+    """The vehicle cannot open its link (bad URL, port in use, unreachable TCP peer)."""
+
+
+def normalize_url(url: str) -> str:
+    """A pymavlink device string from a MAVSDK-style URL: ``udpout://127.0.0.1:14540`` -> ``udpout:127.0.0.1:14540``.
+
+    Accepts udpout, udpin, tcpin and tcp/tcpout, with or without ``//``.
+    """
+    scheme, sep, rest = url.strip().partition(":")
+    rest = rest[2:] if rest.startswith("//") else rest
+    scheme = {"tcpout": "tcp", "udp": "udpin"}.get(scheme.lower(), scheme.lower())
+    host, _, port = rest.rpartition(":")
+    if not sep or scheme not in ("udpout", "udpin", "tcpin", "tcp") or not host or not port.isdigit():
+        raise MavlinkVehicleError(
+            f"bad MAVLink URL {url!r}: expected e.g. udpout://127.0.0.1:14540, udpin://0.0.0.0:14550, "
+            "tcpin://0.0.0.0:5760 or tcpout://127.0.0.1:5760"
+        )
+    if not 0 < int(port) < 65536:
+        raise MavlinkVehicleError(f"bad MAVLink URL {url!r}: port {port} out of range")
+    return f"{scheme}:{host}:{port}"
+
+
+class StreamScheduler:
+    """When each streamed message is next due, on wall time; rates follow SET_MESSAGE_INTERVAL."""
+
+    def __init__(self, defaults: dict[int, float]) -> None:
+        self._defaults = dict(defaults)
+        self._hz = dict(defaults)
+        self._next = {msg_id: 0.0 for msg_id in defaults}
+
+    def set_interval(self, msg_id: int, interval_us: float) -> bool:
+        """Apply a SET_MESSAGE_INTERVAL (-1 stops, 0 restores the default); False for unknown messages."""
+        if msg_id not in self._defaults:
+            return False
+        if interval_us < 0:
+            self._hz[msg_id] = 0.0
+        elif interval_us == 0:
+            self._hz[msg_id] = self._defaults[msg_id]
+        else:
+            self._hz[msg_id] = min(1e6 / interval_us, _MAX_RATE_HZ)
+        self._next[msg_id] = 0.0
+        return True
+
+    def interval_us(self, msg_id: int) -> int | None:
+        if msg_id not in self._hz:
+            return None
+        hz = self._hz[msg_id]
+        return int(1e6 / hz) if hz > 0 else -1
+
+    def due(self, wall_now: float) -> list[int]:
+        ready = []
+        for msg_id, hz in self._hz.items():
+            if hz > 0 and wall_now >= self._next[msg_id]:
+                self._next[msg_id] = max(self._next[msg_id] + 1.0 / hz, wall_now)
+                ready.append(msg_id)
+        return ready
+
+
+class _GatedWriter:
+    """The file pymavlink's encoder writes to: the link, unless the vehicle's link is cut."""
+
+    def __init__(self, vehicle: MavlinkVehicle) -> None:
+        self._vehicle = vehicle
+
+    def write(self, buf: bytes) -> None:
+        link = self._vehicle._link
+        if link is not None and not self._vehicle.link_cut:
+            link.write(buf)
+
+
+class MavlinkVehicle:
+    """A simulated drone behind a PX4-like MAVLink endpoint. ``start()`` it, ``stop()`` it; thread-safe."""
+
+    def __init__(
+        self,
+        drone,
+        connect: str = "udpout:127.0.0.1:14540",
+        speed: float = 1.0,
+        system_id: int = 1,
+        component_id: int = 1,
+    ) -> None:
+        if not speed > 0 or not math.isfinite(speed):
+            raise ValueError(f"the simulation speed must be a positive number, not {speed}")
+        self.drone = drone
+        self.url = normalize_url(connect)
+        self.speed = float(speed)
+        self.system_id = system_id
+        self.component_id = component_id
+        self.link_cut = False
+        self.mav = mavlink.MAVLink(_GatedWriter(self), srcSystem=system_id, srcComponent=component_id)
+        self.mav.robust_parsing = True
+        self.encoder = TelemetryEncoder(self.mav)
+        config = drone.config
+        self.params = ParameterServer(
+            self.mav,
+            px4_parameters(config.default_takeoff_altitude, config.cruise_speed, config.max_speed, system_id),
+            statustext=self.statustext,
+        )
+        self.streams = StreamScheduler(DEFAULT_RATES_HZ)
+        self.offboard = OffboardControl()
+        self.mission = MissionManager(self.mav, self.statustext)
+        self.commands = CommandHandler(self)
+        self.speed_override: float | None = None  # DO_CHANGE_SPEED / DO_REPOSITION speed
+        self.last_goto: tuple[tuple[float, float, float], float | None] | None = None
+        self.latest: Telemetry = drone.telemetry()
+        self._link = None
+        self._thread: threading.Thread | None = None
+        self._stop = threading.Event()
+        self._snapshot = self.latest
+        self._last_yaw = (self.latest.time, self.latest.yaw)
+        self._yaw_rate = 0.0
+        self._last_flags: tuple | None = None
+        self._next_heartbeat = 0.0
+
+    # --- public API --------------------------------------------------------------------------------
+    def start(self) -> None:
+        """Open the link and start the vehicle's thread."""
+        if self._thread is not None:
+            return
+        try:
+            self._link = mavutil.mavlink_connection(
+                self.url, source_system=self.system_id, source_component=self.component_id, retries=1
+            )
+        except Exception as exc:  # pymavlink raises many kinds (OSError, ValueError, socket errors)
+            raise MavlinkVehicleError(f"cannot open the MAVLink link {self.url}: {exc}") from exc
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._run, name="aeroexec-mavlink-vehicle", daemon=True)
+        self._thread.start()
+        logger.info("simulated PX4 vehicle %d on %s at %gx real time", self.system_id, self.url, self.speed)
+
+    def stop(self, timeout: float = 2.0) -> None:
+        """Stop the thread and close the link; returns within about ``timeout`` seconds."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout)
+            if self._thread.is_alive():
+                logger.warning("the simulated vehicle's thread did not stop within %.1f s", timeout)
+            self._thread = None
+        if self._link is not None:
+            with contextlib.suppress(OSError):
+                self._link.close()
+            self._link = None
+
+    def cut_link(self) -> None:
+        """Go silent and deaf, as if the radio link dropped (for tests)."""
+        self.link_cut = True
+
+    def restore_link(self) -> None:
+        self.link_cut = False
+
+    def telemetry(self) -> Telemetry:
+        """The simulated drone's state as last sent (readable from any thread)."""
+        return self._snapshot
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None and self._thread.is_alive()
+
+    def __enter__(self) -> MavlinkVehicle:
+        self.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+    # --- used by the protocol handlers ---------------------------------------------------------------
+    def wall_now(self) -> float:
+        return time.monotonic()
+
+    def home(self) -> tuple[float, float, float]:
+        return self.latest.home or tuple(self.drone.world.to_geodetic((0.0, 0.0, 0.0)))
+
+    def cruise_speed(self) -> float:
+        return self.speed_override if self.speed_override is not None else self.params.get("MPC_XY_CRUISE")
+
+    def statustext(self, severity: int, text: str) -> None:
+        self.encoder.statustext(severity, text)
+
+    def send_message(self, msg_id: int) -> None:
+        self.encoder.send(msg_id, self._state())
+
+    # --- the loop ------------------------------------------------------------------------------------
+    def _run(self) -> None:
+        wall_start = time.monotonic()
+        sim_start = self.latest.time
+        while not self._stop.is_set():
+            try:
+                wall = time.monotonic()
+                self.drone.update(sim_start + (wall - wall_start) * self.speed)
+                self.latest = self.drone.telemetry()
+                self._receive(wall)
+                self.latest = self.drone.telemetry()
+                self._step(wall)
+                self._send(wall)
+            except Exception:  # keep flying: a broken message or a bug must not silence the vehicle
+                logger.exception("simulated vehicle loop error")
+                self._stop.wait(0.1)
+            self._wait()
+
+    def _wait(self) -> None:
+        """Until input arrives or the loop period ends."""
+        try:
+            self._link.select(_LOOP_S)
+        except (OSError, ValueError, AttributeError):
+            self._stop.wait(_LOOP_S)
+
+    def _receive(self, wall: float) -> None:
+        link = self._link
+        for _ in range(200):  # bounded: a flood of input must not starve the simulation
+            data = link.recv(4096)
+            if not data:
+                return
+            if self.link_cut:
+                continue
+            for msg in (
+                self.mav.parse_buffer(bytearray(data.encode("latin-1") if isinstance(data, str) else data)) or []
+            ):
+                if msg.get_type() != "BAD_DATA" and self._for_us(msg):
+                    self._dispatch(msg, wall)
+
+    def _for_us(self, msg) -> bool:
+        target_system = getattr(msg, "target_system", 0)
+        target_component = getattr(msg, "target_component", 0)
+        return target_system in (0, self.system_id) and target_component in (0, self.component_id)
+
+    def _dispatch(self, msg, wall: float) -> None:
+        kind = msg.get_type()
+        if kind in ("COMMAND_LONG", "COMMAND_INT"):
+            self.commands.handle(msg)
+        elif kind == "SET_POSITION_TARGET_LOCAL_NED":
+            self._setpoint(setpoint_from_local_ned(msg, self.latest), wall)
+        elif kind == "SET_POSITION_TARGET_GLOBAL_INT":
+            self._setpoint(setpoint_from_global_int(msg, self.latest, self.drone.world), wall)
+        elif self.params.handle(msg) or self.mission.handle(msg, wall):
+            return
+        elif kind not in ("HEARTBEAT", "TIMESYNC", "PING", "SYSTEM_TIME"):
+            logger.debug("ignored %s from %d/%d", kind, msg.get_srcSystem(), msg.get_srcComponent())
+
+    def _setpoint(self, setpoint, wall: float) -> None:
+        if setpoint is None:
+            logger.debug("offboard setpoint with an unsupported frame or mask ignored")
+            return
+        self.offboard.receive(setpoint, wall)
+
+    def _step(self, wall: float) -> None:
+        self.commands.poll()
+        self.mission.poll(wall)
+        lost = self.offboard.step(self.drone, self.latest, wall, self.params.get("COM_OF_LOSS_T"))
+        if lost is not None:
+            self.statustext(mavlink.MAV_SEVERITY_CRITICAL, f"Failsafe: {lost}, holding position")
+            self.drone.hold()
+        self.mission.step(self.drone, self.latest, self.home()[2], self.params.get("NAV_ACC_RAD"), self.cruise_speed())
+        for event in self.drone.events():
+            if event.kind in ("failsafe", "collision"):
+                self.mission.abort(event.kind)
+            text = event.kind.replace("_", " ").capitalize() + (f": {event.detail}" if event.detail else "")
+            self.statustext(_SEVERITY.get(event.kind, mavlink.MAV_SEVERITY_INFO), text)
+        self.latest = self.drone.telemetry()
+
+    def _state(self) -> VehicleState:
+        tel = self.latest
+        t0, yaw0 = self._last_yaw
+        if tel.time > t0:
+            self._yaw_rate = ((tel.yaw - yaw0 + 180.0) % 360.0 - 180.0) / (tel.time - t0)
+            self._last_yaw = (tel.time, tel.yaw)
+        mission = self.mission
+        return VehicleState(
+            telemetry=tel,
+            geodetic=tuple(self.drone.world.to_geodetic(tel.position)),
+            home=self.home(),
+            mode="MISSION" if mission.active else tel.flight_mode,
+            armable=self._armable(tel),
+            yaw_rate=self._yaw_rate,
+            mission_seq=mission.current,
+            mission_total=len(mission.items),
+        )
+
+    def _armable(self, tel: Telemetry) -> bool:
+        """The pre-arm check: what the simulated drone's arm() would accept (battery above failsafe, not crashed)."""
+        if getattr(self.drone, "crashed", None):
+            return False
+        return tel.battery_percent > getattr(self.drone.config, "failsafe_battery_percent", 7.0)
+
+    def _send(self, wall: float) -> None:
+        state = self._state()
+        self._snapshot = state.telemetry
+        tel = state.telemetry
+        flags = (tel.armed, state.mode, tel.landed_state)
+        if flags != self._last_flags or wall >= self._next_heartbeat:
+            self.encoder.heartbeat(state)
+            self._next_heartbeat = wall + 1.0
+            if self._last_flags is not None and flags != self._last_flags:
+                # State changed: tell now, not at the next stream slot.
+                self.encoder.send(mavlink.MAVLINK_MSG_ID_EXTENDED_SYS_STATE, state)
+                if flags[2] != self._last_flags[2] and tel.landed_state == LandedState.ON_GROUND:
+                    self.statustext(mavlink.MAV_SEVERITY_INFO, "Landing detected")
+            self._last_flags = flags
+        for msg_id in self.streams.due(wall):
+            if msg_id == mavlink.MAVLINK_MSG_ID_MISSION_CURRENT and not state.mission_total:
+                continue
+            self.encoder.send(msg_id, state)

@@ -1,0 +1,359 @@
+"""The behavior coordinator (paper section 4.2, Algorithms 4 and 5): activates, monitors and stops behaviors.
+
+Priorities: reactive-higher > deliberative > reactive-lower, ties broken by
+recency. An activation checks the situation (the catalog's preconditions and
+the behavior's own checks), then group consistency through the specialist;
+incompatible active behaviors of lower or equal priority are stopped, one of
+higher priority makes the request fail. When a behavior ends, the reactive rules
+whose conditions hold are activated if compatible (Algorithm 5); rules are also
+evaluated when their condition becomes true.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from aeroexec.engine.catalog import BehaviorSpecialist
+from aeroexec.engine.catalog.descriptors import DELIBERATIVE, GOAL_BASED, HIGHER, LOWER, RECURRENT, ReactiveRule
+from aeroexec.engine.errors import SpecificationError
+from aeroexec.engine.events import (
+    Outcome,
+    achieved_goal_message,
+    failed_preconditions_message,
+    time_out_message,
+    wrong_progress_message,
+)
+from aeroexec.engine.execution.activation import ActivationConditions
+from aeroexec.engine.execution.explain import explain_failure
+from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, BehaviorProcess
+from aeroexec.engine.execution.resources import ResourceError, ResourceManager
+
+logger = logging.getLogger(__name__)
+
+#: Priority of an activation request: reactive-higher > deliberative > reactive-lower.
+PRIORITY = {HIGHER: 2, "deliberative": 1, LOWER: 0}
+DELIBERATION = PRIORITY["deliberative"]
+
+
+@dataclass(eq=False)
+class Activation:
+    """An active behavior: its process, who asked for it, at which priority and when."""
+
+    name: str
+    arguments: dict[str, Any]
+    process: BehaviorProcess
+    priority: int
+    order: int  # recency: a larger number is a more recent request
+    source: str  # "mission", "reactive", "operator"
+    started_at: float
+    timeout: float | None
+    conditions: ActivationConditions | None = None
+    requested_at: float = 0.0
+    running: bool = False  # False while a recurrent behavior waits for its activation conditions
+    on_end: list[Callable[[Outcome, str, Any], None]] = field(default_factory=list)
+
+    @property
+    def category(self) -> str:
+        return self.process.descriptor.category
+
+
+@dataclass(frozen=True, slots=True)
+class ActivationResult:
+    """The answer to an activation request: accepted, or why not (FAILED_PRECONDITIONS, or goal already achieved)."""
+
+    accepted: bool
+    outcome: Outcome | None = None
+    message: str = ""
+    activation: Activation | None = None
+
+
+class BehaviorCoordinator:
+    """Keeps the set of active behaviors consistent with the situation, the catalog and the priorities."""
+
+    def __init__(self, context: BehaviorContext, library: BehaviorLibrary, resources: ResourceManager,
+                 specialist: BehaviorSpecialist | None = None) -> None:
+        self.context = context
+        self.catalog = context.catalog
+        self.library = library
+        self.resources = resources
+        self.specialist = specialist or BehaviorSpecialist(self.catalog)
+        self.log = context.log
+        self._active: dict[str, Activation] = {}
+        self._order = 0
+        self._react = False  # Algorithm 5 is due
+        self._inhibited: set[str] = set()
+        self._rule_state: dict[int, bool] = {}
+        self._memory_version = 0
+        self._seen_version = -1
+        context.memory.subscribe(self._belief_changed)
+
+    # -- queries --------------------------------------------------------------------------
+    def is_active(self, name: str) -> bool:
+        return name in self._active
+
+    def active(self) -> dict[str, Activation]:
+        return dict(self._active)
+
+    # -- Algorithm 4 ----------------------------------------------------------------------
+    def activate(self, name: str, arguments: Mapping[str, Any] | None = None, *, priority: str = "deliberative",
+                 source: str = "mission", timeout: float | None = None,
+                 conditions: ActivationConditions | None = None,
+                 on_end: Callable[[Outcome, str, Any], None] | None = None,
+                 resume: Activation | None = None) -> ActivationResult:
+        """Request ``name`` active (Algorithm 4). ``on_end(outcome, message, result)`` is told when it finishes.
+        ``resume``: an ended activation to reuse (with its listeners) for this request (the operator's resume)."""
+        now = self.context.now()
+        arguments = dict(arguments or {})
+        try:
+            arguments = self.specialist.resolve_arguments(name, arguments)
+        except SpecificationError as error:
+            return self._refuse(name, error.kind, error.message)
+        cls = self.library.get(name)
+        if cls is None:
+            return self._refuse(name, "unsupported", f"The behavior {name} is not supported by this robot "
+                                                     f"(no implementation is registered)")
+        level = PRIORITY[priority]
+        if source != "reactive":
+            self._inhibited.discard(name)  # asking for it again lifts an inhibition
+        previous = self._active.get(name)
+        if previous is not None and previous.arguments == arguments and previous.category == RECURRENT:
+            previous.priority, previous.order = max(previous.priority, level), self._next_order()
+            if on_end:
+                previous.on_end.append(on_end)
+            return ActivationResult(True, activation=previous)
+        process = cls(self.catalog.behaviors[name], arguments, self.context)
+        self.context.refresh()  # decide on the drone's state now, not as of the last belief update
+        situation = self._check_situation(process)  # step 1
+        if situation is not None:
+            outcome, message = situation
+            self.log.record(outcome.value if outcome is Outcome.GOAL_ACHIEVED else "failed_preconditions", name,
+                            message, source=source)
+            return ActivationResult(False, outcome, message)
+        conflicts = [self._active[other] for other in self.specialist.conflicts(name, self._active)]
+        higher = [a for a in conflicts if a.priority > level]
+        if higher:  # step 6: an incompatible active behavior of higher priority
+            blocker = max(higher, key=lambda a: a.priority)
+            message = (f"{failed_preconditions_message(name)} The active behavior {blocker.name} has a higher "
+                       f"priority and is incompatible with it.")
+            self.log.record("rejected", name, message, source=source, blocker=blocker.name)
+            return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
+        if previous is not None:
+            conflicts.append(previous)
+        for other in conflicts:  # step 10: stop the incompatible ones of lower or equal priority
+            self._finish(other, Outcome.INTERRUPTED, f"stopped for {name} ({source})")
+        return self._start(process, arguments, level, source, timeout, conditions, on_end, now, resume)
+
+    def _start(self, process: BehaviorProcess, arguments: dict[str, Any], level: int, source: str,
+               timeout: float | None, conditions: ActivationConditions | None,
+               on_end: Callable | None, now: float, resume: Activation | None = None) -> ActivationResult:
+        name = process.name
+        ready = conditions is None or conditions.hold(self.context, now)
+        if ready:
+            try:  # Algorithm 1, step 1: activate the resources
+                self.resources.acquire(name, process.descriptor.capabilities)
+            except ResourceError as error:
+                message = f"{failed_preconditions_message(name)} Its resources cannot be activated: {error}"
+                self.log.record("failed_preconditions", name, message, source=source)
+                return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
+        timeout = timeout if timeout is not None else process.descriptor.timeout
+        if resume is not None:  # the same request again: whoever waits on it hears how this one ends
+            activation = resume
+            activation.process, activation.priority, activation.order = process, level, self._next_order()
+            activation.source, activation.started_at, activation.requested_at = source, now, now
+            activation.timeout, activation.conditions, activation.running = timeout, conditions, False
+            activation.on_end.extend([on_end] if on_end else [])
+        else:
+            activation = Activation(name, arguments, process, level, self._next_order(), source, now, timeout,
+                                    conditions, now, on_end=[on_end] if on_end else [])
+        self._active[name] = activation
+        self.log.record("activated", name, _describe_arguments(arguments), source=source,
+                        priority=_priority_name(level), timeout=timeout, arguments=dict(arguments),
+                        waiting=None if ready else str(conditions))
+        if ready and not self._begin(activation):
+            return ActivationResult(False, Outcome.WRONG_PROGRESS, process.reason)
+        self._react = True
+        return ActivationResult(True, activation=activation)
+
+    def _begin_when_ready(self, activation: Activation) -> None:
+        """A behavior that waited for its activation conditions: its resources, then its start."""
+        if not activation.conditions.hold(self.context, activation.requested_at):
+            return
+        try:
+            self.resources.acquire(activation.name, activation.process.descriptor.capabilities)
+        except ResourceError as error:
+            self._finish(activation, Outcome.WRONG_PROGRESS,
+                         f"{wrong_progress_message(activation.name)} (its resources cannot be activated: {error})")
+            return
+        self.log.record("started", activation.name, "its activation conditions hold")
+        self._begin(activation)
+
+    def _begin(self, activation: Activation) -> bool:
+        """Algorithm 1, steps 2-5: start the timer and the behavior's own start."""
+        process = activation.process
+        process.started_at = activation.started_at = self.context.now()
+        try:
+            process.on_start()
+        except Exception as exc:
+            logger.exception("behavior %s failed to start", activation.name)
+            process.reason = process.reason or f"it raised {type(exc).__name__}: {exc}"
+            self._finish(activation, Outcome.WRONG_PROGRESS, process.reason)
+            return False
+        activation.running = True
+        return True
+
+    def _check_situation(self, process: BehaviorProcess) -> tuple[Outcome, str] | None:
+        name = process.name
+        try:
+            process.prepare()
+            preconditions = process.descriptor.preconditions
+            if preconditions is not None:
+                bindings = {f"?{key}": value for key, value in process.arguments.items()}
+                bindings.update(process.bindings)
+                if self.context.memory.query(preconditions, bindings) is None:
+                    why = explain_failure(self.context.memory, preconditions, bindings)
+                    return Outcome.FAILED_PRECONDITIONS, f"{failed_preconditions_message(name)} {why}"
+            situation = process.check_situation()
+        except Exception as exc:
+            logger.exception("the situation check of %s failed", name)
+            return Outcome.FAILED_PRECONDITIONS, (f"{failed_preconditions_message(name)} Its situation check "
+                                                  f"raised {type(exc).__name__}: {exc}")
+        if situation is None:
+            return None
+        if situation.outcome is Outcome.GOAL_ACHIEVED:
+            return Outcome.GOAL_ACHIEVED, f"{achieved_goal_message(name)} ({situation.reason})"
+        return situation.outcome, f"{failed_preconditions_message(name)} {situation.reason}"
+
+    # -- stopping -----------------------------------------------------------------------
+    def inhibit(self, name: str, reason: str = "inhibited") -> bool:
+        """Stop ``name`` with INTERRUPTED and keep reactive rules from starting it again until requested."""
+        self._inhibited.add(name)
+        return self.stop(name, reason)
+
+    def stop(self, name: str, reason: str = "stopped") -> bool:
+        """Stop ``name`` with INTERRUPTED; reactive rules may start it again (a halted tree node, for example)."""
+        activation = self._active.get(name)
+        if activation is None:
+            return False
+        self._finish(activation, Outcome.INTERRUPTED, reason)
+        return True
+
+    def stop_all(self, reason: str) -> None:
+        for activation in sorted(self._active.values(), key=lambda a: -a.order):
+            self._finish(activation, Outcome.INTERRUPTED, reason)
+
+    # -- Algorithm 2 per tick, Algorithm 5 on events -------------------------------------------
+    def tick(self) -> None:
+        """Monitor every active behavior once, then run the reactive rules if anything changed."""
+        now = self.context.now()
+        for activation in sorted(self._active.values(), key=lambda a: a.order):
+            if self._active.get(activation.name) is not activation:
+                continue  # finished while another one was monitored
+            if not activation.running:
+                self._begin_when_ready(activation)
+                continue
+            outcome, message = self._monitor(activation, now)
+            if outcome is not None:
+                self._finish(activation, outcome, message)
+        if self._react or self._memory_version != self._seen_version:
+            self.react()
+
+    def _monitor(self, activation: Activation, now: float) -> tuple[Outcome | None, str]:
+        process = activation.process
+        try:
+            outcome = process.on_run()
+        except Exception as exc:
+            logger.exception("behavior %s raised", activation.name)
+            process.reason = f"it raised {type(exc).__name__}: {exc}"
+            outcome = Outcome.WRONG_PROGRESS
+        if outcome is Outcome.WRONG_PROGRESS:
+            reason = f" ({process.reason})" if process.reason else ""
+            return outcome, wrong_progress_message(activation.name) + reason
+        if outcome is Outcome.GOAL_ACHIEVED and activation.category in (GOAL_BASED, DELIBERATIVE):
+            return outcome, ""
+        if activation.timeout is not None and now - activation.started_at >= activation.timeout:
+            return Outcome.TIME_OUT, time_out_message(activation.name, activation.timeout)
+        return None, ""
+
+    def fail_users(self, capability: str, reason: str) -> None:
+        """Stop with WRONG_PROGRESS every behavior that needs a capability that failed."""
+        for activation in list(self._active.values()):
+            if capability in activation.process.descriptor.capabilities:
+                self._finish(activation, Outcome.WRONG_PROGRESS,
+                             f"{wrong_progress_message(activation.name)} ({reason})")
+
+    def _finish(self, activation: Activation, outcome: Outcome, message: str) -> None:
+        """Algorithm 3 and the event: stop the process, release resources, tell who waits."""
+        if self._active.get(activation.name) is not activation:
+            return
+        del self._active[activation.name]
+        process = activation.process
+        if activation.running:
+            try:
+                process.on_stop(outcome)
+            except Exception:
+                logger.exception("behavior %s failed to stop cleanly", activation.name)
+        self.resources.release(activation.name, self.context.now())
+        self.log.record(outcome.value, activation.name, message, source=activation.source,
+                        result=process.result if activation.category == DELIBERATIVE else None)
+        for callback in activation.on_end:
+            try:
+                callback(outcome, message, process.result)
+            except Exception:
+                logger.exception("a listener of %s failed", activation.name)
+        self._react = True
+
+    def react(self) -> None:
+        """Algorithm 5: activate the reactive rules whose conditions hold and that fit with the active behaviors.
+
+        A rule is considered after a behavior event, and whenever its condition becomes true.
+        """
+        event = self._react
+        self._react = False
+        if event:
+            self.context.refresh()
+        self._seen_version = self._memory_version
+        for index, rule in enumerate(self.catalog.reactive_rules):
+            holds = self._holds(rule)
+            rising = holds and not self._rule_state.get(index, False)
+            self._rule_state[index] = holds
+            if not holds or not (event or rising) or rule.behavior in self._active:
+                continue
+            if rule.behavior in self._inhibited or rule.behavior not in self.library:
+                continue
+            if rule.priority == LOWER and self.specialist.conflicts(rule.behavior, self._active):
+                continue  # lines 6-10: a lower-priority reaction never displaces what is active
+            result = self.activate(rule.behavior, rule.arguments, priority=rule.priority, source="reactive")
+            if result.accepted:
+                self.log.record("reactive", rule.behavior, f"activated by reaction ({rule.priority} priority)"
+                                + (f": {rule.condition_text}" if rule.condition is not None else ""))
+
+    def _holds(self, rule: ReactiveRule) -> bool:
+        if rule.condition is None:
+            return True
+        try:
+            return self.context.memory.query(rule.condition) is not None
+        except Exception:
+            logger.exception("the condition of the reactive rule for %s failed", rule.behavior)
+            return False
+
+    def _belief_changed(self, change: Any) -> None:
+        self._memory_version += 1
+
+    def _next_order(self) -> int:
+        self._order += 1
+        return self._order
+
+    def _refuse(self, name: str, kind: str, message: str) -> ActivationResult:
+        self.log.record("rejected", name, message, error=kind)
+        return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
+
+
+def _describe_arguments(arguments: Mapping[str, Any]) -> str:
+    return ", ".join(f"{k}={v}" for k, v in arguments.items())
+
+
+def _priority_name(level: int) -> str:
+    return {2: "higher", 1: "deliberative", 0: "lower"}[level]

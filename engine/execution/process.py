@@ -1,0 +1,164 @@
+"""The behavior process (paper section 4.1, Algorithms 1-3): the base class every behavior implementation extends.
+
+A subclass says how to check the situation, start, monitor each tick and stop;
+the coordinator runs the generic part of the algorithms (resources, timer,
+timeout, events). Subclasses register by behavior name in a :class:`BehaviorLibrary`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+from aeroexec.beliefs import BeliefMemory
+from aeroexec.drones import Drone, Telemetry
+from aeroexec.engine.catalog import BehaviorCatalog
+from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
+from aeroexec.engine.events import EventLog, Outcome
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass
+class EngineSettings:
+    """Tolerances and defaults the behaviors share; an embedding engine may change them."""
+
+    position_tolerance: float = 0.3  # m: a point is reached within this distance
+    yaw_tolerance: float = 5.0  # degrees
+    default_altitude: float = 2.0  # m: TAKE_OFF without ALTITUDE
+    hover_altitude_tolerance: float = 0.25  # m
+    stall_time: float = 8.0  # s without progress toward a goal -> WRONG_PROGRESS
+    command_timeout: float = 10.0  # s for a drone command to be accepted
+    cruise_speed: float = 5.0  # m/s the travel-time estimate assumes
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class BehaviorContext:
+    """What a behavior may use: the drone, the belief memory, the clock, the catalog, the event log."""
+
+    drone: Drone
+    memory: BeliefMemory
+    clock: Callable[[], float]
+    catalog: BehaviorCatalog
+    log: EventLog
+    settings: EngineSettings = field(default_factory=EngineSettings)
+    obstacles: Any = None  # an ObstacleMap (distance_to_obstacle, maybe bounds) or None when nothing is known
+    refresh: Callable[[], None] = lambda: None  # bring the drone's own beliefs up to date now
+    operator: Any = None  # the operator channel (notify, ask) of this run; None: messages are only logged
+    bus: Any = None  # the message bus shared with the other drones of the run; None: flying alone
+    output_dir: Path | None = None  # where photos, videos and maps of this run are written
+    position_source: Any = None  # a PositionSource: whether the telemetry or an estimator writes position(self)
+
+    def now(self) -> float:
+        return self.clock()
+
+
+@dataclass(frozen=True, slots=True)
+class Situation:
+    """Why a behavior should not start: its preconditions fail, or its goal is already achieved."""
+
+    outcome: Outcome
+    reason: str
+
+
+class BehaviorProcess:
+    """One execution of a behavior. Override :meth:`on_start`, :meth:`on_run` and, when needed, the others.
+
+    ``on_run`` is called every tick while the behavior runs and returns
+    ``Outcome.GOAL_ACHIEVED`` or ``Outcome.WRONG_PROGRESS`` (with :meth:`fail`)
+    to finish, or ``None`` to continue. Timeouts are the coordinator's job.
+    """
+
+    behavior: ClassVar[str] = ""  # the catalog name this class implements
+
+    def __init__(self, descriptor: BehaviorDescriptor, arguments: dict[str, Any], context: BehaviorContext) -> None:
+        self.descriptor = descriptor
+        self.arguments = arguments
+        self.context = context
+        self.started_at = context.now()
+        self.reason = ""  # why it failed, for the operator
+        self.result: Any = None  # what a deliberative behavior found
+        self.bindings: dict[str, Any] = {}  # extra variables for the catalog preconditions (e.g. ?DESTINATION)
+
+    # -- conveniences -------------------------------------------------------------
+    @property
+    def name(self) -> str:
+        return self.descriptor.name
+
+    @property
+    def drone(self) -> Drone:
+        return self.context.drone
+
+    @property
+    def memory(self) -> BeliefMemory:
+        return self.context.memory
+
+    @property
+    def settings(self) -> EngineSettings:
+        return self.context.settings
+
+    def now(self) -> float:
+        return self.context.now()
+
+    @property
+    def elapsed(self) -> float:
+        return self.context.now() - self.started_at
+
+    def telemetry(self) -> Telemetry:
+        return self.context.drone.telemetry()
+
+    def fail(self, reason: str) -> Outcome:
+        """Finish with WRONG_PROGRESS, saying why."""
+        self.reason = reason
+        return Outcome.WRONG_PROGRESS
+
+    # -- the algorithms' specific steps ---------------------------------------------
+    def prepare(self) -> None:
+        """Compute what the preconditions need (e.g. bind ``?DESTINATION``) before they are checked."""
+
+    def check_situation(self) -> Situation | None:
+        """Behavior-specific checks after the catalog's preconditions; None when the behavior can start."""
+        return None
+
+    def on_start(self) -> None:
+        """Extract arguments, connect and initiate (Algorithm 1, steps 3-5)."""
+
+    def on_run(self) -> Outcome | None:
+        """Monitor one tick (Algorithm 2): GOAL_ACHIEVED, WRONG_PROGRESS, or None to go on."""
+        return None
+
+    def on_stop(self, outcome: Outcome) -> None:
+        """Write end values (Algorithm 3, step 1); ``outcome`` says why the behavior ends."""
+
+
+class BehaviorLibrary:
+    """Behavior implementations by catalog name."""
+
+    def __init__(self, classes: Iterable[type[BehaviorProcess]] = ()) -> None:
+        self._classes: dict[str, type[BehaviorProcess]] = {}
+        for cls in classes:
+            self.register(cls)
+
+    def register(self, cls: type[BehaviorProcess], name: str | None = None) -> None:
+        name = name or cls.behavior
+        if not name:
+            raise ValueError(f"{cls.__name__} does not say which behavior it implements (set behavior = 'NAME')")
+        self._classes[name] = cls
+
+    def get(self, name: str) -> type[BehaviorProcess] | None:
+        return self._classes.get(name)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._classes
+
+    def names(self) -> set[str]:
+        return set(self._classes)
+
+
+def distance(a: Iterable[float], b: Iterable[float]) -> float:
+    return math.dist(tuple(a), tuple(b))

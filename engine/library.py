@@ -1,0 +1,115 @@
+"""The library registry: where the engine finds behavior implementations and capability processes.
+
+The aerial library (:mod:`aeroexec.engine.behaviors`) is one provider among
+others. Providers are found by name, never imported by the engine's core:
+
+- Python entry points in the groups ``aeroexec.behaviors`` (a callable
+  returning a :class:`BehaviorLibrary` or an iterable of
+  :class:`BehaviorProcess` classes) and ``aeroexec.processes`` (a callable
+  returning a :class:`ProcessRegistry` or a mapping of process names to
+  factories), so an installed package adds behaviors without editing aeroexec;
+- ``module:attribute`` references, as ``aeroexec run --library`` passes them.
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+from collections.abc import Iterable, Mapping
+from importlib.metadata import entry_points
+from typing import Any
+
+from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
+from aeroexec.engine.execution.resources import ProcessRegistry
+
+logger = logging.getLogger(__name__)
+
+BEHAVIORS_GROUP = "aeroexec.behaviors"
+PROCESSES_GROUP = "aeroexec.processes"
+AERIAL_BEHAVIORS = "aeroexec.engine.behaviors:aerial_behaviors"
+AERIAL_PROCESSES = "aeroexec.engine.behaviors:aerial_processes"
+
+
+class LibraryError(ValueError):
+    """A ``module:attribute`` reference or a plugin that does not give behaviors or processes."""
+
+
+def load_reference(reference: str) -> Any:
+    """The object named by ``module:attribute`` (``module.sub:obj.attr`` reads attributes in turn)."""
+    module_name, sep, attribute = reference.partition(":")
+    if not sep or not module_name or not attribute:
+        raise LibraryError(f"{reference!r} is not a reference of the form module:attribute")
+    try:
+        target: Any = importlib.import_module(module_name)
+    except ImportError as exc:
+        raise LibraryError(f"{reference}: cannot import {module_name} ({exc})") from None
+    for part in attribute.split("."):
+        try:
+            target = getattr(target, part)
+        except AttributeError:
+            raise LibraryError(f"{reference}: {module_name} has no attribute {attribute}") from None
+    return target
+
+
+def _produce(provider: Any) -> Any:
+    return provider() if callable(provider) and not isinstance(provider, type) else provider
+
+
+def behaviors_of(provider: Any, origin: str) -> list[type[BehaviorProcess]]:
+    """The behavior classes a provider gives: a library, classes, or a callable returning either."""
+    produced = _produce(provider)
+    if isinstance(produced, type) and issubclass(produced, BehaviorProcess):
+        produced = [produced]
+    if isinstance(produced, BehaviorLibrary):
+        return [cls for name in sorted(produced.names()) if (cls := produced.get(name)) is not None]
+    if isinstance(produced, Iterable) and not isinstance(produced, str | bytes | Mapping):
+        classes = list(produced)
+        bad = [c for c in classes if not (isinstance(c, type) and issubclass(c, BehaviorProcess))]
+        if not bad:
+            return classes
+    raise LibraryError(f"{origin} gives no behaviors (a BehaviorLibrary or BehaviorProcess classes are expected)")
+
+
+def processes_of(provider: Any, origin: str) -> dict[str, Any]:
+    """The process factories a provider gives: a registry, a mapping, or a callable returning either."""
+    produced = _produce(provider)
+    if isinstance(produced, ProcessRegistry):
+        return produced.factories()
+    if isinstance(produced, Mapping):
+        return dict(produced)
+    raise LibraryError(f"{origin} gives no processes (a ProcessRegistry or a mapping of names is expected)")
+
+
+def _plugins(group: str) -> list[tuple[str, Any]]:
+    found = []
+    for point in sorted(entry_points(group=group), key=lambda p: p.name):
+        try:
+            found.append((f"entry point {point.name} = {point.value}", point.load()))
+        except Exception as exc:  # a broken plugin is reported, never takes the engine down
+            logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, point.name, point.value, exc)
+    return found
+
+
+def default_library(extra: Iterable[str] = ()) -> BehaviorLibrary:
+    """The aerial behaviors, every installed plugin's, then those of ``extra`` references (later names win)."""
+    library = BehaviorLibrary()
+    providers = [(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS)), *_plugins(BEHAVIORS_GROUP)]
+    providers += [(reference, load_reference(reference)) for reference in extra]
+    for origin, provider in providers:
+        for cls in behaviors_of(provider, origin):
+            library.register(cls)
+    return library
+
+
+def default_processes(extra: Iterable[str] = ()) -> ProcessRegistry:
+    """The aerial capability processes, every installed plugin's, then those of ``extra`` references."""
+    registry = ProcessRegistry()
+    providers = [(AERIAL_PROCESSES, load_reference(AERIAL_PROCESSES)), *_plugins(PROCESSES_GROUP)]
+    providers += [(reference, load_reference(reference)) for reference in extra]
+    for origin, provider in providers:
+        for name, factory in processes_of(provider, origin).items():
+            registry.register(name, factory)
+    return registry
+
+
+__all__ = ["LibraryError", "default_library", "default_processes", "load_reference"]

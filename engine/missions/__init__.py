@@ -1,0 +1,4 @@
+"""Python missions (paper §6.1): the bridge that lets a mission thread call
+the engine, and the static check of a mission's source before flight
+(behavior names, arguments, belief expressions, WRONG_SEQUENCE).
+"""

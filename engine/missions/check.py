@@ -1,0 +1,360 @@
+"""Static check of Python missions (paper section 6.1): read the program's AST, never run it, and report every
+wrong behavior name, argument, literal value and literal belief expression, and impossible sequences, by line.
+
+API calls are found through ``import aeroexec.engine.api as api``, ``from aeroexec.engine import api as X`` and
+``from aeroexec.engine.api import executeBehavior [as f]`` (or ``*``), under every alias the API offers.
+Values that are not literals (names, calls, f-strings) are left to the run. The entry function is
+``mission()``, else ``runMission()``; its sequences are checked by :mod:`.mission_sequence`, unless an API
+function or a local function running behaviors is used other than by calling it (stored, passed, ``getattr``).
+"""
+
+from __future__ import annotations
+
+import ast
+import logging
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from aeroexec.beliefs import BeliefError, Goal, parse_belief
+from aeroexec.beliefs.expression import BUILTIN_PREDICATES
+from aeroexec.engine import api
+from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
+from aeroexec.engine.catalog.arguments import format_value
+from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
+from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
+from aeroexec.engine.missions.sequence import SequenceWalker
+from aeroexec.engine.yaml_nodes import suggestion
+
+logger = logging.getLogger(__name__)
+
+API_MODULES = ("aeroexec.engine.api",)
+ENTRY_POINTS = ("mission", "runMission")
+RUN = frozenset({"execute_behavior", "ask_behavior", "activate_behavior"})
+NAME_ONLY = frozenset({"inhibit_behavior", "is_active_behavior"})
+SEQUENCE = RUN | {"inhibit_behavior"}  # the calls that change the phenomena's states
+BELIEF = frozenset({"consult_belief", "true_belief", "add_belief", "remove_belief"})
+_CANONICAL = (*RUN, *NAME_ONLY, *BELIEF, "wait", "now")
+#: every spelling the API module offers -> its canonical function name
+API_FUNCTIONS: dict[str, str] = {alias: canonical for canonical in _CANONICAL for alias, value in vars(api).items()
+                                 if value is getattr(api, canonical)}
+_NOT_LITERAL = object()
+
+
+@dataclass(frozen=True, slots=True)
+class MissionProblem(Problem):
+    """A problem in a mission program: the paper's error type and the column as well (1-based; 0 unknown)."""
+
+    kind: str = ""
+    column: int = 0
+
+    def __str__(self) -> str:
+        where = self.file + (f":{self.line}" if self.line else "") + (f":{self.column}" if self.line and
+                                                                         self.column else "")
+        return f"{where}: {self.severity}: {self.kind + ': ' if self.kind else ''}{self.message}"
+
+
+class _Opaque:
+    """A value the checker cannot know (a variable, a call): never judged."""
+
+    def __repr__(self) -> str:
+        return "<not a literal>"
+
+
+def literal(node: ast.AST) -> Any:
+    """The value of a literal (numbers, text, booleans, negative numbers, lists and tuples of them), or _NOT_LITERAL."""
+    if isinstance(node, ast.Constant) and not isinstance(node.value, bytes) and node.value is not Ellipsis:
+        return node.value
+    if (isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd)
+            and isinstance(node.operand, ast.Constant) and type(node.operand.value) in (int, float)):
+        return -node.operand.value if isinstance(node.op, ast.USub) else node.operand.value
+    if isinstance(node, ast.List | ast.Tuple):
+        items = [literal(e) for e in node.elts]
+        return _NOT_LITERAL if any(i is _NOT_LITERAL for i in items) else tuple(items)
+    return _NOT_LITERAL
+
+
+def _api_bindings(tree: ast.Module) -> dict[str, str]:
+    """Local name -> the dotted path it stands for, for every import in the program."""
+    bindings: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                top = alias.name.split(".")[0]
+                bindings[alias.asname or top] = alias.name if alias.asname else top
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            for alias in node.names:
+                if alias.name == "*" and node.module in API_MODULES:
+                    bindings.update({n: f"{node.module}.{n}" for n in getattr(api, "__all__", ())})
+                    bindings.update({n: f"{node.module}.{n}" for n in API_FUNCTIONS})
+                elif alias.name != "*":
+                    bindings[alias.asname or alias.name] = f"{node.module}.{alias.name}"
+    return bindings
+
+
+class MissionChecker:
+    """Checks one parsed mission program; ``problems`` collects what it finds."""
+
+    def __init__(self, tree: ast.Module, file: str, specialist: BehaviorSpecialist) -> None:
+        self.tree, self.file, self.specialist = tree, file, specialist
+        self.catalog = specialist.catalog
+        self.bindings = _api_bindings(tree)
+        self.problems: list[MissionProblem] = []
+        self._seen: set[tuple[int, int, str]] = set()
+        self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                self.functions.setdefault(node.name, []).append(node)
+        self.effectful_functions = self._effectful_functions()
+        self._effect_cache: dict[int, bool] = {}
+
+    # -- reporting ----------------------------------------------------------------------
+    def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None:
+        line = getattr(node, "lineno", 0) or 0
+        column = getattr(node, "col_offset", -1) + 1
+        if (line, column, message) not in self._seen:
+            self._seen.add((line, column, message))
+            self.problems.append(MissionProblem(severity, message, self.file, line, kind, column))
+
+    # -- the API ------------------------------------------------------------------------
+    def dotted(self, node: ast.AST) -> str | None:
+        if isinstance(node, ast.Name):
+            return self.bindings.get(node.id)
+        if isinstance(node, ast.Attribute):
+            base = self.dotted(node.value)
+            return f"{base}.{node.attr}" if base else None
+        return None
+
+    def api_name(self, node: ast.AST) -> str | None:
+        """The name an expression has in the API module when it is ``api.X`` or an imported ``X``."""
+        path = self.dotted(node)
+        for module in API_MODULES:
+            if path and path.startswith(module + ".") and "." not in path[len(module) + 1:]:
+                return path[len(module) + 1:]
+        return None
+
+    def api_function(self, node: ast.AST) -> str | None:
+        return API_FUNCTIONS.get(self.api_name(node) or "")
+
+    # -- request checks ----------------------------------------------------------------
+    def check_program(self) -> None:
+        for node in ast.walk(self.tree):
+            if isinstance(node, ast.Attribute):  # imported names are checked at their import
+                name = self.api_name(node)
+                if name is not None and not hasattr(api, name):
+                    self.report(node, f"The function {name} does not exist in the mission API"
+                                      f"{suggestion(name, API_FUNCTIONS)}", WRONG_FORMAT)
+            elif isinstance(node, ast.ImportFrom) and node.module in API_MODULES:
+                for alias in node.names:
+                    if alias.name != "*" and not hasattr(api, alias.name):
+                        self.report(node, f"The function {alias.name} does not exist in the mission API"
+                                          f"{suggestion(alias.name, API_FUNCTIONS)}", WRONG_FORMAT)
+            elif isinstance(node, ast.Call):
+                function = self.api_function(node.func)
+                if function in RUN or function in NAME_ONLY:
+                    self.check_behavior_call(node, function)
+                elif function in BELIEF:
+                    self.check_belief_call(node, function)
+                elif function == "wait" and node.args:
+                    seconds = literal(node.args[0])
+                    if seconds is not _NOT_LITERAL and not (_is_number(seconds) and seconds >= 0):
+                        self.report(node.args[0], f"The value {format_value(seconds)} of wait is not correct "
+                                                  f"(a number of seconds, 0 or more, is expected)", WRONG_VALUE)
+
+    def behavior_name(self, call: ast.Call) -> str | None:
+        """The literal behavior name of a call, upper-cased as the API does; None when it cannot be known."""
+        node = call.args[0] if call.args else next((k.value for k in call.keywords if k.arg == "name"), None)
+        if node is None:
+            self.report(call, f"{ast.unparse(call.func)}() needs the name of a behavior", WRONG_FORMAT)
+            return None
+        value = literal(node)
+        if value is _NOT_LITERAL:
+            self.report(node, f"The behavior name is computed ({ast.unparse(node)}): the behavior and its "
+                              f"arguments are checked only when the mission runs", severity="warning")
+            return None
+        return str(value).upper()
+
+    def request(self, call: ast.Call, descriptor: BehaviorDescriptor
+                ) -> tuple[dict[str, Any], set[str], bool, dict[str, ast.AST]]:
+        """Catalog-cased arguments (opaque where not literal), the opaque names, whether ``**`` is used, nodes."""
+        known = {alias.upper(): a.name for a in descriptor.arguments.values() for alias in (a.name, *a.aliases)}
+        arguments: dict[str, Any] = {}
+        opaque: set[str] = set()
+        nodes: dict[str, ast.AST] = {}
+        star = False
+        for keyword in call.keywords:
+            if keyword.arg is None:
+                star = True
+            elif keyword.arg not in api.RESERVED and keyword.arg != "name":
+                key = known.get(keyword.arg.upper(), keyword.arg.upper())
+                value = literal(keyword.value)
+                nodes[key] = keyword.value
+                if value is _NOT_LITERAL:
+                    opaque.add(key)
+                    value = _Opaque()
+                arguments[key] = value
+        return arguments, opaque, star, nodes
+
+    def check_behavior_call(self, call: ast.Call, function: str) -> None:
+        name = self.behavior_name(call)
+        if name is None:
+            return
+        descriptor = self.catalog.behavior(name)
+        name_node = call.args[0] if call.args else call
+        if descriptor is None:
+            self.report(name_node, f"The behavior {name} does not exist{self.catalog.suggest(name)}", WRONG_FORMAT)
+            return
+        if len(call.args) > 1:
+            self.report(call.args[1], f"{ast.unparse(call.func)}() takes the behavior name, then its arguments "
+                                      f"by name (argument=value)", WRONG_FORMAT)
+        if function in NAME_ONLY:
+            return
+        arguments, opaque, star, nodes = self.request(call, descriptor)
+        for error in self.specialist.request_errors(name, arguments):
+            about = [k for k in nodes if f"argument {k} of " in error.message or f"argument {k} for " in error.message]
+            if (error.kind == WRONG_VALUE and any(k in opaque for k in about)) or (star and not about):
+                continue
+            self.report(nodes[about[0]] if about else call, error.message, error.kind)
+        given = {k.arg: k.value for k in call.keywords if k.arg in api.RESERVED}
+        timeout = literal(given["timeout"]) if "timeout" in given else _NOT_LITERAL
+        if timeout is not _NOT_LITERAL and not (_is_number(timeout) and timeout > 0):
+            self.report(given["timeout"], f"The value {format_value(timeout)} of argument timeout for behavior "
+                                          f"{name} is not correct (a positive number of seconds is expected)",
+                        WRONG_VALUE)
+        if function != "activate_behavior" and descriptor.category == RECURRENT and "timeout" not in given \
+                and not star:
+            self.report(call, f"The behavior {name} is recurrent: it has no goal to wait for "
+                              f"(use activate_behavior, or give timeout=)", WRONG_FORMAT)
+
+    def check_belief_call(self, call: ast.Call, function: str) -> None:
+        node = call.args[0] if call.args else next(
+            (k.value for k in call.keywords if k.arg in ("expression", "belief", "pattern")), None)
+        text = literal(node) if node is not None else _NOT_LITERAL
+        if text is _NOT_LITERAL:
+            return
+        if not isinstance(text, str):
+            self.report(node, f"The format of the belief expression {format_value(text)} is not correct "
+                              f"(a belief expression is text)", WRONG_FORMAT)
+            return
+        try:
+            expression = self.specialist.check_expression(text)
+            if function == "add_belief":
+                belief = parse_belief(text)
+                declared = self.catalog.predicates.get(belief.name)
+                if (declared is not None and declared.computed) or belief.signature in BUILTIN_PREDICATES:
+                    raise BeliefError(f"{belief.name} is computed by the engine and cannot be stored as a belief")
+            elif function == "remove_belief" and (len(expression.literals) != 1
+                                                  or type(expression.literals[0]) is not Goal):
+                raise BeliefError(f"The format of the belief expression {text} is not correct "
+                                  f"(expected a single predicate such as visible(?X))")
+        except (SpecificationError, BeliefError) as exc:
+            self.report(node, exc.message, WRONG_FORMAT)
+
+    # -- sequences ------------------------------------------------------------------------
+    def behavior_request(self, call: ast.Call) -> tuple[str, str | None, dict[str, Any], set[str]] | None:
+        """For a call that runs or inhibits a behavior: the API function, the literal behavior name (None when
+        not literal), its catalog-cased arguments and the names of those not known (``**`` for ``**kwargs``)."""
+        function = self.api_function(call.func)
+        if function not in SEQUENCE:
+            return None
+        node = call.args[0] if call.args else next((k.value for k in call.keywords if k.arg == "name"), None)
+        name = literal(node) if node is not None else _NOT_LITERAL
+        if not isinstance(name, str):
+            return function, None, {}, set()
+        descriptor = self.catalog.behavior(name.upper())
+        if descriptor is None:
+            return function, name.upper(), {}, set()
+        arguments, opaque, star, _ = self.request(call, descriptor)
+        return function, name.upper(), arguments, opaque | ({"**"} if star else set())
+
+    def calls_local_behaviors(self, call: ast.Call) -> bool:
+        """True when ``call`` calls one of the program's functions that run or inhibit behaviors."""
+        return _called_name(call) in self.effectful_functions
+
+    def _calls_behaviors(self, node: ast.AST, effectful: set[str]) -> bool:
+        for sub in ast.walk(node):
+            if isinstance(sub, ast.Call) and (self.api_function(sub.func) in SEQUENCE
+                                              or _called_name(sub) in effectful):
+                return True
+        return False
+
+    def _effectful_functions(self) -> set[str]:
+        """Names of the program's functions that run or inhibit behaviors, directly or through each other."""
+        effectful: set[str] = set()
+        changed = True
+        while changed:
+            changed = False
+            for name, defs in self.functions.items():
+                if name not in effectful and any(self._calls_behaviors(d, effectful) for d in defs):
+                    effectful.add(name)
+                    changed = True
+        return effectful
+
+    def effectful(self, node: ast.AST) -> bool:
+        key = id(node)
+        if key not in self._effect_cache:
+            self._effect_cache[key] = self._calls_behaviors(node, self.effectful_functions)
+        return self._effect_cache[key]
+
+    def sequence_checkable(self) -> bool:
+        """False when behaviors may run through a reference the checker cannot follow (stored, passed, getattr)."""
+        followed = {id(n.func) for n in ast.walk(self.tree) if isinstance(n, ast.Call)}
+        followed |= {id(n.value) for n in ast.walk(self.tree) if isinstance(n, ast.Attribute)}
+        for node in ast.walk(self.tree):
+            if isinstance(node, ast.Name | ast.Attribute) and id(node) not in followed:
+                function = self.api_function(node)
+                if function in SEQUENCE or self.dotted(node) in API_MODULES:
+                    return False
+                if isinstance(node, ast.Name) and node.id in self.effectful_functions:
+                    return False
+        return True
+
+
+def _called_name(call: ast.Call) -> str | None:
+    func = call.func
+    return func.id if isinstance(func, ast.Name) else func.attr if isinstance(func, ast.Attribute) else None
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | None = None) -> list[Problem]:
+    """Every problem of a mission program, by line: request errors, belief expressions, sequences."""
+    try:
+        tree = ast.parse(source, filename)
+    except SyntaxError as exc:
+        return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
+                               WRONG_FORMAT, exc.offset or 0)]
+    checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
+    checker.check_program()
+    entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
+    entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)
+    if entry is None:
+        checker.problems.append(MissionProblem("error", "The mission has no mission() or runMission() function",
+                                               filename, 0, WRONG_FORMAT))
+    elif entry.args.args[len(entry.args.defaults):] or entry.args.posonlyargs or [
+            a for a, d in zip(entry.args.kwonlyargs, entry.args.kw_defaults, strict=True) if d is None]:
+        checker.report(entry, f"The function {entry.name}() is called without arguments: it cannot require any",
+                       WRONG_FORMAT)
+    elif checker.sequence_checkable():
+        SequenceWalker(checker).check(entry)
+    else:
+        logger.info("%s: behaviors are run through references; sequences are not checked", filename)
+    checker.problems.sort(key=lambda p: (p.line, p.column))
+    return list(checker.problems)
+
+
+def check_mission_file(path: str | Path, catalog: BehaviorCatalog | None = None) -> list[Problem]:
+    """Read and check a mission file (see :func:`check_mission_source`)."""
+    path = Path(path)
+    try:
+        source = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        return [MissionProblem("error", f"The mission cannot be read: {reason}", str(path), 0)]
+    return check_mission_source(source, str(path), catalog)
+
+
+__all__ = ["API_FUNCTIONS", "ENTRY_POINTS", "MissionChecker", "MissionProblem", "check_mission_file",
+           "check_mission_source"]

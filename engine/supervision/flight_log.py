@@ -1,0 +1,189 @@
+"""The event log file of a run: one JSON object per line, written as things happen, so a crash loses nothing
+that happened before it.
+
+Every line has ``time`` (engine seconds) and ``kind``. The kinds:
+
+- ``log_started`` (first line): ``format``, ``wall_time`` (ISO 8601) and what the run was given (``mission``,
+  ``world``, ``drone``...).
+- an engine event (``activated``, ``GOAL_ACHIEVED``, ``rejected``, ``node_status``...): ``behavior``, ``detail``,
+  and when the event has them ``arguments`` (of an activation), ``result`` (of a deliberative behavior),
+  ``reason`` (why a behavior ended, was rejected or failed: the event's message); the rest of the event's data
+  under ``data``.
+- ``belief_added`` / ``belief_removed``: ``belief`` (its text in the belief language) and ``reason`` (add,
+  remove, replaced, expired, clear).
+- ``state``: a drone state sample (``position`` and ``velocity`` ENU, ``yaw`` degrees, ``battery`` percent,
+  ``armed``, ``landed_state``), every ``sample_period`` seconds of engine time (2 Hz by default).
+- ``log_closed`` (last line, only when the run ended normally).
+
+Each line is written with one ``write`` system call on an unbuffered file, so a killed process leaves only
+whole lines. :func:`read_flight_log` reads a log back (ignoring a torn last line, should there be one).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime
+import enum
+import json
+import logging
+import math
+import os
+import threading
+from pathlib import Path
+from typing import Any
+
+from aeroexec.beliefs import BeliefChange, Struct, format_term
+from aeroexec.engine.events import EngineEvent, Outcome
+
+logger = logging.getLogger(__name__)
+
+FORMAT = "aeroexec-events/1"
+SAMPLE_PERIOD = 0.5  # s of engine time between drone state samples
+#: Event kinds whose message is the reason a behavior ended or did not start.
+REASON_KINDS = {o.value for o in Outcome} | {"failed_preconditions", "rejected", "mission_failed", "process_failed"}
+
+
+class FlightLogWriter:
+    """Writes ``engine``'s events, belief changes and drone state samples to ``path`` until :meth:`close`."""
+
+    def __init__(self, engine: Any, path: str | Path, sample_period: float = SAMPLE_PERIOD,
+                 meta: dict[str, Any] | None = None) -> None:
+        self.engine = engine
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.sample_period = sample_period
+        self._lock = threading.Lock()
+        self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        self._last_sample: float | None = None
+        self.lines = 0
+        self._write({"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT,
+                     "wall_time": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
+                     **{k: plain(v) for k, v in (meta or {}).items()}})
+        self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
+        engine.tick_callbacks.append(self.on_tick)
+
+    # -- listeners ---------------------------------------------------------------------------------
+    def on_event(self, event: EngineEvent) -> None:
+        self._write(event_record(event))
+
+    def on_belief(self, change: BeliefChange) -> None:
+        self._write({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
+                     "belief": format_term(change.belief), "reason": change.reason})
+
+    def on_tick(self) -> None:
+        now = self.engine.now()
+        if self._last_sample is None or now - self._last_sample >= self.sample_period - 1e-9:
+            self.sample(now)
+
+    def sample(self, now: float | None = None) -> None:
+        """Write the drone's state now."""
+        now = self.engine.now() if now is None else now
+        self._last_sample = now
+        try:
+            telemetry = self.engine.drone.telemetry()
+        except Exception:  # a drone that cannot answer: no sample, the log goes on
+            logger.exception("no drone state for the event log")
+            return
+        self._write(state_record(now, telemetry))
+
+    # -- the file ----------------------------------------------------------------------------------
+    def _write(self, record: dict[str, Any]) -> None:
+        data = (json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n").encode("utf-8")
+        with self._lock:
+            if self._fd is None:
+                return
+            try:
+                written = os.write(self._fd, data)
+                while written < len(data):  # a short write (a full disk, a signal): finish the line
+                    written += os.write(self._fd, data[written:])
+                self.lines += 1
+            except OSError as exc:
+                logger.error("the event log %s cannot be written: %s", self.path, exc)
+
+    def close(self) -> None:
+        """A last state sample, ``log_closed``, then the file is synced and closed (idempotent)."""
+        if self._fd is None:
+            return
+        for unsubscribe in self._unsubscribe:
+            unsubscribe()
+        if self.on_tick in self.engine.tick_callbacks:
+            self.engine.tick_callbacks.remove(self.on_tick)
+        self.sample()
+        self._write({"time": round(self.engine.now(), 3), "kind": "log_closed", "lines": self.lines + 1})
+        with self._lock:
+            fd, self._fd = self._fd, None
+        with contextlib.suppress(OSError):
+            os.fsync(fd)
+        os.close(fd)
+
+    def __enter__(self) -> FlightLogWriter:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def event_record(event: EngineEvent) -> dict[str, Any]:
+    """An engine event as a log line's object."""
+    data = dict(event.data)
+    record: dict[str, Any] = {"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
+                              "detail": event.detail}
+    if "arguments" in data:
+        record["arguments"] = plain(data.pop("arguments"))
+    if data.get("result") is not None:
+        record["result"] = plain(data.pop("result"))
+    data.pop("result", None)
+    if event.kind in REASON_KINDS:
+        record["reason"] = event.detail
+    if data:
+        record["data"] = {str(k): plain(v) for k, v in data.items()}
+    return record
+
+
+def state_record(now: float, telemetry: Any) -> dict[str, Any]:
+    """A drone state sample as a log line's object."""
+    return {"time": round(now, 3), "kind": "state",
+            "position": [round(float(v), 3) for v in telemetry.position],
+            "velocity": [round(float(v), 3) for v in telemetry.velocity],
+            "yaw": round(float(telemetry.yaw), 2), "battery": round(float(telemetry.battery_percent), 2),
+            "armed": bool(telemetry.armed), "landed_state": plain(telemetry.landed_state)}
+
+
+def plain(value: Any) -> Any:
+    """``value`` as something JSON can hold (beliefs as their text, enums as their value, NaN as null)."""
+    if isinstance(value, bool) or value is None or isinstance(value, int | str):
+        return value
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, enum.Enum):
+        return plain(value.value) if isinstance(value.value, str | int | float) else value.name
+    if isinstance(value, Struct):
+        return format_term(value)
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple | set | frozenset):
+        return [plain(v) for v in value]
+    if isinstance(value, Path):
+        return str(value)
+    try:
+        return plain(value.tolist())  # numpy values
+    except AttributeError:
+        return str(value)
+
+
+def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
+    """The records of an event log; a last line cut short (by a crash mid-write) is left out."""
+    records: list[dict[str, Any]] = []
+    with open(path, encoding="utf-8") as file:
+        lines = file.read().split("\n")
+    for number, line in enumerate(lines, 1):
+        if not line.strip():
+            continue
+        try:
+            records.append(json.loads(line))
+        except json.JSONDecodeError:
+            if number == len(lines):  # the torn last line (no newline after it)
+                logger.warning("%s: the last line is incomplete and was left out", path)
+                break
+            raise ValueError(f"{path}:{number}: not a JSON object") from None
+    return records

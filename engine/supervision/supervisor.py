@@ -1,0 +1,321 @@
+"""Supervisory control (paper section 2.1): the operator pauses, resumes and aborts the mission, inhibits a
+behavior, answers the robot's question and adds or removes beliefs while the engine runs.
+
+Commands may come from any thread (the live view's keys, the control socket): :meth:`Supervisor.submit`
+queues them and the engine executes them on its own thread at the end of a tick, so a command never races
+the loop. Every command is recorded as an ``operator_command`` event (``command``, ``argument``, ``origin``,
+``ok``).
+
+- pause: the mission stops advancing (a Python mission's next API call blocks; an attached tree stops
+  ticking) and the drone holds: every behavior the mission started that is incompatible with
+  ``KEEP_HOVERING`` is stopped (INTERRUPTED, "paused by the operator") and ``KEEP_HOVERING`` is activated at
+  the higher priority. Other behaviors (perception, self-localization, a question) go on, and so do
+  higher-priority reactions (LAND on low battery).
+- resume: each behavior the pause stopped is requested again with its arguments and full timeout, as the
+  same activation, so the waiting mission call or tree leaf hears its real outcome later, as if nothing had
+  happened; a request the situation now refuses ends that call or leaf with its outcome
+  (FAILED_PRECONDITIONS). Time waited with ``wait`` or a tree's Delay/Timeout keeps running while paused.
+- abort: the mission stops (its waiting call raises MissionAborted, an attached tree is halted), every
+  behavior but LAND is stopped and, when the drone is in the air, LAND is activated at the higher priority.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+from aeroexec.beliefs import BeliefError, UnknownPredicateError, parse_belief
+from aeroexec.drones import LandedState
+from aeroexec.engine.events import Outcome
+from aeroexec.engine.supervision.operator import operator_of
+
+logger = logging.getLogger(__name__)
+
+HOLD_BEHAVIOR = "KEEP_HOVERING"
+LAND_BEHAVIOR = "LAND"
+LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
+COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status")
+RUNNING, PAUSED, ABORTED = "running", "paused", "aborted"
+
+
+class SupervisedMission(Protocol):
+    """A mission the engine ticks (a behavior tree): what pause, resume and abort need of it."""
+
+    def pause(self) -> None: ...
+
+    def resume(self) -> None: ...
+
+    def halt(self, reason: str = "halted") -> None: ...
+
+
+@dataclass
+class CommandResult:
+    """What a command did: ``ok``, a sentence for the operator and, for ``status``, the state as data."""
+
+    ok: bool
+    message: str
+    data: dict[str, Any] = field(default_factory=dict)
+
+
+class Ticket:
+    """A submitted command; :meth:`wait` for its result (None when the engine did not run it in time)."""
+
+    def __init__(self, command: str, argument: str, origin: str) -> None:
+        self.command, self.argument, self.origin = command, argument, origin
+        self.result: CommandResult | None = None
+        self._done = threading.Event()
+
+    def finish(self, result: CommandResult) -> None:
+        self.result = result
+        self._done.set()
+
+    def wait(self, timeout: float) -> CommandResult | None:
+        self._done.wait(timeout)
+        return self.result
+
+
+class Supervisor:
+    """The operator's commands on one engine (``engine.supervisor``); its queue is served by a tick callback."""
+
+    def __init__(self, engine: Any) -> None:
+        self.engine = engine
+        self.state = RUNNING
+        self._queue: deque[Ticket] = deque()
+        self._lock = threading.Lock()
+        self._missions: list[SupervisedMission] = []
+        self._suspended: list[tuple[Any, list]] = []  # (activation, its on_end listeners), in order
+        engine.tick_callbacks.append(self.run_pending)
+
+    # -- from any thread ----------------------------------------------------------------------
+    def submit(self, command: str, argument: str = "", origin: str = "ctl") -> Ticket:
+        """Queue a command for the engine's thread; the ticket tells its result once executed."""
+        ticket = Ticket(command, argument, origin)
+        with self._lock:
+            self._queue.append(ticket)
+        return ticket
+
+    @property
+    def paused(self) -> bool:
+        return self.state == PAUSED
+
+    @property
+    def missions(self) -> tuple[SupervisedMission, ...]:
+        return tuple(self._missions)
+
+    # -- on the engine's thread -----------------------------------------------------------------
+    def attach(self, mission: SupervisedMission) -> None:
+        """A mission ticked by the engine (a tree) that pause, resume and abort must reach."""
+        if mission not in self._missions:
+            self._missions.append(mission)
+            if self.state == PAUSED:
+                mission.pause()
+
+    def detach(self, mission: SupervisedMission) -> None:
+        if mission in self._missions:
+            self._missions.remove(mission)
+
+    def run_pending(self) -> None:
+        """Execute the queued commands (the engine calls this at the end of every tick)."""
+        while True:
+            with self._lock:
+                if not self._queue:
+                    return
+                ticket = self._queue.popleft()
+            ticket.finish(self.execute(ticket.command, ticket.argument, ticket.origin))
+
+    def execute(self, command: str, argument: str = "", origin: str = "engine") -> CommandResult:
+        """Run one command now (call it on the engine's thread, or while the loop is not running)."""
+        handler = getattr(self, f"_{command}", None) if command in COMMANDS else None
+        if handler is None:
+            result = CommandResult(False, f"unknown command {command!r}: expected one of {', '.join(COMMANDS)}")
+        else:
+            try:
+                result = handler(argument.strip())
+            except Exception as exc:  # a command must never take the engine down
+                logger.exception("the operator command %s failed", command)
+                result = CommandResult(False, f"{command} failed: {type(exc).__name__}: {exc}")
+        if command != "status":
+            self.engine.log.record("operator_command", detail=f"{command}{' ' + argument if argument else ''}: "
+                                   f"{result.message}", command=command, argument=argument, origin=origin,
+                                   ok=result.ok)
+        return result
+
+    # -- the commands -------------------------------------------------------------------------------
+    def _pause(self, _: str) -> CommandResult:
+        if self.state != RUNNING:
+            return CommandResult(False, f"the mission is already {self.state}")
+        self.state = PAUSED
+        self.engine.bridge.hold(True)
+        for mission in self._missions:
+            mission.pause()
+        coordinator = self.engine.coordinator
+        stopped = []
+        if HOLD_BEHAVIOR in self.engine.catalog.behaviors:
+            active = coordinator.active()
+            for name in sorted(coordinator.specialist.conflicts(HOLD_BEHAVIOR, active),
+                               key=lambda n: active[n].order):
+                activation = active[name]
+                if activation.source != "mission":
+                    continue
+                listeners = list(activation.on_end)
+                activation.on_end.clear()  # the mission does not hear this INTERRUPTED; resume asks again
+                self._suspended.append((activation, listeners))
+                coordinator.stop(name, "paused by the operator")
+                stopped.append(name)
+            hold = coordinator.activate(HOLD_BEHAVIOR, priority="higher", source="operator")
+            holding = f"; {HOLD_BEHAVIOR}" if hold.accepted else f"; the drone cannot hover: {hold.message}"
+        else:
+            holding = f"; the catalog has no {HOLD_BEHAVIOR}: the active behaviors go on"
+        what = f"stopped {', '.join(stopped)}" if stopped else "no motion stopped"
+        return CommandResult(True, f"mission paused ({what}{holding})")
+
+    def _resume(self, _: str) -> CommandResult:
+        if self.state != PAUSED:
+            return CommandResult(False, f"the mission is {self.state}, not paused")
+        self.state = RUNNING
+        coordinator = self.engine.coordinator
+        held = coordinator.active().get(HOLD_BEHAVIOR)
+        if held is not None and held.source == "operator":
+            coordinator.stop(HOLD_BEHAVIOR, "resumed by the operator")
+        again, refused = [], []
+        for activation, listeners in self._suspended:
+            if self._request_again(activation, listeners):
+                again.append(activation.name)
+            else:
+                refused.append(activation.name)
+        self._suspended.clear()
+        for mission in self._missions:
+            mission.resume()
+        self.engine.bridge.hold(False)
+        parts = [f"requested again: {', '.join(again)}"] if again else []
+        parts += [f"refused now: {', '.join(refused)}"] if refused else []
+        return CommandResult(True, "mission resumed" + (f" ({'; '.join(parts)})" if parts else ""))
+
+    def _request_again(self, activation: Any, listeners: list) -> bool:
+        told: list[bool] = []
+
+        def relay(outcome: Outcome, message: str, value: Any) -> None:  # once, however the request ends
+            if not told:
+                told.append(True)
+                self._tell(listeners, outcome, message, value)
+
+        activation.on_end[:] = [relay]
+        priority = {2: "higher", 1: "deliberative", 0: "lower"}.get(activation.priority, "deliberative")
+        result = self.engine.coordinator.activate(activation.name, activation.arguments, priority=priority,
+                                                  source=activation.source, timeout=activation.timeout,
+                                                  conditions=activation.conditions, resume=activation)
+        if result.accepted and result.activation is not activation and result.activation is not None:
+            result.activation.on_end.append(relay)  # merged into an equal recurrent request
+        if not result.accepted:
+            relay(result.outcome or Outcome.FAILED_PRECONDITIONS, result.message, None)
+        return result.accepted
+
+    def _abort(self, reason: str) -> CommandResult:
+        if self.state == ABORTED:
+            return CommandResult(True, "already aborted")
+        self.state = ABORTED
+        reason = reason or "aborted by the operator"
+        bridge = self.engine.bridge
+        bridge.hold(False)
+        bridge.close()  # a Python mission's waiting call raises MissionAborted
+        for mission in list(self._missions):
+            mission.halt(reason)
+        for _activation, listeners in self._suspended:
+            self._tell(listeners, Outcome.INTERRUPTED, reason)
+        self._suspended.clear()
+        coordinator = self.engine.coordinator
+        for name, _ in sorted(coordinator.active().items(), key=lambda item: -item[1].order):
+            if name != LAND_BEHAVIOR:
+                coordinator.stop(name, reason)
+        landing = start_landing(self.engine, reason)
+        return CommandResult(True, f"mission aborted; {landing}")
+
+    def _inhibit(self, name: str) -> CommandResult:
+        name = name.upper()
+        if not name:
+            return CommandResult(False, "inhibit needs a behavior name")
+        if name not in self.engine.catalog.behaviors:
+            return CommandResult(False, f"the behavior {name} does not exist")
+        was_active = self.engine.coordinator.inhibit(name, "inhibited by the operator")
+        return CommandResult(True, f"{name} {'stopped and ' if was_active else ''}inhibited "
+                                   f"(reactions will not start it until it is requested)")
+
+    def _answer(self, text: str) -> CommandResult:
+        pending = operator_of(self.engine.context).answer_pending(text)
+        if pending is None:
+            return CommandResult(False, "no question is waiting for an answer")
+        return CommandResult(True, f"answered {pending.question!r} with {pending.value!r}")
+
+    def _add(self, text: str) -> CommandResult:
+        memory = self.engine.memory
+        try:
+            belief = parse_belief(text)
+            try:
+                added = memory.add(belief)
+            except UnknownPredicateError:  # the operator's own predicate, as a mission's AddBelief may
+                memory.declare(belief.name, len(belief.args))
+                added = memory.add(belief)
+        except (BeliefError, ValueError) as error:
+            return CommandResult(False, f"cannot add {text!r}: {error}")
+        return CommandResult(True, f"added {belief}" if added else f"{belief} was already believed")
+
+    def _remove(self, pattern: str) -> CommandResult:
+        try:
+            count = self.engine.memory.remove(pattern)
+        except (BeliefError, ValueError) as error:
+            return CommandResult(False, f"cannot remove {pattern!r}: {error}")
+        return CommandResult(True, f"removed {count} belief{'s' if count != 1 else ''} matching {pattern}")
+
+    def _status(self, _: str) -> CommandResult:
+        engine = self.engine
+        now = engine.now()
+        telemetry = engine.drone.telemetry()
+        active = [{"name": a.name, "priority": {2: "higher", 1: "deliberative", 0: "lower"}.get(a.priority),
+                   "source": a.source, "elapsed": round(now - a.started_at, 2), "timeout": a.timeout}
+                  for a in sorted(engine.coordinator.active().values(), key=lambda a: a.order)]
+        questions = [p.question for p in operator_of(engine.context).pending_questions()]
+        data = {"state": self.state, "time": round(now, 2), "active": active, "questions": questions,
+                "position": [round(v, 2) for v in telemetry.position], "speed": round(telemetry.speed, 2),
+                "battery": round(telemetry.battery_percent, 1), "landed_state": telemetry.landed_state.value}
+        names = ", ".join(a["name"] for a in active) or "none"
+        return CommandResult(True, f"{self.state} at t={now:.1f} s; active: {names}", data)
+
+    @staticmethod
+    def _tell(listeners: list, outcome: Outcome, message: str, value: Any = None) -> None:
+        for listener in listeners:
+            try:
+                listener(outcome, message, value)
+            except Exception:
+                logger.exception("a listener of a paused behavior failed")
+
+
+def is_flying(engine: Any) -> bool:
+    return engine.drone.telemetry().landed_state not in (LandedState.ON_GROUND, LandedState.UNKNOWN)
+
+
+def start_landing(engine: Any, reason: str) -> str:
+    """Activate LAND at the higher priority when the drone is in the air; says what happened."""
+    if engine.coordinator.is_active(LAND_BEHAVIOR):
+        return "landing"
+    if not is_flying(engine):
+        return "the drone is on the ground"
+    engine.log.record("landing", detail=reason)
+    result = engine.coordinator.activate(LAND_BEHAVIOR, priority="higher", source="engine")
+    return "landing" if result.accepted else f"cannot land: {result.message}"
+
+
+def land_if_flying(engine: Any, timeout: float = LANDING_TIMEOUT,
+                   reason: str = "the mission ended with the drone in the air") -> bool:
+    """Land the drone if it is in the air (or finish a landing under way), running the engine loop until LAND
+    ends or ``timeout`` engine seconds pass; call it from the thread that drives the loop, after the mission.
+    True when the drone is on the ground."""
+    if not is_flying(engine) and not engine.coordinator.is_active(LAND_BEHAVIOR):
+        return True
+    engine.bridge.close()
+    start_landing(engine, reason)
+    if engine.coordinator.is_active(LAND_BEHAVIOR):
+        engine.run_until(lambda: not engine.coordinator.is_active(LAND_BEHAVIOR), timeout)
+    return not is_flying(engine)

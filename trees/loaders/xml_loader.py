@@ -1,0 +1,268 @@
+"""Reading behavior-tree missions written in BehaviorTree.CPP's XML format 4 (the one Groot2 edits) into a TreeDocument.
+
+The file is parsed with ``defusedxml``'s SAX parser: a DOCTYPE, entity declarations and external
+references are refused before anything is expanded (no billion laughs, no reading other files),
+and every element keeps the line it starts on. What is read::
+
+    <root BTCPP_format="4" main_tree_to_execute="Mission">
+      <include path="landing.xml"/>              <!-- relative to this file -->
+      <BehaviorTree ID="Mission">
+        <Sequence name="mission">
+          <TAKE_OFF ALTITUDE="1.5"/>
+          <Action ID="GO_TO_POINT" COORDINATES="1, 2, 1.5"/>
+          <Condition belief="battery_charge_percentage(self, ?X), greater_than(?X, 20)"/>
+          <SubTree ID="Land" target="{goal}" _autoremap="true"/>
+        </Sequence>
+      </BehaviorTree>
+      <TreeNodesModel>...</TreeNodesModel>      <!-- ignored -->
+    </root>
+
+``BTCPP_format`` must be 4 when given; ``main_tree_to_execute`` may be left out when the file
+declares one tree. ``<Action ID="X">``, ``<Condition ID="X">``, ``<Control ID="X">`` and
+``<Decorator ID="X">`` are nodes of type ``X``; ``<Condition belief="..."/>`` is a belief condition.
+Every other attribute, ``_skipIf``/``_successIf``/``_failureIf``/``_while``/``_onSuccess``... included,
+is kept as a port. All problems found are raised together as one :class:`TreeFormatError`.
+"""
+
+from __future__ import annotations
+
+import io
+import logging
+import os
+import xml.sax
+from dataclasses import dataclass, field
+from pathlib import Path
+from xml.sax.xmlreader import InputSource
+
+import defusedxml.sax
+from aeroexec.engine.yaml_nodes import suggestion
+from aeroexec.trees.loaders.common import resolve_type
+from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
+from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
+
+logger = logging.getLogger(__name__)
+
+_ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")
+
+
+@dataclass
+class _Element:
+    tag: str
+    attrs: dict[str, str]
+    line: int
+    children: list[_Element] = field(default_factory=list)
+
+
+class _Collector(xml.sax.ContentHandler):
+    """Builds a light element tree whose elements know their lines."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.locator: xml.sax.xmlreader.Locator | None = None
+        self.stack: list[_Element] = []
+        self.root: _Element | None = None
+
+    def setDocumentLocator(self, locator: xml.sax.xmlreader.Locator) -> None:  # noqa: N802 (SAX API)
+        self.locator = locator
+
+    @property
+    def line(self) -> int:
+        return self.locator.getLineNumber() if self.locator is not None else 0
+
+    def startElement(self, name: str, attrs: xml.sax.xmlreader.AttributesImpl) -> None:  # noqa: N802
+        element = _Element(name, {key: attrs[key] for key in attrs.getNames()}, self.line)
+        if self.stack:
+            self.stack[-1].children.append(element)
+        else:
+            self.root = element
+        self.stack.append(element)
+
+    def endElement(self, name: str) -> None:  # noqa: N802
+        self.stack.pop()
+
+
+def _refusal(exc: DefusedXmlException) -> str:
+    if isinstance(exc, DTDForbidden):
+        return (f"a DOCTYPE declaration (<!DOCTYPE {exc.name} ...>) is not allowed in a mission file: "
+                "entities and external references are refused")
+    if isinstance(exc, EntitiesForbidden):
+        return f"the entity declaration {exc.name!r} is not allowed in a mission file (entities are refused)"
+    if isinstance(exc, ExternalReferenceForbidden):
+        return f"the external reference {exc.sysid!r} is not allowed in a mission file"
+    return f"refused XML construct: {exc}"
+
+
+def parse_xml(data: bytes, file: str) -> _Element:
+    """The element tree of an XML text, or a TreeFormatError naming the line where it stops being XML."""
+    collector = _Collector()
+    parser = defusedxml.sax.make_parser()
+    parser.forbid_dtd = True
+    parser.forbid_entities = True
+    parser.forbid_external = True
+    parser.setFeature(xml.sax.handler.feature_namespaces, False)
+    parser.setFeature(xml.sax.handler.feature_external_ges, False)
+    parser.setContentHandler(collector)
+    source = InputSource(file)
+    source.setByteStream(io.BytesIO(data))
+    try:
+        parser.parse(source)
+    except DefusedXmlException as exc:
+        raise TreeFormatError([(file, collector.line, _refusal(exc))]) from None
+    except xml.sax.SAXParseException as exc:
+        raise TreeFormatError([(file, exc.getLineNumber(), f"not well-formed XML: {exc.getMessage()}")]) from None
+    except (xml.sax.SAXException, ValueError, LookupError) as exc:  # e.g. an unknown encoding
+        raise TreeFormatError([(file, collector.line, f"not readable as XML: {exc}")]) from None
+    if collector.root is None:
+        raise TreeFormatError([(file, 0, "not XML: the file has no element")])
+    return collector.root
+
+
+class _XmlReader:
+    """Reads a file and the files it includes, collecting trees and problems."""
+
+    def __init__(self) -> None:
+        self.problems: list[tuple[str, int, str]] = []
+        self.trees: dict[str, TreeNode] = {}
+        self.places: dict[str, tuple[str, int]] = {}  # tree ID -> (file, line)
+        self.seen: set[str] = set()  # resolved paths already read
+
+    def error(self, file: str, line: int, message: str) -> None:
+        self.problems.append((file, line, message))
+
+    def read_file(self, path: str, stack: tuple[str, ...], where: tuple[str, int]) -> None:
+        """Reads an included file; ``where`` is the include element that names it."""
+        key = os.path.realpath(path)
+        if key in stack:
+            chain = " -> ".join(os.path.basename(p) for p in (*stack, key))
+            self.error(*where, f"include cycle: {chain}")
+            return
+        if key in self.seen:
+            return
+        try:
+            data = Path(path).read_bytes()
+        except FileNotFoundError:
+            self.error(*where, f"included file not found: {path}")
+            return
+        except OSError as exc:
+            self.error(*where, f"cannot read the included file {path}: {exc}")
+            return
+        try:
+            self.read_document(parse_xml(data, path), path, (*stack, key))
+        except TreeFormatError as exc:
+            self.problems.extend(exc.problems)
+
+    def read_document(self, root: _Element, file: str, stack: tuple[str, ...]) -> list[str]:
+        """The IDs of the trees the document declares itself; included ones are added to ``self.trees``."""
+        self.seen.add(stack[-1])
+        if root.tag != "root":
+            self.error(file, root.line, f"the document element must be <root BTCPP_format=\"4\">, not <{root.tag}>")
+            return []
+        version = root.attrs.get("BTCPP_format")
+        if version is not None and version.strip() != "4":
+            self.error(file, root.line, f"BTCPP_format=\"{version}\" is not supported: aeroexec reads "
+                                        "BehaviorTree.CPP's format 4 (write BTCPP_format=\"4\")")
+        declared: list[str] = []
+        for element in root.children:
+            if element.tag == "BehaviorTree":
+                tree_id = self.read_tree(element, file)
+                if tree_id:
+                    declared.append(tree_id)
+            elif element.tag == "include":
+                self.read_include(element, file, stack)
+            elif element.tag != "TreeNodesModel":
+                self.error(file, element.line, f"unexpected <{element.tag}> in <root>: expected "
+                                               f"<BehaviorTree>, <include> or <TreeNodesModel>"
+                                               f"{suggestion(element.tag, _ROOT_CHILDREN)}")
+        return declared
+
+    def read_include(self, element: _Element, file: str, stack: tuple[str, ...]) -> None:
+        if "ros_pkg" in element.attrs:
+            self.error(file, element.line, "<include ros_pkg=...> is not supported: give path relative to this file")
+            return
+        target = element.attrs.get("path", "").strip()
+        if not target:
+            self.error(file, element.line, "<include> needs path=\"...\", the file to include")
+            return
+        path = os.path.normpath(os.path.join(os.path.dirname(file), target))
+        if not path.lower().endswith(".xml"):
+            self.error(file, element.line, f"<include> can only include XML files, not {target}")
+            return
+        self.read_file(path, stack, (file, element.line))
+
+    def read_tree(self, element: _Element, file: str) -> str | None:
+        tree_id = element.attrs.get("ID", "").strip()
+        if not tree_id:
+            self.error(file, element.line, "a <BehaviorTree> needs ID=\"...\"")
+            return None
+        nodes = [self.node(child, file) for child in element.children]
+        if len(element.children) != 1:
+            count = len(element.children)
+            detail = "it is empty" if not count else f"it has {count} (put them under a Sequence)"
+            self.error(file, element.line, f"BehaviorTree {tree_id} must have exactly one child node: {detail}")
+        if tree_id in self.places:
+            first = self.places[tree_id]
+            self.error(file, element.line, f"BehaviorTree {tree_id} is declared twice (first at {first[0]}:{first[1]})")
+            return None
+        self.places[tree_id] = (file, element.line)
+        if nodes and nodes[0] is not None:
+            self.trees[tree_id] = nodes[0]
+        return tree_id
+
+    def node(self, element: _Element, file: str) -> TreeNode | None:
+        if element.tag in ("BehaviorTree", "include", "root", "TreeNodesModel"):
+            self.error(file, element.line, f"<{element.tag}> cannot be inside a tree")
+            return None
+        ports = dict(element.attrs)
+        name = ports.pop("name", "")
+        node_type, problem = resolve_type(element.tag, ports)
+        if problem:
+            self.error(file, element.line, problem)
+        if node_type == "SubTree":
+            if not ports.get("ID", "").strip():
+                self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
+            name = name or ports.get("ID", "")
+        children = [self.node(child, file) for child in element.children]
+        return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line)
+
+
+def _main_tree(reader: _XmlReader, root: _Element, file: str, declared: list[str]) -> str:
+    main = root.attrs.get("main_tree_to_execute", "").strip() if root.tag == "root" else ""
+    known = list(reader.places)
+    if main:
+        if main not in reader.places:
+            reader.error(file, root.line, f"main_tree_to_execute names {main}, but no BehaviorTree has that ID"
+                                          f"{suggestion(main, known)} (trees: {', '.join(known) or 'none'})")
+        return main
+    if len(declared) == 1:
+        return declared[0]
+    if len(known) == 1:
+        return known[0]
+    if not known:
+        reader.error(file, root.line, "the file declares no <BehaviorTree>")
+    elif root.tag == "root":
+        reader.error(file, root.line, f"main_tree_to_execute is missing and there are {len(known)} trees "
+                                      f"({', '.join(known)}): say which one to execute")
+    return ""
+
+
+def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
+    """A mission from XML text; ``file`` names it in problems and anchors relative includes."""
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    root = parse_xml(raw, file)
+    reader = _XmlReader()
+    declared = reader.read_document(root, file, (os.path.realpath(file),))
+    main = _main_tree(reader, root, file, declared)
+    if reader.problems:
+        raise TreeFormatError(reader.problems)
+    lines = {tree_id: line for tree_id, (_, line) in reader.places.items()}
+    logger.debug("read %d behavior trees from %s (main %s)", len(reader.trees), file, main)
+    return TreeDocument(reader.trees, main, file, lines)
+
+
+def load_xml(path: str | Path) -> TreeDocument:
+    """A mission from a BehaviorTree.CPP v4 XML file."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise TreeFormatError([(str(path), 0, f"cannot read the file: {exc}")]) from None
+    return read_xml(data, str(path))
