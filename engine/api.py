@@ -18,9 +18,9 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
+from aeroexec.engine.errors import MissionAborted
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.activation import ActivationConditions
-from aeroexec.engine.missions.bridge import MissionAborted
 
 from aeroexec import beliefs, drones
 

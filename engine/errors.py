@@ -54,3 +54,7 @@ class CatalogError(ValueError):
         self.problems = list(problems)
         self.errors = [p for p in self.problems if p.severity == "error"]
         super().__init__("\n".join(str(p) for p in self.errors) or "the catalog cannot be loaded")
+
+
+class MissionAborted(RuntimeError):
+    """The engine stopped while the mission waited on it."""

@@ -1,24 +1,40 @@
-"""The behavior library for aerial robots (paper Appendix A): behavior processes and capability processes."""
+"""The behavior library for aerial robots (paper Appendix A): behavior processes and capability processes.
+
+Every :class:`BehaviorProcess` subclass defined in a module of this package
+with a ``behavior = "NAME"`` is registered: adding a behavior is its catalog
+entry and its class (docs/adding-a-behavior.md). Capability processes are
+listed by name in each module's ``*_PROCESSES`` mapping.
+"""
 
 from __future__ import annotations
 
-from aeroexec.engine.behaviors.basic import Wait
-from aeroexec.engine.behaviors.communication import COMMUNICATION_BEHAVIORS, COMMUNICATION_PROCESSES
-from aeroexec.engine.behaviors.localization import LOCALIZATION_BEHAVIORS, LOCALIZATION_PROCESSES
-from aeroexec.engine.behaviors.motion import MOTION_BEHAVIORS
-from aeroexec.engine.behaviors.perception import PERCEPTION_BEHAVIORS, PERCEPTION_PROCESSES
-from aeroexec.engine.behaviors.planning import PLANNING_BEHAVIORS, PLANNING_PROCESSES
-from aeroexec.engine.behaviors.recording import RECORDING_BEHAVIORS, RECORDING_PROCESSES
-from aeroexec.engine.behaviors.targets import TARGET_BEHAVIORS, TARGET_PROCESSES
-from aeroexec.engine.behaviors.verify import VERIFY_BEHAVIORS
-from aeroexec.engine.execution.process import BehaviorLibrary
+import importlib
+import inspect
+import pkgutil
+
+from aeroexec.engine.behaviors.communication import COMMUNICATION_PROCESSES
+from aeroexec.engine.behaviors.localization import LOCALIZATION_PROCESSES
+from aeroexec.engine.behaviors.perception import PERCEPTION_PROCESSES
+from aeroexec.engine.behaviors.planning import PLANNING_PROCESSES
+from aeroexec.engine.behaviors.recording import RECORDING_PROCESSES
+from aeroexec.engine.behaviors.targets import TARGET_PROCESSES
+from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.resources import ProcessRegistry
+
+
+def _behavior_classes() -> list[type[BehaviorProcess]]:
+    found = []
+    for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
+        module = importlib.import_module(f"{__name__}.{info.name}")
+        found += [cls for cls in vars(module).values()
+                  if inspect.isclass(cls) and issubclass(cls, BehaviorProcess)
+                  and cls.__module__ == module.__name__ and cls.behavior]
+    return found
 
 
 def aerial_behaviors() -> BehaviorLibrary:
     """Every behavior implemented for the aerial catalog."""
-    return BehaviorLibrary([*MOTION_BEHAVIORS, *PERCEPTION_BEHAVIORS, *COMMUNICATION_BEHAVIORS, *PLANNING_BEHAVIORS,
-                            *LOCALIZATION_BEHAVIORS, *VERIFY_BEHAVIORS, *TARGET_BEHAVIORS, *RECORDING_BEHAVIORS, Wait])
+    return BehaviorLibrary(_behavior_classes())
 
 
 def aerial_processes() -> ProcessRegistry:

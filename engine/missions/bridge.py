@@ -16,14 +16,12 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from aeroexec.engine.errors import MissionAborted
+
 logger = logging.getLogger(__name__)
 
 RUNNING, PARKED, DONE = "running", "parked", "done"
 _STALL_WARNING = 30.0  # wall seconds a lockstep engine waits on a busy mission before saying so
-
-
-class MissionAborted(RuntimeError):
-    """The engine stopped while the mission waited on it."""
 
 
 class _Request:
