@@ -90,7 +90,7 @@ function drawMap() {
     const [x, y] = s.telemetry.position;
     const g = el("g", { id: `drone-${name}`, class: "drone-marker", "data-x": x, "data-y": y,
                         transform: `translate(${x} ${-y}) rotate(${-(90 - (s.telemetry.yaw || 0))})` }, svg);
-    el("polygon", { class: "drone", fill: d.color, points: "0.9,0 -0.6,0.55 -0.3,0 -0.6,-0.55" }, g);
+    el("polygon", { class: "drone", fill: d.color, points: "1.1,0 -0.7,0.65 -0.35,0 -0.7,-0.65" }, g);
     el("text", { class: "drone-label", x: x + 0.9, y: -y - 0.6 }, svg).textContent = name;
   }
 }
