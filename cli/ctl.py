@@ -22,8 +22,9 @@ COMMANDS = {
     "add": "BELIEF: add a belief, e.g. visible(marker_3)",
     "remove": "PATTERN: remove the beliefs matching a pattern, e.g. visible(?x)",
     "status": "where the run is: state, active behaviors, questions, drone",
+    "query": "EXPRESSION: what the drone believes, e.g. object(?X, aruco)",
 }
-NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove"}
+NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove", "query"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -57,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
         print(answer.get("message", "ok"))
         if "status" in answer:
             print(describe_status(answer["status"]))
+        for unification in answer.get("answers", []):
+            print("  " + (", ".join(f"{k} = {v}" for k, v in unification.items()) or "true"))
     else:
         print(f"refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
     return 0 if answer.get("ok") else 1

@@ -13,7 +13,6 @@ t answer TEXT, Esc cancels a prompt) from a daemon thread reading the terminal i
 from __future__ import annotations
 
 import contextlib
-import linecache
 import os
 import select
 import sys
@@ -24,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+from aeroexec.console.feed import mission_line
 from aeroexec.engine.events import EngineEvent
 from aeroexec.engine.supervision.control import ControlServer
 from aeroexec.engine.supervision.operator import operator_of
@@ -198,22 +198,6 @@ class LiveView:
             self.refresh()
             self._live.stop()
             self._live = None
-
-
-def mission_line(mission_file: str) -> str | None:
-    """``file.py:LINE  code`` where the Python mission is now: the innermost frame of any thread in that file."""
-    for frame in sys._current_frames().values():
-        found = None
-        while frame is not None:
-            if frame.f_code.co_filename == mission_file or \
-                    os.path.abspath(frame.f_code.co_filename) == mission_file:
-                found = frame
-                break
-            frame = frame.f_back
-        if found is not None:
-            code = linecache.getline(mission_file, found.f_lineno).strip()
-            return f"{Path(mission_file).name}:{found.f_lineno}  {code}  (in {found.f_code.co_name})"
-    return None
 
 
 def _event_line(event: EngineEvent) -> str:

@@ -21,6 +21,7 @@ COMMANDS = {
     "ctl": ("ctl", "command a running mission from another terminal: pause, resume, abort, inhibit, answer..."),
     "report": ("report", "a flight report from an event log: the path over the world, a timeline, an HTML page"),
     "beliefs": ("beliefs", "query the beliefs an event log ends with, at a prompt"),
+    "console": ("console", "replay a finished run in the web console (read-only, with a time slider)"),
 }
 
 

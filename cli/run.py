@@ -15,6 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
+from aeroexec.cli import web
 from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.cli.live import OperatorConsole
 from aeroexec.cli.live import wanted as live_view_wanted
@@ -67,6 +68,7 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
                              "default: ask at the terminal when interactive, else the first possible answer")
+    web.add_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -75,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
         catalog = chosen_catalog(args.catalog)
         mission = load_mission(path, catalog)
         return fly(args, catalog, mission, path.name)
-    except (RunError, MissionFileError) as error:
+    except (RunError, MissionFileError, web.SurfaceError) as error:
         print(error, file=sys.stderr)
         return 1
 
@@ -122,10 +124,11 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
         name: str) -> int:
-    live = live_view_wanted(args)  # the live view paces the simulator to real time unless --speed says
-    operator = make_operator(args, live)
+    live = live_view_wanted(args)
+    watched = live or web.wanted(args)  # someone watches: real time unless --speed says, questions wait for them
+    operator = make_operator(args, watched)
     drone, world, simulated = make_drone(args)
-    clock = SimulatedClock(speed=args.speed or (1.0 if live else None)) if simulated else WallClock()
+    clock = SimulatedClock(speed=args.speed or (1.0 if watched else None)) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
     engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder)
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
@@ -142,12 +145,14 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     if not live:
         engine.log.subscribe(printer(None if args.quiet else sys.stdout))
     console = OperatorConsole(engine, folder, name, mission, live).start()  # control socket, live view, keys
-    btlog = None
+    btlog = groot = browser = None
     try:
+        browser = web.start_console(args, engine, world, None if isinstance(mission, TreeDocument) else args.mission)
         try:
             if isinstance(mission, TreeDocument):
                 tree_mission = TreeMission(mission, engine, name=name)
                 btlog = BtlogWriter(tree_mission, folder / "mission.btlog", catalog)
+                groot = web.start_groot(args, tree_mission, catalog)
                 tree_mission.run(max_time=args.max_time)
             else:
                 engine.run(mission, max_time=args.max_time, name=name)
@@ -162,6 +167,9 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     finally:
         console.close()
         engine.stop()
+        for surface in (browser, groot):
+            if surface is not None:
+                surface.close()
         flight_log.close()
         if btlog is not None:
             btlog.close()

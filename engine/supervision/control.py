@@ -137,6 +137,8 @@ class ControlServer:
             answer["error"] = result.message
         if command == "status":
             answer["status"] = result.data
+        if command == "query":
+            answer["answers"] = result.data.get("answers", [])
         return answer, True
 
 

@@ -27,7 +27,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-from aeroexec.beliefs import BeliefError, UnknownPredicateError, parse_belief
+from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.supervision.operator import operator_of
@@ -37,7 +37,9 @@ logger = logging.getLogger(__name__)
 HOLD_BEHAVIOR = "KEEP_HOVERING"
 LAND_BEHAVIOR = "LAND"
 LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
-COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status")
+COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status", "query")
+READ_ONLY = ("status", "query")  # commands that change nothing: not logged as operator commands
+MAX_ANSWERS = 100  # unifications a query returns at most
 RUNNING, PAUSED, ABORTED = "running", "paused", "aborted"
 
 
@@ -137,7 +139,7 @@ class Supervisor:
             except Exception as exc:  # a command must never take the engine down
                 logger.exception("the operator command %s failed", command)
                 result = CommandResult(False, f"{command} failed: {type(exc).__name__}: {exc}")
-        if command != "status":
+        if command not in READ_ONLY:
             self.engine.log.record("operator_command", detail=f"{command}{' ' + argument if argument else ''}: "
                                    f"{result.message}", command=command, argument=argument, origin=origin,
                                    ok=result.ok)
@@ -268,6 +270,19 @@ class Supervisor:
         except (BeliefError, ValueError) as error:
             return CommandResult(False, f"cannot remove {pattern!r}: {error}")
         return CommandResult(True, f"removed {count} belief{'s' if count != 1 else ''} matching {pattern}")
+
+    def _query(self, expression: str) -> CommandResult:
+        """Every unification of a belief expression (``object(?X, aruco)``) with the memory, at most MAX_ANSWERS."""
+        if not expression:
+            return CommandResult(False, "a query needs a belief expression, e.g. object(?X, aruco)")
+        try:
+            answers = self.engine.memory.query_all(expression)
+        except (BeliefError, ValueError) as error:
+            return CommandResult(False, f"cannot query {expression!r}: {error}")
+        shown = [{str(k): format_term(v) for k, v in answer.items()} for answer in answers[:MAX_ANSWERS]]
+        more = f" (the first {MAX_ANSWERS} shown)" if len(answers) > MAX_ANSWERS else ""
+        verdict = f"{len(answers)} answer{'s' if len(answers) != 1 else ''}{more}" if answers else "no answer"
+        return CommandResult(True, f"{expression}: {verdict}", {"answers": shown, "count": len(answers)})
 
     def _status(self, _: str) -> CommandResult:
         engine = self.engine

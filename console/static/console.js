@@ -1,0 +1,310 @@
+// The aeroexec console page: draws what the server pushes over the WebSocket, sends the operator's commands.
+"use strict";
+
+const token = new URLSearchParams(location.search).get("token") || "";
+const $ = (id) => document.getElementById(id);
+const ENDINGS = new Set(["GOAL_ACHIEVED", "TIME_OUT", "WRONG_PROGRESS", "INTERRUPTED", "FAILED_PRECONDITIONS"]);
+const BAD = new Set(["TIME_OUT", "WRONG_PROGRESS", "failed_preconditions", "rejected", "mission_failed",
+                     "FAILED_PRECONDITIONS"]);
+const GOOD = new Set(["GOAL_ACHIEVED", "mission_completed"]);
+const COLORS = ["#1565c0", "#d81b60", "#2e7d32", "#ef6c00", "#6a1b9a", "#00838f", "#5d4037", "#c0ca33"];
+const MAX_TRAIL = 4000, MAX_EVENTS = 300;
+
+const model = { world: null, drones: {}, order: [], selected: null, readOnly: false, replay: null };
+let socket = null, nextId = 1, lastQuestion = "";
+
+function drone(name) {
+  if (!model.drones[name]) {
+    model.drones[name] = { snapshot: null, events: [], trail: [], color: COLORS[model.order.length % COLORS.length] };
+    model.order.push(name);
+    const option = document.createElement("option");
+    option.value = option.textContent = name;
+    $("drone").appendChild(option);
+    if (!model.selected) model.selected = name;
+  }
+  return model.drones[name];
+}
+
+function update(name, snapshot, events) {
+  const d = drone(name);
+  if (snapshot) {
+    d.snapshot = snapshot;
+    const p = snapshot.telemetry && snapshot.telemetry.position;
+    const last = d.trail[d.trail.length - 1];
+    if (p && (!last || Math.hypot(p[0] - last[0], p[1] - last[1]) > 0.05)) d.trail.push(p);
+    if (d.trail.length > MAX_TRAIL) d.trail.splice(0, d.trail.length - MAX_TRAIL);
+  }
+  for (const e of events || []) d.events.push(e);
+  if (d.events.length > MAX_EVENTS) d.events.splice(0, d.events.length - MAX_EVENTS);
+}
+
+// -- the map --------------------------------------------------------------------------------------------
+const SVG = "http://www.w3.org/2000/svg";
+function el(tag, attrs, parent) {
+  const node = document.createElementNS(SVG, tag);
+  for (const [k, v] of Object.entries(attrs)) node.setAttribute(k, v);
+  if (parent) parent.appendChild(node);
+  return node;
+}
+
+function drawMap() {
+  const svg = $("map");
+  svg.replaceChildren();
+  const w = model.world;
+  let lo = [-20, -20], hi = [20, 20];
+  if (w) { lo = w.bounds.lower; hi = w.bounds.upper; }
+  svg.setAttribute("viewBox", `${lo[0] - 1} ${-hi[1] - 1} ${hi[0] - lo[0] + 2} ${hi[1] - lo[1] + 2}`);
+  el("rect", { class: "bounds", x: lo[0], y: -hi[1], width: hi[0] - lo[0], height: hi[1] - lo[1] }, svg);
+  if (w) {
+    for (const o of w.obstacles) {
+      if (o.shape === "cylinder") el("circle", { class: "obstacle", cx: o.center[0], cy: -o.center[1], r: o.radius }, svg);
+      else el("rect", { class: "obstacle", x: o.lower[0], y: -o.upper[1], width: o.upper[0] - o.lower[0],
+                        height: o.upper[1] - o.lower[1] }, svg);
+      const t = el("text", { class: "object-label", x: o.center ? o.center[0] : o.lower[0], y: -(o.center ? o.center[1] : o.upper[1]) }, svg);
+      t.textContent = o.name;
+    }
+    if (w.platform && w.platform.path.length > 1) {
+      el("polyline", { class: "platform-path", points: w.platform.path.map((p) => `${p[0]},${-p[1]}`).join(" ") }, svg);
+    }
+    for (const m of w.markers) {
+      el("rect", { class: "marker", x: m.position[0] - 0.3, y: -m.position[1] - 0.3, width: 0.6, height: 0.6 }, svg);
+      el("text", { class: "marker-label", x: m.position[0] + 0.4, y: -m.position[1] }, svg).textContent = `#${m.id}`;
+    }
+    for (const o of w.objects) {
+      el("circle", { cx: o.position[0], cy: -o.position[1], r: 0.35, fill: o.color, stroke: "#333", "stroke-width": 0.08 }, svg);
+      el("text", { class: "object-label", x: o.position[0] + 0.45, y: -o.position[1] }, svg).textContent = o.name;
+    }
+  }
+  for (const name of model.order) {
+    const d = model.drones[name], s = d.snapshot;
+    if (d.trail.length > 1) {
+      el("polyline", { class: "trail", stroke: d.color, points: d.trail.map((p) => `${p[0]},${-p[1]}`).join(" ") }, svg);
+    }
+    if (!s || !s.telemetry || !s.telemetry.position) continue;
+    for (const a of s.active || []) {
+      if (a.path && a.path.length) {
+        const pts = [s.telemetry.position, ...a.path].map((p) => `${p[0]},${-p[1]}`).join(" ");
+        el("polyline", { class: "planned", stroke: d.color, points: pts }, svg);
+      }
+    }
+    const [x, y] = s.telemetry.position;
+    const g = el("g", { id: `drone-${name}`, class: "drone-marker", "data-x": x, "data-y": y,
+                        transform: `translate(${x} ${-y}) rotate(${-(90 - (s.telemetry.yaw || 0))})` }, svg);
+    el("polygon", { class: "drone", fill: d.color, points: "1.1,0 -0.7,0.65 -0.35,0 -0.7,-0.65" }, g);
+    el("text", { class: "drone-label", x: x + 0.9, y: -y - 0.6 }, svg).textContent = name;
+  }
+}
+
+// -- the side panels ---------------------------------------------------------------------------------------
+function text(id, value) { $(id).textContent = value; }
+
+function drawPanels() {
+  const d = model.drones[model.selected];
+  const s = d && d.snapshot;
+  if (!s) return;
+  const state = $("state");
+  state.textContent = s.state;
+  state.className = `state ${s.state}`;
+  text("time", s.time.toFixed(1));
+  const t = s.telemetry || {};
+  text("flight", `${t.landed || ""} ${t.mode || ""}${t.armed ? " armed" : ""}`);
+  text("battery", t.battery !== undefined ? `battery ${Math.round(t.battery)} %` : "");
+  const mission = $("mission");
+  mission.replaceChildren();
+  if (s.mission && s.mission.kind === "tree") {
+    text("mission-name", s.mission.name || "");
+    for (const n of s.mission.nodes) {
+      const row = document.createElement("div");
+      row.className = "node";
+      row.dataset.uid = n.uid;
+      row.dataset.name = n.name;
+      row.dataset.status = n.status;
+      row.style.marginLeft = `${n.depth * 14}px`;
+      row.textContent = `${n.name}  ${n.status}`;
+      mission.appendChild(row);
+    }
+  } else if (s.mission) {
+    text("mission-name", "(python)");
+    const line = document.createElement("code");
+    line.id = "python-line";
+    line.textContent = s.mission.line;
+    mission.appendChild(line);
+  }
+  const body = $("active").querySelector("tbody");
+  body.replaceChildren();
+  for (const a of s.active || []) {
+    const row = body.insertRow();
+    row.dataset.behavior = a.name;
+    for (const v of [a.name, a.priority || "", a.source || "", a.left !== null && a.left !== undefined ? `${a.left} s` : "-"]) {
+      row.insertCell().textContent = v;
+    }
+  }
+  const filter = $("belief-filter").value.trim().toLowerCase();
+  const list = $("beliefs");
+  list.replaceChildren();
+  for (const b of s.beliefs || []) {
+    if (filter && !b.toLowerCase().includes(filter)) continue;
+    const li = document.createElement("li");
+    li.textContent = b;
+    list.appendChild(li);
+  }
+  text("belief-count", s.belief_count !== undefined ? `(${s.belief_count})` : "");
+  const events = $("events");
+  events.replaceChildren();
+  for (const e of d.events.slice(-120)) {
+    const li = document.createElement("li");
+    li.dataset.kind = e.kind;
+    li.className = BAD.has(e.kind) ? "bad" : GOOD.has(e.kind) ? "good" : e.kind === "operator_command" ? "operator" : "";
+    li.textContent = `[${e.time.toFixed(1)}] ${e.kind}${e.behavior ? " " + e.behavior : ""}${e.detail ? ": " + e.detail : ""}`;
+    events.appendChild(li);
+  }
+  events.scrollTop = events.scrollHeight;
+  askQuestion(s.questions || []);
+}
+
+function askQuestion(questions) {
+  const dialog = $("question-dialog");
+  if (!questions.length || model.readOnly) {
+    if (dialog.open) dialog.close();
+    lastQuestion = "";
+    return;
+  }
+  const q = questions[0];
+  if (dialog.open && lastQuestion === q.question) return;
+  lastQuestion = q.question;
+  text("question-text", q.question);
+  const answers = $("question-answers");
+  answers.replaceChildren();
+  for (const a of q.answers) {
+    const b = document.createElement("button");
+    b.className = "answer";
+    b.textContent = a;
+    b.onclick = () => { send("answer", a); dialog.close(); };
+    answers.appendChild(b);
+  }
+  if (!dialog.open) dialog.showModal();
+}
+
+function draw() { drawMap(); drawPanels(); }
+
+// -- commands ----------------------------------------------------------------------------------------------
+function send(command, argument = "") {
+  if (!socket || socket.readyState !== WebSocket.OPEN || model.readOnly) {
+    text("message", model.readOnly ? "a replay takes no commands" : "not connected");
+    return;
+  }
+  socket.send(JSON.stringify({ id: nextId++, drone: model.selected, command, argument }));
+}
+
+function wire() {
+  $("pause").onclick = () => send("pause");
+  $("resume").onclick = () => send("resume");
+  $("abort").onclick = () => { if (confirm("Abort the mission and land?")) send("abort"); };
+  $("inhibit").onclick = () => send("inhibit", $("inhibit-name").value.trim());
+  $("add-belief").onclick = () => send("add", $("belief-text").value.trim());
+  $("remove-belief").onclick = () => send("remove", $("belief-text").value.trim());
+  $("ask").onclick = () => send("query", $("query").value.trim());
+  $("query").onkeydown = (e) => { if (e.key === "Enter") $("ask").click(); };
+  $("belief-filter").oninput = drawPanels;
+  $("drone").onchange = (e) => { model.selected = e.target.value; draw(); };
+  $("question-form").onsubmit = () => { const v = $("question-free").value.trim(); if (v) send("answer", v); };
+}
+
+function result(message) {
+  if (message.command === "query") {
+    const lines = (message.data && message.data.answers || []).map((a) => Object.entries(a).map(([k, v]) => `${k} = ${v}`).join(", "));
+    $("query-result").textContent = `${message.message}${lines.length ? "\n" + lines.join("\n") : ""}`;
+    return;
+  }
+  text("message", `${message.command}: ${message.message}`);
+}
+
+// -- replay of a finished run ------------------------------------------------------------------------------
+function replayAt(time) {
+  const r = model.replay;
+  for (const name of Object.keys(r.drones)) {
+    const records = r.drones[name];
+    const d = drone(name);
+    d.trail = []; d.events = [];
+    let telemetry = null, beliefs = new Set(), nodes = new Map(), active = new Map(), state = "running";
+    for (const rec of records) {
+      if (rec.time > time) break;
+      if (rec.kind === "state") {
+        telemetry = { position: rec.position, yaw: rec.yaw, battery: rec.battery, landed: rec.landed_state, armed: rec.armed, mode: "" };
+        d.trail.push(rec.position);
+      } else if (rec.kind === "belief_added") beliefs.add(rec.belief);
+      else if (rec.kind === "belief_removed") beliefs.delete(rec.belief);
+      else if (rec.kind === "node_status") {
+        const data = rec.data || {};
+        nodes.set(data.uid, { uid: data.uid, depth: data.depth || 0, name: data.node, status: data.new });
+      } else if (rec.kind !== "log_started" && rec.kind !== "log_closed") {
+        if (rec.kind === "activated") active.set(rec.behavior, { name: rec.behavior, priority: "", source: "", left: null });
+        if (ENDINGS.has(rec.kind)) active.delete(rec.behavior);
+        if (rec.kind === "mission_completed") state = "ended";
+        if (rec.kind === "mission_failed") state = "failed";
+        if (rec.kind === "operator_command" && rec.data && rec.data.command === "pause") state = "paused";
+        if (rec.kind === "operator_command" && rec.data && rec.data.command === "resume") state = "running";
+        d.events.push({ time: rec.time, kind: rec.kind, behavior: rec.behavior || "", detail: rec.reason || rec.detail || "" });
+      }
+    }
+    const sorted = [...nodes.values()].sort((a, b) => a.uid - b.uid);
+    d.snapshot = { time, state, telemetry: telemetry || {}, active: [...active.values()],
+                   beliefs: [...beliefs].sort(), belief_count: beliefs.size, questions: [],
+                   mission: sorted.length ? { kind: "tree", name: r.mission || "", nodes: sorted }
+                                          : { kind: "python", line: r.mission || "" } };
+  }
+  text("replay-time", `${time.toFixed(1)} s`);
+  draw();
+}
+
+function startReplay() {
+  const r = model.replay;
+  $("replay-bar").hidden = false;
+  $("controls-panel").hidden = true;
+  const slider = $("slider");
+  slider.max = r.end;
+  slider.value = r.end;
+  slider.oninput = () => replayAt(parseFloat(slider.value));
+  let timer = null;
+  $("play").onclick = () => {
+    if (timer) { clearInterval(timer); timer = null; $("play").textContent = "play"; return; }
+    if (parseFloat(slider.value) >= r.end) slider.value = 0;
+    $("play").textContent = "pause";
+    timer = setInterval(() => {
+      const v = Math.min(r.end, parseFloat(slider.value) + 0.5);
+      slider.value = v;
+      replayAt(v);
+      if (v >= r.end) { clearInterval(timer); timer = null; $("play").textContent = "play"; }
+    }, 100);
+  };
+  replayAt(r.end);
+}
+
+// -- the socket -------------------------------------------------------------------------------------------
+function connect() {
+  const scheme = location.protocol === "https:" ? "wss" : "ws";
+  socket = new WebSocket(`${scheme}://${location.host}/ws?token=${encodeURIComponent(token)}`);
+  socket.onopen = () => { text("link", "online"); $("link").className = "link online"; };
+  socket.onclose = () => { text("link", "offline"); $("link").className = "link"; };
+  socket.onmessage = (event) => {
+    const message = JSON.parse(event.data);
+    if (message.type === "hello") {
+      model.world = message.world;
+      model.readOnly = message.read_only;
+      for (const name of message.drones) {
+        const latest = (message.latest || {})[name] || {};
+        update(name, latest.snapshot, latest.events);
+      }
+      if (message.replay) { model.replay = message.replay; startReplay(); return; }
+      draw();
+    } else if (message.type === "update") {
+      update(message.drone, message.snapshot, message.events);
+      draw();
+    } else if (message.type === "result") {
+      result(message);
+    }
+  };
+}
+
+wire();
+connect();

@@ -1,0 +1,207 @@
+"""The web console in a real browser (headless Chromium through Selenium) against ``aeroexec run --web``: the page
+loads with its token, the map shows the drone moving, tree nodes turn RUNNING then SUCCESS, pausing from the page
+holds the mission, answering ASK_OPERATOR from the page lets it go on, and a wrong token gets 403."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import pytest
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import WebDriverWait
+from websockets.exceptions import InvalidStatus
+from websockets.sync.client import connect
+
+ROOT = Path(__file__).parents[2]
+DATA = Path(__file__).with_name("data")
+CHROMIUM, CHROMEDRIVER = shutil.which("chromium") or "/usr/bin/chromium", shutil.which("chromedriver")
+
+pytestmark = pytest.mark.browser
+
+
+class Run:
+    """``aeroexec run MISSION --web 0`` in a subprocess; ``url`` is the console's address with its token."""
+
+    def __init__(self, mission, output, *options):
+        self.output = output
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "aeroexec.cli.main", "run", str(mission), "--plain", "--web", "--output",
+             str(output), *options], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+            env={**os.environ, "PYTHONUNBUFFERED": "1"})
+        self.url = None
+        deadline = time.monotonic() + 60
+        while self.url is None and time.monotonic() < deadline:
+            line = self.process.stderr.readline()
+            if not line:
+                break
+            if line.startswith("web console: "):
+                self.url = line.split(": ", 1)[1].strip()
+        assert self.url, "aeroexec run printed no web console URL"
+
+    def wait(self, timeout=120):
+        code = self.process.wait(timeout=timeout)
+        return code, self.process.stderr.read()
+
+    def events(self):
+        lines = (self.output / "events.jsonl").read_text().splitlines()
+        return [json.loads(line) for line in lines if line.strip()]
+
+    def stop(self):
+        if self.process.poll() is None:
+            self.process.terminate()
+            self.process.wait(timeout=30)
+
+
+@pytest.fixture
+def browser(tmp_path):
+    assert CHROMEDRIVER, "chromedriver is not installed (.ci/run installs Debian's chromium and chromium-driver)"
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-quic",
+                 "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                 "--window-size=1400,900", f"--user-data-dir={tmp_path / 'chromium'}"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+    yield driver
+    driver.quit()
+
+
+def wait_for(driver, condition, timeout=30, what="the page"):
+    return WebDriverWait(driver, timeout, poll_frequency=0.1).until(lambda d: condition(d),
+                                                                    message=f"waiting for {what}")
+
+
+# The page redraws its panels on every update: read what it shows in one script call, never through elements
+# that a redraw may replace between two calls.
+def drone_position(driver):
+    return driver.execute_script("""const m = document.getElementById("drone-drone");
+        return m ? [parseFloat(m.getAttribute("data-x")), parseFloat(m.getAttribute("data-y"))] : null;""")
+
+
+def node_status(driver, name):
+    return driver.execute_script("""const r = document.querySelector(`#mission .node[data-name="${arguments[0]}"]`);
+        return r ? r.dataset.status : null;""", name)
+
+
+def shown(driver, element_id):
+    return driver.execute_script("return document.getElementById(arguments[0]).textContent;", element_id)
+
+
+def test_a_tree_mission_seen_live_nodes_turn_running_then_success_and_the_drone_moves(browser, tmp_path):
+    run = Run("missions/figure10.xml", tmp_path / "out", "--speed", "1")
+    try:
+        browser.get(run.url)
+        wait_for(browser, lambda d: shown(d, "link") == "online", what="the socket")
+        wait_for(browser, lambda d: node_status(d, "TAKE_OFF") == "RUNNING", what="TAKE_OFF RUNNING")
+        wait_for(browser, lambda d: node_status(d, "TAKE_OFF") == "SUCCESS", what="TAKE_OFF SUCCESS")
+        first = wait_for(browser, drone_position, what="the drone on the map")
+        wait_for(browser, lambda d: (p := drone_position(d)) and abs(p[0] - first[0]) + abs(p[1] - first[1]) > 1.0,
+                 what="the drone to move on the map")
+        assert browser.find_elements(By.CSS_SELECTOR, "#map .obstacle"), "the world's obstacles are drawn"
+        browser.save_screenshot(str(tmp_path / "console.png"))
+        code, err = run.wait()
+        assert code == 0, err
+    finally:
+        run.stop()
+
+
+def test_pausing_from_the_page_holds_the_mission_and_resuming_finishes_it(browser, tmp_path):
+    run = Run("missions/figure10.py", tmp_path / "out", "--speed", "1")
+    try:
+        browser.get(run.url)
+        wait_for(browser, lambda d: "GO_TO_POINT" in shown(d, "active"), what="GO_TO_POINT active")
+        wait_for(browser, lambda d: d.execute_script("return document.querySelectorAll('#map .planned').length"),
+                 what="GO_TO_POINT's planned path on the map")
+        browser.find_element(By.ID, "pause").click()
+        wait_for(browser, lambda d: shown(d, "state") == "paused", what="PAUSED")
+        time.sleep(2.0)  # it brakes from cruise speed
+        held = drone_position(browser)
+        time.sleep(2.0)
+        moved = drone_position(browser)
+        assert abs(moved[0] - held[0]) + abs(moved[1] - held[1]) < 0.3, "the drone holds while paused"
+        assert "GO_TO_POINT" not in shown(browser, "active")
+        browser.find_element(By.ID, "resume").click()
+        wait_for(browser, lambda d: shown(d, "state") == "running", what="RUNNING again")
+        code, err = run.wait()
+        assert code == 0, err
+        commands = [e for e in run.events() if e["kind"] == "operator_command"]
+        assert [(c["data"]["command"], c["data"]["origin"]) for c in commands] == [("pause", "web console"),
+                                                                                 ("resume", "web console")]
+    finally:
+        run.stop()
+
+
+def test_answering_the_drones_question_from_the_page_lets_the_mission_go_on(browser, tmp_path):
+    run = Run(DATA / "ask_the_way.py", tmp_path / "out", "--speed", "2")
+    try:
+        browser.get(run.url)
+        wait_for(browser, lambda d: d.find_element(By.ID, "question-dialog").get_attribute("open") is not None,
+                 timeout=60, what="the question dialog")
+        assert "Which way?" in shown(browser, "question-text")
+        buttons = {b.text: b for b in browser.find_elements(By.CSS_SELECTOR, "#question-answers .answer")}
+        assert set(buttons) == {"east", "south"}
+        buttons["south"].click()
+        code, err = run.wait()
+        assert code == 0, err
+        arrived = [e for e in run.events() if e["kind"] == "GOAL_ACHIEVED" and e["behavior"] == "GO_TO_POINT"]
+        assert arrived
+        states = [e for e in run.events() if e["kind"] == "state" and e["time"] <= arrived[-1]["time"]]
+        x, y, _ = states[-1]["position"]
+        assert y < -3 and abs(x) < 1, "the drone flew south, as answered"
+    finally:
+        run.stop()
+
+
+def test_a_wrong_token_gets_403_on_the_page_and_the_socket(tmp_path):
+    run = Run("missions/figure10.xml", tmp_path / "out", "--speed", "0.5")
+    try:
+        base = run.url.split("?")[0]
+        with pytest.raises(urllib.error.HTTPError) as page:
+            urllib.request.urlopen(base + "?token=wrong", timeout=10)
+        assert page.value.code == 403
+        with pytest.raises(urllib.error.HTTPError):
+            urllib.request.urlopen(base, timeout=10)
+        with pytest.raises(InvalidStatus) as socket:
+            connect(base.replace("http", "ws") + "ws?token=wrong", open_timeout=10)
+        assert socket.value.response.status_code == 403
+        with connect(base.replace("http", "ws") + "ws?" + run.url.split("?")[1], open_timeout=10) as ws:
+            hello = json.loads(ws.recv(timeout=10))
+            assert hello["type"] == "hello" and hello["drones"] == ["drone"]
+            ws.send(json.dumps({"id": 1, "drone": "drone", "command": "query", "argument": "flight_state(self, ?S)"}))
+            while (reply := json.loads(ws.recv(timeout=10)))["type"] != "result":
+                pass
+            assert reply["ok"] and reply["data"]["answers"][0]["?S"]
+    finally:
+        run.stop()
+
+
+def test_a_finished_run_replays_read_only_with_a_time_slider(browser, tmp_path):
+    flown = subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "run", "missions/figure10.xml", "--plain",
+                            "--output", str(tmp_path / "flown")], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert flown.returncode == 0, flown.stderr
+    replay = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "console", str(tmp_path / "flown")],
+                              cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        url = replay.stdout.readline().split(": ", 1)[1].strip()
+        browser.get(url)
+        wait_for(browser, lambda d: node_status(d, "TAKE_OFF") == "SUCCESS", what="the end of the run")
+        assert browser.execute_script("return document.getElementById('controls-panel').hidden")
+        end = drone_position(browser)
+        browser.execute_script("""const s = document.getElementById('slider'); s.value = 1.0;
+                                  s.dispatchEvent(new Event('input'));""")
+        assert node_status(browser, "TAKE_OFF") == "RUNNING"
+        early = drone_position(browser)
+        assert early != end
+        assert shown(browser, "replay-time") == "1.0 s"
+    finally:
+        replay.terminate()
+        replay.wait(timeout=30)
