@@ -174,9 +174,13 @@ class TreeVerifier:
             self.report(node, f"The {attribute} of node {node.type} is empty (a belief expression is expected)")
             return
         try:
-            BeliefMemory(predicates=self.vocabulary).check(_placeholders(text))
+            expression = BeliefMemory(predicates=self.vocabulary).check(_placeholders(text))
         except BeliefError as error:
             self.report(node, error.message, WRONG_FORMAT)
+            return
+        if node.type != "AddBelief":
+            for message in self.specialist.unwritten_values(expression):
+                self.report(node, message, WRONG_VALUE, "warning")
 
     def request_problems(self, node: TreeNode, errors: list[SpecificationError]) -> None:
         for error in errors:

@@ -93,7 +93,7 @@ class CatalogReader:
             self.content.default_category = self._category(entries["category"][1]) or GOAL_BASED
 
     def _predicates(self, node: yaml.Node) -> None:
-        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "description")
+        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "values", "description")
         for item in self.r.sequence(node, "predicates") or ():
             e = self.r.mapping(item, "a predicate", keys)
             if e is None or not self._required(e, item, "predicate", "a predicate"):
@@ -117,7 +117,8 @@ class CatalogReader:
                 multivalued=bool("multivalued" in e and self.r.flag(e["multivalued"][1], "multivalued")),
                 persistence=persistence,
                 computed=bool("computed" in e and self.r.flag(e["computed"][1], "computed")),
-                description=self._description(e), line=item.start_mark.line + 1)
+                values=tuple(v for v, _ in self.r.names(e["values"][1], f"the values of {name}")) if "values" in e
+                else (), description=self._description(e), line=item.start_mark.line + 1)
 
     def _behavior_lists(self, node: yaml.Node) -> None:
         for item in self.r.sequence(node, "behavior_lists") or ():

@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
+from aeroexec.beliefs.expression import Goal, Negation
+from aeroexec.beliefs.terms import Struct, format_term
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.behavior_catalog import BehaviorCatalog, default_catalog
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
@@ -35,6 +37,14 @@ class PhenomenonState:
 
     state: str
     since: str | None = None
+
+
+def _goals(expression: Conjunction) -> Iterable[Struct]:
+    for literal in expression.literals:
+        if type(literal) is Goal:
+            yield literal.term
+        elif type(literal) is Negation:
+            yield from _goals(literal.body)
 
 
 def as_request(step: Step | Request) -> Request:
@@ -119,6 +129,20 @@ class BehaviorSpecialist:
             return BeliefMemory(predicates=vocabulary).check(text)
         except BeliefError as exc:
             raise SpecificationError(WRONG_FORMAT, exc.message) from None
+
+    def unwritten_values(self, expression: Conjunction) -> list[str]:
+        """Why goals of ``expression`` can never hold: they compare a predicate whose values the catalog declares
+        to a value no updater writes (``battery_level(self, critical)``); case does not matter."""
+        messages = []
+        for goal in _goals(expression):
+            declared = self.catalog.predicates.get(goal.name)
+            if declared is None or not declared.values or not goal.args:
+                continue
+            value = goal.args[-1]
+            if type(value) is str and value.lower() not in {v.lower() for v in declared.values}:
+                messages.append(f"The belief {format_term(goal)} can never hold: {goal.name} is written with "
+                                f"{', '.join(declared.values)}, never {value}")
+        return messages
 
     # -- compatibility ------------------------------------------------------------
     def compatible(self, a: str, b: str) -> bool:
