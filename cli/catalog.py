@@ -8,6 +8,7 @@ import sys
 import textwrap
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, default_catalog_path, load_catalog
+from aeroexec.engine.library import default_library
 from aeroexec.engine.errors import CatalogError
 
 
@@ -35,8 +36,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def chosen_catalog(path: str | None) -> BehaviorCatalog:
-    """The catalog of a ``--catalog`` option (the aerial one without it); raises CatalogError."""
-    return load_catalog(path) if path else default_catalog()
+    """The catalog of a ``--catalog`` option (the aerial one without it) as the behavior library serves it
+    (see :meth:`BehaviorCatalog.served_by`); raises CatalogError."""
+    catalog = load_catalog(path) if path else default_catalog()
+    return catalog.served_by(default_library().names(), default_catalog())
 
 
 def _check(path: str) -> int:

@@ -68,7 +68,10 @@ class Engine:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = drone
-        self.catalog = catalog or default_catalog()
+        if library is None:
+            library = default_library()
+        # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
+        self.catalog = (catalog or default_catalog()).served_by(library.names(), default_catalog())
         self.clock = clock or SimulatedClock()
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
@@ -82,8 +85,6 @@ class Engine:
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
                                        obstacles=obstacles, operator=operator, bus=bus,
                                        output_dir=Path(output_dir) if output_dir is not None else None)
-        if library is None:
-            library = default_library()
         if processes is None:
             processes = default_processes()
         self.library = library

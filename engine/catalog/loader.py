@@ -26,8 +26,8 @@ from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
             "capability_descriptors", "behavior_transitions", "phenomena", "predicates")
-BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "arguments",
-                 "preconditions", "description", "one_of", "ROS_service_calls")
+BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "required_capabilities",
+                 "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
 ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
                  "aliases")
 TRANSITION_KEYS = ("behavior", "behaviors", "physical_phenomenon", "argument", "argument_value",
@@ -60,6 +60,24 @@ def _peek(node: yaml.Node, key: str) -> str:
     return "?"
 
 
+def catalog_dialect(root: yaml.Node) -> str | None:
+    """One line naming the format of a catalog written for another Aerostack version; None for Appendix B's."""
+    if not isinstance(root, yaml.MappingNode):
+        return None
+    keys = {getattr(k, "value", None) for k, _ in root.value}
+    items = [item for k, v in root.value if getattr(k, "value", None) == "behavior_descriptors"
+             and isinstance(v, yaml.SequenceNode) for item in v.value]
+    if keys & {"precedence_constraints", "exclusivity_constraints"} and "tasks" not in keys or any(
+            _peek(item, "system") != "?" for item in items):
+        return ("This is an Aerostack Sirocco behavior catalog (behavior_descriptors with system:, "
+                "precedence_constraints, exclusivity_constraints): aeroexec reads the paper's Appendix B format "
+                "(Aerostack Levant's), with incompatible_lists, capabilities and behavior_lists")
+    if {"behaviors", "tasks"} <= keys:
+        return ("This is an Aerostack Auster/Libeccio behavior catalog (behaviors: and tasks:): aeroexec reads the "
+                "paper's Appendix B format (Aerostack Levant's), with behavior_descriptors")
+    return None
+
+
 class CatalogReader:
     """Reads one catalog document section by section into a :class:`CatalogContent`."""
 
@@ -73,6 +91,10 @@ class CatalogReader:
         if root is None:
             if not self.r.problems:
                 self.r.error(None, "the catalog is empty")
+            return self.content
+        dialect = catalog_dialect(root)
+        if dialect is not None:
+            self.r.error(root, dialect)
             return self.content
         sections = self.r.mapping(root, "the catalog", SECTIONS) or {}
         # predicates first: preconditions and conditions are checked against them
@@ -267,7 +289,8 @@ class CatalogReader:
         lists = self.r.names(e["incompatible_lists"][1], "incompatible_lists") if "incompatible_lists" in e else []
         for list_name, node in lists:
             self.content.references.append(("list", list_name, name, node))
-        capabilities = self.r.names(e["capabilities"][1], "capabilities") if "capabilities" in e else []
+        capabilities = [pair for key in ("capabilities", "required_capabilities") if key in e  # Levant's spelling
+                        for pair in self.r.names(e[key][1], key)]
         for capability, node in capabilities:
             self.content.references.append(("capability", capability, f"behavior {name}", node))
         arguments: dict[str, ArgumentDescriptor] = {}

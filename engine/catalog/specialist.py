@@ -93,6 +93,9 @@ class BehaviorSpecialist:
         def error(kind: str, message: str) -> None:
             errors.append(SpecificationError(kind, message, behavior=name))
 
+        if name in self.catalog.unsupported:
+            error(WRONG_FORMAT, f"The behavior {name} is not supported by this robot (no implementation is "
+                                f"registered)")
         known = descriptor.arguments
         for key, value in arguments.items():
             argument = known.get(key)
