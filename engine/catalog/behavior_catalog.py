@@ -81,8 +81,9 @@ class BehaviorCatalog:
         """This catalog as a library serves it: behaviors without an implementation are marked unsupported, and a
         behavior described without ``arguments:`` takes the arguments its implementation is described with in
         ``reference`` (a thin catalog's GO_TO_POINT gets COORDINATES...); one_of groups of ``reference`` apply to
-        the arguments a catalog declares, so a request the implementation cannot serve is refused before flight.
-        Returns ``self`` when nothing changes."""
+        the arguments a catalog declares, so a request the implementation cannot serve is refused before flight;
+        predicates the catalog does not declare are taken from ``reference``. Returns ``self`` when nothing
+        changes."""
         implemented = set(implemented)
         unsupported = frozenset(name for name in self.behaviors if name not in implemented)
         behaviors = dict(self.behaviors)
@@ -97,10 +98,13 @@ class BehaviorCatalog:
                                            for group in own.one_of) if g)
                 if groups:
                     behaviors[name] = replace(descriptor, one_of=groups)
-        if unsupported == self.unsupported and behaviors == self.behaviors:
+        predicates = dict(self.predicates)  # what the implementations write, when the catalog does not say
+        for name, declared in (reference.predicates.items() if reference is not None else ()):
+            predicates.setdefault(name, declared)
+        if unsupported == self.unsupported and behaviors == self.behaviors and predicates == self.predicates:
             return self
         fitted = copy.copy(self)
-        fitted.behaviors, fitted.unsupported = behaviors, unsupported
+        fitted.behaviors, fitted.unsupported, fitted.predicates = behaviors, unsupported, predicates
         return fitted
 
     def declare_vocabulary(self, memory: BeliefMemory) -> None:
