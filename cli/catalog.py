@@ -8,8 +8,8 @@ import sys
 import textwrap
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, default_catalog_path, load_catalog
-from aeroexec.engine.library import default_library
 from aeroexec.engine.errors import CatalogError
+from aeroexec.engine.library import default_library
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
