@@ -72,7 +72,7 @@ class BeliefMemory:
             clock = time.monotonic
         self._now: Callable[[], float] = clock.now if hasattr(clock, "now") else clock
         self._vocabulary: dict[str, int] = dict(predicates or {})
-        self._spellings: dict[str, dict[str, str]] = {}
+        self._spellings: dict[str, dict[str, str | tuple[str, ...]]] = {}
         self._computed: dict[tuple[str, int], tuple[Callable, int]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
         self._listeners: list[Callable[[BeliefChange], None]] = []
@@ -88,13 +88,15 @@ class BeliefMemory:
         multivalued: bool = False,
         persistence: float | None = None,
         values: Iterable[str] = (),
+        aliases: Mapping[str, Iterable[str]] | None = None,
     ) -> None:
         """Add a predicate to the vocabulary, with its exclusivity and persistence; ``values``: the atoms its
-        last argument takes, matched without regard to case (``LOW`` is ``low``)."""
+        last argument takes, matched without regard to case (``LOW`` is ``low``); ``aliases``: names for
+        several of them in expressions (``flying``: hovering or moving)."""
         self._vocabulary[name] = arity
         values = tuple(values)
-        if values:
-            self._spellings[name] = spelling_table(values)
+        if values or aliases:
+            self._spellings[name] = spelling_table(values, aliases)
         if multivalued:
             self._multivalued.add(name)
         if persistence is not None:

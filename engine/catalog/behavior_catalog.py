@@ -111,7 +111,8 @@ class BehaviorCatalog:
         """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory."""
         for p in self.predicates.values():
             if not p.computed:
-                memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence, values=p.values)
+                memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence, values=p.values,
+                               aliases=p.aliases)
 
     def _incompatibility(self) -> set[frozenset[str]]:
         pairs: set[frozenset[str]] = set()

@@ -115,7 +115,7 @@ class CatalogReader:
             self.content.default_category = self._category(entries["category"][1]) or GOAL_BASED
 
     def _predicates(self, node: yaml.Node) -> None:
-        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "values", "description")
+        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "values", "aliases", "description")
         for item in self.r.sequence(node, "predicates") or ():
             e = self.r.mapping(item, "a predicate", keys)
             if e is None or not self._required(e, item, "predicate", "a predicate"):
@@ -140,7 +140,14 @@ class CatalogReader:
                 persistence=persistence,
                 computed=bool("computed" in e and self.r.flag(e["computed"][1], "computed")),
                 values=tuple(v for v, _ in self.r.names(e["values"][1], f"the values of {name}")) if "values" in e
-                else (), description=self._description(e), line=item.start_mark.line + 1)
+                else (), aliases=self._aliases(e["aliases"][1], name) if "aliases" in e else {},
+                description=self._description(e), line=item.start_mark.line + 1)
+
+    def _aliases(self, node: yaml.Node, predicate: str) -> dict[str, tuple[str, ...]]:
+        """``aliases: {flying: [hovering, moving]}``: names for several values of a predicate."""
+        entries = self.r.mapping(node, f"the aliases of {predicate}") or {}
+        return {alias: tuple(v for v, _ in self.r.names(value, f"the alias {alias} of {predicate}"))
+                for alias, (_, value) in entries.items()}
 
     def _behavior_lists(self, node: yaml.Node) -> None:
         for item in self.r.sequence(node, "behavior_lists") or ():

@@ -142,7 +142,8 @@ class BehaviorSpecialist:
             if declared is None or not declared.values or not goal.args:
                 continue
             value = goal.args[-1]
-            if type(value) is str and value.lower() not in {v.lower() for v in declared.values}:
+            spellings = {v.lower() for v in (*declared.values, *declared.aliases)}
+            if type(value) is str and value.lower() not in spellings:
                 messages.append(f"The belief {format_term(goal)} can never hold: {goal.name} is written with "
                                 f"{', '.join(declared.values)}, never {value}")
         return messages

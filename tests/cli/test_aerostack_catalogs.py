@@ -98,3 +98,10 @@ def test_other_aerostack_catalog_formats_are_named_in_one_line(name, text):
 def test_the_aerostack_mission_passes_its_own_catalog_check():
     problems = check_mission_file(DATA / "levant_patrol.py", served(load_catalog(LEVANT)))
     assert problems == []
+
+
+def test_catalog_check_warns_of_a_behavior_without_implementation(tmp_path):
+    result = aeroexec("catalog", "--check", str(LEVANT), cwd=tmp_path)
+    assert result.returncode == 0
+    assert ("levant_behavior_catalog.yaml:43: warning: the behavior DROP_OBJECT has no implementation in the "
+            "behavior library: missions using it are refused") in result.stdout

@@ -206,6 +206,7 @@ def runMission():
     api.trueBelief('battery_level(self, LOW)')
     api.trueBelief('flight_state(self, LANDED)')
     api.trueBelief('battery_level(self, critical)')
+    api.trueBelief('flight_state(self, FLYING)')
 """)
     assert len(found) == 1 and found[0][:2] == (6, "warning")
     assert found[0][2] == ("The belief battery_level(self, critical) can never hold: battery_level is written with "
@@ -223,7 +224,7 @@ def runMission():
     assert [(line, severity) for line, severity, _ in found] == [(6, "warning")]
 
 
-def test_upper_case_values_match_what_the_updater_writes():
+def test_upper_case_values_and_aliases_match_what_the_updater_writes():
     api = executive_engine_api
     seen = {}
 
@@ -231,9 +232,15 @@ def test_upper_case_values_match_what_the_updater_writes():
         seen["landed"] = api.trueBelief("flight_state(self, LANDED)")
         seen["high"] = api.trueBelief("battery_level(self, HIGH)")
         seen["low"] = api.trueBelief("battery_level(self, LOW)")
+        seen["flying before"] = api.trueBelief("flight_state(self, FLYING)")
+        api.executeBehavior("TAKE_OFF")
+        seen["flying"] = api.queryBelief("flight_state(self, FLYING), flight_state(self, ?S)")
+        seen["not flying"] = api.trueBelief("not(flight_state(self, FLYING))")
+        api.executeBehavior("LAND")
 
     run(mission)
-    assert seen == {"landed": True, "high": True, "low": False}
+    assert seen == {"landed": True, "high": True, "low": False, "flying before": False,
+                    "flying": (True, {"S": "hovering"}), "not flying": False}
 
 
 def test_a_python_2_mission_gets_one_line():
