@@ -292,5 +292,6 @@ stopTask = inhibit_behavior
 
 __all__ = [
     "MissionAborted", "Unification", "activate_behavior", "add_belief", "ask_behavior", "consult_belief",
-    "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief", "true_belief", "wait",
+    "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief", "run_behavior",
+    "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait",
 ]

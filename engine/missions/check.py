@@ -25,6 +25,7 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
+from aeroexec.engine.missions.imports import missing_imports
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.yaml_nodes import suggestion
 
@@ -39,6 +40,8 @@ _CANONICAL = (*RUN, *NAME_ONLY, *BELIEF, "wait", "now")
 #: every spelling the API module offers -> its canonical function name
 API_FUNCTIONS: dict[str, str] = {alias: canonical for canonical in _CANONICAL for alias, value in vars(api).items()
                                  if value is getattr(api, canonical)}
+API_FUNCTIONS.update(run_behavior="execute_behavior", start_behavior="activate_behavior",  # Aerostack's conventions
+                     stop_behavior="inhibit_behavior")
 #: Aerostack's mission modules: each function -> the API function it is checked as.
 LEVANT_FUNCTIONS: dict[str, str] = {
     "executeBehavior": "execute_behavior", "activateBehavior": "activate_behavior",
@@ -414,6 +417,9 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
         return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
                                WRONG_FORMAT, exc.offset or 0)]
     checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
+    for statement, module in missing_imports(tree, filename):
+        checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
+                       WRONG_FORMAT)
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)

@@ -105,3 +105,14 @@ def test_catalog_check_warns_of_a_behavior_without_implementation(tmp_path):
     assert result.returncode == 0
     assert ("levant_behavior_catalog.yaml:43: warning: the behavior DROP_OBJECT has no implementation in the "
             "behavior library: missions using it are refused") in result.stdout
+
+
+def test_a_tree_mission_using_an_unimplemented_behavior_is_refused_naming_it(tmp_path):
+    mission = tmp_path / "drop.yaml"
+    mission.write_text("nodes:\n"
+                       "  - {node: 1, name: Mission, type: control_flow, subtype: sequence, parent: 0}\n"
+                       "  - {node: 2, name: Take off, type: execution, subtype: task, task: TAKE_OFF, parent: 1}\n"
+                       "  - {node: 3, name: Drop, type: execution, subtype: task, task: DROP_OBJECT, parent: 1}\n")
+    result = aeroexec("verify", "--catalog", str(LEVANT), str(mission), cwd=tmp_path)
+    assert result.returncode == 1
+    assert "drop.yaml:4: error: WRONG_FORMAT: The behavior DROP_OBJECT is not supported by this robot" in result.stdout

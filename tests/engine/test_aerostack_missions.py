@@ -258,3 +258,17 @@ def test_aeroexec_verify_and_run_take_a_levant_mission_as_it_is(tmp_path):
                             capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     assert "completed" in result.stderr + result.stdout and "Finish mission..." in result.stdout
+
+
+def test_a_module_that_cannot_be_found_is_an_error_not_ready_to_fly():
+    found = problems("""import rospy
+import executive_engine_api as api
+try:
+    import optional_helper
+except ImportError:
+    optional_helper = None
+
+def runMission():
+    api.executeBehavior('TAKE_OFF')
+""")
+    assert found == [(1, "error", "The module rospy cannot be found: the mission would stop at this import")]
