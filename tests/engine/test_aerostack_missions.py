@@ -247,6 +247,9 @@ def test_a_python_2_mission_gets_one_line():
     found = problems("import executive_engine_api as api\n\ndef runMission():\n    print 'Starting'\n")
     assert len(found) == 1 and found[0][0] == 4 and "not valid Python" in found[0][2]
     assert "print" in found[0][2]
+    mixed = problems("import executive_engine_api as api\n\ndef runMission():\n    api.executeBehavior('TAKE_OFF')\n"
+                     "\tapi.executeBehavior('LAND')\n")
+    assert len(mixed) == 1 and mixed[0][0] == 5 and "tabs" in mixed[0][2]
 
 
 def test_aeroexec_verify_and_run_take_a_levant_mission_as_it_is(tmp_path):
