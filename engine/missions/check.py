@@ -25,6 +25,18 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
+from aeroexec.engine.missions.api_modules import (
+    AEROSTACK_MODULES,
+    API_FUNCTIONS,
+    API_MODULES,
+    BELIEF,
+    NAME_ONLY,
+    RUN,
+    SEQUENCE,
+    api_bindings,
+    module_label,
+    offers,
+)
 from aeroexec.engine.missions.imports import missing_imports
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.yaml_nodes import suggestion
@@ -32,38 +44,6 @@ from aeroexec.engine.yaml_nodes import suggestion
 logger = logging.getLogger(__name__)
 
 ENTRY_POINTS = ("mission", "runMission")
-RUN = frozenset({"execute_behavior", "ask_behavior", "activate_behavior"})
-NAME_ONLY = frozenset({"inhibit_behavior", "is_active_behavior"})
-SEQUENCE = RUN | {"inhibit_behavior"}  # the calls that change the phenomena's states
-BELIEF = frozenset({"consult_belief", "true_belief", "add_belief", "remove_belief"})
-_CANONICAL = (*RUN, *NAME_ONLY, *BELIEF, "wait", "now")
-#: every spelling the API module offers -> its canonical function name
-API_FUNCTIONS: dict[str, str] = {alias: canonical for canonical in _CANONICAL for alias, value in vars(api).items()
-                                 if value is getattr(api, canonical)}
-API_FUNCTIONS.update(run_behavior="execute_behavior", start_behavior="activate_behavior",  # Aerostack's conventions
-                     stop_behavior="inhibit_behavior")
-#: Aerostack's mission modules: each function -> the API function it is checked as.
-LEVANT_FUNCTIONS: dict[str, str] = {
-    "executeBehavior": "execute_behavior", "activateBehavior": "activate_behavior",
-    "inhibitBehavior": "inhibit_behavior", "deactivateBehavior": "inhibit_behavior",
-    "isActiveBehavior": "is_active_behavior", "consultPlanner": "ask_behavior",
-    "addBelief": "add_belief", "assertBelief": "add_belief", "removeBelief": "remove_belief",
-    "retractBelief": "remove_belief", "consultBelief": "consult_belief", "queryBelief": "consult_belief",
-    "trueBelief": "true_belief",
-}
-SIROCCO_FUNCTIONS: dict[str, str] = {
-    "executeTask": "execute_behavior", "startTask": "activate_behavior", "stopTask": "inhibit_behavior",
-    "consultPlanner": "ask_behavior", "addBelief": "add_belief", "removeBelief": "remove_belief",
-    "queryBelief": "consult_belief", "trueBelief": "true_belief",
-}
-#: every module a mission may take the API from -> its functions by name -> the API function they are checked as
-API_MODULES: dict[str, dict[str, str]] = {
-    "aeroexec.engine.api": API_FUNCTIONS,
-    "executive_engine_api": LEVANT_FUNCTIONS,
-    "mission_execution_control": SIROCCO_FUNCTIONS,
-}
-#: Aerostack's modules, where a behavior may be stopped by the uid its activation returned
-AEROSTACK_MODULES = frozenset({"executive_engine_api", "mission_execution_control"})
 _NOT_LITERAL = object()
 
 
@@ -100,32 +80,13 @@ def literal(node: ast.AST) -> Any:
     return _NOT_LITERAL
 
 
-def _api_bindings(tree: ast.Module) -> dict[str, str]:
-    """Local name -> the dotted path it stands for, for every import in the program."""
-    bindings: dict[str, str] = {}
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            for alias in node.names:
-                top = alias.name.split(".")[0]
-                bindings[alias.asname or top] = alias.name if alias.asname else top
-        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
-            for alias in node.names:
-                if alias.name == "*" and node.module in API_MODULES:
-                    if node.module == "aeroexec.engine.api":
-                        bindings.update({n: f"{node.module}.{n}" for n in getattr(api, "__all__", ())})
-                    bindings.update({n: f"{node.module}.{n}" for n in API_MODULES[node.module]})
-                elif alias.name != "*":
-                    bindings[alias.asname or alias.name] = f"{node.module}.{alias.name}"
-    return bindings
-
-
 class MissionChecker:
     """Checks one parsed mission program; ``problems`` collects what it finds."""
 
     def __init__(self, tree: ast.Module, file: str, specialist: BehaviorSpecialist) -> None:
         self.tree, self.file, self.specialist = tree, file, specialist
         self.catalog = specialist.catalog
-        self.bindings = _api_bindings(tree)
+        self.bindings = api_bindings(tree)
         self.problems: list[MissionProblem] = []
         self._seen: set[tuple[int, int, str]] = set()
         self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
@@ -202,15 +163,16 @@ class MissionChecker:
         for node in ast.walk(self.tree):
             if isinstance(node, ast.Attribute):  # imported names are checked at their import
                 member = self.api_member(node)
-                if member is not None and not _offers(*member):
-                    self.report(node, f"The function {member[1]} does not exist in the mission API{_module(member[0])}"
-                                      f"{suggestion(member[1], API_MODULES[member[0]])}", WRONG_FORMAT)
+                if member is not None and not offers(*member):
+                    module, name = member
+                    self.report(node, f"The function {name} does not exist in the mission API{module_label(module)}"
+                                      f"{suggestion(name, API_MODULES[module])}", WRONG_FORMAT)
             elif isinstance(node, ast.ImportFrom) and node.module in API_MODULES:
                 for alias in node.names:
-                    if alias.name != "*" and not _offers(node.module, alias.name):
+                    if alias.name != "*" and not offers(node.module, alias.name):
+                        known = API_MODULES[node.module]
                         self.report(node, f"The function {alias.name} does not exist in the mission API"
-                                          f"{_module(node.module)}{suggestion(alias.name, API_MODULES[node.module])}",
-                                    WRONG_FORMAT)
+                                          f"{module_label(node.module)}{suggestion(alias.name, known)}", WRONG_FORMAT)
             elif isinstance(node, ast.Call):
                 function = self.api_function(node.func)
                 if function in RUN or function in NAME_ONLY:
@@ -390,14 +352,6 @@ class MissionChecker:
                 if isinstance(node, ast.Name) and node.id in self.effectful_functions:
                     return False
         return True
-
-
-def _offers(module: str, name: str) -> bool:
-    return hasattr(api, name) if module == "aeroexec.engine.api" else name in API_MODULES[module]
-
-
-def _module(module: str) -> str:
-    return f" {module}" if module in AEROSTACK_MODULES else ""
 
 
 def _called_name(call: ast.Call) -> str | None:

@@ -275,3 +275,11 @@ def runMission():
     api.executeBehavior('TAKE_OFF')
 """)
     assert found == [(1, "error", "The module rospy cannot be found: the mission would stop at this import")]
+
+
+def test_verify_knows_every_function_the_aerostack_modules_offer():
+    from aeroexec.engine.missions.api_modules import API_MODULES
+
+    for module in (executive_engine_api, mission_execution_control):
+        functions = {name for name in module.__all__ if callable(getattr(module, name))}
+        assert functions == set(API_MODULES[module.__name__]), module.__name__
