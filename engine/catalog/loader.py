@@ -22,6 +22,7 @@ from aeroexec.engine.catalog.descriptors import (
     ReactiveRule,
     Transition,
 )
+from aeroexec.engine.catalog.dialects import catalog_dialect
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
@@ -58,24 +59,6 @@ def _peek(node: yaml.Node, key: str) -> str:
             if getattr(key_node, "value", None) == key and isinstance(value_node, yaml.ScalarNode):
                 return str(value_node.value)
     return "?"
-
-
-def catalog_dialect(root: yaml.Node) -> str | None:
-    """One line naming the format of a catalog written for another Aerostack version; None for Appendix B's."""
-    if not isinstance(root, yaml.MappingNode):
-        return None
-    keys = {getattr(k, "value", None) for k, _ in root.value}
-    items = [item for k, v in root.value if getattr(k, "value", None) == "behavior_descriptors"
-             and isinstance(v, yaml.SequenceNode) for item in v.value]
-    if keys & {"precedence_constraints", "exclusivity_constraints"} and "tasks" not in keys or any(
-            _peek(item, "system") != "?" for item in items):
-        return ("This is an Aerostack Sirocco behavior catalog (behavior_descriptors with system:, "
-                "precedence_constraints, exclusivity_constraints): aeroexec reads the paper's Appendix B format "
-                "(Aerostack Levant's), with incompatible_lists, capabilities and behavior_lists")
-    if {"behaviors", "tasks"} <= keys:
-        return ("This is an Aerostack Auster/Libeccio behavior catalog (behaviors: and tasks:): aeroexec reads the "
-                "paper's Appendix B format (Aerostack Levant's), with behavior_descriptors")
-    return None
 
 
 class CatalogReader:
