@@ -21,7 +21,7 @@ def catalog_dialect(root: yaml.Node) -> str | None:
     keys = {getattr(k, "value", None) for k, _ in root.value}
     items = [item for k, v in root.value if getattr(k, "value", None) == "behavior_descriptors"
              and isinstance(v, yaml.SequenceNode) for item in v.value]
-    if keys & {"precedence_constraints", "exclusivity_constraints"} and "tasks" not in keys or any(
+    if (keys & {"precedence_constraints", "exclusivity_constraints"} and "tasks" not in keys) or any(
             _has_key(item, "system") for item in items):
         return ("This is an Aerostack Sirocco behavior catalog (behavior_descriptors with system:, "
                 "precedence_constraints, exclusivity_constraints): aeroexec reads the paper's Appendix B format "

@@ -28,7 +28,7 @@ from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
             "capability_descriptors", "behavior_transitions", "phenomena", "predicates")
 BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "required_capabilities",
-                 "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
+                 "incompatibilities", "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
 ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
                  "aliases")
 TRANSITION_KEYS = ("behavior", "behaviors", "physical_phenomenon", "argument", "argument_value",
@@ -134,7 +134,9 @@ class CatalogReader:
 
     def _behavior_lists(self, node: yaml.Node) -> None:
         for item in self.r.sequence(node, "behavior_lists") or ():
-            e = self.r.mapping(item, "a behavior list", ("list", "behaviors"))
+            e = self.r.mapping(item, "a behavior list", ("list", "name", "behaviors"))
+            if e is not None and "name" in e and "list" not in e:  # early Levant names a list with name:
+                e["list"] = e.pop("name")
             if e is None or not self._required(e, item, "list", "a behavior list"):
                 continue
             name = self.r.text(e["list"][1], "list")
@@ -276,7 +278,8 @@ class CatalogReader:
         timeout = self.content.default_timeout if category in (GOAL_BASED, DELIBERATIVE) else None
         if "timeout" in e:
             timeout = self.r.number(e["timeout"][1], f"the timeout of {name}", positive=True) or timeout
-        lists = self.r.names(e["incompatible_lists"][1], "incompatible_lists") if "incompatible_lists" in e else []
+        lists = [pair for key in ("incompatible_lists", "incompatibilities") if key in e  # early Levant's spelling
+                 for pair in self.r.names(e[key][1], key)]
         for list_name, node in lists:
             self.content.references.append(("list", list_name, name, node))
         capabilities = [pair for key in ("capabilities", "required_capabilities") if key in e  # Levant's spelling

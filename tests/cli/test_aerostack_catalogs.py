@@ -116,3 +116,18 @@ def test_a_tree_mission_using_an_unimplemented_behavior_is_refused_naming_it(tmp
     result = aeroexec("verify", "--catalog", str(LEVANT), str(mission), cwd=tmp_path)
     assert result.returncode == 1
     assert "drop.yaml:4: error: WRONG_FORMAT: The behavior DROP_OBJECT is not supported by this robot" in result.stdout
+
+
+def test_early_levant_spellings_are_read():
+    catalog = parse_catalog("""
+behavior_descriptors:
+  - {behavior: TAKE_OFF, incompatibilities: motion, capabilities: SETPOINT_BASED_FLIGHT_CONTROL}
+  - {behavior: LAND, incompatibilities: [motion], capabilities: [SETPOINT_BASED_FLIGHT_CONTROL]}
+behavior_lists:
+  - name: motion
+    behaviors: [TAKE_OFF, LAND]
+capability_descriptors:
+  - {capability: SETPOINT_BASED_FLIGHT_CONTROL, process_sequence: [flight_controller]}
+""")
+    assert catalog.incompatible("TAKE_OFF", "LAND") and catalog.warnings == []
+    assert catalog.behavior("TAKE_OFF").capabilities == ("SETPOINT_BASED_FLIGHT_CONTROL",)
