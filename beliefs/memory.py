@@ -21,6 +21,7 @@ from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
 from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import Relation, Relations
+from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
 from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
 
@@ -71,6 +72,7 @@ class BeliefMemory:
             clock = time.monotonic
         self._now: Callable[[], float] = clock.now if hasattr(clock, "now") else clock
         self._vocabulary: dict[str, int] = dict(predicates or {})
+        self._spellings: dict[str, dict[str, str | tuple[str, ...]]] = {}
         self._computed: dict[tuple[str, int], tuple[Callable, int]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
         self._listeners: list[Callable[[BeliefChange], None]] = []
@@ -85,14 +87,25 @@ class BeliefMemory:
         arity: int,
         multivalued: bool = False,
         persistence: float | None = None,
+        values: Iterable[str] = (),
+        aliases: Mapping[str, Iterable[str]] | None = None,
     ) -> None:
-        """Add a predicate to the vocabulary, with its exclusivity and persistence."""
+        """Add a predicate to the vocabulary, with its exclusivity and persistence; ``values``: the atoms its
+        last argument takes, matched without regard to case (``LOW`` is ``low``); ``aliases``: names for
+        several of them in expressions (``flying``: hovering or moving)."""
         self._vocabulary[name] = arity
+        values = tuple(values)
+        if values or aliases:
+            self._spellings[name] = spelling_table(values, aliases)
         if multivalued:
             self._multivalued.add(name)
         if persistence is not None:
             self._persistence[name] = float(persistence)
         self._queries.clear()
+
+    def accepts(self, name: str) -> bool:
+        """True when beliefs of predicate ``name`` may be stored without declaring it (declared, or no vocabulary)."""
+        return not self._vocabulary or name in self._vocabulary
 
     def register(self, name: str, arity: int, function: Callable, inputs: int | None = None) -> None:
         """Answer ``name/arity`` with ``function`` instead of stored beliefs.
@@ -121,6 +134,8 @@ class BeliefMemory:
         """Add a ground belief; returns False when it was already there (its lifetime renews)."""
         if type(belief) is not Struct:
             belief = self._parse_belief(belief)
+        if self._spellings:
+            belief = respell_term(belief, self._spellings)
         if self._heap:
             self._expire_due()
         args = belief.args
@@ -223,6 +238,8 @@ class BeliefMemory:
     def matching(self, pattern: str | Struct) -> list[Struct]:
         """The stored beliefs that unify with one predicate pattern such as ``visible(?)``."""
         goal = pattern if type(pattern) is Struct else self._parse_goal(pattern)
+        if self._spellings:
+            goal = respell_term(goal, self._spellings)
         if self._heap:
             self._expire_due()
         rel = self._relations.get(goal.signature)
@@ -246,7 +263,7 @@ class BeliefMemory:
         else:
             raise BeliefSyntaxError(repr(expression), "a belief expression is text")
         self._check_vocabulary(conjunction)
-        compiled = CompiledQuery(conjunction, self._is_exclusive, self._computed)
+        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._computed)
         if len(self._queries) > 4096:
             self._queries.clear()
         self._queries[expression] = compiled

@@ -8,7 +8,8 @@ import sys
 import textwrap
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, default_catalog_path, load_catalog
-from aeroexec.engine.errors import CatalogError
+from aeroexec.engine.errors import CatalogError, Problem
+from aeroexec.engine.library import default_library
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -35,8 +36,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def chosen_catalog(path: str | None) -> BehaviorCatalog:
-    """The catalog of a ``--catalog`` option (the aerial one without it); raises CatalogError."""
-    return load_catalog(path) if path else default_catalog()
+    """The catalog of a ``--catalog`` option (the aerial one without it) as the behavior library serves it
+    (see :meth:`BehaviorCatalog.served_by`); raises CatalogError."""
+    catalog = load_catalog(path) if path else default_catalog()
+    return catalog.served_by(default_library().names(), default_catalog())
 
 
 def _check(path: str) -> int:
@@ -48,9 +51,12 @@ def _check(path: str) -> int:
         errors, warnings = len(exc.errors), len(exc.problems) - len(exc.errors)
         print(f"{path}: {errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}")
         return 1
-    for problem in catalog.warnings:
+    unserved = [Problem("warning", f"the behavior {name} has no implementation in the behavior library: "
+                                   f"missions using it are refused", path, catalog.behaviors[name].line)
+                for name in sorted(chosen_catalog(path).unsupported)]
+    for problem in [*catalog.warnings, *unserved]:
         print(problem)
-    warnings = len(catalog.warnings)
+    warnings = len(catalog.warnings) + len(unserved)
     print(f"{path}: {len(catalog)} behaviors, no errors, {warnings} warning{'s' if warnings != 1 else ''}")
     return 0
 

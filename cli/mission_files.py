@@ -17,6 +17,7 @@ from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.tml.verify import verify_mission_document
+from aeroexec.trees.verify import verify_leaves
 
 
 class MissionFileError(Exception):
@@ -49,6 +50,8 @@ def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
             checked.tree = load_mission_tree(path)
         except TreeFormatError as error:
             checked.problems = [Problem("error", message, file, line) for file, line, message in error.problems]
+            checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
+            checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
         checked.problems = verify_mission_document(checked.tree, catalog)  # TML missions too
         return checked

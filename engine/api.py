@@ -11,9 +11,11 @@ regard to case: ``coordinates=`` is ``COORDINATES``. Reserved keywords:
 
 from __future__ import annotations
 
+import itertools
 import os
 import threading
 import traceback
+import weakref
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +28,9 @@ from aeroexec import beliefs, drones
 
 _bound: dict[str, Any] = {"engine": None}
 _lock = threading.Lock()
+_uids = itertools.count(1)
+_activations: weakref.WeakValueDictionary[int, Any] = weakref.WeakValueDictionary()  # uid -> Activation
+_uid_of: weakref.WeakKeyDictionary[Any, int] = weakref.WeakKeyDictionary()
 #: Where aeroexec's own code lives: frames there are not the mission's.
 _LIBRARY = tuple(str(Path(p).resolve().parent) + os.sep for p in (__file__, beliefs.__file__, drones.__file__))
 RESERVED = ("timeout", "activation_delay", "activation_distance", "activation_yaw")
@@ -96,7 +101,8 @@ def _conditions(options: dict[str, Any]) -> ActivationConditions | None:
                                 options.get("activation_delay"), tuple(yaw) if yaw is not None else None)
 
 
-def _run_behavior(name: str, arguments: dict[str, Any]) -> tuple[Outcome, Any]:
+def _run_behavior(name: str, arguments: dict[str, Any], started: list[bool] | None = None) -> tuple[Outcome, Any]:
+    """Run a behavior to its end; ``started`` (when given) is told whether the activation was accepted."""
     name, args, options = _request(name, arguments)
     engine = _engine()
     descriptor = engine.catalog.behavior(name)
@@ -107,6 +113,8 @@ def _run_behavior(name: str, arguments: dict[str, Any]) -> tuple[Outcome, Any]:
     def register(resolve: Any) -> None:
         result = engine.coordinator.activate(name, args, timeout=options.get("timeout"), source="mission",
                                              on_end=lambda outcome, message, value: resolve((outcome, value)))
+        if started is not None:
+            started.append(result.accepted)
         if not result.accepted:
             resolve((result.outcome or Outcome.FAILED_PRECONDITIONS, None))
 
@@ -146,6 +154,63 @@ def inhibit_behavior(name: str) -> bool:
     return True
 
 
+def run_behavior(name: str, **arguments: Any) -> tuple[bool, Outcome]:
+    """Execute a behavior and wait until it ends: ``(True, outcome)``, or ``(False, why)`` when the activation
+    itself was refused (Aerostack's ``executeTask`` convention)."""
+    started: list[bool] = []
+    outcome, _ = _run_behavior(name, arguments, started)
+    return bool(started and started[0]), outcome
+
+
+def start_behavior(name: str, **arguments: Any) -> tuple[bool, int]:
+    """Activate a behavior and return at once: ``(accepted, uid)``; ``uid`` names this activation for
+    :func:`stop_activation` (0 when refused)."""
+    name, args, options = _request(name, arguments)
+    engine = _engine()
+    conditions = _conditions(options)
+
+    def activate() -> tuple[bool, int]:
+        result = engine.coordinator.activate(name, args, timeout=options.get("timeout"), source="mission",
+                                             conditions=conditions)
+        if not result.accepted or result.activation is None:
+            return False, 0
+        return True, _uid(result.activation)
+
+    return engine.bridge.call(activate)
+
+
+def _uid(activation: Any) -> int:
+    with _lock:
+        uid = _uid_of.get(activation)
+        if uid is None:
+            uid = _uid_of[activation] = next(_uids)
+            _activations[uid] = activation
+        return uid
+
+
+def stop_activation(uid: int) -> bool:
+    """Stop the activation ``uid`` (from :func:`start_behavior`) as inhibit does; False when it is not active."""
+    engine = _engine()
+    with _lock:
+        activation = _activations.get(uid) if isinstance(uid, int) and not isinstance(uid, bool) else None
+    if activation is None:
+        return False
+
+    def stop() -> bool:
+        if engine.coordinator.active().get(activation.name) is not activation:
+            return False
+        return engine.coordinator.inhibit(activation.name, "inhibited by the mission")
+
+    return engine.bridge.call(stop)
+
+
+def stop_behavior(name: str) -> bool:
+    """Inhibit a behavior by name: True when it was active and is now stopped, False otherwise."""
+    engine = _engine()
+    name = str(name).upper()
+    return engine.bridge.call(lambda: engine.coordinator.inhibit(name, "inhibited by the mission"))
+
+
 def is_active_behavior(name: str) -> bool:
     engine = _engine()
     return engine.bridge.call(lambda: engine.coordinator.is_active(str(name).upper()))
@@ -163,9 +228,17 @@ def true_belief(expression: str) -> bool:
     return engine.bridge.call(lambda: engine.memory.holds(expression))
 
 
-def add_belief(belief: str) -> bool:
+def add_belief(belief: str, multivalued: bool = False) -> bool:
+    """Add a belief; a predicate nobody declared is declared by the mission (``multivalued`` or exclusive)."""
     engine = _engine()
-    return engine.bridge.call(lambda: engine.memory.add(belief))
+
+    def add() -> bool:
+        term = beliefs.parse_belief(belief) if isinstance(belief, str) else belief
+        if not engine.memory.accepts(term.name):
+            engine.memory.declare(term.name, len(term.args), multivalued=multivalued)
+        return engine.memory.add(term)
+
+    return engine.bridge.call(add)
 
 
 def remove_belief(pattern: str) -> int:
@@ -186,8 +259,9 @@ def wait(seconds: float) -> None:
 
 
 def now() -> float:
-    """The engine's clock, in seconds since it started."""
-    return _engine().now()
+    """The engine's clock, in seconds since it started (a call like any other: polling it lets time move)."""
+    engine = _engine()
+    return engine.bridge.call(engine.now)
 
 
 def mission_location(exc: BaseException) -> str:
@@ -218,5 +292,6 @@ stopTask = inhibit_behavior
 
 __all__ = [
     "MissionAborted", "Unification", "activate_behavior", "add_belief", "ask_behavior", "consult_belief",
-    "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief", "true_belief", "wait",
+    "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief", "run_behavior",
+    "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait",
 ]

@@ -73,7 +73,10 @@ class Engine:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = self.robot = drone
-        self.catalog = catalog or default_catalog()
+        if library is None:
+            library = default_library()
+        # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
+        self.catalog = (catalog or default_catalog()).served_by(library.names(), default_catalog())
         self.clock = clock or SimulatedClock()
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
@@ -88,8 +91,6 @@ class Engine:
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
                                        obstacles=obstacles, operator=operator, bus=bus,
                                        output_dir=Path(output_dir) if output_dir is not None else None)
-        if library is None:
-            library = default_library()
         if processes is None:
             processes = default_processes()
         self.library = library
@@ -102,7 +103,10 @@ class Engine:
         self.context.position_source = getattr(telemetry, "position_source", None)
         self.updaters: list[BeliefUpdater] = [telemetry, *updaters]
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
-        self.bridge = MissionBridge()
+        self._belief_changes = 0
+        self.memory.subscribe(self._count_belief_change)
+        self.bridge = MissionBridge(self.clock.now, lambda: self._belief_changes,
+                                    lambda message: self.log.record("mission_polling", detail=message))
         self.timers = Timers(self.clock.now)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
         self.tick_callbacks: list[Callable[[], None]] = []
@@ -114,6 +118,9 @@ class Engine:
         self._missions: list[threading.Thread] = []
         self._thread: threading.Thread | None = None
         self._lock = threading.RLock()
+
+    def _count_belief_change(self, change: Any) -> None:
+        self._belief_changes += 1
 
     # -- the loop ------------------------------------------------------------------------------
     def now(self) -> float:

@@ -57,8 +57,10 @@ class TreeDocument:
 
 
 class TreeFormatError(ValueError):
-    """A mission file that cannot be read as a behavior tree; ``problems`` are ``(file, line, message)``."""
+    """A mission file that cannot be read as a behavior tree; ``problems`` are ``(file, line, message)``.
+    ``leaves``: the behavior and belief nodes that could be read, so their names are checked all the same."""
 
-    def __init__(self, problems: list[tuple[str, int, str]]) -> None:
+    def __init__(self, problems: list[tuple[str, int, str]], leaves: list[TreeNode] | None = None) -> None:
         self.problems = list(problems)
+        self.leaves = list(leaves or [])
         super().__init__("\n".join(f"{f}:{line}: {m}" if line else f"{f}: {m}" for f, line, m in self.problems))

@@ -174,9 +174,13 @@ class TreeVerifier:
             self.report(node, f"The {attribute} of node {node.type} is empty (a belief expression is expected)")
             return
         try:
-            BeliefMemory(predicates=self.vocabulary).check(_placeholders(text))
+            expression = BeliefMemory(predicates=self.vocabulary).check(_placeholders(text))
         except BeliefError as error:
             self.report(node, error.message, WRONG_FORMAT)
+            return
+        if node.type != "AddBelief":
+            for message in self.specialist.unwritten_values(expression):
+                self.report(node, message, WRONG_VALUE, "warning")
 
     def request_problems(self, node: TreeNode, errors: list[SpecificationError]) -> None:
         for error in errors:
@@ -286,3 +290,14 @@ def verify_document(document: TreeDocument, catalog: BehaviorCatalog | None = No
                     known_keys: Iterable[str] = ()) -> list[Problem]:
     """Every problem of a tree mission, sorted by place; ``known_keys`` are blackboard keys set before it runs."""
     return TreeVerifier(document, catalog, known_keys).verify()
+
+
+def verify_leaves(leaves: Iterable[TreeNode], catalog: BehaviorCatalog | None = None, file: str = "") -> list[Problem]:
+    """The problems of single nodes (behavior names, arguments, belief expressions) of a file that could not be
+    read whole: the catalog's word on them comes with the reader's errors."""
+    leaves = list(leaves)
+    root = TreeNode("Sequence", "", {}, leaves, file, 0)
+    verifier = TreeVerifier(TreeDocument({"leaves": root}, "leaves", file), catalog)
+    for node in leaves:
+        verifier.check_node(node)
+    return sorted(verifier.problems, key=lambda p: (p.file, p.line))

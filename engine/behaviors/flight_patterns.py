@@ -158,7 +158,7 @@ class GoToPoint(PointFlight):
 
 
 class FollowPath(PointFlight):
-    """FOLLOW_PATH: fly through the points of PATH in order; achieved at the last one."""
+    """FOLLOW_PATH: fly through the points of PATH in order (at SPEED when given); achieved at the last one."""
 
     behavior = "FOLLOW_PATH"
 
@@ -178,7 +178,11 @@ class FollowPath(PointFlight):
         self.index = 0
         if math.dist(telemetry.position, self.points[0]) <= self.settings.position_tolerance:
             self.index = 1
-        self.fly_to(self.points[self.index])
+        self.fly_to(self.points[self.index], speed=self._speed())
+
+    def _speed(self) -> float | None:
+        speed = self.arguments.get("SPEED")
+        return None if speed is None else float(speed)
 
     def step(self, telemetry: Telemetry) -> Outcome | None:
         last = self.index == len(self.points) - 1
@@ -188,7 +192,7 @@ class FollowPath(PointFlight):
             if last:
                 return Outcome.GOAL_ACHIEVED
             self.index += 1
-            self.fly_to(self.points[self.index])
+            self.fly_to(self.points[self.index], speed=self._speed())
             return None
         return self.approach(telemetry)
 

@@ -7,8 +7,10 @@ names the file and line. ``default_catalog()`` is the aerial catalog shipped in
 
 from __future__ import annotations
 
+import copy
 import logging
 from collections.abc import Iterable
+from dataclasses import replace
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
@@ -43,6 +45,8 @@ class BehaviorCatalog:
         self.predicates: dict[str, PredicateDeclaration] = dict(content.predicates)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
         self.warnings: list[Problem] = list(warnings)
+        #: behaviors the catalog describes that no registered implementation serves (see :meth:`served_by`)
+        self.unsupported: frozenset[str] = frozenset()
         self._incompatible = self._incompatibility()
 
     def __contains__(self, name: object) -> bool:
@@ -73,11 +77,42 @@ class BehaviorCatalog:
         """Every process named by a capability descriptor."""
         return {p for capability in self.capabilities.values() for p in capability.processes}
 
+    def served_by(self, implemented: Iterable[str], reference: BehaviorCatalog | None = None) -> BehaviorCatalog:
+        """This catalog as a library serves it: behaviors without an implementation are marked unsupported, and a
+        behavior described without ``arguments:`` takes the arguments its implementation is described with in
+        ``reference`` (a thin catalog's GO_TO_POINT gets COORDINATES...); one_of groups of ``reference`` apply to
+        the arguments a catalog declares, so a request the implementation cannot serve is refused before flight;
+        predicates the catalog does not declare are taken from ``reference``. Returns ``self`` when nothing
+        changes."""
+        implemented = set(implemented)
+        unsupported = frozenset(name for name in self.behaviors if name not in implemented)
+        behaviors = dict(self.behaviors)
+        for name, descriptor in self.behaviors.items():
+            own = reference.behavior(name) if reference is not None and name in implemented else None
+            if own is None or own is descriptor:
+                continue
+            if not descriptor.arguments and own.arguments:
+                behaviors[name] = replace(descriptor, arguments=dict(own.arguments), one_of=own.one_of)
+            elif not descriptor.one_of and own.one_of:
+                groups = tuple(g for g in (tuple(a for a in group if a in descriptor.arguments)
+                                           for group in own.one_of) if g)
+                if groups:
+                    behaviors[name] = replace(descriptor, one_of=groups)
+        predicates = dict(self.predicates)  # what the implementations write, when the catalog does not say
+        for name, declared in (reference.predicates.items() if reference is not None else ()):
+            predicates.setdefault(name, declared)
+        if unsupported == self.unsupported and behaviors == self.behaviors and predicates == self.predicates:
+            return self
+        fitted = copy.copy(self)
+        fitted.behaviors, fitted.unsupported, fitted.predicates = behaviors, unsupported, predicates
+        return fitted
+
     def declare_vocabulary(self, memory: BeliefMemory) -> None:
         """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory."""
         for p in self.predicates.values():
             if not p.computed:
-                memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence)
+                memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence, values=p.values,
+                               aliases=p.aliases)
 
     def _incompatibility(self) -> set[frozenset[str]]:
         pairs: set[frozenset[str]] = set()

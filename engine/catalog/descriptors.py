@@ -105,5 +105,7 @@ class PredicateDeclaration:
     multivalued: bool = False
     persistence: float | None = None  # seconds; None = permanent
     computed: bool = False  # answered by a function the engine registers, never stored
+    values: tuple[str, ...] = ()  # the atoms its last argument takes (matched without regard to case); () = any
+    aliases: dict[str, tuple[str, ...]] = field(default_factory=dict)  # a name for several values in expressions
     description: str = ""
     line: int = 0

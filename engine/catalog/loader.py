@@ -22,12 +22,13 @@ from aeroexec.engine.catalog.descriptors import (
     ReactiveRule,
     Transition,
 )
+from aeroexec.engine.catalog.dialects import catalog_dialect
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
             "capability_descriptors", "behavior_transitions", "phenomena", "predicates")
-BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "arguments",
-                 "preconditions", "description", "one_of", "ROS_service_calls")
+BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "required_capabilities",
+                 "incompatibilities", "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
 ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
                  "aliases")
 TRANSITION_KEYS = ("behavior", "behaviors", "physical_phenomenon", "argument", "argument_value",
@@ -74,6 +75,10 @@ class CatalogReader:
             if not self.r.problems:
                 self.r.error(None, "the catalog is empty")
             return self.content
+        dialect = catalog_dialect(root)
+        if dialect is not None:
+            self.r.error(root, dialect)
+            return self.content
         sections = self.r.mapping(root, "the catalog", SECTIONS) or {}
         # predicates first: preconditions and conditions are checked against them
         order = ("default_behavior_values", "predicates", "behavior_lists", "capability_descriptors",
@@ -93,7 +98,7 @@ class CatalogReader:
             self.content.default_category = self._category(entries["category"][1]) or GOAL_BASED
 
     def _predicates(self, node: yaml.Node) -> None:
-        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "description")
+        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "values", "aliases", "description")
         for item in self.r.sequence(node, "predicates") or ():
             e = self.r.mapping(item, "a predicate", keys)
             if e is None or not self._required(e, item, "predicate", "a predicate"):
@@ -117,11 +122,21 @@ class CatalogReader:
                 multivalued=bool("multivalued" in e and self.r.flag(e["multivalued"][1], "multivalued")),
                 persistence=persistence,
                 computed=bool("computed" in e and self.r.flag(e["computed"][1], "computed")),
+                values=tuple(v for v, _ in self.r.names(e["values"][1], f"the values of {name}")) if "values" in e
+                else (), aliases=self._aliases(e["aliases"][1], name) if "aliases" in e else {},
                 description=self._description(e), line=item.start_mark.line + 1)
+
+    def _aliases(self, node: yaml.Node, predicate: str) -> dict[str, tuple[str, ...]]:
+        """``aliases: {flying: [hovering, moving]}``: names for several values of a predicate."""
+        entries = self.r.mapping(node, f"the aliases of {predicate}") or {}
+        return {alias: tuple(v for v, _ in self.r.names(value, f"the alias {alias} of {predicate}"))
+                for alias, (_, value) in entries.items()}
 
     def _behavior_lists(self, node: yaml.Node) -> None:
         for item in self.r.sequence(node, "behavior_lists") or ():
-            e = self.r.mapping(item, "a behavior list", ("list", "behaviors"))
+            e = self.r.mapping(item, "a behavior list", ("list", "name", "behaviors"))
+            if e is not None and "name" in e and "list" not in e:  # early Levant names a list with name:
+                e["list"] = e.pop("name")
             if e is None or not self._required(e, item, "list", "a behavior list"):
                 continue
             name = self.r.text(e["list"][1], "list")
@@ -263,10 +278,12 @@ class CatalogReader:
         timeout = self.content.default_timeout if category in (GOAL_BASED, DELIBERATIVE) else None
         if "timeout" in e:
             timeout = self.r.number(e["timeout"][1], f"the timeout of {name}", positive=True) or timeout
-        lists = self.r.names(e["incompatible_lists"][1], "incompatible_lists") if "incompatible_lists" in e else []
+        lists = [pair for key in ("incompatible_lists", "incompatibilities") if key in e  # early Levant's spelling
+                 for pair in self.r.names(e[key][1], key)]
         for list_name, node in lists:
             self.content.references.append(("list", list_name, name, node))
-        capabilities = self.r.names(e["capabilities"][1], "capabilities") if "capabilities" in e else []
+        capabilities = [pair for key in ("capabilities", "required_capabilities") if key in e  # Levant's spelling
+                        for pair in self.r.names(e[key][1], key)]
         for capability, node in capabilities:
             self.content.references.append(("capability", capability, f"behavior {name}", node))
         arguments: dict[str, ArgumentDescriptor] = {}

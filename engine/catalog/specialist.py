@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
+from aeroexec.beliefs.expression import Goal, Negation
+from aeroexec.beliefs.terms import Struct, format_term
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.behavior_catalog import BehaviorCatalog, default_catalog
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
@@ -35,6 +37,14 @@ class PhenomenonState:
 
     state: str
     since: str | None = None
+
+
+def _goals(expression: Conjunction) -> Iterable[Struct]:
+    for literal in expression.literals:
+        if type(literal) is Goal:
+            yield literal.term
+        elif type(literal) is Negation:
+            yield from _goals(literal.body)
 
 
 def as_request(step: Step | Request) -> Request:
@@ -83,6 +93,9 @@ class BehaviorSpecialist:
         def error(kind: str, message: str) -> None:
             errors.append(SpecificationError(kind, message, behavior=name))
 
+        if name in self.catalog.unsupported:
+            error(WRONG_FORMAT, f"The behavior {name} is not supported by this robot (no implementation is "
+                                f"registered)")
         known = descriptor.arguments
         for key, value in arguments.items():
             argument = known.get(key)
@@ -119,6 +132,21 @@ class BehaviorSpecialist:
             return BeliefMemory(predicates=vocabulary).check(text)
         except BeliefError as exc:
             raise SpecificationError(WRONG_FORMAT, exc.message) from None
+
+    def unwritten_values(self, expression: Conjunction) -> list[str]:
+        """Why goals of ``expression`` can never hold: they compare a predicate whose values the catalog declares
+        to a value no updater writes (``battery_level(self, critical)``); case does not matter."""
+        messages = []
+        for goal in _goals(expression):
+            declared = self.catalog.predicates.get(goal.name)
+            if declared is None or not declared.values or not goal.args:
+                continue
+            value = goal.args[-1]
+            spellings = {v.lower() for v in (*declared.values, *declared.aliases)}
+            if type(value) is str and value.lower() not in spellings:
+                messages.append(f"The belief {format_term(goal)} can never hold: {goal.name} is written with "
+                                f"{', '.join(declared.values)}, never {value}")
+        return messages
 
     # -- compatibility ------------------------------------------------------------
     def compatible(self, a: str, b: str) -> bool:

@@ -4,7 +4,10 @@ A Python mission runs in its own thread. Each API call becomes a request the
 engine executes between ticks; a call that waits (a behavior until it ends)
 parks the mission until the engine resolves it. With a simulated clock the
 engine does not advance time while the mission is running Python code, so a
-mission gives the same event log on every run.
+mission gives the same event log on every run; but every API call counts: after
+``CALLS_PER_TICK`` calls that do not wait, the engine takes its next step, so a
+mission polling ``trueBelief`` in a loop sees simulated time (and the world) move.
+A mission that keeps polling while no belief changes is reported once per stretch.
 """
 
 from __future__ import annotations
@@ -22,6 +25,10 @@ logger = logging.getLogger(__name__)
 
 RUNNING, PARKED, DONE = "running", "parked", "done"
 _STALL_WARNING = 30.0  # wall seconds a lockstep engine waits on a busy mission before saying so
+#: Calls that do not wait served in one engine period before the loop steps on (lockstep, simulated clock).
+CALLS_PER_TICK = 10
+#: Engine seconds a mission may poll without waiting while no belief changes before it is reported.
+POLLING_REPORT = 30.0
 
 
 class _Request:
@@ -38,13 +45,21 @@ class _Request:
 class MissionBridge:
     """Queues the mission thread's calls for the engine thread; tracks whether the mission runs or waits."""
 
-    def __init__(self) -> None:
+    def __init__(self, now: Callable[[], float] | None = None, world_version: Callable[[], int] | None = None,
+                 report: Callable[[str], None] | None = None) -> None:
+        """``now``, ``world_version`` (changes whenever a belief does) and ``report`` let the bridge tell of a
+        mission that polls a world that does not change."""
         self._queue: queue.SimpleQueue[_Request] = queue.SimpleQueue()
         self._cond = threading.Condition()
         self._state = DONE
         self._pending: set[_Request] = set()
         self._closed = False
         self._held = False
+        self._now, self._world_version, self._report = now, world_version, report
+        self._polls = 0  # calls without a wait since the last wait or change of the world
+        self._poll_since: float | None = None
+        self._poll_version: int | None = None
+        self._poll_reported = False
 
     # -- the mission's side ------------------------------------------------------------
     def call(self, function: Callable[[], Any]) -> Any:
@@ -93,6 +108,7 @@ class MissionBridge:
         """Execute queued calls. In lockstep, return only when the mission waits or is done;
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
         warned_at = time.monotonic() + _STALL_WARNING
+        served = 0
         while not self._held:
             try:
                 request = self._queue.get_nowait()
@@ -100,6 +116,11 @@ class MissionBridge:
                 request = None
             if request is not None:
                 self._execute(request)
+                if not request.waits:
+                    served += 1
+                    self._polled()
+                    if lockstep and served >= CALLS_PER_TICK:
+                        return  # the engine steps on: polling lets time move
                 continue
             with self._cond:
                 if lockstep and self._state == RUNNING:
@@ -113,7 +134,27 @@ class MissionBridge:
                     return
                 self._cond.wait(min(0.05, max(0.0, until_wall - time.monotonic())))
 
+    def _polled(self) -> None:
+        """Count a call that did not wait; report a long stretch of them while no belief changes."""
+        if self._now is None:
+            return
+        now = self._now()
+        version = self._world_version() if self._world_version is not None else None
+        if self._poll_since is None or version != self._poll_version:
+            self._polls, self._poll_since, self._poll_version, self._poll_reported = 0, now, version, False
+        self._polls += 1
+        if not self._poll_reported and now - self._poll_since >= POLLING_REPORT:
+            self._poll_reported = True
+            message = (f"the mission has polled the engine {self._polls} times in {now - self._poll_since:.0f} s "
+                       f"without waiting, and no belief has changed: it waits for something nothing is doing "
+                       f"(start a behavior, or wait with a timeout)")
+            logger.warning(message)
+            if self._report is not None:
+                self._report(message)
+
     def _execute(self, request: _Request) -> None:
+        if request.waits:
+            self._poll_since = None  # a wait ends a stretch of polling
         if not request.waits:
             try:
                 request.value = request.function()

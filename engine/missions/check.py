@@ -2,7 +2,9 @@
 wrong behavior name, argument, literal value and literal belief expression, and impossible sequences, by line.
 
 API calls are found through ``import aeroexec.engine.api as api``, ``from aeroexec.engine import api as X`` and
-``from aeroexec.engine.api import executeBehavior [as f]`` (or ``*``), under every alias the API offers.
+``from aeroexec.engine.api import executeBehavior [as f]`` (or ``*``), under every alias the API offers, and
+the same forms of Aerostack's ``executive_engine_api`` (Levant) and ``mission_execution_control`` (Sirocco).
+Predicates a mission adds (``addBelief``) are its own: only expressions over predicates nobody writes are errors.
 Values that are not literals (names, calls, f-strings) are left to the run. The entry function is
 ``mission()``, else ``runMission()``; its sequences are checked by :mod:`.mission_sequence`, unless an API
 function or a local function running behaviors is used other than by calling it (stored, passed, ``getattr``).
@@ -16,28 +18,32 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from aeroexec.beliefs import BeliefError, Goal, parse_belief
+from aeroexec.beliefs import BeliefError, BeliefMemory, Goal, UnknownPredicateError, parse_belief
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
 from aeroexec.engine import api
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
+from aeroexec.engine.missions.api_modules import (
+    AEROSTACK_MODULES,
+    API_FUNCTIONS,
+    API_MODULES,
+    BELIEF,
+    NAME_ONLY,
+    RUN,
+    SEQUENCE,
+    api_bindings,
+    module_label,
+    offers,
+)
+from aeroexec.engine.missions.imports import missing_imports
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.yaml_nodes import suggestion
 
 logger = logging.getLogger(__name__)
 
-API_MODULES = ("aeroexec.engine.api",)
 ENTRY_POINTS = ("mission", "runMission")
-RUN = frozenset({"execute_behavior", "ask_behavior", "activate_behavior"})
-NAME_ONLY = frozenset({"inhibit_behavior", "is_active_behavior"})
-SEQUENCE = RUN | {"inhibit_behavior"}  # the calls that change the phenomena's states
-BELIEF = frozenset({"consult_belief", "true_belief", "add_belief", "remove_belief"})
-_CANONICAL = (*RUN, *NAME_ONLY, *BELIEF, "wait", "now")
-#: every spelling the API module offers -> its canonical function name
-API_FUNCTIONS: dict[str, str] = {alias: canonical for canonical in _CANONICAL for alias, value in vars(api).items()
-                                 if value is getattr(api, canonical)}
 _NOT_LITERAL = object()
 
 
@@ -74,31 +80,13 @@ def literal(node: ast.AST) -> Any:
     return _NOT_LITERAL
 
 
-def _api_bindings(tree: ast.Module) -> dict[str, str]:
-    """Local name -> the dotted path it stands for, for every import in the program."""
-    bindings: dict[str, str] = {}
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            for alias in node.names:
-                top = alias.name.split(".")[0]
-                bindings[alias.asname or top] = alias.name if alias.asname else top
-        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
-            for alias in node.names:
-                if alias.name == "*" and node.module in API_MODULES:
-                    bindings.update({n: f"{node.module}.{n}" for n in getattr(api, "__all__", ())})
-                    bindings.update({n: f"{node.module}.{n}" for n in API_FUNCTIONS})
-                elif alias.name != "*":
-                    bindings[alias.asname or alias.name] = f"{node.module}.{alias.name}"
-    return bindings
-
-
 class MissionChecker:
     """Checks one parsed mission program; ``problems`` collects what it finds."""
 
     def __init__(self, tree: ast.Module, file: str, specialist: BehaviorSpecialist) -> None:
         self.tree, self.file, self.specialist = tree, file, specialist
         self.catalog = specialist.catalog
-        self.bindings = _api_bindings(tree)
+        self.bindings = api_bindings(tree)
         self.problems: list[MissionProblem] = []
         self._seen: set[tuple[int, int, str]] = set()
         self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
@@ -107,6 +95,31 @@ class MissionChecker:
                 self.functions.setdefault(node.name, []).append(node)
         self.effectful_functions = self._effectful_functions()
         self._effect_cache: dict[int, bool] = {}
+        self.vocabulary, self.open_vocabulary = self._vocabulary()
+
+    def _vocabulary(self) -> tuple[dict[str, int], bool]:
+        """The catalog's predicates and those the mission adds itself; True when it adds a computed belief
+        (whose predicate cannot be known)."""
+        vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
+        computed = False
+        for node in ast.walk(self.tree):
+            if isinstance(node, ast.Call) and self.api_function(node.func) == "add_belief":
+                argument = self.belief_argument(node)
+                text = literal(argument) if argument is not None else _NOT_LITERAL
+                if not isinstance(text, str):
+                    computed = True
+                    continue
+                try:
+                    belief = parse_belief(text)
+                except BeliefError:
+                    continue
+                vocabulary.setdefault(belief.name, len(belief.args))
+        return vocabulary, computed
+
+    @staticmethod
+    def belief_argument(call: ast.Call) -> ast.AST | None:
+        return call.args[0] if call.args else next(
+            (k.value for k in call.keywords if k.arg in ("expression", "belief", "pattern")), None)
 
     # -- reporting ----------------------------------------------------------------------
     def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None:
@@ -125,30 +138,41 @@ class MissionChecker:
             return f"{base}.{node.attr}" if base else None
         return None
 
-    def api_name(self, node: ast.AST) -> str | None:
-        """The name an expression has in the API module when it is ``api.X`` or an imported ``X``."""
+    def api_member(self, node: ast.AST) -> tuple[str, str] | None:
+        """The API module and the name an expression has there when it is ``api.X`` or an imported ``X``."""
         path = self.dotted(node)
         for module in API_MODULES:
             if path and path.startswith(module + ".") and "." not in path[len(module) + 1:]:
-                return path[len(module) + 1:]
+                return module, path[len(module) + 1:]
         return None
 
+    def api_name(self, node: ast.AST) -> str | None:
+        member = self.api_member(node)
+        return member[1] if member else None
+
     def api_function(self, node: ast.AST) -> str | None:
-        return API_FUNCTIONS.get(self.api_name(node) or "")
+        member = self.api_member(node)
+        return API_MODULES[member[0]].get(member[1]) if member else None
+
+    def aerostack_call(self, call: ast.Call) -> bool:
+        member = self.api_member(call.func)
+        return member is not None and member[0] in AEROSTACK_MODULES
 
     # -- request checks ----------------------------------------------------------------
     def check_program(self) -> None:
         for node in ast.walk(self.tree):
             if isinstance(node, ast.Attribute):  # imported names are checked at their import
-                name = self.api_name(node)
-                if name is not None and not hasattr(api, name):
-                    self.report(node, f"The function {name} does not exist in the mission API"
-                                      f"{suggestion(name, API_FUNCTIONS)}", WRONG_FORMAT)
+                member = self.api_member(node)
+                if member is not None and not offers(*member):
+                    module, name = member
+                    self.report(node, f"The function {name} does not exist in the mission API{module_label(module)}"
+                                      f"{suggestion(name, API_MODULES[module])}", WRONG_FORMAT)
             elif isinstance(node, ast.ImportFrom) and node.module in API_MODULES:
                 for alias in node.names:
-                    if alias.name != "*" and not hasattr(api, alias.name):
+                    if alias.name != "*" and not offers(node.module, alias.name):
+                        known = API_MODULES[node.module]
                         self.report(node, f"The function {alias.name} does not exist in the mission API"
-                                          f"{suggestion(alias.name, API_FUNCTIONS)}", WRONG_FORMAT)
+                                          f"{module_label(node.module)}{suggestion(alias.name, known)}", WRONG_FORMAT)
             elif isinstance(node, ast.Call):
                 function = self.api_function(node.func)
                 if function in RUN or function in NAME_ONLY:
@@ -161,9 +185,21 @@ class MissionChecker:
                         self.report(node.args[0], f"The value {format_value(seconds)} of wait is not correct "
                                                   f"(a number of seconds, 0 or more, is expected)", WRONG_VALUE)
 
+    def name_node(self, call: ast.Call) -> ast.AST | None:
+        """The argument naming the behavior: the first, or ``name=``; for Aerostack's inhibit and deactivate,
+        which also take the uid an activation returned, the first text literal (None: stopped by uid)."""
+        function = self.api_function(call.func)
+        if function == "inhibit_behavior" and self.aerostack_call(call):
+            given = [*call.args, *(k.value for k in call.keywords if k.arg in ("name", "behavior", "task"))]
+            return next((n for n in given if isinstance(literal(n), str)), None)
+        keywords = ("name", "behavior", "task", "planner")
+        return call.args[0] if call.args else next((k.value for k in call.keywords if k.arg in keywords), None)
+
     def behavior_name(self, call: ast.Call) -> str | None:
         """The literal behavior name of a call, upper-cased as the API does; None when it cannot be known."""
-        node = call.args[0] if call.args else next((k.value for k in call.keywords if k.arg == "name"), None)
+        node = self.name_node(call)
+        if node is None and self.api_function(call.func) == "inhibit_behavior" and self.aerostack_call(call):
+            return None  # stopped by the uid its activation returned
         if node is None:
             self.report(call, f"{ast.unparse(call.func)}() needs the name of a behavior", WRONG_FORMAT)
             return None
@@ -185,7 +221,7 @@ class MissionChecker:
         for keyword in call.keywords:
             if keyword.arg is None:
                 star = True
-            elif keyword.arg not in api.RESERVED and keyword.arg != "name":
+            elif keyword.arg not in api.RESERVED and keyword.arg not in ("name", "behavior", "task", "planner"):
                 key = known.get(keyword.arg.upper(), keyword.arg.upper())
                 value = literal(keyword.value)
                 nodes[key] = keyword.value
@@ -200,11 +236,11 @@ class MissionChecker:
         if name is None:
             return
         descriptor = self.catalog.behavior(name)
-        name_node = call.args[0] if call.args else call
+        name_node = self.name_node(call) or call
         if descriptor is None:
             self.report(name_node, f"The behavior {name} does not exist{self.catalog.suggest(name)}", WRONG_FORMAT)
             return
-        if len(call.args) > 1:
+        if len(call.args) > 1 and not (function in NAME_ONLY and self.aerostack_call(call)):
             self.report(call.args[1], f"{ast.unparse(call.func)}() takes the behavior name, then its arguments "
                                       f"by name (argument=value)", WRONG_FORMAT)
         if function in NAME_ONLY:
@@ -227,8 +263,7 @@ class MissionChecker:
                               f"(use activate_behavior, or give timeout=)", WRONG_FORMAT)
 
     def check_belief_call(self, call: ast.Call, function: str) -> None:
-        node = call.args[0] if call.args else next(
-            (k.value for k in call.keywords if k.arg in ("expression", "belief", "pattern")), None)
+        node = self.belief_argument(call)
         text = literal(node) if node is not None else _NOT_LITERAL
         if text is _NOT_LITERAL:
             return
@@ -237,16 +272,25 @@ class MissionChecker:
                               f"(a belief expression is text)", WRONG_FORMAT)
             return
         try:
-            expression = self.specialist.check_expression(text)
+            expression = BeliefMemory(predicates=self.vocabulary).check(text)
             if function == "add_belief":
                 belief = parse_belief(text)
                 declared = self.catalog.predicates.get(belief.name)
                 if (declared is not None and declared.computed) or belief.signature in BUILTIN_PREDICATES:
                     raise BeliefError(f"{belief.name} is computed by the engine and cannot be stored as a belief")
-            elif function == "remove_belief" and (len(expression.literals) != 1
+            else:
+                for message in self.specialist.unwritten_values(expression):
+                    self.report(node, message, WRONG_VALUE, "warning")
+            if function == "remove_belief" and (len(expression.literals) != 1
                                                   or type(expression.literals[0]) is not Goal):
                 raise BeliefError(f"The format of the belief expression {text} is not correct "
                                   f"(expected a single predicate such as visible(?X))")
+        except UnknownPredicateError as exc:
+            if self.open_vocabulary:  # the mission adds beliefs it computes: this predicate may be one of them
+                self.report(node, f"{exc.message} (unless the mission adds it with a computed belief)",
+                            WRONG_FORMAT, "warning")
+            else:
+                self.report(node, exc.message, WRONG_FORMAT)
         except (SpecificationError, BeliefError) as exc:
             self.report(node, exc.message, WRONG_FORMAT)
 
@@ -257,7 +301,7 @@ class MissionChecker:
         function = self.api_function(call.func)
         if function not in SEQUENCE:
             return None
-        node = call.args[0] if call.args else next((k.value for k in call.keywords if k.arg == "name"), None)
+        node = self.name_node(call)
         name = literal(node) if node is not None else _NOT_LITERAL
         if not isinstance(name, str):
             return function, None, {}, set()
@@ -327,6 +371,9 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
         return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
                                WRONG_FORMAT, exc.offset or 0)]
     checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
+    for statement, module in missing_imports(tree, filename):
+        checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
+                       WRONG_FORMAT)
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)

@@ -226,7 +226,7 @@ def test_every_import_form_and_alias_is_followed(header, call):
 
 
 def test_other_modules_are_not_the_api():
-    assert problems('import other as api\n\ndef mission():\n    api.execute_behavior("NOPE")\n', header="") == []
+    assert problems('import string as api\n\ndef mission():\n    api.execute_behavior("NOPE")\n', header="") == []
 
 
 def test_unknown_api_functions():

@@ -234,12 +234,13 @@ MALFORMED = {
                            'value="[1, 2]"', "The value"),
     "unbound +VAR": (mission(TAKE_OFF + "\n" + task("Go", "GO_TO_POINT", coordinates="[+X, 1, 2]")),
                      'value="[+X', "+X is not bound"),
-    "+VAR unbound when an event fires": (
-        mission(TAKE_OFF + '\n<task name="Home"><consult belief="position(self, ?H)"/></task>\n'
-                + task("Go", "GO_TO_POINT", coordinates="[3, 0, 2]"),
+    "+VAR unbound wherever an event fires": (
+        mission(TAKE_OFF + "\n" + task("Go", "GO_TO_POINT", coordinates="[3, 0, 2]")
+                + '\n<task name="Home"><consult belief="position(self, ?H)"/></task>',
                 task("Back", "GO_TO_POINT", coordinates="+H"), events=event("E", "visible(red_box)", "END_MISSION",
                                                                             "Back")),
-        'value="+H"', "+H may not be bound when the event 'E' fires: it can fire during the task 'Take off'"),
+        'value="+H"', "+H is not bound when the event 'E' fires: no <consult> binds ?H before any task it can fire "
+                      "during"),
     "missing call target": (mission(TAKE_OFF, events=event("E", "visible(red_box)", "END_MISSION", "Rescue")),
                             "<call", "the event 'E' calls 'Rescue', but no task tree has that root task"),
     "LAND before TAKE_OFF": (mission(task("Land", "LAND") + "\n" + TAKE_OFF), '<behavior name="LAND"', "LAND"),

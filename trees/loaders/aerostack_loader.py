@@ -38,6 +38,7 @@ add_belief             AddBelief with ``belief`` and, when given, ``multivalued`
 remove_belief          RemoveBelief with ``belief``
 =====================  ==================================================================
 
+Several parameters are joined with ``&``: ``"path: [[1, 2, 3], [4, 5, 6]] & speed: 2"``.
 In parameters a plain ``+X`` is the variable ``?X`` bound by an earlier query_belief node and
 becomes the blackboard reference ``{X}``, also inside lists: ``"path: [[+X, +Y, 1]]"`` is the port
 ``PATH="[[{X}, {Y}, 1]]"``.
@@ -80,11 +81,34 @@ class _Entry:
         self.children: list[_Entry] = []
 
 
+def split_parameters(text: str) -> str:
+    """Several parameters joined with ``&`` (``"path: [[1,2,3]] & speed: 2"``) as YAML lines, as Aerostack's
+    interpreter reads them; an ``&`` inside brackets or quotes is kept."""
+    lines, depth, quote, start = [], 0, "", 0
+    for index, char in enumerate(text):
+        if quote:
+            quote = "" if char == quote else quote
+        elif char in "'\"":
+            quote = char
+        elif char in "[{(":
+            depth += 1
+        elif char in "]})":
+            depth -= 1
+        elif char == "&" and depth <= 0:
+            lines.append(text[start:index].strip())
+            start = index + 1
+    if not lines:
+        return text
+    return "\n".join([*lines, text[start:].strip()])
+
+
 def _parameters(reader: NodeReader, value: yaml.Node, what: str) -> dict[str, str] | None:
-    """Aerostack's ``parameters: "path: [[0, 0, 1]]"``: a YAML mapping in a string, as upper-case ports."""
+    """Aerostack's ``parameters: "path: [[0, 0, 1]] & speed: 2"``: YAML mappings in a string (joined with ``&``),
+    as upper-case ports."""
     text = reader.text(value, what)
     if text is None:
         return None
+    text = split_parameters(text)
     if not text.strip():
         return {}
     inner = NodeReader(text, reader.file)
@@ -229,8 +253,22 @@ def _assemble(reader: NodeReader, entries: list[_Entry], nodes_key: yaml.Node, c
     return root
 
 
-def read_flat(reader: NodeReader, root: yaml.Node) -> TreeDocument | None:
-    """The mission of a file whose top-level mapping has Aerostack's ``nodes:`` list."""
+def _other_dialect(items: list[yaml.Node]) -> str | None:
+    """One line when no item of a ``nodes:`` list has the keys of Aerostack's format (another project's YAML)."""
+    keys: dict[str, None] = {}
+    for item in items:
+        if isinstance(item, yaml.MappingNode):
+            keys.update({str(k.value): None for k, _ in item.value if isinstance(k, yaml.ScalarNode)})
+    if not items or keys.keys() & {"node", "subtype", "parent"}:
+        return None
+    seen = f"its items have {', '.join(list(keys)[:6])}" if keys else "its items are not mappings"
+    return (f"this nodes: list is not in the format of Aerostack's behavior_tree_interpreter ({seen}; each node "
+            f"needs node, subtype and parent)")
+
+
+def read_flat(reader: NodeReader, root: yaml.Node, leaves: list[TreeNode] | None = None) -> TreeDocument | None:
+    """The mission of a file whose top-level mapping has Aerostack's ``nodes:`` list; ``leaves`` receives the
+    execution nodes that could be read (checked against the catalog even when the file has errors)."""
     top = reader.mapping(root, "an Aerostack mission", known=("nodes",))
     if not top or "nodes" not in top:
         return None
@@ -241,7 +279,13 @@ def read_flat(reader: NodeReader, root: yaml.Node) -> TreeDocument | None:
     if not items:
         reader.error(nodes_key, "nodes is empty: the mission has no tree")
         return None
+    dialect = _other_dialect(items)
+    if dialect:
+        reader.error(nodes_key, dialect)
+        return None
     entries = [entry for index, item in enumerate(items) if (entry := _read_entry(reader, item, index))]
+    if leaves is not None:
+        leaves.extend(e.node for e in entries if e.subtype in _EXECUTION)
     tree = _assemble(reader, entries, nodes_key, complete=len(entries) == len(items))
     if tree is None or reader.failed:
         return None

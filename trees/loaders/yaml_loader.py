@@ -172,20 +172,21 @@ def read_yaml(text: str, file: str = "<yaml>") -> TreeDocument:
     """A mission from YAML text in either form; ``file`` names it in problems."""
     reader = NodeReader(text, file)
     document = None
+    leaves: list[TreeNode] = []
     if reader.root is not None:
-        document = _read_document(reader)
+        document = _read_document(reader, leaves)
     elif not reader.failed:
         reader.error_at(0, "the file is empty: expected tree:, trees: or Aerostack's nodes:")
     for problem in reader.problems:
         if problem.severity == "warning":
             logger.warning("%s", problem)
     if reader.failed or document is None:
-        raise TreeFormatError(errors_of(reader) or [(file, 0, "not a behavior-tree mission")])
+        raise TreeFormatError(errors_of(reader) or [(file, 0, "not a behavior-tree mission")], leaves)
     logger.debug("read %d behavior trees from %s (main %s)", len(document.trees), file, document.main)
     return document
 
 
-def _read_document(reader: NodeReader) -> TreeDocument | None:
+def _read_document(reader: NodeReader, leaves: list[TreeNode]) -> TreeDocument | None:
     root = reader.root
     assert root is not None
     if root.tag != MAP:
@@ -194,7 +195,7 @@ def _read_document(reader: NodeReader) -> TreeDocument | None:
         return None
     keys = [str(k.value) for k, _ in root.value if isinstance(k, yaml.ScalarNode)]
     if "nodes" in keys:
-        return read_flat(reader, root)
+        return read_flat(reader, root, leaves)
     if "tree" not in keys and "trees" not in keys:
         reader.error(root, "not a behavior-tree mission: expected tree: (one tree), trees: (trees by ID) "
                            "or Aerostack's nodes: list")

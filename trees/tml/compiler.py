@@ -15,7 +15,8 @@ complex task                    ``SequenceWithMemory`` of its subtasks (halting 
                                 task is not activated again
 ==============================  ===============================================================================
 
-All trees share one blackboard: TML's variables are global to the mission. ``TmlDocument.build`` (called by
+An ``<argument value>`` without ``name`` (the Levant wiki says the name is optional) is the behavior's one
+argument. All trees share one blackboard: TML's variables are global to the mission. ``TmlDocument.build`` (called by
 ``build_tree``) wraps the main tree and the trees events call in a :class:`~.tml_runtime.TmlEventHandling` node.
 Levant names that the aerial catalog spells differently are translated: ``REQUEST_OPERATOR_ASSISTANCE``
 (``message``, ``options``) is ``ASK_OPERATOR`` (``QUESTION``, ``POSSIBLE_ANSWERS``); ``WAIT``'s ``timeout`` is
@@ -29,9 +30,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
 from aeroexec.trees.loaders.xml_loader import parse_xml, read_xml
-from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from aeroexec.trees.tml.reader import (
+    TmlArgument,
     TmlBehavior,
     TmlBeliefOperation,
     TmlEvent,
@@ -68,6 +71,21 @@ def bindings(text: str) -> list[str]:
 def to_references(text: str) -> str:
     """``+X`` as the blackboard reference ``{X}`` (``[+X, +Y, 1.5]`` -> ``[{X}, {Y}, 1.5]``)."""
     return VARIABLE_USE.sub(lambda m: "{" + m.group(1) + "}", text)
+
+
+def free_variables(task: TmlTask) -> list[str]:
+    """The variables a task tree uses (``+X``) before a ``<consult>`` of its own binds them, in order."""
+    free: list[str] = []
+    bound: set[str] = set()
+    for sub in task.walk():
+        behaviors = [*sub.recurrent, *([sub.work] if isinstance(sub.work, TmlBehavior) else [])]
+        texts = [a.value for b in behaviors for a in b.arguments]
+        if isinstance(sub.work, TmlBeliefOperation):
+            texts.append(sub.work.belief)
+        free += [v for text in texts for v in uses(text) if v not in bound and v not in free]
+        if isinstance(sub.work, TmlBeliefOperation) and sub.work.kind == "consult":
+            bound |= set(bindings(sub.work.belief))
+    return free
 
 
 def behavior_name(name: str) -> str:
@@ -107,15 +125,18 @@ class TmlDocument(TreeDocument):
             if event.call and event.call not in called and event.call in self.trees:
                 called[event.call] = builder.node(self.trees[event.call], blackboard, (event.call,))
         name = Path(self.file).name if self.file else self.main
-        return TmlEventHandling(name, main, called, self.events, context, blackboard)
+        needs = {call: free_variables(self.program.trees[call]) for call in called} if self.program else {}
+        return TmlEventHandling(name, main, called, self.events, context, blackboard, needs)
 
 
 class _Compiler:
-    def __init__(self, program: TmlProgram) -> None:
+    def __init__(self, program: TmlProgram, catalog: BehaviorCatalog) -> None:
         self.program = program
         self.file = program.file
+        self.catalog = catalog
         self.places: dict[int, TmlTask] = {}
         self.leaves: list[TreeNode] = []
+        self.problems: list[tuple[str, int, str]] = []
 
     def node(self, kind: str, name: str, line: int, task: TmlTask, children: list[TreeNode] | None = None,
              **ports: str) -> TreeNode:
@@ -147,14 +168,32 @@ class _Compiler:
         return leaf
 
     def behavior(self, task: TmlTask, behavior: TmlBehavior, name: str) -> TreeNode:
-        ports = {argument_port(behavior.name, a.name): to_references(a.value) for a in behavior.arguments}
+        ports = {self.argument_name(behavior, a): to_references(a.value) for a in behavior.arguments}
+        ports.pop("", None)
         return self.node(behavior_name(behavior.name) or "(no name)", name, behavior.line, task, **ports)
 
+    def argument_name(self, behavior: TmlBehavior, argument: TmlArgument) -> str:
+        """The port of an argument; ``<argument value>`` without name is the behavior's only argument."""
+        if argument.name:
+            return argument_port(behavior.name, argument.name)
+        descriptor = self.catalog.behavior(behavior_name(behavior.name))
+        if descriptor is None:
+            return ""  # the unknown behavior is reported by verification
+        if len(descriptor.arguments) == 1:
+            return next(iter(descriptor.arguments))
+        taken = f"its arguments are {', '.join(descriptor.arguments)}" if descriptor.arguments else "it takes none"
+        self.problems.append((self.file, argument.line, f"<argument> without name: the behavior {descriptor.name} "
+                                                        f"has not one argument ({taken}): write name=\"...\""))
+        return ""
 
-def compile_tml(program: TmlProgram) -> TmlDocument:
-    """The tree document of a TML program (verify it with :func:`~.tml_verify.verify_tml`)."""
-    compiler = _Compiler(program)
+
+def compile_tml(program: TmlProgram, catalog: BehaviorCatalog | None = None) -> TmlDocument:
+    """The tree document of a TML program (verify it with :func:`~.tml_verify.verify_tml`); ``catalog`` (the
+    aerial one by default) names the argument an ``<argument>`` without name stands for."""
+    compiler = _Compiler(program, catalog if catalog is not None else default_catalog())
     trees = {name: compiler.task(task, frozenset(), name == program.root_task) for name, task in program.trees.items()}
+    if compiler.problems:
+        raise TreeFormatError(compiler.problems)
     events = [TmlEvent(e.name, e.line, to_references(e.condition), e.condition_line, e.call, e.call_line, e.mode,
                        e.mode_line) for e in program.events]
     lines = {name: task.line for name, task in program.trees.items()}

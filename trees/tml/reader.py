@@ -50,7 +50,7 @@ GRAMMAR: dict[str, tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]] = {
     "task": (("name",), ("name",), ("recurrent_behavior", "behavior", *BELIEF_OPERATIONS, "task")),
     "recurrent_behavior": (("name",), ("name",), ("argument",)),
     "behavior": (("name",), ("name",), ("argument",)),
-    "argument": (("name", "value"), ("name", "value"), ()),
+    "argument": (("name", "value"), ("value",), ()),  # the name is optional (the behavior's one argument)
     "add": (("belief",), ("belief",), ()),
     "remove": (("belief",), ("belief",), ()),
     "consult": (("belief",), ("belief",), ()),
@@ -61,7 +61,7 @@ GRAMMAR: dict[str, tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]] = {
     "termination": (("mode",), ("mode",), ()),
 }
 #: Elements only the older dialects have (Gregale v1 and the 2016 prototype).
-GREGALE_ELEMENTS = ("action", "skill", "repeat", "ending")
+GREGALE_ELEMENTS = ("action", "skill", "repeat", "ending", "macro_task")
 
 
 @dataclass
@@ -280,13 +280,31 @@ class _Reader:
                                             f"(root tasks: {', '.join(trees) or 'none'})")
 
 
+def _gregale_marks(root: _Element) -> list[str]:
+    """What in a document only Gregale's TML has: ``<action>``, ``<skill>``, ``<macro_task>``, ``<repeat>``,
+    ``<condition parameter=...>``, tasks straight under ``<mission>``."""
+    marks: list[str] = []
+    if any(c.tag == "task" for c in root.children):
+        marks.append("<task> directly under <mission>")
+    stack = list(root.children)
+    while stack and len(marks) < 3:
+        element = stack.pop(0)
+        if element.tag in GREGALE_ELEMENTS and f"<{element.tag}>" not in marks:
+            marks.append(f"<{element.tag}>")
+        elif element.tag == "condition" and "parameter" in element.attrs and "<condition parameter>" not in marks:
+            marks.append("<condition parameter>")
+        stack.extend(element.children)
+    return marks
+
+
 def gregale_refusal(root: _Element) -> str | None:
     """Why a ``<mission>`` is in the older Gregale dialect (or the 2016 prototype's), None when it is not."""
-    if any(c.tag == "task" for c in root.children):
-        return ("this TML mission is in the older Gregale dialect (TML v1: <task> directly under <mission>, "
-                "with <action> and <skill>); aeroexec reads TML's Levant dialect (v2): put the tasks in "
-                "<task_tree> elements, write <behavior> for actions and <recurrent_behavior> for skills, and name "
-                "the tree to run with <mission root_task=\"...\">")
+    marks = _gregale_marks(root)
+    if marks:
+        return (f"this TML mission is in the older Gregale dialect (TML v1: {', '.join(marks)}); aeroexec reads "
+                f"TML's Levant dialect (v2): put the tasks in <task_tree> elements, write <behavior> for actions "
+                f"and <recurrent_behavior> for skills, <condition belief=...> for conditions, and name the tree to "
+                f"run with <mission root_task=\"...\">")
     return None
 
 
@@ -294,7 +312,7 @@ def is_tml(root: _Element) -> bool:
     """True when an XML document is a TML mission: its document element is ``<mission>`` with TML's attributes or
     elements (an empty ``<mission/>`` is left to the behavior-tree reader, which says what it expects)."""
     return root.tag == "mission" and (bool(set(root.attrs) & {"root_task", "name"}) or any(
-        c.tag in ("task_tree", "task", "event_handling") for c in root.children))
+        c.tag in ("task_tree", "task", "event_handling", *GREGALE_ELEMENTS) for c in root.children))
 
 
 def read_tml_root(root: _Element, file: str) -> TmlProgram:

@@ -42,7 +42,8 @@ class TmlEventHandling(Control):
     """Children: the main tree first, then each tree an event calls; ``events`` in document order."""
 
     def __init__(self, name: str, main: Behaviour, called: Mapping[str, Behaviour], events: list[TmlEvent],
-                 context: Any, blackboard: Any) -> None:
+                 context: Any, blackboard: Any, needs: Mapping[str, list[str]] | None = None) -> None:
+        """``needs``: the variables each called tree uses before binding them itself."""
         super().__init__(name, [main, *called.values()])
         self.main = main
         self.called = dict(called)
@@ -52,6 +53,7 @@ class TmlEventHandling(Control):
         self.handling: TmlEvent | None = None
         self.interrupted: list[Behaviour] = []  # the running path when the last event fired
         self.main_done = False
+        self.needs = dict(needs or {})
 
     # -- the tick ----------------------------------------------------------------------------------
     def run(self) -> Ticking:
@@ -59,6 +61,14 @@ class TmlEventHandling(Control):
             event = self.check_events()
             if event is not None:
                 self.fire(event)
+                missing = [v for v in self.needs.get(event.call or "", []) if v not in self.blackboard]
+                if missing:  # verification warned it may happen: fail clearly rather than fly half the tree
+                    self.handling = None
+                    names = ", ".join(f"+{v}" for v in missing)
+                    self.context.record("tml_handler_failed", f"{event.name}: {names} not bound: the event fired "
+                                        f"before any <consult> bound {', '.join('?' + v for v in missing)}; the "
+                                        f"tree {event.call} cannot run and the mission fails", event=event.name)
+                    return Status.FAILURE
         if self.handling is not None:
             event = self.handling
             if event.call:

@@ -127,7 +127,7 @@ class TmlVerifier:
             known = set.intersection(*(bound for _, bound in fire_points))
             for variable in uses(event.condition):
                 if variable not in known:
-                    self.add(event.condition_line, self._unbound(variable, event, fire_points))
+                    self._unbound(event.condition_line, variable, event, fire_points)
             if event.call and event.call in self.program.trees:
                 self._flow(self.program.trees[event.call], known | set(bindings(event.condition)),
                            (event, fire_points), None)
@@ -145,7 +145,7 @@ class TmlVerifier:
         elif isinstance(work, TmlBeliefOperation):
             for variable in uses(work.belief):
                 if variable not in bound:
-                    self.add(work.line, self._message(variable, event))
+                    self._not_bound(work.line, variable, event)
             if work.kind == "consult":
                 bound = bound | set(bindings(work.belief))
         for sub in task.subtasks:
@@ -156,17 +156,26 @@ class TmlVerifier:
         for argument in behavior.arguments:
             for variable in uses(argument.value):
                 if variable not in bound:
-                    self.add(argument.line, self._message(variable, event))
+                    self._not_bound(argument.line, variable, event)
 
-    def _message(self, variable: str, event: tuple[TmlEvent, list] | None) -> str:
+    def _not_bound(self, line: int, variable: str, event: tuple[TmlEvent, list] | None) -> None:
         if event is None:
-            return f"+{variable} is not bound: no earlier <consult> binds ?{variable} on the way to it"
-        return self._unbound(variable, *event)
+            self.add(line, f"+{variable} is not bound: no earlier <consult> binds ?{variable} on the way to it")
+        else:
+            self._unbound(line, variable, *event)
 
-    def _unbound(self, variable: str, event: TmlEvent, fire_points: list[tuple[TmlTask, set[str]]]) -> str:
+    def _unbound(self, line: int, variable: str, event: TmlEvent, fire_points: list[tuple[TmlTask, set[str]]]
+                 ) -> None:
+        """A variable an event's condition or tree uses: a warning when some of the places the event can fire
+        have it bound (the run fails clearly if it fires at another), an error when none has."""
         task = next(t for t, bound in fire_points if variable not in bound)
-        return (f"+{variable} may not be bound when the event {event.name!r} fires: it can fire during the task "
-                f"{task.name!r} (line {task.line}), before any <consult> binds ?{variable}")
+        if any(variable in bound for _, bound in fire_points):
+            self.add(line, f"+{variable} may not be bound when the event {event.name!r} fires: it can fire during "
+                           f"the task {task.name!r} (line {task.line}), before any <consult> binds ?{variable} "
+                           f"(if it does, the mission fails there)", severity="warning")
+        else:
+            self.add(line, f"+{variable} is not bound when the event {event.name!r} fires: no <consult> binds "
+                           f"?{variable} before any task it can fire during")
 
     # -- sequences through events ------------------------------------------------------------------
     def check_called_sequences(self) -> None:
