@@ -73,10 +73,11 @@ class Engine:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = self.robot = drone
+        reference = None  # the catalog the library's implementations are described in, when it is the aerial one
         if library is None:
-            library = default_library()
+            library, reference = default_library(), default_catalog()
         # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
-        self.catalog = (catalog or default_catalog()).served_by(library.names(), default_catalog())
+        self.catalog = (catalog or default_catalog()).served_by(library.names(), reference)
         self.clock = clock or SimulatedClock()
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
