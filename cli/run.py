@@ -104,8 +104,8 @@ def make_drone(args: argparse.Namespace, choice: robots.RobotChoice | None = Non
 
     kind = choice.kind if choice is not None else None
     try:
-        world_file = args.world or (kind.world if kind is not None else None)
-        world = load_world(world_file) if world_file else default_world()
+        path = world_file(args, choice)
+        world = load_world(path) if path else default_world()
     except WorldError as error:
         raise RunError(str(error)) from None
     if kind is not None:
@@ -145,9 +145,9 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
                     **(choice.engine_options(drone) if choice is not None else {}))
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
     try:
-        flight_log = FlightLogWriter(engine, log_path, meta={"mission": name, "world": _absolute(args.world),
-                                                             "drone": args.drone, "seed": args.seed,
-                                                             "output": str(folder)})
+        meta = {"mission": name, "world": _absolute(world_file(args, choice)), "drone": args.drone,
+                "seed": args.seed, "robot": getattr(args, "robot", "drone"), "output": str(folder)}
+        flight_log = FlightLogWriter(engine, log_path, meta=meta)
     except OSError as error:
         engine.stop()
         operator.close()
@@ -212,6 +212,12 @@ def summary(engine: Engine, name: str) -> int:
           f"t={engine.now():.1f} s; {len(outcomes)} behavior events, "
           f"{sum(e.kind == 'GOAL_ACHIEVED' for e in outcomes)} goals achieved", file=sys.stderr)
     return 0 if completed and not failed else 1
+
+
+def world_file(args: argparse.Namespace, choice: robots.RobotChoice | None) -> str | None:
+    """The world file the run uses: ``--world``, else its robot kind's (None: the built-in field)."""
+    kind = choice.kind if choice is not None else None
+    return args.world or (str(kind.world) if kind is not None and kind.world else None)
 
 
 def _absolute(path: str | None) -> str | None:
