@@ -15,8 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
-from aeroexec.cli import web
-from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli import robots, web
 from aeroexec.cli.live import OperatorConsole
 from aeroexec.cli.live import wanted as live_view_wanted
 from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
@@ -46,6 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     """The options every way of flying a mission shares (run, and the behavior-tree runner)."""
+    robots.add_arguments(parser)
     parser.add_argument("--drone", default="sim", metavar="sim|mavsdk:URL",
                         help="the built-in simulated drone (default) or a MAVSDK vehicle, "
                              "e.g. mavsdk:udpin://0.0.0.0:14540")
@@ -74,9 +74,13 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     path = Path(args.mission)
     try:
-        catalog = chosen_catalog(args.catalog)
+        choice = robots.chosen(args)
+        catalog = choice.catalog(args.catalog)
         mission = load_mission(path, catalog)
-        return fly(args, catalog, mission, path.name)
+        return fly(args, catalog, mission, path.name, choice)
+    except robots.RobotKindError as error:
+        print(error, file=sys.stderr)
+        return 2
     except (RunError, MissionFileError, web.SurfaceError) as error:
         print(error, file=sys.stderr)
         return 1
@@ -93,14 +97,21 @@ def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any] | Tr
     return checked.tree if checked.tree is not None else mission_function(path)
 
 
-def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
-    """The drone, the world it flies in (obstacles for the planner), and whether it runs on simulated time."""
+def make_drone(args: argparse.Namespace, choice: robots.RobotChoice | None = None) -> tuple[Drone, Any, bool]:
+    """The robot (a drone unless ``--robot`` says), the world it moves in (obstacles for the planner), and
+    whether it runs on simulated time."""
     from aeroexec.drones.sim import WorldError, default_world, load_world
 
+    kind = choice.kind if choice is not None else None
     try:
-        world = load_world(args.world) if args.world else default_world()
+        path = world_file(args, choice)
+        world = load_world(path) if path else default_world()
     except WorldError as error:
         raise RunError(str(error)) from None
+    if kind is not None:
+        if args.drone != "sim" or kind.simulator is None:
+            raise RunError(f"--robot {kind.name}: only its simulated robot can be flown from here")
+        return kind.simulator(world, args.seed), world, True
     if args.drone == "sim":
         from aeroexec.drones.sim import SimulatedDrone
 
@@ -123,19 +134,20 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
 
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
-        name: str) -> int:
+        name: str, choice: robots.RobotChoice | None = None) -> int:
     live = live_view_wanted(args)
     watched = live or web.wanted(args)  # someone watches: real time unless --speed says, questions wait for them
     operator = make_operator(args, watched)
-    drone, world, simulated = make_drone(args)
+    drone, world, simulated = make_drone(args, choice)
     clock = SimulatedClock(speed=args.speed or (1.0 if watched else None)) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
-    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder)
+    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder,
+                    **(choice.engine_options(drone) if choice is not None else {}))
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
     try:
-        flight_log = FlightLogWriter(engine, log_path, meta={"mission": name, "world": _absolute(args.world),
-                                                             "drone": args.drone, "seed": args.seed,
-                                                             "output": str(folder)})
+        meta = {"mission": name, "world": _absolute(world_file(args, choice)), "drone": args.drone,
+                "seed": args.seed, "robot": getattr(args, "robot", "drone"), "output": str(folder)}
+        flight_log = FlightLogWriter(engine, log_path, meta=meta)
     except OSError as error:
         engine.stop()
         operator.close()
@@ -200,6 +212,12 @@ def summary(engine: Engine, name: str) -> int:
           f"t={engine.now():.1f} s; {len(outcomes)} behavior events, "
           f"{sum(e.kind == 'GOAL_ACHIEVED' for e in outcomes)} goals achieved", file=sys.stderr)
     return 0 if completed and not failed else 1
+
+
+def world_file(args: argparse.Namespace, choice: robots.RobotChoice | None) -> str | None:
+    """The world file the run uses: ``--world``, else its robot kind's (None: the built-in field)."""
+    kind = choice.kind if choice is not None else None
+    return args.world or (str(kind.world) if kind is not None and kind.world else None)
 
 
 def _absolute(path: str | None) -> str | None:

@@ -5,18 +5,23 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli import robots
 from aeroexec.cli.mission_files import MissionFileError, check_mission
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
                         help="Python missions (.py) or behavior trees (.xml, .yaml, .yml)")
-    parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
+    robots.add_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
-    catalog = chosen_catalog(args.catalog)
+    try:
+        catalog = robots.chosen(args).catalog(args.catalog)
+    except robots.RobotKindError as error:
+        print(error)
+        return 2
     failed = False
     for name in args.missions:
         try:

@@ -40,9 +40,10 @@ def start_console(args: argparse.Namespace, engine: Any, world: Any, mission_fil
 
     if args.web_host != "127.0.0.1":
         print(WEB_HOST_WARNING.format(host=args.web_host), file=sys.stderr)
-    feed = ConsoleFeed(engine, "drone", mission_file)
+    name = getattr(args, "robot", "drone")  # the robot's kind names it on the map
+    feed = ConsoleFeed(engine, name, mission_file)
     try:
-        server = ConsoleServer({"drone": feed}, world_map(world), host=args.web_host, port=args.web).start()
+        server = ConsoleServer({name: feed}, world_map(world), host=args.web_host, port=args.web).start()
     except ConsoleError as error:
         feed.close()
         raise SurfaceError(str(error)) from None

@@ -1,4 +1,4 @@
-"""Drones: the drone interface, the simulated drone and world, and the MAVSDK adapter."""
+"""Robots and drones: the robot interface (a drone is one kind), the simulated drone and world, the MAVSDK adapter."""
 
 from aeroexec.drones.interface import (
     CommandHandle,
@@ -7,6 +7,7 @@ from aeroexec.drones.interface import (
     Failure,
     LandedState,
     Observation,
+    Robot,
     Telemetry,
     Vector,
 )
@@ -18,6 +19,7 @@ __all__ = [
     "Failure",
     "LandedState",
     "Observation",
+    "Robot",
     "Telemetry",
     "Vector",
 ]

@@ -154,20 +154,51 @@ class DroneEvent:
     data: dict = field(default_factory=dict)
 
 
-class Drone(abc.ABC):
-    """What the engine needs from a drone. Implementations must never block in these calls."""
+class Robot(abc.ABC):
+    """What the engine needs from any robot: time, its own state, what it perceives, and a way to stop.
+
+    Implementations must never block in these calls. A drone is one kind of robot (:class:`Drone`); a robot of
+    another kind adds the commands its own behaviors use.
+    """
 
     @abc.abstractmethod
     def update(self, now: float) -> None:
         """Called by the engine on every tick with its clock's time.
 
-        The simulated drone integrates its motion up to ``now``; a real drone's adapter
+        A simulated robot integrates its motion up to ``now``; a real robot's adapter
         only refreshes its view (its I/O runs elsewhere).
         """
 
     @abc.abstractmethod
     def telemetry(self) -> Telemetry:
         """The latest state, without blocking."""
+
+    @abc.abstractmethod
+    def hold(self) -> CommandHandle:
+        """Stop where the robot is (a drone hovers)."""
+
+    def capture_image(self) -> bytes | None:
+        """A PNG of what the camera sees now, or None when this robot has no camera it can read."""
+        return None
+
+    def payload(self) -> list[str]:
+        """The names of the items the robot carries now; empty when it carries nothing or cannot tell."""
+        return []
+
+    def observations(self) -> list[Observation]:
+        """What the camera sees now; robots without a simulated camera see nothing."""
+        return []
+
+    def events(self) -> list[DroneEvent]:
+        """Events since the last call (collisions, failsafes, link changes), oldest first."""
+        return []
+
+    def close(self) -> None:  # noqa: B027 - optional: a robot with nothing to release keeps this one
+        """Release the robot: stop I/O threads. Must return promptly, never hang."""
+
+
+class Drone(Robot):
+    """What the engine's flight behaviors need from a drone, besides what every robot gives."""
 
     @abc.abstractmethod
     def arm(self) -> CommandHandle: ...
@@ -197,25 +228,6 @@ class Drone(abc.ABC):
     @abc.abstractmethod
     def return_to_launch(self) -> CommandHandle: ...
 
-    def capture_image(self) -> bytes | None:
-        """A PNG of what the camera sees now, or None when this drone has no camera it can read."""
-        return None
-
     def release_payload(self) -> CommandHandle:
         """Open the payload release (drop what the drone carries)."""
         return CommandHandle.failed("release_payload", Failure.UNSUPPORTED, "this drone has no payload release")
-
-    def payload(self) -> list[str]:
-        """The names of the items the drone carries now; empty when it carries nothing or cannot tell."""
-        return []
-
-    def observations(self) -> list[Observation]:
-        """What the camera sees now; drones without a simulated camera see nothing."""
-        return []
-
-    def events(self) -> list[DroneEvent]:
-        """Events since the last call (collisions, failsafes, link changes), oldest first."""
-        return []
-
-    def close(self) -> None:  # noqa: B027 - optional: a drone with nothing to release keeps this one
-        """Release the drone: stop I/O threads. Must return promptly, never hang."""

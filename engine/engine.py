@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater
-from aeroexec.drones import Drone
+from aeroexec.drones import Robot
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
 from aeroexec.engine.clock import Clock, SimulatedClock
 from aeroexec.engine.events import EventLog
@@ -57,29 +57,36 @@ class Timers:
 
 
 class Engine:
-    """Everything of the paper's execution engine wired together around one drone."""
+    """Everything of the paper's execution engine wired together around one robot (a drone by default).
 
-    def __init__(self, drone: Drone, *, catalog: BehaviorCatalog | None = None,
+    ``telemetry`` is the updater of the robot's beliefs about itself; without it, a drone's telemetry beliefs
+    (``position``, ``flight_state``, ``charge``...) are written. A robot of another kind passes its own.
+    """
+
+    def __init__(self, drone: Robot, *, catalog: BehaviorCatalog | None = None,
                  library: BehaviorLibrary | None = None, processes: ProcessRegistry | None = None,
                  clock: Clock | None = None, rate: float = 20.0, settings: EngineSettings | None = None,
                  updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
                  capability_grace: float = 2.0, belief_period: float = 0.1, operator: Any = None,
-                 bus: Any = None, output_dir: str | Path | None = None) -> None:
+                 bus: Any = None, output_dir: str | Path | None = None,
+                 telemetry: BeliefUpdater | None = None) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
-        self.drone = drone
+        self.drone = self.robot = drone
+        reference = None  # the catalog the library's implementations are described in, when it is the aerial one
         if library is None:
-            library = default_library()
+            library, reference = default_library(), default_catalog()
         # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
-        self.catalog = (catalog or default_catalog()).served_by(library.names(), default_catalog())
+        self.catalog = (catalog or default_catalog()).served_by(library.names(), reference)
         self.clock = clock or SimulatedClock()
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
         self.memory = BeliefMemory(clock=self.clock)
         self.catalog.declare_vocabulary(self.memory)
-        for name, arity in TELEMETRY_PREDICATES.items():
-            if name not in self.catalog.predicates:
-                self.memory.declare(name, arity)
+        if telemetry is None:
+            for name, arity in TELEMETRY_PREDICATES.items():
+                if name not in self.catalog.predicates:
+                    self.memory.declare(name, arity)
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles)
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
@@ -91,8 +98,10 @@ class Engine:
         self.specialist = BehaviorSpecialist(self.catalog)
         self.resources = ResourceManager(self.catalog, processes, self.log, self.context, capability_grace)
         self.coordinator = BehaviorCoordinator(self.context, library, self.resources, self.specialist)
-        telemetry = TelemetryUpdater(drone, belief_period)
-        self.context.position_source = telemetry.position_source  # self-localization may claim position(self)
+        if telemetry is None:
+            telemetry = TelemetryUpdater(drone, belief_period)
+        # self-localization may claim position(self) from the telemetry
+        self.context.position_source = getattr(telemetry, "position_source", None)
         self.updaters: list[BeliefUpdater] = [telemetry, *updaters]
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
         self._belief_changes = 0

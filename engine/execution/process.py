@@ -34,6 +34,7 @@ class EngineSettings:
     stall_time: float = 8.0  # s without progress toward a goal -> WRONG_PROGRESS
     command_timeout: float = 10.0  # s for a drone command to be accepted
     cruise_speed: float = 5.0  # m/s the travel-time estimate assumes
+    hold_behavior: str = "KEEP_HOVERING"  # what holds the robot where it is while the operator pauses
     extra: dict[str, Any] = field(default_factory=dict)
 
 
@@ -56,6 +57,11 @@ class BehaviorContext:
 
     def now(self) -> float:
         return self.clock()
+
+    @property
+    def robot(self) -> Any:
+        """The robot the engine drives (``drone`` is the same object, named for the aerial behaviors)."""
+        return self.drone
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,6 +98,11 @@ class BehaviorProcess:
 
     @property
     def drone(self) -> Drone:
+        return self.context.drone
+
+    @property
+    def robot(self) -> Any:
+        """The robot the engine drives, whatever its kind (a rover's behaviors use its own commands)."""
         return self.context.drone
 
     @property

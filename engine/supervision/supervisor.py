@@ -34,7 +34,6 @@ from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
 
-HOLD_BEHAVIOR = "KEEP_HOVERING"
 LAND_BEHAVIOR = "LAND"
 LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
 COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status", "query")
@@ -147,6 +146,7 @@ class Supervisor:
 
     # -- the commands -------------------------------------------------------------------------------
     def _pause(self, _: str) -> CommandResult:
+        hold_behavior = self.engine.settings.hold_behavior
         if self.state != RUNNING:
             return CommandResult(False, f"the mission is already {self.state}")
         self.state = PAUSED
@@ -155,9 +155,9 @@ class Supervisor:
             mission.pause()
         coordinator = self.engine.coordinator
         stopped = []
-        if HOLD_BEHAVIOR in self.engine.catalog.behaviors:
+        if hold_behavior in self.engine.catalog.behaviors:
             active = coordinator.active()
-            for name in sorted(coordinator.specialist.conflicts(HOLD_BEHAVIOR, active),
+            for name in sorted(coordinator.specialist.conflicts(hold_behavior, active),
                                key=lambda n: active[n].order):
                 activation = active[name]
                 if activation.source != "mission":
@@ -167,21 +167,22 @@ class Supervisor:
                 self._suspended.append((activation, listeners))
                 coordinator.stop(name, "paused by the operator")
                 stopped.append(name)
-            hold = coordinator.activate(HOLD_BEHAVIOR, priority="higher", source="operator")
-            holding = f"; {HOLD_BEHAVIOR}" if hold.accepted else f"; the drone cannot hover: {hold.message}"
+            hold = coordinator.activate(hold_behavior, priority="higher", source="operator")
+            holding = f"; {hold_behavior}" if hold.accepted else f"; {hold_behavior} cannot start: {hold.message}"
         else:
-            holding = f"; the catalog has no {HOLD_BEHAVIOR}: the active behaviors go on"
+            holding = f"; the catalog has no {hold_behavior}: the active behaviors go on"
         what = f"stopped {', '.join(stopped)}" if stopped else "no motion stopped"
         return CommandResult(True, f"mission paused ({what}{holding})")
 
     def _resume(self, _: str) -> CommandResult:
+        hold_behavior = self.engine.settings.hold_behavior
         if self.state != PAUSED:
             return CommandResult(False, f"the mission is {self.state}, not paused")
         self.state = RUNNING
         coordinator = self.engine.coordinator
-        held = coordinator.active().get(HOLD_BEHAVIOR)
+        held = coordinator.active().get(hold_behavior)
         if held is not None and held.source == "operator":
-            coordinator.stop(HOLD_BEHAVIOR, "resumed by the operator")
+            coordinator.stop(hold_behavior, "resumed by the operator")
         again, refused = [], []
         for activation, listeners in self._suspended:
             if self._request_again(activation, listeners):

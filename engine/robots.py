@@ -1,0 +1,69 @@
+"""Robot kinds: what the engine needs to drive one kind of robot, found by name (``aeroexec run --robot NAME``).
+
+A kind bundles its behavior catalog, its behaviors and capability processes, the updater of its beliefs about
+itself, its simulated robot and the engine settings it needs. ``drone`` is built in (the aerial catalog and
+library, the simulated multicopter); packages add kinds through the entry point group ``aeroexec.robots`` (a
+callable returning a :class:`RobotKind`), as ``examples/rover`` does.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from importlib.metadata import entry_points
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine.execution.process import BehaviorLibrary, EngineSettings
+from aeroexec.engine.execution.resources import ProcessRegistry
+
+logger = logging.getLogger(__name__)
+
+ROBOTS_GROUP = "aeroexec.robots"
+DRONE = "drone"
+
+
+class RobotKindError(ValueError):
+    """No robot kind of that name, or a plugin that does not give one."""
+
+
+@dataclass
+class RobotKind:
+    """One kind of robot the engine can drive."""
+
+    name: str
+    description: str
+    catalog: Path | None = None  # its behavior catalog (None: the aerial one)
+    behaviors: Callable[[], BehaviorLibrary] | None = None  # None: the aerial library and plugins
+    processes: Callable[[], ProcessRegistry] | None = None  # None: the aerial processes and plugins
+    simulator: Callable[[Any, int], Any] | None = None  # (world, seed) -> a simulated robot
+    telemetry: Callable[[Any], Any] | None = None  # robot -> the updater of its own beliefs (None: a drone's)
+    world: Path | None = None  # its default world file (None: the built-in field)
+    settings: Callable[[], EngineSettings] = field(default=EngineSettings)
+
+
+def robot_kinds() -> dict[str, Callable[[], RobotKind]]:
+    """Every robot kind installed, by name (``drone`` is built in)."""
+    kinds: dict[str, Callable[[], RobotKind]] = {}
+    for point in sorted(entry_points(group=ROBOTS_GROUP), key=lambda p: p.name):
+        kinds[point.name] = point.load
+    return kinds
+
+
+def robot_kind(name: str) -> RobotKind | None:
+    """The robot kind called ``name``; None for the built-in drone. Raises :class:`RobotKindError`."""
+    if name == DRONE:
+        return None
+    kinds = robot_kinds()
+    if name not in kinds:
+        known = ", ".join([DRONE, *sorted(kinds)])
+        raise RobotKindError(f"--robot {name}: no such robot kind is installed (known: {known})")
+    try:
+        provider = kinds[name]()
+        kind = provider() if callable(provider) and not isinstance(provider, RobotKind) else provider
+    except Exception as error:  # a broken plugin is reported in words
+        raise RobotKindError(f"--robot {name}: the plugin cannot be loaded: {error}") from None
+    if not isinstance(kind, RobotKind):
+        raise RobotKindError(f"--robot {name}: the plugin gives no RobotKind")
+    return kind
