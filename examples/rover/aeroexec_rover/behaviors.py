@@ -11,6 +11,7 @@ import math
 
 from aeroexec.engine import BehaviorLibrary, BehaviorProcess, Outcome
 from aeroexec.engine.behaviors import aerial_behaviors
+
 from aeroexec_rover.rover import wrap180
 
 ARRIVED = 0.15  # m

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Struct
+
 from aeroexec_rover.rover import SimulatedRover
 
 PREDICATES = {"position": 2, "heading": 2, "docked": 2, "bumper": 2, "motion": 2, "charge": 2, "battery_level": 2}
