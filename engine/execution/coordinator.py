@@ -132,7 +132,8 @@ class BehaviorCoordinator:
             self.log.record(outcome.value if outcome is Outcome.GOAL_ACHIEVED else "failed_preconditions", name,
                             message, source=source)
             return ActivationResult(False, outcome, message)
-        conflicts = [self._active[other] for other in self.specialist.conflicts(name, self._active)]
+        clashing = self.specialist.conflicts(name, self._active)
+        conflicts = [a for other, a in self._active.items() if other in clashing]  # in activation order
         higher = [a for a in conflicts if a.priority > level]
         if higher:  # step 6: an incompatible active behavior of higher priority
             blocker = max(higher, key=lambda a: a.priority)
