@@ -2,12 +2,14 @@
 
 Each solid answers three questions in local ENU meters: the signed distance from a point to its surface
 (negative inside), whether a straight segment passes through it, and whether a point lies inside it.
+``signed_distances`` answers the first for many points at once (numpy arrays of shape (N, 3)).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 Vector = tuple[float, float, float]
 
@@ -36,6 +38,15 @@ class Box:
         outside = math.sqrt(sum(max(v, 0.0) ** 2 for v in d))
         inside = min(max(d[0], d[1], d[2]), 0.0)
         return outside + inside
+
+    def signed_distances(self, points: Any) -> Any:
+        """:meth:`signed_distance` of every row of ``points`` (an (N, 3) array), as an (N,) array."""
+        import numpy as np
+
+        d = np.abs(points - np.asarray(self.center)) - np.asarray(self.size) / 2.0
+        out = np.maximum(d, 0.0)
+        outside = np.sqrt(out[:, 0] ** 2 + out[:, 1] ** 2 + out[:, 2] ** 2)
+        return outside + np.minimum(np.maximum(np.maximum(d[:, 0], d[:, 1]), d[:, 2]), 0.0)
 
     def segment_hits(self, a: Vector, b: Vector) -> bool:
         """Whether the segment from ``a`` to ``b`` touches the box (slab test)."""
@@ -76,6 +87,16 @@ class Cylinder:
         vertical = abs(point[2] - (self.base + half)) - half
         outside = math.hypot(max(radial, 0.0), max(vertical, 0.0))
         return outside + min(max(radial, vertical), 0.0)
+
+    def signed_distances(self, points: Any) -> Any:
+        """:meth:`signed_distance` of every row of ``points`` (an (N, 3) array), as an (N,) array."""
+        import numpy as np
+
+        radial = np.hypot(points[:, 0] - self.center[0], points[:, 1] - self.center[1]) - self.radius
+        half = self.height / 2.0
+        vertical = np.abs(points[:, 2] - (self.base + half)) - half
+        outside = np.hypot(np.maximum(radial, 0.0), np.maximum(vertical, 0.0))
+        return outside + np.minimum(np.maximum(radial, vertical), 0.0)
 
     def segment_hits(self, a: Vector, b: Vector) -> bool:
         """Whether the segment from ``a`` to ``b`` touches the cylinder."""

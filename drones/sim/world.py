@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
@@ -178,6 +179,18 @@ class World:
         if not self.obstacles:
             return math.inf
         return max(min(o.signed_distance(point) for o in self.obstacles), 0.0)
+
+    def distances_to_obstacle(self, points: Any) -> Any:
+        """:meth:`distance_to_obstacle` of every row of ``points`` (an (N, 3) numpy array) at once."""
+        import numpy as np
+
+        points = np.asarray(points, dtype=float)
+        if not self.obstacles:
+            return np.full(len(points), math.inf)
+        nearest = self.obstacles[0].signed_distances(points)
+        for obstacle in self.obstacles[1:]:
+            nearest = np.minimum(nearest, obstacle.signed_distances(points))
+        return np.maximum(nearest, 0.0)
 
     def segment_clear(self, a: Vector, b: Vector) -> bool:
         """Whether the straight segment from ``a`` to ``b`` passes through no obstacle (line of sight)."""

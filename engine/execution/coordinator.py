@@ -272,6 +272,8 @@ class BehaviorCoordinator:
         if outcome is Outcome.WRONG_PROGRESS:
             reason = f" ({process.reason})" if process.reason else ""
             return outcome, wrong_progress_message(activation.name) + reason
+        if outcome is Outcome.FAILED_PRECONDITIONS:  # found out while running (a plan that came back empty)
+            return outcome, f"{failed_preconditions_message(activation.name)} {process.reason}".rstrip()
         if outcome is Outcome.GOAL_ACHIEVED and activation.category in (GOAL_BASED, DELIBERATIVE):
             return outcome, ""
         if activation.timeout is not None and now - activation.started_at >= activation.timeout:
