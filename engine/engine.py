@@ -169,6 +169,7 @@ class Engine:
         simulated = isinstance(self.clock, SimulatedClock)
         if simulated:
             self.bridge.serve(lockstep=True)
+            self.planning.wait_due(deadline)  # time does not pass a plan's due time without its answer
         else:
             self.bridge.serve(lockstep=False, until_wall=time.monotonic() + max(0.0, deadline - self.clock.now()))
         self.clock.sleep_until(deadline, self._stop)

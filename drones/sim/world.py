@@ -6,6 +6,7 @@ engine's predicates need. Worlds come from YAML files (:mod:`~aeroexec.drones.si
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -42,7 +43,9 @@ class Bounds:
     upper: Vector
 
     def contains(self, point: Vector) -> bool:
-        return all(lo <= p <= hi for lo, p, hi in zip(self.lower, point, self.upper, strict=True))
+        lower, upper = self.lower, self.upper
+        return (lower[0] <= point[0] <= upper[0] and lower[1] <= point[1] <= upper[1]
+                and lower[2] <= point[2] <= upper[2])
 
     def clamp(self, point: Vector, margin: float = 0.0) -> Vector:
         """The point of the bounds (shrunk by ``margin`` where possible) nearest to ``point``."""
@@ -106,11 +109,10 @@ class Platform:
 
     def position(self, t: float) -> Vector:
         """Where the platform is at time ``t`` (seconds from the start of the simulation)."""
-        points = list(self.path)
-        if self.loop and len(points) > 1:
-            points.append(points[0])
-        legs = [(a, b, math.dist(a, b)) for a, b in zip(points, points[1:], strict=False)]
-        total = sum(length for _, _, length in legs)
+        try:
+            points, legs, total = _legs(self.path, self.loop)
+        except TypeError:  # a path given as lists: not hashable, so not cached
+            points, legs, total = _legs.__wrapped__(self.path, self.loop)
         if total <= 0.0 or self.speed <= 0.0:
             return points[0]
         s = max(t, 0.0) * self.speed
@@ -126,6 +128,16 @@ class Platform:
                 return tuple(pa + (pb - pa) * f for pa, pb in zip(a, b, strict=True))  # type: ignore[return-value]
             s -= length
         return points[-1]
+
+
+@functools.lru_cache(maxsize=64)
+def _legs(path: tuple[Vector, ...], loop: bool) -> tuple[list[Vector], list[tuple[Vector, Vector, float]], float]:
+    """A platform path's points (closed when it loops), legs with their lengths, and total length."""
+    points = list(path)
+    if loop and len(points) > 1:
+        points.append(points[0])
+    legs = [(a, b, math.dist(a, b)) for a, b in zip(points, points[1:], strict=False)]
+    return points, legs, sum(length for _, _, length in legs)
 
 
 @dataclass(frozen=True, slots=True)

@@ -23,7 +23,7 @@ from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess, EngineSettings
 from aeroexec.engine.execution.resources import Process
 from aeroexec.engine.planning.exploration import ExplorationSettings, ExplorationStore
-from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, Point, map_bounds
+from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, Point
 
 logger = logging.getLogger(__name__)
 
@@ -228,15 +228,8 @@ class GenerateNextPointToExplore(BehaviorProcess):
 
 
 class PathPlannerProcess(Process):
-    """path_planner: has the planning worker build the occupancy grid of the obstacle map when it starts, so plans
-    come sooner; the engine loop does not wait for it."""
-
-    def on_start(self) -> None:
-        obstacles = getattr(self.context, "obstacles", None)
-        worker = getattr(self.context, "planning", None)
-        if obstacles is not None and worker is not None and map_bounds(obstacles) is not None:
-            planner = PathPlanner(obstacles, planner_settings(self.context.settings))
-            worker.prefetch("occupancy grid", planner.grid)
+    """path_planner: the capability's process. Occupancy grids are built lazily, by the planning worker, for the
+    first search that needs one (a clear straight line needs none), and cached per map."""
 
 
 class ExplorationPlannerProcess(Process):

@@ -9,6 +9,7 @@ mission gives the same event log on every run.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import queue
 import threading
@@ -93,16 +94,18 @@ class MissionBridge:
         """Execute queued calls. In lockstep, return only when the mission waits or is done;
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
         warned_at = time.monotonic() + _STALL_WARNING
-        while not self._held:
-            try:
-                request = self._queue.get_nowait()
-            except queue.Empty:
-                request = None
+        while True:
+            request = None
+            if not self._held:
+                with contextlib.suppress(queue.Empty):
+                    request = self._queue.get_nowait()
             if request is not None:
                 self._execute(request)
                 continue
             with self._cond:
-                if lockstep and self._state == RUNNING:
+                # in lockstep the mission's own code runs to its next call even while held (a wait that ended
+                # during a pause), so what it does never depends on thread timing; held, that call waits queued
+                if lockstep and self._state == RUNNING and (not self._held or self._queue.empty()):
                     self._cond.wait(0.05)
                     if time.monotonic() > warned_at:
                         logger.warning("the mission has been busy for %.0f s of wall time without calling the "

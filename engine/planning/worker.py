@@ -3,10 +3,11 @@
 A behavior submits a job and polls it every tick; the loop never waits for a plan. The answer comes back through
 the engine's clock: on a wall clock as soon as the worker has it; on a simulated clock at a defined time after the
 request (``plan_time`` seconds of simulated time, however long the computation took), so a simulated run stays
-deterministic. Should the worker still be computing at that time, the loop waits for it (simulated time does not
-pass meanwhile), at most ``wait_limit`` seconds of wall time; past that the job fails. Jobs run one at a time in the
-order they were submitted; a cancelled job that has not started never runs, and the answer of one cancelled while it
-runs is dropped.
+deterministic. Should the worker still be computing then, the simulated clock does not move past that time until
+the answer is there (:meth:`PlanningWorker.wait_due`, called by the loop between two ticks, as it waits for a Python
+mission in lockstep), at most ``wait_limit`` seconds of wall time; past that the job fails. Jobs run one at a time in
+the order they were submitted; a cancelled job that has not started never runs, and the answer of one cancelled
+while it runs is dropped.
 """
 
 from __future__ import annotations
@@ -44,12 +45,15 @@ class PlanJob:
             return self._finished.is_set()
         if now < self.due - 1e-9:
             return False
-        if not self._finished.wait(self._wait_limit):
+        self.wait()  # the engine loop has waited already (wait_due); others may ask ahead of it
+        return True
+
+    def wait(self) -> None:
+        """Wait for the answer, at most the wait limit; past it the job fails."""
+        if not self._finished.wait(self._wait_limit) and not self.error:
             self.error = f"the planner gave no answer within {self._wait_limit:g} s"
             self.cancelled = True
             logger.warning("planning job %s: %s", self.name, self.error)
-            return True
-        return True
 
     def cancel(self) -> None:
         """Nobody wants the answer any more (the behavior that asked was stopped)."""
@@ -79,6 +83,7 @@ class PlanningWorker:
         self.plan_time = plan_time
         self.wait_limit = wait_limit
         self._jobs: queue.SimpleQueue[PlanJob | None] = queue.SimpleQueue()
+        self._waiting: list[PlanJob] = []  # submitted on a simulated clock, answer not yet due or not yet used
         self._thread: threading.Thread | None = None
         self._closed = False
         self._lock = threading.Lock()
@@ -96,11 +101,18 @@ class PlanningWorker:
                 self._thread = threading.Thread(target=self._work, name="aeroexec-planning", daemon=True)
                 self._thread.start()
             self._jobs.put(job)
+            if job.due is not None:
+                self._waiting.append(job)
         return job
 
-    def prefetch(self, name: str, function: Callable[[], Any]) -> PlanJob:
-        """Run ``function()`` ahead of need (building a grid); nobody waits for its answer."""
-        return self.submit(name, function, plan_time=0.0)
+    def wait_due(self, deadline: float) -> None:
+        """Before a simulated clock moves to ``deadline``: wait for every answer due by then (the engine loop)."""
+        if not self._waiting:
+            return
+        for job in [j for j in self._waiting if j.due is not None and j.due <= deadline + 1e-9]:
+            if not job.cancelled:
+                job.wait()
+        self._waiting = [j for j in self._waiting if not j.cancelled and not (j.finished and j.due <= deadline)]
 
     def _work(self) -> None:
         while True:
