@@ -27,6 +27,7 @@ class Contacts:
         self.riding: tuple[float, float] | None = None  # offset from the deck's center while landed on it
         self.touching: set[str] = set()
         self._platform_at: tuple[float, Vector] | None = None  # the platform's position at the last time asked
+        self._objects = [(o.name, o.position) for o in world.objects]  # they do not move
 
     def _platform(self, t: float) -> Vector:
         """Where the platform is at ``t`` (asked twice per substep: computed once)."""
@@ -66,7 +67,7 @@ class Contacts:
 
     def touches(self, position: Vector, t: float) -> list[tuple[str, Vector]]:
         """The objects (and the platform) the drone has just come to touch, with their positions."""
-        things = [(o.name, o.position) for o in self.world.objects]
+        things = list(self._objects)
         if self.world.platform is not None:
             things.append((self.world.platform.name, self._platform(t)))
         new = []

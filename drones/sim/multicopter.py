@@ -208,7 +208,7 @@ class Multicopter:
         if self.phase in (TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL):
             limits = self.limits(self._speed, c.climb_rate if self.phase == TAKEOFF else None)
             target_yaw = self._target_yaw
-            far = math.dist(self.position[:2], self._target[:2]) > _FACE_TRAVEL_MIN
+            far = math.hypot(self.position[0] - self._target[0], self.position[1] - self._target[1]) > _FACE_TRAVEL_MIN
             if target_yaw is None and self._face_travel and far:
                 target_yaw = heading_to(self.position, self._target)
             if target_yaw is not None:
