@@ -67,7 +67,7 @@ class PointFlight(MotionBehavior):
         """WRONG_PROGRESS when neither the distance to the point nor the yaw error shrank for a while."""
         distance = math.dist(telemetry.position, self.point)
         turn = 0.0 if self.yaw is None else yaw_error(telemetry.yaw, self.yaw)
-        return self.no_progress(f"toward {fmt_point(self.point)} ({distance:.1f} m away)", distance, turn)
+        return self.no_progress(lambda: f"toward {fmt_point(self.point)} ({distance:.1f} m away)", distance, turn)
 
 
 class GoToPoint(PointFlight):
@@ -343,4 +343,4 @@ class KeepLoitering(MotionBehavior):
             self.command(self.drone.set_velocity((vx, vy, vz), max(-30.0, min(30.0, LOITER_YAW_GAIN * facing))))
         self.odometer += math.dist(telemetry.position, self.last)
         self.last = telemetry.position
-        return self.no_progress(f"loitering ({self.odometer:.1f} m flown)", -self.odometer)
+        return self.no_progress(lambda: f"loitering ({self.odometer:.1f} m flown)", -self.odometer)
