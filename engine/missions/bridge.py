@@ -23,6 +23,7 @@ logger = logging.getLogger(__name__)
 
 RUNNING, PARKED, DONE = "running", "parked", "done"
 _STALL_WARNING = 30.0  # wall seconds a lockstep engine waits on a busy mission before saying so
+_CLOSED_GRACE = 2.0  # wall seconds a lockstep engine waits for an aborted mission to unwind
 
 
 class _Request:
@@ -45,6 +46,7 @@ class MissionBridge:
         self._state = DONE
         self._pending: set[_Request] = set()
         self._closed = False
+        self._closed_at = 0.0
         self._held = False
 
     # -- the mission's side ------------------------------------------------------------
@@ -105,7 +107,8 @@ class MissionBridge:
             with self._cond:
                 # in lockstep the mission's own code runs to its next call even while held (a wait that ended
                 # during a pause), so what it does never depends on thread timing; held, that call waits queued
-                if lockstep and self._state == RUNNING and (not self._held or self._queue.empty()):
+                if (lockstep and self._state == RUNNING and (not self._held or self._queue.empty())
+                        and not (self._closed and time.monotonic() > self._closed_at + _CLOSED_GRACE)):
                     self._cond.wait(0.05)
                     if time.monotonic() > warned_at:
                         logger.warning("the mission has been busy for %.0f s of wall time without calling the "
@@ -150,6 +153,9 @@ class MissionBridge:
         """Abort every waiting call: the mission thread raises :class:`MissionAborted`."""
         with self._cond:
             self._closed = True
+            self._closed_at = time.monotonic()
+            if self._pending:  # the woken mission now runs to its end: a lockstep loop waits for it (a moment)
+                self._state = RUNNING
             for request in self._pending:
                 request.error = MissionAborted("the engine has stopped")
                 request.done.set()
