@@ -121,7 +121,7 @@ class PlanningWorker:
                 return
             job.run()
 
-    def shutdown(self, timeout: float = 2.0) -> None:
+    def shutdown(self, timeout: float = 0.5) -> None:
         """Stop taking jobs and let the thread end (never waits longer than ``timeout`` for a running job)."""
         with self._lock:
             self._closed = True
