@@ -120,6 +120,10 @@ class BeliefMemory:
         self._computed[(name, arity)] = (function, inputs)
         self._queries.clear()
 
+    def lifetime(self, name: str) -> float | None:
+        """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
+        return self._persistence.get(name)
+
     def is_computed(self, name: str, arity: int) -> bool:
         """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
         return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES

@@ -113,8 +113,9 @@ class CompiledQuery:
                 return
             sets.append(rel.projection(step.constants, step.simple[0][0]))
         sets.sort(key=len)
-        values = sets[0].intersection(*sets[1:])
-        for value in list(values):
+        smallest, others = sets[0], sets[1:]
+        values = [v for v in smallest if all(v in other for other in others)]  # in insertion order
+        for value in values:
             extended = dict(bindings)
             extended[var] = value
             yield from _dfs(order, length, relations, extended, self.ranges)

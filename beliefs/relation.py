@@ -2,9 +2,10 @@
 
 A :class:`Relation` holds the argument tuples of every belief ``name(a1, ..., an)``:
 
-- ``rows``: the set of argument tuples (membership of a ground belief in O(1));
+- ``rows``: the argument tuples, as the keys of a dict (membership of a ground belief in O(1), and
+  iteration in the order the beliefs were added, so answers never depend on string hashing);
 - ``by_pos[p]``: for each position, value -> the rows with that value there (the
-  row itself while it is the only one, a set from the second on);
+  row itself while it is the only one, a dict of rows from the second on);
 - ``by_key``: for mutually exclusive predicates of two or more arguments, the key
   (all arguments but the last) -> the one row holding it (section 5.1);
 - ``ordered[p]``: built the first time a range is asked of position ``p``, the
@@ -32,12 +33,12 @@ class Relation:
     def __init__(self, name: str, arity: int, exclusive: bool) -> None:
         self.name = name
         self.arity = arity
-        self.rows: set[tuple] = set()
-        self.by_pos: list[dict[Any, set[tuple]]] = [{} for _ in range(arity)]
+        self.rows: dict[tuple, None] = {}
+        self.by_pos: list[dict[Any, Any]] = [{} for _ in range(arity)]
         self.by_key: dict[tuple, tuple] | None = {} if exclusive and arity >= 2 else None
         self.ordered: dict[int, SortedList] = {}
         self.version = 0
-        self._projections: dict[tuple, tuple[int, frozenset]] = {}
+        self._projections: dict[tuple, tuple[int, dict]] = {}
 
     def __len__(self) -> int:
         return len(self.rows)
@@ -52,15 +53,15 @@ class Relation:
             if displaced is not None:
                 self.delete(displaced)
             by_key[key] = args
-        self.rows.add(args)
+        self.rows[args] = None
         for index, value in zip(self.by_pos, args):  # noqa: B905 (a row has the arity of its relation)
             bucket = index.get(value)
             if bucket is None:
                 index[value] = args
-            elif type(bucket) is set:
-                bucket.add(args)
+            elif type(bucket) is dict:
+                bucket[args] = None
             else:
-                index[value] = {bucket, args}
+                index[value] = {bucket: None, args: None}
         if self.ordered:
             for p, values in self.ordered.items():
                 value = args[p]
@@ -71,11 +72,11 @@ class Relation:
 
     def delete(self, args: tuple) -> None:
         """Forget a stored row."""
-        self.rows.discard(args)
+        self.rows.pop(args, None)
         for p, (index, value) in enumerate(zip(self.by_pos, args)):  # noqa: B905
             bucket = index[value]
-            if type(bucket) is set:
-                bucket.discard(args)
+            if type(bucket) is dict:
+                bucket.pop(args, None)
                 if len(bucket) == 1:
                     index[value] = next(iter(bucket))
             else:
@@ -91,7 +92,7 @@ class Relation:
         bucket = self.by_pos[position].get(value)
         if bucket is None:
             return _EMPTY
-        return bucket if type(bucket) is set else (bucket,)
+        return bucket if type(bucket) is dict else (bucket,)
 
     def average_bucket(self, position: int) -> float:
         """Expected rows per value at ``position``: the planner's guess for an unknown value."""
@@ -122,10 +123,11 @@ class Relation:
         for value in list(index.irange(low, high, inclusive)):
             yield from list(self.bucket(position, value))
 
-    def projection(self, constants: tuple, position: int) -> frozenset:
-        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs).
+    def projection(self, constants: tuple, position: int) -> dict:
+        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs), as dict keys in
+        insertion order.
 
-        Cached until the relation changes, so repeated joins intersect sets at C speed.
+        Cached until the relation changes, so repeated joins test membership at C speed.
         """
         key = (constants, position)
         cached = self._projections.get(key)
@@ -136,7 +138,7 @@ class Relation:
             rows = min((self.bucket(p, v) for p, v in constants), key=len)
             if len(constants) > 1:
                 rows = [r for r in rows if all(r[p] == v for p, v in constants)]
-        values = frozenset(r[position] for r in rows)
+        values = dict.fromkeys(r[position] for r in rows)
         if len(self._projections) > 256:
             self._projections.clear()
         self._projections[key] = (self.version, values)
@@ -155,4 +157,4 @@ class Relations(dict):
             self.epoch += 1
 
 
-_EMPTY: frozenset = frozenset()
+_EMPTY: tuple = ()

@@ -117,7 +117,7 @@ class FactStep:
         if rel is None:
             return
         rows = self.candidates(rel, bindings, ranges)
-        if type(rows) is set:
+        if type(rows) is dict:
             rows = list(rows)  # the caller may change beliefs while iterating
         pattern = self.pattern
         for row in rows:
@@ -161,7 +161,7 @@ class FactStep:
                     rows = bucket
         else:
             rows = self.candidates(rel, bindings, ranges)
-        if type(rows) is set:
+        if type(rows) is dict:
             rows = list(rows)  # the caller may change beliefs while iterating
         if len(free) == 1:
             position, var = free[0]

@@ -7,8 +7,6 @@ import importlib
 import logging
 import sys
 
-from aeroexec.engine.errors import CatalogError
-
 from aeroexec import __version__
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
@@ -25,21 +23,26 @@ COMMANDS = {
 }
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The command line's parser. Given ``argv``, only the sub-command it names is imported (none for
+    ``aeroexec --help``), so a command loads what it uses and nothing more; without, every sub-command is."""
     parser = argparse.ArgumentParser(prog="aeroexec", description="An execution engine for aerial robot missions.")
     parser.add_argument("--version", action="version", version=f"aeroexec {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     for name, (module_name, help_text) in COMMANDS.items():
-        module = importlib.import_module(f"aeroexec.cli.{module_name}")
         sub = commands.add_parser(name, help=help_text, description=help_text)
-        module.add_arguments(sub)
-        sub.set_defaults(run=module.run)
+        if wanted is None or wanted == name:
+            module = importlib.import_module(f"aeroexec.cli.{module_name}")
+            module.add_arguments(sub)
+            sub.set_defaults(run=module.run)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else argv
+    parser = build_parser(argv)
     args = parser.parse_args(argv)
     quiet = logging.INFO if args.command == "sim" else logging.WARNING  # run prints events, not log lines
     logging.basicConfig(level=logging.DEBUG if args.verbose else quiet,
@@ -47,6 +50,8 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "run", None):
         parser.print_help()
         return 2
+    from aeroexec.engine.errors import CatalogError
+
     try:
         return int(args.run(args) or 0)
     except CatalogError as error:  # a --catalog that cannot be loaded: every problem, file:line

@@ -26,7 +26,8 @@ def write_html(summary: FlightSummary, images: dict[str, Path], path: Path) -> P
     battery = summary.battery_used
     facts = [
         ("outcome", summary.outcome),
-        ("started", str(summary.meta.get("wall_time", "?"))),
+        ("started", str(summary.meta.get("wall_time", "on the simulated clock" if summary.meta.get("clock") ==
+                                          "simulated" else "?"))),
         ("duration", f"{summary.duration:.1f} s (engine time)"),
         ("distance flown", f"{summary.distance:.1f} m"),
         ("battery used", f"{battery:.1f} %" if battery is not None else "no drone state samples"),

@@ -29,6 +29,7 @@ from aeroexec.engine.execution.resources import ProcessRegistry, ResourceManager
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
 from aeroexec.engine.library import default_library, default_processes
 from aeroexec.engine.missions.bridge import DONE, MissionBridge
+from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorker
 from aeroexec.engine.supervision.supervisor import Supervisor
 
 logger = logging.getLogger(__name__)
@@ -92,6 +93,11 @@ class Engine:
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
                                        obstacles=obstacles, operator=operator, bus=bus,
                                        output_dir=Path(output_dir) if output_dir is not None else None)
+        extra = self.settings.extra
+        self.planning = PlanningWorker(self.clock.now, isinstance(self.clock, SimulatedClock),
+                                       plan_time=float(extra.get("planning_time", PLAN_TIME)),
+                                       wait_limit=float(extra.get("planning_wait", WAIT_LIMIT)))
+        self.context.planning = self.planning
         if processes is None:
             processes = default_processes()
         self.library = library
@@ -179,6 +185,7 @@ class Engine:
         simulated = isinstance(self.clock, SimulatedClock)
         if simulated:
             self.bridge.serve(lockstep=True)
+            self.planning.wait_due(deadline)  # time does not pass a plan's due time without its answer
         else:
             self.bridge.serve(lockstep=False, until_wall=time.monotonic() + max(0.0, deadline - self.clock.now()))
         self.clock.sleep_until(deadline, self._stop)
@@ -259,6 +266,7 @@ class Engine:
         with self._lock:
             self.coordinator.stop_all(reason)
             self.resources.shutdown()
+            self.planning.shutdown()
             self.bridge.close()
             self.log.record("engine_stopped", detail=reason)
         for thread in self._missions:  # a waiting mission unwinds with MissionAborted; give it a moment

@@ -26,13 +26,21 @@ class Contacts:
         self.touch_distance = touch_distance
         self.riding: tuple[float, float] | None = None  # offset from the deck's center while landed on it
         self.touching: set[str] = set()
+        self._platform_at: tuple[float, Vector] | None = None  # the platform's position at the last time asked
+        self._objects = [(o.name, o.position) for o in world.objects]  # they do not move
+
+    def _platform(self, t: float) -> Vector:
+        """Where the platform is at ``t`` (asked twice per substep: computed once)."""
+        if self._platform_at is None or self._platform_at[0] != t:
+            self._platform_at = (t, self.world.platform.position(t))  # type: ignore[union-attr]
+        return self._platform_at[1]
 
     def deck_below(self, position: Vector, t: float, previous_z: float) -> float | None:
         """The deck's height when ``position`` is over the deck and came from above it (``previous_z``)."""
         platform = self.world.platform
         if platform is None:
             return None
-        cx, cy, cz = platform.position(t)
+        cx, cy, cz = self._platform(t)
         if math.hypot(position[0] - cx, position[1] - cy) > platform.deck_radius:
             return None
         return cz if previous_z >= cz - DECK_CONTACT else None
@@ -59,9 +67,9 @@ class Contacts:
 
     def touches(self, position: Vector, t: float) -> list[tuple[str, Vector]]:
         """The objects (and the platform) the drone has just come to touch, with their positions."""
-        things = [(o.name, o.position) for o in self.world.objects]
+        things = list(self._objects)
         if self.world.platform is not None:
-            things.append((self.world.platform.name, self.world.platform.position(t)))
+            things.append((self.world.platform.name, self._platform(t)))
         new = []
         for name, where in things:
             distance = math.dist(position, where)

@@ -63,6 +63,7 @@ class SimulatedDrone(Drone):
         self._observations: list[Observation] | None = None
         self._payload = PayloadBay(self.config.payload if self.config.payload is not None else self.world.payload)
         self._renderer = None  # the camera image renderer, built on the first capture
+        self._telemetry: tuple[tuple, Telemetry] | None = None  # the last answer and the state it was read from
 
     # --- time --------------------------------------------------------------------------------------
     @_locked
@@ -94,6 +95,15 @@ class SimulatedDrone(Drone):
     @_locked
     def telemetry(self) -> Telemetry:
         v = self._vehicle
+        key = (self._now, v.time, v.position, v.velocity, v.yaw, v.phase, v.airborne, v.armed, v.mode,
+               v.battery.percent, self._noise)
+        if self._telemetry is not None and self._telemetry[0] == key:  # asked again before anything moved
+            return self._telemetry[1]
+        telemetry = self._read_telemetry(v)
+        self._telemetry = (key, telemetry)
+        return telemetry
+
+    def _read_telemetry(self, v: Multicopter) -> Telemetry:
         # The state is at the last whole substep; carry it over the remainder (< one substep) to ``time``.
         ahead = max(self._now - v.time, 0.0)
         x, y, z = (p + u * ahead for p, u in zip(v.position, v.velocity, strict=True))

@@ -45,11 +45,11 @@ def desired_velocity(position: Vector, velocity: Vector, target: Vector, limits:
     The speed along the line changes by at most one step of the acceleration limits, so from rest the
     drone flies a straight line; motion across the line is left to :func:`accelerate` to damp.
     """
-    delta = [t - p for p, t in zip(position, target, strict=True)]
-    dist = math.sqrt(sum(d * d for d in delta))
+    dx, dy, dz = target[0] - position[0], target[1] - position[1], target[2] - position[2]
+    dist = math.sqrt(dx * dx + dy * dy + dz * dz)
     if dist < 1e-9:
         return (0.0, 0.0, 0.0)
-    u = [d / dist for d in delta]
+    u = (dx / dist, dy / dist, dz / dist)
     uh, uz = math.hypot(u[0], u[1]), u[2]
     vertical_limit = limits.climb_rate if uz > 0.0 else limits.descent_rate
     speed = math.inf
@@ -61,14 +61,14 @@ def desired_velocity(position: Vector, velocity: Vector, target: Vector, limits:
         speed = min(speed, vertical_limit / abs(uz))
         accel = min(accel, limits.vertical_acceleration / abs(uz))
     speed = min(speed, math.sqrt(2.0 * accel * dist), limits.position_gain * dist)
-    along = max(sum(v * c for v, c in zip(velocity, u, strict=True)), 0.0)
+    along = max(velocity[0] * u[0] + velocity[1] * u[1] + velocity[2] * u[2], 0.0)
     speed = min(max(speed, along - accel * dt), along + accel * dt)
     return (u[0] * speed, u[1] * speed, u[2] * speed)
 
 
 def accelerate(velocity: Vector, desired: Vector, limits: Limits, dt: float) -> Vector:
     """``velocity`` moved toward ``desired`` within the horizontal and vertical acceleration limits."""
-    dx, dy, dz = (d - v for v, d in zip(velocity, desired, strict=True))
+    dx, dy, dz = desired[0] - velocity[0], desired[1] - velocity[1], desired[2] - velocity[2]
     dh = math.hypot(dx, dy)
     max_h = limits.horizontal_acceleration * dt
     if dh > max_h:

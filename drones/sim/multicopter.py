@@ -23,6 +23,7 @@ from aeroexec.drones.sim.motion import (
     turn_yaw,
     wrap180,
 )
+from aeroexec.drones.sim.shapes import ObstacleIndex
 from aeroexec.drones.sim.world import World
 
 logger = logging.getLogger(__name__)
@@ -44,6 +45,8 @@ class Multicopter:
     def __init__(self, world: World, config: SimConfig, start_time: float) -> None:
         self.world = world
         self.config = config
+        self._obstacles = ObstacleIndex(world.obstacles, reach=config.drone_radius)  # collision broad phase
+        self._limits: dict[tuple[float | None, float | None], Limits] = {}  # by (speed, climb): they are few
         self.time = start_time
         self.position: Vector = (0.0, 0.0, 0.0)
         self.velocity: Vector = (0.0, 0.0, 0.0)
@@ -85,6 +88,12 @@ class Multicopter:
         self.events.append(DroneEvent(self.time, kind, detail, dict(data)))
 
     def limits(self, speed: float | None = None, climb: float | None = None) -> Limits:
+        found = self._limits.get((speed, climb))
+        if found is None:
+            found = self._limits[(speed, climb)] = self._new_limits(speed, climb)
+        return found
+
+    def _new_limits(self, speed: float | None, climb: float | None) -> Limits:
         c = self.config
         return Limits(
             horizontal_speed=min(speed if speed is not None else c.cruise_speed, c.max_speed),
@@ -173,7 +182,8 @@ class Multicopter:
             self.battery.drain(dt, True, False, 0.0, 0.0)
             return
         self.velocity = velocity
-        self.position = tuple(p + v * dt for p, v in zip(self.position, velocity, strict=True))  # type: ignore[assignment]
+        x, y, z = self.position
+        self.position = (x + velocity[0] * dt, y + velocity[1] * dt, z + velocity[2] * dt)
         if not self.airborne and self.position[2] > 0.0:
             self.airborne = True
             self.contacts.leave()
@@ -198,7 +208,7 @@ class Multicopter:
         if self.phase in (TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL):
             limits = self.limits(self._speed, c.climb_rate if self.phase == TAKEOFF else None)
             target_yaw = self._target_yaw
-            far = math.dist(self.position[:2], self._target[:2]) > _FACE_TRAVEL_MIN
+            far = math.hypot(self.position[0] - self._target[0], self.position[1] - self._target[1]) > _FACE_TRAVEL_MIN
             if target_yaw is None and self._face_travel and far:
                 target_yaw = heading_to(self.position, self._target)
             if target_yaw is not None:
@@ -279,7 +289,7 @@ class Multicopter:
             self.position, self.velocity = (x, y, z), (0.0, 0.0, vz)
 
     def _check_collision(self) -> bool:
-        obstacle = self.world.collides(self.position, self.config.drone_radius)
+        obstacle = self._obstacles.collides(self.position, self.config.drone_radius)
         if obstacle is None:
             return False
         x, y, z = self.position

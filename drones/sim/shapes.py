@@ -2,12 +2,14 @@
 
 Each solid answers three questions in local ENU meters: the signed distance from a point to its surface
 (negative inside), whether a straight segment passes through it, and whether a point lies inside it.
+``signed_distances`` answers the first for many points at once (numpy arrays of shape (N, 3)).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 Vector = tuple[float, float, float]
 
@@ -36,6 +38,15 @@ class Box:
         outside = math.sqrt(sum(max(v, 0.0) ** 2 for v in d))
         inside = min(max(d[0], d[1], d[2]), 0.0)
         return outside + inside
+
+    def signed_distances(self, points: Any) -> Any:
+        """:meth:`signed_distance` of every row of ``points`` (an (N, 3) array), as an (N,) array."""
+        import numpy as np
+
+        d = np.abs(points - np.asarray(self.center)) - np.asarray(self.size) / 2.0
+        out = np.maximum(d, 0.0)
+        outside = np.sqrt(out[:, 0] ** 2 + out[:, 1] ** 2 + out[:, 2] ** 2)
+        return outside + np.minimum(np.maximum(np.maximum(d[:, 0], d[:, 1]), d[:, 2]), 0.0)
 
     def segment_hits(self, a: Vector, b: Vector) -> bool:
         """Whether the segment from ``a`` to ``b`` touches the box (slab test)."""
@@ -77,6 +88,16 @@ class Cylinder:
         outside = math.hypot(max(radial, 0.0), max(vertical, 0.0))
         return outside + min(max(radial, vertical), 0.0)
 
+    def signed_distances(self, points: Any) -> Any:
+        """:meth:`signed_distance` of every row of ``points`` (an (N, 3) array), as an (N,) array."""
+        import numpy as np
+
+        radial = np.hypot(points[:, 0] - self.center[0], points[:, 1] - self.center[1]) - self.radius
+        half = self.height / 2.0
+        vertical = np.abs(points[:, 2] - (self.base + half)) - half
+        outside = np.hypot(np.maximum(radial, 0.0), np.maximum(vertical, 0.0))
+        return outside + np.minimum(np.maximum(radial, vertical), 0.0)
+
     def segment_hits(self, a: Vector, b: Vector) -> bool:
         """Whether the segment from ``a`` to ``b`` touches the cylinder."""
         # Parameter interval where the segment is within the height range.
@@ -109,3 +130,44 @@ class Cylinder:
 
 
 Obstacle = Box | Cylinder
+
+
+def bounding_box(obstacle: Obstacle) -> tuple[Vector, Vector]:
+    """The (lower, upper) corners of the axis-aligned box around a solid."""
+    if isinstance(obstacle, Box):
+        return obstacle.lower, obstacle.upper
+    (cx, cy), r = obstacle.center, obstacle.radius
+    return (cx - r, cy - r, obstacle.base), (cx + r, cy + r, obstacle.top)
+
+
+class ObstacleIndex:
+    """A broad phase for collision checks: the solids whose bounding box, grown by ``reach``, meets each ``cell``-meter
+    column of a horizontal grid, so a point is tested only against the few solids near it."""
+
+    def __init__(self, obstacles: tuple[Obstacle, ...] | list[Obstacle], reach: float, cell: float = 4.0) -> None:
+        self.obstacles = tuple(obstacles)
+        self.reach = reach
+        self.cell = cell
+        columns: dict[tuple[int, int], list[Obstacle]] = {}
+        self._heights: dict[int, tuple[float, float]] = {}
+        for obstacle in self.obstacles:  # in the world's order, so the first solid touched is the world's first
+            (x0, y0, z0), (x1, y1, z1) = bounding_box(obstacle)
+            self._heights[id(obstacle)] = (z0 - reach, z1 + reach)
+            for i in range(math.floor((x0 - reach) / cell), math.floor((x1 + reach) / cell) + 1):
+                for j in range(math.floor((y0 - reach) / cell), math.floor((y1 + reach) / cell) + 1):
+                    columns.setdefault((i, j), []).append(obstacle)
+        self._columns = {key: tuple(found) for key, found in columns.items()}
+
+    def collides(self, point: Vector, radius: float) -> Obstacle | None:
+        """The first solid a sphere of ``radius`` (at most :attr:`reach`) at ``point`` touches, or None."""
+        if radius > self.reach:
+            return next((o for o in self.obstacles if o.signed_distance(point) < radius), None)
+        near = self._columns.get((math.floor(point[0] / self.cell), math.floor(point[1] / self.cell)))
+        if not near:
+            return None
+        z = point[2]
+        for obstacle in near:
+            low, high = self._heights[id(obstacle)]
+            if low <= z <= high and obstacle.signed_distance(point) < radius:
+                return obstacle
+        return None

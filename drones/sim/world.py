@@ -6,8 +6,10 @@ engine's predicates need. Worlds come from YAML files (:mod:`~aeroexec.drones.si
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
@@ -41,7 +43,9 @@ class Bounds:
     upper: Vector
 
     def contains(self, point: Vector) -> bool:
-        return all(lo <= p <= hi for lo, p, hi in zip(self.lower, point, self.upper, strict=True))
+        lower, upper = self.lower, self.upper
+        return (lower[0] <= point[0] <= upper[0] and lower[1] <= point[1] <= upper[1]
+                and lower[2] <= point[2] <= upper[2])
 
     def clamp(self, point: Vector, margin: float = 0.0) -> Vector:
         """The point of the bounds (shrunk by ``margin`` where possible) nearest to ``point``."""
@@ -105,11 +109,10 @@ class Platform:
 
     def position(self, t: float) -> Vector:
         """Where the platform is at time ``t`` (seconds from the start of the simulation)."""
-        points = list(self.path)
-        if self.loop and len(points) > 1:
-            points.append(points[0])
-        legs = [(a, b, math.dist(a, b)) for a, b in zip(points, points[1:], strict=False)]
-        total = sum(length for _, _, length in legs)
+        try:
+            points, legs, total = _legs(self.path, self.loop)
+        except TypeError:  # a path given as lists: not hashable, so not cached
+            points, legs, total = _legs.__wrapped__(self.path, self.loop)
         if total <= 0.0 or self.speed <= 0.0:
             return points[0]
         s = max(t, 0.0) * self.speed
@@ -125,6 +128,16 @@ class Platform:
                 return tuple(pa + (pb - pa) * f for pa, pb in zip(a, b, strict=True))  # type: ignore[return-value]
             s -= length
         return points[-1]
+
+
+@functools.lru_cache(maxsize=64)
+def _legs(path: tuple[Vector, ...], loop: bool) -> tuple[list[Vector], list[tuple[Vector, Vector, float]], float]:
+    """A platform path's points (closed when it loops), legs with their lengths, and total length."""
+    points = list(path)
+    if loop and len(points) > 1:
+        points.append(points[0])
+    legs = [(a, b, math.dist(a, b)) for a, b in zip(points, points[1:], strict=False)]
+    return points, legs, sum(length for _, _, length in legs)
 
 
 @dataclass(frozen=True, slots=True)
@@ -178,6 +191,18 @@ class World:
         if not self.obstacles:
             return math.inf
         return max(min(o.signed_distance(point) for o in self.obstacles), 0.0)
+
+    def distances_to_obstacle(self, points: Any) -> Any:
+        """:meth:`distance_to_obstacle` of every row of ``points`` (an (N, 3) numpy array) at once."""
+        import numpy as np
+
+        points = np.asarray(points, dtype=float)
+        if not self.obstacles:
+            return np.full(len(points), math.inf)
+        nearest = self.obstacles[0].signed_distances(points)
+        for obstacle in self.obstacles[1:]:
+            nearest = np.minimum(nearest, obstacle.signed_distances(points))
+        return np.maximum(nearest, 0.0)
 
     def segment_clear(self, a: Vector, b: Vector) -> bool:
         """Whether the straight segment from ``a`` to ``b`` passes through no obstacle (line of sight)."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
 
 from aeroexec.drones import CommandHandle, Failure, LandedState, Telemetry, Vector
@@ -157,10 +157,11 @@ class MotionBehavior(BehaviorProcess):
         if handle.done and not handle.ok:
             logger.warning("%s: could not hold the drone: %s", self.name, handle.reason)
 
-    def no_progress(self, what: str, *errors: float) -> Outcome | None:
-        """WRONG_PROGRESS when none of ``errors`` shrank for ``stall_time``; ``what`` completes the reason."""
+    def no_progress(self, what: str | Callable[[], str], *errors: float) -> Outcome | None:
+        """WRONG_PROGRESS when none of ``errors`` shrank for ``stall_time``; ``what`` completes the reason (a function
+        giving it, on the hot path: the text is made only when someone will read it)."""
         if self.progress.stalled(self.now(), *errors):
-            return self.fail(f"no progress {what} for {self.settings.stall_time:g} s")
+            return self.fail(f"no progress {what() if callable(what) else what} for {self.settings.stall_time:g} s")
         return None
 
     def arrived(self, telemetry: Telemetry, point: Sequence[float]) -> bool:

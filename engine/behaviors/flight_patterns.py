@@ -26,7 +26,7 @@ from aeroexec.engine.behaviors.flight_control import (
     wrap180,
     yaw_error,
 )
-from aeroexec.engine.behaviors.planning import plan_route
+from aeroexec.engine.behaviors.planning import RouteRequest
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.process import Situation
 
@@ -67,7 +67,7 @@ class PointFlight(MotionBehavior):
         """WRONG_PROGRESS when neither the distance to the point nor the yaw error shrank for a while."""
         distance = math.dist(telemetry.position, self.point)
         turn = 0.0 if self.yaw is None else yaw_error(telemetry.yaw, self.yaw)
-        return self.no_progress(f"toward {fmt_point(self.point)} ({distance:.1f} m away)", distance, turn)
+        return self.no_progress(lambda: f"toward {fmt_point(self.point)} ({distance:.1f} m away)", distance, turn)
 
 
 class GoToPoint(PointFlight):
@@ -100,20 +100,49 @@ class GoToPoint(PointFlight):
         facing = self.final_yaw is None or yaw_error(t.yaw, self.final_yaw) <= self.settings.yaw_tolerance
         if math.dist(t.position, self.destination) <= self.settings.position_tolerance and facing:
             return Situation(Outcome.GOAL_ACHIEVED, f"the drone is already at {fmt_point(self.destination)}")
-        self.route, detail = plan_route(self.context, self.destination)  # avoiding obstacles (Table A.2)
-        if not self.route:  # Table 3's goal and environment conflicts
-            conflict = ("The destination is too far for behavior" if "outside the bounds" in detail
-                        else "There is an impassable barrier to complete behavior")
-            return Situation(Outcome.FAILED_PRECONDITIONS, f"{conflict} {self.name} ({detail})")
-        if len(self.route) > 1:
-            logger.info("%s: %s", self.name, detail)
+        # avoiding obstacles (Table A.2): answered now when a few distance queries decide, else searched on the
+        # planning worker once the behavior runs
+        self.request = RouteRequest(self.context, self.destination)
+        self.route: list[Vector] | None = None
+        answer = self.request.answer(self.now())
+        if answer is not None:
+            self.route = answer[0]
+            if not self.route:  # Table 3's goal and environment conflicts
+                return Situation(Outcome.FAILED_PRECONDITIONS, self._conflict(answer[1]))
         return None
+
+    def _conflict(self, detail: str) -> str:
+        conflict = ("The destination is too far for behavior" if "outside the bounds" in detail
+                    else "There is an impassable barrier to complete behavior")
+        return f"{conflict} {self.name} ({detail})"
 
     def begin(self, telemetry: Telemetry) -> None:
         self.look = self.arguments.get("POINT_TO_LOOK_DURING_FLIGHT")
         self.aimed_at = -math.inf
         self.leg = 0
+        if self.route is None:  # RUNNING while the planning worker searches; the drone holds where it is
+            self.request.submit()
+            self.command(self.drone.hold())
+            return
         self._fly_leg(telemetry)
+
+    def _route_found(self, telemetry: Telemetry) -> Outcome | None:
+        """The planning worker's answer, once it is back: fly the route, or end saying why there is none."""
+        answer = self.request.answer(self.now())
+        if answer is None:
+            self.progress.reset(self.now())  # waiting for a plan is not a lack of progress
+            return None
+        route, detail = answer
+        if not route:
+            if self.request.error:
+                return self.fail(self.request.error)
+            self.reason = self._conflict(detail)
+            return Outcome.FAILED_PRECONDITIONS
+        self.route = route
+        if len(route) > 1:
+            logger.info("%s: %s", self.name, detail)
+        self._fly_leg(telemetry)
+        return None
 
     def _fly_leg(self, telemetry: Telemetry) -> None:
         """Fly to the next waypoint of the route; the last one is the destination, with the final yaw."""
@@ -144,6 +173,8 @@ class GoToPoint(PointFlight):
         self.command(self.drone.goto(self.point, yaw=yaw, speed=self.speed))
 
     def step(self, telemetry: Telemetry) -> Outcome | None:
+        if self.route is None:
+            return self._route_found(telemetry)
         if self.look is not None and self.now() - self.aimed_at >= LOOK_RECOMMAND_PERIOD:
             self._aim(self._yaw_now(telemetry))
         if self.leg < len(self.route) - 1:  # a waypoint on the way: pass it without stopping
@@ -155,6 +186,10 @@ class GoToPoint(PointFlight):
         if self.reached(telemetry) and (self.final_yaw is None or self.yaw == self.final_yaw):
             return Outcome.GOAL_ACHIEVED
         return self.approach(telemetry)
+
+    def on_stop(self, outcome: Outcome) -> None:
+        self.request.cancel()  # a search still under way is no longer wanted
+        super().on_stop(outcome)
 
 
 class FollowPath(PointFlight):
@@ -312,4 +347,4 @@ class KeepLoitering(MotionBehavior):
             self.command(self.drone.set_velocity((vx, vy, vz), max(-30.0, min(30.0, LOITER_YAW_GAIN * facing))))
         self.odometer += math.dist(telemetry.position, self.last)
         self.last = telemetry.position
-        return self.no_progress(f"loitering ({self.odometer:.1f} m flown)", -self.odometer)
+        return self.no_progress(lambda: f"loitering ({self.odometer:.1f} m flown)", -self.odometer)

@@ -113,15 +113,18 @@ class OdometryEstimator(Process):
 
     def step(self, now: float) -> None:
         state = localization_state(self.context)
-        velocity = tuple(float(v) for v in self.context.drone.telemetry().velocity)
+        vx, vy, vz = self.context.drone.telemetry().velocity
+        velocity = (float(vx), float(vy), float(vz))
         if self._last is not None and now > self._last[0]:
             dt = now - self._last[0]
-            moved = tuple((a + b) / 2 * dt for a, b in zip(velocity, self._last[1], strict=True))
+            (lx, ly, lz) = self._last[1]
+            moved = ((vx + lx) / 2 * dt, (vy + ly) / 2 * dt, (vz + lz) / 2 * dt)
             travelled = math.hypot(*moved)
             if travelled > 1e-6:
-                root = math.sqrt(travelled)
-                error = tuple(b * travelled + self._noise * root * self._rng.gauss(0.0, 1.0) * (0.5 if i == 2 else 1)
-                              for i, b in enumerate(self._bias))
+                root, gauss, (bx, by, bz) = math.sqrt(travelled), self._rng.gauss, self._bias
+                step = self._noise * root
+                error = (bx * travelled + step * gauss(0.0, 1.0), by * travelled + step * gauss(0.0, 1.0),
+                         bz * travelled + step * gauss(0.0, 1.0) * 0.5)
                 state.estimate = _add(_add(state.estimate, moved), error)
                 state.travelled += travelled
         self._last = (now, velocity)

@@ -55,7 +55,7 @@ class TakeOff(MotionBehavior):
         error = abs(telemetry.altitude - self.target)
         if telemetry.landed_state is LandedState.IN_AIR and error <= self.settings.hover_altitude_tolerance:
             return Outcome.GOAL_ACHIEVED
-        return self.no_progress(f"climbing to {self.target:.1f} m (at {telemetry.altitude:.1f} m)", error)
+        return self.no_progress(lambda: f"climbing to {self.target:.1f} m (at {telemetry.altitude:.1f} m)", error)
 
     def on_stop(self, outcome: Outcome) -> None:
         """An aborted take-off too close to the ground to hover safely lands again."""
@@ -80,7 +80,7 @@ class Land(MotionBehavior):
     def step(self, telemetry: Telemetry) -> Outcome | None:
         if telemetry.landed_state is LandedState.ON_GROUND:
             return Outcome.GOAL_ACHIEVED
-        return self.no_progress(f"descending (at {telemetry.altitude:.1f} m)", telemetry.altitude)
+        return self.no_progress(lambda: f"descending (at {telemetry.altitude:.1f} m)", telemetry.altitude)
 
 
 class KeepHovering(MotionBehavior):
@@ -97,7 +97,7 @@ class KeepHovering(MotionBehavior):
             if telemetry.speed < SETTLED_SPEED:
                 self.anchor = telemetry.position
                 return None
-            return self.no_progress(f"stopping (moving at {telemetry.speed:.1f} m/s)", telemetry.speed)
+            return self.no_progress(lambda: f"stopping (moving at {telemetry.speed:.1f} m/s)", telemetry.speed)
         drift = math.dist(telemetry.position, self.anchor)
         if drift > HOVER_DRIFT_LIMIT:
             return self.fail(f"the drone drifted {drift:.1f} m from where it hovers {fmt_point(self.anchor)}")
@@ -127,7 +127,7 @@ class KeepMoving(MotionBehavior):
         if self.speed < PROGRESS_STEP:
             return None  # moving at speed 0 is holding still
         travelled = sum((p - o) * u for p, o, u in zip(telemetry.position, self.origin, self.unit, strict=True))
-        return self.no_progress(f"moving {self.arguments['DIRECTION']} ({travelled:.1f} m so far)", -travelled)
+        return self.no_progress(lambda: f"moving {self.arguments['DIRECTION']} ({travelled:.1f} m so far)", -travelled)
 
 
 class Turn(MotionBehavior):
@@ -179,7 +179,8 @@ class Turn(MotionBehavior):
         facing = yaw_error(telemetry.yaw, self.target) <= self.settings.yaw_tolerance
         if self.finishing and facing and rate < SETTLED_YAW_RATE:
             return Outcome.GOAL_ACHIEVED
-        return self.no_progress(f"turning to {self.target:.0f} degrees (at {telemetry.yaw:.0f})", abs(remaining))
+        return self.no_progress(lambda: f"turning to {self.target:.0f} degrees (at {telemetry.yaw:.0f})",
+                                abs(remaining))
 
 
 class Rotate(Turn):

@@ -25,7 +25,7 @@ class Recognizer(Process, abc.ABC):
 
     def __init__(self, name: str) -> None:
         super().__init__(name)
-        self._visible: set[str] = set()
+        self._visible: dict[str, None] = {}  # in the order seen: replays do not depend on string hashing
         self._last: float | None = None
 
     @abc.abstractmethod
@@ -42,20 +42,20 @@ class Recognizer(Process, abc.ABC):
         self._last = now
         memory = self.context.memory
         seen = [o for o in self.context.drone.observations() if self.recognizes(o)]
-        names = {o.name for o in seen}
+        names = dict.fromkeys(o.name for o in seen)
         for observation in seen:
             x, y, z = (round(v, 2) for v in observation.position)
             for belief in (*self.beliefs(observation), Struct("position", (observation.name, (x, y, z))),
                            Struct("visible", (observation.name,))):
                 memory.add(belief)
-        for gone in self._visible - names:
+        for gone in [name for name in self._visible if name not in names]:
             memory.remove(Struct("visible", (gone,)))
         self._visible = names
 
     def on_stop(self) -> None:
         for gone in self._visible:
             self.context.memory.remove(Struct("visible", (gone,)))
-        self._visible = set()
+        self._visible = {}
 
 
 class MarkerRecognizer(Recognizer):

@@ -23,7 +23,7 @@ from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess, EngineSettings
 from aeroexec.engine.execution.resources import Process
 from aeroexec.engine.planning.exploration import ExplorationSettings, ExplorationStore
-from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, Point, map_bounds
+from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, Point
 
 logger = logging.getLogger(__name__)
 
@@ -68,77 +68,168 @@ def plan_route(context: BehaviorContext, destination: Any, start: Any = None) ->
     """Waypoints from ``start`` (the drone's position by default; excluded) to ``destination`` avoiding the
     context's obstacles with the planning margin, and a sentence saying what was found; ``[]`` when no path exists.
 
-    Without an obstacle map the route is the straight line ``[destination]``. Motion behaviors call this too.
+    Without an obstacle map the route is the straight line ``[destination]``. This plans on the calling thread;
+    behaviors use :class:`RouteRequest`, which leaves grid searches to the planning worker.
     """
-    destination = _point(destination)
-    start = _point(context.drone.telemetry().position if start is None else start)
-    if context.obstacles is None:
-        return [destination], f"no obstacle map: the straight line to {list(destination)}"
-    planner = PathPlanner(context.obstacles, planner_settings(context.settings))
-    points = planner.plan(start, destination)
-    if not points:
-        return [], f"no path to {list(destination)}: {planner.reason}"
-    return points, f"{len(points)} waypoints to {list(destination)}"
+    request = RouteRequest(context, destination, start)
+    request.submit(inline=True)
+    return request.answer(context.now())  # type: ignore[return-value]
+
+
+class RouteRequest:
+    """A route asked of the path planner. What a few distance queries decide is answered at once (no map, a clear
+    straight line, a destination out of bounds or too near an obstacle); a grid search goes to the engine's planning
+    worker after :meth:`submit`, and :meth:`answer` is ``(waypoints, detail)`` once it is back, None before."""
+
+    def __init__(self, context: BehaviorContext, destination: Any, start: Any = None) -> None:
+        self.context = context
+        self.destination = _point(destination)
+        self.start = _point(context.drone.telemetry().position if start is None else start)
+        self.error = ""  # the planner gave no answer (it failed or took too long), rather than finding no path
+        self._answer: tuple[list[Point], str] | None = None
+        self._job: Any = None
+        self.planner: Any = None
+        if context.obstacles is None:
+            self._answer = [self.destination], f"no obstacle map: the straight line to {list(self.destination)}"
+            return
+        self.planner = PathPlanner(context.obstacles, planner_settings(context.settings))
+        quick = self.planner.quick(self.start, self.destination)
+        if quick is not None:
+            self._answer = self._described(quick, self.planner.reason)
+
+    def _described(self, points: list[Point], reason: str) -> tuple[list[Point], str]:
+        if not points:
+            return [], f"no path to {list(self.destination)}: {reason}"
+        return points, f"{len(points)} waypoints to {list(self.destination)}"
+
+    @property
+    def searching(self) -> bool:
+        """A grid search is needed (or under way)."""
+        return self._answer is None
+
+    def submit(self, inline: bool = False) -> None:
+        """Start the search on the planning worker (on this thread with ``inline`` or when the context has none)."""
+        if self._answer is not None or self._job is not None:
+            return
+        worker = None if inline else getattr(self.context, "planning", None)
+        planner, start, destination = self.planner, self.start, self.destination
+        if worker is None:
+            self._answer = self._described(planner.plan(start, destination), planner.reason)
+            return
+        self._job = worker.submit(f"path to {list(destination)}",
+                                  lambda: (planner.plan(start, destination), planner.reason))
+
+    def answer(self, now: float) -> tuple[list[Point], str] | None:
+        """``(waypoints, detail)`` once known at engine time ``now``; ``([], detail)`` when there is no path."""
+        job = self._job
+        if self._answer is None and job is not None and job.ready(now):
+            if job.error:
+                self.error = job.error
+                self._answer = [], f"no path to {list(self.destination)}: {job.error}"
+            else:
+                self._answer = self._described(*job.result)
+        return self._answer
+
+    @property
+    def cancelled(self) -> bool:
+        """The search was handed to the worker and its answer is no longer wanted."""
+        return self._job is not None and self._job.cancelled
+
+    def cancel(self) -> None:
+        """Nobody waits for the answer any more."""
+        if self._job is not None:
+            self._job.cancel()
 
 
 class GeneratePathFreeOfObstacles(BehaviorProcess):
     """GENERATE_PATH_FREE_OF_OBSTACLES: a path from where the drone is to DESTINATION keeping the safety margin.
 
     Result: the waypoints after the current position, ``[[x, y, z], ...]`` ending at DESTINATION, or ``[]``
-    when no path exists; also believed as ``path(DESTINATION, Points)``.
+    when no path exists; also believed as ``path(DESTINATION, Points)``. A grid search runs on the planning
+    worker: the behavior is RUNNING until its answer is back (its timeout counts, and it can be stopped).
     """
 
     behavior = "GENERATE_PATH_FREE_OF_OBSTACLES"
 
     def on_start(self) -> None:
-        destination = _point(self.arguments["DESTINATION"])
-        points, detail = plan_route(self.context, destination)
-        self.result = [[round(v, 3) for v in p] for p in points]
-        self.context.log.record("path_planned", self.name, detail, waypoints=len(points))
-        self.memory.add(Struct("path", (destination, ListTerm(tuple(p) for p in self.result))))
+        self.request = RouteRequest(self.context, self.arguments["DESTINATION"])
+        self.request.submit()
 
     def on_run(self) -> Outcome | None:
+        answer = self.request.answer(self.now())
+        if answer is None:
+            return None
+        if self.request.error:
+            return self.fail(self.request.error)
+        points, detail = answer
+        self.result = [[round(v, 3) for v in p] for p in points]
+        self.context.log.record("path_planned", self.name, detail, waypoints=len(points))
+        self.memory.add(Struct("path", (self.request.destination, ListTerm(tuple(p) for p in self.result))))
         return Outcome.GOAL_ACHIEVED
+
+    def on_stop(self, outcome: Outcome) -> None:
+        self.request.cancel()
 
 
 class GenerateNextPointToExplore(BehaviorProcess):
     """GENERATE_NEXT_POINT_TO_EXPLORE: the next point of REGION's coverage not yet visited.
 
     Result: ``[x, y, z]``, or ``[]`` once the region is covered; also believed as
-    ``next_point_to_explore(REGION, Point)``. Consecutive requests for the same REGION continue its coverage.
+    ``next_point_to_explore(REGION, Point)``. Consecutive requests for the same REGION continue its coverage;
+    the first plans the region's coverage on the planning worker (RUNNING until it is back).
     """
 
     behavior = "GENERATE_NEXT_POINT_TO_EXPLORE"
 
     def on_start(self) -> None:
-        region = [_point(p) for p in self.arguments["REGION"]]
+        self.region = [_point(p) for p in self.arguments["REGION"]]
         self._error = ""
+        self._job = None
+        store = exploration_store(self.context)
+        worker = getattr(self.context, "planning", None)
+        if worker is not None and not store.has(self.region):
+            region = self.region
+
+            def cover() -> Any:
+                try:
+                    return store.new_planner(region)
+                except ValueError as error:  # a region that cannot be covered: the request's failure
+                    return error
+
+            self._job = worker.submit(f"exploration of {region}", cover)
+
+    def on_run(self) -> Outcome | None:
+        store = exploration_store(self.context)
+        if self._job is not None:
+            if not self._job.ready(self.now()):
+                return None
+            if self._job.error:
+                return self.fail(self._job.error)
+            if isinstance(self._job.result, ValueError):
+                return self.fail(str(self._job.result))
+            store.adopt(self._job.result)
+            self._job = None
         try:
-            planner = exploration_store(self.context).planner(region)
+            planner = store.planner(self.region)
         except ValueError as error:
-            self._error = str(error)
-            return
+            return self.fail(str(error))
         point = planner.next_point(self.telemetry().position)
         self.result = [round(v, 3) for v in point] if point is not None else []
         detail = (f"next point {self.result}, {planner.remaining} left" if point is not None
                   else f"the region is covered ({len(planner.skipped)} points given up)")
         self.context.log.record("exploration_planned", self.name, detail, remaining=planner.remaining)
-        self.memory.add(Struct("next_point_to_explore", (ListTerm(region), tuple(self.result) if self.result
+        self.memory.add(Struct("next_point_to_explore", (ListTerm(self.region), tuple(self.result) if self.result
                                                          else ListTerm())))
-
-    def on_run(self) -> Outcome | None:
-        if self._error:
-            return self.fail(self._error)
         return Outcome.GOAL_ACHIEVED
+
+    def on_stop(self, outcome: Outcome) -> None:
+        if self._job is not None:
+            self._job.cancel()
 
 
 class PathPlannerProcess(Process):
-    """path_planner: builds the occupancy grid of the obstacle map when it starts, so plans come at once."""
-
-    def on_start(self) -> None:
-        obstacles = getattr(self.context, "obstacles", None)
-        if obstacles is not None and map_bounds(obstacles) is not None:
-            PathPlanner(obstacles, planner_settings(self.context.settings)).grid()
+    """path_planner: the capability's process. Occupancy grids are built lazily, by the planning worker, for the
+    first search that needs one (a clear straight line needs none), and cached per map."""
 
 
 class ExplorationPlannerProcess(Process):

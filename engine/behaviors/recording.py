@@ -19,16 +19,19 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from aeroexec.beliefs import Struct
 from aeroexec.engine.behaviors.manipulation import MANIPULATION_BEHAVIORS, MANIPULATION_PROCESSES
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess
 from aeroexec.engine.execution.resources import Process
-from aeroexec.engine.planning.mapping import CameraModel, OccupancyMap
 from aeroexec.engine.planning.path_planner import map_bounds
 from aeroexec.engine.supervision.output import choose_output_folder
 from PIL import Image
+
+if TYPE_CHECKING:  # the map needs numpy: imported when a map is first made
+    from aeroexec.engine.planning.mapping import OccupancyMap
 
 logger = logging.getLogger(__name__)
 
@@ -214,6 +217,8 @@ def new_map(context: BehaviorContext) -> OccupancyMap:
     if bounds is None:
         extent = _extra(context, "map_extent", 50.0)
         bounds = ((-extent, -extent, 0.0), (extent, extent, min(extent, 30.0)))
+    from aeroexec.engine.planning.mapping import OccupancyMap
+
     return OccupancyMap(bounds[0], bounds[1], resolution, context.obstacles)
 
 
@@ -263,6 +268,8 @@ class MapBuilder(Process):
         """One look: what perception sees becomes landmarks, and the camera's rays are cast through the world."""
         telemetry = context.drone.telemetry()
         occupancy.observe(context.drone.observations())
+        from aeroexec.engine.planning.mapping import CameraModel
+
         camera = CameraModel.of(getattr(context.obstacles, "camera", None))
         occupancy.scan(telemetry.position, telemetry.yaw, camera)
 

@@ -197,8 +197,8 @@ class FollowObjectImage(TargetBehavior):
         if error <= FOLLOW_SLACK:
             self.progress.reset(now)
             return None
-        return self.no_progress(f"closing on {self.target} ({away:.1f} m away, following at {self.distance:g} m)",
-                                error)
+        return self.no_progress(
+            lambda: f"closing on {self.target} ({away:.1f} m away, following at {self.distance:g} m)", error)
 
 
 class TrackObjectImage(TargetBehavior):
@@ -235,7 +235,7 @@ class AlignOverImage(TargetBehavior):
         if (off <= self.settings.position_tolerance and self.relative_speed(telemetry, track) < ARRIVAL_SPEED
                 and abs(telemetry.altitude - self.altitude) <= self.settings.hover_altitude_tolerance):
             return Outcome.GOAL_ACHIEVED
-        return self.no_progress(f"aligning over {self.target} ({off:.1f} m off)", off)
+        return self.no_progress(lambda: f"aligning over {self.target} ({off:.1f} m off)", off)
 
 
 class LandOnMovingPlatform(TargetBehavior):
@@ -285,11 +285,11 @@ class LandOnMovingPlatform(TargetBehavior):
                 self.descending = True
                 self.progress.reset(self.now())
                 logger.info("%s: over the deck of %s, descending", self.name, self.target)
-            return self.no_progress(f"approaching the deck of {self.target} ({off:.1f} m off)", off,
+            return self.no_progress(lambda: f"approaching the deck of {self.target} ({off:.1f} m off)", off,
                                     abs(telemetry.altitude - point[2]))
         bottom = deck[2] - 1.0 if off <= DESCEND_PAUSE else telemetry.altitude  # keep descending, or pause
         self.fly(telemetry, (deck[0], deck[1], bottom), self.ground_feed(track), max_descent=DESCENT_SPEED)
-        return self.no_progress(f"descending onto the deck of {self.target} ({above:.1f} m above it, "
+        return self.no_progress(lambda: f"descending onto the deck of {self.target} ({above:.1f} m above it, "
                                 f"{off:.1f} m off)", above, off)
 
 
@@ -328,7 +328,7 @@ class TouchMovingObject(TargetBehavior):
         error = abs(telemetry.altitude - self.altitude)
         if error <= self.settings.hover_altitude_tolerance and telemetry.speed < ARRIVAL_SPEED:
             return Outcome.GOAL_ACHIEVED
-        return self.no_progress(f"climbing back to {self.altitude:.1f} m", error)
+        return self.no_progress(lambda: f"climbing back to {self.altitude:.1f} m", error)
 
     def servo(self, telemetry: Telemetry, track: Track) -> Outcome | None:
         target = track.predict(self.now())
@@ -339,7 +339,7 @@ class TouchMovingObject(TargetBehavior):
             if off <= self.settings.position_tolerance and self.relative_speed(telemetry, track) < MATCHED_SPEED:
                 self.phase = "descend"
                 self.progress.reset(self.now())
-            return self.no_progress(f"approaching {self.target} ({off:.1f} m off)", off)
+            return self.no_progress(lambda: f"approaching {self.target} ({off:.1f} m off)", off)
         reach = math.dist(telemetry.position, target)
         if reach <= TOUCH_REACH:
             self.phase, self.touched_at = "climb", telemetry.position
@@ -349,7 +349,7 @@ class TouchMovingObject(TargetBehavior):
             return None
         bottom = target[2] + TOUCH_HEIGHT if off <= DESCEND_PAUSE else telemetry.altitude
         self.fly(telemetry, (target[0], target[1], bottom), self.ground_feed(track), max_descent=DESCENT_SPEED)
-        return self.no_progress(f"reaching for {self.target} ({reach:.1f} m away)", reach)
+        return self.no_progress(lambda: f"reaching for {self.target} ({reach:.1f} m away)", reach)
 
 
 TARGET_BEHAVIORS: list[type[BehaviorProcess]] = [

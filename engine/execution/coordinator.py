@@ -88,6 +88,8 @@ class BehaviorCoordinator:
         self._rule_state: dict[int, bool] = {}
         self._memory_version = 0
         self._seen_version = -1
+        self._changed: set[tuple[str, int]] = set()  # predicates changed since the rules were last evaluated
+        self._rule_inputs: dict[int, tuple[frozenset, bool]] = {}  # rule -> its predicates, and if any is computed
         context.memory.subscribe(self._belief_changed)
 
     # -- queries --------------------------------------------------------------------------
@@ -132,7 +134,8 @@ class BehaviorCoordinator:
             self.log.record(outcome.value if outcome is Outcome.GOAL_ACHIEVED else "failed_preconditions", name,
                             message, source=source)
             return ActivationResult(False, outcome, message)
-        conflicts = [self._active[other] for other in self.specialist.conflicts(name, self._active)]
+        clashing = self.specialist.conflicts(name, self._active)
+        conflicts = [a for other, a in self._active.items() if other in clashing]  # in activation order
         higher = [a for a in conflicts if a.priority > level]
         if higher:  # step 6: an incompatible active behavior of higher priority
             blocker = max(higher, key=lambda a: a.priority)
@@ -271,6 +274,8 @@ class BehaviorCoordinator:
         if outcome is Outcome.WRONG_PROGRESS:
             reason = f" ({process.reason})" if process.reason else ""
             return outcome, wrong_progress_message(activation.name) + reason
+        if outcome is Outcome.FAILED_PRECONDITIONS:  # found out while running (a plan that came back empty)
+            return outcome, f"{failed_preconditions_message(activation.name)} {process.reason}".rstrip()
         if outcome is Outcome.GOAL_ACHIEVED and activation.category in (GOAL_BASED, DELIBERATIVE):
             return outcome, ""
         if activation.timeout is not None and now - activation.started_at >= activation.timeout:
@@ -315,8 +320,12 @@ class BehaviorCoordinator:
         if event:
             self.context.refresh()
         self._seen_version = self._memory_version
+        changed, self._changed = self._changed, set()
         for index, rule in enumerate(self.catalog.reactive_rules):
-            holds = self._holds(rule)
+            if event or index not in self._rule_state or self._touched(index, rule, changed):
+                holds = self._holds(rule)
+            else:  # none of the beliefs its condition reads has changed: it holds as it did
+                holds = self._rule_state[index]
             rising = holds and not self._rule_state.get(index, False)
             self._rule_state[index] = holds
             if not holds or not (event or rising) or rule.behavior in self._active:
@@ -339,8 +348,20 @@ class BehaviorCoordinator:
             logger.exception("the condition of the reactive rule for %s failed", rule.behavior)
             return False
 
+    def _touched(self, index: int, rule: ReactiveRule, changed: set[tuple[str, int]]) -> bool:
+        """Whether a belief the rule's condition reads has changed (always, for computed predicates)."""
+        if rule.condition is None:
+            return False
+        inputs = self._rule_inputs.get(index)
+        if inputs is None:
+            predicates = rule.condition.predicates
+            computed = any(self.context.memory.is_computed(name, arity) for name, arity in predicates)
+            inputs = self._rule_inputs[index] = (predicates, computed)
+        return inputs[1] or not inputs[0].isdisjoint(changed)
+
     def _belief_changed(self, change: Any) -> None:
         self._memory_version += 1
+        self._changed.add(change.belief.signature)
 
     def _next_order(self) -> int:
         self._order += 1

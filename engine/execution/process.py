@@ -54,6 +54,7 @@ class BehaviorContext:
     bus: Any = None  # the message bus shared with the other drones of the run; None: flying alone
     output_dir: Path | None = None  # where photos, videos and maps of this run are written
     position_source: Any = None  # a PositionSource: whether the telemetry or an estimator writes position(self)
+    planning: Any = None  # the PlanningWorker searches run on (engine/planning/worker.py); None: on the caller
 
     def now(self) -> float:
         return self.clock()
@@ -140,7 +141,8 @@ class BehaviorProcess:
         """Extract arguments, connect and initiate (Algorithm 1, steps 3-5)."""
 
     def on_run(self) -> Outcome | None:
-        """Monitor one tick (Algorithm 2): GOAL_ACHIEVED, WRONG_PROGRESS, or None to go on."""
+        """Monitor one tick (Algorithm 2): GOAL_ACHIEVED, WRONG_PROGRESS, or None to go on (FAILED_PRECONDITIONS,
+        with :attr:`reason`, when the behavior finds out only while running that it cannot be executed)."""
         return None
 
     def on_stop(self, outcome: Outcome) -> None:

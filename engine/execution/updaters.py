@@ -84,31 +84,44 @@ class TelemetryUpdater(BeliefUpdater):
         self.position_source = position_source or PositionSource()
         self._state: str | None = None
         self._carried: set[str] = set()  # the items the drone said it carries, as believed
+        self._written: dict[str, tuple] = {}  # predicate -> the arguments last believed (and still believed)
+        self._memory: BeliefMemory | None = None
 
     def update(self, memory: BeliefMemory, now: float) -> None:
+        if memory is not self._memory:  # hear removals, so a belief someone retracts is written again
+            self._memory, self._written = memory, {}
+            memory.subscribe(self._changed)
         t = self.drone.telemetry()
         self._state = flight_state(t, self._state)
         x, y, z = (round(v, 2) for v in t.position)
         facts = [
-            Struct("flight_state", ("self", self._state)),
-            Struct("charge", ("battery", int(math.floor(t.battery_percent)))),
-            Struct("battery_level", ("self", battery_level(t.battery_percent))),
-            Struct("armed", ("self", "yes" if t.armed else "no")),
-            Struct("orientation", ("self", round(t.yaw))),
-            Struct("speed", ("self", round(t.speed, 1))),
-            Struct("flight_mode", ("self", t.flight_mode)),
-            Struct("communication", ("wireless", "ok" if t.link_ok else "lost")),
+            ("flight_state", ("self", self._state)),
+            ("charge", ("battery", int(math.floor(t.battery_percent)))),
+            ("battery_level", ("self", battery_level(t.battery_percent))),
+            ("armed", ("self", "yes" if t.armed else "no")),
+            ("orientation", ("self", round(t.yaw))),
+            ("speed", ("self", round(t.speed, 1))),
+            ("flight_mode", ("self", t.flight_mode)),
+            ("communication", ("wireless", "ok" if t.link_ok else "lost")),
         ]
         if self.position_source.from_telemetry:
-            facts.append(Struct("position", ("self", (x, y, z))))
-        for fact in facts:
-            memory.add(fact)
+            facts.append(("position", ("self", (x, y, z))))
+        written = self._written
+        for name, args in facts:  # only what changed (a belief with a lifetime is renewed every time)
+            if written.get(name) != args or memory.lifetime(name) is not None:
+                memory.add(Struct(name, args))
+                written[name] = args
         carried = set(self.drone.payload())  # carry(self, X) follows what the drone says it carries
         for item in sorted(carried - self._carried):
             memory.add(Struct("carry", ("self", item)))
         for item in sorted(self._carried - carried):
             memory.remove(Struct("carry", ("self", item)))
         self._carried = carried
+
+    def _changed(self, change: Any) -> None:
+        """A belief this updater wrote was retracted (by a mission, an operator, an exclusive value): forget it."""
+        if change.kind == "removed" and self._written.get(change.belief.name) == change.belief.args:
+            del self._written[change.belief.name]
 
 
 def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,

@@ -12,6 +12,7 @@ A mission that keeps polling while no belief changes is reported once per stretc
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import queue
 import threading
@@ -25,6 +26,7 @@ logger = logging.getLogger(__name__)
 
 RUNNING, PARKED, DONE = "running", "parked", "done"
 _STALL_WARNING = 30.0  # wall seconds a lockstep engine waits on a busy mission before saying so
+_CLOSED_GRACE = 2.0  # wall seconds a lockstep engine waits for an aborted mission to unwind
 #: Calls that do not wait served in one engine period before the loop steps on (lockstep, simulated clock).
 CALLS_PER_TICK = 10
 #: Engine seconds a mission may poll without waiting while no belief changes before it is reported.
@@ -54,6 +56,7 @@ class MissionBridge:
         self._state = DONE
         self._pending: set[_Request] = set()
         self._closed = False
+        self._closed_at = 0.0
         self._held = False
         self._now, self._world_version, self._report = now, world_version, report
         self._polls = 0  # calls without a wait since the last wait or change of the world
@@ -109,11 +112,11 @@ class MissionBridge:
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
         warned_at = time.monotonic() + _STALL_WARNING
         served = 0
-        while not self._held:
-            try:
-                request = self._queue.get_nowait()
-            except queue.Empty:
-                request = None
+        while True:
+            request = None
+            if not self._held:
+                with contextlib.suppress(queue.Empty):
+                    request = self._queue.get_nowait()
             if request is not None:
                 self._execute(request)
                 if not request.waits:
@@ -123,7 +126,10 @@ class MissionBridge:
                         return  # the engine steps on: polling lets time move
                 continue
             with self._cond:
-                if lockstep and self._state == RUNNING:
+                # in lockstep the mission's own code runs to its next call even while held (a wait that ended
+                # during a pause), so what it does never depends on thread timing; held, that call waits queued
+                if (lockstep and self._state == RUNNING and (not self._held or self._queue.empty())
+                        and not (self._closed and time.monotonic() > self._closed_at + _CLOSED_GRACE)):
                     self._cond.wait(0.05)
                     if time.monotonic() > warned_at:
                         logger.warning("the mission has been busy for %.0f s of wall time without calling the "
@@ -188,6 +194,9 @@ class MissionBridge:
         """Abort every waiting call: the mission thread raises :class:`MissionAborted`."""
         with self._cond:
             self._closed = True
+            self._closed_at = time.monotonic()
+            if self._pending:  # the woken mission now runs to its end: a lockstep loop waits for it (a moment)
+                self._state = RUNNING
             for request in self._pending:
                 request.error = MissionAborted("the engine has stopped")
                 request.done.set()

@@ -184,8 +184,20 @@ class ExplorationStore:
         key = region_key(region)
         found = self._planners.get(key)
         if found is None:
-            found = self._planners[key] = ExplorationPlanner(region, self.settings, self.obstacles)
+            found = self._planners[key] = self.new_planner(region)
         return found
+
+    def has(self, region: Sequence[Sequence[float]]) -> bool:
+        """Whether the region's coverage is already planned."""
+        return region_key(region) in self._planners
+
+    def new_planner(self, region: Sequence[Sequence[float]]) -> ExplorationPlanner:
+        """A fresh coverage of the region, not yet kept (the planning worker builds it; :meth:`adopt` keeps it)."""
+        return ExplorationPlanner(region, self.settings, self.obstacles)
+
+    def adopt(self, planner: ExplorationPlanner) -> None:
+        """Keep a coverage built by :meth:`new_planner`, unless the region already has one."""
+        self._planners.setdefault(planner.region, planner)
 
     def mark(self, position: Sequence[float]) -> None:
         """Cover, in every region being explored, the points within reach of ``position``."""

@@ -2,12 +2,16 @@
 
 Pure geometry (no engine state): the map only has to answer ``distance_to_obstacle(point)`` (meters to the nearest
 surface, 0 inside) and may carry ``bounds``. A cell is free when its center is at least ``margin`` plus half a cell
-diagonal away, so every 26-connected step between free cells keeps the margin. Grids are cached per map and box.
+diagonal away, so every 26-connected step between free cells keeps the margin. A map that also answers
+``distances_to_obstacle(points)`` for an (N, 3) numpy array (the simulated world does) is classified with numpy, a
+layer of cells at a time; other maps by splitting blocks of cells until the distance decides. Grids are built when
+first asked for and cached per map and box.
 """
 from __future__ import annotations
 
 import logging
 import math
+import threading
 from bisect import bisect_right
 from collections import OrderedDict
 from collections.abc import Sequence
@@ -26,6 +30,12 @@ class ObstacleMap(Protocol):
     """What the planner needs of a map (the simulated world satisfies it)."""
 
     def distance_to_obstacle(self, point: Point) -> float: ...
+
+
+class VectorObstacleMap(ObstacleMap, Protocol):
+    """A map that also answers many distances at once (an (N, 3) array in, an (N,) array out)."""
+
+    def distances_to_obstacle(self, points: Any) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -114,7 +124,10 @@ class OccupancyGrid:
         self._obstacles = obstacles
         ranges = [self._inner_range(axis, bounds_margin) for axis in range(3)]
         if all(lo < hi for lo, hi in ranges):
-            self._classify(*ranges[0], *ranges[1], *ranges[2])
+            if callable(getattr(obstacles, "distances_to_obstacle", None)):
+                self._classify_vectorized(*ranges[0], *ranges[1], *ranges[2])
+            else:
+                self._classify(*ranges[0], *ranges[1], *ranges[2])
         self._label()
 
     # -- geometry ----------------------------------------------------------------------------------
@@ -164,6 +177,24 @@ class OccupancyGrid:
                 continue  # all blocked, as the grid starts
             else:
                 stack.extend(split_block(i0, i1, j0, j1, k0, k1))
+
+    def _classify_vectorized(self, i0: int, i1: int, j0: int, j1: int, k0: int, k1: int) -> None:
+        """Mark free cells of block [i0,i1)x[j0,j1)x[k0,k1) from the distances of all their centers (numpy)."""
+        import numpy as np
+
+        r, (x0, y0, z0) = self.resolution, self.lower
+        xs = x0 + (np.arange(i0, i1) - 0.5) * r
+        ys = y0 + (np.arange(j0, j1) - 0.5) * r
+        layer = np.empty(((j1 - j0) * (i1 - i0), 3))
+        layer[:, 0] = np.tile(xs, j1 - j0)
+        layer[:, 1] = np.repeat(ys, i1 - i0)
+        cells = np.zeros((self.NZ, self.NY, self.NX), dtype=np.uint8)
+        for k in range(k0, k1):  # a layer at a time: memory stays small on fine grids
+            layer[:, 2] = z0 + (k - 0.5) * r
+            free = self._obstacles.distances_to_obstacle(layer) >= self.threshold  # type: ignore[attr-defined]
+            cells[k, j0:j1, i0:i1] = free.reshape(j1 - j0, i1 - i0)
+            self.queries += len(layer)
+        self.cells = bytearray(cells.tobytes())
 
     def _fill(self, i0: int, i1: int, j0: int, j1: int, k0: int, k1: int) -> None:
         ones = b"\x01" * (i1 - i0)
@@ -235,6 +266,7 @@ class OccupancyGrid:
 
 _GRIDS: OrderedDict[tuple, tuple[Any, OccupancyGrid]] = OrderedDict()
 _GRID_CACHE_SIZE = 8
+_GRIDS_LOCK = threading.Lock()  # grids are built on the planning worker and asked for on the engine loop
 
 
 def occupancy_grid(obstacles: ObstacleMap, lower: Point, upper: Point, settings: PlannerSettings) -> OccupancyGrid:
@@ -246,12 +278,15 @@ def occupancy_grid(obstacles: ObstacleMap, lower: Point, upper: Point, settings:
         logger.warning("the planning box needs too many cells at %.2f m; planning at %.2f m",
                        settings.resolution, resolution)
     key = (id(obstacles), lower, upper, resolution, settings.margin, settings.bounds_margin)
-    cached = _GRIDS.get(key)
-    if cached is not None and cached[0] is obstacles:
-        _GRIDS.move_to_end(key)
-        return cached[1]
+    with _GRIDS_LOCK:
+        cached = _GRIDS.get(key)
+        if cached is not None and cached[0] is obstacles:
+            _GRIDS.move_to_end(key)
+            return cached[1]
     grid = OccupancyGrid(obstacles, lower, upper, resolution, settings.margin, settings.bounds_margin)
-    _GRIDS[key] = (obstacles, grid)  # the map is kept so its id cannot be reused while cached
-    while len(_GRIDS) > _GRID_CACHE_SIZE:
-        _GRIDS.popitem(last=False)
+    with _GRIDS_LOCK:
+        _GRIDS[key] = (obstacles, grid)  # the map is kept so its id cannot be reused while cached
+        while len(_GRIDS) > _GRID_CACHE_SIZE:
+            _GRIDS.popitem(last=False)
     return grid
+

@@ -64,21 +64,11 @@ class PathPlanner:
     def plan(self, start: Sequence[float], goal: Sequence[float]) -> list[Point]:
         """Waypoints from ``start`` (excluded) to ``goal`` keeping the margin, or [] (see :attr:`reason`)."""
         start, goal = point(start), point(goal)
-        margin = self.settings.margin
-        self.reason, self.expanded = "", 0
+        quick = self.quick(start, goal)
+        if quick is not None:
+            return quick
         lower, upper = self._box(start, goal)
-        if not inside(goal, lower, upper):
-            return self._none(f"the destination {goal} is outside the bounds {lower}-{upper}")
-        if self.clearance(goal) < margin:
-            return self._none(f"the destination {goal} is inside an obstacle or closer than {margin:g} m to one")
-        if not inside(start, lower, upper):
-            return self._none(f"the start {start} is outside the bounds {lower}-{upper}")
-        clearance = self.clearance(start)  # a drone already nearer than the margin may still leave with less
-        start_margin = margin if clearance >= margin else 0.9 * clearance
-        if math.dist(start, goal) < 1e-9:
-            return [goal]
-        if segment_clear(self.obstacles, start, goal, start_margin):
-            return [goal]
+        start_margin = self._start_margin(start)
         settings = self.settings
         for attempt in range(settings.refinements + 1):
             if attempt:  # thin passages close at a coarse resolution: look again at a finer one
@@ -88,6 +78,30 @@ class PathPlanner:
             if path:
                 return path
         return self._none(self.reason)
+
+    def _start_margin(self, start: Point) -> float:
+        """A drone already nearer than the margin may still leave with less."""
+        margin, clearance = self.settings.margin, self.clearance(start)
+        return margin if clearance >= margin else 0.9 * clearance
+
+    def quick(self, start: Sequence[float], goal: Sequence[float]) -> list[Point] | None:
+        """The answer when it needs no grid search (a few distance queries): [] with :attr:`reason` for a goal out
+        of bounds or too near an obstacle, ``[goal]`` for a clear straight line; None when a search must decide."""
+        start, goal = point(start), point(goal)
+        margin = self.settings.margin
+        self.reason, self.expanded = "", 0
+        lower, upper = self._box(start, goal)
+        if not inside(goal, lower, upper):
+            return self._none(f"the destination {goal} is outside the bounds {lower}-{upper}")
+        if self.clearance(goal) < margin:
+            return self._none(f"the destination {goal} is inside an obstacle or closer than {margin:g} m to one")
+        if not inside(start, lower, upper):
+            return self._none(f"the start {start} is outside the bounds {lower}-{upper}")
+        if math.dist(start, goal) < 1e-9:
+            return [goal]
+        if segment_clear(self.obstacles, start, goal, self._start_margin(start)):
+            return [goal]
+        return None
 
     def _plan_on(self, grid: OccupancyGrid, start: Point, goal: Point, start_margin: float) -> list[Point]:
         first = self._connect(grid, start, start_margin)

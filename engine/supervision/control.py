@@ -64,6 +64,8 @@ class ControlServer:
             return
         self._closed.set()
         with contextlib.suppress(OSError):
+            self._socket.shutdown(socket.SHUT_RDWR)  # wakes the accepting thread now, not at its next timeout
+        with contextlib.suppress(OSError):
             self._socket.close()
         if self.file is not None:
             with contextlib.suppress(OSError):

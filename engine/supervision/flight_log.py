@@ -3,8 +3,9 @@ that happened before it.
 
 Every line has ``time`` (engine seconds) and ``kind``. The kinds:
 
-- ``log_started`` (first line): ``format``, ``wall_time`` (ISO 8601) and what the run was given (``mission``,
-  ``world``, ``drone``...).
+- ``log_started`` (first line): ``format``, ``clock`` (``simulated`` or ``wall``), ``wall_time`` (ISO 8601; only
+  on the wall clock, so a simulated run's log is the same in every replay) and what the run was given
+  (``mission``, ``world``, ``drone``...).
 - an engine event (``activated``, ``GOAL_ACHIEVED``, ``rejected``, ``node_status``...): ``behavior``, ``detail``,
   and when the event has them ``arguments`` (of an activation), ``result`` (of a deliberative behavior),
   ``reason`` (why a behavior ended, was rejected or failed: the event's message); the rest of the event's data
@@ -33,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.beliefs import BeliefChange, Struct, format_term
+from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.events import EngineEvent, Outcome
 
 logger = logging.getLogger(__name__)
@@ -56,9 +58,13 @@ class FlightLogWriter:
         self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         self._last_sample: float | None = None
         self.lines = 0
-        self._write({"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT,
-                     "wall_time": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
-                     **{k: plain(v) for k, v in (meta or {}).items()}})
+        header: dict[str, Any] = {"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT}
+        if isinstance(getattr(engine, "clock", None), SimulatedClock):
+            header["clock"] = "simulated"
+        else:
+            header["clock"] = "wall"
+            header["wall_time"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
+        self._write({**header, **{k: plain(v) for k, v in (meta or {}).items()}})
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
 
@@ -161,7 +167,9 @@ def plain(value: Any) -> Any:
         return format_term(value)
     if isinstance(value, dict):
         return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple | set | frozenset):
+    if isinstance(value, set | frozenset):  # sorted: a set's order changes with the process's string hashing
+        return sorted((plain(v) for v in value), key=lambda v: json.dumps(v, sort_keys=True))
+    if isinstance(value, list | tuple):
         return [plain(v) for v in value]
     if isinstance(value, Path):
         return str(value)

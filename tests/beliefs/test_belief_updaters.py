@@ -43,3 +43,4 @@ def test_a_failing_updater_is_logged_and_the_engine_goes_on(caplog):
     updater.tick(BeliefMemory(), 0.0)
     updater.tick(BeliefMemory(), 0.1)
     assert caplog.text.count("belief updater broken failed") == 2
+

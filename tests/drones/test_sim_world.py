@@ -148,3 +148,21 @@ def test_world_frame_methods_use_the_home_point():
     assert world.to_geodetic((0.0, 0.0, 0.0)) == pytest.approx(world.home)
     point = world.to_geodetic((12.0, -7.0, 3.0))
     assert world.to_enu(*point) == pytest.approx((12.0, -7.0, 3.0), abs=1e-6)
+
+
+def test_the_collision_broad_phase_finds_what_the_full_scan_finds():
+    import random
+
+    from aeroexec.drones.sim.shapes import ObstacleIndex
+
+    world = default_world()
+    index = ObstacleIndex(world.obstacles, reach=0.3)
+    rng = random.Random(7)
+    hits = 0
+    for _ in range(5000):
+        point = (rng.uniform(-22, 22), rng.uniform(-22, 22), rng.uniform(-1, 12))
+        for radius in (0.0, 0.3, 1.0):  # 1.0 is past the index's reach: it scans everything
+            expected = world.collides(point, radius)
+            assert index.collides(point, radius) is expected, (point, radius)
+            hits += expected is not None
+    assert hits > 100  # the points do meet obstacles

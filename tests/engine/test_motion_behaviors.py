@@ -223,9 +223,12 @@ def test_go_to_point_to_an_enclosed_point_meets_an_impassable_barrier(tmp_path):
     world = load_world(world_file)
     engine = Engine(SimulatedDrone(world), obstacles=world)
     assert execute(engine, "TAKE_OFF", {"ALTITUDE": 2.0}).kind == "GOAL_ACHIEVED"
-    result = engine.coordinator.activate("GO_TO_POINT", {"COORDINATES": [10, 10, 4]})
-    assert not result.accepted
-    assert "There is an impassable barrier to complete behavior GO_TO_POINT" in result.message
+    before = tel(engine).position
+    event = execute(engine, "GO_TO_POINT", {"COORDINATES": [10, 10, 4]})  # the search runs on the planning worker
+    assert event.kind == "FAILED_PRECONDITIONS"
+    assert "There is an impassable barrier to complete behavior GO_TO_POINT" in event.detail
+    assert "enclosed" in event.detail
+    assert math.dist(before, tel(engine).position) < 0.3  # the drone held while the planner searched
 
 
 def test_go_to_point_with_too_short_a_timeout_times_out_and_holds():

@@ -223,3 +223,22 @@ def test_without_an_obstacle_map_the_path_is_the_straight_line_and_the_log_says_
     engine.step(0.2)
     assert run_deliberative(engine, "GENERATE_PATH_FREE_OF_OBSTACLES", {"DESTINATION": [12, 12, 3]}) == [[12, 12, 3]]
     assert any(e.kind == "path_planned" and "no obstacle map" in e.detail for e in engine.log.events())
+
+
+def test_the_numpy_classification_frees_the_same_cells_as_the_distance_queries():
+    from aeroexec.engine.planning.grid import OccupancyGrid, map_bounds
+
+    world = default_world()
+
+    class OneAtATime:  # the same map without distances_to_obstacle: classified block by block
+        bounds = world.bounds
+
+        def distance_to_obstacle(self, point):
+            return world.distance_to_obstacle(point)
+
+    lower, upper = map_bounds(world)
+    for resolution in (0.5, 1.0):
+        vectorized = OccupancyGrid(world, lower, upper, resolution, 1.0, 0.5)
+        scalar = OccupancyGrid(OneAtATime(), lower, upper, resolution, 1.0, 0.5)
+        assert vectorized.cells == scalar.cells
+        assert 0 < vectorized.free_count < len(vectorized.cells)

@@ -1,0 +1,360 @@
+"""Engine speed: CLI start-up, engine step CPU, the longest engine step of every mission, planning off the loop, and
+tree ticks, each as a ratio to a baseline measured in the same run, with min/median over repeats.
+
+Run ``python bench/engine.py`` (``--repeat N``, ``--quick`` for fewer and shorter runs). Baselines: ``python -c pass``
+for the commands, a bare simulated drone's integration for the engine step, a blocking plan for the longest step of
+a GO_TO_POINT to an enclosed goal, and for trees a bare py_trees tree of the same shape and plain recursion over the
+same nodes making the same belief queries. Targets (issue 19) are printed next to the figures, with ``met`` or
+``MISSED``; the targets are absolute times on the reference machine (2 cores), so a loaded machine misses them
+where the ratios would not. Commands run with bytecode caching on (``PYTHONDONTWRITEBYTECODE`` is removed for them,
+after one warm-up run), as an installed package runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import dataclasses
+import io
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+MISSIONS = sorted(p for p in (ROOT / "missions").iterdir()
+                  if p.suffix in (".py", ".xml", ".yaml") and p.name != "__init__.py")
+
+
+def spread(values: list[float]) -> tuple[float, float]:
+    return min(values), statistics.median(values)
+
+
+def line(name: str, value: str, ratio: str = "", target: str = "") -> None:
+    print(f"  {name:50s} {value:>22s}  {ratio:>16s}  {target}")
+
+
+def verdict(value: float, target: float) -> str:
+    return f"target <= {target:g}: " + ("met" if value <= target else f"MISSED by {value / target:.1f}x")
+
+
+# -- commands ------------------------------------------------------------------------------------------------
+def timed(command: list[str], repeat: int, cwd: str) -> tuple[list[float], list[float]]:
+    """Wall times and CPU times (user + system of the process) of ``repeat`` runs after a warm-up."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    subprocess.run(command, cwd=cwd, env=env, capture_output=True)  # warm-up: bytecode written
+    walls, cpus = [], []
+    for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        began = time.perf_counter()
+        subprocess.run(command, cwd=cwd, env=env, capture_output=True)
+        walls.append(time.perf_counter() - began)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return walls, cpus
+
+
+def commands(repeat: int) -> None:
+    print("Commands (CPU time of the process, then wall time; ratio to `python -c pass`; on a loaded machine the "
+          "CPU time is what the command costs, the wall time what it took)")
+    aeroexec = [sys.executable, "-m", "aeroexec.cli.main"]
+    with tempfile.TemporaryDirectory() as cwd:
+        walls, cpus = timed([sys.executable, "-c", "pass"], repeat, cwd)
+        base, base_wall = spread(cpus), spread(walls)
+        line("python -c pass (baseline)", f"{base[0]:.3f} / {base[1]:.3f} s", f"wall {base_wall[1]:.3f} s")
+        cases = [("aeroexec --help", ["--help"], 0.15),
+                 ("aeroexec verify missions/figure10.xml", ["verify", str(ROOT / "missions/figure10.xml")], 0.35),
+                 ("aeroexec run missions/figure10.py --plain: start-up",
+                  ["run", str(ROOT / "missions/figure10.py"), "--plain", "--max-time", "0", "--output", "out"], 0.6)]
+        for name, args, target in cases:
+            walls, cpus = timed(aeroexec + args, repeat, cwd)
+            low, mid = spread(cpus)
+            line(name, f"{low:.3f} / {mid:.3f} s", f"{low / base[0]:.1f}x / {mid / base[1]:.1f}x",
+                 f"wall {statistics.median(walls):.3f} s; {verdict(mid, target)}")
+    print("  (start-up: `run --max-time 0` flies nothing: imports, the catalog, the check, the engine, the log)")
+
+
+# -- engine step ---------------------------------------------------------------------------------------------
+def cpu_per_call(function: Callable[[], int], repeat: int) -> list[float]:
+    out = []
+    for _ in range(repeat):
+        began = time.process_time()
+        calls = function()
+        out.append((time.process_time() - began) / calls)
+    return out
+
+
+def engine_step(repeat: int, seconds: float) -> None:
+    from aeroexec.drones.sim import SimulatedDrone, default_world
+    from aeroexec.engine.engine import Engine
+
+    print("Engine step of a flying drone on the simulator (CPU per step; ratio to the bare drone's integration)")
+    world = default_world()
+    corners = [(-10.0, -10.0, 3.0), (10.0, -10.0, 3.0), (10.0, -15.0, 3.0), (-10.0, -15.0, 3.0)]
+
+    drone = SimulatedDrone(world)
+    drone.arm()
+    drone.takeoff(3.0)
+    clock = [0.0]
+    for _ in range(100):
+        clock[0] += 0.05
+        drone.update(clock[0])
+
+    def bare(steps: int = int(seconds * 20)) -> int:
+        for n in range(steps):
+            if n % 100 == 0:
+                drone.goto(corners[(n // 100) % 4])
+            clock[0] += 0.05
+            drone.update(clock[0])
+            drone.telemetry()
+        return steps
+
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    engine.coordinator.activate("TAKE_OFF", {"ALTITUDE": 3.0})
+    engine.run_until(lambda: not engine.coordinator.is_active("TAKE_OFF"), 30.0)
+    state = {"leg": 0}
+
+    def patrol() -> int:
+        steps, end = 0, engine.now() + seconds
+        while engine.now() < end:
+            if not engine.coordinator.is_active("GO_TO_POINT"):
+                engine.coordinator.activate("GO_TO_POINT", {"COORDINATES": list(corners[state["leg"] % 4])})
+                state["leg"] += 1
+            engine.step(engine.period)
+            steps += 1
+        return steps
+
+    patrol()
+    base = spread(cpu_per_call(bare, repeat))
+    step = spread(cpu_per_call(patrol, repeat))
+    line("simulated drone alone: integrate + telemetry (baseline)", f"{base[0] * 1e6:.0f} / {base[1] * 1e6:.0f} us")
+    line("engine step, GO_TO_POINT patrol", f"{step[0] * 1e6:.0f} / {step[1] * 1e6:.0f} us",
+         f"{step[0] / base[0]:.1f}x / {step[1] / base[1]:.1f}x", verdict(step[1] * 1e6, 50))
+    engine.stop()
+
+
+# -- longest engine steps -------------------------------------------------------------------------------------
+class TickTimer:
+    """Wraps ``Engine.tick`` to time every tick, for the longest one: wall time in ``ticks``, the loop thread's CPU
+    time in ``cpu`` (what the step itself computed, without the time other threads and processes took the core)."""
+
+    def __init__(self) -> None:
+        from aeroexec.engine.engine import Engine
+
+        self.engine_class, self.original = Engine, Engine.tick
+        self.ticks: list[float] = []
+        self.cpu: list[float] = []
+        timer = self
+
+        def tick(engine: object) -> None:
+            began, cpu = time.perf_counter(), time.thread_time()
+            timer.original(engine)
+            timer.ticks.append(time.perf_counter() - began)
+            timer.cpu.append(time.thread_time() - cpu)
+
+        Engine.tick = tick  # type: ignore[method-assign]
+
+    def close(self) -> None:
+        self.engine_class.tick = self.original  # type: ignore[method-assign]
+
+
+def longest_steps(quick: bool) -> None:
+    from aeroexec.cli.main import main
+
+    print("Longest engine step of every mission in missions/ (`aeroexec run --plain`: CPU of the loop thread, then "
+          "wall; ratio to the median step of that run)")
+    timer = TickTimer()
+    try:
+        for mission in MISSIONS[:3] if quick else MISSIONS:
+            timer.ticks.clear()
+            timer.cpu.clear()
+            with tempfile.TemporaryDirectory() as out, contextlib.redirect_stdout(io.StringIO()), \
+                    contextlib.redirect_stderr(io.StringIO()):
+                main(["run", str(mission), "--plain", "--output", out])
+            cpu, ticks = max(timer.cpu), max(timer.ticks)
+            line(f"{mission.name} ({len(timer.ticks)} steps)", f"CPU {cpu * 1000:.1f} ms, wall {ticks * 1000:.1f} ms",
+                 f"{cpu / statistics.median(timer.cpu):.0f}x median", verdict(cpu * 1000, 50))
+    finally:
+        timer.close()
+
+
+def enclosed_goal() -> None:
+    from aeroexec.drones.sim import SimulatedDrone, default_world
+    from aeroexec.drones.sim.shapes import Box
+    from aeroexec.engine.behaviors.planning import planner_settings
+    from aeroexec.engine.clock import WallClock
+    from aeroexec.engine.engine import Engine
+    from aeroexec.engine.execution.process import EngineSettings
+    from aeroexec.engine.planning import grid as grids
+    from aeroexec.engine.planning.path_planner import PathPlanner
+
+    print("GO_TO_POINT to an enclosed goal (cold grids; wall; ratio to planning it inside the tick)")
+    walls = [Box(f"shell{n}", c, size) for n, (c, size) in enumerate([  # a closed box 10 m wide, 8 m high
+        ((0.0, -15.0, 0.25), (10.0, 10.0, 0.5)), ((0.0, -15.0, 7.75), (10.0, 10.0, 0.5)),
+        ((-4.75, -15.0, 4.0), (0.5, 10.0, 8.0)), ((4.75, -15.0, 4.0), (0.5, 10.0, 8.0)),
+        ((0.0, -19.75, 4.0), (10.0, 0.5, 8.0)), ((0.0, -10.25, 4.0), (10.0, 0.5, 8.0))])]
+    world = dataclasses.replace(default_world(), obstacles=default_world().obstacles + tuple(walls))
+    goal = [0.0, -15.0, 4.0]  # 3.5 m or more from every wall: GO_TO_POINT's precondition asks 3 m
+
+    grids._GRIDS.clear()
+    began = time.perf_counter()
+    PathPlanner(world, planner_settings(EngineSettings())).plan((0.0, 0.0, 2.0), goal)
+    blocking = time.perf_counter() - began
+    grids._GRIDS.clear()
+
+    # on the wall clock, as a real drone (or a run paced by --speed) flies: the loop keeps its 20 Hz
+    engine = Engine(SimulatedDrone(world), obstacles=world, clock=WallClock())
+    timer = TickTimer()
+    try:
+        engine.start()
+        with engine._lock:
+            engine.coordinator.activate("TAKE_OFF", {"ALTITUDE": 2.0})
+        wait_until(lambda: not engine.coordinator.is_active("TAKE_OFF"), 30.0)
+        timer.ticks.clear()
+        began = time.perf_counter()
+        with engine._lock:
+            engine.coordinator.activate("GO_TO_POINT", {"COORDINATES": goal})
+        wait_until(lambda: not engine.coordinator.is_active("GO_TO_POINT"), 120.0)
+        took = time.perf_counter() - began
+        engine.stop()
+        ticks = list(timer.ticks)
+    finally:
+        timer.close()
+    ending = [e for e in engine.log.events() if e.behavior == "GO_TO_POINT"][-1]
+    line("the plan, computed inside a tick (baseline)", f"{blocking * 1000:.0f} ms")
+    line(f"longest step while it plans (it ends {ending.kind})", f"{max(ticks) * 1000:.1f} ms",
+         f"{max(ticks) / blocking:.3f}x", verdict(max(ticks) * 1000, 50))
+    line("steps meanwhile / request to answer", f"{len(ticks)} in {took * 1000:.0f} ms",
+         f"{len(ticks) / took:.0f} Hz", "(20 Hz asked)")
+    print("  (on the simulated clock the answer is used planning_time = 0.5 s of simulated time after the request;\n"
+          "   a slower worker is waited for there, with simulated time standing still, so nothing is missed)")
+
+
+def wait_until(condition: Callable[[], bool], seconds: float) -> None:
+    end = time.monotonic() + seconds
+    while not condition() and time.monotonic() < end:
+        time.sleep(0.01)
+
+
+# -- trees ---------------------------------------------------------------------------------------------------
+def tree_xml(groups: int) -> str:
+    """A tree that runs forever: 5 nodes per group (a Sequence of a belief Condition, an Inverter of AlwaysFailure
+    and AlwaysSuccess) under one Sequence under KeepRunningUntilFailure."""
+    group = ('<Sequence><Condition belief="charge(battery, ?C), ?C > 20"/>'
+             '<Inverter><AlwaysFailure/></Inverter><AlwaysSuccess/></Sequence>')
+    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">'
+            f'<KeepRunningUntilFailure><Sequence>{group * groups}</Sequence></KeepRunningUntilFailure>'
+            f'</BehaviorTree></root>')
+
+
+def trees(repeat: int, quick: bool) -> None:
+    import py_trees
+    from aeroexec.beliefs import parse_expression
+    from aeroexec.drones.sim import SimulatedDrone
+    from aeroexec.engine.engine import Engine
+    from aeroexec.trees import read_mission_tree
+    from aeroexec.trees.runner import TreeMission
+    from py_trees.common import Status
+
+    print("Tree ticks (measured only: the tree runtime is issue 19's other part; ratios to bare py_trees and to plain "
+          "recursion over the same shape and belief queries)")
+    engine = Engine(SimulatedDrone())
+    engine.step(0.2)
+    memory = engine.memory
+    expression = parse_expression("charge(battery, ?C), ?C > 20")
+
+    class Query(py_trees.behaviour.Behaviour):
+        def update(self) -> Status:
+            return Status.SUCCESS if memory.query(expression) is not None else Status.FAILURE
+
+    def bare_tree(groups: int) -> py_trees.behaviour.Behaviour:
+        children = [py_trees.composites.Sequence("g", memory=False, children=[
+            Query("c"), py_trees.decorators.Inverter("i", py_trees.behaviours.Failure("f")),
+            py_trees.behaviours.Success("s")]) for _ in range(groups)]
+        return py_trees.composites.Sequence("root", memory=False, children=children)
+
+    class Plain:
+        __slots__ = ("children", "kind")
+
+        def __init__(self, kind: str, children: tuple = ()) -> None:
+            self.kind, self.children = kind, children
+
+        def tick(self) -> bool:
+            kind = self.kind
+            if kind == "sequence":
+                return all(child.tick() for child in self.children)
+            if kind == "condition":
+                return memory.query(expression) is not None
+            if kind == "inverter":
+                return not self.children[0].tick()
+            return kind == "success"
+
+    def plain_tree(groups: int) -> Plain:
+        return Plain("sequence", tuple(Plain("sequence", (
+            Plain("condition"), Plain("inverter", (Plain("failure"),)), Plain("success"))) for _ in range(groups)))
+
+    for groups, target in ((100, 0.5), (1000, 5.0)):
+        document = read_mission_tree(tree_xml(groups), "bench.xml")
+        mission = TreeMission(document, engine)
+        mission.start()
+        bare, plain = bare_tree(groups), plain_tree(groups)
+        ticks = 20 if groups > 500 or quick else 100
+
+        def ours(mission: TreeMission = mission, ticks: int = ticks) -> int:
+            for _ in range(ticks):
+                mission.tick()
+            return ticks
+
+        def py(root: py_trees.behaviour.Behaviour = bare, ticks: int = ticks) -> int:
+            for _ in range(ticks):
+                root.tick_once()
+            return ticks
+
+        def recursion(root: Plain = plain, ticks: int = ticks) -> int:
+            for _ in range(ticks):
+                root.tick()
+            return ticks
+
+        ours_t, py_t, plain_t = (spread(cpu_per_call(f, repeat)) for f in (ours, py, recursion))
+        nodes = len(mission.nodes)
+        line(f"{nodes} nodes, {groups} belief conditions: bare py_trees", f"{py_t[1] * 1000:.2f} ms")
+        line(f"{nodes} nodes: plain recursion", f"{plain_t[1] * 1000:.2f} ms", f"{plain_t[1] / py_t[1]:.2f}x py_trees")
+        line(f"{nodes} nodes: aeroexec tree tick", f"{ours_t[0] * 1000:.2f} / {ours_t[1] * 1000:.2f} ms",
+             f"{ours_t[1] / py_t[1]:.1f}x py_trees", verdict(ours_t[1] * 1000, target))
+        line(f"{nodes} nodes: aeroexec tree tick / plain recursion", "", f"{ours_t[1] / plain_t[1]:.1f}x",
+             verdict(ours_t[1] / plain_t[1], 2))
+        mission.halt("bench")
+    engine.stop()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--quick", action="store_true", help="fewer missions and shorter runs")
+    parser.add_argument("--only", choices=["commands", "step", "missions", "planning", "trees"])
+    options = parser.parse_args()
+    logging_quiet()
+    parts = {"commands": lambda: commands(options.repeat),
+             "step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),
+             "missions": lambda: longest_steps(options.quick),
+             "planning": enclosed_goal,
+             "trees": lambda: trees(options.repeat, options.quick)}
+    print(f"{'':52s}{'min / median':>22s}  {'ratio':>16s}")
+    for name, part in parts.items():
+        if options.only in (None, name):
+            part()
+
+
+def logging_quiet() -> None:
+    import logging
+
+    logging.basicConfig(level=logging.ERROR)
+
+
+if __name__ == "__main__":
+    main()
