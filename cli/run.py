@@ -41,6 +41,16 @@ class RunError(Exception):
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function")
     add_flight_arguments(parser)
+    fleet = parser.add_argument_group("fleet (over Zenoh)")
+    fleet.add_argument("--fleet", metavar="NAME", help="join the fleet NAME (simulated time then runs at real time "
+                                                       "unless --speed says)")
+    fleet.add_argument("--name", metavar="D", help="this drone's name in the fleet (with --fleet)")
+    fleet.add_argument("--connect", action="append", metavar="ENDPOINT",
+                       help="the fleet's router (default tcp/127.0.0.1:7447)")
+    fleet.add_argument("--share", action="append", default=[], metavar="PREDICATE",
+                       help="share this drone's beliefs of PREDICATE with the fleet (repeatable)")
+    fleet.add_argument("--token", metavar="T", help="the fleet's token for operator commands (default: "
+                                                    "$AEROEXEC_FLEET_TOKEN, else a new one in fleet.json)")
 
 
 def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
@@ -123,11 +133,29 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
         name: str) -> int:
     live = live_view_wanted(args)  # the live view paces the simulator to real time unless --speed says
+    fleet_name = getattr(args, "fleet", None)
+    if fleet_name and not getattr(args, "name", None):
+        raise RunError("--fleet needs --name D: this drone's name in the fleet")
     operator = make_operator(args, live)
     drone, world, simulated = make_drone(args)
-    clock = SimulatedClock(speed=args.speed or (1.0 if live else None)) if simulated else WallClock()
+    paced = 1.0 if live or fleet_name else None
+    clock = SimulatedClock(speed=args.speed or paced) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
     engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder)
+    link = None
+    if fleet_name:
+        from aeroexec.fleet.joined import join_fleet
+        from aeroexec.fleet.transport import TransportError
+
+        try:
+            link = join_fleet(engine, fleet_name, args.name, folder, name, args.connect, args.token,
+                              tuple(args.share))
+            print(f"{args.name} joined fleet {fleet_name}", file=sys.stderr, flush=True)
+        except (TransportError, ValueError) as error:
+            engine.stop()
+            operator.close()
+            drone.close()
+            raise RunError(str(error)) from None
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
     try:
         flight_log = FlightLogWriter(engine, log_path, meta={"mission": name, "world": _absolute(args.world),
@@ -162,6 +190,8 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     finally:
         console.close()
         engine.stop()
+        if link is not None:
+            link.close()
         flight_log.close()
         if btlog is not None:
             btlog.close()
