@@ -147,7 +147,13 @@ class FleetLink(BeliefUpdater):
             self._known.add(sender)
             self.engine.log.record("fleet_drone_heard", detail=f"{sender} is in the fleet", drone=sender)
         for belief, announce in beliefs:
-            added = self.engine.memory.add(belief)
+            try:
+                added = self.engine.memory.add(belief)
+            except ValueError as error:  # a predicate this drone does not know, a wrong arity...
+                self.node.dropped += 1
+                logger.warning("fleet %s: %s dropped %s from %s: %s", self.node.fleet, self.name, belief, sender,
+                               error)
+                continue
             if added or belief in self._heard:
                 self._heard[belief] = (sender, wall)
             if added and announce:
