@@ -85,7 +85,7 @@ class FleetNode:
                 self.last_heard[drone] = time.monotonic()
                 self.status[drone] = message
                 sent = message.get("sent")
-                if isinstance(sent, float) and len(self.latencies) < _LATENCY_SAMPLES and drone not in self.links:
+                if isinstance(sent, float) and len(self.latencies) < _LATENCY_SAMPLES:
                     self.latencies.append(received - sent)
         with self._lock:
             links = [link for name, link in self.links.items() if name != drone]
