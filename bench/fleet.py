@@ -35,7 +35,8 @@ def patrol(x: float, y: float):
         api.execute_behavior("TAKE_OFF", altitude=3)
         while True:
             for dx, dy in ((1.5, 1.5), (-1.5, 1.5), (-1.5, -1.5), (1.5, -1.5)):
-                api.execute_behavior("GO_TO_POINT", coordinates=[x + dx, y + dy, 3])
+                if api.execute_behavior("GO_TO_POINT", coordinates=[x + dx, y + dy, 3]) != api.GOAL_ACHIEVED:
+                    api.wait(1)  # refused (too near an obstacle): simulated time must pass before trying again
 
     return mission
 

@@ -17,6 +17,7 @@ import threading
 from typing import Any
 
 from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli.live import wanted as live_view_wanted
 from aeroexec.cli.mission_files import MissionFileError
 from aeroexec.cli.run import RunError, load_mission
 from aeroexec.engine.events import EngineEvent, Outcome
@@ -34,8 +35,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--connect", action="append", metavar="ENDPOINT",
                         help="join the fleet through this router instead of listening (e.g. tcp/127.0.0.1:7447)")
     parser.add_argument("--speed", type=float, metavar="N",
-                        help="simulated time N times faster than real time (default: as fast as possible)")
-    parser.add_argument("--plain", action="store_true", help="one line per event (the only view of a fleet today)")
+                        help="simulated time N times faster than real time (default: real time with the live view, "
+                             "else as fast as possible)")
+    parser.add_argument("--plain", action="store_true",
+                        help="one line per event, prefixed by the drone, instead of the live view (always so when "
+                             "stdout is no terminal)")
     parser.add_argument("--quiet", action="store_true", help="print only the summary lines")
     parser.add_argument("--output", metavar="DIR", help="where each drone's event log goes (DIR/<drone>/)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
@@ -109,9 +113,16 @@ def fly_fleet(args: argparse.Namespace) -> int:
         print(f"fleet {spec.name}: {len(spec.drones)} drones, link on {', '.join(endpoints)}; "
               f"token and endpoint in {folder / FLEET_FILE}", file=sys.stderr, flush=True)
         node = FleetNode(session, spec.name, token)
-        fleet = FleetRun(node, list(spec.drones), missions, world=world, catalog=catalog, speed=args.speed,
-                         output=folder, telemetry_rate=spec.telemetry_rate)
-        if not args.quiet:
+        live = live_view_wanted(args)  # a person at a terminal: paced at real time unless --speed says
+        fleet = FleetRun(node, list(spec.drones), missions, world=world, catalog=catalog,
+                         speed=args.speed or (1.0 if live else None), output=folder,
+                         telemetry_rate=spec.telemetry_rate)
+        view = None
+        if live:
+            from aeroexec.cli.fleet_view import FleetView
+
+            view = FleetView(spec.name, fleet.engines, {m.name: m.link for m in fleet.members}).start()
+        elif not args.quiet:
             for name, engine in fleet.engines.items():
                 engine.log.subscribe(prefixed(name, sys.stdout))
         try:
@@ -119,8 +130,11 @@ def fly_fleet(args: argparse.Namespace) -> int:
         except KeyboardInterrupt:
             print("interrupted by the operator: the fleet stops", file=sys.stderr)
             fleet.stop()
-            outcomes = {m.name: "stopped" for m in fleet.members}
+            fleet.close()
+            outcomes = {m.name: m.outcome() for m in fleet.members}
         finally:
+            if view is not None:
+                view.stop()
             node.close()
     finally:
         session.close()

@@ -6,7 +6,8 @@ the beliefs of the ``share`` predicates (``self`` as written) once a second and 
 Heard (queued by the :class:`~aeroexec.fleet.node.FleetNode`, applied here): ``position(dN, (x, y, z))`` from
 telemetry; shared beliefs with ``self`` replaced by the sender; BROADCAST_MESSAGE as ``message(dN, Text)``
 while this drone's SOCIAL_COMMUNICATION capability runs. What a drone heard from another expires
-``persistence`` seconds (wall time) after it was last said; a drone unheard for 2 s is reported silent.
+``persistence`` seconds (wall time) after it was last said (a message: after its sender was last heard);
+a drone unheard for 2 s is reported silent.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ class FleetLink(BeliefUpdater):
         self._positions: dict[str, dict[str, Any]] = {}  # newest telemetry per drone, not yet applied
         self._lock = threading.Lock()
         self._heard: dict[Struct, tuple[str, float]] = {}  # belief -> (sender, time.monotonic() last said)
+        self._messages: dict[Struct, tuple[str, float]] = {}  # message(dN, Text) -> (sender, when received)
         self._silent: set[str] = set()
         self._known: set[str] = set()
         self._next_telemetry = 0.0
@@ -154,7 +156,10 @@ class FleetLink(BeliefUpdater):
                 logger.warning("fleet %s: %s dropped %s from %s: %s", self.node.fleet, self.name, belief, sender,
                                error)
                 continue
-            if added or belief in self._heard:
+            if belief.name == "message":  # said once: it lasts while its sender is heard
+                if added:
+                    self._messages[belief] = (sender, wall)
+            elif added or belief in self._heard:
                 self._heard[belief] = (sender, wall)
             if added and announce:
                 self.engine.log.record("fleet_belief", detail=f"from {sender}: {belief}", sender=sender,
@@ -200,6 +205,12 @@ class FleetLink(BeliefUpdater):
             if wall - said >= self.persistence:
                 del self._heard[belief]
                 self.engine.memory.remove(belief)
+        if self._messages:
+            heard = self.node.heard()
+            for belief, (sender, received) in list(self._messages.items()):
+                if wall - max(heard.get(sender, received), received) >= self.persistence:
+                    del self._messages[belief]
+                    self.engine.memory.remove(belief)
 
     @property
     def silent(self) -> set[str]:

@@ -74,6 +74,7 @@ class FleetRun:
         self.clock = SimulatedClock()
         self.period = 1.0 / RATE
         self._stop = threading.Event()
+        self._closed = False
         for spec in drones:
             drone = SimulatedDrone(world, seed=spec.seed, config=SimConfig(start=spec.home))
             drone.join(self.airspace, spec.name)
@@ -155,6 +156,10 @@ class FleetRun:
         m.engine.bridge.close()
 
     def close(self) -> None:
+        """Halt what still runs, stop every engine and drone (again: nothing happens)."""
+        if self._closed:
+            return
+        self._closed = True
         for m in self.members:
             if not m.mission_done():
                 self._halt(m, "fleet stopped")

@@ -61,9 +61,17 @@ def test_a_silent_drones_beliefs_expire_and_it_is_reported(fleet):
     endpoint, engine, link, other = fleet
     other.put("aeroexec/f/d2/telemetry", encode("d2", sent=time.time(), position=[1, 2, 3]))
     other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["object(marker_5, aruco)"]))
+    other.put("aeroexec/f/d2/broadcast", encode("d2", text="on my way"))
     assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)")
-                  and engine.memory.holds("position(d2, (1.0, 2.0, 3.0))"))
+                  and engine.memory.holds("position(d2, (1.0, 2.0, 3.0))")
+                  and engine.memory.holds('message(d2, "on my way")'))
+    for _ in range(12):  # d2 keeps talking: its message stays though its persistence (1 s) has passed
+        other.put("aeroexec/f/d2/telemetry", encode("d2", sent=time.time(), position=[1, 2, 3]))
+        settle(engine, lambda: False, wall=0.1)
+    assert engine.memory.holds('message(d2, "on my way")')
+    assert not engine.log.events(kind="fleet_drone_silent")
     assert settle(engine, lambda: engine.log.events(kind="fleet_drone_silent"), wall=4.0)
+    assert settle(engine, lambda: not engine.memory.holds('message(d2, "on my way")'), wall=2.0)
     assert not engine.memory.holds("object(marker_5, aruco)") and not engine.memory.holds("position(d2, ?P)")
 
 

@@ -90,3 +90,33 @@ def test_a_drone_killed_mid_flight_is_reported_silent_and_the_other_finishes(rou
     assert "fleet_drone_silent: victim: nothing heard for" in out
     assert "mission_completed" in out
     assert out.index("fleet_drone_silent") < out.index("mission_completed")
+
+
+def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_token(tmp_path):
+    fleet = tmp_path / "wait.yaml"
+    fleet.write_text(f"fleet: waiting\ndrones:\n  - {{name: w1, mission: {MISSIONS / 'relay_carrier.py'}}}\n"
+                     f"  - {{name: w2, mission: {MISSIONS / 'relay_carrier.py'}, home: [3, 0]}}\n")
+    out = tmp_path / "out"
+    process = aeroexec("fleet", str(fleet), "--plain", "--speed", "1", "--output", str(out), cwd=tmp_path)
+    try:
+        wait_for_line(process, "fleet_drone_heard", 30)
+
+        def ctl(*args: str, token: str | None = None) -> subprocess.CompletedProcess:
+            env = {k: v for k, v in os.environ.items() if k != "AEROEXEC_FLEET_TOKEN"}
+            extra = ("--token", token) if token else ()
+            return subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "ctl", "--fleet", "waiting", "--run",
+                                   str(out), *extra, *args], capture_output=True, text=True, timeout=60, env=env)
+
+        status = ctl("status")
+        assert status.returncode == 0, status.stderr
+        assert "w1: " in status.stdout and "w2: " in status.stdout and "battery" in status.stdout
+        refused = ctl("abort", token="not-the-token")
+        assert refused.returncode == 1 and "wrong token" in refused.stderr
+        aborted = ctl("abort", "--drone", "w2")
+        assert aborted.returncode == 0 and "w2: " in aborted.stdout and "w1" not in aborted.stdout
+        ctl("abort", "--drone", "w1")
+        rest, _ = process.communicate(timeout=60)
+    finally:
+        stop(process)
+    assert process.returncode == 1  # aborted missions did not complete
+    assert "w2 | " in rest and "operator_command" in rest

@@ -65,7 +65,8 @@ def test_drones_of_one_world_see_each_other_and_know_where_the_others_are(tmp_pa
 
 
 @pytest.mark.parametrize(("text", "expected"), [
-    ("fleet: f\ndrones:\n  - {name: d1, mission: nowhere.py}\n", "f.yaml:3: error: the mission nowhere.py is not found"),
+    ("fleet: f\ndrones:\n  - {name: d1, mission: nowhere.py}\n",
+     "f.yaml:3: error: the mission nowhere.py is not found"),
     ("fleet: f\ndrones:\n  - {name: d1, mission: m.py}\n  - {name: d1, mission: m.py}\n",
      "f.yaml:4: error: two drones are called d1 (the first at line 3)"),
     ("fleet: f\ndrones:\n  - {name: d1, mission: m.py, home: [1]}\n",
