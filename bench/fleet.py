@@ -12,6 +12,7 @@ connected to the fleet's endpoint as ``aeroexec ctl`` or another process would b
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import statistics
@@ -42,9 +43,9 @@ def patrol(x: float, y: float):
 
 
 def homes(n: int) -> list[tuple[float, float]]:
-    """Drones on a grid 4 m apart in the open south-east of the default world (beside the pole at (12, -6))."""
+    """Drones on a grid 4 m apart from the south-west corner of the field."""
     side = math.ceil(math.sqrt(n))
-    return [(-2 + 2.5 * (i % side), -18 + 2.5 * (i // side)) for i in range(n)]
+    return [(-16 + 4 * (i % side), -16 + 4 * (i // side)) for i in range(n)]
 
 
 def percentile(samples: list[float], q: float) -> float:
@@ -75,7 +76,8 @@ def run_size(n: int, seconds: float, speed: float) -> dict[str, float]:
     node = FleetNode(session, "bench", "bench-token")
     drones = [DroneSpec(f"d{i + 1}", Path("patrol.py"), home, seed=i) for i, home in enumerate(homes(n))]
     missions = {d.name: patrol(*d.home) for d in drones}
-    fleet = FleetRun(node, drones, missions, world=default_world(), speed=speed)
+    world = dataclasses.replace(default_world(), obstacles=())  # the default field, cleared for the grid of drones
+    fleet = FleetRun(node, drones, missions, world=world, speed=speed)
     cpu0, wall0 = time.process_time(), time.monotonic()
     try:
         fleet.run(max_time=seconds)

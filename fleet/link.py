@@ -1,7 +1,8 @@
 """One drone's fleet link: what its engine tells the fleet and what it hears of the others, on its own tick.
 
 Published (on the engine's thread): telemetry at ``telemetry_rate`` Hz of engine time (position, velocity, yaw,
-battery, flight state, mission, active behaviors; also the drone's heartbeat), every engine event, and
+battery, flight state, mission, active behaviors; also the drone's heartbeat), the engine's events (those of
+a tick together, in one message), and
 the beliefs of the ``share`` predicates (``self`` as written) once a second and when they change.
 Heard (queued by the :class:`~aeroexec.fleet.node.FleetNode`, applied here): ``position(dN, (x, y, z))`` from
 telemetry; shared beliefs with ``self`` replaced by the sender; BROADCAST_MESSAGE as ``message(dN, Text)``
@@ -27,6 +28,7 @@ logger = logging.getLogger(__name__)
 SOCIAL = "SOCIAL_COMMUNICATION"
 PERSISTENCE = 5.0  # wall seconds a belief heard from another drone lasts unless said again
 BELIEFS_PERIOD = 1.0  # engine seconds between two snapshots of the shared beliefs
+CHECK_PERIOD = 0.2  # wall seconds between two looks for silent drones and expired beliefs
 MAX_BELIEFS = 500  # per snapshot
 
 
@@ -58,6 +60,9 @@ class FleetLink(BeliefUpdater):
         self._lock = threading.Lock()
         self._heard: dict[Struct, tuple[str, float]] = {}  # belief -> (sender, time.monotonic() last said)
         self._messages: dict[Struct, tuple[str, float]] = {}  # message(dN, Text) -> (sender, when received)
+        self._where: dict[str, tuple[Struct, float]] = {}  # drone -> (its position belief, when received)
+        self._next_check = 0.0
+        self._events: list[dict[str, Any]] = []
         self._silent: set[str] = set()
         self._known: set[str] = set()
         self._next_telemetry = 0.0
@@ -112,12 +117,15 @@ class FleetLink(BeliefUpdater):
             self._inbox.clear()
         wall = time.monotonic()
         for sender, message in positions.items():
-            self._apply(self._telemetry_beliefs, sender, message, wall)
+            self._place(sender, message, wall)
         for sender, topic, message in inbox:
             self._apply(self._message_beliefs if topic == "broadcast" else self._shared_beliefs,
                         sender, message, wall)
-        self._check_silence(wall)
-        self._expire(wall)
+        if wall >= self._next_check:
+            self._next_check = wall + CHECK_PERIOD
+            self._check_silence(wall)
+            self._expire(wall)
+        self._publish_events()
         if now >= self._next_telemetry:
             self._next_telemetry = now + self.telemetry_period
             self._publish_telemetry(now)
@@ -165,8 +173,19 @@ class FleetLink(BeliefUpdater):
                 self.engine.log.record("fleet_belief", detail=f"from {sender}: {belief}", sender=sender,
                                        belief=str(belief))
 
-    def _telemetry_beliefs(self, sender: str, message: dict[str, Any]) -> list[tuple[Struct, bool]]:
-        return [(Struct("position", (sender, vector(message.get("position")))), False)]
+    def _place(self, sender: str, message: dict[str, Any], wall: float) -> None:
+        """``position(sender, (x, y, z))`` from its telemetry (replacing the last one)."""
+        try:
+            belief = Struct("position", (sender, vector(message.get("position"))))
+        except PayloadError as error:
+            self.node.dropped += 1
+            logger.warning("fleet %s: %s dropped telemetry from %s: %s", self.node.fleet, self.name, sender, error)
+            return
+        if sender not in self._known:
+            self._known.add(sender)
+            self.engine.log.record("fleet_drone_heard", detail=f"{sender} is in the fleet", drone=sender)
+        self.engine.memory.add(belief)
+        self._where[sender] = (belief, wall)
 
     def _shared_beliefs(self, sender: str, message: dict[str, Any]) -> list[tuple[Struct, bool]]:
         texts = message.get("beliefs")
@@ -205,6 +224,10 @@ class FleetLink(BeliefUpdater):
             if wall - said >= self.persistence:
                 del self._heard[belief]
                 self.engine.memory.remove(belief)
+        for sender, (belief, said) in list(self._where.items()):
+            if wall - said >= self.persistence:
+                del self._where[sender]
+                self.engine.memory.remove(belief)
         if self._messages:
             heard = self.node.heard()
             for belief, (sender, received) in list(self._messages.items()):
@@ -235,7 +258,15 @@ class FleetLink(BeliefUpdater):
         self.node.publish(self.name, "beliefs", beliefs=shared[:MAX_BELIEFS])
 
     def _publish_event(self, event: Any) -> None:
+        """Keep an event for the next batch (one message per tick carries all of them)."""
         if event.kind in ("fleet_belief", "node_status"):
             return
-        self.node.publish(self.name, "events", time=round(event.time, 3), kind=event.kind,
-                          behavior=event.behavior, detail=event.detail)
+        with self._lock:
+            self._events.append({"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
+                                 "detail": event.detail})
+
+    def _publish_events(self) -> None:
+        with self._lock:
+            events, self._events = self._events, []
+        if events:
+            self.node.publish(self.name, "events", events=events)

@@ -33,6 +33,7 @@ class FleetNode:
         self.status: dict[str, dict[str, Any]] = {}  # drone -> its last telemetry
         self.latencies: list[float] = []  # s, telemetry publish -> receive (same-machine clocks)
         self.dropped = 0
+        self._publishers: dict[tuple[str, str], Any] = {}
         self._lock = threading.Lock()
         self._closed = False
         self._subscriber = session.declare_subscriber(f"aeroexec/{fleet}/**", self._on_sample)
@@ -50,10 +51,15 @@ class FleetNode:
             self.links.pop(name, None)
 
     def publish(self, drone: str, topic: str, **fields: Any) -> None:
+        """Put one message of ``drone`` on its ``topic`` key (QoS: DATA priority, DROP when congested)."""
         if self._closed:
             return
         try:
-            self.session.put(key(self.fleet, drone, topic), encode(drone, **fields))
+            publisher = self._publishers.get((drone, topic))
+            if publisher is None:
+                publisher = self.session.declare_publisher(key(self.fleet, drone, topic))
+                self._publishers[(drone, topic)] = publisher
+            publisher.put(encode(drone, **fields))
         except Exception as error:  # a closed session or a full queue: the drone flies on
             logger.debug("fleet %s: %s/%s not sent: %s", self.fleet, drone, topic, error)
 
@@ -141,7 +147,7 @@ class FleetNode:
         if self._closed:
             return
         self._closed = True
-        for entity in (self._subscriber, self._queryable):
+        for entity in (self._subscriber, self._queryable, *self._publishers.values()):
             try:
                 entity.undeclare()
             except Exception as error:

@@ -19,7 +19,7 @@ from typing import Any
 from aeroexec.drones.sim import Airspace, SimConfig, SimulatedDrone
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.missions.bridge import DONE
+from aeroexec.engine.missions.bridge import DONE, RUNNING
 from aeroexec.engine.supervision.flight_log import FlightLogWriter
 from aeroexec.engine.supervision.supervisor import LAND_BEHAVIOR, is_flying, start_landing
 from aeroexec.fleet.fleet_file import DroneSpec
@@ -32,6 +32,8 @@ logger = logging.getLogger(__name__)
 
 RATE = 20.0  # Hz, as a single engine
 LANDING_TIME = 180.0  # engine seconds a drone is given to land after its mission
+HAND_OVER = 0.0002  # wall seconds between two looks at missions still computing
+STALL_WARNING = 30.0  # wall seconds of missions computing before saying so
 
 
 @dataclass
@@ -134,11 +136,11 @@ class FleetRun:
 
     def _period(self, now: float) -> None:
         for m in self.members:
+            m.engine.tick()  # a landed drone is still heard (telemetry) and still hears
+        self._serve([m for m in self.members if not m.landed])
+        for m in self.members:
             if m.landed:
-                m.engine.tick()  # still heard (telemetry), still hearing
                 continue
-            m.engine.tick()
-            m.engine.bridge.serve(lockstep=True)
             if m.mission_done():
                 if m.ended_at is None:
                     m.ended_at = now
@@ -149,6 +151,26 @@ class FleetRun:
                 if not landing and not is_flying(m.engine) or now - m.ended_at > LANDING_TIME:
                     m.landed = True
                     m.link.state = m.outcome()
+
+    def _serve(self, members: list[Member]) -> None:
+        """Serve every Python mission until each waits on its engine (lockstep, as ``Engine.step``); the
+        mission threads run side by side meanwhile, so N missions cost about one hand-over, not N."""
+        waiting = members
+        warned_at = time.monotonic() + STALL_WARNING
+        while waiting:
+            busy = []
+            for m in waiting:
+                m.engine.bridge.serve(lockstep=False)  # what is queued now; returns when the queue is empty
+                if m.engine.bridge.state == RUNNING and not m.engine.supervisor.paused and not m.engine.stopped:
+                    busy.append(m)
+            waiting = busy
+            if waiting:
+                time.sleep(HAND_OVER)
+                if time.monotonic() > warned_at:
+                    logger.warning("the missions of %s have been busy for %.0f s of wall time without calling "
+                                   "their engines; simulated time waits for them",
+                                   ", ".join(m.name for m in waiting), STALL_WARNING)
+                    warned_at = time.monotonic() + STALL_WARNING
 
     def _halt(self, m: Member, reason: str) -> None:
         if m.tree is not None:
