@@ -117,6 +117,8 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
             print(f"{drone}: {answer.get('message', 'ok')}")
             if "status" in answer:
                 print(describe_status(answer["status"]))
+            if answer.get("silent"):
+                print(f"  silent (nothing heard for 2 s or more): {', '.join(answer['silent'])}")
         else:
             print(f"{drone}: refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
     if not answers:

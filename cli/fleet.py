@@ -33,7 +33,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="where to listen (default: a free port on 127.0.0.1 for a fleet, "
                              "tcp/127.0.0.1:7447 for --router); repeatable")
     parser.add_argument("--connect", action="append", metavar="ENDPOINT",
-                        help="join the fleet through this router instead of listening (e.g. tcp/127.0.0.1:7447)")
+                        help="join the fleet through this router instead of listening (e.g. tcp/127.0.0.1:7447); "
+                             "with --router: another machine's router to link to")
     parser.add_argument("--speed", type=float, metavar="N",
                         help="simulated time N times faster than real time (default: real time with the live view, "
                              "else as fast as possible)")
@@ -52,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         if args.router:
-            return serve_router(args.listen or ["tcp/127.0.0.1:7447"])
+            return serve_router(args.listen or ["tcp/127.0.0.1:7447"], args.connect or [])
         if not args.fleet_file:
             print("aeroexec fleet: give a fleet file, or --router", file=sys.stderr)
             return 2
@@ -62,14 +63,17 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def serve_router(listen: list[str]) -> int:
-    from aeroexec.fleet.transport import open_router
+def serve_router(listen: list[str], connect: list[str]) -> int:
+    """A Zenoh router on ``listen``, linked to the routers at ``connect`` (other machines), until Ctrl-C."""
+    from aeroexec.fleet.transport import open_session
 
     stop = threading.Event()
     previous = signal.signal(signal.SIGTERM, lambda *_: stop.set())
-    session = open_router(listen)
+    session = open_session("router", listen=listen, connect=connect)
     try:
-        print(f"zenoh router listening on {', '.join(listen)} (Ctrl-C to stop)", file=sys.stderr, flush=True)
+        linked = f", linked to {', '.join(connect)}" if connect else ""
+        print(f"zenoh router listening on {', '.join(listen)}{linked} (Ctrl-C to stop)", file=sys.stderr,
+              flush=True)
         while not stop.wait(0.5):
             pass
     except KeyboardInterrupt:

@@ -185,6 +185,11 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
             engine.log.record("operator_interrupt", detail="Ctrl-C")
             engine.supervisor.execute("abort", "Ctrl-C: aborted by the operator", origin="keyboard")
         land_if_flying(engine)
+        if link is not None:  # the fleet hears how this drone's mission ended (telemetry's status)
+            failed = engine.log.events(kind="mission_failed")
+            link.link.state = "failed" if failed else "completed" if engine.log.events(kind="mission_completed") \
+                else "stopped"
+            link.link.update(engine.memory, float("inf"))  # publish it once more before leaving
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:

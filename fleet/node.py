@@ -119,6 +119,7 @@ class FleetNode:
                     answer = {"ok": result.ok, "message": result.message}
                     if request["command"] == "status":
                         answer["status"] = result.data
+                        answer["silent"] = sorted(getattr(self.links.get(name), "silent", ()))
                 query.reply(key(self.fleet, name, "command"), encode(name, **answer))
 
     def _request(self, query: Any) -> tuple[dict[str, Any], list[tuple[str, Any]]]:

@@ -55,8 +55,3 @@ def open_session(mode: str, listen: list[str] | tuple[str, ...] = (), connect: l
     except zenoh.ZError as error:
         where = ", ".join([*(f"listen on {e}" for e in listen), *(f"connect to {e}" for e in connect)])
         raise TransportError(f"cannot open the fleet link ({where or mode}): {error}") from None
-
-
-def open_router(listen: list[str] | tuple[str, ...] = (DEFAULT_ENDPOINT,)):
-    """A Zenoh router session listening on ``listen`` (the fleet's meeting point across processes and machines)."""
-    return open_session("router", listen=listen)

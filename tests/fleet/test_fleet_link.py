@@ -71,6 +71,7 @@ def test_a_silent_drones_beliefs_expire_and_it_is_reported(fleet):
     assert engine.memory.holds('message(d2, "on my way")')
     assert not engine.log.events(kind="fleet_drone_silent")
     assert settle(engine, lambda: engine.log.events(kind="fleet_drone_silent"), wall=4.0)
+    assert link.silent == {"d2"}
     assert settle(engine, lambda: not engine.memory.holds('message(d2, "on my way")'), wall=2.0)
     assert not engine.memory.holds("object(marker_5, aruco)") and not engine.memory.holds("position(d2, ?P)")
 
