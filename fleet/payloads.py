@@ -43,6 +43,8 @@ def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[st
     if len(parts) != 4 or parts[0] != "aeroexec" or parts[1] != fleet or parts[3] not in TOPICS:
         raise PayloadError(f"foreign key {key_expr}")
     drone, topic = parts[2], parts[3]
+    if not NAME.match(drone) or drone == "self":
+        raise PayloadError(f"{key_expr}: {drone!r} is no drone name")
     if len(payload) > MAX_PAYLOAD:
         raise PayloadError(f"{len(payload)} bytes on {key_expr}: more than {MAX_PAYLOAD}")
     try:

@@ -54,4 +54,5 @@ def open_session(mode: str, listen: list[str] | tuple[str, ...] = (), connect: l
         return zenoh.open(config(mode, listen, connect))
     except zenoh.ZError as error:
         where = ", ".join([*(f"listen on {e}" for e in listen), *(f"connect to {e}" for e in connect)])
-        raise TransportError(f"cannot open the fleet link ({where or mode}): {error}") from None
+        reason = str(error).split("  at ")[0].split(" at /")[0].rstrip(". ")  # not Zenoh's source location
+        raise TransportError(f"cannot open the fleet link ({where or mode}): {reason}") from None

@@ -46,13 +46,15 @@ def test_malformed_and_foreign_messages_are_dropped_and_the_engine_goes_on(fleet
     other.put("aeroexec/f/d2/beliefs", encode("d3", beliefs=["object(box, thing)"]))  # lies about its sender
     other.put("aeroexec/f/d2/telemetry", encode("d2", position=["x", 1, 2]))
     other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["object(self, "]))
-    assert settle(engine, lambda: link.node.dropped >= 5)
+    other.put("aeroexec/f/self/telemetry", encode("self", position=[9, 9, 9]))  # would pass for this drone
+    assert settle(engine, lambda: link.node.dropped >= 6)
     other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["seen(self, marker_3)", "object(marker_3, aruco)",
                                                              "object(self, drone)"]))
     assert settle(engine, lambda: engine.memory.holds("object(d2, drone)"))
     assert engine.memory.holds("object(marker_3, aruco)")
     assert "The predicate seen" in caplog.text
     assert not engine.memory.holds("object(box, thing)")
+    assert not engine.memory.holds("position(self, (9.0, 9.0, 9.0))")
     assert "not JSON" in caplog.text and "version 99" in caplog.text and "says it is from 'd3'" in caplog.text
     assert not engine.stopped
 

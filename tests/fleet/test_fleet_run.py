@@ -81,3 +81,17 @@ def test_fleet_file_errors_name_file_and_line(tmp_path, capsys, text, expected):
     err = capsys.readouterr().err
     assert expected in err.replace(str(tmp_path) + "/", ""), err
     assert "Traceback" not in err
+
+
+def test_a_fleet_flies_missions_of_any_format_side_by_side(tmp_path, capsys):
+    fleet = tmp_path / "mixed.yaml"
+    fleet.write_text(f"fleet: mixed\ndrones:\n  - {{name: t1, mission: {MISSIONS / 'square_patrol.yaml'}}}\n"
+                     f"  - {{name: p1, mission: {MISSIONS / 'relay_scout.py'}, home: [2, 2]}}\n")
+    assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert "t1: square_patrol.yaml completed" in err and "p1: relay_scout.py completed" in err
+    tree = events(tmp_path / "out", "t1")
+    assert any(e["kind"] == "node_status" for e in tree)  # flown as a behavior tree
+    scout = events(tmp_path / "out", "p1")
+    heard = next(e for e in scout if e["kind"] == "message_sent")
+    assert heard["data"]["receivers"] == ["t1"]
