@@ -23,6 +23,16 @@ SILENT_AFTER = 2.0  # wall seconds without telemetry after which a drone is sile
 _LATENCY_SAMPLES = 100_000
 
 
+def qos(topic: str) -> dict[str, Any]:
+    """Zenoh QoS of a topic: never block the engine (DROP when congested); a broadcast goes first and alone."""
+    import zenoh
+
+    if topic == "broadcast":
+        return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA_HIGH,
+                "express": True}
+    return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA}
+
+
 class FleetNode:
     """The local drones of ``fleet`` on one Zenoh ``session``: decoding, fan-out, commands, who was heard when."""
 
@@ -57,7 +67,7 @@ class FleetNode:
         try:
             publisher = self._publishers.get((drone, topic))
             if publisher is None:
-                publisher = self.session.declare_publisher(key(self.fleet, drone, topic))
+                publisher = self.session.declare_publisher(key(self.fleet, drone, topic), **qos(topic))
                 self._publishers[(drone, topic)] = publisher
             publisher.put(encode(drone, **fields))
         except Exception as error:  # a closed session or a full queue: the drone flies on
