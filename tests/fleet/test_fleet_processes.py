@@ -4,6 +4,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -39,15 +40,22 @@ def stop(*processes: subprocess.Popen) -> None:
 
 
 def wait_for_line(process: subprocess.Popen, text: str, timeout: float) -> list[str]:
-    lines, end = [], time.monotonic() + timeout
-    while time.monotonic() < end:
-        line = process.stdout.readline()
-        if not line:
-            break
-        lines.append(line)
-        if text in line:
-            return lines
-    raise AssertionError(f"{text!r} not seen in: {''.join(lines)[-3000:]}")
+    """The process's output lines up to the first holding ``text``; kills it when none comes in time."""
+    lines: list[str] = []
+    found = threading.Event()
+
+    def read() -> None:
+        for line in process.stdout:
+            lines.append(line)
+            if text in line:
+                found.set()
+                return
+
+    threading.Thread(target=read, daemon=True).start()
+    if not found.wait(timeout):
+        process.kill()
+        raise AssertionError(f"{text!r} not seen in {timeout:g} s: {''.join(lines)[-3000:]}")
+    return lines
 
 
 def test_a_broadcast_from_one_process_reaches_the_mission_waiting_for_it_in_another(router, tmp_path):
