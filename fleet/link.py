@@ -250,10 +250,11 @@ class FleetLink(BeliefUpdater):
                           status=self.state, active=active)
 
     def _publish_beliefs(self) -> None:
+        heard = set(self._heard) | set(self._messages) | {belief for belief, _ in self._where.values()}
         shared = []
         for predicate in self.share:
             for belief in self.engine.memory.beliefs(predicate):
-                if belief not in self._heard:  # only what this drone knows itself
+                if belief not in heard:  # only what this drone knows itself, never what others told it
                     shared.append(str(belief))
         self.node.publish(self.name, "beliefs", beliefs=shared[:MAX_BELIEFS])
 

@@ -101,3 +101,22 @@ def test_commands_need_the_fleets_token(fleet):
     assert answers["d1"]["ok"] and "position" in answers["d1"]["status"]
     answers = command_fleet([endpoint], "f", "secret", "pause", drone="d1")
     assert answers["d1"]["ok"] and engine.supervisor.state == "paused"
+
+
+def test_a_drone_shares_what_it_knows_itself_never_what_others_told_it(fleet):
+    endpoint, engine, link, other = fleet
+    link.share = ("object", "position")
+    said = []
+    sub = other.declare_subscriber("aeroexec/f/d1/beliefs",
+                                   lambda sample: said.append(json.loads(bytes(sample.payload))))
+    time.sleep(0.3)
+    engine.memory.add("object(red_box, box)")
+    other.put("aeroexec/f/d2/telemetry", encode("d2", sent=time.time(), position=[1, 2, 3]))
+    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["object(marker_5, aruco)"]))
+    assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)") and len(said) >= 2)
+    engine.step(1.1)
+    assert settle(engine, lambda: len(said) >= 3)
+    sub.undeclare()
+    last = said[-1]["beliefs"]
+    assert "object(red_box, box)" in last and any(b.startswith("position(self, (") for b in last)
+    assert not any("marker_5" in b or "d2" in b for b in last)
