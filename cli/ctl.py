@@ -33,6 +33,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--port", type=int, metavar="P", help="the run's control port (with --token)")
     parser.add_argument("--token", metavar="T", help="the run's control token (with --port)")
     parser.add_argument("--json", action="store_true", help="print the answer as JSON")
+    parser.add_argument("--fleet", metavar="NAME", help="command the drones of fleet NAME over Zenoh")
+    parser.add_argument("--drone", metavar="D", help="only drone D of the fleet (default: every drone)")
+    parser.add_argument("--connect", action="append", metavar="ENDPOINT",
+                        help="the fleet's endpoint (default: from the fleet's fleet.json)")
     parser.add_argument("command", choices=list(COMMANDS), metavar="COMMAND",
                         help="; ".join(f"{name} {text}" for name, text in COMMANDS.items()))
     parser.add_argument("argument", nargs="*", help="the command's argument (NAME, TEXT, BELIEF or PATTERN)")
@@ -43,6 +47,8 @@ def run(args: argparse.Namespace) -> int:
     if args.command in NEEDS_ARGUMENT and not argument:
         print(f"aeroexec ctl {args.command}: {COMMANDS[args.command]}; give the argument", file=sys.stderr)
         return 2
+    if args.fleet:
+        return fleet_command(args, argument)
     try:
         port, token = endpoint(args)
         answer = send_command(port, token, args.command, argument)
@@ -88,3 +94,36 @@ def describe_status(status: dict) -> str:
                      f"{timeout}")
     lines += [f"  question waiting: {question}" for question in status.get("questions", [])]
     return "\n".join(lines)
+
+
+def fleet_command(args: argparse.Namespace, argument: str) -> int:
+    """The command to every drone of ``--fleet`` (or ``--drone``) as a Zenoh query guarded by the fleet's token."""
+    import os
+
+    from aeroexec.fleet.control import FleetCommandError, command_fleet
+    from aeroexec.fleet.fleet_json import TOKEN_VARIABLE, read_fleet_file
+
+    try:
+        known = {} if args.connect and (args.token or os.environ.get(TOKEN_VARIABLE)) else \
+            read_fleet_file(args.fleet, args.run_dir)
+        token = args.token or os.environ.get(TOKEN_VARIABLE) or known.get("token", "")
+        answers = command_fleet(args.connect or known.get("endpoints") or [], args.fleet, token, args.command,
+                                argument, drone=args.drone or "*")
+    except (ValueError, FleetCommandError) as error:
+        print(error, file=sys.stderr)
+        return 1
+    if args.json:
+        print(json.dumps(answers, indent=2))
+        return 0 if answers and all(a.get("ok") for a in answers.values()) else 1
+    for drone, answer in sorted(answers.items()):
+        if answer.get("ok"):
+            print(f"{drone}: {answer.get('message', 'ok')}")
+            if "status" in answer:
+                print(describe_status(answer["status"]))
+            if answer.get("silent"):
+                print(f"  silent (nothing heard for 2 s or more): {', '.join(answer['silent'])}")
+        else:
+            print(f"{drone}: refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
+    if not answers:
+        print(f"no drone of fleet {args.fleet} answered", file=sys.stderr)
+    return 0 if answers and all(a.get("ok") for a in answers.values()) else 1

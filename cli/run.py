@@ -41,6 +41,16 @@ class RunError(Exception):
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function")
     add_flight_arguments(parser)
+    fleet = parser.add_argument_group("fleet (over Zenoh)")
+    fleet.add_argument("--fleet", metavar="NAME", help="join the fleet NAME (simulated time then runs at real time "
+                                                       "unless --speed says)")
+    fleet.add_argument("--name", metavar="D", help="this drone's name in the fleet (with --fleet)")
+    fleet.add_argument("--connect", action="append", metavar="ENDPOINT",
+                       help="the fleet's router (default tcp/127.0.0.1:7447)")
+    fleet.add_argument("--share", action="append", default=[], metavar="PREDICATE",
+                       help="share this drone's beliefs of PREDICATE with the fleet (repeatable)")
+    fleet.add_argument("--token", metavar="T", help="the fleet's token for operator commands (default: "
+                                                    "$AEROEXEC_FLEET_TOKEN, else a new one in fleet.json)")
 
 
 def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
@@ -136,13 +146,31 @@ def make_drone(args: argparse.Namespace, choice: robots.RobotChoice | None = Non
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
         name: str, choice: robots.RobotChoice | None = None) -> int:
     live = live_view_wanted(args)
+    fleet_name = getattr(args, "fleet", None)
+    if fleet_name and not getattr(args, "name", None):
+        raise RunError("--fleet needs --name D: this drone's name in the fleet")
     watched = live or web.wanted(args)  # someone watches: real time unless --speed says, questions wait for them
     operator = make_operator(args, watched)
     drone, world, simulated = make_drone(args, choice)
-    clock = SimulatedClock(speed=args.speed or (1.0 if watched else None)) if simulated else WallClock()
+    paced = 1.0 if watched or fleet_name else None
+    clock = SimulatedClock(speed=args.speed or paced) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
     engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder,
                     **(choice.engine_options(drone) if choice is not None else {}))
+    link = None
+    if fleet_name:
+        from aeroexec.fleet.joined import join_fleet
+        from aeroexec.fleet.transport import TransportError
+
+        try:
+            link = join_fleet(engine, fleet_name, args.name, folder, name, args.connect, args.token,
+                              tuple(args.share))
+            print(f"{args.name} joined fleet {fleet_name}", file=sys.stderr, flush=True)
+        except (TransportError, ValueError) as error:
+            engine.stop()
+            operator.close()
+            drone.close()
+            raise RunError(str(error)) from None
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
     try:
         meta = {"mission": name, "world": _absolute(world_file(args, choice)), "drone": args.drone,
@@ -174,12 +202,17 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
             engine.log.record("operator_interrupt", detail="Ctrl-C")
             engine.supervisor.execute("abort", "Ctrl-C: aborted by the operator", origin="keyboard")
         land_if_flying(engine)
+        if link is not None:  # the fleet hears how this drone's mission ended (telemetry's status)
+            failed = engine.log.events(kind="mission_failed")
+            link.link.state = "failed" if failed else "completed" if engine.log.events(kind="mission_completed") \
+                else "stopped"
+            link.link.update(engine.memory, float("inf"))  # publish it once more before leaving
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:
         console.close()
         engine.stop()
-        for surface in (browser, groot):
+        for surface in (browser, groot, link):
             if surface is not None:
                 surface.close()
         flight_log.close()

@@ -26,7 +26,11 @@ from aeroexec.engine.execution.activation import ActivationConditions
 
 from aeroexec import beliefs, drones
 
-_bound: dict[str, Any] = {"engine": None}
+#: The engine each mission thread talks to (one per thread: several engines fly side by side in one process).
+_bound = threading.local()
+#: Every engine bound now, by thread id: a thread of a mission's own that was never bound talks to the one
+#: engine when exactly one is running (a single-drone mission's helper threads keep working).
+_everywhere: dict[int, Any] = {}
 _lock = threading.Lock()
 _uids = itertools.count(1)
 _activations: weakref.WeakValueDictionary[int, Any] = weakref.WeakValueDictionary()  # uid -> Activation
@@ -53,19 +57,29 @@ class Unification(dict):
 
 
 def bind(engine: Any) -> None:
-    """Make ``engine`` the one the API talks to (done by the engine for its mission thread)."""
+    """Make ``engine`` the one the API talks to from this thread (done by the engine for its mission thread)."""
+    _bound.engine = engine
     with _lock:
-        _bound["engine"] = engine
+        _everywhere[threading.get_ident()] = engine
 
 
 def unbind() -> None:
+    """This thread talks to no engine any more."""
+    _bound.engine = None
     with _lock:
-        _bound["engine"] = None
+        _everywhere.pop(threading.get_ident(), None)
 
 
 def _engine() -> Any:
-    engine = _bound["engine"]
+    engine = getattr(_bound, "engine", None)
     if engine is None:
+        with _lock:
+            running = {id(e): e for e in _everywhere.values()}
+        if len(running) == 1:
+            return next(iter(running.values()))
+        if running:
+            raise RuntimeError("this thread is bound to no engine and several engines run in this process: "
+                               "call the mission API from the mission's own thread")
         raise RuntimeError("no engine is running this mission: run it with `aeroexec run MISSION.py`")
     return engine
 

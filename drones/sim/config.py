@@ -48,6 +48,7 @@ class SimConfig:
     payload: tuple[str, ...] | None = None  # names of the items carried (None: the world's ``payload``)
 
     # Simulation
+    start: tuple[float, float] = (0.0, 0.0)  # m east, north: where the drone stands at first and returns to
     substep: float = 0.02  # s: fixed integration step
     position_noise_std: float = 0.0  # m: reported position noise (0 = exact), seeded
 

@@ -15,6 +15,7 @@ from functools import wraps
 from typing import TypeVar
 
 from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure, Observation, Telemetry, Vector
+from aeroexec.drones.sim.airspace import Airspace
 from aeroexec.drones.sim.camera import Camera, merge_observations
 from aeroexec.drones.sim.config import SimConfig
 from aeroexec.drones.sim.motion import wrap180
@@ -64,6 +65,13 @@ class SimulatedDrone(Drone):
         self._payload = PayloadBay(self.config.payload if self.config.payload is not None else self.world.payload)
         self._renderer = None  # the camera image renderer, built on the first capture
         self._telemetry: tuple[tuple, Telemetry] | None = None  # the last answer and the state it was read from
+        self.airspace: Airspace | None = None  # the other drones of the world, seen by the cameras
+        self.call_sign = ""
+
+    def join(self, airspace: Airspace, name: str) -> None:
+        """Fly in ``airspace`` as ``name``: the other drones there see this one, and it sees them."""
+        airspace.add(name, lambda: self._vehicle.position)
+        self.airspace, self.call_sign = airspace, name
 
     # --- time --------------------------------------------------------------------------------------
     @_locked
@@ -137,8 +145,19 @@ class SimulatedDrone(Drone):
             v = self._vehicle
             self._observations = merge_observations(
                 self.camera.observe(self.world, v.position, v.yaw, self._now),
-                self.bottom_camera.observe(self.world, v.position, v.yaw, self._now))
+                self.bottom_camera.observe(self.world, v.position, v.yaw, self._now),
+                self._traffic(v.position, v.yaw))
         return list(self._observations)
+
+    def _traffic(self, position: Vector, yaw: float) -> list[Observation]:
+        """The other drones of the airspace that a camera sees (moving objects of shape ``drone``)."""
+        if self.airspace is None:
+            return []
+        seen = []
+        for name, where in self.airspace.others(self.call_sign):
+            if any(camera.visible(self.world, position, yaw, where) for camera in (self.camera, self.bottom_camera)):
+                seen.append(Observation("object", name, where, shape="drone", distance=math.dist(position, where)))
+        return seen
 
     @_locked
     def events(self) -> list[DroneEvent]:

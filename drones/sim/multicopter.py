@@ -48,7 +48,8 @@ class Multicopter:
         self._obstacles = ObstacleIndex(world.obstacles, reach=config.drone_radius)  # collision broad phase
         self._limits: dict[tuple[float | None, float | None], Limits] = {}  # by (speed, climb): they are few
         self.time = start_time
-        self.position: Vector = (0.0, 0.0, 0.0)
+        self.home: Vector = (float(config.start[0]), float(config.start[1]), 0.0)
+        self.position: Vector = self.home
         self.velocity: Vector = (0.0, 0.0, 0.0)
         self.yaw = 0.0
         self.yaw_rate = 0.0  # deg/s over the last substep
@@ -156,10 +157,14 @@ class Multicopter:
     def return_home(self) -> None:
         ceiling = self.world.bounds.upper[2] - 1.0
         altitude = max(self.position[2], min(self.config.return_altitude, ceiling))
-        if math.hypot(self.position[0], self.position[1]) <= self.config.acceptance_radius:
-            self.fly_to((0.0, 0.0, 0.0), mode="RETURN", phase=RETURN_LAND)
+        if self._from_home() <= self.config.acceptance_radius:
+            self.fly_to(self.home, mode="RETURN", phase=RETURN_LAND)
         else:
             self.fly_to((self.position[0], self.position[1], altitude), mode="RETURN", phase=RETURN_CLIMB)
+
+    def _from_home(self) -> float:
+        """Horizontal distance (m) to where the drone started."""
+        return math.hypot(self.position[0] - self.home[0], self.position[1] - self.home[1])
 
     # --- one substep ----------------------------------------------------------------------------------
     def step(self, t: float, dt: float) -> None:
@@ -332,9 +337,10 @@ class Multicopter:
                 self.fly_to(self._target, mode="HOLD")
                 self.emit("takeoff_complete", f"at {self.position[2]:.1f} m")
             else:
-                self.fly_to((0.0, 0.0, self._target[2]), mode="RETURN", face_travel=True, phase=RETURN_TRAVEL)
-        elif self.phase == RETURN_TRAVEL and math.hypot(*self.position[:2]) <= c.acceptance_radius:
-            self.fly_to((0.0, 0.0, 0.0), mode="RETURN", phase=RETURN_LAND)
+                self.fly_to((self.home[0], self.home[1], self._target[2]), mode="RETURN", face_travel=True,
+                            phase=RETURN_TRAVEL)
+        elif self.phase == RETURN_TRAVEL and self._from_home() <= c.acceptance_radius:
+            self.fly_to(self.home, mode="RETURN", phase=RETURN_LAND)
         elif (self.phase == POSITION and self._arrival_pending
               and math.dist(self.position, self._target) <= c.acceptance_radius):
             self._arrival_pending = False

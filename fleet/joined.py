@@ -1,0 +1,49 @@
+"""One drone joined to a fleet from its own process (``aeroexec run --fleet``): a Zenoh client of the router."""
+
+from __future__ import annotations
+
+import logging
+import os
+import secrets
+from pathlib import Path
+from typing import Any
+
+from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
+from aeroexec.fleet.link import FleetLink
+from aeroexec.fleet.node import FleetNode
+from aeroexec.fleet.payloads import check_name
+from aeroexec.fleet.transport import DEFAULT_ENDPOINT, TransportError, open_session
+
+logger = logging.getLogger(__name__)
+
+
+class JoinedFleet:
+    """One drone's engine on a fleet from its own process: the session, the node and the link; close it."""
+
+    def __init__(self, session: Any, node: Any, link: Any, folder: Path) -> None:
+        self.session, self.node, self.link, self.folder = session, node, link, folder
+
+    def close(self) -> None:
+        self.link.leave()
+        self.node.close()
+        self.session.close()
+        (self.folder / FLEET_FILE).unlink(missing_ok=True)
+
+
+def join_fleet(engine: Any, fleet: str, name: str, folder: Path, mission: str, connect: list[str] | None = None,
+               token: str | None = None, share: tuple[str, ...] = ()) -> JoinedFleet:
+    """Join ``engine`` to ``fleet`` as ``name`` through ``connect`` (a client of the router); ValueError or
+    :class:`TransportError` when it cannot."""
+    fleet, name = check_name(fleet, "--fleet"), check_name(name, "--name")
+    token = token or os.environ.get(TOKEN_VARIABLE) or secrets.token_hex(16)
+    endpoints = connect or [DEFAULT_ENDPOINT]
+    try:
+        session = open_session("client", connect=endpoints)
+    except TransportError as error:
+        raise TransportError(f"{error} (is `aeroexec fleet --router` running?)") from None
+    node = FleetNode(session, fleet, token)
+    link = FleetLink(node, name, engine, tuple(share)).join()
+    link.mission = mission
+    write_fleet_file(folder, fleet, endpoints, token)
+    logger.info("%s joined fleet %s through %s", name, fleet, ", ".join(endpoints))
+    return JoinedFleet(session, node, link, folder)

@@ -1,0 +1,97 @@
+"""`aeroexec fleet FLEET.yaml`: several drones in one process and one world, linked over Zenoh."""
+
+import json
+from pathlib import Path
+
+import pytest
+from aeroexec.cli.main import main
+
+MISSIONS = Path(__file__).resolve().parents[2] / "missions"
+
+
+def events(folder: Path, drone: str) -> list[dict]:
+    return [json.loads(line) for line in (folder / drone / "events.jsonl").read_text().splitlines()]
+
+
+def test_the_fleet_search_lands_every_drone_with_marker_3_known_to_all_over_zenoh(tmp_path, capsys):
+    code = main(["fleet", str(MISSIONS / "fleet_search.yaml"), "--plain", "--output", str(tmp_path)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    summary = [line for line in err.splitlines() if line.startswith(("d1:", "d2:", "d3:"))]
+    assert len(summary) == 3 and all("completed" in line and "landed" in line for line in summary), summary
+    finders, told = [], []
+    for drone in ("d1", "d2", "d3"):
+        log = events(tmp_path, drone)
+        if any(e["kind"] == "message_sent" for e in log):
+            finders.append(drone)
+        arrived = [e for e in log if e["kind"] == "fleet_belief" and "object(marker_3" in e.get("detail", "")]
+        if arrived:
+            told.append(drone)
+        assert any(e["kind"] == "belief_added" and e.get("belief", "").startswith("code(marker_3, 3)")
+                   for e in log), f"{drone} never knew marker 3"
+        assert log[-2]["kind"] == "engine_stopped" or any(e["kind"] == "mission_completed" for e in log)
+    assert finders and told, (finders, told)  # found by one, known to the others over the link
+    for drone in {"d1", "d2", "d3"} - set(finders):  # whoever did not broadcast it heard of it
+        assert drone in told or any(f"{drone} | " in line and f"message_received: from {finder}: marker 3 found"
+                                    in line for line in out.splitlines() for finder in finders), drone
+
+
+def test_the_relay_carrier_takes_off_only_after_the_scouts_message(tmp_path, capsys):
+    assert main(["fleet", str(MISSIONS / "relay.yaml"), "--plain", "--output", str(tmp_path)]) == 0
+    log = events(tmp_path, "carrier")
+    received = next(e for e in log if e["kind"] == "message_received")
+    take_off = next(e for e in log if e["kind"] == "activated" and e["behavior"] == "TAKE_OFF")
+    assert received["data"]["sender"] == "scout" and received["data"]["text"] == "area clear"
+    assert take_off["time"] >= received["time"]
+
+
+def test_drones_of_one_world_see_each_other_and_know_where_the_others_are(tmp_path):
+    fleet = tmp_path / "pair.yaml"
+    mission = tmp_path / "look.py"
+    mission.write_text("import aeroexec.engine.api as api\n\n\ndef mission():\n"
+                       "    api.execute_behavior('TAKE_OFF', altitude=2)\n"
+                       "    api.activate_behavior('PAY_ATTENTION_TO_SHAPES')\n"
+                       "    api.wait(3)\n"
+                       "    if api.true_belief('position(b, ?P)') and not api.true_belief('object(b, drone)'):\n"
+                       "        raise RuntimeError('a does not see b, 4 m ahead of it')\n"
+                       "    api.execute_behavior('LAND')\n")
+    fleet.write_text("fleet: pair\ndrones:\n  - {name: a, mission: look.py, home: [0, 0]}\n"
+                     "  - {name: b, mission: look.py, home: [4, 0]}\n")
+    assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "out")]) == 0
+    for drone, other in (("a", "b"), ("b", "a")):
+        log = events(tmp_path / "out", drone)
+        assert any(e["kind"] == "belief_added" and e.get("belief", "").startswith(f"position({other}, (")
+                   for e in log)
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("fleet: f\ndrones:\n  - {name: d1, mission: nowhere.py}\n",
+     "f.yaml:3: error: the mission nowhere.py is not found"),
+    ("fleet: f\ndrones:\n  - {name: d1, mission: m.py}\n  - {name: d1, mission: m.py}\n",
+     "f.yaml:4: error: two drones are called d1 (the first at line 3)"),
+    ("fleet: f\ndrones:\n  - {name: d1, mission: m.py, home: [1]}\n",
+     "f.yaml:3: error: the home of d1 must be [east, north] in meters"),
+    ("fleet: 'my fleet'\ndrones:\n  - {name: d1, mission: m.py}\n", "f.yaml:1: error: the fleet's name"),
+    ("fleet: f\ndrones:\n  - {name: d1, mision: m.py}\n", "f.yaml:3: error: a drone: unknown key mision"),
+])
+def test_fleet_file_errors_name_file_and_line(tmp_path, capsys, text, expected):
+    (tmp_path / "m.py").write_text("def mission():\n    pass\n")
+    (tmp_path / "f.yaml").write_text(text)
+    assert main(["fleet", str(tmp_path / "f.yaml"), "--output", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert expected in err.replace(str(tmp_path) + "/", ""), err
+    assert "Traceback" not in err
+
+
+def test_a_fleet_flies_missions_of_any_format_side_by_side(tmp_path, capsys):
+    fleet = tmp_path / "mixed.yaml"
+    fleet.write_text(f"fleet: mixed\ndrones:\n  - {{name: t1, mission: {MISSIONS / 'square_patrol.yaml'}}}\n"
+                     f"  - {{name: p1, mission: {MISSIONS / 'relay_scout.py'}, home: [2, 2]}}\n")
+    assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert "t1: square_patrol.yaml completed" in err and "p1: relay_scout.py completed" in err
+    tree = events(tmp_path / "out", "t1")
+    assert any(e["kind"] == "node_status" for e in tree)  # flown as a behavior tree
+    scout = events(tmp_path / "out", "p1")
+    heard = next(e for e in scout if e["kind"] == "message_sent")
+    assert heard["data"]["receivers"] == ["t1"]
