@@ -16,6 +16,7 @@ import sys
 import threading
 from typing import Any
 
+from aeroexec.cli import web
 from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.cli.live import wanted as live_view_wanted
 from aeroexec.cli.mission_files import MissionFileError
@@ -44,6 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="print only the summary lines")
     parser.add_argument("--output", metavar="DIR", help="where each drone's event log goes (DIR/<drone>/)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    web.add_console_arguments(parser)
     parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
                         help="stop every mission after S seconds of mission time (default 1800)")
 
@@ -118,10 +120,14 @@ def fly_fleet(args: argparse.Namespace) -> int:
               f"token and endpoint in {folder / FLEET_FILE}", file=sys.stderr, flush=True)
         node = FleetNode(session, spec.name, token)
         live = live_view_wanted(args)  # a person at a terminal: paced at real time unless --speed says
+        watched = live or web.wanted(args)  # in a browser too; questions then wait for an answer
         fleet = FleetRun(node, list(spec.drones), missions, world=world, catalog=catalog,
-                         speed=args.speed or (1.0 if live else None), output=folder,
-                         telemetry_rate=spec.telemetry_rate)
+                         speed=args.speed or (1.0 if watched else None), output=folder,
+                         telemetry_rate=spec.telemetry_rate,
+                         operator=remote_operator if web.wanted(args) else None)
         view = None
+        browser = web.serve_console(args, fleet.engines, world,
+                                    {d.name: d.mission for d in spec.drones if str(d.mission).endswith(".py")})
         if live:
             from aeroexec.cli.fleet_view import FleetView
 
@@ -139,6 +145,8 @@ def fly_fleet(args: argparse.Namespace) -> int:
         finally:
             if view is not None:
                 view.stop()
+            if browser is not None:
+                browser.close()
             node.close()
     finally:
         session.close()
@@ -146,6 +154,13 @@ def fly_fleet(args: argparse.Namespace) -> int:
     for member in fleet.members:
         print(summary_line(member, outcomes[member.name]), file=sys.stderr)
     return 0 if all(outcome == "completed" for outcome in outcomes.values()) else 1
+
+
+def remote_operator() -> Any:
+    """A drone's operator channel when the fleet is watched in a browser: questions wait for the console."""
+    from aeroexec.engine.supervision.operator import RemoteOperator
+
+    return RemoteOperator()
 
 
 def summary_line(member: Any, outcome: str) -> str:

@@ -16,13 +16,17 @@ class SurfaceError(Exception):
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_console_arguments(parser)
+    parser.add_argument("--groot", nargs="?", type=int, const=1667, metavar="PORT",
+                        help="serve tree missions to Groot2 (its publisher protocol on PORT and PORT+1, default 1667)")
+
+
+def add_console_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--web", nargs="?", type=int, const=0, metavar="PORT",
                         help="serve the operator console in a browser on 127.0.0.1:PORT (a free port without PORT); "
                              "the URL with its token is printed")
     parser.add_argument("--web-host", default="127.0.0.1", metavar="HOST",
                         help="the address the console listens on (default 127.0.0.1: this machine only)")
-    parser.add_argument("--groot", nargs="?", type=int, const=1667, metavar="PORT",
-                        help="serve tree missions to Groot2 (its publisher protocol on PORT and PORT+1, default 1667)")
 
 
 def wanted(args: argparse.Namespace) -> bool:
@@ -31,7 +35,15 @@ def wanted(args: argparse.Namespace) -> bool:
 
 
 def start_console(args: argparse.Namespace, engine: Any, world: Any, mission_file: str | Path | None) -> Any:
-    """The web console of one drone's engine, or None without ``--web``."""
+    """The web console of one robot's engine, or None without ``--web``."""
+    name = getattr(args, "robot", "drone")  # the robot's kind names it on the map
+    return serve_console(args, {name: engine}, world, {name: mission_file})
+
+
+def serve_console(args: argparse.Namespace, engines: dict[str, Any], world: Any,
+                  mission_files: dict[str, str | Path | None] | None = None) -> Any:
+    """The web console of several engines by name (a fleet: one map, a drone selector), or None without
+    ``--web``; prints its URL with the token."""
     if not wanted(args):
         return None
     from aeroexec.console.feed import ConsoleFeed
@@ -40,15 +52,16 @@ def start_console(args: argparse.Namespace, engine: Any, world: Any, mission_fil
 
     if args.web_host != "127.0.0.1":
         print(WEB_HOST_WARNING.format(host=args.web_host), file=sys.stderr)
-    name = getattr(args, "robot", "drone")  # the robot's kind names it on the map
-    feed = ConsoleFeed(engine, name, mission_file)
+    files = mission_files or {}
+    feeds = {name: ConsoleFeed(engine, name, files.get(name)) for name, engine in engines.items()}
     try:
-        server = ConsoleServer({name: feed}, world_map(world), host=args.web_host, port=args.web).start()
+        server = ConsoleServer(feeds, world_map(world), host=args.web_host, port=args.web).start()
     except ConsoleError as error:
-        feed.close()
+        for feed in feeds.values():
+            feed.close()
         raise SurfaceError(str(error)) from None
     print(f"web console: {server.url}", file=sys.stderr, flush=True)
-    return _Closer(feed, server)
+    return _Closer(*feeds.values(), server)
 
 
 def start_groot(args: argparse.Namespace, tree_mission: Any, catalog: Any) -> Any:

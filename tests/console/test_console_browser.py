@@ -205,3 +205,27 @@ def test_a_finished_run_replays_read_only_with_a_time_slider(browser, tmp_path):
     finally:
         replay.terminate()
         replay.wait(timeout=30)
+
+
+def test_a_fleet_shows_every_drone_on_one_map_with_a_drone_selector(browser, tmp_path):
+    fleet = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "fleet", "missions/relay.yaml", "--plain",
+                              "--web", "--speed", "1", "--output", str(tmp_path / "out")], cwd=ROOT,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                             env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        url = next((line.split(": ", 1)[1].strip() for line in fleet.stderr if line.startswith("web console: ")), None)
+        assert url, "aeroexec fleet printed no web console URL"
+        browser.get(url)
+        wait_for(browser, lambda d: d.execute_script(
+            "return document.querySelectorAll('#map .drone-marker').length") == 2, what="both drones on the map")
+        options = browser.execute_script("return [...document.getElementById('drone').options].map(o => o.value)")
+        assert sorted(options) == ["carrier", "scout"]
+        browser.execute_script("""const s = document.getElementById('drone'); s.value = 'carrier';
+                                  s.dispatchEvent(new Event('change'));""")
+        wait_for(browser, lambda d: "carrier" in shown(d, "mission") or "relay_carrier" in shown(d, "mission")
+                 or shown(d, "state") in ("running", "paused"), what="the carrier's panels")
+        assert fleet.wait(timeout=120) == 0
+    finally:
+        if fleet.poll() is None:
+            fleet.terminate()
+            fleet.wait(timeout=30)
