@@ -19,13 +19,16 @@ from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.cli.live import OperatorConsole
 from aeroexec.cli.live import wanted as live_view_wanted
 from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
+from aeroexec.cli.verify import WorldChoiceError, add_library_arguments, chosen_world
 from aeroexec.drones import Drone
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
+from aeroexec.engine.library import LibraryError, default_library, default_processes
 from aeroexec.engine.supervision.flight_log import FlightLogWriter
 from aeroexec.engine.supervision.output import make_output_folder
+from aeroexec.engine.supervision.run_status import COMPLETED, record_run_status, run_status
 from aeroexec.engine.supervision.supervisor import land_if_flying
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.btlog import BtlogWriter
@@ -67,22 +70,27 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
                              "default: ask at the terminal when interactive, else the first possible answer")
+    add_library_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
     path = Path(args.mission)
     try:
         catalog = chosen_catalog(args.catalog)
-        mission = load_mission(path, catalog)
+        world = chosen_world(args, default=args.drone == "sim")  # destinations checked against it
+        mission = load_mission(path, catalog, world)
+        args.behavior_library = default_library(getattr(args, "library", ()))  # --library: found before flight
+        args.process_registry = default_processes(getattr(args, "processes", ()))
         return fly(args, catalog, mission, path.name)
-    except (RunError, MissionFileError) as error:
+    except (RunError, MissionFileError, WorldChoiceError, LibraryError) as error:
         print(error, file=sys.stderr)
         return 1
 
 
-def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any] | TreeDocument:
-    """Check a mission before flight (printing every problem); the Python function or the tree to fly."""
-    checked = check_mission(path, catalog)
+def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None) -> Callable[[], Any] | TreeDocument:
+    """Check a mission before flight (printing every problem), against ``world`` when given; the Python
+    function or the tree to fly."""
+    checked = check_mission(path, catalog, world)
     for problem in checked.problems:
         print(problem, file=sys.stderr)
     if checked.errors:
@@ -127,7 +135,8 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     drone, world, simulated = make_drone(args)
     clock = SimulatedClock(speed=args.speed or (1.0 if live else None)) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
-    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder)
+    engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder,
+                    library=getattr(args, "behavior_library", None), processes=getattr(args, "process_registry", None))
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
     try:
         flight_log = FlightLogWriter(engine, log_path, meta={"mission": name, "world": _absolute(args.world),
@@ -160,6 +169,7 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:
+        record_run_status(engine.log, run_status(engine.log.events()))  # the live view's header shows it
         console.close()
         engine.stop()
         flight_log.close()
@@ -185,13 +195,15 @@ def make_operator(args: argparse.Namespace, live: bool = False) -> Any:
 
 
 def summary(engine: Engine, name: str) -> int:
-    failed = engine.log.events(kind="mission_failed")
-    completed = engine.log.events(kind="mission_completed")
+    """Print how the run ended (the words of :mod:`~aeroexec.engine.supervision.run_status`); its exit status."""
+    status = run_status(engine.log.events())
     outcomes = [e for e in engine.log.events() if e.kind in {o.value for o in Outcome}]
-    print(f"{name}: {'completed' if completed and not failed else 'failed' if failed else 'stopped'} at "
-          f"t={engine.now():.1f} s; {len(outcomes)} behavior events, "
+    print(f"{name}: {status.word} at t={engine.now():.1f} s; {len(outcomes)} behavior events, "
           f"{sum(e.kind == 'GOAL_ACHIEVED' for e in outcomes)} goals achieved", file=sys.stderr)
-    return 0 if completed and not failed else 1
+    if status.word != COMPLETED:
+        for reason in status.reasons[:5]:
+            print(f"  {reason}", file=sys.stderr)
+    return status.exit_status
 
 
 def _absolute(path: str | None) -> str | None:

@@ -21,6 +21,7 @@ from aeroexec.drones import LandedState
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.engine import Engine
+from aeroexec.engine.events import Outcome
 from aeroexec.engine.supervision.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.engine.supervision.operator import RemoteOperator
 from aeroexec.trees.model import TreeDocument, TreeNode
@@ -171,7 +172,7 @@ def test_aeroexec_ctl_commands_a_run(tmp_path):
         if flying.poll() is None:
             flying.kill()
             flying.communicate()
-    assert flying.returncode == 1 and "stopped at" in stderr
+    assert flying.returncode == 4 and "square_patrol.py: aborted at" in stderr
     assert "operator_command: abort" in stdout and "GOAL_ACHIEVED LAND" in stdout
     assert not (out / CONTROL_FILE).exists()
 
@@ -246,4 +247,50 @@ def test_keys_become_commands():
     assert submitted == [("pause", "", "keyboard"), ("resume", "", "keyboard"),
                          ("inhibit", "keep_hovering", "keyboard"), ("answer", "2", "keyboard"),
                          ("abort", "", "keyboard")]
+
+
+
+TAKE_OFF_MISSION = '''
+from aeroexec.engine import api
+
+steps = []
+
+
+def mission():
+    steps.append(api.execute_behavior("TAKE_OFF", altitude=8))
+    steps.append(api.execute_behavior("GO_TO_POINT", coordinates=(4, 0, 8)))
+    steps.append(api.execute_behavior("LAND"))
+'''
+
+
+def test_pause_during_take_off_then_resume_climbs_on_and_the_mission_goes_on(run, tmp_path):
+    """Issue 18, point 1: as PX4's Hold then Resume, a take-off paused half-way continues to its altitude."""
+    from aeroexec.engine.supervision.run_status import COMPLETED, run_status
+
+    engine, _, folder = run
+    path = tmp_path / "take_off_mission.py"
+    path.write_text(TAKE_OFF_MISSION)
+    spec = importlib.util.spec_from_file_location("take_off_mission", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    port, token = read_control_file(folder)
+    engine.start_mission(module.mission, "take_off_mission")
+    engine.start()
+    until(lambda: engine.drone.telemetry().altitude > 2.0)
+    assert send_command(port, token, "pause")["ok"]
+    until(lambda: engine.drone.telemetry().speed < 0.1)
+    held, start = engine.drone.telemetry().altitude, engine.now()
+    until(lambda: engine.now() > start + 3)  # 3 s of paused flight: the climb has stopped
+    assert held < 6 and abs(engine.drone.telemetry().altitude - held) < 0.3 and module.steps == []
+
+    resumed = send_command(port, token, "resume")
+    assert resumed["ok"] and "requested again: TAKE_OFF" in resumed["message"], resumed
+    until(lambda: len(module.steps) == 3)
+    assert module.steps == [Outcome.GOAL_ACHIEVED] * 3
+    take_off_end = engine.log.events(kind="GOAL_ACHIEVED", behavior="TAKE_OFF")[0].time
+    assert take_off_end > start + 3 and engine.log.events(kind="GOAL_ACHIEVED", behavior="GO_TO_POINT")
+    assert not engine.log.events(kind="failed_preconditions", behavior="TAKE_OFF")
+    assert run_status(engine.log.events()).word == COMPLETED
+    activations = engine.log.events(kind="activated", behavior="TAKE_OFF")
+    assert len(activations) == 2  # the paused request and the resumed one, not a second take-off
 

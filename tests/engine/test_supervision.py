@@ -4,6 +4,7 @@ drone and the mission, resume asks again for what the pause stopped, abort lands
 from __future__ import annotations
 
 import math
+import time
 
 import pytest
 from aeroexec.drones import LandedState
@@ -86,6 +87,9 @@ def test_a_paused_python_mission_does_not_call_the_engine(engine):
     engine.step(2.0)
     engine.supervisor.execute("pause")
     engine.step(0.2)
+    deadline = time.monotonic() + 30  # a wait that ended as the pause began lets the mission reach its next call
+    while not engine.bridge.queued and time.monotonic() < deadline:
+        time.sleep(0.01)
     before = len(calls)
     engine.step(5.0)
     assert len(calls) == before

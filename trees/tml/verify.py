@@ -19,6 +19,7 @@ from collections.abc import Iterable
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
 from aeroexec.engine.catalog.descriptors import RECURRENT
+from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.sequence_check import SequenceChecker, State, join
@@ -207,8 +208,10 @@ def verify_tml(document: TmlDocument, catalog: BehaviorCatalog | None = None) ->
     return TmlVerifier(document, catalog if catalog is not None else default_catalog()).verify()
 
 
-def verify_mission_document(document: TreeDocument, catalog: BehaviorCatalog | None = None) -> list[Problem]:
-    """Every problem of a mission read by ``load_mission_tree``: a TML mission or a behavior tree."""
+def verify_mission_document(document: TreeDocument, catalog: BehaviorCatalog | None = None,
+                            world: WorldMap | None = None) -> list[Problem]:
+    """Every problem of a mission read by ``load_mission_tree``: a TML mission or a behavior tree (checked
+    against ``world`` too when given)."""
     if isinstance(document, TmlDocument):
         return verify_tml(document, catalog)
-    return verify_document(document, catalog)
+    return verify_document(document, catalog, world=world)
