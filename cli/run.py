@@ -25,7 +25,8 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.engine.library import LibraryError, default_library, default_processes
+from aeroexec.engine.library import LibraryError, default_library, default_processes, default_updaters
+from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.supervision.flight_log import FlightLogWriter
 from aeroexec.engine.supervision.output import make_output_folder
 from aeroexec.engine.supervision.run_status import COMPLETED, record_run_status, run_status
@@ -48,9 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     """The options every way of flying a mission shares (run, and the behavior-tree runner)."""
-    parser.add_argument("--drone", default="sim", metavar="sim|mavsdk:URL",
-                        help="the built-in simulated drone (default) or a MAVSDK vehicle, "
-                             "e.g. mavsdk:udpin://0.0.0.0:14540")
+    parser.add_argument("--drone", default="sim", metavar="sim|mavsdk:URL|NAME:ADDRESS",
+                        help="the built-in simulated drone (default), a MAVSDK vehicle "
+                             "(e.g. mavsdk:udpin://0.0.0.0:14540), or an installed adapter (aeroexec.drones "
+                             "entry point NAME)")
     parser.add_argument("--world", metavar="FILE", help="the simulated world (default: the built-in one)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
     parser.add_argument("--speed", type=float, metavar="N",
@@ -71,6 +73,9 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
                              "default: ask at the terminal when interactive, else the first possible answer")
     add_library_arguments(parser)
+    parser.add_argument("--updater", action="append", default=[], metavar="MODULE:ATTR",
+                        help="belief updaters to add: a callable (drone) returning BeliefUpdaters (repeatable; "
+                             "installed aeroexec.updaters entry points are always added)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -125,7 +130,12 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
             drone.close()
             raise RunError(f"--drone {args.drone}: the vehicle is not ready to fly after 60 s ({why})")
         return drone, world if args.world else None, False
-    raise RunError(f"--drone {args.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540)")
+    scheme, _, address = args.drone.partition(":")
+    try:  # an installed adapter (an aeroexec.drones entry point)
+        return make_adapter_drone(scheme, address), world if args.world else None, False
+    except LibraryError as error:
+        raise RunError(f"--drone {args.drone}: expected sim, mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540) or "
+                       f"NAME:ADDRESS of an installed adapter; {error}") from None
 
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
@@ -135,7 +145,14 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     drone, world, simulated = make_drone(args)
     clock = SimulatedClock(speed=args.speed or (1.0 if live else None)) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
+    try:
+        updaters = default_updaters(drone, getattr(args, "updater", ()))
+    except LibraryError as error:
+        operator.close()
+        drone.close()
+        raise RunError(str(error)) from None
     engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder,
+                    updaters=updaters,
                     library=getattr(args, "behavior_library", None), processes=getattr(args, "process_registry", None))
     log_path = Path(args.log) if args.log else folder / "events.jsonl"
     try:
