@@ -339,9 +339,9 @@ class OperatorConsole:
         self.keys: KeyReader | None = None
 
     def start(self) -> OperatorConsole:
-        self.server = ControlServer(self.engine, self.folder).start()
-        print(f"commands: aeroexec ctl --run {self.folder} pause|resume|abort|inhibit|answer|add|remove|status",
-              file=sys.stderr)
+        self.server = ControlServer(self.engine, self.folder, name=self.name).start()
+        print(f"commands: aeroexec ctl pause|resume|abort|inhibit|answer|add|remove|status (from anywhere; "
+              f"this run: --run {self.folder})", file=sys.stderr)
         if self.live:
             code = getattr(self.mission, "__code__", None)
             self.view = LiveView(self.engine, self.name,

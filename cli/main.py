@@ -1,4 +1,9 @@
-"""The ``aeroexec`` command: one sub-command per job (catalog, sim, ...), wiring every layer together."""
+# PYTHON_ARGCOMPLETE_OK
+"""The ``aeroexec`` command: one sub-command per job (catalog, sim, ...), wiring every layer together.
+
+Shell completion (argcomplete): ``eval "$(register-python-argcomplete aeroexec)"`` in ``~/.bashrc``
+(zsh too; fish: ``register-python-argcomplete --shell fish aeroexec | source``).
+"""
 
 from __future__ import annotations
 
@@ -7,13 +12,14 @@ import importlib
 import logging
 import sys
 
+import argcomplete
 from aeroexec.engine.errors import CatalogError
 
 from aeroexec import __version__
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
 COMMANDS = {
-    "run": ("run", "check a mission (Python or behavior tree), then fly it on the simulator or a MAVSDK drone"),
+    "run": ("run", "check a mission (Python, behavior tree or TML), then fly it on the simulator or a MAVSDK drone"),
     "verify": ("verify", "check missions without flying: every error with file:line"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
@@ -25,7 +31,8 @@ COMMANDS = {
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="aeroexec", description="An execution engine for aerial robot missions.")
+    parser = argparse.ArgumentParser(prog="aeroexec", description="An execution engine for aerial robot missions.",
+                                     epilog='shell completion: eval "$(register-python-argcomplete aeroexec)"')
     parser.add_argument("--version", action="version", version=f"aeroexec {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
@@ -39,6 +46,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
+    argcomplete.autocomplete(parser)  # answers the shell's completion request and exits; else does nothing
     args = parser.parse_args(argv)
     quiet = logging.INFO if args.command == "sim" else logging.WARNING  # run prints events, not log lines
     logging.basicConfig(level=logging.DEBUG if args.verbose else quiet,

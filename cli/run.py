@@ -43,7 +43,11 @@ class RunError(Exception):
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function")
+    parser.add_argument("mission", help="the mission: a Python program with a mission() or runMission() function "
+                                         "(.py), a behavior tree (BehaviorTree.CPP XML .xml, or YAML .yaml/.yml), "
+                                         "or a TML mission (.tml.xml)")
+    parser.epilog = ("exit status: 0 completed, 3 completed with refused requests, 1 failed, 4 aborted "
+                     "(the words the summary line, the live view and the event log's run_ended use)")
     add_flight_arguments(parser)
 
 
@@ -53,10 +57,12 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the built-in simulated drone (default), a MAVSDK vehicle "
                              "(e.g. mavsdk:udpin://0.0.0.0:14540), or an installed adapter (aeroexec.drones "
                              "entry point NAME)")
-    parser.add_argument("--world", metavar="FILE", help="the simulated world (default: the built-in one)")
+    parser.add_argument("--world", metavar="FILE", help="the simulated world; literal destinations are checked "
+                                                        "against it (default: the built-in one)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
     parser.add_argument("--speed", type=float, metavar="N",
-                        help="simulated time N times faster than real time (default: as fast as possible)")
+                        help="simulated time N times faster than real time (default: real time with the live "
+                             "view in a terminal; as fast as possible with --plain, --quiet or no terminal)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
                         help="stop the mission after S seconds of mission time (default 1800)")

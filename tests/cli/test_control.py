@@ -294,3 +294,38 @@ def test_pause_during_take_off_then_resume_climbs_on_and_the_mission_goes_on(run
     activations = engine.log.events(kind="activated", behavior="TAKE_OFF")
     assert len(activations) == 2  # the paused request and the resumed one, not a second take-off
 
+
+
+def test_ctl_from_another_directory_finds_the_live_run(tmp_path, private_runtime_dir):
+    """Issue 18, point 6: runs list themselves in the per-user runtime directory, so ``aeroexec ctl`` needs no
+    --run wherever it is started; the entry goes away with the run."""
+    here, elsewhere = tmp_path / "here", tmp_path / "elsewhere"
+    here.mkdir()
+    elsewhere.mkdir()
+    command = [sys.executable, "-m", "aeroexec"]
+    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "4",
+                               "--plain"], cwd=here, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        until(lambda: list(private_runtime_dir.glob("aeroexec/run-*.json")))
+
+        def ctl(*args: str) -> subprocess.CompletedProcess:
+            return subprocess.run([*command, "ctl", *args], cwd=elsewhere, capture_output=True, text=True,
+                                  timeout=60)
+
+        listed = ctl("list")
+        assert listed.returncode == 0 and "square_patrol.py" in listed.stdout
+        assert str(here / "aeroexec_output") in listed.stdout and f"pid {flying.pid}" in listed.stdout
+        status = ctl("status")
+        assert status.returncode == 0 and "running at t=" in status.stdout, status.stderr
+        by_pid = ctl("--run", str(flying.pid), "status")
+        assert by_pid.returncode == 0 and "at t=" in by_pid.stdout
+        assert ctl("abort").returncode == 0
+        flying.communicate(timeout=120)
+    finally:
+        if flying.poll() is None:
+            flying.kill()
+            flying.communicate()
+    assert flying.returncode == 4
+    assert not list(private_runtime_dir.glob("aeroexec/run-*.json"))
+    gone = subprocess.run([*command, "ctl", "status"], cwd=elsewhere, capture_output=True, text=True, timeout=60)
+    assert gone.returncode == 1 and "no live run" in gone.stderr
