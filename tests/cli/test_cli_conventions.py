@@ -8,8 +8,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-from aeroexec import __version__
 from aeroexec.engine.catalog import default_catalog
+
+from aeroexec import __version__
 
 
 def aeroexec(*args: str, env: dict[str, str] | None = None, cwd: Path | None = None) -> subprocess.CompletedProcess:
