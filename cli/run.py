@@ -140,8 +140,8 @@ def make_drone(args: argparse.Namespace) -> tuple[Drone, Any, bool]:
     try:  # an installed adapter (an aeroexec.drones entry point)
         return make_adapter_drone(scheme, address), world if args.world else None, False
     except LibraryError as error:
-        raise RunError(f"--drone {args.drone}: expected sim, mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540) or "
-                       f"NAME:ADDRESS of an installed adapter; {error}") from None
+        raise RunError(f"--drone {args.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540), "
+                       f"or NAME:ADDRESS of an installed adapter; {error}") from None
 
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,

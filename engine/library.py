@@ -159,9 +159,9 @@ def make_drone(scheme: str, address: str) -> Drone:
     """A drone from an installed adapter (``--drone SCHEME:ADDRESS``); ``LibraryError`` when there is none."""
     adapters = drone_adapters()
     if scheme not in adapters:
-        known = ", ".join(["sim", "mavsdk", *sorted(adapters)])
-        raise LibraryError(f"no drone adapter is named {scheme!r} (known: {known}; an installed package adds one "
-                           f"with an {DRONES_GROUP} entry point)")
+        known = ", ".join(sorted(adapters)) or "none"
+        raise LibraryError(f"no drone adapter is named {scheme!r} (installed: {known}; a package adds one with "
+                           f"an {DRONES_GROUP} entry point)")
     try:
         drone = adapters[scheme](address)
     except Exception as exc:
