@@ -151,7 +151,7 @@ def test_a_command_the_engine_cannot_run_says_so(tmp_path, monkeypatch):
 def test_aeroexec_ctl_commands_a_run(tmp_path):
     out = tmp_path / "out"
     command = [sys.executable, "-m", "aeroexec.cli.main"]
-    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "4",
+    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "2",
                                "--output", str(out), "--plain"], cwd=ROOT, stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True)
     try:
@@ -296,7 +296,7 @@ def climb_pause_resume(engine, folder, tmp_path):
 
     resumed = send_command(port, token, "resume")
     assert resumed["ok"] and "requested again: TAKE_OFF" in resumed["message"], resumed
-    until(lambda: len(module.steps) == 2)
+    until(lambda: engine.bridge.state == "done")
     assert module.steps == [Outcome.GOAL_ACHIEVED] * 2
     assert engine.drone.telemetry().altitude == pytest.approx(12, abs=0.4)
     take_off_end = engine.log.events(kind="GOAL_ACHIEVED", behavior="TAKE_OFF")[0].time
@@ -315,7 +315,7 @@ def test_ctl_from_another_directory_finds_the_live_run(tmp_path, private_runtime
     here.mkdir()
     elsewhere.mkdir()
     command = [sys.executable, "-m", "aeroexec"]
-    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "4",
+    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "1",
                                "--plain"], cwd=here, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         until(lambda: list(private_runtime_dir.glob("aeroexec/run-*.json")))
