@@ -20,7 +20,6 @@ import linecache
 import os
 import select
 import sys
-import textwrap
 import threading
 import time
 from collections import deque
@@ -28,6 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+from aeroexec.cli.live_layout import behavior_table, newest, rows, share, window
 from aeroexec.engine.events import EngineEvent
 from aeroexec.engine.supervision.control import ControlServer
 from aeroexec.engine.supervision.operator import operator_of
@@ -169,11 +169,11 @@ class LiveView:
         questions = [Text(f"the drone asks: {q}  (press t to answer)", style="bold cyan") for q in s.questions]
         drone = self._drone_text(s.drone)
         # rows left for the panels' contents: title, footer, questions, four panels' borders, the table header
-        budget = None if size is None else size[1] - 2 - sum(_rows(q, width) for q in questions) \
-            - _rows(drone, width - 4) - 2 - 2 - 3 - 2
-        mission_rows, behavior_rows, event_rows = _share(budget, len(s.mission), len(s.active))
+        budget = None if size is None else size[1] - 2 - sum(rows(q, width) for q in questions) \
+            - rows(drone, width - 4) - 2 - 2 - 3 - 2
+        mission_rows, behavior_rows, event_rows = share(budget, len(s.mission), len(s.active))
         mission = Text(no_wrap=True, overflow="ellipsis")
-        for depth, status, text in _window(s.mission, mission_rows):
+        for depth, status, text in window(s.mission, mission_rows):
             if mission:
                 mission.append("\n")
             if status and self.tree is not None:
@@ -181,12 +181,12 @@ class LiveView:
                 mission.append(text)
             else:
                 mission.append(text, "yellow" if status else "dim")
-        behaviors = _behavior_table(s.active, behavior_rows, compact=width < 110)
+        behaviors = behavior_table(s.active, behavior_rows, compact=width < 110)
         left_rows = None if budget is None else (mission_rows or 0) + (behavior_rows or 0) + 3
         shown_beliefs = s.beliefs if left_rows is None else s.beliefs[:max(1, left_rows)]
         beliefs = Text("\n").join(Text(text, style) for text, style in shown_beliefs)
         beliefs.no_wrap, beliefs.overflow = True, "ellipsis"
-        events = Text("\n").join(Text(line, style) for line, style in _newest(s.events, event_rows, width - 4))
+        events = Text("\n").join(Text(line, style) for line, style in newest(s.events, event_rows, width - 4))
         events.overflow = "fold"  # explanations wrap, never cut
         top = Table.grid(expand=True)
         top.add_column(ratio=3)
@@ -228,71 +228,6 @@ class LiveView:
             self.refresh()
             self._live.stop()
             self._live = None
-
-
-def _behavior_table(active: list[tuple[str, str, str, float, float | None]], rows: int | None,
-                    compact: bool) -> Table:
-    """The active behaviors, the newest last; ``compact`` (a narrow terminal) folds the times into one column."""
-    shown = active if rows is None or len(active) <= rows else active[-(rows - 1):] if rows > 1 else []
-    columns = ("behavior", "priority", "time") if compact else ("behavior", "priority", "source", "elapsed",
-                                                                "timeout")
-    table = Table(*columns, expand=True, box=None)
-    if len(shown) < len(active):
-        table.add_row(f"... {len(active) - len(shown)} more", *[""] * (len(columns) - 1), style="dim")
-    for name, priority, source, elapsed, timeout in shown:
-        limit = f"{timeout:g} s" if timeout else "-"
-        if compact:
-            table.add_row(name, priority, f"{elapsed:.1f}/{limit}" if timeout else f"{elapsed:.1f} s")
-        else:
-            table.add_row(name, priority, source, f"{elapsed:.1f} s", limit)
-    return table
-
-
-def _wrapped(line: str, width: int) -> int:
-    """How many rows ``line`` takes wrapped at word boundaries to ``width`` columns."""
-    return max(1, len(textwrap.wrap(line, max(1, width), break_long_words=True, break_on_hyphens=False)))
-
-
-def _rows(text: Text, width: int) -> int:
-    """How many terminal rows ``text`` takes at ``width`` columns when wrapped."""
-    return sum(_wrapped(line, width) for line in text.plain.rstrip("\n").split("\n"))
-
-
-def _share(budget: int | None, missions: int, active: int) -> tuple[int | None, int | None, int | None]:
-    """Rows for the mission, the active behaviors and the events out of ``budget`` (None: no limit)."""
-    if budget is None:
-        return None, None, None
-    budget = max(budget, 5)
-    events = max(3, budget // 3)
-    behaviors = max(1, min(active, (budget - events) // 2))
-    mission = max(1, min(missions, budget - events - behaviors))
-    events = max(2, budget - mission - behaviors)
-    return mission, behaviors, events
-
-
-def _window(lines: list[tuple[int, str, str]], rows: int | None) -> list[tuple[int, str, str]]:
-    """At most ``rows`` lines of the mission, around the deepest running node."""
-    if rows is None or len(lines) <= rows:
-        return lines
-    running = [i for i, (_, status, _) in enumerate(lines) if status == "RUNNING"]
-    focus = running[-1] if running else 0
-    start = min(max(0, focus - rows // 2), len(lines) - rows)
-    return lines[start:start + rows]
-
-
-def _newest(events: list[tuple[str, str]], rows: int | None, width: int) -> list[tuple[str, str]]:
-    """The newest events that fit in ``rows`` rows of ``width`` columns, each wrapped whole, oldest first."""
-    if rows is None:
-        return events
-    shown: list[tuple[str, str]] = []
-    used = 0
-    for line, style in reversed(events):
-        need = _wrapped(line, width)
-        if shown and used + need > rows:
-            break
-        shown.append((line, style))
-        used += need
-    return shown[::-1]
 
 
 def mission_line(mission_file: str) -> str | None:
