@@ -107,3 +107,13 @@ def test_the_example_missions_verify_against_the_default_world(capsys):
                       if p.suffix in (".py", ".xml", ".yaml") and p.name != "__init__.py")
     status, lines = verify(capsys, *map(str, missions))
     assert status == 0, lines
+
+
+def test_tml_missions_are_checked_against_the_world_too(tmp_path, capsys):
+    source = (Path(__file__).parents[2] / "missions" / "search_for_object.tml.xml").read_text()
+    near = source.replace('value="[-3.0, -4.0, 3.0]"', 'value="[6.0, 6.0, 3.0]"')
+    assert near != source
+    path = tmp_path / "near.tml.xml"
+    path.write_text(near)
+    status, lines = verify(capsys, str(path))
+    assert status == 1 and any("(6, 6, 3) is 0.7 m from tower; GO_TO_POINT needs 3 m" in line for line in lines)

@@ -43,11 +43,11 @@ class _StateRecorder(SequenceChecker):
 class TmlVerifier:
     """Collects the TML-specific problems of one compiled mission."""
 
-    def __init__(self, document: TmlDocument, catalog: BehaviorCatalog) -> None:
+    def __init__(self, document: TmlDocument, catalog: BehaviorCatalog, world: WorldMap | None = None) -> None:
         self.document, self.catalog = document, catalog
         self.program = document.program
         self.file = document.file
-        self.tree = TreeVerifier(document, catalog, known_keys=self.variables())
+        self.tree = TreeVerifier(document, catalog, known_keys=self.variables(), world=world)
         self.problems: list[Problem] = []
 
     def variables(self) -> set[str]:
@@ -203,9 +203,10 @@ def _texts(task: TmlTask) -> Iterable[str]:
         yield task.work.belief
 
 
-def verify_tml(document: TmlDocument, catalog: BehaviorCatalog | None = None) -> list[Problem]:
-    """Every problem of a compiled TML mission, sorted by line."""
-    return TmlVerifier(document, catalog if catalog is not None else default_catalog()).verify()
+def verify_tml(document: TmlDocument, catalog: BehaviorCatalog | None = None,
+               world: WorldMap | None = None) -> list[Problem]:
+    """Every problem of a compiled TML mission, sorted by line (literal destinations against ``world``)."""
+    return TmlVerifier(document, catalog if catalog is not None else default_catalog(), world).verify()
 
 
 def verify_mission_document(document: TreeDocument, catalog: BehaviorCatalog | None = None,
@@ -213,5 +214,5 @@ def verify_mission_document(document: TreeDocument, catalog: BehaviorCatalog | N
     """Every problem of a mission read by ``load_mission_tree``: a TML mission or a behavior tree (checked
     against ``world`` too when given)."""
     if isinstance(document, TmlDocument):
-        return verify_tml(document, catalog)
+        return verify_tml(document, catalog, world)
     return verify_document(document, catalog, world=world)
