@@ -28,6 +28,8 @@ EXIT_STATUS = {COMPLETED: 0, FAILED: 1, REFUSED: 3, ABORTED: 4}
 RUN_ENDED = "run_ended"
 #: Event kinds that are a request of the mission refused (with ``source`` mission).
 REFUSAL_KINDS = ("failed_preconditions", "rejected")
+#: Event kinds that make a run fail (the mission raised or its tree failed, the time limit stopped it).
+FAILURE_KINDS = ("mission_failed", "engine_time_limit")
 
 
 @dataclass(frozen=True)
@@ -60,7 +62,7 @@ def run_status(events: Iterable[dict[str, Any] | EngineEvent]) -> RunStatus:
         and (r.get("data") or {}).get("ok"))]
     if aborted:
         return RunStatus(ABORTED, aborted)
-    failed = [r.get("detail", "") for r in records if r.get("kind") in ("mission_failed", "engine_time_limit")]
+    failed = [r.get("detail", "") for r in records if r.get("kind") in FAILURE_KINDS]
     if failed or not any(r.get("kind") == "mission_completed" for r in records):
         return RunStatus(FAILED, failed or ["the mission did not finish"])
     refused = [f"{r.get('behavior', '')}: {r.get('detail', '')}" for r in records
@@ -73,5 +75,5 @@ def record_run_status(log: Any, status: RunStatus) -> None:
     log.record(RUN_ENDED, detail=status.word, exit_status=status.exit_status, reasons=list(status.reasons))
 
 
-__all__ = ["ABORTED", "COMPLETED", "EXIT_STATUS", "FAILED", "REFUSED", "RunStatus", "record_run_status",
-           "run_status"]
+__all__ = ["ABORTED", "COMPLETED", "EXIT_STATUS", "FAILED", "FAILURE_KINDS", "REFUSAL_KINDS", "REFUSED", "RunStatus",
+           "record_run_status", "run_status"]
