@@ -34,6 +34,13 @@ MANY_VALUES = 6  # a predicate with more spans than this gets one row with a tic
 
 def draw_path(summary: FlightSummary, world: Any, path: Path, dpi: int = 100) -> Path:
     """The path flown over ``world`` (obstacles, markers, objects, home) with behavior starts (o) and ends (s)."""
+    fig = path_figure(summary, world, dpi)
+    fig.savefig(path, bbox_inches="tight", pad_inches=0.2)  # anything beyond the axes is kept, not clipped
+    return path
+
+
+def path_figure(summary: FlightSummary, world: Any, dpi: int = 100) -> Figure:
+    """The figure of :func:`draw_path`, not yet saved."""
     fig = Figure(figsize=(9, 8), dpi=dpi)
     FigureCanvasAgg(fig)  # the Agg backend, whatever pyplot's default is
     ax = fig.subplots()
@@ -58,8 +65,7 @@ def draw_path(summary: FlightSummary, world: Any, path: Path, dpi: int = 100) ->
     ax.grid(True, linewidth=0.3, color="#dddddd")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
     fig.tight_layout()
-    fig.savefig(path, bbox_inches="tight", pad_inches=0.2)  # labels beyond the axes are kept, not clipped
-    return path
+    return fig
 
 
 def draw_flight(summary: FlightSummary, path: Path, dpi: int = 100) -> Path:
@@ -140,13 +146,14 @@ def _draw_behavior_places(ax: Any, summary: FlightSummary) -> None:
             ax.plot([x], [y], marker=marker, markersize=7 if marker == "o" else 6, color=color,
                     markeredgecolor="black", linestyle="none", zorder=5)
             labels.setdefault((round(x * 2) / 2, round(y * 2) / 2), []).append(label)
-    middle = sum(ax.get_xlim()) / 2
+    middle_x, middle_y = sum(ax.get_xlim()) / 2, sum(ax.get_ylim()) / 2
     for (x, y), texts in labels.items():
         texts.sort(key=lambda text: float(text.split("s", 1)[0]))  # in time order
         shown = texts if len(texts) <= 8 else [*texts[:7], f"... {len(texts) - 7} more"]
-        right = x <= middle  # labels grow towards the middle of the map, never off its edge
-        ax.annotate("\n".join(shown), (x, y), textcoords="offset points", xytext=(8 if right else -8, -4),
-                    fontsize=6.5, va="top", ha="left" if right else "right", zorder=7, annotation_clip=False,
+        right, down = x <= middle_x, y >= middle_y  # labels grow towards the middle, never off the map's edge
+        ax.annotate("\n".join(shown), (x, y), textcoords="offset points",
+                    xytext=(8 if right else -8, -4 if down else 4), fontsize=6.5, va="top" if down else "bottom",
+                    ha="left" if right else "right", zorder=7, annotation_clip=False,
                     bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "#cccccc", "alpha": 0.6})
 
 

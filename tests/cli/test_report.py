@@ -193,3 +193,31 @@ def test_the_report_counts_refused_requests_and_plots_altitude_speed_battery(tmp
     page = (tmp_path / "out" / "report.html").read_text()
     outcomes = page.split("<h2>Outcomes by behavior</h2>")[1].split("<h2>")[0]
     assert "<th>FAILED_PRECONDITIONS</th>" in outcomes and "completed with refused requests" in page
+
+
+def test_behavior_labels_stay_on_the_map_at_its_edges():
+    """Labels of behaviors that start or end near the bounds grow towards the middle: never clipped."""
+    from aeroexec.cli.report_render import path_figure
+    from aeroexec.drones.sim import default_world
+    from aeroexec.engine.supervision.flight_summary import summarize
+
+    corners = [(19.5, 19.5, 3), (19.5, -19.5, 3), (-19.5, -19.5, 3), (-19.5, 19.5, 3)]
+    records = [{"kind": "log_started", "time": 0.0, "mission": "edges"}]
+    for i, corner in enumerate(corners):
+        t = 10.0 * i
+        records += [{"kind": "state", "time": t, "position": list(corner), "velocity": [0, 0, 0], "battery": 90.0},
+                    {"kind": "activated", "time": t, "behavior": f"A_VERY_LONG_BEHAVIOR_NAME_{i}",
+                     "data": {"source": "mission"}},
+                    {"kind": "state", "time": t + 5, "position": list(corner), "velocity": [0, 0, 0],
+                     "battery": 90.0},
+                    {"kind": "GOAL_ACHIEVED", "time": t + 5, "behavior": f"A_VERY_LONG_BEHAVIOR_NAME_{i}"}]
+    records.append({"kind": "log_closed", "time": 40.0})
+    fig = path_figure(summarize(records), default_world())
+    renderer = fig.canvas.get_renderer()
+    figure_box = fig.bbox
+    labels = [t for t in fig.axes[0].texts if "A_VERY_LONG_BEHAVIOR_NAME" in t.get_text()]
+    assert len(labels) == 4
+    for label in labels:
+        box = label.get_window_extent(renderer)
+        assert figure_box.x0 <= box.x0 and box.x1 <= figure_box.x1, label.get_text()
+        assert figure_box.y0 <= box.y0 and box.y1 <= figure_box.y1, label.get_text()
