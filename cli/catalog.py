@@ -1,4 +1,5 @@
-"""``aeroexec catalog``: list the behaviors of a catalog, or check a catalog file and report every problem."""
+"""``aeroexec catalog``: list the behaviors of a catalog (names without regard to case), its predicates
+(``--predicates``), the simulator's worlds (``--worlds``), or check a catalog file and report every problem."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import argparse
 import logging
 import sys
 import textwrap
+from pathlib import Path
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, default_catalog_path, load_catalog
 from aeroexec.engine.errors import CatalogError, Problem
@@ -13,26 +15,75 @@ from aeroexec.engine.library import default_library
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("behaviors", nargs="*", metavar="BEHAVIOR", help="show only these behaviors")
+    behaviors = parser.add_argument("behaviors", nargs="*", metavar="BEHAVIOR",
+                                    help="show only these behaviors (any case: take_off is TAKE_OFF)")
+    behaviors.completer = _behavior_names  # type: ignore[attr-defined]  # argcomplete
     parser.add_argument("--catalog", metavar="FILE", help="the catalog to list (default: the aerial catalog)")
     parser.add_argument("--check", metavar="FILE", help="validate a catalog file: print every error and warning "
                                                         "with file:line; exit 1 when there are errors")
+    parser.add_argument("--predicates", action="store_true",
+                        help="list the belief predicates missions may use: arity, computed or stored, meaning")
+    parser.add_argument("--worlds", action="store_true",
+                        help="list the simulator's worlds (for run/verify --world): bounds, obstacles, markers")
+
+
+def _behavior_names(prefix: str, parsed_args: argparse.Namespace, **_: object) -> list[str]:
+    catalog = chosen_catalog(getattr(parsed_args, "catalog", None))
+    return [name for name in catalog.behaviors if name.startswith(prefix.upper())]
 
 
 def run(args: argparse.Namespace) -> int:
     logging.getLogger("aeroexec.engine.catalog").setLevel(logging.ERROR)  # problems are printed below
     if args.check:
         return _check(args.check)
+    if args.worlds:
+        print(worlds_listing())
+        return 0
     catalog = chosen_catalog(args.catalog)
     for warning in catalog.warnings:
         print(warning, file=sys.stderr)
-    unknown = [name for name in args.behaviors if name not in catalog]
+    if args.predicates:
+        print(predicates_listing(catalog))
+        return 0
+    names = [name.upper() for name in args.behaviors]
+    unknown = [name for name, given in zip(names, args.behaviors, strict=True) if name not in catalog]
     for name in unknown:
         print(f"The behavior {name} does not exist{catalog.suggest(name)}", file=sys.stderr)
     if unknown:
         return 1
-    print(listing(catalog, args.behaviors or None))
+    print(listing(catalog, names or None))
     return 0
+
+
+def predicates_listing(catalog: BehaviorCatalog) -> str:
+    """The catalog's predicates: ``name/arity``, computed or stored (with persistence), and their meaning."""
+    predicates = sorted(catalog.predicates.values(), key=lambda p: p.name)
+    width = max((len(f"{p.name}/{p.arity}") for p in predicates), default=0)
+    lines = [f"{catalog.source or default_catalog_path()}: {len(predicates)} predicates", ""]
+    for p in predicates:
+        kind = "computed" if p.computed else "stored" + (f", forgotten after {p.persistence:g} s"
+                                                         if p.persistence is not None else "")
+        kind += ", several values" if p.multivalued else ""
+        lines.append(f"{p.name + '/' + str(p.arity):<{width}}  ({kind})" + (f"  {p.description}"
+                                                                             if p.description else ""))
+    return "\n".join(lines)
+
+
+def worlds_listing() -> str:
+    """The worlds that ship with the simulator: file, bounds, obstacles and markers."""
+    from aeroexec.drones.sim import default_world, load_world
+
+    folder = Path(default_world().source or "").parent
+    lines = []
+    for path in sorted(folder.glob("*.yaml")):
+        world = load_world(path)
+        lower, upper = world.bounds.lower, world.bounds.upper
+        size = " x ".join(f"{hi - lo:g}" for lo, hi in zip(lower, upper, strict=True))
+        default = " (default)" if path.name == "default_world.yaml" else ""
+        lines += [f"{world.name}{default}: {path}", f"    bounds {size} m, from {tuple(lower)} to {tuple(upper)}",
+                  f"    obstacles: {', '.join(o.name for o in world.obstacles) or 'none'}",
+                  f"    markers: {', '.join(str(m.id) for m in world.markers) or 'none'}"]
+    return "\n".join(lines)
 
 
 def chosen_catalog(path: str | None) -> BehaviorCatalog:

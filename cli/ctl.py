@@ -1,7 +1,9 @@
 """``aeroexec ctl COMMAND``: command a running ``aeroexec run`` from another terminal, over its control socket.
 
-``--run DIR`` names the run's output folder (its ``control.json`` holds the port and token); without it, the
-newest run under ``aeroexec_output/`` that is still going. ``--port P --token T`` skips the file.
+Without options, the newest of this user's live runs, wherever it was started (each run lists itself in the
+per-user runtime directory, ``$XDG_RUNTIME_DIR/aeroexec/``); ``aeroexec ctl list`` shows them. ``--run DIR``
+names a run by its output folder (its ``control.json`` holds the port and token) or by its process id;
+``--port P --token T`` skips the files.
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ import argparse
 import json
 import sys
 
-from aeroexec.engine.supervision.control import CONTROL_FILE, read_control_file, send_command
+from aeroexec.engine.supervision.control import CONTROL_FILE, live_runs, read_control_file, send_command
 from aeroexec.engine.supervision.output import DEFAULT_BASE
 
 COMMANDS = {
@@ -23,13 +25,15 @@ COMMANDS = {
     "remove": "PATTERN: remove the beliefs matching a pattern, e.g. visible(?x)",
     "status": "where the run is: state, active behaviors, questions, drone",
     "query": "EXPRESSION: what the drone believes, e.g. object(?X, aruco)",
+    "list": "the live runs of this user, wherever they were started",
 }
 NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove", "query"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--run", dest="run_dir", metavar="DIR",
-                        help=f"the run's output folder (default: the newest running one under {DEFAULT_BASE}/)")
+    parser.add_argument("--run", dest="run_dir", metavar="DIR|PID",
+                        help="the run's output folder or process id (default: the newest live run of this user; "
+                             "see aeroexec ctl list)")
     parser.add_argument("--port", type=int, metavar="P", help="the run's control port (with --token)")
     parser.add_argument("--token", metavar="T", help="the run's control token (with --port)")
     parser.add_argument("--json", action="store_true", help="print the answer as JSON")
@@ -44,6 +48,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     argument = " ".join(args.argument)
+    if args.command == "list":
+        runs = live_runs()
+        for live in runs:
+            print(live)
+        if not runs:
+            print("no live run", file=sys.stderr)
+        return 0 if runs else 1
     if args.command in NEEDS_ARGUMENT and not argument:
         print(f"aeroexec ctl {args.command}: {COMMANDS[args.command]}; give the argument", file=sys.stderr)
         return 2
@@ -77,11 +88,19 @@ def endpoint(args: argparse.Namespace) -> tuple[int, str]:
         if args.port is None or args.token is None:
             raise ValueError("--port and --token go together")
         return args.port, args.token
+    runs = live_runs()
+    if args.run_dir and args.run_dir.isdigit():
+        chosen = [r for r in runs if r.pid == int(args.run_dir)]
+        if not chosen:
+            raise ValueError(f"no live run has the process id {args.run_dir} (aeroexec ctl list shows them)")
+        return chosen[-1].port, chosen[-1].token
     if args.run_dir:
         return read_control_file(args.run_dir)
+    if runs:
+        return runs[-1].port, runs[-1].token
     files = sorted(DEFAULT_BASE.glob(f"*/{CONTROL_FILE}"), key=lambda p: p.stat().st_mtime)
     if not files:
-        raise ValueError(f"no running mission found under {DEFAULT_BASE}/: give --run DIR (the run's --output)")
+        raise ValueError("no live run found (aeroexec ctl list): give --run DIR (the run's --output folder)")
     return read_control_file(files[-1].parent)
 
 

@@ -3,7 +3,10 @@
 Sections: the mission (the tree with node statuses, or the Python mission's current line), the active
 behaviors (priority, source, elapsed time, timeout), the drone (position, altitude, speed, battery), the
 beliefs (recently changed ones highlighted, removed ones struck through), the last events with their reasons,
-and a waiting question. The engine thread only takes a snapshot of plain data now and then (a tick
+and a waiting question. On a terminal the view fits its size (80 x 24 included): the panels shrink, the
+newest events and the key line stay, and explanations wrap rather than being cut. When the run ends, the
+header shows how (completed, completed with refused requests, failed, aborted). The engine thread only
+takes a snapshot of plain data now and then (a tick
 callback, a few times a wall second); rich's own thread draws it, so the view never slows a tick.
 
 :class:`KeyReader` turns keys into the operator's commands (p pause, r resume, a/q abort, i inhibit NAME,
@@ -23,10 +26,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+from aeroexec.cli.live_layout import behavior_table, newest, rows, share, window
 from aeroexec.console.feed import mission_line
 from aeroexec.engine.events import EngineEvent
 from aeroexec.engine.supervision.control import ControlServer
 from aeroexec.engine.supervision.operator import operator_of
+from aeroexec.engine.supervision.run_status import ABORTED, COMPLETED, FAILED, REFUSED, RUN_ENDED
 from rich.console import Console, Group, RenderableType
 from rich.live import Live
 from rich.panel import Panel
@@ -43,6 +48,8 @@ EVENT_STYLE = {"GOAL_ACHIEVED": "green", "TIME_OUT": "red", "WRONG_PROGRESS": "r
                "failed_preconditions": "red", "rejected": "red", "mission_failed": "bold red",
                "mission_completed": "bold green", "operator_command": "bold magenta", "operator": "cyan"}
 KEYS_HELP = "p pause  r resume  a abort+land  i inhibit  t answer  q quit (abort+land)"
+FINAL_STYLE = {COMPLETED: "bold green", REFUSED: "bold yellow", FAILED: "bold red", ABORTED: "bold red"}
+FLIGHT_CAPABILITY = "FLIGHT_CONTROL"  # the behaviors holding it command the drone's flight mode
 
 
 @dataclass
@@ -73,12 +80,15 @@ class LiveView:
         self._changed: dict[str, tuple[float, str]] = {}  # belief text -> (time, "added"/"removed")
         self._snapshot = Snapshot()
         self._taken_at = 0.0
+        self._final = ""  # how the run ended, once it has
         self._live: Live | None = None
         self._unsubscribe = [engine.log.subscribe(self._event), engine.memory.subscribe(self._belief)]
         engine.tick_callbacks.append(self._tick)
 
     # -- on the engine's thread -------------------------------------------------------------
     def _event(self, event: EngineEvent) -> None:
+        if event.kind == RUN_ENDED:
+            self._final = event.detail
         if event.kind not in ("node_status",):
             self._events.append(event)
 
@@ -103,10 +113,13 @@ class LiveView:
         active = [(a.name, {2: "higher", 1: "deliberative", 0: "lower"}.get(a.priority, "?"), a.source,
                    now - a.started_at, a.timeout)
                   for a in sorted(engine.coordinator.active().values(), key=lambda a: a.order)]
+        flying = [a.name for a in sorted(engine.coordinator.active().values(), key=lambda a: -a.order)
+                  if any(FLIGHT_CAPABILITY in c for c in a.process.descriptor.capabilities)]  # newest first
         drone = {"position": telemetry.position, "altitude": telemetry.altitude, "speed": telemetry.speed,
                  "battery": telemetry.battery_percent, "landed": telemetry.landed_state.value,
-                 "mode": telemetry.flight_mode}
-        return Snapshot(now, engine.supervisor.state, self._mission_lines(), active, drone, self._beliefs(now),
+                 "mode": telemetry.flight_mode, "by": flying[0] if flying else ""}
+        return Snapshot(now, self._final or engine.supervisor.state, self._mission_lines(), active, drone,
+                        self._beliefs(now),
                         [(_event_line(e), EVENT_STYLE.get(e.kind, "")) for e in self._events],
                         [_question(p) for p in operator_of(engine.context).pending_questions()])
 
@@ -137,34 +150,44 @@ class LiveView:
 
     # -- drawing (any thread) --------------------------------------------------------------------
     def render(self) -> RenderableType:
+        """The view of the latest snapshot; on a terminal, sized to fit it (the key line always shows)."""
+        size = self.console.size if self.console.is_terminal else None
+        return self.draw(size)
+
+    def draw(self, size: tuple[int, int] | None = None) -> RenderableType:
+        """The view for a ``(width, height)`` terminal, or everything when ``size`` is None."""
         s = self._snapshot
-        state_style = {"paused": "bold yellow", "aborted": "bold red"}.get(s.state, "bold green")
+        width = size[0] if size else 10_000
+        state_style = FINAL_STYLE.get(s.state) or {"paused": "bold yellow", "aborted": "bold red"}.get(
+            s.state, "bold green")
         title = Text.assemble(("aeroexec ", "bold"), (self.name, "bold cyan"), f"  t={s.time:.1f} s  ",
-                              (s.state.upper(), state_style))
-        mission = Text()
-        for depth, status, text in s.mission:
+                              (s.state.upper(), state_style), no_wrap=True, overflow="ellipsis")
+        footer = Text(self.prompt, style="bold") if self.prompt else Text(KEYS_HELP, style="dim")
+        if self.message and not self.prompt:
+            footer = Text.assemble((self.message, "magenta"), "   ", footer)
+        footer.no_wrap, footer.overflow = True, "ellipsis"
+        questions = [Text(f"the drone asks: {q}  (press t to answer)", style="bold cyan") for q in s.questions]
+        drone = self._drone_text(s.drone)
+        # rows left for the panels' contents: title, footer, questions, four panels' borders, the table header
+        budget = None if size is None else size[1] - 2 - sum(rows(q, width) for q in questions) \
+            - rows(drone, width - 4) - 2 - 2 - 3 - 2
+        mission_rows, behavior_rows, event_rows = share(budget, len(s.mission), len(s.active))
+        mission = Text(no_wrap=True, overflow="ellipsis")
+        for depth, status, text in window(s.mission, mission_rows):
+            if mission:
+                mission.append("\n")
             if status and self.tree is not None:
                 mission.append(f"{'  ' * depth}[{status}] ", STATUS_STYLE.get(status, ""))
-                mission.append(text + "\n")
+                mission.append(text)
             else:
-                mission.append(text + "\n", "yellow" if status else "dim")
-        behaviors = Table("behavior", "priority", "source", "elapsed", "timeout", expand=True, box=None)
-        for name, priority, source, elapsed, timeout in s.active:
-            behaviors.add_row(name, priority, source, f"{elapsed:.1f} s", f"{timeout:g} s" if timeout else "-")
-        d = s.drone
-        drone = Text()
-        if d:
-            x, y, z = d["position"]
-            drone.append(f"position ({x:.1f}, {y:.1f}, {z:.1f}) m  altitude {d['altitude']:.1f} m  "
-                         f"speed {d['speed']:.1f} m/s  ")
-            drone.append(f"battery {d['battery']:.0f} %", "red" if d["battery"] < 30 else "")
-            drone.append(f"  {d['landed']} {d['mode']}", "dim")
-        beliefs = Text(no_wrap=True)
-        for text, style in s.beliefs:
-            beliefs.append(text + "\n", style)
-        events = Text(no_wrap=True, overflow="ellipsis")
-        for line, style in s.events:
-            events.append(line + "\n", style)
+                mission.append(text, "yellow" if status else "dim")
+        behaviors = behavior_table(s.active, behavior_rows, compact=width < 110)
+        left_rows = None if budget is None else (mission_rows or 0) + (behavior_rows or 0) + 3
+        shown_beliefs = s.beliefs if left_rows is None else s.beliefs[:max(1, left_rows)]
+        beliefs = Text("\n").join(Text(text, style) for text, style in shown_beliefs)
+        beliefs.no_wrap, beliefs.overflow = True, "ellipsis"
+        events = Text("\n").join(Text(line, style) for line, style in newest(s.events, event_rows, width - 4))
+        events.overflow = "fold"  # explanations wrap, never cut
         top = Table.grid(expand=True)
         top.add_column(ratio=3)
         top.add_column(ratio=2)
@@ -172,14 +195,21 @@ class LiveView:
                           Panel(behaviors, title="active behaviors", title_align="left")),
                     Panel(beliefs, title="beliefs", title_align="left"))
         parts: list[RenderableType] = [title, Panel(drone, title="drone", title_align="left"), top,
-                                       Panel(events, title="events", title_align="left")]
-        for question in s.questions:
-            parts.append(Text(f"the drone asks: {question}  (press t to answer)", style="bold cyan"))
-        footer = Text(self.prompt, style="bold") if self.prompt else Text(KEYS_HELP, style="dim")
-        if self.message and not self.prompt:
-            footer = Text.assemble((self.message, "magenta"), "   ", footer)
-        parts.append(footer)
+                                       Panel(events, title="events", title_align="left"), *questions, footer]
         return Group(*parts)
+
+    @staticmethod
+    def _drone_text(d: dict[str, Any]) -> Text:
+        drone = Text()
+        if d:
+            x, y, z = d["position"]
+            drone.append(f"position ({x:.1f}, {y:.1f}, {z:.1f}) m  altitude {d['altitude']:.1f} m  "
+                         f"speed {d['speed']:.1f} m/s  ")
+            drone.append(f"battery {d['battery']:.0f} %", "red" if d["battery"] < 30 else "")
+            drone.append(f"\n{d['landed']}, flight mode {d['mode']}", "dim")
+            if d.get("by"):
+                drone.append(f" (commanded by {d['by']})", "dim")
+        return drone
 
     def start(self) -> LiveView:
         self.refresh()
@@ -323,9 +353,9 @@ class OperatorConsole:
         self.keys: KeyReader | None = None
 
     def start(self) -> OperatorConsole:
-        self.server = ControlServer(self.engine, self.folder).start()
-        print(f"commands: aeroexec ctl --run {self.folder} pause|resume|abort|inhibit|answer|add|remove|status",
-              file=sys.stderr)
+        self.server = ControlServer(self.engine, self.folder, name=self.name).start()
+        print(f"commands: aeroexec ctl pause|resume|abort|inhibit|answer|add|remove|status (from anywhere; "
+              f"this run: --run {self.folder})", file=sys.stderr)
         if self.live:
             code = getattr(self.mission, "__code__", None)
             self.view = LiveView(self.engine, self.name,

@@ -1,17 +1,23 @@
-"""The ``aeroexec`` command: one sub-command per job (catalog, sim, ...), wiring every layer together."""
+# PYTHON_ARGCOMPLETE_OK
+"""The ``aeroexec`` command: one sub-command per job (catalog, sim, ...), wiring every layer together.
+
+Shell completion (argcomplete): ``eval "$(register-python-argcomplete aeroexec)"`` in ``~/.bashrc``
+(zsh too; fish: ``register-python-argcomplete --shell fish aeroexec | source``).
+"""
 
 from __future__ import annotations
 
 import argparse
 import importlib
 import logging
+import os
 import sys
 
 from aeroexec import __version__
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
 COMMANDS = {
-    "run": ("run", "check a mission (Python or behavior tree), then fly it on the simulator or a MAVSDK drone"),
+    "run": ("run", "check a mission (Python, behavior tree or TML), then fly it on the simulator or a MAVSDK drone"),
     "verify": ("verify", "check missions without flying: every error with file:line"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
@@ -27,7 +33,8 @@ COMMANDS = {
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The command line's parser. Given ``argv``, only the sub-command it names is imported (none for
     ``aeroexec --help``), so a command loads what it uses and nothing more; without, every sub-command is."""
-    parser = argparse.ArgumentParser(prog="aeroexec", description="An execution engine for aerial robot missions.")
+    parser = argparse.ArgumentParser(prog="aeroexec", description="An execution engine for aerial robot missions.",
+                                     epilog='shell completion: eval "$(register-python-argcomplete aeroexec)"')
     parser.add_argument("--version", action="version", version=f"aeroexec {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
@@ -43,6 +50,10 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
+    if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: every sub-command's options
+        import argcomplete
+
+        argcomplete.autocomplete(build_parser())  # answers and exits
     parser = build_parser(argv)
     args = parser.parse_args(argv)
     quiet = logging.INFO if args.command == "sim" else logging.WARNING  # run prints events, not log lines

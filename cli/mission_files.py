@@ -42,8 +42,9 @@ def is_tree(path: Path) -> bool:
     return path.suffix.lower() in MISSION_EXTENSIONS
 
 
-def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
-    """Read and check a mission without flying it; raises :class:`MissionFileError` when it cannot be read."""
+def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None) -> CheckedMission:
+    """Read and check a mission without flying it (against ``world``'s bounds and obstacles when given);
+    raises :class:`MissionFileError` when it cannot be read."""
     checked = CheckedMission(path)
     if is_tree(path):
         try:
@@ -53,7 +54,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
-        checked.problems = verify_mission_document(checked.tree, catalog)  # TML missions too
+        checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
         return checked
     if path.suffix.lower() != ".py":
         raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
@@ -62,7 +63,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
         checked.source = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise MissionFileError(f"{path}: cannot read the mission: {exc}") from None
-    checked.problems = check_mission_source(checked.source, str(path), catalog)
+    checked.problems = check_mission_source(checked.source, str(path), catalog, world)
     return checked
 
 

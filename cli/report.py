@@ -1,6 +1,7 @@
-"""``aeroexec report LOG``: a flight report from an event log: ``path.png`` (the path over the world, where each
-behavior started and ended), ``timeline.png`` (behaviors and beliefs over time) and ``report.html`` (a one-page
-summary with both images), next to the log unless ``--output DIR`` says otherwise."""
+"""``aeroexec report LOG``: a flight report from an event log: ``path.png`` (the path over the world, outbound and
+return legs, where each behavior started and ended), ``flight.png`` (altitude, speed and battery over time with
+the behaviors shaded and the flight state changes), ``timeline.png`` (behaviors and beliefs over time) and
+``report.html`` (a one-page summary with the images), next to the log unless ``--output DIR`` says otherwise."""
 
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from aeroexec.cli.report_html import write_html
-    from aeroexec.cli.report_render import draw_path, draw_timeline
+    from aeroexec.cli.report_render import draw_flight, draw_path, draw_timeline
 
     log = Path(args.log)
     try:
@@ -41,6 +42,7 @@ def run(args: argparse.Namespace) -> int:
     folder = Path(args.output) if args.output else log.parent
     folder.mkdir(parents=True, exist_ok=True)
     images = {"Path flown": draw_path(summary, world, folder / "path.png"),
+              "Altitude, speed and battery": draw_flight(summary, folder / "flight.png"),
               "Timeline": draw_timeline(summary, folder / "timeline.png")}
     page = write_html(summary, images, folder / "report.html")
     for written in (*images.values(), page):

@@ -1,5 +1,8 @@
-"""The flight report's images, drawn with matplotlib (Agg): the path flown over the world, seen from above, with
-where each behavior started and ended; and a timeline of behaviors (colored by outcome) and beliefs."""
+"""The flight report's images, drawn with matplotlib (Agg): the path flown over the world, seen from above (the
+outbound and the return legs in their own colors), with where each behavior started and ended; altitude, speed
+and battery over time with the behaviors shaded and the flight state changes marked (what PX4 Flight Review
+users look at first); and a timeline of behaviors (colored by outcome) and beliefs. Labels are never clipped:
+images are saved with a bounding box around everything drawn."""
 
 from __future__ import annotations
 
@@ -14,7 +17,9 @@ from matplotlib.patches import Circle, Patch, Rectangle
 
 logger = logging.getLogger(__name__)
 
-PATH_COLOR = "#0a64e6"  # used by nothing else, so the path can be found in the image
+PATH_COLOR = "#0a64e6"  # the outbound leg; used by nothing else, so the path can be found in the image
+RETURN_COLOR = "#e6550d"  # the return leg, from the point farthest from home
+SHADES = ("#c6dbef", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1", "#d9d9d9")  # behaviors over time
 OUTCOME_COLORS = {
     "GOAL_ACHIEVED": "#2ca02c",
     "INTERRUPTED": "#9e9e9e",
@@ -29,6 +34,13 @@ MANY_VALUES = 6  # a predicate with more spans than this gets one row with a tic
 
 def draw_path(summary: FlightSummary, world: Any, path: Path, dpi: int = 100) -> Path:
     """The path flown over ``world`` (obstacles, markers, objects, home) with behavior starts (o) and ends (s)."""
+    fig = path_figure(summary, world, dpi)
+    fig.savefig(path, bbox_inches="tight", pad_inches=0.2)  # anything beyond the axes is kept, not clipped
+    return path
+
+
+def path_figure(summary: FlightSummary, world: Any, dpi: int = 100) -> Figure:
+    """The figure of :func:`draw_path`, not yet saved."""
     fig = Figure(figsize=(9, 8), dpi=dpi)
     FigureCanvasAgg(fig)  # the Agg backend, whatever pyplot's default is
     ax = fig.subplots()
@@ -36,8 +48,13 @@ def draw_path(summary: FlightSummary, world: Any, path: Path, dpi: int = 100) ->
         _draw_world(ax, world)
     points = summary.path
     if points:
-        ax.plot([p[0] for p in points], [p[1] for p in points], color=PATH_COLOR, linewidth=2.5,
-                label="path flown", zorder=4, solid_capstyle="round")
+        turn = summary.farthest_sample()
+        out, back = points[:turn + 1], points[turn:]
+        ax.plot([p[0] for p in out], [p[1] for p in out], color=PATH_COLOR, linewidth=2.0,
+                label="outbound", zorder=4.5, solid_capstyle="round")
+        if len(back) > 1:  # wider and under the outbound leg, so a way back along it shows as a border
+            ax.plot([p[0] for p in back], [p[1] for p in back], color=RETURN_COLOR, linewidth=5.0,
+                    label="return", zorder=4, solid_capstyle="round")
     ax.plot([0], [0], marker="*", markersize=16, color="black", linestyle="none", label="home", zorder=6)
     _draw_behavior_places(ax, summary)
     ax.set_aspect("equal")
@@ -46,10 +63,69 @@ def draw_path(summary: FlightSummary, world: Any, path: Path, dpi: int = 100) ->
     ax.set_title(f"{summary.meta.get('mission', 'mission')}: path flown ({summary.distance:.1f} m, "
                  f"{summary.duration:.1f} s)")
     ax.grid(True, linewidth=0.3, color="#dddddd")
-    ax.legend(loc="upper right", fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
     fig.tight_layout()
-    fig.savefig(path)
+    return fig
+
+
+def draw_flight(summary: FlightSummary, path: Path, dpi: int = 100) -> Path:
+    """Altitude, speed and battery over time; the mission's behaviors shaded and named; flight state changes
+    as dashed lines."""
+    series = summary.series()
+    fig = Figure(figsize=(11, 7), dpi=dpi)
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(3, 1, sharex=True)
+    for ax, key, label, color in zip(axes, ("altitude", "speed", "battery"),
+                                     ("altitude (m)", "speed (m/s)", "battery (%)"),
+                                     ("#1f77b4", "#2ca02c", "#d62728"), strict=True):
+        ax.plot(series["time"], series[key], color=color, linewidth=1.5)
+        ax.set_ylabel(label, fontsize=8)
+        ax.grid(True, linewidth=0.3, color="#dddddd")
+    duration = max(summary.end - summary.start, 1.0)
+    segments = _mode_segments(summary)
+    names = list(dict.fromkeys(name for name, _, _ in segments))
+    for name, start, end in segments:
+        for ax in axes:
+            ax.axvspan(start, end, color=SHADES[names.index(name) % len(SHADES)], alpha=0.7, zorder=0, lw=0)
+        if end - start >= 0.04 * duration:  # named where it is wide enough to read
+            axes[0].annotate(name, ((start + end) / 2, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 3),
+                             textcoords="offset points", fontsize=6.5, ha="center", va="bottom",
+                             annotation_clip=False)
+    for when, state in _merged(summary.flight_states, 0.04 * duration):
+        for ax in axes:
+            ax.axvline(when, color="#555555", linestyle="--", linewidth=0.7)
+        axes[2].annotate(state, (when, 0.0), xycoords=("data", "axes fraction"), xytext=(2, -22),
+                         textcoords="offset points", fontsize=6.5, rotation=30, annotation_clip=False)
+    axes[0].set_title(f"{summary.meta.get('mission', 'mission')}: altitude, speed and battery (shaded: the "
+                      f"mission's behaviors; dashed: flight state changes)", fontsize=9, pad=14)
+    axes[2].set_xlabel("engine time (s)", labelpad=24)
+    axes[2].set_xlim(summary.start, max(summary.end, summary.start + 1.0))
+    fig.tight_layout()
+    fig.savefig(path, bbox_inches="tight", pad_inches=0.2)
     return path
+
+
+def _mode_segments(summary: FlightSummary) -> list[tuple[str, float, float]]:
+    """The mission's behaviors as a sequence of (name, start, end), as a flight mode timeline: each one from its
+    start until it ends or the next one starts (reactive behaviors are left out)."""
+    spans = sorted((s for s in summary.behaviors if s.source != "reactive"), key=lambda s: s.start)
+    segments = []
+    for i, span in enumerate(spans):
+        end = min([span.end, *(later.start for later in spans[i + 1:] if later.start > span.start)])
+        if end > span.start:
+            segments.append((span.behavior, span.start, end))
+    return segments
+
+
+def _merged(changes: list[tuple[float, str]], gap: float) -> list[tuple[float, str]]:
+    """Changes closer than ``gap`` seconds to the previous one shown as one, named by the latest state."""
+    merged: list[tuple[float, str]] = []
+    for when, state in changes:
+        if merged and when - merged[-1][0] < gap:
+            merged[-1] = (merged[-1][0], state)
+        else:
+            merged.append((when, state))
+    return merged
 
 
 def _draw_behavior_places(ax: Any, summary: FlightSummary) -> None:
@@ -70,12 +146,15 @@ def _draw_behavior_places(ax: Any, summary: FlightSummary) -> None:
             ax.plot([x], [y], marker=marker, markersize=7 if marker == "o" else 6, color=color,
                     markeredgecolor="black", linestyle="none", zorder=5)
             labels.setdefault((round(x * 2) / 2, round(y * 2) / 2), []).append(label)
+    middle_x, middle_y = sum(ax.get_xlim()) / 2, sum(ax.get_ylim()) / 2
     for (x, y), texts in labels.items():
         texts.sort(key=lambda text: float(text.split("s", 1)[0]))  # in time order
         shown = texts if len(texts) <= 8 else [*texts[:7], f"... {len(texts) - 7} more"]
-        ax.annotate("\n".join(shown), (x, y), textcoords="offset points", xytext=(8, -4), fontsize=6.5,
-                    va="top", zorder=7, bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "#cccccc",
-                                              "alpha": 0.6})
+        right, down = x <= middle_x, y >= middle_y  # labels grow towards the middle, never off the map's edge
+        ax.annotate("\n".join(shown), (x, y), textcoords="offset points",
+                    xytext=(8 if right else -8, -4 if down else 4), fontsize=6.5, va="top" if down else "bottom",
+                    ha="left" if right else "right", zorder=7, annotation_clip=False,
+                    bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "#cccccc", "alpha": 0.6})
 
 
 def _draw_world(ax: Any, world: Any) -> None:
@@ -142,7 +221,7 @@ def draw_timeline(summary: FlightSummary, path: Path, dpi: int = 100) -> Path:
     bottom.set_xlabel("engine time (s)")
     bottom.set_xlim(summary.start, max(summary.end, summary.start + 1.0))
     fig.tight_layout()
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight", pad_inches=0.2)
     return path
 
 

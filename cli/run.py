@@ -19,13 +19,17 @@ from aeroexec.cli import robots, web
 from aeroexec.cli.live import OperatorConsole
 from aeroexec.cli.live import wanted as live_view_wanted
 from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
+from aeroexec.cli.verify import WorldChoiceError, add_library_arguments, chosen_world
 from aeroexec.drones import Drone
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
+from aeroexec.engine.library import LibraryError, default_library, default_processes, default_updaters
+from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.supervision.flight_log import FlightLogWriter
 from aeroexec.engine.supervision.output import make_output_folder
+from aeroexec.engine.supervision.run_status import COMPLETED, record_run_status, run_status
 from aeroexec.engine.supervision.supervisor import land_if_flying
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.btlog import BtlogWriter
@@ -39,7 +43,11 @@ class RunError(Exception):
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function")
+    parser.add_argument("mission", help="the mission: a Python program with a mission() or runMission() function "
+                                         "(.py), a behavior tree (BehaviorTree.CPP XML .xml, or YAML .yaml/.yml), "
+                                         "or a TML mission (.tml.xml)")
+    parser.epilog = ("exit status: 0 completed, 3 completed with refused requests, 1 failed, 4 aborted "
+                     "(the words the summary line, the live view and the event log's run_ended use)")
     add_flight_arguments(parser)
     fleet = parser.add_argument_group("fleet (over Zenoh)")
     fleet.add_argument("--fleet", metavar="NAME", help="join the fleet NAME (simulated time then runs at real time "
@@ -56,13 +64,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     """The options every way of flying a mission shares (run, and the behavior-tree runner)."""
     robots.add_arguments(parser)
-    parser.add_argument("--drone", default="sim", metavar="sim|mavsdk:URL",
-                        help="the built-in simulated drone (default) or a MAVSDK vehicle, "
-                             "e.g. mavsdk:udpin://0.0.0.0:14540")
-    parser.add_argument("--world", metavar="FILE", help="the simulated world (default: the built-in one)")
+    parser.add_argument("--drone", default="sim", metavar="sim|mavsdk:URL|NAME:ADDRESS",
+                        help="the built-in simulated drone (default), a MAVSDK vehicle "
+                             "(e.g. mavsdk:udpin://0.0.0.0:14540), or an installed adapter (aeroexec.drones "
+                             "entry point NAME)")
+    parser.add_argument("--world", metavar="FILE", help="the simulated world; literal destinations are checked "
+                                                        "against it (default: the robot kind's, else the "
+                                                        "built-in one)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
     parser.add_argument("--speed", type=float, metavar="N",
-                        help="simulated time N times faster than real time (default: as fast as possible)")
+                        help="simulated time N times faster than real time (default: real time with the live "
+                             "view in a terminal; as fast as possible with --plain, --quiet or no terminal)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
                         help="stop the mission after S seconds of mission time (default 1800)")
@@ -78,6 +90,10 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the mission's questions from FILE (YAML: question -> answer, or a list); "
                              "default: ask at the terminal when interactive, else the first possible answer")
+    add_library_arguments(parser)
+    parser.add_argument("--updater", action="append", default=[], metavar="MODULE:ATTR",
+                        help="belief updaters to add: a callable (drone) returning BeliefUpdaters (repeatable; "
+                             "installed aeroexec.updaters entry points are always added)")
     web.add_arguments(parser)
 
 
@@ -86,19 +102,26 @@ def run(args: argparse.Namespace) -> int:
     try:
         choice = robots.chosen(args)
         catalog = choice.catalog(args.catalog)
-        mission = load_mission(path, catalog)
+        if choice.kind is not None and not args.world and choice.kind.world:
+            args.world = str(choice.kind.world)  # the kind's own world, checked against and flown in
+        world = chosen_world(args, default=args.drone == "sim")  # destinations checked against it
+        mission = load_mission(path, catalog, world)
+        if choice.kind is None:  # --library: found before flight (a robot kind brings its own behaviors)
+            args.behavior_library = default_library(getattr(args, "library", ()))
+            args.process_registry = default_processes(getattr(args, "processes", ()))
         return fly(args, catalog, mission, path.name, choice)
     except robots.RobotKindError as error:
         print(error, file=sys.stderr)
         return 2
-    except (RunError, MissionFileError, web.SurfaceError) as error:
+    except (RunError, MissionFileError, WorldChoiceError, LibraryError, web.SurfaceError) as error:
         print(error, file=sys.stderr)
         return 1
 
 
-def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any] | TreeDocument:
-    """Check a mission before flight (printing every problem); the Python function or the tree to fly."""
-    checked = check_mission(path, catalog)
+def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None) -> Callable[[], Any] | TreeDocument:
+    """Check a mission before flight (printing every problem), against ``world`` when given; the Python
+    function or the tree to fly."""
+    checked = check_mission(path, catalog, world)
     for problem in checked.problems:
         print(problem, file=sys.stderr)
     if checked.errors:
@@ -140,7 +163,12 @@ def make_drone(args: argparse.Namespace, choice: robots.RobotChoice | None = Non
             drone.close()
             raise RunError(f"--drone {args.drone}: the vehicle is not ready to fly after 60 s ({why})")
         return drone, world if args.world else None, False
-    raise RunError(f"--drone {args.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540)")
+    scheme, _, address = args.drone.partition(":")
+    try:  # an installed adapter (an aeroexec.drones entry point)
+        return make_adapter_drone(scheme, address), world if args.world else None, False
+    except LibraryError as error:
+        raise RunError(f"--drone {args.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540), "
+                       f"or NAME:ADDRESS of an installed adapter; {error}") from None
 
 
 def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[], Any] | TreeDocument,
@@ -155,8 +183,16 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     paced = 1.0 if watched or fleet_name else None
     clock = SimulatedClock(speed=args.speed or paced) if simulated else WallClock()
     folder = make_output_folder(getattr(args, "output", None))
+    try:
+        updaters = default_updaters(drone, getattr(args, "updater", ()))
+    except LibraryError as error:
+        operator.close()
+        drone.close()
+        raise RunError(str(error)) from None
+    options = choice.engine_options(drone) if choice is not None and choice.kind is not None else {
+        "library": getattr(args, "behavior_library", None), "processes": getattr(args, "process_registry", None)}
     engine = Engine(drone, catalog=catalog, clock=clock, obstacles=world, operator=operator, output_dir=folder,
-                    **(choice.engine_options(drone) if choice is not None else {}))
+                    updaters=updaters, **options)
     link = None
     if fleet_name:
         from aeroexec.fleet.joined import join_fleet
@@ -210,6 +246,7 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
     finally:
+        record_run_status(engine.log, run_status(engine.log.events()))  # the live view's header shows it
         console.close()
         engine.stop()
         for surface in (browser, groot, link):
@@ -238,13 +275,15 @@ def make_operator(args: argparse.Namespace, live: bool = False) -> Any:
 
 
 def summary(engine: Engine, name: str) -> int:
-    failed = engine.log.events(kind="mission_failed")
-    completed = engine.log.events(kind="mission_completed")
+    """Print how the run ended (the words of :mod:`~aeroexec.engine.supervision.run_status`); its exit status."""
+    status = run_status(engine.log.events())
     outcomes = [e for e in engine.log.events() if e.kind in {o.value for o in Outcome}]
-    print(f"{name}: {'completed' if completed and not failed else 'failed' if failed else 'stopped'} at "
-          f"t={engine.now():.1f} s; {len(outcomes)} behavior events, "
+    print(f"{name}: {status.word} at t={engine.now():.1f} s; {len(outcomes)} behavior events, "
           f"{sum(e.kind == 'GOAL_ACHIEVED' for e in outcomes)} goals achieved", file=sys.stderr)
-    return 0 if completed and not failed else 1
+    if status.word != COMPLETED:
+        for reason in status.reasons[:5]:
+            print(f"  {reason}", file=sys.stderr)
+    return status.exit_status
 
 
 def world_file(args: argparse.Namespace, choice: robots.RobotChoice | None) -> str | None:

@@ -1,40 +1,105 @@
-"""``aeroexec verify MISSION``: every problem of a mission found without flying, with file:line; exit 1 on errors."""
+"""``aeroexec verify MISSION``: every problem of a mission found without flying, with file:line; exit 1 on errors.
+
+Literal destinations and paths are checked against a world too (its bounds and the obstacle clearance the
+catalog's preconditions ask): ``--world FILE``, else the simulator's built-in world; ``--no-world`` skips it.
+``--library module:attribute`` adds behavior implementations, so a catalog behavior with no implementation
+is reported before flight.
+"""
 
 from __future__ import annotations
 
 import argparse
+import re
 from pathlib import Path
+from typing import Any
 
 from aeroexec.cli import robots
 from aeroexec.cli.mission_files import MissionFileError, check_mission
+from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
+from aeroexec.engine.library import LibraryError, default_library
+
+
+class WorldChoiceError(Exception):
+    """A ``--world`` that cannot be read."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
-                        help="Python missions (.py) or behavior trees (.xml, .yaml, .yml)")
+                        help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     robots.add_arguments(parser)
+    world = parser.add_mutually_exclusive_group()
+    world.add_argument("--world", metavar="FILE",
+                       help="check destinations and paths against this world (default: the simulator's)")
+    world.add_argument("--no-world", action="store_true", help="do not check against any world")
+    add_library_arguments(parser)
+
+
+def add_library_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--library`` and ``--processes``: plugins named ``module:attribute`` (run and verify)."""
+    parser.add_argument("--library", action="append", default=[], metavar="MODULE:ATTR",
+                        help="behavior implementations to add: a BehaviorLibrary, BehaviorProcess classes or a "
+                             "callable returning either (repeatable; installed aeroexec.behaviors entry points "
+                             "are always added)")
+    parser.add_argument("--processes", action="append", default=[], metavar="MODULE:ATTR",
+                        help="capability processes to add: a ProcessRegistry or a mapping of names to factories "
+                             "(repeatable)")
+
+
+def chosen_world(args: argparse.Namespace, default: bool = True) -> Any:
+    """The world of ``--world FILE``; else the built-in one when ``default`` (and not ``--no-world``)."""
+    from aeroexec.drones.sim import WorldError, default_world, load_world
+
+    if getattr(args, "no_world", False):
+        return None
+    try:
+        if getattr(args, "world", None):
+            return load_world(args.world)
+    except WorldError as error:
+        raise WorldChoiceError(str(error)) from None
+    return default_world() if default else None
 
 
 def run(args: argparse.Namespace) -> int:
     try:
-        catalog = robots.chosen(args).catalog(args.catalog)
+        choice = robots.chosen(args)
+        catalog = choice.catalog(args.catalog)
     except robots.RobotKindError as error:
         print(error)
         return 2
+    if choice.kind is not None and not args.world and not args.no_world and choice.kind.world:
+        args.world = str(choice.kind.world)  # its robot kind's world
+    try:
+        world = chosen_world(args)
+        library = choice.library() if choice.kind is not None else default_library(args.library)
+    except (WorldChoiceError, LibraryError) as error:
+        print(error)
+        return 1
     failed = False
     for name in args.missions:
         try:
-            checked = check_mission(Path(name), catalog)
+            checked = check_mission(Path(name), catalog, world)
         except MissionFileError as error:
             print(error)
             failed = True
             continue
+        checked.problems += unimplemented(catalog, library, Path(name))
         for problem in checked.problems:
             print(problem)
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
         verdict = "ready to fly" if not errors else "will not fly"
+        against = f" (checked against the world {world.name})" if world is not None and not errors else ""
         print(f"{name}: {errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}"
-              f"; {verdict}")
+              f"; {verdict}{against}")
         failed = failed or errors > 0
     return 1 if failed else 0
+
+
+def unimplemented(catalog: Any, library: Any, path: Path) -> list[Problem]:
+    """A warning for each behavior the mission names that the catalog has and no implementation serves."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return []
+    return [Problem("warning", f"{UNSUPPORTED}: {unsupported_message(name)}", str(path), 0)
+            for name in sorted(catalog.behaviors) if name not in library and re.search(rf"\b{name}\b", text)]

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
-from aeroexec.engine.errors import MissionAborted
+from aeroexec.engine.errors import UNSUPPORTED, MissionAborted, RequestRejected, SpecificationError, unsupported_message
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.activation import ActivationConditions
 
@@ -85,7 +85,9 @@ def _engine() -> Any:
 
 
 def _request(name: str, arguments: dict[str, Any]) -> tuple[str, dict[str, Any], dict[str, Any]]:
-    """The behavior name and catalog-cased arguments, and the reserved options apart."""
+    """The behavior name and catalog-cased arguments, and the reserved options apart. Every request of a
+    behavior goes through here: a request ``verify`` would have refused (unknown behavior, wrong argument or
+    value, no implementation) raises :class:`RequestRejected` in the mission at the caller's line."""
     engine = _engine()
     name = str(name).upper()
     descriptor = engine.catalog.behavior(name)
@@ -96,7 +98,34 @@ def _request(name: str, arguments: dict[str, Any]) -> tuple[str, dict[str, Any],
     cased = {}
     for key, value in arguments.items():
         cased[known.get(key.upper(), key.upper())] = list_to_tuple(value)
+    _check_request(engine, name, cased)
     return name, cased, options
+
+
+def _check_request(engine: Any, name: str, arguments: dict[str, Any]) -> None:
+    """Raise :class:`RequestRejected` (recorded as a ``rejected`` event) for a request the catalog or the
+    behavior library refuses; the catalog is read-only while the engine runs, so this runs on the mission's
+    thread."""
+    try:
+        engine.specialist.resolve_arguments(name, arguments)
+    except SpecificationError as error:
+        _reject(engine, name, error.kind, error.message)
+    if engine.library.get(name) is None:
+        _reject(engine, name, UNSUPPORTED, unsupported_message(name))
+
+
+def _reject(engine: Any, name: str, kind: str, message: str) -> None:
+    where = caller_location()
+    engine.bridge.call(lambda: engine.log.record("rejected", name, message, error=kind, source="mission",
+                                                 where=where))
+    raise RequestRejected(kind, message, behavior=name, where=where)
+
+
+def caller_location() -> str:
+    """``FILE:LINE`` of the innermost frame of the mission's own code on the current stack ("" if none)."""
+    frames = [f for f in traceback.extract_stack()
+              if not str(Path(f.filename).resolve()).startswith(_LIBRARY)]
+    return f"{Path(frames[-1].filename).name}:{frames[-1].lineno}" if frames else ""
 
 
 def list_to_tuple(value: Any) -> Any:
@@ -305,7 +334,7 @@ startTask = activate_behavior
 stopTask = inhibit_behavior
 
 __all__ = [
-    "MissionAborted", "Unification", "activate_behavior", "add_belief", "ask_behavior", "consult_belief",
-    "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief", "run_behavior",
-    "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait",
+    "MissionAborted", "RequestRejected", "Unification", "activate_behavior", "add_belief", "ask_behavior",
+    "consult_belief", "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief",
+    "run_behavior", "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait",
 ]

@@ -223,7 +223,8 @@ class Engine:
             except api.MissionAborted:
                 pass
             except Exception as exc:
-                detail = f"{name}{api.mission_location(exc)}: {type(exc).__name__}: {exc}"
+                where = "" if getattr(exc, "where", "") else api.mission_location(exc)  # RequestRejected says it
+                detail = f"{name}{where}: {type(exc).__name__}: {exc}"
                 logger.error("the mission failed: %s", detail)
                 with contextlib.suppress(api.MissionAborted):
                     self.bridge.call(lambda: self.log.record("mission_failed", detail=detail))

@@ -7,6 +7,12 @@ from dataclasses import dataclass
 WRONG_FORMAT = "WRONG_FORMAT"
 WRONG_VALUE = "WRONG_VALUE"
 WRONG_SEQUENCE = "WRONG_SEQUENCE"
+#: A catalog behavior the robot has no implementation of (no class registered in the behavior library).
+UNSUPPORTED = "UNSUPPORTED"
+
+
+def unsupported_message(behavior: str) -> str:
+    return f"The behavior {behavior} is not supported by this robot (no implementation is registered)"
 
 
 class SpecificationError(ValueError):
@@ -54,6 +60,20 @@ class CatalogError(ValueError):
         self.problems = list(problems)
         self.errors = [p for p in self.problems if p.severity == "error"]
         super().__init__("\n".join(str(p) for p in self.errors) or "the catalog cannot be loaded")
+
+
+class RequestRejected(SpecificationError):
+    """A mission's request that ``verify`` would have refused had its values been literal, found at run time
+    (a computed behavior name that does not exist, a value out of range, a behavior with no implementation).
+    It is raised in the mission at the call (``where`` is the mission's ``file:line``); FAILED_PRECONDITIONS
+    and the other execution outcomes stay return values (Table 8)."""
+
+    def __init__(self, kind: str, message: str, *, behavior: str = "", where: str = "") -> None:
+        super().__init__(kind, message, behavior=behavior)
+        self.where = where
+
+    def __str__(self) -> str:
+        return f"{self.behavior} rejected ({self.kind}): {self.message}" + (f" [{self.where}]" if self.where else "")
 
 
 class MissionAborted(RuntimeError):

@@ -8,7 +8,11 @@ others. Providers are found by name, never imported by the engine's core:
   :class:`BehaviorProcess` classes) and ``aeroexec.processes`` (a callable
   returning a :class:`ProcessRegistry` or a mapping of process names to
   factories), so an installed package adds behaviors without editing aeroexec;
-- ``module:attribute`` references, as ``aeroexec run --library`` passes them.
+  ``aeroexec.updaters`` (a callable ``(drone)`` returning a :class:`BeliefUpdater`
+  or an iterable of them) and ``aeroexec.drones`` (named by the ``--drone NAME:ADDRESS``
+  scheme: a callable ``(address)`` returning a :class:`Drone`);
+- ``module:attribute`` references, as ``aeroexec run --library / --processes /
+  --updater`` pass them.
 """
 
 from __future__ import annotations
@@ -19,6 +23,8 @@ from collections.abc import Iterable, Mapping
 from importlib.metadata import entry_points
 from typing import Any
 
+from aeroexec.beliefs import BeliefUpdater
+from aeroexec.drones import Drone
 from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.resources import ProcessRegistry
 
@@ -26,6 +32,8 @@ logger = logging.getLogger(__name__)
 
 BEHAVIORS_GROUP = "aeroexec.behaviors"
 PROCESSES_GROUP = "aeroexec.processes"
+UPDATERS_GROUP = "aeroexec.updaters"
+DRONES_GROUP = "aeroexec.drones"
 AERIAL_BEHAVIORS = "aeroexec.engine.behaviors:aerial_behaviors"
 AERIAL_PROCESSES = "aeroexec.engine.behaviors:aerial_processes"
 
@@ -51,13 +59,18 @@ def load_reference(reference: str) -> Any:
     return target
 
 
-def _produce(provider: Any) -> Any:
-    return provider() if callable(provider) and not isinstance(provider, type) else provider
+def _produce(provider: Any, origin: str) -> Any:
+    if not callable(provider) or isinstance(provider, type):
+        return provider
+    try:
+        return provider()
+    except Exception as exc:  # a plugin's mistake is reported by its name, not as a traceback
+        raise LibraryError(f"{origin} failed: {type(exc).__name__}: {exc}") from None
 
 
 def behaviors_of(provider: Any, origin: str) -> list[type[BehaviorProcess]]:
     """The behavior classes a provider gives: a library, classes, or a callable returning either."""
-    produced = _produce(provider)
+    produced = _produce(provider, origin)
     if isinstance(produced, type) and issubclass(produced, BehaviorProcess):
         produced = [produced]
     if isinstance(produced, BehaviorLibrary):
@@ -72,7 +85,7 @@ def behaviors_of(provider: Any, origin: str) -> list[type[BehaviorProcess]]:
 
 def processes_of(provider: Any, origin: str) -> dict[str, Any]:
     """The process factories a provider gives: a registry, a mapping, or a callable returning either."""
-    produced = _produce(provider)
+    produced = _produce(provider, origin)
     if isinstance(produced, ProcessRegistry):
         return produced.factories()
     if isinstance(produced, Mapping):
@@ -80,11 +93,12 @@ def processes_of(provider: Any, origin: str) -> dict[str, Any]:
     raise LibraryError(f"{origin} gives no processes (a ProcessRegistry or a mapping of names is expected)")
 
 
-def _plugins(group: str) -> list[tuple[str, Any]]:
+def _plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
+    """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``."""
     found = []
     for point in sorted(entry_points(group=group), key=lambda p: p.name):
         try:
-            found.append((f"entry point {point.name} = {point.value}", point.load()))
+            found.append((point.name if named else f"entry point {point.name} = {point.value}", point.load()))
         except Exception as exc:  # a broken plugin is reported, never takes the engine down
             logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, point.name, point.value, exc)
     return found
@@ -112,4 +126,51 @@ def default_processes(extra: Iterable[str] = ()) -> ProcessRegistry:
     return registry
 
 
-__all__ = ["LibraryError", "default_library", "default_processes", "load_reference"]
+def updaters_of(provider: Any, drone: Drone, origin: str) -> list[BeliefUpdater]:
+    """The belief updaters a provider gives: an updater, or a callable ``(drone)`` returning one or several."""
+    produced = provider
+    if not isinstance(provider, BeliefUpdater) and callable(provider):
+        try:
+            produced = provider(drone)
+        except Exception as exc:
+            raise LibraryError(f"{origin} cannot make its belief updaters: {type(exc).__name__}: {exc}") from None
+    if isinstance(produced, BeliefUpdater):
+        return [produced]
+    if isinstance(produced, Iterable) and not isinstance(produced, str | bytes | Mapping):
+        updaters = list(produced)
+        if all(isinstance(u, BeliefUpdater) for u in updaters):
+            return updaters
+    raise LibraryError(f"{origin} gives no belief updaters (a BeliefUpdater, or a callable (drone) returning "
+                       f"BeliefUpdaters, is expected)")
+
+
+def default_updaters(drone: Drone, extra: Iterable[str] = ()) -> list[BeliefUpdater]:
+    """Every installed plugin's belief updaters, then those of ``extra`` references, for ``drone``."""
+    providers = [*_plugins(UPDATERS_GROUP), *((reference, load_reference(reference)) for reference in extra)]
+    return [updater for origin, provider in providers for updater in updaters_of(provider, drone, origin)]
+
+
+def drone_adapters() -> dict[str, Any]:
+    """The installed drone adapters by scheme name (``aeroexec.drones`` entry points): ``(address) -> Drone``."""
+    return dict(_plugins(DRONES_GROUP, named=True))
+
+
+def make_drone(scheme: str, address: str) -> Drone:
+    """A drone from an installed adapter (``--drone SCHEME:ADDRESS``); ``LibraryError`` when there is none."""
+    adapters = drone_adapters()
+    if scheme not in adapters:
+        known = ", ".join(sorted(adapters)) or "none"
+        raise LibraryError(f"no drone adapter is named {scheme!r} (installed: {known}; a package adds one with "
+                           f"an {DRONES_GROUP} entry point)")
+    try:
+        drone = adapters[scheme](address)
+    except Exception as exc:
+        raise LibraryError(f"the drone adapter {scheme} cannot connect to {address!r}: "
+                           f"{type(exc).__name__}: {exc}") from None
+    if not isinstance(drone, Drone):
+        raise LibraryError(f"the drone adapter {scheme} gives {type(drone).__name__}, not a Drone")
+    return drone
+
+
+__all__ = ["LibraryError", "default_library", "default_processes", "default_updaters", "drone_adapters",
+           "load_reference", "make_drone"]

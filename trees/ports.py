@@ -210,7 +210,8 @@ def port_errors(specialist: BehaviorSpecialist, behavior: str, ports: Mapping[st
                 if isinstance(value, str) and template_keys(value)}
     checked = {name: (witness(descriptor.arguments[name]) if name in deferred and name in descriptor.arguments
                       else value) for name, value in arguments.items()}
-    errors = specialist.request_errors(behavior, checked)
+    errors = [e for e in specialist.request_errors(behavior, checked)  # a witness is no place in the world
+              if not any(f"argument {name} for " in e.message for name in deferred)]
     timeout = options.get("timeout")
     if "timeout" in options and (timeout is None or timeout <= 0) and not template_keys(ports.get("timeout", "")):
         errors.append(SpecificationError(WRONG_VALUE, f"The value {ports['timeout']} of argument timeout for behavior "

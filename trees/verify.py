@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
+from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.engine.yaml_nodes import suggestion
@@ -53,10 +54,10 @@ class TreeVerifier:
     """Collects every problem of one document."""
 
     def __init__(self, document: TreeDocument, catalog: BehaviorCatalog | None = None,
-                 known_keys: Iterable[str] = ()) -> None:
+                 known_keys: Iterable[str] = (), world: WorldMap | None = None) -> None:
         self.document = document
         self.catalog = catalog if catalog is not None else default_catalog()
-        self.specialist = BehaviorSpecialist(self.catalog)
+        self.specialist = BehaviorSpecialist(self.catalog, world)
         self.known_keys = set(known_keys)
         self.problems: list[Problem] = []
         self._seen: set[tuple[str, int, str]] = set()
@@ -287,9 +288,10 @@ def _new_predicates(text: str, known: dict[str, int]) -> dict[str, int]:
 
 
 def verify_document(document: TreeDocument, catalog: BehaviorCatalog | None = None,
-                    known_keys: Iterable[str] = ()) -> list[Problem]:
-    """Every problem of a tree mission, sorted by place; ``known_keys`` are blackboard keys set before it runs."""
-    return TreeVerifier(document, catalog, known_keys).verify()
+                    known_keys: Iterable[str] = (), world: WorldMap | None = None) -> list[Problem]:
+    """Every problem of a tree mission, sorted by place; ``known_keys`` are blackboard keys set before it runs;
+    with a ``world``, literal destinations and paths are checked against its bounds and obstacles."""
+    return TreeVerifier(document, catalog, known_keys, world).verify()
 
 
 def verify_leaves(leaves: Iterable[TreeNode], catalog: BehaviorCatalog | None = None, file: str = "") -> list[Problem]:

@@ -46,9 +46,19 @@ class TakeOff(MotionBehavior):
     behavior = "TAKE_OFF"
     needs_flight = False
 
+    target: float | None = None  # the altitude climbed to; kept when the operator pauses and resumes
+
+    def resume_from(self, paused: BehaviorProcess) -> None:
+        self.target = getattr(paused, "target", None)
+
     def begin(self, telemetry: Telemetry) -> None:
-        altitude = self.arguments.get("ALTITUDE", self.settings.default_altitude)
-        self.target = telemetry.altitude + float(altitude)
+        if self.target is not None and telemetry.landed_state is not LandedState.ON_GROUND:
+            x, y, _ = telemetry.position  # resumed in the air: climb on to the altitude it was taking off to
+            self.command(self.drone.goto((x, y, self.target)))
+            return
+        if self.target is None:
+            altitude = self.arguments.get("ALTITUDE", self.settings.default_altitude)
+            self.target = telemetry.altitude + float(altitude)
         self.command(self.drone.takeoff(self.target))
 
     def step(self, telemetry: Telemetry) -> Outcome | None:

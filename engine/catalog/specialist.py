@@ -17,6 +17,7 @@ from aeroexec.beliefs.terms import Struct, format_term
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.behavior_catalog import BehaviorCatalog, default_catalog
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
+from aeroexec.engine.catalog.world_check import WorldMap, world_problems
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_SEQUENCE, WRONG_VALUE, SpecificationError
 from aeroexec.engine.yaml_nodes import suggestion
 
@@ -69,8 +70,10 @@ def canonical_arguments(descriptor: BehaviorDescriptor, arguments: Mapping[str, 
 class BehaviorSpecialist:
     """Knows how each behavior must be requested and which behaviors and sequences are possible."""
 
-    def __init__(self, catalog: BehaviorCatalog | None = None) -> None:
+    def __init__(self, catalog: BehaviorCatalog | None = None, world: WorldMap | None = None) -> None:
         self.catalog = catalog if catalog is not None else default_catalog()
+        #: When given (verification with a world), literal destinations and paths are checked against it.
+        self.world = world
 
     # -- requests ---------------------------------------------------------------
     def check_request(self, name: str, arguments: Mapping[str, Any] | None = None) -> BehaviorDescriptor:
@@ -116,6 +119,10 @@ class BehaviorSpecialist:
             elif len(given) > 1:
                 error(WRONG_FORMAT, f"The arguments {' and '.join(given)} of behavior {name} "
                                     f"cannot be given together")
+        if self.world is not None and not errors:
+            for key, why in world_problems(descriptor, arguments, self.world):
+                error(WRONG_VALUE, f"The value {format_value(arguments[key])} of argument {key} for behavior "
+                                   f"{name} is not correct: {why}")
         return errors
 
     def resolve_arguments(self, name: str, arguments: Mapping[str, Any] | None = None) -> dict[str, Any]:

@@ -18,7 +18,8 @@ from typing import Any
 
 from aeroexec.engine.catalog import BehaviorSpecialist
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE, GOAL_BASED, HIGHER, LOWER, RECURRENT, ReactiveRule
-from aeroexec.engine.errors import SpecificationError
+from aeroexec.engine.catalog.world_check import clearance_note
+from aeroexec.engine.errors import UNSUPPORTED, SpecificationError, unsupported_message
 from aeroexec.engine.events import (
     Outcome,
     achieved_goal_message,
@@ -104,19 +105,20 @@ class BehaviorCoordinator:
                  source: str = "mission", timeout: float | None = None,
                  conditions: ActivationConditions | None = None,
                  on_end: Callable[[Outcome, str, Any], None] | None = None,
-                 resume: Activation | None = None) -> ActivationResult:
+                 resume: Activation | None = None, check_preconditions: bool = True) -> ActivationResult:
         """Request ``name`` active (Algorithm 4). ``on_end(outcome, message, result)`` is told when it finishes.
-        ``resume``: an ended activation to reuse (with its listeners) for this request (the operator's resume)."""
+        ``resume``: an ended activation to reuse (with its listeners) for this request (the operator's resume);
+        its process hands over to the new one. ``check_preconditions=False`` skips the catalog's preconditions
+        (a resumed request whose own progress falsified them, as a half-done TAKE_OFF is no longer landed)."""
         now = self.context.now()
         arguments = dict(arguments or {})
         try:
             arguments = self.specialist.resolve_arguments(name, arguments)
         except SpecificationError as error:
-            return self._refuse(name, error.kind, error.message)
+            return self._refuse(name, error.kind, error.message, source)
         cls = self.library.get(name)
         if cls is None:
-            return self._refuse(name, "unsupported", f"The behavior {name} is not supported by this robot "
-                                                     f"(no implementation is registered)")
+            return self._refuse(name, UNSUPPORTED, unsupported_message(name), source)
         level = PRIORITY[priority]
         if source != "reactive":
             self._inhibited.discard(name)  # asking for it again lifts an inhibition
@@ -127,8 +129,10 @@ class BehaviorCoordinator:
                 previous.on_end.append(on_end)
             return ActivationResult(True, activation=previous)
         process = cls(self.catalog.behaviors[name], arguments, self.context)
+        if resume is not None:
+            process.resume_from(resume.process)
         self.context.refresh()  # decide on the drone's state now, not as of the last belief update
-        situation = self._check_situation(process)  # step 1
+        situation = self._check_situation(process, check_preconditions)  # step 1
         if situation is not None:
             outcome, message = situation
             self.log.record(outcome.value if outcome is Outcome.GOAL_ACHIEVED else "failed_preconditions", name,
@@ -207,16 +211,28 @@ class BehaviorCoordinator:
         activation.running = True
         return True
 
-    def _check_situation(self, process: BehaviorProcess) -> tuple[Outcome, str] | None:
+    def preconditions_hold(self, activation: Activation) -> bool:
+        """Whether the catalog's preconditions of an active behavior hold now (with its arguments)."""
+        preconditions = activation.process.descriptor.preconditions
+        if preconditions is None:
+            return True
+        bindings = {f"?{key}": value for key, value in activation.process.arguments.items()}
+        bindings.update(activation.process.bindings)
+        return self.context.memory.query(preconditions, bindings) is not None
+
+    def _check_situation(self, process: BehaviorProcess, check_preconditions: bool = True
+                         ) -> tuple[Outcome, str] | None:
         name = process.name
         try:
             process.prepare()
-            preconditions = process.descriptor.preconditions
+            preconditions = process.descriptor.preconditions if check_preconditions else None
             if preconditions is not None:
                 bindings = {f"?{key}": value for key, value in process.arguments.items()}
                 bindings.update(process.bindings)
                 if self.context.memory.query(preconditions, bindings) is None:
                     why = explain_failure(self.context.memory, preconditions, bindings)
+                    note = clearance_note(process.descriptor, bindings, self.context.obstacles)
+                    why += f" ({note})" if note else ""
                     return Outcome.FAILED_PRECONDITIONS, f"{failed_preconditions_message(name)} {why}"
             situation = process.check_situation()
         except Exception as exc:
@@ -367,8 +383,8 @@ class BehaviorCoordinator:
         self._order += 1
         return self._order
 
-    def _refuse(self, name: str, kind: str, message: str) -> ActivationResult:
-        self.log.record("rejected", name, message, error=kind)
+    def _refuse(self, name: str, kind: str, message: str, source: str) -> ActivationResult:
+        self.log.record("rejected", name, message, error=kind, source=source)
         return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
 
 

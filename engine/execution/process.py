@@ -137,6 +137,10 @@ class BehaviorProcess:
         """Behavior-specific checks after the catalog's preconditions; None when the behavior can start."""
         return None
 
+    def resume_from(self, paused: BehaviorProcess) -> None:
+        """Take over what ``paused`` (this request's process, stopped by the operator's pause) had done, so the
+        resumed behavior continues rather than starts again (TAKE_OFF keeps its target altitude)."""
+
     def on_start(self) -> None:
         """Extract arguments, connect and initiate (Algorithm 1, steps 3-5)."""
 

@@ -101,6 +101,11 @@ class MissionBridge:
     def state(self) -> str:
         return self._state
 
+    @property
+    def queued(self) -> int:
+        """How many of the mission's calls wait to be served (while paused, the mission's next call does)."""
+        return self._queue.qsize()
+
     def hold(self, held: bool) -> None:
         """While held (the operator paused), :meth:`serve` runs nothing: the mission's next call waits."""
         with self._cond:

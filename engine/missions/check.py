@@ -24,6 +24,7 @@ from aeroexec.engine import api
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
+from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
 from aeroexec.engine.missions.api_modules import (
     AEROSTACK_MODULES,
@@ -363,14 +364,16 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
-def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | None = None) -> list[Problem]:
-    """Every problem of a mission program, by line: request errors, belief expressions, sequences."""
+def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | None = None,
+                         world: WorldMap | None = None) -> list[Problem]:
+    """Every problem of a mission program, by line: request errors, belief expressions, sequences; with a
+    ``world``, literal destinations and paths against its bounds and obstacles."""
     try:
         tree = ast.parse(source, filename)
     except SyntaxError as exc:
         return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
                                WRONG_FORMAT, exc.offset or 0)]
-    checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
+    checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog, world))
     for statement, module in missing_imports(tree, filename):
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
                        WRONG_FORMAT)

@@ -6,6 +6,10 @@ Protocol (JSON lines over TCP on 127.0.0.1 only): each request is one line
 ``{"ok": false, "error": "wrong token", ...}`` and the connection is closed. The port and the token (random,
 one per run) are written to ``control.json`` in the run's output folder, readable by its owner only.
 
+Every live run is also listed in the user's runtime directory (``$XDG_RUNTIME_DIR/aeroexec/``, else
+``<tmp>/aeroexec-<uid>/``, mode 0700): one ``run-<pid>-<port>.json`` (mode 0600) with the port, the token, the
+output folder and the mission, so ``aeroexec ctl`` finds a run wherever it was started.
+
 Commands go to :meth:`Supervisor.submit`, so they execute on the engine's thread; a connection waits for
 the result at most ``COMMAND_TIMEOUT`` seconds. Every thread here is a daemon with timeouts: the server
 closes itself when the engine stops and never holds up the process.
@@ -14,13 +18,16 @@ closes itself when the engine stops and never holds up the process.
 from __future__ import annotations
 
 import contextlib
+import datetime
 import hmac
 import json
 import logging
 import os
 import secrets
 import socket
+import tempfile
 import threading
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -36,10 +43,13 @@ MAX_LINE = 64 * 1024
 class ControlServer:
     """Serves one engine's supervisor on a free loopback port; ``start()``, then ``close()`` (or stop the engine)."""
 
-    def __init__(self, engine: Any, folder: str | Path | None = None, port: int = 0) -> None:
+    def __init__(self, engine: Any, folder: str | Path | None = None, port: int = 0, name: str = "",
+                 register: bool = True) -> None:
         self.engine = engine
         self.token = secrets.token_hex(16)
         self.file: Path | None = None
+        self.entry: Path | None = None  # this run's file in the runtime directory
+        self.name, self._register = name, register
         self._folder = Path(folder) if folder is not None else None
         self._socket = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self._socket.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
@@ -54,6 +64,11 @@ class ControlServer:
         """Write ``control.json`` (mode 0600) in the folder, then accept connections in a daemon thread."""
         if self._folder is not None:
             self.file = write_control_file(self._folder, self.port, self.token)
+        if self._register:
+            try:
+                self.entry = register_run(self.port, self.token, self._folder, self.name)
+            except OSError as error:  # ctl --run DIR still works
+                logger.warning("the run cannot be listed in the runtime directory: %s", error)
         self._thread.start()
         logger.info("control socket on %s:%d", HOST, self.port)
         return self
@@ -67,9 +82,10 @@ class ControlServer:
             self._socket.shutdown(socket.SHUT_RDWR)  # wakes the accepting thread now, not at its next timeout
         with contextlib.suppress(OSError):
             self._socket.close()
-        if self.file is not None:
-            with contextlib.suppress(OSError):
-                self.file.unlink()
+        for path in (self.file, self.entry):
+            if path is not None:
+                with contextlib.suppress(OSError):
+                    path.unlink()
         if self._thread.is_alive() and self._thread is not threading.current_thread():
             self._thread.join(timeout=1.0)
 
@@ -154,6 +170,72 @@ def write_control_file(folder: Path, port: int, token: str) -> Path:
     with os.fdopen(descriptor, "w", encoding="utf-8") as file:
         json.dump({"host": HOST, "port": port, "token": token, "pid": os.getpid()}, file)
     return path
+
+
+def runtime_dir() -> Path:
+    """The per-user folder listing live runs: ``$XDG_RUNTIME_DIR/aeroexec``, else ``<tmp>/aeroexec-<uid>``."""
+    base = os.environ.get("XDG_RUNTIME_DIR")
+    path = Path(base) / "aeroexec" if base else Path(tempfile.gettempdir()) / f"aeroexec-{os.getuid()}"
+    path.mkdir(mode=0o700, parents=True, exist_ok=True)
+    info = path.stat()
+    if info.st_uid != os.getuid() or info.st_mode & 0o077:
+        raise PermissionError(f"{path} must belong to this user and be private (mode 0700)")
+    return path
+
+
+@dataclass(frozen=True)
+class LiveRun:
+    """A run listed in the runtime directory."""
+
+    pid: int
+    port: int
+    token: str
+    folder: str
+    mission: str
+    started: str
+    path: Path
+
+    def __str__(self) -> str:
+        return f"{self.mission or '?'} (pid {self.pid}, port {self.port}, since {self.started}): {self.folder}"
+
+
+def register_run(port: int, token: str, folder: Path | None, mission: str) -> Path:
+    """List this process's run in the runtime directory (0600); the path to remove when the run ends."""
+    path = runtime_dir() / f"run-{os.getpid()}-{port}.json"
+    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    with os.fdopen(descriptor, "w", encoding="utf-8") as file:
+        json.dump({"host": HOST, "port": port, "token": token, "pid": os.getpid(), "mission": mission,
+                   "folder": str(folder.resolve()) if folder is not None else "",
+                   "started": datetime.datetime.now().astimezone().isoformat(timespec="seconds")}, file)
+    return path
+
+
+def live_runs() -> list[LiveRun]:
+    """The runs of this user still going, oldest first; entries of processes that died are removed."""
+    runs = []
+    for path in sorted(runtime_dir().glob("run-*.json"), key=lambda p: p.stat().st_mtime):
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            run = LiveRun(int(data["pid"]), int(data["port"]), str(data["token"]), str(data.get("folder", "")),
+                          str(data.get("mission", "")), str(data.get("started", "")), path)
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+        if _alive(run.pid):
+            runs.append(run)
+        else:
+            with contextlib.suppress(OSError):
+                path.unlink()
+    return runs
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def read_control_file(folder: str | Path) -> tuple[int, str]:

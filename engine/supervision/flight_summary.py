@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.engine.events import Outcome
+from aeroexec.engine.supervision.run_status import run_status
 
 OUTCOMES = {o.value for o in Outcome}
 #: Event kinds that are failures worth an operator's attention (INTERRUPTED is how behaviors normally make way).
@@ -68,7 +69,9 @@ class FlightSummary:
     failures: list[Failure]
     start: float
     end: float
-    outcome: str  # completed, failed, stopped, or incomplete (the log ends without log_closed: a crash)
+    outcome: str  # the run's status word (run_status), or incomplete (the log ends without log_closed: a crash)
+    refusals: list[Failure] = field(default_factory=list)  # requests refused before they started
+    flight_states: list[tuple[float, str]] = field(default_factory=list)  # (time, state) at each change
 
     @property
     def duration(self) -> float:
@@ -92,12 +95,27 @@ class FlightSummary:
         return round(self.samples[0]["battery"] - self.samples[-1]["battery"], 2)
 
     def outcome_counts(self) -> dict[str, dict[str, int]]:
-        """behavior -> outcome -> how many times."""
+        """behavior -> outcome -> how many times; requests refused before starting count as FAILED_PRECONDITIONS."""
         counts: dict[str, dict[str, int]] = {}
-        for span in self.behaviors:
-            per = counts.setdefault(span.behavior, {})
-            per[span.outcome] = per.get(span.outcome, 0) + 1
+        for behavior, outcome in [*((s.behavior, s.outcome) for s in self.behaviors),
+                                  *((r.behavior, Outcome.FAILED_PRECONDITIONS.value) for r in self.refusals)]:
+            per = counts.setdefault(behavior, {})
+            per[outcome] = per.get(outcome, 0) + 1
         return counts
+
+    def series(self) -> dict[str, list[float]]:
+        """The drone's samples as series: time, altitude (m), speed (m/s), battery (%)."""
+        return {"time": [float(s["time"]) for s in self.samples],
+                "altitude": [float(s["position"][2]) for s in self.samples],
+                "speed": [math.hypot(*s["velocity"]) if s.get("velocity") else 0.0 for s in self.samples],
+                "battery": [float(s["battery"]) for s in self.samples]}
+
+    def farthest_sample(self) -> int:
+        """The index of the sample farthest from home: the outbound leg ends there, the return leg begins."""
+        if not self.samples:
+            return 0
+        distances = [math.hypot(p[0], p[1]) for p in self.path]
+        return max(range(len(distances)), key=distances.__getitem__)
 
     def position_at(self, t: float) -> Point | None:
         """The drone's position at ``t``, interpolated between the state samples."""
@@ -122,7 +140,8 @@ def summarize(records: list[dict[str, Any]]) -> FlightSummary:
     held: dict[str, float] = {}
     beliefs: list[BeliefSpan] = []
     failures: list[Failure] = []
-    outcome = "stopped"
+    refusals: list[Failure] = []
+    flight_states: list[tuple[float, str]] = []
     for record in records:
         kind, t, behavior = record.get("kind", ""), float(record.get("time", 0.0)), record.get("behavior", "")
         if kind == "activated":
@@ -140,15 +159,16 @@ def summarize(records: list[dict[str, Any]]) -> FlightSummary:
             beliefs.append(BeliefSpan(record["belief"], held.pop(record["belief"]), t, removed=True))
         if kind in FAILURE_KINDS:
             failures.append(Failure(t, kind, behavior, record.get("reason", record.get("detail", ""))))
-        if kind == "mission_completed":
-            outcome = "completed"
-        elif kind == "mission_failed":
-            outcome = "failed"
+        if kind in ("failed_preconditions", "rejected") and behavior:
+            refusals.append(Failure(t, kind, behavior, record.get("reason", record.get("detail", ""))))
+        if kind == "belief_added" and str(record.get("belief", "")).startswith("flight_state(self,"):
+            flight_states.append((t, record["belief"].split(",", 1)[1].strip(" )")))
+    outcome = run_status(records).word
     beliefs.extend(BeliefSpan(b, t, end) for b, t in held.items())
     beliefs.sort(key=lambda b: (b.start, b.belief))
     if not any(r.get("kind") == "log_closed" for r in records):
         outcome = "incomplete"
-    summary = FlightSummary(meta, samples, spans, beliefs, failures, start, end, outcome)
+    summary = FlightSummary(meta, samples, spans, beliefs, failures, start, end, outcome, refusals, flight_states)
     for span in spans:
         span.start_position, span.end_position = summary.position_at(span.start), summary.position_at(span.end)
     return summary

@@ -13,8 +13,11 @@ the loop. Every command is recorded as an ``operator_command`` event (``command`
   higher-priority reactions (LAND on low battery).
 - resume: each behavior the pause stopped is requested again with its arguments and full timeout, as the
   same activation, so the waiting mission call or tree leaf hears its real outcome later, as if nothing had
-  happened; a request the situation now refuses ends that call or leaf with its outcome
-  (FAILED_PRECONDITIONS). Time waited with ``wait`` or a tree's Delay/Timeout keeps running while paused.
+  happened. The resumed behavior continues what it had done (as PX4's Hold then Resume: a half-done TAKE_OFF
+  climbs on to its altitude): its catalog preconditions are checked again only if they still held when it
+  was paused, since its own progress may have falsified them (TAKE_OFF is no longer landed). A request the
+  situation now refuses ends that call or leaf with its outcome (FAILED_PRECONDITIONS), and the run does
+  not end "completed". Time waited with ``wait`` or a tree's Delay/Timeout keeps running while paused.
 - abort: the mission stops (its waiting call raises MissionAborted, an attached tree is halted), every
   behavior but LAND is stopped and, when the drone is in the air, LAND is activated at the higher priority.
 """
@@ -87,7 +90,8 @@ class Supervisor:
         self._queue: deque[Ticket] = deque()
         self._lock = threading.Lock()
         self._missions: list[SupervisedMission] = []
-        self._suspended: list[tuple[Any, list]] = []  # (activation, its on_end listeners), in order
+        #: (activation, its on_end listeners, whether its preconditions held when paused), in order
+        self._suspended: list[tuple[Any, list, bool]] = []
         engine.tick_callbacks.append(self.run_pending)
 
     # -- from any thread ----------------------------------------------------------------------
@@ -164,7 +168,7 @@ class Supervisor:
                     continue
                 listeners = list(activation.on_end)
                 activation.on_end.clear()  # the mission does not hear this INTERRUPTED; resume asks again
-                self._suspended.append((activation, listeners))
+                self._suspended.append((activation, listeners, coordinator.preconditions_hold(activation)))
                 coordinator.stop(name, "paused by the operator")
                 stopped.append(name)
             hold = coordinator.activate(hold_behavior, priority="higher", source="operator")
@@ -184,8 +188,8 @@ class Supervisor:
         if held is not None and held.source == "operator":
             coordinator.stop(hold_behavior, "resumed by the operator")
         again, refused = [], []
-        for activation, listeners in self._suspended:
-            if self._request_again(activation, listeners):
+        for activation, listeners, held in self._suspended:
+            if self._request_again(activation, listeners, held):
                 again.append(activation.name)
             else:
                 refused.append(activation.name)
@@ -197,7 +201,7 @@ class Supervisor:
         parts += [f"refused now: {', '.join(refused)}"] if refused else []
         return CommandResult(True, "mission resumed" + (f" ({'; '.join(parts)})" if parts else ""))
 
-    def _request_again(self, activation: Any, listeners: list) -> bool:
+    def _request_again(self, activation: Any, listeners: list, preconditions_held: bool) -> bool:
         told: list[bool] = []
 
         def relay(outcome: Outcome, message: str, value: Any) -> None:  # once, however the request ends
@@ -209,7 +213,8 @@ class Supervisor:
         priority = {2: "higher", 1: "deliberative", 0: "lower"}.get(activation.priority, "deliberative")
         result = self.engine.coordinator.activate(activation.name, activation.arguments, priority=priority,
                                                   source=activation.source, timeout=activation.timeout,
-                                                  conditions=activation.conditions, resume=activation)
+                                                  conditions=activation.conditions, resume=activation,
+                                                  check_preconditions=preconditions_held)
         if result.accepted and result.activation is not activation and result.activation is not None:
             result.activation.on_end.append(relay)  # merged into an equal recurrent request
         if not result.accepted:
@@ -226,7 +231,7 @@ class Supervisor:
         bridge.close()  # a Python mission's waiting call raises MissionAborted
         for mission in list(self._missions):
             mission.halt(reason)
-        for _activation, listeners in self._suspended:
+        for _activation, listeners, _held in self._suspended:
             self._tell(listeners, Outcome.INTERRUPTED, reason)
         self._suspended.clear()
         coordinator = self.engine.coordinator

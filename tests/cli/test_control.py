@@ -21,6 +21,7 @@ from aeroexec.drones import LandedState
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.engine import Engine
+from aeroexec.engine.events import Outcome
 from aeroexec.engine.supervision.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.engine.supervision.operator import RemoteOperator
 from aeroexec.trees.model import TreeDocument, TreeNode
@@ -150,7 +151,7 @@ def test_a_command_the_engine_cannot_run_says_so(tmp_path, monkeypatch):
 def test_aeroexec_ctl_commands_a_run(tmp_path):
     out = tmp_path / "out"
     command = [sys.executable, "-m", "aeroexec.cli.main"]
-    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "4",
+    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "2",
                                "--output", str(out), "--plain"], cwd=ROOT, stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True)
     try:
@@ -171,7 +172,7 @@ def test_aeroexec_ctl_commands_a_run(tmp_path):
         if flying.poll() is None:
             flying.kill()
             flying.communicate()
-    assert flying.returncode == 1 and "stopped at" in stderr
+    assert flying.returncode == 4 and "square_patrol.py: aborted at" in stderr
     assert "operator_command: abort" in stdout and "GOAL_ACHIEVED LAND" in stdout
     assert not (out / CONTROL_FILE).exists()
 
@@ -247,3 +248,96 @@ def test_keys_become_commands():
                          ("inhibit", "keep_hovering", "keyboard"), ("answer", "2", "keyboard"),
                          ("abort", "", "keyboard")]
 
+
+
+TAKE_OFF_MISSION = '''
+from aeroexec.engine import api
+
+steps = []
+
+
+def mission():
+    steps.append(api.execute_behavior("TAKE_OFF", altitude=12))
+    steps.append(api.execute_behavior("GO_TO_POINT", coordinates=(2, 0, 12)))
+'''
+
+
+def test_pause_during_take_off_then_resume_climbs_on_and_the_mission_goes_on(tmp_path):
+    """Issue 18, point 1: as PX4's Hold then Resume, a take-off paused half-way continues to its altitude."""
+
+    world = default_world()  # paced at 4x: the pause lands mid-climb even on a loaded machine
+    engine = Engine(SimulatedDrone(world), obstacles=world, clock=SimulatedClock(speed=4))
+    folder = tmp_path / "out"
+    server = ControlServer(engine, folder).start()
+    try:
+        climb_pause_resume(engine, folder, tmp_path)
+    finally:
+        server.close()
+        engine.stop()
+
+
+def climb_pause_resume(engine, folder, tmp_path):
+    from aeroexec.engine.supervision.run_status import COMPLETED, run_status
+
+    path = tmp_path / "take_off_mission.py"
+    path.write_text(TAKE_OFF_MISSION)
+    spec = importlib.util.spec_from_file_location("take_off_mission", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    port, token = read_control_file(folder)
+    engine.start_mission(module.mission, "take_off_mission")
+    engine.start()
+    until(lambda: engine.drone.telemetry().altitude > 2.0)
+    assert send_command(port, token, "pause")["ok"]
+    until(lambda: engine.drone.telemetry().speed < 0.1)
+    held, start = engine.drone.telemetry().altitude, engine.now()
+    until(lambda: engine.now() > start + 3)  # 3 s of paused flight: the climb has stopped
+    assert held < 10 and abs(engine.drone.telemetry().altitude - held) < 0.3 and module.steps == []
+
+    resumed = send_command(port, token, "resume")
+    assert resumed["ok"] and "requested again: TAKE_OFF" in resumed["message"], resumed
+    until(lambda: engine.bridge.state == "done")
+    assert module.steps == [Outcome.GOAL_ACHIEVED] * 2
+    assert engine.drone.telemetry().altitude == pytest.approx(12, abs=0.4)
+    take_off_end = engine.log.events(kind="GOAL_ACHIEVED", behavior="TAKE_OFF")[0].time
+    assert take_off_end > start + 3 and engine.log.events(kind="GOAL_ACHIEVED", behavior="GO_TO_POINT")
+    assert not engine.log.events(kind="failed_preconditions", behavior="TAKE_OFF")
+    assert run_status(engine.log.events()).word == COMPLETED
+    activations = engine.log.events(kind="activated", behavior="TAKE_OFF")
+    assert len(activations) == 2  # the paused request and the resumed one, not a second take-off
+
+
+
+def test_ctl_from_another_directory_finds_the_live_run(tmp_path, private_runtime_dir):
+    """Issue 18, point 6: runs list themselves in the per-user runtime directory, so ``aeroexec ctl`` needs no
+    --run wherever it is started; the entry goes away with the run."""
+    here, elsewhere = tmp_path / "here", tmp_path / "elsewhere"
+    here.mkdir()
+    elsewhere.mkdir()
+    command = [sys.executable, "-m", "aeroexec"]
+    flying = subprocess.Popen([*command, "run", str(ROOT / "missions" / "square_patrol.py"), "--speed", "1",
+                               "--plain"], cwd=here, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        until(lambda: list(private_runtime_dir.glob("aeroexec/run-*.json")))
+
+        def ctl(*args: str) -> subprocess.CompletedProcess:
+            return subprocess.run([*command, "ctl", *args], cwd=elsewhere, capture_output=True, text=True,
+                                  timeout=60)
+
+        listed = ctl("list")
+        assert listed.returncode == 0 and "square_patrol.py" in listed.stdout
+        assert str(here / "aeroexec_output") in listed.stdout and f"pid {flying.pid}" in listed.stdout
+        status = ctl("status")
+        assert status.returncode == 0 and "running at t=" in status.stdout, status.stderr
+        by_pid = ctl("--run", str(flying.pid), "status")
+        assert by_pid.returncode == 0 and "at t=" in by_pid.stdout
+        assert ctl("abort").returncode == 0
+        flying.communicate(timeout=120)
+    finally:
+        if flying.poll() is None:
+            flying.kill()
+            flying.communicate()
+    assert flying.returncode == 4
+    assert not list(private_runtime_dir.glob("aeroexec/run-*.json"))
+    gone = subprocess.run([*command, "ctl", "status"], cwd=elsewhere, capture_output=True, text=True, timeout=60)
+    assert gone.returncode == 1 and "no live run" in gone.stderr

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from aeroexec.cli.report_render import PATH_COLOR
+from aeroexec.cli.report_render import PATH_COLOR, RETURN_COLOR
 from aeroexec.trees.btlog import STATUS_CODES, read_btlog
 from PIL import Image
 
@@ -65,19 +65,23 @@ def test_every_run_writes_an_event_log_of_events_beliefs_and_state_samples(tree_
 def test_the_report_draws_the_path_and_a_timeline_and_summarizes_in_html(tree_run):
     result = aeroexec("report", str(tree_run / "events.jsonl"))
     assert result.returncode == 0, result.stderr
-    assert result.stdout.split() == [str(tree_run / name) for name in ("path.png", "timeline.png", "report.html")]
+    assert result.stdout.split() == [str(tree_run / name) for name in ("path.png", "flight.png", "timeline.png",
+                                                                       "report.html")]
     with Image.open(tree_run / "path.png") as image:
-        assert image.format == "PNG" and image.size == (900, 800)
-        pixels = np.asarray(image.convert("RGB"), dtype=int)
-        wanted = np.array([int(PATH_COLOR[i:i + 2], 16) for i in (1, 3, 5)])
-        near = int((np.abs(pixels - wanted).sum(axis=2) < 30).sum())
-        assert near > 200  # the path flown (5 m out and back) is drawn in its color
+        assert image.format == "PNG" and 800 <= image.size[0] <= 1100 and 700 <= image.size[1] <= 900
+        pixels = np.asarray(image.convert("RGB"), dtype=int)[:, :780]  # the map, not its legend (right of it)
+        for color in (PATH_COLOR, RETURN_COLOR):  # the path flown: 5 m out, then back, each leg in its color
+            wanted = np.array([int(color[i:i + 2], 16) for i in (1, 3, 5)])
+            near = int((np.abs(pixels - wanted).sum(axis=2) < 30).sum())
+            assert near > 50, color
+    with Image.open(tree_run / "flight.png") as image:
+        assert image.format == "PNG" and image.size[0] >= 1000
     with Image.open(tree_run / "timeline.png") as image:
-        assert image.format == "PNG" and image.size[0] == 1100
+        assert image.format == "PNG" and 1000 <= image.size[0] <= 1300
     page = (tree_run / "report.html").read_text()
     for name in ("TAKE_OFF", "GO_TO_POINT", "LAND", "GOAL_ACHIEVED", "distance flown", "battery used"):
         assert name in page
-    assert page.count("data:image/png;base64,") == 2 and "completed" in page
+    assert page.count("data:image/png;base64,") == 3 and "completed" in page
 
 
 def test_a_tree_run_writes_a_groot2_btlog_that_parses_per_the_fileloggers2_format(tree_run):
@@ -161,3 +165,59 @@ def test_killing_the_engine_mid_mission_leaves_a_log_of_whole_lines_up_to_the_ki
 def records_of_whole_lines(path: Path) -> list[dict]:
     text = path.read_text()
     return [json.loads(line) for line in text[:text.rfind("\n") + 1].splitlines()]
+
+
+def test_the_report_counts_refused_requests_and_plots_altitude_speed_battery(tmp_path):
+    """Issue 18, point 8: FAILED_PRECONDITIONS in the outcomes table, the run's status word, flight states."""
+    from aeroexec.engine.supervision.flight_log import read_flight_log
+    from aeroexec.engine.supervision.flight_summary import summarize
+
+    mission = tmp_path / "refused.py"
+    mission.write_text(
+        "import aeroexec.engine.api as api\n\n\ndef mission():\n"
+        "    api.execute_behavior('TAKE_OFF', altitude=3)\n    x = 5\n"
+        "    api.execute_behavior('GO_TO_POINT', coordinates=(x, x, 3))\n"
+        "    api.execute_behavior('GO_TO_POINT', coordinates=(-4, 0, 3))\n    api.execute_behavior('LAND')\n")
+    run = aeroexec("run", str(mission), "--output", str(tmp_path / "out"), "--quiet")
+    assert run.returncode == 3, run.stderr
+    summary = summarize(read_flight_log(tmp_path / "out" / "events.jsonl"))
+    assert summary.outcome == "completed with refused requests"
+    assert summary.outcome_counts()["GO_TO_POINT"] == {"FAILED_PRECONDITIONS": 1, "GOAL_ACHIEVED": 1}
+    states = [state for _, state in summary.flight_states]
+    assert states[:2] == ["landed", "taking_off"] and "moving" in states and states[-1] == "landed"
+    series = summary.series()
+    assert max(series["altitude"]) == pytest.approx(3, abs=0.3) and max(series["speed"]) > 1
+    assert series["battery"][0] > series["battery"][-1]
+    result = aeroexec("report", str(tmp_path / "out" / "events.jsonl"))
+    assert result.returncode == 0 and "completed with refused requests" in result.stderr
+    page = (tmp_path / "out" / "report.html").read_text()
+    outcomes = page.split("<h2>Outcomes by behavior</h2>")[1].split("<h2>")[0]
+    assert "<th>FAILED_PRECONDITIONS</th>" in outcomes and "completed with refused requests" in page
+
+
+def test_behavior_labels_stay_on_the_map_at_its_edges():
+    """Labels of behaviors that start or end near the bounds grow towards the middle: never clipped."""
+    from aeroexec.cli.report_render import path_figure
+    from aeroexec.drones.sim import default_world
+    from aeroexec.engine.supervision.flight_summary import summarize
+
+    corners = [(19.5, 19.5, 3), (19.5, -19.5, 3), (-19.5, -19.5, 3), (-19.5, 19.5, 3)]
+    records = [{"kind": "log_started", "time": 0.0, "mission": "edges"}]
+    for i, corner in enumerate(corners):
+        t = 10.0 * i
+        records += [{"kind": "state", "time": t, "position": list(corner), "velocity": [0, 0, 0], "battery": 90.0},
+                    {"kind": "activated", "time": t, "behavior": f"A_VERY_LONG_BEHAVIOR_NAME_{i}",
+                     "data": {"source": "mission"}},
+                    {"kind": "state", "time": t + 5, "position": list(corner), "velocity": [0, 0, 0],
+                     "battery": 90.0},
+                    {"kind": "GOAL_ACHIEVED", "time": t + 5, "behavior": f"A_VERY_LONG_BEHAVIOR_NAME_{i}"}]
+    records.append({"kind": "log_closed", "time": 40.0})
+    fig = path_figure(summarize(records), default_world())
+    renderer = fig.canvas.get_renderer()
+    figure_box = fig.bbox
+    labels = [t for t in fig.axes[0].texts if "A_VERY_LONG_BEHAVIOR_NAME" in t.get_text()]
+    assert len(labels) == 4
+    for label in labels:
+        box = label.get_window_extent(renderer)
+        assert figure_box.x0 <= box.x0 and box.x1 <= figure_box.x1, label.get_text()
+        assert figure_box.y0 <= box.y0 and box.y1 <= figure_box.y1, label.get_text()

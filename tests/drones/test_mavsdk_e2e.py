@@ -190,3 +190,43 @@ def test_a_port_in_use_is_a_connection_error_and_commands_fail_link_lost():
             assert [event.kind for event in drone.events()] == ["link_lost"]
         finally:
             drone.close()
+
+
+def test_the_readme_snippet_flies_what_it_says():
+    """Issue 18, point 5: the README's MavsdkDrone snippet, run as written against the simulated vehicle: it
+    takes off, reaches (10, 0, 3) before landing, and lands."""
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).parents[2] / "README.md").read_text()
+    snippet = next(block for block in re.findall(r"```python\n(.*?)```", readme, re.S) if "MavsdkDrone(" in block)
+    port = free_udp_port()
+    snippet = snippet.replace("udpin://0.0.0.0:14540", f"udpin://127.0.0.1:{port}")
+    assert f"127.0.0.1:{port}" in snippet
+    simulated = SimulatedDrone()
+    vehicle = MavlinkVehicle(simulated, connect=f"udpout://127.0.0.1:{port}", speed=SPEED)
+    track: list[tuple[float, float, float]] = []
+    vehicle.start()
+    try:
+        import threading
+
+        done = threading.Event()
+
+        def watch() -> None:
+            while not done.is_set():
+                track.append(vehicle.telemetry().position)
+                time.sleep(0.05)
+
+        watcher = threading.Thread(target=watch, daemon=True)
+        watcher.start()
+        exec(compile(snippet, "README.md", "exec"), {"__name__": "readme_snippet"})
+        done.set()
+        watcher.join(2)
+        final = vehicle.telemetry()
+    finally:
+        vehicle.stop()
+    assert final.landed_state == LandedState.ON_GROUND
+    assert math.dist(final.position[:2], (10.0, 0.0)) < 0.6  # landed where it flew to
+    assert max(p[2] for p in track) == pytest.approx(3.0, abs=0.4)
+    at_point = [i for i, p in enumerate(track) if math.dist(p, (10.0, 0.0, 3.0)) < 0.6]
+    assert at_point and all(p[2] > 2.5 for p in track[at_point[0] - 5:at_point[0]])  # got there in the air

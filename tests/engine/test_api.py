@@ -100,16 +100,19 @@ def test_activate_inhibit_and_is_active():
     assert [e.kind for e in engine.log.events(behavior="HOVER")] == ["activated", "INTERRUPTED"]
 
 
-def test_failed_preconditions_and_unknown_behaviors_do_not_stop_the_mission():
+def test_failed_preconditions_are_returned_and_a_wrong_value_raises_in_the_mission():
     seen = []
 
     def mission():
         seen.append(api.execute_behavior("GUARDED"))
         seen.append(api.activate_behavior("GUARDED"))
-        seen.append(api.execute_behavior("GO", coordinates=(1, 2)))  # WRONG_VALUE, refused
+        try:
+            api.execute_behavior("GO", coordinates=(1, 2))  # WRONG_VALUE: what verify would refuse
+        except api.RequestRejected as error:
+            seen.append((error.kind, error.behavior))
 
     engine = fly(mission)
-    assert seen == [Outcome.FAILED_PRECONDITIONS, "FAILED_PRECONDITIONS", Outcome.FAILED_PRECONDITIONS]
+    assert seen == [Outcome.FAILED_PRECONDITIONS, "FAILED_PRECONDITIONS", ("WRONG_VALUE", "GO")]
     explained = engine.log.events(kind="failed_preconditions", behavior="GUARDED")[0].detail
     assert "flight_state(self, hovering)" in explained and "the memory holds flight_state(self, landed)" in explained
     assert "The value (1, 2) of argument COORDINATES for behavior GO is not correct" in \

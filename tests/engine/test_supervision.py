@@ -4,6 +4,7 @@ drone and the mission, resume asks again for what the pause stopped, abort lands
 from __future__ import annotations
 
 import math
+import time
 
 import pytest
 from aeroexec.drones import LandedState
@@ -86,6 +87,9 @@ def test_a_paused_python_mission_does_not_call_the_engine(engine):
     engine.step(2.0)
     engine.supervisor.execute("pause")
     engine.step(0.2)
+    deadline = time.monotonic() + 30  # a wait that ended as the pause began lets the mission reach its next call
+    while not engine.bridge.queued and time.monotonic() < deadline:
+        time.sleep(0.01)
     before = len(calls)
     engine.step(5.0)
     assert len(calls) == before
@@ -197,5 +201,93 @@ def test_abort_halts_a_tree_and_lands():
         engine.supervisor.execute("abort")
         assert tree.done and engine.log.events(kind="mission_failed")
         assert engine.run_until(lambda: engine.drone.telemetry().landed_state is LandedState.ON_GROUND, 60)
+    finally:
+        engine.stop()
+
+
+# -- resume: continue what was paused, refuse what the situation now refuses (issue 18, point 1) -------------
+RESUME_CATALOG = """
+predicates:
+- {predicate: cleared, arity: 2}
+behavior_descriptors:
+- behavior: MOVE
+  timeout: 60
+  incompatible_lists: [motion]
+  preconditions: cleared(path, yes)
+- behavior: CLIMB
+  timeout: 60
+  incompatible_lists: [motion]
+  preconditions: cleared(ground, yes)
+- behavior: KEEP_HOVERING
+  category: recurrent
+  incompatible_lists: [motion]
+behavior_lists:
+- {list: motion, behaviors: [MOVE, CLIMB, KEEP_HOVERING]}
+"""
+
+
+def resume_engine():
+    import textwrap
+
+    from aeroexec.engine.catalog import parse_catalog
+    from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
+
+    class Timed(BehaviorProcess):
+        """Achieved after 4 s of running in all; a resumed one goes on from where the paused one was."""
+
+        done = ran = 0.0
+
+        def resume_from(self, paused):
+            self.done = paused.ran
+
+        def on_stop(self, outcome):
+            self.ran = self.done + self.elapsed
+
+        def on_start(self):
+            if self.name == "CLIMB":  # its own progress falsifies its precondition, as TAKE_OFF's
+                self.memory.remove("cleared(ground, ?x)")
+
+        def on_run(self):
+            return Outcome.GOAL_ACHIEVED if self.done + self.elapsed >= 4.0 else None
+
+    library = BehaviorLibrary()
+    for name in ("MOVE", "CLIMB", "KEEP_HOVERING"):
+        library.register(Timed if name != "KEEP_HOVERING" else BehaviorProcess, name)
+    catalog = parse_catalog(textwrap.dedent(RESUME_CATALOG), "resume.yaml")
+    return Engine(SimulatedDrone(), catalog=catalog, library=library)
+
+
+@pytest.mark.parametrize("behavior, belief, falsified_during_pause, expected", [
+    ("CLIMB", "cleared(ground, yes)", False, Outcome.GOAL_ACHIEVED),  # its own progress: continues
+    ("MOVE", "cleared(path, yes)", True, Outcome.FAILED_PRECONDITIONS),  # the situation changed: refused
+])
+def test_a_resumed_behavior_continues_unless_the_situation_now_refuses_it(behavior, belief, falsified_during_pause,
+                                                                          expected):
+    from aeroexec.engine.supervision.run_status import COMPLETED, REFUSED, run_status
+
+    engine = resume_engine()
+    results = []
+
+    def mission() -> None:
+        api.add_belief(belief)
+        results.append(api.execute_behavior(behavior))
+
+    try:
+        engine.start_mission(mission)
+        engine.step(2.0)
+        assert engine.supervisor.execute("pause").ok and not engine.coordinator.is_active(behavior)
+        if falsified_during_pause:
+            engine.supervisor.execute("remove", belief)
+        engine.step(3.0)
+        resumed = engine.supervisor.execute("resume")
+        assert ("refused now" in resumed.message) == (expected is Outcome.FAILED_PRECONDITIONS)
+        engine.run_until(lambda: engine.bridge.state == "done", 30)
+        assert results == [expected]
+        if expected is Outcome.GOAL_ACHIEVED:  # 2 s before the pause + 2 s after: it went on, not again
+            achieved = engine.log.events(kind="GOAL_ACHIEVED", behavior=behavior)[0].time
+            assert achieved == pytest.approx(5.0 + 2.0, abs=0.2)
+        engine.log.record("mission_completed")  # the bridge ended it: how the run would be summed up
+        assert run_status(engine.log.events()).word == (COMPLETED if expected is Outcome.GOAL_ACHIEVED
+                                                         else REFUSED)
     finally:
         engine.stop()

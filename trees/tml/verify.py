@@ -19,6 +19,7 @@ from collections.abc import Iterable
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
 from aeroexec.engine.catalog.descriptors import RECURRENT
+from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.sequence_check import SequenceChecker, State, join
@@ -42,11 +43,11 @@ class _StateRecorder(SequenceChecker):
 class TmlVerifier:
     """Collects the TML-specific problems of one compiled mission."""
 
-    def __init__(self, document: TmlDocument, catalog: BehaviorCatalog) -> None:
+    def __init__(self, document: TmlDocument, catalog: BehaviorCatalog, world: WorldMap | None = None) -> None:
         self.document, self.catalog = document, catalog
         self.program = document.program
         self.file = document.file
-        self.tree = TreeVerifier(document, catalog, known_keys=self.variables())
+        self.tree = TreeVerifier(document, catalog, known_keys=self.variables(), world=world)
         self.problems: list[Problem] = []
 
     def variables(self) -> set[str]:
@@ -211,13 +212,16 @@ def _texts(task: TmlTask) -> Iterable[str]:
         yield task.work.belief
 
 
-def verify_tml(document: TmlDocument, catalog: BehaviorCatalog | None = None) -> list[Problem]:
-    """Every problem of a compiled TML mission, sorted by line."""
-    return TmlVerifier(document, catalog if catalog is not None else default_catalog()).verify()
+def verify_tml(document: TmlDocument, catalog: BehaviorCatalog | None = None,
+               world: WorldMap | None = None) -> list[Problem]:
+    """Every problem of a compiled TML mission, sorted by line (literal destinations against ``world``)."""
+    return TmlVerifier(document, catalog if catalog is not None else default_catalog(), world).verify()
 
 
-def verify_mission_document(document: TreeDocument, catalog: BehaviorCatalog | None = None) -> list[Problem]:
-    """Every problem of a mission read by ``load_mission_tree``: a TML mission or a behavior tree."""
+def verify_mission_document(document: TreeDocument, catalog: BehaviorCatalog | None = None,
+                            world: WorldMap | None = None) -> list[Problem]:
+    """Every problem of a mission read by ``load_mission_tree``: a TML mission or a behavior tree (checked
+    against ``world`` too when given)."""
     if isinstance(document, TmlDocument):
-        return verify_tml(document, catalog)
-    return verify_document(document, catalog)
+        return verify_tml(document, catalog, world)
+    return verify_document(document, catalog, world=world)
