@@ -123,6 +123,8 @@ class VehicleState:
     yaw_rate: float  # deg/s, ENU (counterclockwise)
     mission_seq: int = 0
     mission_total: int = 0
+    position_ok: bool = True  # the estimator has a global position (SYS_STATUS GPS healthy, a 3D fix)
+    heartbeat: tuple[int, int, int] | None = None  # (autopilot, base_mode, custom_mode); None: PX4's
 
 
 class TelemetryEncoder:
@@ -150,12 +152,16 @@ class TelemetryEncoder:
 
     def heartbeat(self, state: VehicleState) -> None:
         tel = state.telemetry
+        status = mavlink.MAV_STATE_ACTIVE if tel.armed else mavlink.MAV_STATE_STANDBY
+        if state.heartbeat is not None:
+            autopilot, base, custom = state.heartbeat
+            self._mav.heartbeat_send(mavlink.MAV_TYPE_QUADROTOR, autopilot, base, custom, status)
+            return
         base = mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mavlink.MAV_MODE_FLAG_STABILIZE_ENABLED
         if state.mode in ("HOLD", "TAKEOFF", "LAND", "RETURN", "MISSION", "OFFBOARD", "READY"):
             base |= mavlink.MAV_MODE_FLAG_GUIDED_ENABLED | mavlink.MAV_MODE_FLAG_AUTO_ENABLED
         if tel.armed:
             base |= mavlink.MAV_MODE_FLAG_SAFETY_ARMED
-        status = mavlink.MAV_STATE_ACTIVE if tel.armed else mavlink.MAV_STATE_STANDBY
         self._mav.heartbeat_send(
             mavlink.MAV_TYPE_QUADROTOR, mavlink.MAV_AUTOPILOT_PX4, base, px4_custom_mode(state.mode), status
         )
@@ -191,6 +197,8 @@ class TelemetryEncoder:
         health = _SENSORS
         if not state.armable:
             health &= ~mavlink.MAV_SYS_STATUS_PREARM_CHECK
+        if not state.position_ok:
+            health &= ~mavlink.MAV_SYS_STATUS_SENSOR_GPS
         enabled = _SENSORS if tel.armed else _SENSORS & ~mavlink.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
         self._mav.sys_status_send(
             _SENSORS,
@@ -219,7 +227,7 @@ class TelemetryEncoder:
         cog = int(yaw_to_heading(math.degrees(math.atan2(vy, vx))) * 100) if ground > 0.2 else 65535
         self._mav.gps_raw_int_send(
             int(state.telemetry.time * 1e6),
-            mavlink.GPS_FIX_TYPE_3D_FIX,
+            mavlink.GPS_FIX_TYPE_3D_FIX if state.position_ok else mavlink.GPS_FIX_TYPE_NO_FIX,
             _e7(lat),
             _e7(lon),
             int(alt * 1000),
@@ -227,7 +235,7 @@ class TelemetryEncoder:
             120,
             int(ground * 100),
             cog,
-            14,
+            14 if state.position_ok else 0,
         )
 
     def _global_position_int(self, state: VehicleState) -> None:
