@@ -327,8 +327,9 @@ class MavsdkSession:
                 self._fail_all(Failure.LINK_LOST, "the link to the vehicle was lost")
 
     async def _request_rates(self, telemetry: TelemetryAsync) -> None:
-        """Ask for every stream the adapter reads (SET_MESSAGE_INTERVAL through MAVSDK), again while the health
-        (SYS_STATUS) or position reports stay away: ArduPilot streams nothing unasked, and a request can be lost.
+        """Ask for every stream the adapter reads (SET_MESSAGE_INTERVAL through MAVSDK); again every 5 s while the
+        health (SYS_STATUS) or position reports stay away, and whenever the link comes back: ArduPilot streams
+        nothing unasked, a request can be lost, and a rebooted autopilot forgets them.
         """
         r = self.rates
         requests = [
@@ -341,20 +342,23 @@ class MavsdkSession:
             (telemetry.set_rate_gps_info, r.gps_info),
             (telemetry.set_rate_home, r.home),
         ]
-        cache = self.cache
+        cache, asked_at, restores = self.cache, -math.inf, self.cache.restores
         while True:
-            for setter, hz in requests:
-                if hz > 0:
-                    try:
-                        await self.call(setter(hz))
-                    except Exception as exc:  # a vehicle may refuse a rate; the stream may still come at its own
-                        logger.info("telemetry rate %s(%g Hz) not applied: %s", setter.__name__, hz, exc)
-            await asyncio.sleep(_RATE_RETRY)
-            if cache.health_seen and cache.position is not None:
-                return
-            if cache.link_ok:
-                logger.info("no %s from the vehicle yet: asking for the telemetry rates again",
-                            "health report (SYS_STATUS)" if not cache.health_seen else "position")
+            silent = not (cache.health_seen and cache.position is not None)
+            now = self._loop.time()
+            # Again after the link came back (a rebooted autopilot forgets them) or while reports stay away.
+            if cache.connected and (cache.restores != restores or (silent and now - asked_at >= _RATE_RETRY)):
+                if asked_at > -math.inf:
+                    logger.info("asking for the telemetry rates again (%s)", "no health report or position yet"
+                                if cache.restores == restores else "the link came back")
+                restores, asked_at = cache.restores, now
+                for setter, hz in requests:
+                    if hz > 0:
+                        try:
+                            await self.call(setter(hz))
+                        except Exception as exc:  # a vehicle may refuse a rate; the stream may come at its own
+                            logger.info("telemetry rate %s(%g Hz) not applied: %s", setter.__name__, hz, exc)
+            await asyncio.sleep(0.5)
 
     async def _shutdown(self, mavsdk: Mavsdk) -> None:
         self._fail_all(Failure.CANCELLED, "the drone was closed")

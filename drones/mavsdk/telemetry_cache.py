@@ -35,6 +35,7 @@ class TelemetryCache:
         self.armable = False
         self.global_position_ok = False
         self.home_position_ok = False
+        self.restores = 0  # times the link came back after a loss
         self.health_seen = False  # a health report (SYS_STATUS) came: MAVSDK's health is the vehicle's
         self.connected = False
         self.link_ok = False
@@ -116,6 +117,7 @@ class TelemetryCache:
         self.link_ok = True
         if self._linked_once:  # the first link is a connection, not a recovery
             self._event("link_restored")
+            self.restores += 1
         self._linked_once = True
 
     def _event(self, kind: str, detail: str = "", data: dict | None = None) -> None:

@@ -10,7 +10,9 @@ import pytest
 from aeroexec.drones.interface import Failure, LandedState
 from aeroexec.drones.mavsdk import MavsdkDrone, TelemetryRates
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
+from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from pymavlink.dialects.v20 import common as mavlink
 
 pytestmark = pytest.mark.mavsdk
 
@@ -234,6 +236,29 @@ def test_an_ardupilot_is_armable_before_its_position_and_ready_only_with_both():
         assert not drone.wait_ready(0.2)
         assert drone.wait_ready(READY_S), drone.not_ready_because()
         assert drone.telemetry().home is not None and drone.telemetry().flight_mode == "STABILIZE"
+    finally:
+        drone.close()
+        vehicle.stop()
+
+
+def test_streams_an_ardupilot_forgot_are_asked_for_again_when_the_link_comes_back():
+    port = free_udp_port()
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED,
+                             autopilot="ardupilot", ekf=(0.5, 1.0))
+    vehicle.start()
+    drone = MavsdkDrone(f"udpin://127.0.0.1:{port}")
+    try:
+        assert drone.wait_ready(READY_S), drone.not_ready_because()
+        vehicle.cut_link()
+        until(lambda: not drone.telemetry().link_ok, timeout=5.0, what="link lost")
+        for msg_id in DEFAULT_RATES_HZ:  # as after a reboot: back to ArduCopter's defaults, nothing streamed
+            vehicle.streams.set_interval(msg_id, -1)
+        vehicle.restore_link()
+        until(lambda: vehicle.streams.interval_us(mavlink.MAVLINK_MSG_ID_SYS_STATUS) > 0, timeout=5.0,
+              what="SYS_STATUS asked for again")
+        until(lambda: vehicle.streams.interval_us(mavlink.MAVLINK_MSG_ID_GLOBAL_POSITION_INT) > 0, timeout=5.0,
+              what="GLOBAL_POSITION_INT asked for again")
+        assert drone.telemetry().link_ok and drone.wait_ready(READY_S)
     finally:
         drone.close()
         vehicle.stop()
