@@ -10,6 +10,7 @@ from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink.telemetry import px4_custom_mode
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
 from pymavlink import mavutil
+from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
 
 pytestmark = pytest.mark.mavsdk
@@ -316,6 +317,10 @@ def test_as_ardupilot_the_ekf_comes_up_armable_first_then_with_gps(copter):
     assert not armable.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_SENSOR_GPS  # no position yet
     wait_for(client, "SYS_STATUS", lambda m: m.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_SENSOR_GPS)
     wait_for(client, "GPS_RAW_INT", lambda m: m.fix_type >= mavlink.GPS_FIX_TYPE_3D_FIX)
+    assert command(client, mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, ardupilotmega.MAVLINK_MSG_ID_EKF_STATUS_REPORT,
+                   200_000) == mavlink.MAV_RESULT_ACCEPTED  # ArduPilot's own message, as MAVSDK 4 asks for it
+    ekf = wait_for(client, "EKF_STATUS_REPORT")
+    assert ekf.flags & ardupilotmega.EKF_POS_HORIZ_ABS and not ekf.flags & ardupilotmega.EKF_CONST_POS_MODE
 
 
 def test_as_ardupilot_takeoff_needs_guided_and_goes_to_the_altitude_above_home(copter):

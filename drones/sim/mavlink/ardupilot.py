@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
 
 #: Copter flight-mode numbers (ArduCopter/mode.h).
@@ -28,6 +29,10 @@ PILOTED = {"STABILIZE", "ACRO", "ALT_HOLD", "POSHOLD", "SPORT", "DRIFT", "FLOWHO
 _GUIDED_FLAG = {"AUTO", "RTL", "LOITER", "GUIDED", "CIRCLE", "POSHOLD", "BRAKE", "SMART_RTL", "FOLLOW"}
 
 M = mavlink
+A = ardupilotmega
+EKF_STATUS_REPORT = A.MAVLINK_MSG_ID_EKF_STATUS_REPORT  # ArduPilot's own message (ardupilotmega.xml)
+_EKF_ATTITUDE = A.EKF_ATTITUDE | A.EKF_VELOCITY_HORIZ | A.EKF_VELOCITY_VERT | A.EKF_POS_VERT_ABS
+_EKF_POSITION = A.EKF_POS_HORIZ_REL | A.EKF_POS_HORIZ_ABS | A.EKF_PRED_POS_HORIZ_REL | A.EKF_PRED_POS_HORIZ_ABS
 #: REQUEST_DATA_STREAM groups and the messages of each that the simulation produces (GCS_MAVLink streams).
 DATA_STREAMS: dict[int, tuple[int, ...]] = {
     M.MAV_DATA_STREAM_EXTENDED_STATUS: (M.MAVLINK_MSG_ID_SYS_STATUS, M.MAVLINK_MSG_ID_GPS_RAW_INT,
@@ -35,7 +40,7 @@ DATA_STREAMS: dict[int, tuple[int, ...]] = {
     M.MAV_DATA_STREAM_POSITION: (M.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, M.MAVLINK_MSG_ID_LOCAL_POSITION_NED),
     M.MAV_DATA_STREAM_EXTRA1: (M.MAVLINK_MSG_ID_ATTITUDE,),
     M.MAV_DATA_STREAM_EXTRA2: (M.MAVLINK_MSG_ID_VFR_HUD,),
-    M.MAV_DATA_STREAM_EXTRA3: (M.MAVLINK_MSG_ID_BATTERY_STATUS, M.MAVLINK_MSG_ID_SYSTEM_TIME),
+    M.MAV_DATA_STREAM_EXTRA3: (M.MAVLINK_MSG_ID_BATTERY_STATUS, M.MAVLINK_MSG_ID_SYSTEM_TIME, EKF_STATUS_REPORT),
 }
 #: Messages that say where the vehicle is: not sent before the EKF has its origin.
 NEEDS_ORIGIN = {M.MAVLINK_MSG_ID_GLOBAL_POSITION_INT, M.MAVLINK_MSG_ID_LOCAL_POSITION_NED,
@@ -74,6 +79,14 @@ class ArduCopter:
 
     def position_ok(self, now: float) -> bool:
         return self.uptime(now) >= self.origin_s
+
+    def ekf_flags(self, now: float) -> int:
+        """EKF_STATUS_REPORT flags: attitude and velocity once the pre-arm checks pass, position with the origin."""
+        if not self.prearm_ok(now):
+            return 0
+        if not self.position_ok(now):
+            return _EKF_ATTITUDE | A.EKF_CONST_POS_MODE
+        return _EKF_ATTITUDE | _EKF_POSITION
 
     def arm_refusal(self, now: float) -> str | None:
         """Why ArduCopter would refuse to arm now (its STATUSTEXT), None when it may."""

@@ -11,6 +11,7 @@ import time
 from dataclasses import dataclass
 
 from aeroexec.drones.interface import LandedState, Telemetry
+from aeroexec.drones.sim.mavlink.ardupilot import EKF_STATUS_REPORT
 from pymavlink.dialects.v20 import common as mavlink
 
 # PX4 custom mode (px4_custom_mode.h): main mode in bits 16..23, sub mode (AUTO only) in bits 24..31.
@@ -125,6 +126,7 @@ class VehicleState:
     mission_total: int = 0
     position_ok: bool = True  # the estimator has a global position (SYS_STATUS GPS healthy, a 3D fix)
     heartbeat: tuple[int, int, int] | None = None  # (autopilot, base_mode, custom_mode); None: PX4's
+    ekf_flags: int = 0  # ArduPilot's EKF_STATUS_REPORT flags
 
 
 class TelemetryEncoder:
@@ -149,6 +151,8 @@ class TelemetryEncoder:
             mavlink.MAVLINK_MSG_ID_AUTOPILOT_VERSION: self._autopilot_version,
             mavlink.MAVLINK_MSG_ID_MISSION_CURRENT: self._mission_current,
         }
+        if hasattr(mav, "ekf_status_report_send"):  # an ArduPilot (ardupilotmega dialect) encoder
+            self._senders[EKF_STATUS_REPORT] = self._ekf_status_report
 
     def heartbeat(self, state: VehicleState) -> None:
         tel = state.telemetry
@@ -316,6 +320,10 @@ class TelemetryEncoder:
         self._mav.autopilot_version_send(
             _CAPABILITIES, _FLIGHT_SW_VERSION, 0, 0, 0, [0] * 8, [0] * 8, [0] * 8, 0, 0, self._uid
         )
+
+    def _ekf_status_report(self, state: VehicleState) -> None:
+        good = 0.1 if state.position_ok else 1.0  # variances: small when the estimate is good
+        self._mav.ekf_status_report_send(state.ekf_flags, good, good, 0.1, 0.1, 0.0)
 
     def _mission_current(self, state: VehicleState) -> None:
         self._mav.mission_current_send(state.mission_seq, state.mission_total)

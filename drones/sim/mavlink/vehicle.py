@@ -18,13 +18,20 @@ import threading
 import time
 
 from aeroexec.drones.interface import LandedState, Telemetry
-from aeroexec.drones.sim.mavlink.ardupilot import GUIDED_TIMEOUT_S, NEEDS_ORIGIN, ArduCopter, streamed_messages
+from aeroexec.drones.sim.mavlink.ardupilot import (
+    EKF_STATUS_REPORT,
+    GUIDED_TIMEOUT_S,
+    NEEDS_ORIGIN,
+    ArduCopter,
+    streamed_messages,
+)
 from aeroexec.drones.sim.mavlink.commands import CommandHandler
 from aeroexec.drones.sim.mavlink.mission import MissionManager
 from aeroexec.drones.sim.mavlink.offboard import OffboardControl, setpoint_from_global_int, setpoint_from_local_ned
 from aeroexec.drones.sim.mavlink.params import ParameterServer, px4_parameters
 from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ, TelemetryEncoder, VehicleState
 from pymavlink import mavutil
+from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
 
 logger = logging.getLogger(__name__)
@@ -139,7 +146,8 @@ class MavlinkVehicle:
         self.system_id = system_id
         self.component_id = component_id
         self.link_cut = False
-        self.mav = mavlink.MAVLink(_GatedWriter(self), srcSystem=system_id, srcComponent=component_id)
+        dialect = mavlink if self.copter is None else ardupilotmega  # ArduPilot's has EKF_STATUS_REPORT too
+        self.mav = dialect.MAVLink(_GatedWriter(self), srcSystem=system_id, srcComponent=component_id)
         self.mav.robust_parsing = True
         self.encoder = TelemetryEncoder(self.mav)
         config = drone.config
@@ -149,7 +157,9 @@ class MavlinkVehicle:
             statustext=self.statustext,
         )
         # ArduCopter streams nothing by default (every SRn_ rate is 0); PX4 streams its defaults.
-        defaults = DEFAULT_RATES_HZ if self.copter is None else dict.fromkeys(DEFAULT_RATES_HZ, 0.0)
+        defaults = DEFAULT_RATES_HZ
+        if self.copter is not None:
+            defaults = dict.fromkeys([*DEFAULT_RATES_HZ, EKF_STATUS_REPORT], 0.0)
         self.streams = StreamScheduler(defaults)
         self.offboard = OffboardControl()
         self.mission = MissionManager(self.mav, self.statustext)
@@ -356,11 +366,12 @@ class MavlinkVehicle:
             self._last_yaw = (tel.time, tel.yaw)
         mission = self.mission
         mode = "MISSION" if mission.active else tel.flight_mode
-        heartbeat, position_ok = None, True
+        heartbeat, position_ok, ekf = None, True, 0
         if self.copter is not None:
             mode = self.copter.reported(tel.flight_mode, mission.active)
             heartbeat = self.copter.heartbeat_fields(mode, tel.armed)
             position_ok = self.copter.position_ok(tel.time)
+            ekf = self.copter.ekf_flags(tel.time)
         return VehicleState(
             telemetry=tel,
             geodetic=tuple(self.drone.world.to_geodetic(tel.position)),
@@ -372,6 +383,7 @@ class MavlinkVehicle:
             mission_total=len(mission.items),
             position_ok=position_ok,
             heartbeat=heartbeat,
+            ekf_flags=ekf,
         )
 
     def _armable(self, tel: Telemetry) -> bool:
