@@ -178,7 +178,7 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
         faults = end_flight(engine, link_grace=getattr(args, "link_grace", LINK_GRACE))
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
-        faults = ["interrupted again by the operator: the drone was left as it was"]
+        faults = ["the operator interrupted the end of the flight: the drone was left as it was"]
     finally:
         console.close()
         engine.stop()
