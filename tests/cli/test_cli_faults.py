@@ -70,9 +70,10 @@ class Run:
         return self.process.returncode, "\n".join(self.seen), self.process.stderr.read()
 
 
-def test_killing_the_vehicle_mid_flight_fails_the_run_with_the_reason(tmp_path):
+@pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
+def test_killing_the_vehicle_mid_flight_fails_the_run_with_the_reason(tmp_path, autopilot):
     port = free_udp_port()
-    sim = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "sim", "--speed", "4",
+    sim = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "sim", "--speed", "4", "--autopilot", autopilot,
                             "--connect", f"udpout://127.0.0.1:{port}"],
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp_path)
     try:
@@ -91,9 +92,10 @@ def test_killing_the_vehicle_mid_flight_fails_the_run_with_the_reason(tmp_path):
     assert "waiting_for_link" in out and "link_not_back" in out
 
 
-def test_a_link_back_within_the_grace_time_lets_the_run_land_and_disarm(tmp_path):
+@pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
+def test_a_link_back_within_the_grace_time_lets_the_run_land_and_disarm(tmp_path, autopilot):
     port = free_udp_port()
-    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=4.0)
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=4.0, autopilot=autopilot)
     vehicle.start()
     try:
         run = Run(tmp_path, FIGURE10, "--drone", f"mavsdk:udpin://127.0.0.1:{port}", "--link-grace", "30")
