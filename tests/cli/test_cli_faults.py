@@ -38,7 +38,11 @@ class Run:
                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
         self.lines: queue.Queue[str] = queue.Queue()
         self.seen: list[str] = []
-        threading.Thread(target=self._read, daemon=True).start()
+        self.errors: list[str] = []  # stderr, drained as it comes so that the pipe never fills
+        self._readers = [threading.Thread(target=self._read, daemon=True),
+                         threading.Thread(target=lambda: self.errors.extend(self.process.stderr), daemon=True)]
+        for reader in self._readers:
+            reader.start()
 
     def _read(self) -> None:
         for line in self.process.stdout:
@@ -64,10 +68,11 @@ class Run:
         except subprocess.TimeoutExpired:
             self.process.kill()
             pytest.fail("the run did not end")
-        time.sleep(0.2)
+        for reader in self._readers:  # the pipes close with the process
+            reader.join(timeout=10)
         while not self.lines.empty():
             self.seen.append(self.lines.get())
-        return self.process.returncode, "\n".join(self.seen), self.process.stderr.read()
+        return self.process.returncode, "\n".join(self.seen), "".join(self.errors)
 
 
 @pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
