@@ -21,7 +21,7 @@ COMMANDS = {
     "verify": ("verify", "check missions without flying: every error with file:line"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
-    "sim": ("sim", "run the simulated drone behind a MAVLink (PX4) endpoint for MAVSDK or QGroundControl"),
+    "sim": ("sim", "run the simulated drone behind a MAVLink endpoint (PX4 or ArduPilot) for MAVSDK or QGroundControl"),
     "fleet": ("fleet", "fly every drone of a fleet file (one engine each, linked over Zenoh), or run a Zenoh router"),
     "ctl": ("ctl", "command a running mission from another terminal: pause, resume, abort, inhibit, answer..."),
     "report": ("report", "a flight report from an event log: the path over the world, a timeline, an HTML page"),

@@ -3,12 +3,16 @@ built-in simulator or a MAVSDK drone.
 
 The events are printed as they happen. A mission that fails the static check
 never flies. When the mission ends (or the operator presses Ctrl-C) with the
-drone in the air, the drone lands before the command returns.
+drone in the air, the drone lands before the command returns; if its link is
+down, the engine keeps trying to reach it for ``--link-grace`` seconds first.
+A run whose link was lost, whose landing failed, or that leaves the drone armed
+or in the air ends non-zero, its last line saying why.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
 import sys
 from collections.abc import Callable
@@ -16,6 +20,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from aeroexec.cli import robots, web
+from aeroexec.cli.lines import whole_lines
 from aeroexec.cli.live import OperatorConsole
 from aeroexec.cli.live import wanted as live_view_wanted
 from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
@@ -27,15 +32,17 @@ from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.engine.library import LibraryError, default_library, default_processes, default_updaters
 from aeroexec.engine.library import make_drone as make_adapter_drone
+from aeroexec.engine.supervision.flight_end import LINK_GRACE, end_flight
 from aeroexec.engine.supervision.flight_log import FlightLogWriter
 from aeroexec.engine.supervision.output import make_output_folder
-from aeroexec.engine.supervision.run_status import COMPLETED, record_run_status, run_status
-from aeroexec.engine.supervision.supervisor import land_if_flying
+from aeroexec.engine.supervision.run_status import COMPLETED, FAILED, RunStatus, record_run_status, run_status
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.btlog import BtlogWriter
 from aeroexec.trees.runner import TreeMission
 
 logger = logging.getLogger(__name__)
+
+READY_TIMEOUT = 180.0  # s a MAVSDK vehicle may take to be ready (ArduCopter SITL: ~45 s from boot)
 
 
 class RunError(Exception):
@@ -68,6 +75,12 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the built-in simulated drone (default), a MAVSDK vehicle "
                              "(e.g. mavsdk:udpin://0.0.0.0:14540), or an installed adapter (aeroexec.drones "
                              "entry point NAME)")
+    parser.add_argument("--ready-timeout", type=_seconds, default=READY_TIMEOUT, metavar="S",
+                        help=f"how long a MAVSDK vehicle may take to be ready to fly: connected, armable, with "
+                             f"global and home positions (default {READY_TIMEOUT:g} s)")
+    parser.add_argument("--link-grace", type=_seconds, default=LINK_GRACE, metavar="S",
+                        help=f"when the link to the drone is down at the end of the mission, keep trying to reach it "
+                             f"this long to land it (default {LINK_GRACE:g} s; its own failsafe acts meanwhile)")
     parser.add_argument("--world", metavar="FILE", help="the simulated world; literal destinations are checked "
                                                         "against it (default: the robot kind's, else the "
                                                         "built-in one)")
@@ -153,15 +166,18 @@ def make_drone(args: argparse.Namespace, choice: robots.RobotChoice | None = Non
         from aeroexec.drones.mavsdk import MavsdkDrone
 
         url = args.drone[len("mavsdk:"):]
+        ready = getattr(args, "ready_timeout", READY_TIMEOUT)
         try:
-            drone = MavsdkDrone(url)
+            drone = MavsdkDrone(url, ready_timeout=ready)
         except ValueError as error:
             raise RunError(f"--drone {args.drone}: {error}") from None
-        print(f"connecting to {url} ...", file=sys.stderr)
-        if not drone.wait_ready(60.0):
+        print(f"connecting to {url} (waiting up to {ready:g} s for the vehicle to be ready) ...", file=sys.stderr)
+        if not drone.wait_ready(ready):
             why = "; ".join(drone.not_ready_because()) or "no answer"
             drone.close()
-            raise RunError(f"--drone {args.drone}: the vehicle is not ready to fly after 60 s ({why})")
+            raise RunError(f"--drone {args.drone}: the vehicle is not ready to fly after {ready:g} s: {why} "
+                           f"(--ready-timeout gives it longer)")
+        print(f"{drone.autopilot} vehicle ready on {url}", file=sys.stderr)
         return drone, world if args.world else None, False
     scheme, _, address = args.drone.partition(":")
     try:  # an installed adapter (an aeroexec.drones entry point)
@@ -218,10 +234,13 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
         drone.close()
         raise RunError(f"the event log {log_path} cannot be written: {error}") from None
     print(f"event log: {log_path}", file=sys.stderr)
+    lines = contextlib.ExitStack()
     if not live:
+        lines.enter_context(whole_lines())  # the mission's print() and the events never share a line
         engine.log.subscribe(printer(None if args.quiet else sys.stdout))
     console = OperatorConsole(engine, folder, name, mission, live).start()  # control socket, live view, keys
     btlog = groot = browser = None
+    faults: list[str] = []
     try:
         browser = web.start_console(args, engine, world, None if isinstance(mission, TreeDocument) else args.mission)
         try:
@@ -237,16 +256,18 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
                   file=sys.stderr)
             engine.log.record("operator_interrupt", detail="Ctrl-C")
             engine.supervisor.execute("abort", "Ctrl-C: aborted by the operator", origin="keyboard")
-        land_if_flying(engine)
+        faults = end_flight(engine, link_grace=getattr(args, "link_grace", LINK_GRACE))
         if link is not None:  # the fleet hears how this drone's mission ended (telemetry's status)
-            failed = engine.log.events(kind="mission_failed")
+            failed = engine.log.events(kind="mission_failed") or faults
             link.link.state = "failed" if failed else "completed" if engine.log.events(kind="mission_completed") \
                 else "stopped"
             link.link.update(engine.memory, float("inf"))  # publish it once more before leaving
     except KeyboardInterrupt:
         print("interrupted again: leaving the drone as it is", file=sys.stderr)
+        faults = ["the operator interrupted the end of the flight: the drone was left as it was"]
     finally:
-        record_run_status(engine.log, run_status(engine.log.events()))  # the live view's header shows it
+        # how the run ended, in the log (the live view's header and the report show it): faults fail it
+        record_run_status(engine.log, RunStatus(FAILED, faults) if faults else run_status(engine.log.events()))
         console.close()
         engine.stop()
         for surface in (browser, groot, link):
@@ -257,7 +278,8 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
             btlog.close()
         operator.close()
         drone.close()
-    return summary(engine, name)
+        lines.close()
+    return summary(engine, name, faults)
 
 
 def make_operator(args: argparse.Namespace, live: bool = False) -> Any:
@@ -274,15 +296,21 @@ def make_operator(args: argparse.Namespace, live: bool = False) -> Any:
         raise RunError(f"--answers {error}") from None
 
 
-def summary(engine: Engine, name: str) -> int:
-    """Print how the run ended (the words of :mod:`~aeroexec.engine.supervision.run_status`); its exit status."""
-    status = run_status(engine.log.events())
+def summary(engine: Engine, name: str, faults: list[str] | tuple[str, ...] = ()) -> int:
+    """Print how the run ended (the words of :mod:`~aeroexec.engine.supervision.run_status`); its exit status.
+    With faults (link lost, landing failed, drone left armed or in the air) the run failed, whatever the mission
+    did, and its last line says why: ``failed: ...``."""
+    status = run_status(engine.log.events())  # as recorded at the end of the run
+    word = status.word
     outcomes = [e for e in engine.log.events() if e.kind in {o.value for o in Outcome}]
-    print(f"{name}: {status.word} at t={engine.now():.1f} s; {len(outcomes)} behavior events, "
+    print(f"{name}: {word} at t={engine.now():.1f} s; {len(outcomes)} behavior events, "
           f"{sum(e.kind == 'GOAL_ACHIEVED' for e in outcomes)} goals achieved", file=sys.stderr)
-    if status.word != COMPLETED:
+    if word != COMPLETED and not faults:
         for reason in status.reasons[:5]:
             print(f"  {reason}", file=sys.stderr)
+    if faults:
+        print(f"failed: {'; '.join(faults)}", file=sys.stderr)
+        return 1
     return status.exit_status
 
 
@@ -290,6 +318,16 @@ def world_file(args: argparse.Namespace, choice: robots.RobotChoice | None) -> s
     """The world file the run uses: ``--world``, else its robot kind's (None: the built-in field)."""
     kind = choice.kind if choice is not None else None
     return args.world or (str(kind.world) if kind is not None and kind.world else None)
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number of seconds: {text!r}") from None
+    if not (value >= 0 and value != float("inf")):
+        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, not {text}")
+    return value
 
 
 def _absolute(path: str | None) -> str | None:

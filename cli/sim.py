@@ -1,4 +1,5 @@
-"""``aeroexec sim``: the simulated drone exposed over MAVLink as a PX4 multicopter, until Ctrl-C or SIGTERM.
+"""``aeroexec sim``: the simulated drone exposed over MAVLink as a PX4 multicopter (or, with ``--autopilot
+ardupilot``, as an ArduCopter), until Ctrl-C or SIGTERM.
 
 MAVSDK scripts (``python -m aeroexec.drones.mavsdk.demo``), ``aeroexec run --drone udpin://...`` or
 QGroundControl can then fly it.
@@ -15,7 +16,7 @@ import threading
 from pathlib import Path
 
 from aeroexec.drones.sim import SimulatedDrone, WorldError, default_world, load_world
-from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
+from aeroexec.drones.sim.mavlink.vehicle import AUTOPILOTS, MavlinkVehicle, MavlinkVehicleError, normalize_url
 
 logger = logging.getLogger("aeroexec.sim")
 
@@ -47,6 +48,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulation's sensor noise (default 0)")
     parser.add_argument("--system-id", type=int, default=1, help="MAVLink system id of the vehicle (default 1)")
+    parser.add_argument(
+        "--autopilot",
+        choices=AUTOPILOTS,
+        default="px4",
+        help="which autopilot the vehicle behaves like (default px4): px4 streams telemetry at once; ardupilot "
+        "(ArduCopter) streams nothing until asked (SET_MESSAGE_INTERVAL, REQUEST_DATA_STREAM), uses Copter mode "
+        "numbers and brings its EKF up in steps (armable first, then GPS origin and home)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -64,14 +73,15 @@ def run(args: argparse.Namespace) -> int:
         return 2
     drone = SimulatedDrone(world, seed=args.seed)
     try:
-        vehicle = MavlinkVehicle(drone, connect=args.connect, speed=args.speed, system_id=args.system_id)
+        vehicle = MavlinkVehicle(drone, connect=args.connect, speed=args.speed, system_id=args.system_id,
+                                 autopilot=args.autopilot)
         vehicle.start()
     except (MavlinkVehicleError, ValueError) as exc:
         print(f"aeroexec sim: {exc}", file=sys.stderr)
         return 2
     stop = threading.Event()
     previous = _on_signals(stop)
-    logger.info("simulated drone ready on %s (Ctrl-C to stop)", args.connect)
+    logger.info("simulated drone (%s) ready on %s (Ctrl-C to stop)", args.autopilot, args.connect)
     try:
         while not stop.wait(0.5):
             if not vehicle.running:

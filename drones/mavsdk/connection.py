@@ -60,6 +60,20 @@ _MODES = {
     FlightMode.RETURN_TO_LAUNCH: "RETURN",
     FlightMode.FOLLOW_ME: "FOLLOW_ME",
 }
+# MAVSDK names ArduCopter's modes after PX4's (flight_mode.cpp); these are the names ArduPilot's own ground
+# stations show. Copter modes MAVSDK does not map (BRAKE, CIRCLE...) come as UNKNOWN.
+_ARDUPILOT_MODES = {
+    FlightMode.OFFBOARD: "GUIDED",
+    FlightMode.HOLD: "LOITER",
+    FlightMode.MISSION: "AUTO",
+    FlightMode.RETURN_TO_LAUNCH: "RTL",
+    FlightMode.LAND: "LAND",
+    FlightMode.POSCTL: "POSHOLD",
+    FlightMode.ALTCTL: "ALT_HOLD",
+    FlightMode.STABILIZED: "STABILIZE",
+    FlightMode.ACRO: "ACRO",
+    FlightMode.FOLLOW_ME: "FOLLOW",
+}
 
 
 def landed_state(value) -> LandedState:
@@ -67,9 +81,10 @@ def landed_state(value) -> LandedState:
 
 
 def flight_mode_name(mode, ardupilot: bool) -> str:
-    """The interface's flight-mode name; MAVSDK reports ArduPilot's GUIDED as OFFBOARD, we call it GUIDED."""
-    if ardupilot and mode == FlightMode.OFFBOARD:
-        return "GUIDED"
+    """The interface's flight-mode name: PX4's as MAVSDK says them (HOLD, OFFBOARD, RETURN...), ArduPilot's as
+    ArduPilot does (MAVSDK reports GUIDED as OFFBOARD and LOITER as HOLD: we say GUIDED and LOITER)."""
+    if ardupilot:
+        return _ARDUPILOT_MODES.get(mode, getattr(mode, "name", "UNKNOWN"))
     return _MODES.get(mode, getattr(mode, "name", "UNKNOWN"))
 
 

@@ -1,8 +1,8 @@
 """A plain MAVSDK script (mavsdk 4.1 asyncio API only, not aeroexec's adapter): arm, take off, fly a square, land.
 
-It proves ``aeroexec sim`` talks to MAVSDK like any PX4 does. Run the simulator, then::
+It proves ``aeroexec sim`` talks to MAVSDK like any PX4 or ArduCopter does. Run the simulator, then::
 
-    aeroexec sim --connect udpout://127.0.0.1:14540
+    aeroexec sim --connect udpout://127.0.0.1:14540        # or with --autopilot ardupilot
     python -m aeroexec.drones.mavsdk.demo --url udpin://0.0.0.0:14540
 """
 
@@ -52,6 +52,10 @@ async def fly(url: str, altitude: float, side: float, timeout: float) -> None:
         if system is None:
             raise TimeoutError(f"no autopilot heard on {url} within {timeout:g} s")
         action, telemetry = ActionAsync(system), TelemetryAsync(system)
+        # ArduPilot streams nothing until asked (PX4 streams all of it anyway): health is SYS_STATUS.
+        for set_rate, hz in ((telemetry.set_rate_health, 1.0), (telemetry.set_rate_position, 10.0),
+                             (telemetry.set_rate_landed_state, 4.0), (telemetry.set_rate_home, 0.5)):
+            await set_rate(hz)
 
         await first(
             telemetry.subscribe_health(),

@@ -30,6 +30,7 @@ from aeroexec.drones.mavsdk.errors import AdapterError, describe_failure
 from aeroexec.drones.mavsdk.telemetry_cache import TelemetryCache
 from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
+from mavsdk.asyncio.plugins.mavlink_direct import MavlinkDirectAsync
 from mavsdk.asyncio.plugins.offboard import OffboardAsync
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
 
@@ -37,6 +38,7 @@ logger = logging.getLogger(__name__)
 
 _WATCHDOG_PERIOD = 0.1  # s between two link checks
 _DRAIN_LIMIT = 30.0  # s a shutdown waits for MAVSDK calls still in flight (MAVSDK bounds them itself)
+_RATE_RETRY = 5.0  # s without health or position reports before the rates are asked for again
 
 Body = Callable[[], Coroutine[Any, Any, None]]
 
@@ -54,6 +56,7 @@ class MavsdkSession:
         self.action: ActionAsync | None = None
         self.telemetry: TelemetryAsync | None = None
         self.offboard: OffboardAsync | None = None
+        self.direct: MavlinkDirectAsync | None = None
         self._loop = asyncio.new_event_loop()
         self._executor = concurrent.futures.ThreadPoolExecutor(8, thread_name_prefix="aeroexec-mavsdk-call")
         self._loop.set_default_executor(self._executor)
@@ -244,6 +247,7 @@ class MavsdkSession:
             system = await mavsdk.first_autopilot(timeout_s=1.0)
         self.ardupilot = (await system.autopilot_type()).name == "ARDUPILOT"
         self.action, self.telemetry, self.offboard = ActionAsync(system), TelemetryAsync(system), OffboardAsync(system)
+        self.direct = MavlinkDirectAsync(system)
         logger.info("autopilot found on %s (%s)", self.url, "ArduPilot" if self.ardupilot else "PX4 or other")
         self.cache.set_connected(True)
         self._subscribe(system, self.telemetry)
@@ -288,6 +292,8 @@ class MavsdkSession:
             (telemetry.subscribe_landed_state(), lambda s: cache.set(landed_state=landed_state(s))),
             (telemetry.subscribe_flight_mode(), lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))),
             (telemetry.subscribe_health(), health),
+            # MAVSDK publishes its health flags even when no SYS_STATUS ever came; the message itself tells.
+            (self.direct.subscribe_message("SYS_STATUS"), lambda m: cache.set(health_seen=True)),
             (telemetry.subscribe_status_text(), lambda t: cache.set_status_text(t.type.name, t.text)),
             (system.is_connected_state(), self._connection_changed),
         ]
@@ -321,22 +327,38 @@ class MavsdkSession:
                 self._fail_all(Failure.LINK_LOST, "the link to the vehicle was lost")
 
     async def _request_rates(self, telemetry: TelemetryAsync) -> None:
+        """Ask for every stream the adapter reads (SET_MESSAGE_INTERVAL through MAVSDK); again every 5 s while the
+        health (SYS_STATUS) or position reports stay away, and whenever the link comes back: ArduPilot streams
+        nothing unasked, a request can be lost, and a rebooted autopilot forgets them.
+        """
         r = self.rates
         requests = [
-            (telemetry.set_rate_position, r.position),
+            (telemetry.set_rate_health, r.health),  # SYS_STATUS: armable, GPS health (MAVSDK's health)
+            (telemetry.set_rate_position, r.position),  # GLOBAL_POSITION_INT, with the velocity
             (telemetry.set_rate_velocity_ned, r.position),
             (telemetry.set_rate_attitude_euler, r.attitude),
-            (telemetry.set_rate_landed_state, r.landed_state),
+            (telemetry.set_rate_landed_state, r.landed_state),  # EXTENDED_SYS_STATE
             (telemetry.set_rate_battery, r.battery),
             (telemetry.set_rate_gps_info, r.gps_info),
             (telemetry.set_rate_home, r.home),
         ]
-        for setter, hz in requests:
-            if hz > 0:
-                try:
-                    await self.call(setter(hz))
-                except Exception as exc:  # a vehicle may refuse a rate; the stream may still come at its own
-                    logger.info("telemetry rate %s(%g Hz) not applied: %s", setter.__name__, hz, exc)
+        cache, asked_at, restores = self.cache, -math.inf, self.cache.restores
+        while True:
+            silent = not (cache.health_seen and cache.position is not None)
+            now = self._loop.time()
+            # Again after the link came back (a rebooted autopilot forgets them) or while reports stay away.
+            if cache.connected and (cache.restores != restores or (silent and now - asked_at >= _RATE_RETRY)):
+                if asked_at > -math.inf:
+                    logger.info("asking for the telemetry rates again (%s)", "no health report or position yet"
+                                if cache.restores == restores else "the link came back")
+                restores, asked_at = cache.restores, now
+                for setter, hz in requests:
+                    if hz > 0:
+                        try:
+                            await self.call(setter(hz))
+                        except Exception as exc:  # a vehicle may refuse a rate; the stream may come at its own
+                            logger.info("telemetry rate %s(%g Hz) not applied: %s", setter.__name__, hz, exc)
+            await asyncio.sleep(0.5)
 
     async def _shutdown(self, mavsdk: Mavsdk) -> None:
         self._fail_all(Failure.CANCELLED, "the drone was closed")

@@ -35,6 +35,8 @@ class TelemetryCache:
         self.armable = False
         self.global_position_ok = False
         self.home_position_ok = False
+        self.restores = 0  # times the link came back after a loss
+        self.health_seen = False  # a health report (SYS_STATUS) came: MAVSDK's health is the vehicle's
         self.connected = False
         self.link_ok = False
         self.status_text = ""
@@ -101,12 +103,21 @@ class TelemetryCache:
 
     def _lose(self, detail: str) -> None:
         self.link_ok = False
-        self._event("link_lost", detail)
+        self._event("link_lost", detail, self._where())
+
+    def _where(self) -> dict:
+        """Where the vehicle was last seen: height above home (m) and whether it was in the air."""
+        height = None
+        if self.position is not None and self.home is not None:
+            height = round(self.position[2] - self.home[2], 2)
+        in_air = self.landed_state in (LandedState.IN_AIR, LandedState.TAKING_OFF, LandedState.LANDING)
+        return {"altitude": height, "in_air": bool(in_air or (self.armed and height is not None and height > 0.5))}
 
     def _restore(self) -> None:
         self.link_ok = True
         if self._linked_once:  # the first link is a connection, not a recovery
             self._event("link_restored")
+            self.restores += 1
         self._linked_once = True
 
     def _event(self, kind: str, detail: str = "", data: dict | None = None) -> None:
@@ -129,6 +140,10 @@ class TelemetryCache:
     def missing(self) -> list[str]:
         """What the vehicle still lacks before it can be flown, in words (empty when ready)."""
         with self._lock:
+            if not self.health_seen:  # MAVSDK's health flags mean nothing yet
+                gaps = ["no health report (SYS_STATUS) from the vehicle: is its stream rate requested?"]
+                gaps += ["no position"] if self.position is None else []
+                return gaps + (["no home position"] if self.home is None else [])
             gaps = []
             if not self.global_position_ok or self.position is None:
                 gaps.append("no global position")

@@ -80,10 +80,12 @@ def free_udp_port() -> int:
 
 
 @pytest.mark.mavsdk
-def test_figure_10_flies_through_mavsdk_against_aeroexec_sim():
+@pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
+def test_figure_10_flies_through_mavsdk_against_aeroexec_sim(autopilot):
+    """As PX4 (streams unasked) and as ArduCopter (streams only what the adapter asks for, GUIDED takeoff)."""
     port = free_udp_port()
     sim = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "sim", "--speed", "4",
-                            "--connect", f"udpout://127.0.0.1:{port}"],
+                            "--autopilot", autopilot, "--connect", f"udpout://127.0.0.1:{port}"],
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=RUNS.name)
     try:
         result = aeroexec("run", str(MISSIONS / "figure10.py"), "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
@@ -95,8 +97,21 @@ def test_figure_10_flies_through_mavsdk_against_aeroexec_sim():
         except subprocess.TimeoutExpired:
             sim.kill()
     assert result.returncode == 0, result.stderr + result.stdout
+    assert f"{autopilot} vehicle ready" in result.stderr
     achieved = [line.split("GOAL_ACHIEVED ")[1].split(":")[0] for line in events(result.stdout, "GOAL_ACHIEVED")]
     assert achieved == ["TAKE_OFF", "GO_TO_POINT", "GO_TO_POINT", "LAND"]
+    assert events(result.stdout, "drone_disarmed")  # the run ends once the vehicle says it is disarmed
+    assert result.stderr.strip().splitlines()[-1].startswith("figure10.py: completed")
+
+
+def test_a_vehicle_that_never_gets_ready_is_one_clear_line_naming_what_is_missing():
+    port = free_udp_port()  # nothing sends there
+    result = aeroexec("run", str(MISSIONS / "figure10.py"), "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
+                      "--ready-timeout", "2")
+    assert result.returncode == 1
+    assert "the vehicle is not ready to fly after 2 s: no vehicle connected (--ready-timeout gives it longer)" in \
+        result.stderr
+    assert "Traceback" not in result.stderr and "activated" not in result.stdout
 
 
 def test_marker_search_finds_marker_3_and_lands_on_it():

@@ -10,6 +10,7 @@ from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink.telemetry import px4_custom_mode
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
 from pymavlink import mavutil
+from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
 
 pytestmark = pytest.mark.mavsdk
@@ -256,3 +257,87 @@ def test_a_bad_url_is_refused_with_a_clear_message():
     with pytest.raises(MavlinkVehicleError, match="bad MAVLink URL"):
         normalize_url("udp-out:nowhere")
     assert normalize_url("udpout://127.0.0.1:14540") == "udpout:127.0.0.1:14540"
+
+
+@pytest.fixture
+def copter():
+    """A pymavlink client and the vehicle as ArduCopter (pre-arm checks pass at 2 s, GPS origin at 4 s; 4x)."""
+    client = mavutil.mavlink_connection("udpin:127.0.0.1:0", source_system=255, source_component=190)
+    port = client.port.getsockname()[1]
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=4.0,
+                             autopilot="ardupilot", ekf=(2.0, 4.0))
+    vehicle.start()
+    try:
+        wait_for(client, "HEARTBEAT")  # the client now knows where the vehicle is
+        yield client, vehicle
+    finally:
+        vehicle.stop()
+        client.close()
+
+
+def received(client, seconds: float) -> set[str]:
+    kinds, end = set(), time.monotonic() + seconds
+    while time.monotonic() < end:
+        msg = client.recv_match(blocking=True, timeout=0.05)
+        if msg is not None:
+            kinds.add(msg.get_type())
+    return kinds
+
+
+def test_as_ardupilot_only_heartbeats_come_until_a_stream_is_requested(copter):
+    client, _ = copter
+    home = wait_for(client, "HOME_POSITION")  # sent once, unasked, when the EKF gets its origin
+    hb = wait_for(client, "HEARTBEAT")
+    assert hb.type == mavlink.MAV_TYPE_QUADROTOR and hb.autopilot == mavlink.MAV_AUTOPILOT_ARDUPILOTMEGA
+    assert hb.custom_mode == 0  # STABILIZE
+    assert not received(client, 1.0) - {"HEARTBEAT", "STATUSTEXT"}
+    client.mav.request_data_stream_send(1, 1, mavlink.MAV_DATA_STREAM_EXTENDED_STATUS, 4, 1)
+    status = wait_for(client, "SYS_STATUS")
+    assert status.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_PREARM_CHECK
+    assert "GLOBAL_POSITION_INT" not in received(client, 0.5)
+    client.mav.request_data_stream_send(1, 1, mavlink.MAV_DATA_STREAM_POSITION, 5, 1)
+    pos = wait_for(client, "GLOBAL_POSITION_INT")
+    assert (pos.lat, pos.lon) == (home.latitude, home.longitude)
+    assert command(client, mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, mavlink.MAVLINK_MSG_ID_EXTENDED_SYS_STATE,
+                   200_000) == mavlink.MAV_RESULT_ACCEPTED
+    wait_for(client, "EXTENDED_SYS_STATE")
+    client.mav.request_data_stream_send(1, 1, mavlink.MAV_DATA_STREAM_ALL, 0, 0)  # stop them all
+    time.sleep(0.3)
+    assert "SYS_STATUS" not in received(client, 1.0)
+
+
+def test_as_ardupilot_the_ekf_comes_up_armable_first_then_with_gps(copter):
+    client, _ = copter
+    client.mav.request_data_stream_send(1, 1, mavlink.MAV_DATA_STREAM_EXTENDED_STATUS, 10, 1)
+    texts: list[str] = []
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1, texts=texts) == mavlink.MAV_RESULT_FAILED
+    assert any(t.startswith("PreArm:") for t in texts), texts
+    armable = wait_for(client, "SYS_STATUS",
+                       lambda m: m.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_PREARM_CHECK)
+    assert not armable.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_SENSOR_GPS  # no position yet
+    wait_for(client, "SYS_STATUS", lambda m: m.onboard_control_sensors_health & mavlink.MAV_SYS_STATUS_SENSOR_GPS)
+    wait_for(client, "GPS_RAW_INT", lambda m: m.fix_type >= mavlink.GPS_FIX_TYPE_3D_FIX)
+    assert command(client, mavlink.MAV_CMD_SET_MESSAGE_INTERVAL, ardupilotmega.MAVLINK_MSG_ID_EKF_STATUS_REPORT,
+                   200_000) == mavlink.MAV_RESULT_ACCEPTED  # ArduPilot's own message, as MAVSDK 4 asks for it
+    ekf = wait_for(client, "EKF_STATUS_REPORT")
+    assert ekf.flags & ardupilotmega.EKF_POS_HORIZ_ABS and not ekf.flags & ardupilotmega.EKF_CONST_POS_MODE
+
+
+def test_as_ardupilot_takeoff_needs_guided_and_goes_to_the_altitude_above_home(copter):
+    client, _ = copter
+    client.mav.request_data_stream_send(1, 1, mavlink.MAV_DATA_STREAM_ALL, 5, 1)
+    wait_for(client, "HOME_POSITION")
+    assert command(client, mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 1) == mavlink.MAV_RESULT_ACCEPTED
+    texts: list[str] = []
+    assert command(client, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 4.0, texts=texts) == \
+        mavlink.MAV_RESULT_FAILED  # in STABILIZE
+    assert any("GUIDED" in t for t in texts), texts
+    flags = mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mavlink.MAV_MODE_FLAG_SAFETY_ARMED
+    assert command(client, mavlink.MAV_CMD_DO_SET_MODE, flags, 4) == mavlink.MAV_RESULT_ACCEPTED  # GUIDED
+    wait_for(client, "HEARTBEAT", lambda m: m.custom_mode == 4 and m.base_mode & mavlink.MAV_MODE_FLAG_GUIDED_ENABLED)
+    assert command(client, mavlink.MAV_CMD_NAV_TAKEOFF, 0, 0, 0, 0, 0, 0, 4.0) == mavlink.MAV_RESULT_ACCEPTED
+    pos = wait_for(client, "GLOBAL_POSITION_INT", lambda m: m.relative_alt > 3800, timeout=10)
+    assert pos.relative_alt < 4300
+    assert command(client, mavlink.MAV_CMD_DO_SET_MODE, flags, 9) == mavlink.MAV_RESULT_ACCEPTED  # LAND
+    wait_for(client, "HEARTBEAT", lambda m: m.custom_mode == 9)
+    wait_for(client, "HEARTBEAT", lambda m: not m.base_mode & mavlink.MAV_MODE_FLAG_SAFETY_ARMED, timeout=15)

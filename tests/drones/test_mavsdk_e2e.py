@@ -8,9 +8,11 @@ import time
 
 import pytest
 from aeroexec.drones.interface import Failure, LandedState
-from aeroexec.drones.mavsdk import MavsdkDrone
+from aeroexec.drones.mavsdk import MavsdkDrone, TelemetryRates
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
+from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from pymavlink.dialects.v20 import common as mavlink
 
 pytestmark = pytest.mark.mavsdk
 
@@ -18,6 +20,8 @@ SPEED = 8.0  # simulated seconds per wall second
 READY_S = 15.0  # s, wall: longest wait for the adapter to see a flyable vehicle
 STEP_S = 15.0  # s, wall: longest wait for any flight phase
 AGREE_M = 0.3  # m: adapter telemetry and simulated state agree this well while hovering
+#: Each autopilot's name for flying on setpoints, holding position and returning home, as the adapter reports it.
+MODES = {"px4": ("OFFBOARD", "HOLD", "RETURN"), "ardupilot": ("GUIDED", "LOITER", "RTL")}
 
 
 def free_udp_port() -> int:
@@ -26,10 +30,13 @@ def free_udp_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.fixture
-def flight():
+@pytest.fixture(params=["px4", "ardupilot"])
+def flight(request):
+    """The adapter connected to a ready vehicle, as each autopilot: PX4 streams unasked, ArduCopter only what the
+    adapter requests, so a rate it forgets (health, landed state...) fails these tests for ArduPilot."""
     port = free_udp_port()
-    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED)
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED,
+                             autopilot=request.param)
     vehicle.start()
     drone = MavsdkDrone(f"udpin://127.0.0.1:{port}", link_timeout=1.5)
     try:
@@ -105,20 +112,22 @@ def test_connect_arm_take_off_fly_10_m_land_and_disarm(flight):
 
 def test_velocity_control_hold_and_return_to_launch(flight):
     drone, vehicle = flight
+    offboard, hold_mode, rtl_mode = MODES[vehicle.autopilot]
+    assert drone.autopilot == vehicle.autopilot
     assert drone.takeoff(3.0).wait(STEP_S)
     until(lambda: settled(drone, vehicle, (0.0, 0.0, 3.0)), what="hovering at 3 m")
     velocity = drone.set_velocity((0.0, 1.5, 0.0))  # north, through offboard setpoints
     assert velocity.wait(STEP_S) and velocity.ok, velocity
-    until(lambda: drone.telemetry().flight_mode == "OFFBOARD", what="OFFBOARD mode")
+    until(lambda: drone.telemetry().flight_mode == offboard, what=f"{offboard} mode")
     until(lambda: math.dist(drone.telemetry().velocity, (0.0, 1.5, 0.0)) < 0.1, what="flying north at 1.5 m/s")
     assert vehicle.telemetry().velocity == pytest.approx((0.0, 1.5, 0.0), abs=0.1)
     hold = drone.hold()
     assert hold.wait(STEP_S) and hold.ok, hold
-    until(lambda: drone.telemetry().flight_mode == "HOLD" and drone.telemetry().speed < 0.1, what="holding")
+    until(lambda: drone.telemetry().flight_mode == hold_mode and drone.telemetry().speed < 0.1, what="holding")
     assert drone.telemetry().position[1] > 1.0
     rtl = drone.return_to_launch()
     assert rtl.wait(STEP_S) and rtl.ok, rtl
-    until(lambda: drone.telemetry().flight_mode == "RETURN", what="RETURN mode")
+    until(lambda: drone.telemetry().flight_mode == rtl_mode, what=f"{rtl_mode} mode")
     until(lambda: not vehicle.telemetry().armed, timeout=30.0, what="landing at home")
     until(lambda: settled(drone, vehicle, (0.0, 0.0, 0.0), tol=0.5), what="home")
 
@@ -230,3 +239,66 @@ def test_the_readme_snippet_flies_what_it_says():
     assert max(p[2] for p in track) == pytest.approx(3.0, abs=0.4)
     at_point = [i for i, p in enumerate(track) if math.dist(p, (10.0, 0.0, 3.0)) < 0.6]
     assert at_point and all(p[2] > 2.5 for p in track[at_point[0] - 5:at_point[0]])  # got there in the air
+
+
+def test_without_the_health_rate_an_ardupilot_never_becomes_ready_and_says_why():
+    """ArduPilot sends SYS_STATUS only when asked: an adapter that does not ask never learns it is armable."""
+    port = free_udp_port()
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED,
+                             autopilot="ardupilot", ekf=(0.5, 1.0))
+    vehicle.start()
+    try:
+        forgetful = MavsdkDrone(f"udpin://127.0.0.1:{port}", rates=TelemetryRates(health=0.0))
+        try:
+            assert not forgetful.wait_ready(4.0)
+            assert forgetful.not_ready_because() == [
+                "no health report (SYS_STATUS) from the vehicle: is its stream rate requested?"]
+        finally:
+            forgetful.close()
+        drone = MavsdkDrone(f"udpin://127.0.0.1:{port}")  # the adapter's own rates: health included
+        try:
+            assert drone.wait_ready(READY_S), drone.not_ready_because()
+        finally:
+            drone.close()
+    finally:
+        vehicle.stop()
+
+
+def test_an_ardupilot_is_armable_before_its_position_and_ready_only_with_both():
+    port = free_udp_port()
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=1.0,
+                             autopilot="ardupilot", ekf=(0.5, 4.0))
+    vehicle.start()
+    drone = MavsdkDrone(f"udpin://127.0.0.1:{port}")
+    try:
+        until(lambda: drone.not_ready_because() == ["no global position", "no home position"],
+              timeout=4.0, what="armable without a position")
+        assert not drone.wait_ready(0.2)
+        assert drone.wait_ready(READY_S), drone.not_ready_because()
+        assert drone.telemetry().home is not None and drone.telemetry().flight_mode == "STABILIZE"
+    finally:
+        drone.close()
+        vehicle.stop()
+
+
+def test_streams_an_ardupilot_forgot_are_asked_for_again_when_the_link_comes_back():
+    port = free_udp_port()
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED,
+                             autopilot="ardupilot", ekf=(0.5, 1.0))
+    vehicle.start()
+    drone = MavsdkDrone(f"udpin://127.0.0.1:{port}")
+    try:
+        assert drone.wait_ready(READY_S), drone.not_ready_because()
+        vehicle.cut_link()
+        until(lambda: not drone.telemetry().link_ok, timeout=5.0, what="link lost")
+        for msg_id in DEFAULT_RATES_HZ:  # as after a reboot: back to ArduCopter's defaults, nothing streamed
+            vehicle.streams.set_interval(msg_id, -1)
+        vehicle.restore_link()
+        until(lambda: vehicle.streams.interval_us(mavlink.MAVLINK_MSG_ID_SYS_STATUS) > 0, timeout=5.0,
+              what="SYS_STATUS asked for again")
+        until(lambda: vehicle.streams.interval_us(mavlink.MAVLINK_MSG_ID_GLOBAL_POSITION_INT) > 0, timeout=5.0,
+              what="GLOBAL_POSITION_INT asked for again")
+        assert drone.telemetry().link_ok and drone.wait_ready(READY_S)
+    finally:
+        drone.close()
+        vehicle.stop()

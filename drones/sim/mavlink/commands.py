@@ -3,6 +3,8 @@ simulated drone decided (accepted, denied with a STATUSTEXT reason, unsupported,
 
 Semantics follow PX4: NAV_TAKEOFF's altitude is AMSL (NaN: MIS_TAKEOFF_ALT above home), DO_REPOSITION's
 yaw is a heading in radians (as PX4 reads it and MAVSDK sends it), DO_SET_MODE takes PX4 custom modes.
+As ArduCopter (the vehicle's ``copter`` is set): DO_SET_MODE takes Copter mode numbers, arming follows the
+EKF's pre-arm checks, NAV_TAKEOFF (altitude above home) only in GUIDED, refusals are MAV_RESULT_FAILED.
 """
 
 from __future__ import annotations
@@ -12,13 +14,15 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
-from aeroexec.drones.interface import CommandHandle, Failure
+from aeroexec.drones.interface import CommandHandle, Failure, LandedState
+from aeroexec.drones.sim.mavlink.ardupilot import COPTER_MODE_NAMES
 from aeroexec.drones.sim.mavlink.telemetry import heading_to_yaw, mode_from_px4
 from pymavlink.dialects.v20 import common as mavlink
 
 if TYPE_CHECKING:
     from aeroexec.drones.interface import Telemetry
     from aeroexec.drones.sim.drone import SimulatedDrone
+    from aeroexec.drones.sim.mavlink.ardupilot import ArduCopter
     from aeroexec.drones.sim.mavlink.mission import MissionManager
     from aeroexec.drones.sim.mavlink.offboard import OffboardControl
     from aeroexec.drones.sim.mavlink.params import ParameterServer
@@ -39,6 +43,7 @@ class Vehicle(Protocol):
     offboard: OffboardControl
     mission: MissionManager
     speed_override: float | None
+    copter: ArduCopter | None
     last_goto: tuple[tuple[float, float, float], float | None] | None
 
     def wall_now(self) -> float: ...
@@ -69,6 +74,7 @@ class Command:
     z: float
     frame: int
     source: tuple[int, int]
+    long: bool = False  # a COMMAND_LONG (x, y, z from param5..7, no frame)
 
     @classmethod
     def from_message(cls, msg) -> Command:
@@ -80,7 +86,7 @@ class Command:
             x = msg.x * scale if msg.x != 0 or not global_frame else math.nan
             y = msg.y * scale if msg.y != 0 or not global_frame else math.nan
             return cls(msg.command, p, x, y, msg.z, msg.frame, source)
-        return cls(msg.command, p, msg.param5, msg.param6, msg.param7, mavlink.MAV_FRAME_GLOBAL, source)
+        return cls(msg.command, p, msg.param5, msg.param6, msg.param7, mavlink.MAV_FRAME_GLOBAL, source, True)
 
 
 class CommandHandler:
@@ -146,7 +152,19 @@ class CommandHandler:
             self._ack(command, mavlink.MAV_RESULT_ACCEPTED, source)
             return
         self._v.statustext(mavlink.MAV_SEVERITY_CRITICAL, _sentence(handle.reason or handle.failure.value))
-        self._ack(command, _FAILURE_TO_RESULT.get(handle.failure, mavlink.MAV_RESULT_FAILED), source)
+        result = _FAILURE_TO_RESULT.get(handle.failure, mavlink.MAV_RESULT_FAILED)
+        if self._v.copter is not None and result == mavlink.MAV_RESULT_DENIED:
+            result = mavlink.MAV_RESULT_FAILED  # ArduPilot answers a refused arm, takeoff or mode FAILED
+        self._ack(command, result, source)
+
+    def _fail(self, text: str) -> int:
+        """ArduPilot's refusal: a STATUSTEXT saying why, then MAV_RESULT_FAILED."""
+        self._v.statustext(mavlink.MAV_SEVERITY_CRITICAL, text)
+        return mavlink.MAV_RESULT_FAILED
+
+    def _flying(self) -> bool:
+        tel = self._v.drone.telemetry()
+        return tel.armed and tel.landed_state not in (LandedState.ON_GROUND, LandedState.UNKNOWN)
 
     def _ack(self, command: int, result: int, source: tuple[int, int]) -> None:
         self._v.mav.command_ack_send(command, result, 0, 0, source[0], source[1])
@@ -160,15 +178,22 @@ class CommandHandler:
         self._v.mission.abort("another command")
         return call(*args)
 
-    def _arm_disarm(self, cmd: Command) -> CommandHandle:
+    def _arm_disarm(self, cmd: Command) -> CommandHandle | int:
         if cmd.params[0] >= 0.5:
+            copter = self._v.copter
+            if copter is not None and not self._v.drone.telemetry().armed:
+                refusal = copter.arm_refusal(self._v.latest.time)
+                if refusal is not None:
+                    return self._fail(refusal)
             return self._v.drone.arm()
         if cmd.params[1] == _FORCE_MAGIC:
             logger.info("forced disarm requested: the simulation decides whether it can disarm now")
         self._v.mission.abort("disarm")
         return self._v.drone.disarm()
 
-    def _takeoff(self, cmd: Command) -> CommandHandle:
+    def _takeoff(self, cmd: Command) -> CommandHandle | int:
+        if self._v.copter is not None:
+            return self._copter_takeoff(cmd)
         home_alt = self._v.home()[2]
         if math.isfinite(cmd.z):
             altitude = (
@@ -182,10 +207,29 @@ class CommandHandler:
             )
         return self._flight(self._v.drone.takeoff, altitude)
 
+    def _copter_takeoff(self, cmd: Command) -> CommandHandle | int:
+        """ArduCopter's user takeoff: GUIDED, armed, landed, to an altitude above home."""
+        copter, tel = self._v.copter, self._v.drone.telemetry()  # fresh: an arm may be in the same batch
+        relative = cmd.long or cmd.frame in (mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT,
+                                             mavlink.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
+        if not relative:
+            return mavlink.MAV_RESULT_DENIED  # COMMAND_INT with another frame
+        if not tel.armed:
+            return self._fail("Takeoff: motors not armed")
+        if copter.mode != "GUIDED":
+            return self._fail(f"Takeoff: {copter.mode} has no user takeoff (switch to GUIDED)")
+        if tel.landed_state != LandedState.ON_GROUND:
+            return self._fail("Takeoff: already flying")
+        if not (math.isfinite(cmd.z) and cmd.z > 0.0):
+            return self._fail(f"Takeoff: altitude {cmd.z:g} m is not above home")
+        return self._flight(self._v.drone.takeoff, cmd.z)
+
     def _set_mode(self, cmd: Command) -> CommandHandle | int:
         base, main, sub = int(cmd.params[0]), int(cmd.params[1]), int(cmd.params[2])
         if not base & mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
-            return CommandHandle.failed("set_mode", Failure.UNSUPPORTED, "mode change denied: only PX4 custom modes")
+            return CommandHandle.failed("set_mode", Failure.UNSUPPORTED, "mode change denied: only custom modes")
+        if self._v.copter is not None:
+            return self._copter_mode(COPTER_MODE_NAMES.get(main))
         mode = mode_from_px4(main, sub)
         if mode == "MISSION":
             return self._v.mission.start()
@@ -201,7 +245,38 @@ class CommandHandler:
             "set_mode", Failure.DENIED, f"{name} denied: not available in the simulation (no RC)"
         )
 
-    def _reposition(self, cmd: Command) -> CommandHandle:
+    def _copter_mode(self, name: str | None) -> CommandHandle | int:
+        """DO_SET_MODE to a Copter mode: what the simulated drone does in it."""
+        copter, flying = self._v.copter, self._flying()
+        refusal = copter.mode_refusal(name, self._v.latest.time, flying)
+        if refusal is not None:
+            return self._fail(refusal)
+        if name == "AUTO":
+            handle = self._v.mission.start()
+            if not handle.done or handle.ok:
+                copter.mode = name
+            return handle
+        if flying:
+            if name == "LAND":
+                handle = self._flight(self._v.drone.land)
+            elif name == "RTL":
+                handle = self._flight(self._v.drone.return_to_launch)
+            else:  # GUIDED, LOITER, BRAKE...: stop where it is until told where to go
+                handle = self._flight(self._v.drone.hold)
+            if handle.done and not handle.ok:
+                return handle
+        copter.mode = name
+        return mavlink.MAV_RESULT_ACCEPTED
+
+    def _reposition(self, cmd: Command) -> CommandHandle | int:
+        copter = self._v.copter
+        if copter is not None and copter.mode != "GUIDED":
+            if not int(cmd.params[1]) & mavlink.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE:
+                return mavlink.MAV_RESULT_DENIED
+            refusal = copter.mode_refusal("GUIDED", self._v.latest.time, self._flying())
+            if refusal is not None:
+                return self._fail(refusal)
+            copter.mode = "GUIDED"
         tel = self._v.latest
         here = self._v.drone.world.to_geodetic(tel.position)
         lat = cmd.x if math.isfinite(cmd.x) else here[0]

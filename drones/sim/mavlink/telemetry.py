@@ -11,6 +11,7 @@ import time
 from dataclasses import dataclass
 
 from aeroexec.drones.interface import LandedState, Telemetry
+from aeroexec.drones.sim.mavlink.ardupilot import EKF_STATUS_REPORT
 from pymavlink.dialects.v20 import common as mavlink
 
 # PX4 custom mode (px4_custom_mode.h): main mode in bits 16..23, sub mode (AUTO only) in bits 24..31.
@@ -123,6 +124,9 @@ class VehicleState:
     yaw_rate: float  # deg/s, ENU (counterclockwise)
     mission_seq: int = 0
     mission_total: int = 0
+    position_ok: bool = True  # the estimator has a global position (SYS_STATUS GPS healthy, a 3D fix)
+    heartbeat: tuple[int, int, int] | None = None  # (autopilot, base_mode, custom_mode); None: PX4's
+    ekf_flags: int = 0  # ArduPilot's EKF_STATUS_REPORT flags
 
 
 class TelemetryEncoder:
@@ -147,15 +151,21 @@ class TelemetryEncoder:
             mavlink.MAVLINK_MSG_ID_AUTOPILOT_VERSION: self._autopilot_version,
             mavlink.MAVLINK_MSG_ID_MISSION_CURRENT: self._mission_current,
         }
+        if hasattr(mav, "ekf_status_report_send"):  # an ArduPilot (ardupilotmega dialect) encoder
+            self._senders[EKF_STATUS_REPORT] = self._ekf_status_report
 
     def heartbeat(self, state: VehicleState) -> None:
         tel = state.telemetry
+        status = mavlink.MAV_STATE_ACTIVE if tel.armed else mavlink.MAV_STATE_STANDBY
+        if state.heartbeat is not None:
+            autopilot, base, custom = state.heartbeat
+            self._mav.heartbeat_send(mavlink.MAV_TYPE_QUADROTOR, autopilot, base, custom, status)
+            return
         base = mavlink.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | mavlink.MAV_MODE_FLAG_STABILIZE_ENABLED
         if state.mode in ("HOLD", "TAKEOFF", "LAND", "RETURN", "MISSION", "OFFBOARD", "READY"):
             base |= mavlink.MAV_MODE_FLAG_GUIDED_ENABLED | mavlink.MAV_MODE_FLAG_AUTO_ENABLED
         if tel.armed:
             base |= mavlink.MAV_MODE_FLAG_SAFETY_ARMED
-        status = mavlink.MAV_STATE_ACTIVE if tel.armed else mavlink.MAV_STATE_STANDBY
         self._mav.heartbeat_send(
             mavlink.MAV_TYPE_QUADROTOR, mavlink.MAV_AUTOPILOT_PX4, base, px4_custom_mode(state.mode), status
         )
@@ -191,6 +201,8 @@ class TelemetryEncoder:
         health = _SENSORS
         if not state.armable:
             health &= ~mavlink.MAV_SYS_STATUS_PREARM_CHECK
+        if not state.position_ok:
+            health &= ~mavlink.MAV_SYS_STATUS_SENSOR_GPS
         enabled = _SENSORS if tel.armed else _SENSORS & ~mavlink.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
         self._mav.sys_status_send(
             _SENSORS,
@@ -219,7 +231,7 @@ class TelemetryEncoder:
         cog = int(yaw_to_heading(math.degrees(math.atan2(vy, vx))) * 100) if ground > 0.2 else 65535
         self._mav.gps_raw_int_send(
             int(state.telemetry.time * 1e6),
-            mavlink.GPS_FIX_TYPE_3D_FIX,
+            mavlink.GPS_FIX_TYPE_3D_FIX if state.position_ok else mavlink.GPS_FIX_TYPE_NO_FIX,
             _e7(lat),
             _e7(lon),
             int(alt * 1000),
@@ -227,7 +239,7 @@ class TelemetryEncoder:
             120,
             int(ground * 100),
             cog,
-            14,
+            14 if state.position_ok else 0,
         )
 
     def _global_position_int(self, state: VehicleState) -> None:
@@ -308,6 +320,10 @@ class TelemetryEncoder:
         self._mav.autopilot_version_send(
             _CAPABILITIES, _FLIGHT_SW_VERSION, 0, 0, 0, [0] * 8, [0] * 8, [0] * 8, 0, 0, self._uid
         )
+
+    def _ekf_status_report(self, state: VehicleState) -> None:
+        good = 0.1 if state.position_ok else 1.0  # variances: small when the estimate is good
+        self._mav.ekf_status_report_send(state.ekf_flags, good, good, 0.1, 0.1, 0.0)
 
     def _mission_current(self, state: VehicleState) -> None:
         self._mav.mission_current_send(state.mission_seq, state.mission_total)

@@ -1,9 +1,12 @@
-"""The simulated drone exposed over MAVLink as a PX4 multicopter, so MAVSDK scripts and QGroundControl can fly it.
+"""The simulated drone exposed over MAVLink as a PX4 or ArduCopter multicopter, so MAVSDK scripts and
+QGroundControl can fly it.
 
 :class:`MavlinkVehicle` owns a thread that advances the simulated drone on wall time x ``speed``, answers
 commands, parameters, missions and offboard setpoints, and streams telemetry at rates a client may change
-(SET_MESSAGE_INTERVAL, REQUEST_MESSAGE). Streams and every timer that waits on a client (offboard loss,
-mission retries) run on wall time, so a fast simulation does not make a client look slow.
+(SET_MESSAGE_INTERVAL, REQUEST_MESSAGE; REQUEST_DATA_STREAM as ArduPilot). As PX4 it streams at once; as
+ArduPilot (``autopilot="ardupilot"``, :mod:`.ardupilot`) only what it is asked for. Streams and every timer
+that waits on a client (offboard loss, mission retries) run on wall time,
+so a fast simulation does not make a client look slow.
 """
 
 from __future__ import annotations
@@ -15,18 +18,27 @@ import threading
 import time
 
 from aeroexec.drones.interface import LandedState, Telemetry
+from aeroexec.drones.sim.mavlink.ardupilot import (
+    EKF_STATUS_REPORT,
+    GUIDED_TIMEOUT_S,
+    NEEDS_ORIGIN,
+    ArduCopter,
+    streamed_messages,
+)
 from aeroexec.drones.sim.mavlink.commands import CommandHandler
 from aeroexec.drones.sim.mavlink.mission import MissionManager
 from aeroexec.drones.sim.mavlink.offboard import OffboardControl, setpoint_from_global_int, setpoint_from_local_ned
 from aeroexec.drones.sim.mavlink.params import ParameterServer, px4_parameters
+from aeroexec.drones.sim.mavlink.streams import StreamScheduler
 from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ, TelemetryEncoder, VehicleState
 from pymavlink import mavutil
+from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
 
 logger = logging.getLogger(__name__)
 
 _LOOP_S = 0.01  # longest wait for input between two rounds of the vehicle's loop
-_MAX_RATE_HZ = 100.0
+AUTOPILOTS = ("px4", "ardupilot")
 _SEVERITY = {
     "collision": mavlink.MAV_SEVERITY_CRITICAL,
     "failsafe": mavlink.MAV_SEVERITY_CRITICAL,
@@ -57,42 +69,6 @@ def normalize_url(url: str) -> str:
     return f"{scheme}:{host}:{port}"
 
 
-class StreamScheduler:
-    """When each streamed message is next due, on wall time; rates follow SET_MESSAGE_INTERVAL."""
-
-    def __init__(self, defaults: dict[int, float]) -> None:
-        self._defaults = dict(defaults)
-        self._hz = dict(defaults)
-        self._next = {msg_id: 0.0 for msg_id in defaults}
-
-    def set_interval(self, msg_id: int, interval_us: float) -> bool:
-        """Apply a SET_MESSAGE_INTERVAL (-1 stops, 0 restores the default); False for unknown messages."""
-        if msg_id not in self._defaults:
-            return False
-        if interval_us < 0:
-            self._hz[msg_id] = 0.0
-        elif interval_us == 0:
-            self._hz[msg_id] = self._defaults[msg_id]
-        else:
-            self._hz[msg_id] = min(1e6 / interval_us, _MAX_RATE_HZ)
-        self._next[msg_id] = 0.0
-        return True
-
-    def interval_us(self, msg_id: int) -> int | None:
-        if msg_id not in self._hz:
-            return None
-        hz = self._hz[msg_id]
-        return int(1e6 / hz) if hz > 0 else -1
-
-    def due(self, wall_now: float) -> list[int]:
-        ready = []
-        for msg_id, hz in self._hz.items():
-            if hz > 0 and wall_now >= self._next[msg_id]:
-                self._next[msg_id] = max(self._next[msg_id] + 1.0 / hz, wall_now)
-                ready.append(msg_id)
-        return ready
-
-
 class _GatedWriter:
     """The file pymavlink's encoder writes to: the link, unless the vehicle's link is cut."""
 
@@ -106,7 +82,11 @@ class _GatedWriter:
 
 
 class MavlinkVehicle:
-    """A simulated drone behind a PX4-like MAVLink endpoint. ``start()`` it, ``stop()`` it; thread-safe."""
+    """A simulated drone behind a PX4- or ArduCopter-like MAVLink endpoint. ``start()`` it, ``stop()`` it.
+
+    ``autopilot`` is ``px4`` or ``ardupilot``; ``ekf`` the simulated seconds after start at which an ArduCopter
+    passes its pre-arm checks and then gets its GPS origin and home.
+    """
 
     def __init__(
         self,
@@ -115,16 +95,23 @@ class MavlinkVehicle:
         speed: float = 1.0,
         system_id: int = 1,
         component_id: int = 1,
+        autopilot: str = "px4",
+        ekf: tuple[float, float] = (2.0, 5.0),
     ) -> None:
         if not speed > 0 or not math.isfinite(speed):
             raise ValueError(f"the simulation speed must be a positive number, not {speed}")
+        if autopilot not in AUTOPILOTS:
+            raise ValueError(f"unknown autopilot {autopilot!r}: expected one of {', '.join(AUTOPILOTS)}")
+        self.autopilot = autopilot
+        self.copter = ArduCopter(*ekf) if autopilot == "ardupilot" else None
         self.drone = drone
         self.url = normalize_url(connect)
         self.speed = float(speed)
         self.system_id = system_id
         self.component_id = component_id
         self.link_cut = False
-        self.mav = mavlink.MAVLink(_GatedWriter(self), srcSystem=system_id, srcComponent=component_id)
+        dialect = mavlink if self.copter is None else ardupilotmega  # ArduPilot's has EKF_STATUS_REPORT too
+        self.mav = dialect.MAVLink(_GatedWriter(self), srcSystem=system_id, srcComponent=component_id)
         self.mav.robust_parsing = True
         self.encoder = TelemetryEncoder(self.mav)
         config = drone.config
@@ -133,7 +120,11 @@ class MavlinkVehicle:
             px4_parameters(config.default_takeoff_altitude, config.cruise_speed, config.max_speed, system_id),
             statustext=self.statustext,
         )
-        self.streams = StreamScheduler(DEFAULT_RATES_HZ)
+        # ArduCopter streams nothing by default (every SRn_ rate is 0); PX4 streams its defaults.
+        defaults = DEFAULT_RATES_HZ
+        if self.copter is not None:
+            defaults = dict.fromkeys([*DEFAULT_RATES_HZ, EKF_STATUS_REPORT], 0.0)
+        self.streams = StreamScheduler(defaults)
         self.offboard = OffboardControl()
         self.mission = MissionManager(self.mav, self.statustext)
         self.commands = CommandHandler(self)
@@ -163,7 +154,8 @@ class MavlinkVehicle:
         self._stop.clear()
         self._thread = threading.Thread(target=self._run, name="aeroexec-mavlink-vehicle", daemon=True)
         self._thread.start()
-        logger.info("simulated PX4 vehicle %d on %s at %gx real time", self.system_id, self.url, self.speed)
+        name = "PX4" if self.copter is None else "ArduCopter"
+        logger.info("simulated %s vehicle %d on %s at %gx real time", name, self.system_id, self.url, self.speed)
 
     def stop(self, timeout: float = 2.0) -> None:
         """Stop the thread and close the link; returns within about ``timeout`` seconds."""
@@ -214,7 +206,14 @@ class MavlinkVehicle:
         self.encoder.statustext(severity, text)
 
     def send_message(self, msg_id: int) -> None:
-        self.encoder.send(msg_id, self._state())
+        state = self._state()
+        if self._withheld(msg_id, state):
+            return
+        self.encoder.send(msg_id, state)
+
+    def _withheld(self, msg_id: int, state: VehicleState) -> bool:
+        """ArduCopter says nothing of where it is before its EKF has an origin."""
+        return self.copter is not None and not state.position_ok and msg_id in NEEDS_ORIGIN
 
     # --- the loop ------------------------------------------------------------------------------------
     def _run(self) -> None:
@@ -268,6 +267,8 @@ class MavlinkVehicle:
             self._setpoint(setpoint_from_local_ned(msg, self.latest), wall)
         elif kind == "SET_POSITION_TARGET_GLOBAL_INT":
             self._setpoint(setpoint_from_global_int(msg, self.latest, self.drone.world), wall)
+        elif kind == "REQUEST_DATA_STREAM":
+            self._data_stream(msg)
         elif self.params.handle(msg) or self.mission.handle(msg, wall):
             return
         elif kind not in ("HEARTBEAT", "TIMESYNC", "PING", "SYSTEM_TIME"):
@@ -278,14 +279,31 @@ class MavlinkVehicle:
             logger.debug("offboard setpoint with an unsupported frame or mask ignored")
             return
         self.offboard.receive(setpoint, wall)
+        tel = self.latest
+        if (self.copter is not None and self.copter.mode == "GUIDED" and tel.flight_mode != "OFFBOARD"
+                and tel.armed and tel.landed_state == LandedState.IN_AIR):
+            self.offboard.engage(self.drone, tel, wall, GUIDED_TIMEOUT_S)  # GUIDED follows setpoints at once
+
+    def _data_stream(self, msg) -> None:
+        """REQUEST_DATA_STREAM, as ArduPilot reads it (PX4 ignores it): a group of messages at one rate."""
+        if self.copter is None:
+            logger.debug("REQUEST_DATA_STREAM ignored: PX4 uses SET_MESSAGE_INTERVAL")
+            return
+        hz = float(msg.req_message_rate) if msg.start_stop else 0.0
+        for msg_id in streamed_messages(msg.req_stream_id):
+            self.streams.set_interval(msg_id, 1e6 / hz if hz > 0 else -1)
 
     def _step(self, wall: float) -> None:
         self.commands.poll()
         self.mission.poll(wall)
-        lost = self.offboard.step(self.drone, self.latest, wall, self.params.get("COM_OF_LOSS_T"))
+        loss_s = GUIDED_TIMEOUT_S if self.copter is not None else self.params.get("COM_OF_LOSS_T")
+        lost = self.offboard.step(self.drone, self.latest, wall, loss_s)
         if lost is not None:
-            self.statustext(mavlink.MAV_SEVERITY_CRITICAL, f"Failsafe: {lost}, holding position")
-            self.drone.hold()
+            if self.copter is None:
+                self.statustext(mavlink.MAV_SEVERITY_CRITICAL, f"Failsafe: {lost}, holding position")
+            self.drone.hold()  # ArduCopter: GUIDED stops where it is, silently
+        if self.copter is not None:
+            self._ekf_news()
         self.mission.step(self.drone, self.latest, self.home()[2], self.params.get("NAV_ACC_RAD"), self.cruise_speed())
         for event in self.drone.events():
             if event.kind in ("failsafe", "collision"):
@@ -294,6 +312,16 @@ class MavlinkVehicle:
             self.statustext(_SEVERITY.get(event.kind, mavlink.MAV_SEVERITY_INFO), text)
         self.latest = self.drone.telemetry()
 
+    def _ekf_news(self) -> None:
+        """ArduCopter's EKF gets its origin once: say so, and send the new home unasked (as ArduPilot does)."""
+        copter = self.copter
+        if copter.origin_announced or not copter.position_ok(self.latest.time):
+            return
+        copter.origin_announced = True
+        self.statustext(mavlink.MAV_SEVERITY_INFO, "EKF3 IMU0 origin set")
+        self.statustext(mavlink.MAV_SEVERITY_INFO, "EKF3 IMU0 is using GPS")
+        self.send_message(mavlink.MAVLINK_MSG_ID_HOME_POSITION)
+
     def _state(self) -> VehicleState:
         tel = self.latest
         t0, yaw0 = self._last_yaw
@@ -301,20 +329,32 @@ class MavlinkVehicle:
             self._yaw_rate = ((tel.yaw - yaw0 + 180.0) % 360.0 - 180.0) / (tel.time - t0)
             self._last_yaw = (tel.time, tel.yaw)
         mission = self.mission
+        mode = "MISSION" if mission.active else tel.flight_mode
+        heartbeat, position_ok, ekf = None, True, 0
+        if self.copter is not None:
+            mode = self.copter.reported(tel.flight_mode, mission.active)
+            heartbeat = self.copter.heartbeat_fields(mode, tel.armed)
+            position_ok = self.copter.position_ok(tel.time)
+            ekf = self.copter.ekf_flags(tel.time)
         return VehicleState(
             telemetry=tel,
             geodetic=tuple(self.drone.world.to_geodetic(tel.position)),
             home=self.home(),
-            mode="MISSION" if mission.active else tel.flight_mode,
+            mode=mode,
             armable=self._armable(tel),
             yaw_rate=self._yaw_rate,
             mission_seq=mission.current,
             mission_total=len(mission.items),
+            position_ok=position_ok,
+            heartbeat=heartbeat,
+            ekf_flags=ekf,
         )
 
     def _armable(self, tel: Telemetry) -> bool:
         """The pre-arm check: what the simulated drone's arm() would accept (battery above failsafe, not crashed)."""
         if getattr(self.drone, "crashed", None):
+            return False
+        if self.copter is not None and not self.copter.prearm_ok(tel.time):
             return False
         return tel.battery_percent > getattr(self.drone.config, "failsafe_battery_percent", 7.0)
 
@@ -327,12 +367,15 @@ class MavlinkVehicle:
             self.encoder.heartbeat(state)
             self._next_heartbeat = wall + 1.0
             if self._last_flags is not None and flags != self._last_flags:
-                # State changed: tell now, not at the next stream slot.
-                self.encoder.send(mavlink.MAVLINK_MSG_ID_EXTENDED_SYS_STATE, state)
+                # State changed: tell now, not at the next stream slot (ArduCopter: only if it is streamed).
+                if self.copter is None or self.streams.interval_us(mavlink.MAVLINK_MSG_ID_EXTENDED_SYS_STATE) != -1:
+                    self.encoder.send(mavlink.MAVLINK_MSG_ID_EXTENDED_SYS_STATE, state)
                 if flags[2] != self._last_flags[2] and tel.landed_state == LandedState.ON_GROUND:
                     self.statustext(mavlink.MAV_SEVERITY_INFO, "Landing detected")
             self._last_flags = flags
         for msg_id in self.streams.due(wall):
             if msg_id == mavlink.MAVLINK_MSG_ID_MISSION_CURRENT and not state.mission_total:
+                continue
+            if self._withheld(msg_id, state):
                 continue
             self.encoder.send(msg_id, state)

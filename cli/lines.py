@@ -1,0 +1,66 @@
+"""Whole lines only on a shared text stream: what the mission prints and what the engine reports come from
+different threads, and a line of one never breaks into a line of the other."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import sys
+import threading
+from collections.abc import Iterator
+from typing import TextIO
+
+
+class LineWriter(io.TextIOBase):
+    """Buffers each thread's text until its newline, then writes the whole line(s) to ``target`` under a lock."""
+
+    def __init__(self, target: TextIO) -> None:
+        self.target = target
+        self._lock = threading.Lock()
+        self._partial: dict[int, str] = {}
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        with self._lock:
+            key = threading.get_ident()
+            head, newline, tail = (self._partial.pop(key, "") + text).rpartition("\n")
+            if newline:
+                self.target.write(head + newline)
+                self.target.flush()
+            if tail:
+                self._partial[key] = tail
+        return len(text)
+
+    def flush(self) -> None:  # a partial line waits for its end, so that nothing cuts into it
+        with self._lock:
+            self.target.flush()
+
+    def finish(self) -> None:
+        """Write out the lines some thread left unterminated."""
+        with self._lock:
+            for text in self._partial.values():
+                self.target.write(text + "\n")
+            self._partial.clear()
+            self.target.flush()
+
+    def isatty(self) -> bool:
+        return self.target.isatty()
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]
+        return getattr(self.target, "encoding", "utf-8")
+
+
+@contextlib.contextmanager
+def whole_lines() -> Iterator[LineWriter]:
+    """``sys.stdout`` as a :class:`LineWriter` for the duration of the block."""
+    previous = sys.stdout
+    writer = LineWriter(previous)
+    sys.stdout = writer
+    try:
+        yield writer
+    finally:
+        sys.stdout = previous
+        writer.finish()
