@@ -30,13 +30,21 @@ def termination(started: bool, outcome: Outcome) -> str:
 
 
 def executeBehavior(behavior: str, **args: Any) -> str:
-    """Execute a behavior and wait until it ends; its termination cause (GOAL_ACHIEVED, TIME_OUT, ...)."""
-    return termination(*api.run_behavior(behavior, **args))
+    """Execute a behavior and wait until it ends; its termination cause (GOAL_ACHIEVED, TIME_OUT, ...), or ERROR
+    when the request is refused (Aerostack's convention: the refusal is in the event log and the run's summary
+    says "completed with refused requests"; :mod:`aeroexec.engine.api` raises instead)."""
+    try:
+        return termination(*api.run_behavior(behavior, **args))
+    except api.RequestRejected:
+        return ERROR
 
 
 def activateBehavior(behavior: str, **args: Any) -> tuple[bool, int]:
-    """Activate a behavior and return at once: ``(ack, uid)``."""
-    return api.start_behavior(behavior, **args)
+    """Activate a behavior and return at once: ``(ack, uid)``; ``(False, 0)`` when refused."""
+    try:
+        return api.start_behavior(behavior, **args)
+    except api.RequestRejected:
+        return False, 0
 
 
 def inhibitBehavior(behavior: int | str) -> bool:

@@ -17,13 +17,19 @@ from executive_engine_api import ERROR, addBelief, consultPlanner, queryBelief, 
 
 def startTask(task: str, **args: Any) -> bool:
     """Start a task (a behavior) and return at once: True when it was accepted."""
-    ack, _ = api.start_behavior(task, **args)
+    try:
+        ack, _ = api.start_behavior(task, **args)
+    except api.RequestRejected:  # Aerostack's convention: refused is False, not an exception
+        return False
     return ack
 
 
 def executeTask(task: str, **args: Any) -> tuple[bool, str]:
     """Execute a task and wait until it ends: ``(True, termination cause)``, or ``(False, 'ERROR')`` if refused."""
-    started, outcome = api.run_behavior(task, **args)
+    try:
+        started, outcome = api.run_behavior(task, **args)
+    except api.RequestRejected:  # Aerostack's convention: refused is (False, 'ERROR'), not an exception
+        return False, ERROR
     return started or outcome is Outcome.GOAL_ACHIEVED, termination(started, outcome)
 
 

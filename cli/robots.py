@@ -41,6 +41,8 @@ class RobotChoice:
         if self.kind is None:
             return {}
         options: dict[str, Any] = {"library": self.library(), "settings": self.kind.settings()}
+        if self.kind.catalog is not None:
+            options["described_in"] = load_catalog(self.kind.catalog)
         if self.kind.processes is not None:
             options["processes"] = self.kind.processes()
         if self.kind.telemetry is not None:

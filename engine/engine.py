@@ -61,7 +61,9 @@ class Engine:
     """Everything of the paper's execution engine wired together around one robot (a drone by default).
 
     ``telemetry`` is the updater of the robot's beliefs about itself; without it, a drone's telemetry beliefs
-    (``position``, ``flight_state``, ``charge``...) are written. A robot of another kind passes its own.
+    (``position``, ``flight_state``, ``charge``...) are written. A robot of another kind passes its own, and
+    ``described_in``: the catalog its behaviors' implementations are described in (a thin catalog takes their
+    arguments from it; default: the aerial catalog).
     """
 
     def __init__(self, drone: Robot, *, catalog: BehaviorCatalog | None = None,
@@ -70,13 +72,14 @@ class Engine:
                  updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
                  capability_grace: float = 2.0, belief_period: float = 0.1, operator: Any = None,
                  bus: Any = None, output_dir: str | Path | None = None,
-                 telemetry: BeliefUpdater | None = None) -> None:
+                 telemetry: BeliefUpdater | None = None, described_in: BehaviorCatalog | None = None) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = self.robot = drone
-        reference = None  # the catalog the library's implementations are described in, when it is the aerial one
+        # the catalog that describes the library's implementations (the aerial one unless a robot kind says)
+        reference = described_in or default_catalog()
         if library is None:
-            library, reference = default_library(), default_catalog()
+            library = default_library()
         # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
         self.catalog = (catalog or default_catalog()).served_by(library.names(), reference)
         self.clock = clock or SimulatedClock()

@@ -56,7 +56,7 @@ def test_low_battery_makes_the_rover_dock_whatever_the_mission_does():
     robot = rover.SimulatedRover(world, config=rover.RoverConfig(battery=16.0), start=(-8, -8))
     engine = Engine(robot, catalog=load_catalog(kind.catalog), library=kind.behaviors(),
                     processes=kind.processes(), obstacles=world, telemetry=kind.telemetry(robot),
-                    settings=kind.settings())
+                    settings=kind.settings(), described_in=load_catalog(kind.catalog))
     spec = importlib.util.spec_from_file_location("rover_patrol", MISSIONS / "patrol.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
