@@ -323,6 +323,9 @@ def start_landing(engine: Any, reason: str) -> str:
         return "landing"
     if not is_flying(engine):
         return "the drone is on the ground"
+    if engine.drone.telemetry().landed_state is LandedState.LANDING:  # e.g. a take-off stopped near the ground
+        engine.log.record("landing", detail=f"{reason}; the drone is already landing")
+        return "landing"
     engine.log.record("landing", detail=reason)
     result = engine.coordinator.activate(LAND_BEHAVIOR, priority="higher", source="engine")
     return "landing" if result.accepted else f"cannot land: {result.message}"
@@ -339,4 +342,6 @@ def land_if_flying(engine: Any, timeout: float = LANDING_TIMEOUT,
     start_landing(engine, reason)
     if engine.coordinator.is_active(LAND_BEHAVIOR):
         engine.run_until(lambda: not engine.coordinator.is_active(LAND_BEHAVIOR), timeout)
+    elif engine.drone.telemetry().landed_state is LandedState.LANDING:  # landing on its own: wait for touchdown
+        engine.run_until(lambda: not is_flying(engine), timeout)
     return not is_flying(engine)

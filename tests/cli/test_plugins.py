@@ -141,7 +141,8 @@ def test_an_installed_plugin_behavior_and_updater_fly(installed, tmp_path):
     mission = tmp_path / "waggle_mission.py"
     mission.write_text(MISSION)
     without = aeroexec("run", str(mission), "--catalog", str(catalog), "--plain", "--output", str(tmp_path / "a"))
-    assert without.returncode == 1 and "RequestRejected: WAGGLE_WINGS rejected (UNSUPPORTED)" in without.stderr
+    # without the plugin, the behavior is refused before flight, by name (issue 15: never "ready to fly")
+    assert without.returncode == 1 and "WAGGLE_WINGS" in without.stderr and "will not fly" in without.stderr
 
     flown = aeroexec("run", str(mission), "--catalog", str(catalog), "--plain", "--output", str(tmp_path / "b"),
                      pythonpath=installed)

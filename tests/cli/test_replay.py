@@ -7,10 +7,14 @@ import sys
 from pathlib import Path
 
 import pytest
+from fleet_parts import fleet_parts
 
 ROOT = Path(__file__).parents[2]
+# every single-drone mission; a fleet's drones hear each other over Zenoh's threads, so a fleet replay is not
+# promised to be byte-identical (the fleet tests check what the drones do instead)
 MISSIONS = sorted(p for p in (ROOT / "missions").iterdir()
-                  if p.suffix in (".py", ".xml", ".yaml") and p.name != "__init__.py")
+                  if p.suffix in (".py", ".xml", ".yaml") and p.name != "__init__.py"
+                  and p.name not in fleet_parts(ROOT / "missions"))
 HASH_SEEDS = ("1", "2")
 
 

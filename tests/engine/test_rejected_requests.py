@@ -32,9 +32,10 @@ COMPUTED = {
     "no implementation": ('''
         def mission():
             api.execute_behavior("TAKE_OFF", altitude=3)
-            api.execute_behavior("SPIN_AROUND")  # HERE
+            name = "SPIN_" + "AROUND"  # computed: verify cannot see it, so the engine refuses it in flight
+            api.execute_behavior(name)  # HERE
             api.execute_behavior("LAND")
-        ''', "UNSUPPORTED", "no implementation is registered"),
+        ''', "WRONG_FORMAT", "no implementation is registered"),
 }
 
 EXTRA_CATALOG = """
