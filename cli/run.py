@@ -18,7 +18,7 @@ from typing import Any, TextIO
 from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.cli.live import OperatorConsole
 from aeroexec.cli.live import wanted as live_view_wanted
-from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
+from aeroexec.cli.mission_files import MissionFileError, check_mission, is_plan, mission_function, world_home
 from aeroexec.drones import Drone
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
@@ -39,7 +39,8 @@ class RunError(Exception):
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function")
+    parser.add_argument("mission", help="a Python mission file with a mission() or runMission() function, a "
+                                        "behavior tree (.xml, .yaml) or a QGroundControl plan (.plan)")
     add_flight_arguments(parser)
 
 
@@ -73,16 +74,16 @@ def run(args: argparse.Namespace) -> int:
     path = Path(args.mission)
     try:
         catalog = chosen_catalog(args.catalog)
-        mission = load_mission(path, catalog)
+        mission = load_mission(path, catalog, world_home(args.world) if is_plan(path) else None)
         return fly(args, catalog, mission, path.name)
     except (RunError, MissionFileError) as error:
         print(error, file=sys.stderr)
         return 1
 
 
-def load_mission(path: Path, catalog: BehaviorCatalog) -> Callable[[], Any] | TreeDocument:
+def load_mission(path: Path, catalog: BehaviorCatalog, home: Any = None) -> Callable[[], Any] | TreeDocument:
     """Check a mission before flight (printing every problem); the Python function or the tree to fly."""
-    checked = check_mission(path, catalog)
+    checked = check_mission(path, catalog, home)
     for problem in checked.problems:
         print(problem, file=sys.stderr)
     if checked.errors:

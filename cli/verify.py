@@ -6,13 +6,16 @@ import argparse
 from pathlib import Path
 
 from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.mission_files import MissionFileError, check_mission
+from aeroexec.cli.mission_files import MissionFileError, check_mission, is_plan, world_home
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
-                        help="Python missions (.py) or behavior trees (.xml, .yaml, .yml)")
+                        help="Python missions (.py), behavior trees (.xml, .yaml, .yml) or QGroundControl "
+                             "plans (.plan)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    parser.add_argument("--world", metavar="FILE", help="the world whose home point places QGroundControl plans "
+                                                        "(default: the built-in one)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -20,7 +23,8 @@ def run(args: argparse.Namespace) -> int:
     failed = False
     for name in args.missions:
         try:
-            checked = check_mission(Path(name), catalog)
+            path = Path(name)
+            checked = check_mission(path, catalog, world_home(args.world) if is_plan(path) else None)
         except MissionFileError as error:
             print(error)
             failed = True

@@ -138,3 +138,64 @@ def test_one_reader_reads_both_files(ours, theirs):
     assert mine.transitions[-1].status_name == "IDLE" and mine.transitions[-2].status_name == "SUCCESS"
     times = [t.usec for t in mine.transitions]
     assert times == sorted(times) and times[-1] > 3_000_000  # engine time: the flight took seconds
+
+
+HALTED = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <TAKE_OFF/>
+      <ReactiveSequence>
+        <AlwaysSuccess/>
+        <Parallel success_count="2" failure_count="2">
+          <KEEP_HOVERING/>
+          <SubTree ID="Hold"/>
+        </Parallel>
+      </ReactiveSequence>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Hold">
+    <Inverter><WAIT name="long wait" DURATION="100"/></Inverter>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_a_tree_halted_mid_flight_logs_btcpps_halt_transitions(tmp_path):
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    statuses: list[dict[int, str]] = []
+    try:
+        mission = TreeMission(read_xml(HALTED, "halted.xml"), engine)
+        writer = BtlogWriter(mission, tmp_path / "ours.btlog", engine.catalog)
+        leaves = {uid: node for uid, (_, node) in enumerate(mission.nodes, 1)
+                  if node.source.type in ("TAKE_OFF", "KEEP_HOVERING", "WAIT")}
+        mission.observers.append(lambda visited: statuses.append(
+            {uid: node.status.value for uid, node in leaves.items() if any(v is node for v in visited or ())}))
+        mission.run(15.0)  # halted at the time limit, everything running
+        assert mission.done and mission.root.status == Status.INVALID
+        writer.close()
+    finally:
+        engine.stop()
+    ticks = statuses[:-1]  # the last call is the halt
+    now = [0]
+    factory = bt.BehaviorTreeFactory()
+    for leaf in ("TAKE_OFF", "KEEP_HOVERING", "WAIT"):
+        factory.register_simple_stateful_action(leaf, lambda n: ticks[now[0]][n.uid()],
+                                                lambda n: ticks[now[0]][n.uid()], lambda n: None)
+    tree = factory.create_tree_from_text(HALTED.replace(' DURATION="100"', ""))
+    logger = bt.FileLogger(tree, str(tmp_path / "theirs.btlog"))
+    for now[0] in range(len(ticks)):
+        assert tree.tick_exactly_once() == bt.NodeStatus.RUNNING
+    tree.halt_tree()
+    time.sleep(0.1)
+    logger.flush()
+    del logger, tree
+    gc.collect()
+    ours, theirs = read_btlog(tmp_path / "ours.btlog"), read_btlog(tmp_path / "theirs.btlog")
+    mine = [(t.uid, t.status_name) for t in ours.transitions]
+    assert mine == [(t.uid, t.status_name) for t in theirs.transitions]
+    assert mine[-1] == (1, "IDLE") and ("long wait" in ours.xml)
+    last = dict(mine)
+    assert set(last) == set(ours.nodes()) and set(last.values()) == {"IDLE"}  # halted: every node back to IDLE
+    assert mine[-8:] == [(2, "IDLE"), (6, "IDLE"), (9, "IDLE"), (8, "IDLE"), (7, "IDLE"), (5, "IDLE"), (3, "IDLE"),
+                         (1, "IDLE")]  # BT.CPP halts deepest first; the ReactiveSequence's condition was IDLE
