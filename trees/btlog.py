@@ -203,6 +203,7 @@ class TransitionTracker:
         self.status = {uid: "IDLE" for uid in self.uids.values()}
         self.children: dict[int, list[Behaviour]] = {}
         self.root = mission.root
+        self.kinds = {id(node): getattr(model_of(node), "type", "") for _, node in mission.nodes}
         for _, node in mission.nodes:
             self.children[id(node)] = self._visible(node.children)
 
@@ -237,8 +238,7 @@ class TransitionTracker:
         self._reset(self.root)
 
     def _tick(self, node: Behaviour, seen: set[int]) -> None:
-        model = model_of(node)
-        kind = getattr(model, "type", "")
+        kind = self.kinds[id(node)]
         uid = self.uids[id(node)]
         every_tick = kind in CONTROL_TYPES or (kind in DECORATOR_TYPES and kind not in RUNNING_FROM_IDLE)
         if every_tick or (kind in RUNNING_FROM_IDLE and self.status[uid] == "IDLE"):
@@ -257,8 +257,11 @@ class TransitionTracker:
             return
         reactive = kind in REACTIVE
         for child in children:
-            if (result != "RUNNING" or (id(child) not in seen and status_name(child) == "IDLE")
-                    or (reactive and self.status[self.uids[id(child)]] != "RUNNING")):
+            state = self.status[self.uids[id(child)]]
+            if state == "IDLE":  # and so is everything below it
+                continue
+            if (result != "RUNNING" or (reactive and state != "RUNNING")
+                    or (id(child) not in seen and status_name(child) == "IDLE")):
                 self._reset(child)
         self._set(node, result)
 
