@@ -16,11 +16,12 @@ The format (BehaviorTree.CPP 4.3 to 4.10, ``src/loggers/bt_file_logger_v2.cpp``)
 Uids are the nodes' 1-based places in document order, subtrees expanded, as BehaviorTree.CPP numbers them. The
 transitions are the ones BehaviorTree.CPP logs for the same ticks (:class:`TransitionTracker`): control nodes and
 decorators go RUNNING when ticked, a reactive one's other children go IDLE while one runs, a node's children go
-back to IDLE when it completes (a decorator's as soon as its child completes), halted nodes go IDLE deepest
-first, and the root goes IDLE after a completed tick. Timestamps are engine time, so a simulated run replays at
-its simulated pace. What may differ from BehaviorTree.CPP's file: the order of the port attributes of a node with
-more than one (a hash map's order there; ours is right for small maps) and ``<TreeNodesModel>``, which lists our
-palette's models of the node types in the tree, not BehaviorTree.CPP's built-in ones.
+back to IDLE when it completes (a decorator's as soon as its child completes), halted nodes go IDLE deepest first
+(a completed child keeps its own children's statuses), and the root goes IDLE after a completed tick. Timestamps
+are engine time, so a simulated run replays at its simulated pace. What may differ from BehaviorTree.CPP's file:
+the order of the port attributes of a node with more than one (a hash map's order there; ours is right for small
+maps) and ``<TreeNodesModel>``, which lists our palette's models of the node types in the tree, not
+BehaviorTree.CPP's built-in ones.
 """
 
 from __future__ import annotations
@@ -203,6 +204,8 @@ class TransitionTracker:
         self.status = {uid: "IDLE" for uid in self.uids.values()}
         self.children: dict[int, list[Behaviour]] = {}
         self.root = mission.root
+        self.mission_nodes = mission.nodes
+        self.results: dict[int, str] = {}
         self.kinds = {id(node): getattr(model_of(node), "type", "") for _, node in mission.nodes}
         for _, node in mission.nodes:
             self.children[id(node)] = self._visible(node.children)
@@ -220,14 +223,20 @@ class TransitionTracker:
             self.report(uid, status)
 
     def _reset(self, node: Behaviour) -> None:
-        """Halted or reset: the descendants first (a halted control resets its children), then the node."""
+        """BehaviorTree.CPP's ``haltChild``: a running node is halted (its children reset alike), then it is IDLE."""
+        if self.status[self.uids[id(node)]] == "RUNNING":
+            self._halt(node)
+        self._set(node, "IDLE")
+
+    def _halt(self, node: Behaviour) -> None:
         for child in self.children[id(node)]:
             self._reset(child)
         self._set(node, "IDLE")
 
-    def ticked(self, visited: Iterable[Behaviour]) -> None:
-        """One tick of the tree: ``visited``, every node the tick yielded (py_trees' ``tick()``)."""
-        seen = {id(node) for node in visited}
+    def ticked(self, visited: Iterable[tuple[Behaviour, str]]) -> None:
+        """One tick of the tree: ``visited``, every node the tick yielded with the status it returned then."""
+        self.results = {id(node): status for node, status in visited}
+        seen = set(self.results)
         if id(self.root) not in seen:
             seen |= {id(n) for n in self._visible([self.root])}
         self._tick(self.root, seen)
@@ -235,7 +244,10 @@ class TransitionTracker:
             self._set(self.root, "IDLE")
 
     def halted(self) -> None:
-        self._reset(self.root)
+        """``Tree::haltTree``: the root halted, then every node halted again, in pre-order."""
+        self._halt(self.root)
+        for _, node in self.mission_nodes:
+            self._halt(node)
 
     def _tick(self, node: Behaviour, seen: set[int]) -> None:
         kind = self.kinds[id(node)]
@@ -251,18 +263,21 @@ class TransitionTracker:
             self._tick(child, seen)
             if decorator and self.status[self.uids[id(child)]] != "RUNNING":
                 self._reset(child)  # a decorator resets its child as soon as it completes
-        result = status_name(node)
-        if result == "IDLE":  # a node our runtime halted during the tick
+        result = self.results.get(id(node)) or status_name(node)
+        if result == "IDLE":  # not ticked after all
             self._reset(node)
             return
         reactive = kind in REACTIVE
-        for child in children:
+        first = 0
+        if kind == "SequenceWithMemory" and result == "FAILURE":  # it keeps the children that succeeded
+            first = max((i for i, child in enumerate(children) if id(child) in seen), default=0)
+        for child in children[first:]:
             state = self.status[self.uids[id(child)]]
-            if state == "IDLE":  # and so is everything below it
+            if state == "IDLE":
                 continue
             if (result != "RUNNING" or (reactive and state != "RUNNING")
                     or (id(child) not in seen and status_name(child) == "IDLE")):
-                self._reset(child)
+                self._reset(child)  # completed (children reset), reactive, or halted by our runtime
         self._set(node, result)
 
 

@@ -5,7 +5,8 @@ engine's ``tick_callbacks``) until its root completes, and records events the te
 ``mission_started``, ``node_status`` for every change of a node's status (``node``, ``old``, ``new``, ``line``,
 ``depth``, ``uid``: the node's 1-based place in ``nodes``, as in the Groot2 log), then ``mission_completed``
 (root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit). ``observers`` are called after each tick
-with the nodes it ticked (in the order py_trees' ``tick()`` yields them), and with None when the tree is halted.
+with ``(node, status it returned)`` for every node it ticked (in the order py_trees' ``tick()`` yields them), and
+with None when the tree is halted.
 Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
 """
 
@@ -42,7 +43,7 @@ class TreeMission:
         self.started = False
         self.done = False
         self.paused = False  # by the operator (engine.supervisor): the tree is not ticked
-        self.observers: list[Callable[[list[Behaviour] | None], None]] = []  # e.g. the .btlog writer
+        self.observers: list[Callable[[list[tuple[Behaviour, str]] | None], None]] = []  # e.g. the .btlog writer
 
     # -- on the engine loop --------------------------------------------------------------------
     def start(self) -> None:
@@ -60,7 +61,7 @@ class TreeMission:
         if self.done or self.paused:
             return
         try:
-            visited = list(self.root.tick())
+            visited = [(node, status_name(node)) for node in self.root.tick()]  # each as it returned
         except Exception as exc:  # a bug in a node: the mission stops, the engine goes on
             logger.exception("the behavior tree %s failed", self.name)
             self._report()
@@ -99,7 +100,7 @@ class TreeMission:
         self.context.stop_started(f"the behavior tree {self.name} ended")
         self.engine.log.record(kind, detail=detail, tree=self.document.main)
 
-    def _notify(self, visited: list[Behaviour] | None) -> None:
+    def _notify(self, visited: list[tuple[Behaviour, str]] | None) -> None:
         for observer in list(self.observers):
             try:
                 observer(visited)

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import gc
 import struct
-import time
 from pathlib import Path
 
 import behaviortreepy as bt
@@ -16,6 +15,7 @@ from aeroexec.engine.engine import Engine
 from aeroexec.trees.btlog import MAGIC, RECORD, BtlogWriter, read_btlog
 from aeroexec.trees.loaders.xml_loader import read_xml
 from aeroexec.trees.runner import TreeMission
+from btcpp_files import settle
 from py_trees.common import Status
 
 MISSION = """<root BTCPP_format="4" main_tree_to_execute="Main">
@@ -75,7 +75,7 @@ def ours(tmp_path_factory) -> tuple[Path, list[dict[int, str]]]:
         leaves = {uid: node for uid, (_, node) in enumerate(mission.nodes, 1) if node.source.type in LEAVES}
         ticks: list[dict[int, str]] = []
         mission.observers.append(lambda visited: ticks.append(
-            {uid: node.status.value for uid, node in leaves.items() if any(v is node for v in visited or ())}))
+            {uid: status for uid, node in leaves.items() for v, status in visited or () if v is node}))
         assert mission.run(300.0) == Status.SUCCESS
         writer.close()
     finally:
@@ -98,11 +98,11 @@ def theirs(ours, tmp_path_factory) -> Path:
     tree = factory.create_tree_from_text(MISSION)
     path = tmp_path_factory.mktemp("btlog") / "theirs.btlog"
     logger = bt.FileLogger(tree, str(path))
+    header = path.stat().st_size
     for now[0] in range(len(ticks)):
         status = tree.tick_exactly_once()
     assert status == bt.NodeStatus.SUCCESS
-    time.sleep(0.1)  # FileLogger2 writes from its own thread, every 10 ms
-    logger.flush()
+    settle(path, header)
     del logger, tree
     gc.collect()
     return path
@@ -170,7 +170,7 @@ def test_a_tree_halted_mid_flight_logs_btcpps_halt_transitions(tmp_path):
         leaves = {uid: node for uid, (_, node) in enumerate(mission.nodes, 1)
                   if node.source.type in ("TAKE_OFF", "KEEP_HOVERING", "WAIT")}
         mission.observers.append(lambda visited: statuses.append(
-            {uid: node.status.value for uid, node in leaves.items() if any(v is node for v in visited or ())}))
+            {uid: status for uid, node in leaves.items() for v, status in visited or () if v is node}))
         mission.run(15.0)  # halted at the time limit, everything running
         assert mission.done and mission.root.status == Status.INVALID
         writer.close()
@@ -184,11 +184,11 @@ def test_a_tree_halted_mid_flight_logs_btcpps_halt_transitions(tmp_path):
                                                 lambda n: ticks[now[0]][n.uid()], lambda n: None)
     tree = factory.create_tree_from_text(HALTED.replace(' DURATION="100"', ""))
     logger = bt.FileLogger(tree, str(tmp_path / "theirs.btlog"))
+    header = (tmp_path / "theirs.btlog").stat().st_size
     for now[0] in range(len(ticks)):
         assert tree.tick_exactly_once() == bt.NodeStatus.RUNNING
     tree.halt_tree()
-    time.sleep(0.1)
-    logger.flush()
+    settle(tmp_path / "theirs.btlog", header)
     del logger, tree
     gc.collect()
     ours, theirs = read_btlog(tmp_path / "ours.btlog"), read_btlog(tmp_path / "theirs.btlog")
