@@ -257,12 +257,15 @@ class TransitionTracker:
             self._set(node, "RUNNING")
         decorator = kind in DECORATOR_TYPES or kind == "SubTree"
         children = self.children[id(node)]
-        for child in children:
+        for index, child in enumerate(children):
             if id(child) not in seen:
                 continue
             self._tick(child, seen)
-            if decorator and self.status[self.uids[id(child)]] != "RUNNING":
+            state = self.status[self.uids[id(child)]]
+            if decorator and state != "RUNNING":
                 self._reset(child)  # a decorator resets its child as soon as it completes
+            if kind == "WhileDoElse" and index == 0 and len(children) == 3 and state in ("SUCCESS", "FAILURE"):
+                self._reset(children[2 if state == "SUCCESS" else 1])  # the other branch, before this one ticks
         result = self.results.get(id(node)) or status_name(node)
         if result == "IDLE":  # not ticked after all
             self._reset(node)
@@ -271,6 +274,8 @@ class TransitionTracker:
         first = 0
         if kind == "SequenceWithMemory" and result == "FAILURE":  # it keeps the children that succeeded
             first = max((i for i, child in enumerate(children) if id(child) in seen), default=0)
+        if kind == "IfThenElse" and len(children) == 2 and result == "FAILURE" and id(children[1]) not in seen:
+            first = len(children)  # a failed condition without an else: BT.CPP resets nothing
         for child in children[first:]:
             state = self.status[self.uids[id(child)]]
             if state == "IDLE":
