@@ -25,9 +25,6 @@ mapped, every waypoint that breaks the geofence, is a problem with its item numb
 
 from __future__ import annotations
 
-import bisect
-import json
-import json.scanner
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,6 +34,7 @@ from aeroexec.drones.geodesy import Geodetic, geodetic_to_enu
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.trees.loaders.geofence import Fence, breach
+from aeroexec.trees.loaders.lined_json import Lined, parse_json
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 
 Vector = tuple[float, float, float]
@@ -48,32 +46,6 @@ COMMANDS = {16: "NAV_WAYPOINT", 17: "NAV_LOITER_UNLIM", 18: "NAV_LOITER_TURNS", 
 RELATIVE_FRAMES = (3, 6, 10)  # GLOBAL_RELATIVE_ALT(_INT), GLOBAL_TERRAIN_ALT (the simulated ground is flat)
 ABSOLUTE_FRAMES = (0, 5)  # GLOBAL(_INT): altitude above mean sea level
 TRANSECT_ITEMS = ("survey", "CorridorScan")
-
-
-class _Lined(dict):
-    """A JSON object that knows the line it starts on."""
-
-    line = 0
-
-
-def parse_json(text: str, file: str) -> Any:
-    """JSON whose objects are :class:`_Lined` dicts; a syntax error is a TreeFormatError at its line."""
-    newlines = [i for i, c in enumerate(text) if c == "\n"]
-    decoder = json.JSONDecoder()
-    plain = decoder.parse_object
-
-    def parse_object(s_and_end: tuple[str, int], *args: Any) -> tuple[Any, int]:
-        value, end = plain(s_and_end, *args)
-        lined = _Lined(value)
-        lined.line = bisect.bisect_left(newlines, s_and_end[1]) + 1
-        return lined, end
-
-    decoder.parse_object = parse_object  # type: ignore[assignment]
-    decoder.scan_once = json.scanner.py_make_scanner(decoder)  # the Python scanner calls parse_object
-    try:
-        return decoder.decode(text)
-    except json.JSONDecodeError as error:
-        raise TreeFormatError([(file, error.lineno, f"not JSON: {error.msg} (column {error.colno})")]) from None
 
 
 @dataclass
@@ -326,7 +298,7 @@ def _fences(plan: dict, file: str, home: Geodetic, problems: list[tuple[str, int
     found: list[Fence] = []
     polygons = list(fence.get("polygons") or [])
     if isinstance(fence.get("polygon"), list):  # version 1: one inclusion polygon
-        polygons.append(_Lined(polygon=fence["polygon"], inclusion=True))
+        polygons.append(Lined(polygon=fence["polygon"], inclusion=True))
         polygons[-1].line = fence.line
     for polygon in polygons:
         line = getattr(polygon, "line", fence.line)
