@@ -18,6 +18,7 @@ from aeroexec.drones.geodesy import enu_to_geodetic
 from aeroexec.drones.sim import default_world
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.trees import TreeFormatError
+from aeroexec.trees.btlog import read_btlog
 from aeroexec.trees.loaders.plan_loader import read_plan
 from aeroexec.trees.loaders.xml_loader import read_xml
 from aeroexec.trees.loaders.xml_writer import write_xml
@@ -219,5 +220,22 @@ def test_the_survey_plan_flies_to_completion_on_the_simulator(tmp_path):
     assert len(list(tmp_path.glob("photo_*.png"))) == 12
     assert "drone_landed" in result.stdout
     assert math.isclose(len([ln for ln in result.stdout.splitlines() if "GOAL_ACHIEVED GO_TO_POINT" in ln]), 12)
-    assert (tmp_path / "mission.btlog").exists()
+    log = read_btlog(tmp_path / "mission.btlog")  # Groot2's replay of the plan's tree
+    assert log.subtrees() == [("survey", "")] and len(log.nodes()) == 1 + 28
+    assert [(t.uid, t.status_name) for t in log.transitions[-2:]] == [(1, "SUCCESS"), (1, "IDLE")]
     assert write_xml(read_plan(SURVEY.read_text(), str(SURVEY)), default_catalog()).count("<GO_TO_POINT") == 12
+
+
+def test_verify_and_run_place_the_plan_from_the_world_given(tmp_path):
+    world = (ROOT / "drones" / "sim" / "default_world.yaml").read_text()
+    moved = world.replace("home: {lat: 47.397742,", "home: {lat: 47.396842,")  # 100 m further south
+    assert moved != world
+    (tmp_path / "south.yaml").write_text(moved)
+    result = aeroexec("verify", str(SURVEY), "--world", str(tmp_path / "south.yaml"))
+    assert result.returncode == 1
+    assert "the plan's home is 100 m from the world's home" in result.stdout
+    out_of_range = [ln for ln in result.stdout.splitlines() if "WRONG_VALUE" in ln and "COORDINATES" in ln]
+    assert out_of_range and all(ln.startswith(f"{SURVEY}:") for ln in out_of_range)  # y beyond 100 m north
+    breaches = [ln for ln in result.stdout.splitlines() if "outside every inclusion fence" in ln]
+    assert len(breaches) == 1 and "item 1: TAKEOFF at (0, 0, 15)" in breaches[0]  # the drone starts at the
+    # world's home, 100 m south of the fence, which moved north with the plan's waypoints
