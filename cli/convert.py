@@ -38,6 +38,10 @@ def run(args: argparse.Namespace) -> int:
         count = len(checked.errors)
         print(f"{path}: {count} error{'s' if count != 1 else ''}; nothing written", file=sys.stderr)
         return 1
+    if callable(getattr(checked.tree, "build", None)):  # a TML mission builds itself: events, consults...
+        print(f"{path}: a TML mission does not convert: its events and variables have no BehaviorTree.CPP form",
+              file=sys.stderr)
+        return 1
     text = write_xml(checked.tree, catalog)
     if not args.output:
         sys.stdout.write(text)

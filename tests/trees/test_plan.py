@@ -239,3 +239,11 @@ def test_verify_and_run_place_the_plan_from_the_world_given(tmp_path):
     breaches = [ln for ln in result.stdout.splitlines() if "outside every inclusion fence" in ln]
     assert len(breaches) == 1 and "item 1: TAKEOFF at (0, 0, 15)" in breaches[0]  # the drone starts at the
     # world's home, 100 m south of the fence, which moved north with the plan's waypoints
+
+
+def test_convert_writes_yaml_trees_as_xml_and_refuses_tml(tmp_path):
+    out = tmp_path / "patrol.xml"
+    assert aeroexec("convert", str(ROOT / "missions" / "square_patrol.yaml"), "-o", str(out)).returncode == 0
+    assert '<SubTree ID="Square" />' in out.read_text() and aeroexec("verify", str(out)).returncode == 0
+    tml = aeroexec("convert", str(ROOT / "missions" / "search_for_object.tml.xml"))
+    assert tml.returncode == 1 and "a TML mission does not convert" in tml.stderr and not tml.stdout
