@@ -117,17 +117,17 @@ def test_items_without_a_behavior_are_reported_with_their_number_and_line_never_
     text = plan(takeoff(), item(177, [1, 3, 0, 0, 0, 0, 0], 2), item(17, [0, 0, 0, None, *latlon(1, 1), 5]),
                 waypoint(1, 2, 5) | {"frame": 1},
                 {"type": "ComplexItem", "complexItemType": "StructureScan", "version": 2},
-                item(201, [1, 0, 0, 0, 0, 0, 0], 2), waypoint(2, 2, 5))
+                item(201, [1, 0, 0, 0, 0, 0, 0], 2), waypoint(2, 2, 5), item(22, [0, 0, 0, None, None, None, None]))
     path = tmp_path / "odd.plan"
     path.write_text(text)
     result = aeroexec("verify", str(path))
     assert result.returncode == 1
     out = result.stdout
     for number, what in ((2, "MAV_CMD 177 (DO_JUMP)"), (3, "MAV_CMD 17 (NAV_LOITER_UNLIM)"), (4, "MAV_FRAME 1"),
-                         (5, "StructureScan"), (6, "MAV_ROI mode 1")):
+                         (5, "StructureScan"), (6, "MAV_ROI mode 1"), (8, "TAKEOFF without an altitude")):
         line = next(ln for ln in out.splitlines() if f"item {number}:" in ln)
         assert what in line and line.startswith(f"{path}:") and ": error:" in line
-    assert "5 errors" in out
+    assert "6 errors" in out
     run = aeroexec("run", str(path), "--plain", "--output", str(tmp_path / "out"))
     assert run.returncode == 1 and "will not fly" in run.stderr and "takeoff" not in run.stdout.lower()
 

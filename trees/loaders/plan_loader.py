@@ -153,6 +153,9 @@ class _Converter:
         if where is False:
             return
         altitude = params[6] - (self.home[2] if item.get("frame", 3) in ABSOLUTE_FRAMES else 0.0)
+        if math.isnan(altitude):
+            self.problem(seq, item.line, f"{name} without an altitude (params[6])")
+            return
         if self.position is not None:
             self.problem(seq, item.line, "a take-off while flying", kind="WRONG_SEQUENCE")
         self.node("TAKE_OFF", seq, name, item.line, ALTITUDE=_text(altitude))
