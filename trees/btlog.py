@@ -236,11 +236,10 @@ class TransitionTracker:
     def ticked(self, visited: Iterable[tuple[Behaviour, str]]) -> None:
         """One tick of the tree: ``visited``, every node the tick yielded with the status it returned then."""
         self.results = {id(node): status for node, status in visited}
-        seen = set(self.results)
-        if id(self.root) not in seen:
-            seen |= {id(n) for n in self._visible([self.root])}
-        self._tick(self.root, seen)
-        if self.status[self.uids[id(self.root)]] in ("SUCCESS", "FAILURE", "SKIPPED"):
+        if id(self.root) not in self.results:  # nothing was ticked
+            return
+        self._tick(self.root, set(self.results))
+        if self.status[self.uids[id(self.root)]] in ("SUCCESS", "FAILURE"):  # Tree::tickRoot resets a completed root
             self._set(self.root, "IDLE")
 
     def halted(self) -> None:
@@ -281,8 +280,8 @@ class TransitionTracker:
             if state == "IDLE":
                 continue
             if (result != "RUNNING" or (reactive and state != "RUNNING")
-                    or (id(child) not in seen and status_name(child) == "IDLE")):
-                self._reset(child)  # completed (children reset), reactive, or halted by our runtime
+                    or (state == "RUNNING" and id(child) not in seen and status_name(child) == "IDLE")):
+                self._reset(child)  # completed (children reset), reactive, or a running child our runtime halted
         self._set(node, result)
 
 

@@ -77,7 +77,8 @@ def trees(depth: int) -> st.SearchStrategy[TreeNode]:
         st.builds(lambda kind, child: TreeNode(kind, kind, {}, [child]), st.sampled_from(DECORATORS), inner),
         st.builds(_subtree, inner),
         st.builds(lambda children: TreeNode("IfThenElse", "IfThenElse", {}, children),
-                  st.lists(inner, min_size=2, max_size=3)),
+                  st.lists(inner, min_size=3, max_size=3)),  # without an else, a failed condition is never reset
+        # in BT.CPP 4.8, and a stateful action ticked again then answers its old status without being called
     )
 
 
@@ -140,7 +141,7 @@ def theirs(document: TreeDocument, scripts: dict[str, str], path) -> list[tuple[
 
 
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
-@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(root=st.builds(lambda kind, children: TreeNode(kind, kind, {}, children), st.sampled_from(CONTROLS),
                       st.lists(trees(2), min_size=1, max_size=3)))  # (BT.CPP 4.8 logs nothing under a root SubTree)
 def test_generated_trees_log_btcpps_transitions(root, tmp_path):
