@@ -19,6 +19,7 @@ from aeroexec import __version__
 COMMANDS = {
     "run": ("run", "check a mission (Python, behavior tree or TML), then fly it on the simulator or a MAVSDK drone"),
     "verify": ("verify", "check missions without flying: every error with file:line"),
+    "convert": ("convert", "write a mission tree (a QGroundControl .plan, YAML) as BehaviorTree.CPP v4 XML"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
     "sim": ("sim", "run the simulated drone behind a MAVLink endpoint (PX4 or ArduPilot) for MAVSDK or QGroundControl"),

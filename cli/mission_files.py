@@ -1,4 +1,5 @@
-"""Reading and checking a mission file of any kind: a Python program, or a behavior tree in XML or YAML.
+"""Reading and checking a mission file of any kind: a Python program, a behavior tree in XML or YAML, or a
+QGroundControl plan.
 
 ``check_mission(path, catalog)`` returns what would fly (the mission function or the tree document)
 and every problem found before flight, each naming the file and line.
@@ -12,10 +13,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
+from aeroexec.trees.loaders.plan_loader import PlanDocument
 from aeroexec.trees.tml.verify import verify_mission_document
 from aeroexec.trees.verify import verify_leaves
 
@@ -42,19 +45,29 @@ def is_tree(path: Path) -> bool:
     return path.suffix.lower() in MISSION_EXTENSIONS
 
 
-def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None) -> CheckedMission:
+def is_plan(path: Path) -> bool:
+    return path.suffix.lower() == ".plan"
+
+
+def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
+                  ) -> CheckedMission:
     """Read and check a mission without flying it (against ``world``'s bounds and obstacles when given);
-    raises :class:`MissionFileError` when it cannot be read."""
+    raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan (default:
+    ``world``'s home, else the default simulated world's)."""
+    if home is None and world is not None and is_plan(path):
+        home = world.home
     checked = CheckedMission(path)
     if is_tree(path):
         try:
-            checked.tree = load_mission_tree(path)
+            checked.tree = load_mission_tree(path, home)
         except TreeFormatError as error:
             checked.problems = [Problem("error", message, file, line) for file, line, message in error.problems]
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
+        if isinstance(checked.tree, PlanDocument):  # items without a behavior, waypoints outside the geofence
+            checked.problems = sorted([*checked.tree.problems, *checked.problems], key=lambda p: (p.file, p.line))
         return checked
     if path.suffix.lower() != ".py":
         raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
@@ -79,3 +92,13 @@ def mission_function(path: Path) -> Callable[[], Any]:
     if not callable(function):
         raise MissionFileError(f"{path}: no mission() or runMission() function")
     return function
+
+
+def world_home(world: str | None) -> Geodetic:
+    """The home point of the simulated world in ``world`` (a file; None: the built-in world)."""
+    from aeroexec.drones.sim import WorldError, default_world, load_world
+
+    try:
+        return (load_world(world) if world else default_world()).home
+    except WorldError as error:
+        raise MissionFileError(str(error)) from None

@@ -52,7 +52,7 @@ class RunError(Exception):
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("mission", help="the mission: a Python program with a mission() or runMission() function "
                                          "(.py), a behavior tree (BehaviorTree.CPP XML .xml, or YAML .yaml/.yml), "
-                                         "or a TML mission (.tml.xml)")
+                                         "a TML mission (.tml.xml) or a QGroundControl plan (.plan)")
     parser.epilog = ("exit status: 0 completed, 3 completed with refused requests, 1 failed, 4 aborted "
                      "(the words the summary line, the live view and the event log's run_ended use)")
     add_flight_arguments(parser)

@@ -25,12 +25,14 @@ class WorldChoiceError(Exception):
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
-                        help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml)")
+                        help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
+                             "QGroundControl plans (.plan)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     robots.add_arguments(parser)
     world = parser.add_mutually_exclusive_group()
     world.add_argument("--world", metavar="FILE",
-                       help="check destinations and paths against this world (default: the simulator's)")
+                       help="check destinations and paths against this world, and place QGroundControl plans at "
+                            "its home (default: the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_library_arguments(parser)
 

@@ -1,23 +1,27 @@
-"""Groot2 replay files (``.btlog``, BehaviorTree.CPP's FileLogger2 format) of tree missions: a writer that follows a
-:class:`~aeroexec.trees.runner.TreeMission`'s node status events, and a reader that checks a file against the format.
+"""Groot2 replay files (``.btlog``) of tree missions in BehaviorTree.CPP's current FileLogger2 format: a writer that
+follows a :class:`~aeroexec.trees.runner.TreeMission` tick by tick, and a reader that checks a file against the format.
 
-The format, as BehaviorTree.CPP 4 documents it (``include/behaviortree_cpp/loggers/bt_file_logger_v2.h`` and
-``src/loggers/bt_file_logger_v2.cpp``; the XML as ``WriteTreeToXML(tree, add_metadata=true, ...)`` writes it),
-every number little-endian:
+The format (BehaviorTree.CPP 4.3 to 4.10, ``src/loggers/bt_file_logger_v2.cpp``), every number little-endian:
 
-- 4 bytes: N, the size of the XML (int32);
-- N bytes: the tree as XML: ``<root BTCPP_format="4">``, one ``<BehaviorTree ID=... _fullpath=...>`` per tree
-  instance (the main tree first, then each SubTree's, in creation order; a ``<SubTree>`` element names its tree
-  with ``ID`` and ``_fullpath`` and has no children), every node with a ``_uid`` attribute, then a
-  ``<TreeNodesModel>`` of the node types that are not built into BehaviorTree.CPP;
+- 18 bytes ``BTCPP4-FileLogger2``, then the protocol byte 1;
+- 4 bytes: N, the size of the XML (int32), then N bytes: the tree as ``WriteTreeToXML(tree, true, true)`` prints
+  it (tinyxml2, 4-space indent): ``<root BTCPP_format="4">``, one ``<BehaviorTree ID=.. _fullpath=..>`` per tree
+  instance in creation order (``_fullpath``: the SubTree's ``name``, else ``ID::uid``, below its parent's path), every
+  node with ``name`` and ``_uid``, its ports and its ``_skipIf``.. attributes, a ``<SubTree>`` with ``ID``,
+  ``_fullpath`` and ``_uid`` and no children, then a ``<TreeNodesModel>``;
 - 8 bytes: the first timestamp (int64, microseconds since the Unix epoch);
-- then 8 bytes per transition, a uint64 of bit fields from the least significant bit: 45 bits of microseconds
-  since the first timestamp, 16 bits of node uid, 3 bits of the new status (IDLE 0, RUNNING 1, SUCCESS 2,
-  FAILURE 3, SKIPPED 4).
+- then 9 bytes per transition: 6 bytes of microseconds since the first timestamp, the node's uid (uint16), the new
+  status (uint8: IDLE 0, RUNNING 1, SUCCESS 2, FAILURE 3, SKIPPED 4).
 
-Uids are the nodes' 1-based places in document order (subtrees expanded), which is how BehaviorTree.CPP numbers
-nodes as it creates them and how ``TreeMission`` numbers its ``node_status`` events. Timestamps are engine time,
-so a simulated run replays at its simulated pace.
+Uids are the nodes' 1-based places in document order, subtrees expanded, as BehaviorTree.CPP numbers them. The
+transitions are the ones BehaviorTree.CPP logs for the same ticks (:class:`TransitionTracker`): control nodes and
+decorators go RUNNING when ticked, a reactive one's other children go IDLE while one runs, a node's children go
+back to IDLE when it completes (a decorator's as soon as its child completes), halted nodes go IDLE deepest first
+(a completed child keeps its own children's statuses), and the root goes IDLE after a completed tick. Timestamps
+are engine time, so a simulated run replays at its simulated pace. What may differ from BehaviorTree.CPP's file:
+the order of the port attributes of a node with more than one (a hash map's order there; ours is right for small
+maps) and ``<TreeNodesModel>``, which lists our palette's models of the node types in the tree, not
+BehaviorTree.CPP's built-in ones.
 """
 
 from __future__ import annotations
@@ -27,18 +31,31 @@ import struct
 import threading
 import time
 import xml.etree.ElementTree as ElementTree
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.trees.builder import model_of
+from aeroexec.trees.control import status_name
 from aeroexec.trees.groot import tree_nodes_model
+from aeroexec.trees.node_types import CONTROL_TYPES, DECORATOR_TYPES
 from py_trees.behaviour import Behaviour
 
+MAGIC = b"BTCPP4-FileLogger2"
+PROTOCOL = 1
+RECORD = 9
 STATUS_CODES = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3, "SKIPPED": 4}
 STATUS_NAMES = {code: name for name, code in STATUS_CODES.items()}
-TIMESTAMP_BITS, UID_BITS, STATUS_BITS = 45, 16, 3
+PRE_CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")  # BehaviorTree.CPP's order in the XML
+POST_CONDITIONS = ("_onHalted", "_onFailure", "_onSuccess", "_post")
+#: BehaviorTree.CPP's built-in ports with defaults: they are in a node's XML even when not written.
+BUILT_IN_DEFAULTS = {"Parallel": (("failure_count", "1"), ("success_count", "-1"))}  # in its manifest's order
+#: Decorators that go RUNNING only when ticked from IDLE (the others on every tick, as control nodes do).
+RUNNING_FROM_IDLE = ("SubTree", "Timeout", "Delay")
+#: Control nodes that halt every other child while one is RUNNING (those that completed go back to IDLE).
+REACTIVE = ("ReactiveSequence", "ReactiveFallback")
 
 
 class BtlogError(ValueError):
@@ -59,65 +76,222 @@ class Transition:
 
 
 def encode_transition(usec: int, uid: int, status: int) -> bytes:
-    """The 8 bytes of one transition."""
-    if not 0 <= usec < 1 << TIMESTAMP_BITS or not 0 <= uid < 1 << UID_BITS or not 0 <= status < 1 << STATUS_BITS:
+    """The 9 bytes of one transition."""
+    if not 0 <= usec < 1 << 48 or not 0 <= uid < 1 << 16 or not 0 <= status < 256:
         raise ValueError(f"a transition out of range: {usec} us, uid {uid}, status {status}")
-    return struct.pack("<Q", usec | uid << TIMESTAMP_BITS | status << (TIMESTAMP_BITS + UID_BITS))
+    return usec.to_bytes(6, "little") + struct.pack("<HB", uid, status)
 
 
 def decode_transition(data: bytes) -> Transition:
-    (value,) = struct.unpack("<Q", data)
-    return Transition(value & ((1 << TIMESTAMP_BITS) - 1), (value >> TIMESTAMP_BITS) & ((1 << UID_BITS) - 1),
-                      value >> (TIMESTAMP_BITS + UID_BITS))
+    return Transition(int.from_bytes(data[:6], "little"), *struct.unpack_from("<HB", data, 6))
 
 
-# -- the tree as XML -----------------------------------------------------------------------------------------
+# -- the tree as XML, printed as tinyxml2 prints it ------------------------------------------------------------
+@dataclass
+class _Element:
+    tag: str
+    attributes: list[tuple[str, str]] = field(default_factory=list)
+    children: list[_Element] = field(default_factory=list)
+    text: str | None = None
+
+
+def _attribute(text: str) -> str:
+    return (text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+            .replace("'", "&apos;"))
+
+
+def _print(element: _Element, depth: int, out: list[str]) -> None:
+    pad = "    " * depth
+    attributes = "".join(f' {name}="{_attribute(value)}"' for name, value in element.attributes)
+    if element.text is not None:
+        text = element.text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+        out.append(f"{pad}<{element.tag}{attributes}>{text}</{element.tag}>\n")
+    elif not element.children:
+        out.append(f"{pad}<{element.tag}{attributes}/>\n")
+    else:
+        out.append(f"{pad}<{element.tag}{attributes}>\n")
+        for child in element.children:
+            _print(child, depth + 1, out)
+        out.append(f"{pad}</{element.tag}>\n")
+
+
+def _is_port(name: str) -> bool:
+    """BehaviorTree.CPP's ``IsAllowedPortName``: a letter first, and not a reserved attribute."""
+    return bool(name) and name[0].isalpha() and name not in ("name", "ID")
+
+
+def _port_attributes(kind: str, ports: dict[str, str], defaults: dict[str, str]) -> list[tuple[str, str]]:
+    inserted = [(k, v) for k, v in ports.items() if _is_port(k)]  # then the defaults of the ports not written
+    inserted += [(k, v) for k, v in (*BUILT_IN_DEFAULTS.get(kind, ()), *defaults.items()) if k not in ports]
+    found = inserted[::-1]  # a small unordered_map lists the last inserted first
+    return found + [(k, ports[k]) for k in (*PRE_CONDITIONS, *POST_CONDITIONS) if k in ports]
+
+
+def _palette_defaults(catalog: Any) -> dict[str, dict[str, str]]:
+    if catalog is None:
+        return {}
+    return {behavior.name: {a.name: str(a.default) for a in behavior.arguments.values() if a.default is not None}
+            for behavior in catalog}
+
+
 def tree_xml(mission: Any, catalog: Any = None) -> str:
-    """The XML header of ``mission`` (a TreeMission): its trees with ``_uid`` attributes, and the node models."""
+    """The XML header of ``mission`` (a TreeMission) as BehaviorTree.CPP's ``WriteTreeToXML(tree, true, true)``."""
     uids = {id(node): uid for uid, (_, node) in enumerate(mission.nodes, 1)}
-    root = ElementTree.Element("root", BTCPP_format="4")
-    main = ElementTree.SubElement(root, "BehaviorTree", ID=mission.document.main, _fullpath="")
+    defaults = _palette_defaults(catalog)
+    root = _Element("root", [("BTCPP_format", "4")])
+    root.children.append(_Element("BehaviorTree", [("ID", mission.document.main), ("_fullpath", "")]))
     used: set[str] = set()
 
-    def add(node: Behaviour, parent: ElementTree.Element, path: str) -> None:
+    def add(node: Behaviour, parent: _Element, path: str) -> None:
         if id(node) not in uids:  # hidden (a node wrapped by its preconditions): its children show instead
             for child in node.children:
                 add(child, parent, path)
             return
-        uid = uids[id(node)]
-        model = model_of(node)
+        uid, model = uids[id(node)], model_of(node)
         kind = getattr(model, "type", type(node).__name__)
         ports = dict(getattr(model, "ports", {}))
         used.add(kind)
         if kind == "SubTree":
-            tree_id = ports.pop("ID", "")
-            name = node.name if node.name != "SubTree" else f"{tree_id}::{uid}"
-            full = f"{path}/{name}" if path else name
-            ElementTree.SubElement(parent, kind, ID=tree_id, _fullpath=full, _uid=str(uid), **ports)
-            inner = ElementTree.SubElement(root, "BehaviorTree", ID=tree_id, _fullpath=full)
+            tree_id = ports.get("ID", "")
+            named = getattr(model, "named", True) and node.name not in ("", "SubTree")
+            instance = node.name if named else tree_id
+            suffix = f"::{uid}" if instance == tree_id else ""
+            inner_path = (f"{path}/" if path else "") + (node.name if named else f"{tree_id}::{uid}")
+            parent.children.append(_Element(kind, [("ID", tree_id), ("_fullpath", f"{path}/" * bool(path) +
+                                                                     instance + suffix), ("_uid", str(uid)),
+                                                   *_port_attributes(kind, ports, {})]))
+            inner = _Element("BehaviorTree", [("ID", tree_id), ("_fullpath", inner_path)])
+            root.children.append(inner)
             for child in node.children:
-                add(child, inner, full)
+                add(child, inner, inner_path)
             return
-        element = ElementTree.SubElement(parent, kind, name=node.name, _uid=str(uid), **ports)
+        element = _Element(kind, [("name", node.name), ("_uid", str(uid)),
+                                  *_port_attributes(kind, ports, defaults.get(kind, {}))])
+        parent.children.append(element)
         for child in node.children:
             add(child, element, path)
 
-    add(mission.root, main, "")
-    models = ElementTree.SubElement(root, "TreeNodesModel")
-    if catalog is not None:
-        palette = SafeElementTree.fromstring(tree_nodes_model(catalog))
-        for model in palette.iter():
-            if model.get("ID") in used:
-                models.append(model)
-    ElementTree.indent(root)
-    return ElementTree.tostring(root, encoding="unicode")
+    add(mission.root, root.children[0], "")
+    root.children.append(_tree_nodes_model(catalog, used))
+    out: list[str] = []
+    _print(root, 0, out)
+    return "".join(out)
+
+
+def _tree_nodes_model(catalog: Any, used: set[str]) -> _Element:
+    models = _Element("TreeNodesModel")
+    if catalog is None:
+        return models
+    palette = SafeElementTree.fromstring(tree_nodes_model(catalog))
+    for model in sorted(palette.iter(), key=lambda m: m.get("ID") or ""):
+        if model.get("ID") not in used:
+            continue
+        element = _Element(model.tag, [("ID", model.get("ID", ""))])
+        for port in model:
+            attributes = [(k, port.get(k, "")) for k in ("name", "type", "default") if k in port.attrib]
+            element.children.append(_Element(port.tag, attributes, text=port.text or None))
+        models.children.append(element)
+    return models
+
+
+# -- the transitions BehaviorTree.CPP logs ---------------------------------------------------------------------
+class TransitionTracker:
+    """BehaviorTree.CPP's status of every node, moved along by the nodes our runtime ticks; reports each change."""
+
+    def __init__(self, mission: Any, report: Callable[[int, str], None]) -> None:
+        self.report = report
+        self.uids = {id(node): uid for uid, (_, node) in enumerate(mission.nodes, 1)}
+        self.status = {uid: "IDLE" for uid in self.uids.values()}
+        self.children: dict[int, list[Behaviour]] = {}
+        self.root = mission.root
+        self.mission_nodes = mission.nodes
+        self.results: dict[int, str] = {}
+        self.kinds = {id(node): getattr(model_of(node), "type", "") for _, node in mission.nodes}
+        for _, node in mission.nodes:
+            self.children[id(node)] = self._visible(node.children)
+
+    def _visible(self, nodes: Iterable[Behaviour]) -> list[Behaviour]:
+        found: list[Behaviour] = []
+        for node in nodes:
+            found.extend([node] if id(node) in self.uids else self._visible(node.children))
+        return found
+
+    def _set(self, node: Behaviour, status: str) -> None:
+        uid = self.uids[id(node)]
+        if self.status[uid] != status:
+            self.status[uid] = status
+            self.report(uid, status)
+
+    def _reset(self, node: Behaviour) -> None:
+        """BehaviorTree.CPP's ``haltChild``: a running node is halted (its children reset alike), then it is IDLE."""
+        if self.status[self.uids[id(node)]] == "RUNNING":
+            self._halt(node)
+        self._set(node, "IDLE")
+
+    def _halt(self, node: Behaviour) -> None:
+        for child in self.children[id(node)]:
+            self._reset(child)
+        self._set(node, "IDLE")
+
+    def ticked(self, visited: Iterable[tuple[Behaviour, str]]) -> None:
+        """One tick of the tree: ``visited``, every node the tick yielded with the status it returned then."""
+        self.results = {id(node): status for node, status in visited}
+        if id(self.root) not in self.results:  # nothing was ticked
+            return
+        self._tick(self.root, set(self.results))
+        if self.status[self.uids[id(self.root)]] in ("SUCCESS", "FAILURE"):  # Tree::tickRoot resets a completed root
+            self._set(self.root, "IDLE")
+
+    def halted(self) -> None:
+        """``Tree::haltTree``: the root halted, then every node halted again, in pre-order."""
+        self._halt(self.root)
+        for _, node in self.mission_nodes:
+            self._halt(node)
+
+    def _tick(self, node: Behaviour, seen: set[int]) -> None:
+        kind = self.kinds[id(node)]
+        uid = self.uids[id(node)]
+        every_tick = kind in CONTROL_TYPES or (kind in DECORATOR_TYPES and kind not in RUNNING_FROM_IDLE)
+        if every_tick or (kind in RUNNING_FROM_IDLE and self.status[uid] == "IDLE"):
+            self._set(node, "RUNNING")
+        decorator = kind in DECORATOR_TYPES or kind == "SubTree"
+        children = self.children[id(node)]
+        for index, child in enumerate(children):
+            if id(child) not in seen:
+                continue
+            self._tick(child, seen)
+            state = self.status[self.uids[id(child)]]
+            if decorator and state != "RUNNING":
+                self._reset(child)  # a decorator resets its child as soon as it completes
+            if kind == "WhileDoElse" and index == 0 and len(children) == 3 and state in ("SUCCESS", "FAILURE"):
+                self._reset(children[2 if state == "SUCCESS" else 1])  # the other branch, before this one ticks
+        result = self.results.get(id(node)) or status_name(node)
+        if result == "IDLE":  # not ticked after all
+            self._reset(node)
+            return
+        reactive = kind in REACTIVE
+        first = 0
+        if kind == "SequenceWithMemory" and result == "FAILURE":  # it keeps the children that succeeded
+            first = max((i for i, child in enumerate(children) if id(child) in seen), default=0)
+        if kind == "IfThenElse" and len(children) == 2 and result == "FAILURE" and id(children[1]) not in seen:
+            first = len(children)  # a failed condition without an else: BT.CPP resets nothing
+        for child in children[first:]:
+            state = self.status[self.uids[id(child)]]
+            if state == "IDLE":
+                continue
+            if (result != "RUNNING" or (reactive and state != "RUNNING")
+                    or (state == "RUNNING" and id(child) not in seen and status_name(child) == "IDLE")):
+                self._reset(child)  # completed (children reset), reactive, or a running child our runtime halted
+        self._set(node, result)
 
 
 # -- writing -------------------------------------------------------------------------------------------------
 class BtlogWriter:
-    """Writes ``mission``'s status transitions to ``path`` as they happen (each one flushed) until :meth:`close`."""
+    """Writes ``mission``'s status transitions to ``path`` as they happen (each tick's flushed) until :meth:`close`."""
 
     def __init__(self, mission: Any, path: str | Path, catalog: Any = None) -> None:
+        if Path(path).suffix != ".btlog":
+            raise ValueError(f"{path}: a FileLogger2 file's extension must be .btlog")
         self.mission = mission
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -125,20 +299,28 @@ class BtlogWriter:
         self.first_timestamp_usec = time.time_ns() // 1000
         self.transitions = 0
         self._lock = threading.Lock()
+        self._pending = bytearray()
         xml = tree_xml(mission, catalog if catalog is not None else mission.engine.catalog).encode("utf-8")
         self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
-        self._write(struct.pack("<i", len(xml)) + xml + struct.pack("<q", self.first_timestamp_usec))
-        self._unsubscribe = mission.engine.log.subscribe(self.on_event)
+        self._write(MAGIC + bytes([PROTOCOL]) + struct.pack("<i", len(xml)) + xml +
+                    struct.pack("<q", self.first_timestamp_usec))
+        self.tracker = TransitionTracker(mission, self._record)
+        mission.observers.append(self.on_tick)
 
-    def on_event(self, event: Any) -> None:
-        if event.kind != "node_status" or "uid" not in event.data:
-            return
-        status = STATUS_CODES.get(str(event.data.get("new")))
-        if status is None:
-            return
-        usec = max(0, round((event.time - self.start) * 1e6))
-        self._write(encode_transition(usec, int(event.data["uid"]), status))
+    def _record(self, uid: int, status: str) -> None:
+        usec = max(0, round((self.mission.engine.now() - self.start) * 1e6))
+        self._pending += encode_transition(usec, uid, STATUS_CODES[status])
         self.transitions += 1
+
+    def on_tick(self, visited: list[Behaviour] | None) -> None:
+        """The mission's observer: ``visited`` after a tick, None when the tree was halted."""
+        if visited is None:
+            self.tracker.halted()
+        else:
+            self.tracker.ticked(visited)
+        data, self._pending = bytes(self._pending), bytearray()
+        if data:
+            self._write(data)
 
     def _write(self, data: bytes) -> None:
         with self._lock:
@@ -149,7 +331,8 @@ class BtlogWriter:
                 written += os.write(self._fd, data[written:])
 
     def close(self) -> None:
-        self._unsubscribe()
+        if self.on_tick in self.mission.observers:
+            self.mission.observers.remove(self.on_tick)
         with self._lock:
             fd, self._fd = self._fd, None
         if fd is not None:
@@ -166,38 +349,52 @@ class Btlog:
     transitions: list[Transition] = field(default_factory=list)
 
     def nodes(self) -> dict[int, tuple[str, str]]:
-        """uid -> (node type, name) of every node of the XML header."""
+        """uid -> (node type, name) of every node of the XML header (a SubTree's name: its ``_fullpath``)."""
         found: dict[int, tuple[str, str]] = {}
         for element in SafeElementTree.fromstring(self.xml).iter():
             if "_uid" in element.attrib:
-                found[int(element.attrib["_uid"])] = (element.tag, element.get("name") or element.get("ID", ""))
+                found[int(element.attrib["_uid"])] = (element.tag, element.get("name", element.get("_fullpath", "")))
         return found
+
+    def subtrees(self) -> list[tuple[str, str]]:
+        """(ID, _fullpath) of every tree instance, in the file's order."""
+        document = SafeElementTree.fromstring(self.xml)
+        return [(tree.get("ID", ""), tree.get("_fullpath", "")) for tree in document.findall("BehaviorTree")]
 
 
 def read_btlog(path: str | Path) -> Btlog:
     """Parse a ``.btlog`` per the FileLogger2 format; a :class:`BtlogError` says where it does not follow it."""
     data = Path(path).read_bytes()
-    if len(data) < 4:
+    if not data.startswith(MAGIC):
+        raise BtlogError(f"{path}: not a FileLogger2 file: it does not start with {MAGIC.decode()} "
+                         "(files of BehaviorTree.CPP before 4.3 are not read)")
+    header = len(MAGIC) + 1
+    if len(data) < header + 4:
         raise BtlogError(f"{path}: {len(data)} bytes, too short for the XML size")
-    (size,) = struct.unpack_from("<i", data, 0)
-    if size < 0 or 4 + size + 8 > len(data):
+    if data[len(MAGIC)] != PROTOCOL:
+        raise BtlogError(f"{path}: protocol {data[len(MAGIC)]}, only protocol {PROTOCOL} is known")
+    (size,) = struct.unpack_from("<i", data, header)
+    start = header + 4
+    if size < 0 or start + size + 8 > len(data):
         raise BtlogError(f"{path}: the XML size {size} does not fit in the file ({len(data)} bytes)")
-    xml = data[4:4 + size].decode("utf-8")
+    xml = data[start:start + size].decode("utf-8", errors="replace")
     try:
         document = SafeElementTree.fromstring(xml)
     except ElementTree.ParseError as error:
         raise BtlogError(f"{path}: the tree XML does not parse: {error}") from None
     if document.tag != "root" or document.find("BehaviorTree") is None:
         raise BtlogError(f"{path}: the XML has no <root> with a <BehaviorTree>")
-    (first,) = struct.unpack_from("<q", data, 4 + size)
+    (first,) = struct.unpack_from("<q", data, start + size)
     log = Btlog(xml, first)
     uids = set(log.nodes())
-    body = data[4 + size + 8:]
-    for offset in range(0, len(body) - len(body) % 8, 8):
-        transition = decode_transition(body[offset:offset + 8])
+    body = data[start + size + 8:]
+    if len(body) % RECORD:
+        raise BtlogError(f"{path}: {len(body)} bytes of transitions, not a whole number of {RECORD}-byte records")
+    for offset in range(0, len(body), RECORD):
+        transition = decode_transition(body[offset:offset + RECORD])
         if transition.uid not in uids:
-            raise BtlogError(f"{path}: transition {offset // 8} names uid {transition.uid}, not in the tree")
+            raise BtlogError(f"{path}: transition {offset // RECORD} names uid {transition.uid}, not in the tree")
         if transition.status not in STATUS_NAMES:
-            raise BtlogError(f"{path}: transition {offset // 8} has status {transition.status}")
+            raise BtlogError(f"{path}: transition {offset // RECORD} has status {transition.status}")
         log.transitions.append(transition)
     return log

@@ -17,7 +17,8 @@ class TreeNode:
 
     ``ports`` keeps the attribute values as written (text), blackboard references such as ``{P}``
     included; ``name`` is the ``name`` attribute (or the type when there is none). ``file`` and
-    ``line`` say where the node was written (1-based; 0 when unknown).
+    ``line`` say where the node was written (1-based; 0 when unknown). ``named`` is False when the file gave no
+    name (a SubTree's ``name`` is then its ID, and BehaviorTree.CPP's path of its instance ends ``ID::uid``).
     """
 
     type: str
@@ -26,6 +27,7 @@ class TreeNode:
     children: list[TreeNode] = field(default_factory=list)
     file: str = ""
     line: int = 0
+    named: bool = True
 
     def __post_init__(self) -> None:
         if not self.name:

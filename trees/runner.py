@@ -4,14 +4,16 @@
 engine's ``tick_callbacks``) until its root completes, and records events the terminal can show:
 ``mission_started``, ``node_status`` for every change of a node's status (``node``, ``old``, ``new``, ``line``,
 ``depth``, ``uid``: the node's 1-based place in ``nodes``, as in the Groot2 log), then ``mission_completed``
-(root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit).
+(root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit). ``observers`` are called after each tick
+with ``(node, status it returned)`` for every node it ticked (in the order py_trees' ``tick()`` yields them), and
+with None when the tree is halted.
 Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
 """
 
 from __future__ import annotations
 
 import logging
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from aeroexec.trees.blackboard import Blackboard
@@ -41,6 +43,7 @@ class TreeMission:
         self.started = False
         self.done = False
         self.paused = False  # by the operator (engine.supervisor): the tree is not ticked
+        self.observers: list[Callable[[list[tuple[Behaviour, str]] | None], None]] = []  # e.g. the .btlog writer
 
     # -- on the engine loop --------------------------------------------------------------------
     def start(self) -> None:
@@ -58,7 +61,7 @@ class TreeMission:
         if self.done or self.paused:
             return
         try:
-            self.root.tick_once()
+            visited = [(node, status_name(node)) for node in self.root.tick()]  # each as it returned
         except Exception as exc:  # a bug in a node: the mission stops, the engine goes on
             logger.exception("the behavior tree %s failed", self.name)
             self._report()
@@ -66,6 +69,7 @@ class TreeMission:
             return
         self.status = self.root.status
         self._report()
+        self._notify(visited)
         if self.status in (Status.SUCCESS, Status.FAILURE):
             self._finish("mission_completed" if self.status == Status.SUCCESS else "mission_failed",
                          f"{self.name}: the tree ended {status_name(self.root)}")
@@ -77,6 +81,7 @@ class TreeMission:
         if self.root.status != Status.INVALID:
             self.root.stop(Status.INVALID)
         self._report()
+        self._notify(None)
         self._finish("mission_failed", f"{self.name}: halted ({reason})")
 
     def pause(self) -> None:
@@ -94,6 +99,13 @@ class TreeMission:
             self.engine.supervisor.detach(self)
         self.context.stop_started(f"the behavior tree {self.name} ended")
         self.engine.log.record(kind, detail=detail, tree=self.document.main)
+
+    def _notify(self, visited: list[tuple[Behaviour, str]] | None) -> None:
+        for observer in list(self.observers):
+            try:
+                observer(visited)
+            except Exception:  # an observer's bug (a log that cannot be written) never stops the mission
+                logger.exception("an observer of the behavior tree %s failed", self.name)
 
     def _report(self) -> None:
         for uid, (depth, node) in enumerate(self.nodes, 1):  # uid: the node's place in document order

@@ -87,6 +87,7 @@ class TreeVerifier:
             self.check_cycles(tree_id)
         if document.main in document.trees:
             self.check_blackboard()
+            self.check_subtree_paths()
             SequenceChecker(document, self.specialist, self.report).check()
         self.problems.sort(key=lambda p: (p.file, p.line))
         return self.problems
@@ -201,6 +202,28 @@ class TreeVerifier:
                     visit(target, (*path, target))
 
         visit(tree_id, (tree_id,))
+
+    def check_subtree_paths(self) -> None:
+        """BehaviorTree.CPP (4.10) refuses two SubTree instances with one path (the same name, same parent)."""
+        seen: set[str] = set()
+        uid = [0]
+
+        def walk(node: TreeNode, path: str, stack: tuple[str, ...]) -> None:
+            uid[0] += 1
+            if node.type == "SubTree":
+                target = node.ports.get("ID", "").strip()
+                inner = (f"{path}/" if path else "") + (node.name if node.named and node.name != "SubTree"
+                                                          else f"{target}::{uid[0]}")
+                if inner in seen:
+                    self.report(node, f"Duplicate SubTree path detected: '{inner}'. Multiple SubTree nodes with the "
+                                      "same 'name' attribute under the same parent are not allowed")
+                seen.add(inner)
+                if target in self.document.trees and target not in stack:
+                    walk(self.document.trees[target], inner, (*stack, target))
+            for child in node.children:
+                walk(child, path, stack)
+
+        walk(self.document.root, "", (self.document.main,))
 
     # -- blackboard --------------------------------------------------------------------------------
     def check_blackboard(self) -> None:

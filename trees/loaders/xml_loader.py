@@ -222,7 +222,8 @@ class _XmlReader:
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
             name = name or ports.get("ID", "")
         children = [self.node(child, file) for child in element.children]
-        return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line)
+        return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line,
+                        named="name" in element.attrs)
 
 
 def _main_tree(reader: _XmlReader, root: _Element, file: str, declared: list[str]) -> str:

@@ -120,7 +120,8 @@ class _NestedReader:
         if node_type == "SubTree":
             if not ports.get("ID", "").strip():
                 self.reader.error(where, "a SubTree needs ID, the tree it runs")
-            name = name or ports.get("ID", "")
+            named, name = bool(name), name or ports.get("ID", "")
+            return TreeNode(node_type, name, ports, children, self.reader.file, line_of(where), named=named)
         return TreeNode(node_type, name, ports, children, self.reader.file, line_of(where))
 
 
