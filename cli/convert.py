@@ -28,7 +28,7 @@ def run(args: argparse.Namespace) -> int:
         return 1
     catalog = chosen_catalog(args.catalog)
     try:
-        checked = check_mission(path, catalog, world_home(args.world) if is_plan(path) else None)
+        checked = check_mission(path, catalog, home=world_home(args.world) if is_plan(path) else None)
     except MissionFileError as error:
         print(error, file=sys.stderr)
         return 1

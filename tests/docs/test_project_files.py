@@ -32,7 +32,7 @@ def test_the_package_is_typed():
 
 def test_missions_readme_lists_every_example_mission_and_only_them():
     folder = ROOT / "missions"
-    missions = {p.name for p in folder.iterdir() if p.suffix in (".py", ".xml", ".yaml", ".yml")
+    missions = {p.name for p in folder.iterdir() if p.suffix in (".py", ".xml", ".yaml", ".yml", ".plan")
                 and p.name != "__init__.py"}
     linked = set(re.findall(r"\]\(([^)]+)\)", (folder / "README.md").read_text()))
     assert missions <= linked and {link for link in linked if "/" not in link} <= missions
