@@ -8,6 +8,7 @@ blackboard of its own, remapped to its parent's as its ports say.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from aeroexec.trees.blackboard import Blackboard
@@ -31,6 +32,8 @@ from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
 BELIEF_LEAVES = ("Condition", "QueryBelief", "AddBelief", "RemoveBelief")
+#: A leaf type registered by the caller, as BehaviorTree.CPP's factory registers nodes: model node, blackboard -> leaf.
+LeafFactory = Callable[[TreeNode, Blackboard], Behaviour]
 
 
 class TreeBuildError(ValueError):
@@ -40,10 +43,12 @@ class TreeBuildError(ValueError):
 class TreeBuilder:
     """Builds the py_trees behaviours of one document for one run."""
 
-    def __init__(self, document: TreeDocument, context: TreeContext) -> None:
+    def __init__(self, document: TreeDocument, context: TreeContext,
+                 leaves: Mapping[str, LeafFactory] | None = None) -> None:
         self.document = document
         self.context = context
         self.catalog = context.engine.catalog
+        self.leaves = dict(leaves or {})
 
     def build(self, blackboard: Blackboard) -> Behaviour:
         return self.node(self.document.root, blackboard, (self.document.main,))
@@ -82,6 +87,8 @@ class TreeBuilder:
             return leaf
         if kind == "AskBehavior":
             return AskBehaviorLeaf(name, ports, self.context, board, model)
+        if kind in self.leaves and not model.children:
+            return self.leaves[kind](model, board)
         if kind in self.catalog and not model.children:
             return BehaviorLeaf(name, kind, ports, self.context, board, model)
         raise TreeBuildError(f"{model.where}: {kind} cannot be built here (verify the mission first)")
@@ -129,8 +136,9 @@ class TreeBuilder:
         return value
 
 
-def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackboard | None = None) -> Behaviour:
-    """The py_trees root of ``document``'s main tree for a run in ``context``.
+def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackboard | None = None,
+               leaves: Mapping[str, LeafFactory] | None = None) -> Behaviour:
+    """The py_trees root of ``document``'s main tree for a run in ``context`` (``leaves``: extra leaf types).
 
     A document with a ``build(context, blackboard)`` method builds itself (a TML mission: see ``trees.tml_compile``).
     """
@@ -138,7 +146,7 @@ def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackbo
     build = getattr(document, "build", None)
     if callable(build):
         return build(context, board)
-    return TreeBuilder(document, context).build(board)
+    return TreeBuilder(document, context, leaves).build(board)
 
 
 def describe(root: Behaviour) -> list[tuple[int, Behaviour]]:

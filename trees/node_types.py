@@ -49,7 +49,7 @@ def _leaf(name: str, ports: tuple[str, ...] = (), required: tuple[str, ...] = ()
 
 CONTROL_TYPES = {t.name: t for t in (
     _control("Sequence"), _control("ReactiveSequence"), _control("SequenceWithMemory"),
-    _control("Fallback"), _control("ReactiveFallback"),
+    _control("Fallback"), _control("ReactiveFallback"), _control("AsyncSequence"), _control("AsyncFallback"),
     _control("Parallel", ("success_count", "failure_count")),
     _control("IfThenElse", minimum=2, maximum=3), _control("WhileDoElse", minimum=2, maximum=3),
 )}
