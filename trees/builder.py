@@ -25,9 +25,10 @@ from aeroexec.trees.decorators import (
     Timeout,
 )
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import CONTROL_TYPES, PRECONDITIONS
+from aeroexec.trees.node_types import CONTROL_TYPES, POSTCONDITIONS, PRECONDITIONS
 from aeroexec.trees.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
 from aeroexec.trees.ports import parse_number
+from aeroexec.trees.script_nodes import Precondition, ScriptLeaf, SetBlackboard, Switch, UnsetBlackboard
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -56,12 +57,14 @@ class TreeBuilder:
     def node(self, model: TreeNode, board: Blackboard, stack: tuple[str, ...]) -> Behaviour:
         behaviour = self._make(model, board, stack)
         behaviour.source = model  # type: ignore[attr-defined]
-        conditions = {a: self.context.belief_check(model.ports[a], board, f"{model.where} {a}")
+        conditions = {a: self.context.condition(model.ports[a], board, f"{model.where} {a}")
                       for a in PRECONDITIONS if model.ports.get(a, "").strip()}
-        if not conditions:
+        actions = {a: self.context.action(model.ports[a], board, f"{model.where} {a}")
+                   for a in POSTCONDITIONS if model.ports.get(a, "").strip()}
+        if not conditions and not actions:
             return behaviour
         behaviour.hidden = True  # type: ignore[attr-defined]
-        wrapper = Preconditions(model.name, behaviour, conditions)
+        wrapper = Preconditions(model.name, behaviour, conditions, actions)
         wrapper.source = model  # type: ignore[attr-defined]
         return wrapper
 
@@ -70,6 +73,11 @@ class TreeBuilder:
         if kind == "SubTree":
             return self._subtree(model, board, stack)
         children = [self.node(child, board, stack) for child in model.children]
+        if kind.startswith("Switch") and kind in CONTROL_TYPES:
+            return Switch(name, children, ports, board)
+        if kind == "Precondition" and len(children) == 1:
+            return Precondition(name, children[0], ports.get("if", ""), ports.get("else", "FAILURE"), board,
+                                self.context)
         if kind in CONTROL_TYPES:
             typed = {k: self._integer(model, k) for k in ("success_count", "failure_count") if k in ports}
             return make_control(kind, name, children, typed)
@@ -77,6 +85,12 @@ class TreeBuilder:
             decorator = self._decorator(model, children)
             if decorator is not None:
                 return decorator
+        if kind in ("Script", "ScriptCondition"):
+            return ScriptLeaf(name, ports.get("code", ""), kind == "ScriptCondition", self.context, board, model)
+        if kind == "SetBlackboard":
+            return SetBlackboard(name, ports, self.context, board, model)
+        if kind == "UnsetBlackboard":
+            return UnsetBlackboard(name, ports.get("key", ""), self.context, board, model)
         if kind == "AlwaysSuccess":
             return Constant(name, Status.SUCCESS, self.context, board, model)
         if kind == "AlwaysFailure":

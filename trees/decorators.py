@@ -183,11 +183,27 @@ class Preconditions(Decorator):
 
     ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
-    def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]]) -> None:
+    def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]],
+                 actions: dict[str, Callable[[], None]] | None = None) -> None:
         super().__init__(name, child)
         self.conditions = conditions
+        self.actions = actions or {}
 
     def run(self) -> Ticking:
+        result = yield from self.checked()
+        if result in (Status.SUCCESS, Status.FAILURE):  # BT.CPP's post-conditions: _onSuccess/_onFailure, _post
+            action = self.actions.get("_onSuccess" if result == Status.SUCCESS else "_onFailure")
+            if action is not None:
+                action()
+            if "_post" in self.actions:
+                self.actions["_post"]()
+        return result
+
+    def halted(self) -> None:
+        if "_onHalted" in self.actions and self.status == Status.RUNNING:
+            self.actions["_onHalted"]()
+
+    def checked(self) -> Ticking:
         starting = self.status != Status.RUNNING
         for attribute in self.ORDER:
             check = self.conditions.get(attribute)

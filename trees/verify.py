@@ -23,13 +23,24 @@ from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import BUILT_IN, COMMON_ATTRIBUTES, LOOPING, PRECONDITIONS, bare_key, output_key
+from aeroexec.trees.node_types import (
+    BUILT_IN,
+    COMMON_ATTRIBUTES,
+    LOOPING,
+    POSTCONDITIONS,
+    PRECONDITIONS,
+    bare_key,
+    output_key,
+)
 from aeroexec.trees.ports import parse_number, port_errors, template_keys
+from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 
 Problem = MissionProblem
 _INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0}
-_BELIEF_PORTS = ("belief", *PRECONDITIONS)
+_SCRIPT_PORTS = ("code", "if", *POSTCONDITIONS)
+_SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
+BELIEF_LEAF_TYPES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
 
 
 @dataclass
@@ -100,10 +111,14 @@ class TreeVerifier:
         else:
             self.check_children(node, spec.min_children if spec else 0, spec.max_children if spec else 0,
                                 spec.children_text() if spec else "no children")
-        for attribute in _BELIEF_PORTS:
-            if attribute in node.ports and (attribute != "belief" or kind in ("Condition", "QueryBelief",
-                                                                              "AddBelief", "RemoveBelief")):
-                self.check_expression(node, attribute, node.ports[attribute])
+        for attribute in PRECONDITIONS:
+            if attribute in node.ports:
+                self.check_condition(node, attribute, node.ports[attribute])
+        if "belief" in node.ports and kind in BELIEF_LEAF_TYPES:
+            self.check_expression(node, "belief", node.ports["belief"])
+        for attribute in _SCRIPT_PORTS:
+            if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
+                self.check_script(node, attribute, node.ports[attribute])
         if spec is not None:
             self.check_built_in(node, spec)
         elif behavior is not None:
@@ -177,6 +192,19 @@ class TreeVerifier:
             BeliefMemory(predicates=self.vocabulary).check(_placeholders(text))
         except BeliefError as error:
             self.report(node, error.message, WRONG_FORMAT)
+
+    def check_condition(self, node: TreeNode, attribute: str, text: str) -> None:
+        """A pre-condition: a script, or else the belief expression aeroexec took there before."""
+        try:
+            compile_script(text)
+        except ScriptError:
+            self.check_expression(node, attribute, text)
+
+    def check_script(self, node: TreeNode, attribute: str, text: str) -> None:
+        try:
+            compile_script(text)
+        except ScriptError as error:
+            self.report(node, f"The {attribute} of node {node.type} is not a script: {error}")
 
     def request_problems(self, node: TreeNode, errors: list[SpecificationError]) -> None:
         for error in errors:

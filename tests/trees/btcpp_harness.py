@@ -45,6 +45,7 @@ from aeroexec.trees.builder import build_tree, describe, model_of
 from aeroexec.trees.control import result_of
 from aeroexec.trees.loaders.xml_loader import read_xml
 from aeroexec.trees.nodes import TreeContext
+from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -170,8 +171,7 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
             factory.register_simple_condition(kind, answer)
     board = bt.Blackboard.create()
     for key, value in (blackboard or {}).items():
-        {int: board.set_int, float: board.set_double, str: board.set_string, bool: board.set_bool}[type(value)](
-            key, value)
+        {int: board.set_int, float: board.set_double, str: board.set_string}[type(value)](key, value)
     tree = factory.create_tree_from_text(xml, board)
     path = folder / f"parity{next(_RUNS)}.btlog"
     logger = bt.FileLogger(tree, str(path))
@@ -286,7 +286,7 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
         run.roots.append(result if isinstance(result, str) else "IDLE" if result == Status.INVALID else result.value)
         run.halts.append(sorted(halts[before:]))
         clock.now += between
-    run.blackboard = dict(board.items())
+    run.blackboard = {key: text_of(value) for key, value in board.items()}
     return run
 
 
@@ -295,7 +295,9 @@ def compare(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path, b
     """Both runs; an AssertionError showing both tables when they differ."""
     theirs = run_btcpp(xml, scripts, ticks, folder, between, blackboard)
     ours = run_aeroexec(xml, scripts, ticks, between, blackboard)
-    if (theirs.roots, theirs.ticks, theirs.halts) != (ours.roots, ours.ticks, ours.halts):
+    if (theirs.roots, theirs.ticks, theirs.halts, theirs.blackboard) != (ours.roots, ours.ticks, ours.halts,
+                                                                         ours.blackboard):
         raise AssertionError(f"BehaviorTree.CPP and aeroexec differ on\n{xml}\nscripts {scripts}\n"
-                             f"BehaviorTree.CPP:\n{theirs.table()}\naeroexec:\n{ours.table()}")
+                             f"BehaviorTree.CPP:\n{theirs.table()}\nblackboard {theirs.blackboard}\n"
+                             f"aeroexec:\n{ours.table()}\nblackboard {ours.blackboard}")
     return theirs, ours

@@ -52,13 +52,49 @@ HAND_WRITTEN = {
     "AlwaysSuccess/AlwaysFailure": ("<Fallback><AlwaysFailure/><Sequence><AlwaysSuccess/><A/></Sequence></Fallback>",
                                     {"A": [R, F]}),
 }
+HAND_WRITTEN.update({
+    "Script": ('<Sequence><Script code="a := 1; b := a + 2.5; c := \'x\' .. b; d := true; e := 0x10"/><A/>'
+               '</Sequence>', {"A": [S]}),
+    "ScriptCondition": ('<Sequence><Script code="n := 0"/><Repeat num_cycles="6"><Sequence><Script code="n += 1"/>'
+                        '<Fallback><ScriptCondition code="n &lt; 3"/><A/></Fallback></Sequence></Repeat></Sequence>',
+                        {"A": [R, F]}),
+    "script operators": ('<Sequence><Script code="a := 7; b := 2; s := \'ab\'"/>'
+                         '<Script code="r1 := a / b; r2 := a - b * 3; r3 := -a; r4 := a &amp; 3; r5 := a | 8; '
+                         'r6 := a ^ 5; r7 := ~a; r8 := !0; r9 := a &gt; b &amp;&amp; b &gt; 0 || false"/>'
+                         '<Script code="c1 := 1 &lt; b &lt;= 2; c2 := a == 7.0; c3 := s == \'ab\'; '
+                         'c4 := s != \'x\'; t := a &gt; 5 ? \'big\' : \'small\'; u := s .. a; '
+                         'a -= 1; b *= 4; a /= 2; s += \'c\'"/>'
+                         '<ScriptCondition code="a == 3 &amp;&amp; b == 8"/><A/></Sequence>', {"A": [S]}),
+    "SetBlackboard/UnsetBlackboard": ('<Sequence><SetBlackboard output_key="k" value="hello"/>'
+                                      '<Script code="gone := 1"/><UnsetBlackboard key="gone"/>'
+                                      '<ScriptCondition code="k == \'hello\'"/><A/></Sequence>', {"A": [S]}),
+    "Switch2": ('<Sequence><Script code="c := c + 1; v := c &gt; 5 ? \'none\' : (c &gt; 2 ? \'b\' : \'a\')"/>'
+                '<Switch2 variable="{v}" case_1="a" case_2="b"><A/><B/><C/></Switch2></Sequence>',
+                {"A": [R, S], "B": [R, F], "C": [S]}),
+    "Switch3": ('<Switch3 variable="{mode}" case_1="land" case_2="hover" case_3="go"><A/><B/><C/><D/></Switch3>',
+                {"A": [S], "B": [R], "C": [S], "D": [F]}),
+    "Precondition": ('<Sequence><Script code="n := (n + 1) * 1"/>'
+                     '<Precondition if="n &gt;= 2 &amp;&amp; n != 4" else="SUCCESS"><A/></Precondition></Sequence>',
+                     {"A": [R, S]}),
+    "_skipIf/_successIf/_failureIf": ('<Sequence><Script code="n := n + 1"/><A _skipIf="n == 2"/>'
+                                      '<B _successIf="n == 3"/><C _failureIf="n &gt; 4"/></Sequence>',
+                                      {"A": [S], "B": [R, S], "C": [S]}),
+    "_while": ('<Sequence><Script code="n := n + 1"/><A _while="n &lt; 4"/></Sequence>', {"A": [R]}),
+    "_onSuccess/_onFailure/_post": ('<Sequence><A _onSuccess="ok := ok + 1" _onFailure="ko := ko + 1" '
+                                    '_post="all := all + 1"/><B/></Sequence>', {"A": [S, F, R, S], "B": [S]}),
+    "_onHalted": ('<ReactiveSequence><A/><B _onHalted="halts := halts + 1"/></ReactiveSequence>',
+                  {"A": [S, S, F], "B": [R]}),
+})
+BLACKBOARDS = {"Switch2": {"c": 0}, "Switch3": {"mode": "hover"}, "Precondition": {"n": 0},
+               "_skipIf/_successIf/_failureIf": {"n": 0}, "_while": {"n": 0},
+               "_onSuccess/_onFailure/_post": {"ok": 0, "ko": 0, "all": 0}, "_onHalted": {"halts": 0}}
 SUBTREES = {"SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></Fallback></BehaviorTree>']}
 
 
 @pytest.mark.parametrize("case", sorted(HAND_WRITTEN))
 def test_built_in_node_ticks_as_in_btcpp(case, tmp_path):
     body, scripts = HAND_WRITTEN[case]
-    compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path)
+    compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, blackboard=BLACKBOARDS.get(case))
 
 
 # -- generated trees ---------------------------------------------------------------------------------
