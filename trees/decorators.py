@@ -65,13 +65,16 @@ class Force(Decorator):
 class Loop(Decorator):
     """Repeat (``until`` FAILURE ends it, SUCCESS counts) and RetryUntilSuccessful (SUCCESS ends it, FAILURE counts)."""
 
-    def __init__(self, name: str, child: Behaviour, cycles: int, *, retry: bool) -> None:
+    def __init__(self, name: str, child: Behaviour, cycles: int | Callable[[], int], *, retry: bool) -> None:
         super().__init__(name, child)
-        self.cycles, self.retry = cycles, retry
+        self.count_of, self.retry = cycles, retry
+        self.cycles = cycles if isinstance(cycles, int) else 0
         self.count = 0
         self.counted = Status.FAILURE if retry else Status.SUCCESS
 
     def run(self) -> Ticking:
+        if not isinstance(self.count_of, int):  # a ``{key}`` port, read on every tick as BT.CPP does
+            self.cycles = self.count_of()
         while self.cycles < 0 or self.count < self.cycles:
             before = self.decorated.status
             result = yield from tick_child(self.decorated)

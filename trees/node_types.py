@@ -54,6 +54,7 @@ CONTROL_TYPES = {t.name: t for t in (
     _control("Fallback"), _control("ReactiveFallback"), _control("AsyncSequence"), _control("AsyncFallback"),
     _control("Parallel", ("success_count", "failure_count")),
     _control("IfThenElse", minimum=2, maximum=3), _control("WhileDoElse", minimum=2, maximum=3),
+    _control("ParallelAll", ("max_failures",)), _control("TryCatch", ("catch_on_halt",), minimum=2),
     *(_control(f"Switch{n}", ("variable", *(f"case_{i}" for i in range(1, n + 1))), n + 1, n + 1)
       for n in range(2, 7)),
 )}
@@ -66,6 +67,8 @@ DECORATOR_TYPES = {t.name: t for t in (
     _decorator("Delay", ("delay_msec",), ("delay_msec",)),
     _decorator("RunOnce", ("then_skip",)),
     _decorator("Precondition", ("if", "else"), ("if",)),
+    *(_decorator(f"Loop{t}", ("queue", "value", "if_empty"), ("queue",)) for t in ("Int", "Double", "String", "Bool")),
+    _decorator("SkipUnlessUpdated", ("entry",), ("entry",)), _decorator("WaitValueUpdate", ("entry",), ("entry",)),
 )}
 #: Leaves that are not catalog behaviors. AskBehavior also takes the behavior's arguments as ports.
 LEAF_TYPES = {t.name: t for t in (
@@ -73,6 +76,7 @@ LEAF_TYPES = {t.name: t for t in (
     _leaf("Script", ("code",), ("code",)), _leaf("ScriptCondition", ("code",), ("code",)),
     _leaf("SetBlackboard", ("output_key", "value"), ("output_key", "value")),
     _leaf("UnsetBlackboard", ("key",), ("key",)),
+    _leaf("Sleep", ("msec",), ("msec",)), _leaf("WasEntryUpdated", ("entry",), ("entry",)),
     _leaf("Condition", ("belief",), ("belief",)),
     _leaf("QueryBelief", ("belief",), ("belief",)),
     _leaf("AddBelief", ("belief", "multivalued"), ("belief",)),
@@ -84,7 +88,7 @@ BUILT_IN = {**CONTROL_TYPES, **DECORATOR_TYPES, **LEAF_TYPES}
 
 #: Control nodes and decorators that tick part of their subtree again and again.
 LOOPING = ("ReactiveSequence", "ReactiveFallback", "WhileDoElse", "Repeat", "RetryUntilSuccessful",
-           "KeepRunningUntilFailure")
+           "KeepRunningUntilFailure", "LoopInt", "LoopDouble", "LoopString", "LoopBool", "ParallelAll")
 
 
 def bare_key(text: str) -> str | None:

@@ -88,6 +88,8 @@ def _binary(op: str, left: Any, right: Any) -> Any:
 
 def _text(value: Any) -> str:
     """A value as text, a float as BT.CPP prints a double (``std::to_string``: six decimals)."""
+    if isinstance(value, bool):
+        return str(int(value))
     return f"{value:.6f}" if isinstance(value, float) else str(value)
 
 

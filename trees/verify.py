@@ -37,7 +37,7 @@ from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 
 Problem = MissionProblem
-_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0}
+_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": -100}
 _SCRIPT_PORTS = ("code", "if", *POSTCONDITIONS)
 _SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
 BELIEF_LEAF_TYPES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
@@ -162,6 +162,8 @@ class TreeVerifier:
 
     def check_integer(self, node: TreeNode, port: str, minimum: int) -> int | None:
         text = node.ports[port]
+        if bare_key(text) is not None:  # read from the blackboard in flight
+            return None
         value = parse_number(text)
         if not isinstance(value, int) or value < minimum:
             self.report(node, f"The value {text} of port {port} of node {node.type} is not correct (an integer "

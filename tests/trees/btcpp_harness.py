@@ -210,6 +210,11 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
     return run
 
 
+#: Decorators that answer without setting RUNNING when they do not tick their child.
+_ANSWER_WITHOUT_CHILD = ("RunOnce", "SkipUnlessUpdated", "WaitValueUpdate", "Precondition", "LoopInt", "LoopDouble",
+                         "LoopString", "LoopBool")
+
+
 def _is_leaf(node: Behaviour) -> bool:
     model = model_of(node)
     return model is not None and not model.children and model.type != "SubTree"
@@ -230,7 +235,9 @@ def _resets_children(node: Behaviour, status: Status, result: Any) -> bool:
                         "ReactiveSequence", "ReactiveFallback")
     if status == Status.RUNNING:
         return kind in ("Repeat", "RetryUntilSuccessful", "KeepRunningUntilFailure", "ReactiveSequence",
-                        "ReactiveFallback")
+                        "ReactiveFallback", "LoopInt", "LoopDouble", "LoopString", "LoopBool")
+    if kind in ("SkipUnlessUpdated", "WaitValueUpdate"):
+        return False
     if status == Status.FAILURE and kind == "IfThenElse" and len(node.children) == 2:
         return node.children[1].status != Status.INVALID  # the condition failed: BT.CPP leaves it as it is
     return status in (Status.SUCCESS, Status.FAILURE)
@@ -267,7 +274,8 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
         for ticked in root.tick():
             yielded.add(id(ticked))
             result = result_of(ticked)
-            remembered = type(ticked).__name__ == "RunOnce" and id(ticked.children[0]) not in yielded
+            remembered = (getattr(model_of(ticked), "type", "") in _ANSWER_WITHOUT_CHILD
+                          and id(ticked.children[0]) not in yielded)
             if not _is_leaf(ticked) and not remembered:
                 events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
             if result != "SKIPPED":  # BT.CPP keeps a skipped node's status

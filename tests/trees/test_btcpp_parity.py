@@ -12,7 +12,7 @@ import os
 import random
 
 import pytest
-from btcpp_harness import compare
+from btcpp_harness import compare, run_aeroexec
 from hypothesis import HealthCheck, assume, given, seed, settings
 from hypothesis import strategies as st
 
@@ -84,8 +84,33 @@ HAND_WRITTEN.update({
                                     '_post="all := all + 1"/><B/></Sequence>', {"A": [S, F, R, S], "B": [S]}),
     "_onHalted": ('<ReactiveSequence><A/><B _onHalted="halts := halts + 1"/></ReactiveSequence>',
                   {"A": [S, S, F], "B": [R]}),
+    "ParallelAll": ('<ParallelAll max_failures="2"><A/><B/><C/></ParallelAll>',
+                    {"A": [R, S], "B": [F, R], "C": [R, R, F]}),
+    "Sleep": ('<Sequence><A/><Sleep msec="100"/><B/></Sequence>', {"A": [S], "B": [R, S]}),
+    "LoopInt": ('<Sequence><LoopInt queue="1;2;3" value="{v}"><Sequence><Script code="sum := sum + v"/><A/>'
+                '</Sequence></LoopInt><B/></Sequence>', {"A": [S, R, S], "B": [S]}),
+    "LoopDouble": ('<LoopDouble queue="1.5;2.5" value="{v}" if_empty="FAILURE"><Sequence>'
+                   '<Script code="sum := sum + v"/><A/></Sequence></LoopDouble>', {"A": [S, F, S]}),
+    "LoopString": ('<LoopString queue="a;b;c" value="{v}"><Sequence><Script code="s := s .. v"/><A/></Sequence>'
+                   '</LoopString>', {"A": [S]}),
+    "LoopBool": ('<LoopBool queue="true;false;true" value="{v}"><Fallback><ScriptCondition code="v"/><A/>'
+                 '</Fallback></LoopBool>', {"A": [R, S]}),
+    "SkipUnlessUpdated": ('<Sequence><Script code="n := n + 1"/><Fallback>'
+                          '<ScriptCondition code="n == 1 || n == 3 || n == 5 || n == 7"/>'
+                          '<Script code="x := n"/></Fallback><SkipUnlessUpdated entry="x"><A/></SkipUnlessUpdated>'
+                          '</Sequence>', {"A": [R, S]}),
+    "WaitValueUpdate": ('<Sequence><Script code="n := n + 1"/><Fallback><ScriptCondition code="n &lt; 4"/>'
+                        '<Script code="x := n"/></Fallback><WaitValueUpdate entry="x"><A/></WaitValueUpdate>'
+                        '</Sequence>', {"A": [S]}),
+    "WasEntryUpdated": ('<Sequence><Script code="n := n + 1"/><Fallback><ScriptCondition code="n == 2 || n == 5"/>'
+                        '<Script code="x := n"/></Fallback><Fallback><WasEntryUpdated entry="x"/><A/></Fallback>'
+                        '</Sequence>', {"A": [S]}),
+    "Repeat num_cycles={n}": ('<Sequence><Script code="n := 2"/><Repeat num_cycles="{n}"><A/></Repeat></Sequence>',
+                              {"A": [S, R, S]}),
 })
-BLACKBOARDS = {"Switch2": {"c": 0}, "Switch3": {"mode": "hover"}, "Precondition": {"n": 0},
+BLACKBOARDS = {"LoopInt": {"sum": 0}, "LoopDouble": {"sum": 0.0}, "LoopString": {"s": ""},
+               "SkipUnlessUpdated": {"n": 0}, "WaitValueUpdate": {"n": 0}, "WasEntryUpdated": {"n": 0},
+               "Switch2": {"c": 0}, "Switch3": {"mode": "hover"}, "Precondition": {"n": 0},
                "_skipIf/_successIf/_failureIf": {"n": 0}, "_while": {"n": 0},
                "_onSuccess/_onFailure/_post": {"ok": 0, "ko": 0, "all": 0}, "_onHalted": {"halts": 0}}
 SUBTREES = {"SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></Fallback></BehaviorTree>']}
@@ -94,12 +119,36 @@ SUBTREES = {"SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></
 @pytest.mark.parametrize("case", sorted(HAND_WRITTEN))
 def test_built_in_node_ticks_as_in_btcpp(case, tmp_path):
     body, scripts = HAND_WRITTEN[case]
-    compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, blackboard=BLACKBOARDS.get(case))
+    between = 0.07 if case == "Sleep" else 0.0  # Sleep runs on wall time in BT.CPP, on the engine clock here
+    compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, between, BLACKBOARDS.get(case))
+
+
+def test_try_catch_ticks_as_btcpp_4_10_documents_it():
+    """TryCatch came with BT.CPP 4.10; behaviortreepy embeds 4.8.2, which lacks it. The expected ticks are read
+    off 4.10's try_catch_node.cpp: children 1..N-1 run as a Sequence; when one fails the try-block is reset and the
+    last child runs; when it completes the node fails, whatever the catch child answered."""
+    run = run_aeroexec(tree("<TryCatch><A/><B/><C/></TryCatch>"), {"A": [S], "B": [R, F], "C": [R, S]}, 5)
+    assert run.ticks == [[R, S, R, "-"],
+                         [R, "-", F, R],
+                         [F, "-", "-", S],
+                         [R, S, R, "-"],
+                         [R, "-", F, R]]
+    assert run.roots == [R, R, F, R, R]
+
+
+def test_try_catch_all_succeeding_succeeds_and_catch_on_halt_runs_the_catch_child():
+    run = run_aeroexec(tree("<TryCatch><A/><B/></TryCatch>"), {"A": [S], "B": [S]}, 2)
+    assert run.roots == [S, S] and run.ticks[0] == [S, S, "-"]
+    halting = run_aeroexec(tree('<ReactiveSequence><C/><TryCatch catch_on_halt="true"><A/>'
+                                '<Script code="caught := 1"/></TryCatch></ReactiveSequence>'),
+                           {"A": [R], "C": [S, F]}, 2)
+    assert halting.ticks[1][:4] == [F, F, "HALTED", "HALTED"]
+    assert halting.blackboard == {"caught": "1"}  # halted in its try-block: the catch child ran
 
 
 # -- generated trees ---------------------------------------------------------------------------------
 CONTROLS = ("Sequence", "SequenceWithMemory", "Fallback", "AsyncSequence", "AsyncFallback", "ReactiveSequence",
-            "ReactiveFallback", "Parallel",
+            "ReactiveFallback", "Parallel", "ParallelAll",
             "IfThenElse", "WhileDoElse")
 DECORATORS = ("Inverter", "ForceSuccess", "ForceFailure", "Repeat", "RetryUntilSuccessful",
               "KeepRunningUntilFailure", "RunOnce")
@@ -135,6 +184,8 @@ def node(draw, depth: int, leaves: list[list[str]], condition: bool = False) -> 
         success = draw(st.sampled_from([-1, *range(1, count + 1)]))
         failure = draw(st.integers(1, count))
         ports = f' success_count="{success}" failure_count="{failure}"'
+    if name == "ParallelAll":
+        ports = f' max_failures="{draw(st.integers(1, count))}"'
     return f"<{name}{ports}>{children}</{name}>"
 
 
