@@ -177,6 +177,7 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
     logger = bt.FileLogger(tree, str(path))
     run = Run()
     bounds: list[tuple[int, int]] = []
+    paced = time.monotonic()
     for _ in range(ticks):
         before = len(halts)
         start = time.time_ns() // 1000
@@ -186,8 +187,9 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
             pass
         bounds.append((start, end))
         run.halts.append(sorted(halts[before:]))
-        if between:
-            time.sleep(between)
+        if between:  # ticks ``between`` seconds apart, whatever a tick took
+            paced += between
+            time.sleep(max(0.0, paced - time.monotonic()))
     _drain(path)
     del logger
     gc.collect()

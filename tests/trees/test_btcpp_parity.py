@@ -86,7 +86,7 @@ HAND_WRITTEN.update({
                   {"A": [S, S, F], "B": [R]}),
     "ParallelAll": ('<ParallelAll max_failures="2"><A/><B/><C/></ParallelAll>',
                     {"A": [R, S], "B": [F, R], "C": [R, R, F]}),
-    "Sleep": ('<Sequence><A/><Sleep msec="100"/><B/></Sequence>', {"A": [S], "B": [R, S]}),
+    "Sleep": ('<Sequence><A/><Sleep msec="300"/><B/></Sequence>', {"A": [S], "B": [R, S]}),
     "LoopInt": ('<Sequence><LoopInt queue="1;2;3" value="{v}"><Sequence><Script code="sum := sum + v"/><A/>'
                 '</Sequence></LoopInt><B/></Sequence>', {"A": [S, R, S], "B": [S]}),
     "LoopDouble": ('<LoopDouble queue="1.5;2.5" value="{v}" if_empty="FAILURE"><Sequence>'
@@ -119,7 +119,7 @@ SUBTREES = {"SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></
 @pytest.mark.parametrize("case", sorted(HAND_WRITTEN))
 def test_built_in_node_ticks_as_in_btcpp(case, tmp_path):
     body, scripts = HAND_WRITTEN[case]
-    between = 0.07 if case == "Sleep" else 0.0  # Sleep runs on wall time in BT.CPP, on the engine clock here
+    between = 0.2 if case == "Sleep" else 0.0  # Sleep runs on wall time in BT.CPP, on the engine clock here
     compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, between, BLACKBOARDS.get(case))
 
 
