@@ -185,6 +185,8 @@ class Script:
             raise ScriptError(f"Empty Script [{text}]")
         self.statements = [_compile(s) for s in statements]
         self.portable = "belief" not in {t.data for t in tree.iter_subtrees()}
+        #: the blackboard keys the script assigns
+        self.writes = [str(t.children[0]) for t in tree.iter_subtrees() if t.data == "assignment"]
 
     def run(self, blackboard: MutableMapping[str, Any], beliefs: Callable[[str], bool] | None = None) -> Any:
         try:

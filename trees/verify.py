@@ -13,6 +13,7 @@ some node writes the key earlier in tick order, or anywhere inside a loop or Par
 
 from __future__ import annotations
 
+import contextlib
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -250,6 +251,7 @@ class TreeVerifier:
                 target = node.ports.get("ID", "").strip()
                 if target in self.document.trees and target not in stack:
                     inner = self._subtree_scope(node, scope)
+                    writes.extend((here, inner.resolve(port)) for port in inner.literals)
                     walk(self.document.trees[target], inner, span, (*stack, target))
             for child in node.children:
                 walk(child, scope, span, stack)
@@ -292,6 +294,19 @@ class TreeVerifier:
 
     @staticmethod
     def _writes(node: TreeNode) -> list[str]:
+        keys: list[str] = []
+        for port in ("code", *PRECONDITIONS, *POSTCONDITIONS):
+            if port in node.ports:
+                with contextlib.suppress(ScriptError):  # reported by check_script
+                    keys += compile_script(node.ports[port]).writes
+        if node.type == "SetBlackboard":
+            keys.append(output_key(node.ports.get("output_key", "")))
+        if node.type in ("LoopInt", "LoopDouble", "LoopString", "LoopBool") and node.ports.get("value"):
+            keys.append(output_key(node.ports["value"]))
+        return keys + TreeVerifier._leaf_writes(node)
+
+    @staticmethod
+    def _leaf_writes(node: TreeNode) -> list[str]:
         if node.type == "QueryBelief":
             return [v.lstrip("?") for v in re.findall(r"\?[A-Za-z_][A-Za-z0-9_]*", node.ports.get("belief", ""))]
         if node.type == "AskBehavior" and node.ports.get("result", "").strip():

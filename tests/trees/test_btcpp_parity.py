@@ -113,7 +113,19 @@ BLACKBOARDS = {"LoopInt": {"sum": 0}, "LoopDouble": {"sum": 0.0}, "LoopString": 
                "Switch2": {"c": 0}, "Switch3": {"mode": "hover"}, "Precondition": {"n": 0},
                "_skipIf/_successIf/_failureIf": {"n": 0}, "_while": {"n": 0},
                "_onSuccess/_onFailure/_post": {"ok": 0, "ko": 0, "all": 0}, "_onHalted": {"halts": 0}}
-SUBTREES = {"SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></Fallback></BehaviorTree>']}
+HAND_WRITTEN.update({
+    "SubTree literal port": ('<Sequence><SubTree ID="Leg" target="3"/><SubTree ID="Leg" target="4"/></Sequence>',
+                             {"A": [S], "B": [R, S]}),
+    "SubTree port default from TreeNodesModel": ('<Sequence><SubTree ID="Leg"/><SubTree ID="Leg" target="4"/>'
+                                                 '</Sequence>', {"A": [S], "B": [R, S]}),
+})
+LEG = ('<BehaviorTree ID="Leg"><Fallback><Sequence><ScriptCondition code="target == 3"/><A/></Sequence><B/>'
+       '</Fallback></BehaviorTree>')
+SUBTREES = {"SubTree literal port": [LEG],
+            "SubTree port default from TreeNodesModel": [LEG, '<TreeNodesModel><SubTree ID="Leg">'
+                                                              '<input_port name="target" default="3"/></SubTree>'
+                                                              '</TreeNodesModel>'],
+            "SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></Fallback></BehaviorTree>']}
 
 
 @pytest.mark.parametrize("case", sorted(HAND_WRITTEN))
@@ -144,6 +156,11 @@ def test_try_catch_all_succeeding_succeeds_and_catch_on_halt_runs_the_catch_chil
                            {"A": [R], "C": [S, F]}, 2)
     assert halting.ticks[1][:4] == [F, F, "HALTED", "HALTED"]
     assert halting.blackboard == {"caught": "1"}  # halted in its try-block: the catch child ran
+
+
+def test_a_single_behavior_tree_without_id_runs_as_in_btcpp(tmp_path):
+    xml = '<root BTCPP_format="4"><BehaviorTree><Sequence><A/><B/></Sequence></BehaviorTree></root>'
+    compare(xml, {"A": [S, F], "B": [R, S]}, 6, tmp_path)
 
 
 # -- generated trees ---------------------------------------------------------------------------------
