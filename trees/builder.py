@@ -34,7 +34,7 @@ from aeroexec.trees.v4_nodes import Loop as V4Loop
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
-BELIEF_LEAVES = ("Condition", "QueryBelief", "AddBelief", "RemoveBelief")
+BELIEF_LEAVES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
 #: A leaf type registered by the caller, as BehaviorTree.CPP's factory registers nodes: model node, blackboard -> leaf.
 LeafFactory = Callable[[TreeNode, Blackboard], Behaviour]
 

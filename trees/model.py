@@ -26,6 +26,7 @@ class TreeNode:
     children: list[TreeNode] = field(default_factory=list)
     file: str = ""
     line: int = 0
+    tag: str = ""  # the XML element as written (``Condition``, ``Action``...), for portability checks
 
     def __post_init__(self) -> None:
         if not self.name:

@@ -77,7 +77,7 @@ LEAF_TYPES = {t.name: t for t in (
     _leaf("SetBlackboard", ("output_key", "value"), ("output_key", "value")),
     _leaf("UnsetBlackboard", ("key",), ("key",)),
     _leaf("Sleep", ("msec",), ("msec",)), _leaf("WasEntryUpdated", ("entry",), ("entry",)),
-    _leaf("Condition", ("belief",), ("belief",)),
+    _leaf("Condition", ("belief",), ("belief",)), _leaf("CheckBelief", ("belief",), ("belief",)),
     _leaf("QueryBelief", ("belief",), ("belief",)),
     _leaf("AddBelief", ("belief", "multivalued"), ("belief",)),
     _leaf("RemoveBelief", ("belief",), ("belief",)),

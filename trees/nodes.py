@@ -215,7 +215,7 @@ class BeliefLeaf(Leaf):
         memory = self.context.engine.memory
         try:
             text = substitute(self.belief, self.blackboard, as_term=True)
-            if self.kind == "Condition":
+            if self.kind in ("Condition", "CheckBelief"):
                 return Status.SUCCESS if memory.holds(text) else Status.FAILURE
             if self.kind == "QueryBelief":
                 found = memory.query(text)

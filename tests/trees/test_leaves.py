@@ -161,3 +161,14 @@ def test_an_aerostack_flat_yaml_mission_verifies_and_runs(engine):
     mission = TreeMission(document, engine)
     assert mission.run(300.0) == Status.SUCCESS
     assert [e.behavior for e in engine.log.events(kind="GOAL_ACHIEVED")][-1] == "LAND"
+
+
+def test_check_belief_and_scripts_consult_the_belief_memory(engine):
+    engine.memory.add("code(box, 7)")
+    mission = run(engine, N("Sequence", N("CheckBelief", belief="code(box, 7)"),
+                            N("ScriptCondition", code='belief("code(box, ?C), ?C > 5") && !belief("code(box, 1)")'),
+                            N("TAKE_OFF", _skipIf='belief("code(box, 7)")', _onSuccess="took := 1"),
+                            N("Script", code="done := true")))
+    assert mission.status == Status.SUCCESS
+    assert mission.blackboard["done"] == 1 and "took" not in mission.blackboard
+    assert not engine.log.events(kind="activated", behavior="TAKE_OFF")  # skipped: the belief holds

@@ -236,8 +236,12 @@ class _XmlReader:
             if not ports.get("ID", "").strip():
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
             name = name or ports.get("ID", "")
+        if node_type == "Condition" and element.tag == "Condition":
+            logger.warning("%s:%d: <Condition belief=...> is aeroexec's old spelling, refused by BehaviorTree.CPP and "
+                           "Groot2: write <CheckBelief belief=\"...\"/>", file, element.line)
         children = [self.node(child, file) for child in element.children]
-        return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line)
+        return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line,
+                        element.tag)
 
 
 def _apply_subtree_models(reader: _XmlReader) -> None:
