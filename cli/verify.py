@@ -7,12 +7,15 @@ from pathlib import Path
 
 from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.cli.mission_files import MissionFileError, check_mission
+from aeroexec.trees.portability import portability_problems
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
                         help="Python missions (.py) or behavior trees (.xml, .yaml, .yml)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    parser.add_argument("--strict-btcpp", action="store_true",
+                        help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -25,6 +28,8 @@ def run(args: argparse.Namespace) -> int:
             print(error)
             failed = True
             continue
+        if args.strict_btcpp and checked.tree is not None:
+            checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:
             print(problem)
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
