@@ -96,13 +96,23 @@ def _text(value: Any) -> str:
 text_of = _text
 
 
+def _scope(board: MutableMapping[str, Any], name: str) -> tuple[MutableMapping[str, Any], str]:
+    """``@key`` is the key of the root blackboard (the main tree's), as in BT.CPP."""
+    if not name.startswith("@"):
+        return board, name
+    while getattr(board, "parent", None) is not None:
+        board = board.parent  # type: ignore[attr-defined]
+    return board, name[1:]
+
+
 def _compile(node: Tree | Token) -> Evaluator:
     kind = node.data if isinstance(node, Tree) else ""
     kids = node.children if isinstance(node, Tree) else []
     if kind == "assignment":
-        name, op, value = str(kids[0]), str(kids[1]), _compile(kids[2])
+        written, op, value = str(kids[0]), str(kids[1]), _compile(kids[2])
 
         def assign(board, beliefs):
+            board, name = _scope(board, written)
             if op != ":=" and name not in board:
                 raise ScriptError(f"The blackboard entry [{name}] doesn't exist, yet. If you want to create a new "
                                   "one, use the operator [:=] instead of [=]")
@@ -148,9 +158,10 @@ def _compile(node: Tree | Token) -> Evaluator:
 
         return unary
     if kind == "name":
-        name = str(kids[0])
+        named = str(kids[0])
 
         def read(board, beliefs):
+            board, name = _scope(board, named)
             if name not in board:
                 raise ScriptError(f"Variable not found: {name}")
             return board[name]

@@ -119,9 +119,13 @@ HAND_WRITTEN.update({
     "SubTree port default from TreeNodesModel": ('<Sequence><SubTree ID="Leg"/><SubTree ID="Leg" target="4"/>'
                                                  '</Sequence>', {"A": [S], "B": [R, S]}),
 })
+HAND_WRITTEN["@key: the root blackboard"] = ('<Sequence><SubTree ID="Deep"/><ScriptCondition code="g == 5"/><A/>'
+                                             '</Sequence>', {"A": [S]})
+SUBTREE_DEEP = '<BehaviorTree ID="Deep"><Script code="@g := @start + 4; local := 1"/></BehaviorTree>'
+BLACKBOARDS["@key: the root blackboard"] = {"start": 1}
 LEG = ('<BehaviorTree ID="Leg"><Fallback><Sequence><ScriptCondition code="target == 3"/><A/></Sequence><B/>'
        '</Fallback></BehaviorTree>')
-SUBTREES = {"SubTree literal port": [LEG],
+SUBTREES = {"SubTree literal port": [LEG], "@key: the root blackboard": [SUBTREE_DEEP],
             "SubTree port default from TreeNodesModel": [LEG, '<TreeNodesModel><SubTree ID="Leg">'
                                                               '<input_port name="target" default="3"/></SubTree>'
                                                               '</TreeNodesModel>'],
