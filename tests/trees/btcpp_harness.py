@@ -178,15 +178,16 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
     run = Run()
     bounds: list[tuple[int, int]] = []
     paced = time.monotonic()
+    before = 0
     for _ in range(ticks):
-        before = len(halts)
         start = time.time_ns() // 1000
         run.roots.append(NAMES[int(tree.tick_exactly_once())])
         end = time.time_ns() // 1000
         while time.time_ns() // 1000 <= end + _GAP:  # ticks far enough apart for microsecond stamps
             pass
         bounds.append((start, end))
-        run.halts.append(sorted(halts[before:]))
+        run.halts.append(sorted(halts[before:]))  # a timer's halt between two ticks counts for the next one
+        before = len(halts)
         if between:  # ticks ``between`` seconds apart, whatever a tick took
             paced += between
             time.sleep(max(0.0, paced - time.monotonic()))
@@ -234,7 +235,8 @@ def _resets_children(node: Behaviour, status: Status, result: Any) -> bool:
     kind = getattr(model_of(node), "type", "")
     if result == "SKIPPED":
         return kind in ("Sequence", "Fallback", "SequenceWithMemory", "AsyncSequence", "AsyncFallback",
-                        "ReactiveSequence", "ReactiveFallback")
+                        "ReactiveSequence", "ReactiveFallback", "IfThenElse", "WhileDoElse", "Repeat",
+                        "RetryUntilSuccessful")
     if status == Status.RUNNING:
         return kind in ("Repeat", "RetryUntilSuccessful", "KeepRunningUntilFailure", "ReactiveSequence",
                         "ReactiveFallback", "LoopInt", "LoopDouble", "LoopString", "LoopBool")

@@ -87,6 +87,8 @@ HAND_WRITTEN.update({
     "ParallelAll": ('<ParallelAll max_failures="2"><A/><B/><C/></ParallelAll>',
                     {"A": [R, S], "B": [F, R], "C": [R, R, F]}),
     "Sleep": ('<Sequence><A/><Sleep msec="300"/><B/></Sequence>', {"A": [S], "B": [R, S]}),
+    "Timeout": ('<Fallback><Timeout msec="300"><A/></Timeout><B/></Fallback>', {"A": [R, R, R, S], "B": [S]}),
+    "Delay": ('<Sequence><Delay delay_msec="300"><A/></Delay><B/></Sequence>', {"A": [S, R], "B": [S]}),
     "LoopInt": ('<Sequence><LoopInt queue="1;2;3" value="{v}"><Sequence><Script code="sum := sum + v"/><A/>'
                 '</Sequence></LoopInt><B/></Sequence>', {"A": [S, R, S], "B": [S]}),
     "LoopDouble": ('<LoopDouble queue="1.5;2.5" value="{v}" if_empty="FAILURE"><Sequence>'
@@ -135,7 +137,8 @@ SUBTREES = {"SubTree literal port": [LEG], "@key: the root blackboard": [SUBTREE
 @pytest.mark.parametrize("case", sorted(HAND_WRITTEN))
 def test_built_in_node_ticks_as_in_btcpp(case, tmp_path):
     body, scripts = HAND_WRITTEN[case]
-    between = 0.2 if case == "Sleep" else 0.0  # Sleep runs on wall time in BT.CPP, on the engine clock here
+    # time runs on the wall clock in BT.CPP, on the engine clock here: ticks 0.2 s apart, timers of 0.3 s
+    between = 0.2 if case in ("Sleep", "Timeout", "Delay") else 0.0
     compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, between, BLACKBOARDS.get(case))
 
 
@@ -176,15 +179,24 @@ DECORATORS = ("Inverter", "ForceSuccess", "ForceFailure", "Repeat", "RetryUntilS
 scripts_of = st.lists(st.sampled_from((S, F, R)), min_size=1, max_size=4)
 
 
+ATTRIBUTES = st.sampled_from(('_skipIf="t == {n}"', '_successIf="t == {n}"', '_failureIf="t == {n}"',
+                               '_while="t != {n}"', '_onSuccess="ok := ok + {n}"', '_onFailure="ko := ko + {n}"',
+                               '_post="all := all + 1"', '_onHalted="halts := halts + 1"'))
+
+
 @st.composite
-def node(draw, depth: int, leaves: list[list[str]], condition: bool = False) -> str:
-    """A node; ``condition``: the first child of IfThenElse/WhileDoElse (as a leaf, never RUNNING)."""
+def node(draw, depth: int, leaves: list[list[str]], condition: bool = False, scripted: bool = False) -> str:
+    """A node; ``condition``: the first child of IfThenElse/WhileDoElse (as a leaf, never RUNNING); ``scripted``:
+    leaves may carry pre- and post-conditions on the tick counter ``t``."""
     kind = draw(st.sampled_from(("leaf",) * 3 + ("control",) * 2 + ("decorator",))) if depth < 6 else "leaf"
     if condition:
         kind = "leaf"  # BT.CPP's IfThenElse throws on a SKIPPED condition
     if kind == "leaf":
         leaves.append(draw(st.lists(st.sampled_from((S, F)), min_size=1, max_size=4) if condition else scripts_of))
-        return f"<L{len(leaves)}/>"
+        extra = ""
+        if scripted and not condition and draw(st.booleans()):
+            extra = " " + draw(ATTRIBUTES).format(n=draw(st.integers(1, 6)))
+        return f"<L{len(leaves)}{extra}/>"
     if kind == "decorator":
         name = draw(st.sampled_from(DECORATORS))
         ports = ""
@@ -194,12 +206,12 @@ def node(draw, depth: int, leaves: list[list[str]], condition: bool = False) -> 
             ports = f' num_attempts="{draw(st.integers(1, 3))}"'
         elif name == "RunOnce":
             ports = f' then_skip="{draw(st.sampled_from(("true", "false")))}"'
-        return f"<{name}{ports}>{draw(node(depth + 1, leaves))}</{name}>"
+        return f"<{name}{ports}>{draw(node(depth + 1, leaves, scripted=scripted))}</{name}>"
     name = draw(st.sampled_from(CONTROLS))
     low, high = (2, 3) if name in ("IfThenElse", "WhileDoElse") else (1, 4)
     count = draw(st.integers(low, high))
     conditional = name in ("IfThenElse", "WhileDoElse")
-    children = "".join(draw(node(depth + 1, leaves, conditional and i == 0)) for i in range(count))
+    children = "".join(draw(node(depth + 1, leaves, conditional and i == 0, scripted)) for i in range(count))
     ports = ""
     if name == "Parallel":
         success = draw(st.sampled_from([-1, *range(1, count + 1)]))
@@ -215,6 +227,30 @@ def generated(draw) -> tuple[str, dict[str, list[str]]]:
     leaves: list[list[str]] = []
     body = draw(node(1, leaves))
     return tree(body), {f"L{i}": script for i, script in enumerate(leaves, 1)}
+
+
+@st.composite
+def generated_with_conditions(draw) -> tuple[str, dict[str, list[str]]]:
+    """Trees whose leaves carry scripted pre- and post-conditions, a Script counting the ticks in front."""
+    leaves: list[list[str]] = []
+    body = draw(node(1, leaves, scripted=True))
+    return (tree(f'<Sequence><Script code="t := t + 1"/>{body}</Sequence>'),
+            {f"L{i}": script for i, script in enumerate(leaves, 1)})
+
+
+@seed(SEED)
+@settings(max_examples=100, deadline=None, database=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(generated_with_conditions())
+def test_generated_trees_with_pre_and_post_conditions_tick_as_in_btcpp(tmp_path, case):
+    xml, scripts = case
+    try:
+        compare(xml, scripts, 8, tmp_path, blackboard={"t": 0, "ok": 0, "ko": 0, "all": 0, "halts": 0})
+    except RuntimeError as error:
+        assume("more than one async child" not in str(error))
+        raise
+    except AssertionError as error:
+        raise AssertionError(f"{error}\n(replay with PARITY_SEED={SEED})") from None
 
 
 @seed(SEED)
