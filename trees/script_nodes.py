@@ -74,7 +74,12 @@ class Precondition(Decorator):
 
     def run(self) -> Ticking:
         if not self.running:
-            self.running = self.script.holds(self.board, self.context.belief_holds)
+            try:
+                self.running = self.script.holds(self.board, self.context.belief_holds)
+            except ScriptError as error:
+                where = getattr(getattr(self, "source", None), "where", self.name)
+                self.context.record("tree_error", f"{where}: {error}", node=self.name)
+                return Status.FAILURE
         if not self.running:
             return self.otherwise
         result = yield from tick_child(self.decorated)

@@ -38,7 +38,10 @@ from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 
 Problem = MissionProblem
-_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": -100}
+_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": None}
+_FROM_BLACKBOARD = ("num_cycles", "num_attempts")  # integer ports that may read {key} in flight
+_OUTPUTS = {("AskBehavior", "result"), ("SetBlackboard", "output_key")}  # ports that write, never read
+_STATUS_PORTS = {"else": ("SUCCESS", "FAILURE", "SKIPPED", "RUNNING"), "if_empty": ("SUCCESS", "FAILURE", "SKIPPED")}
 _SCRIPT_PORTS = ("code", "if", *POSTCONDITIONS)
 _SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
 BELIEF_LEAF_TYPES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
@@ -146,6 +149,10 @@ class TreeVerifier:
                 self.check_integer(node, port, minimum)
         if kind == "Parallel":
             self.check_parallel(node)
+        for port, allowed in _STATUS_PORTS.items():
+            if port in spec.ports and node.ports.get(port, "").strip() not in ("", *allowed):
+                self.report(node, f"The value {node.ports[port]} of port {port} of node {kind} is not correct "
+                                  f"({', '.join(allowed)} is expected)", WRONG_VALUE)
         if kind == "RunOnce" and node.ports.get("then_skip", "true").strip().lower() not in ("true", "false"):
             self.report(node, f"The value {node.ports['then_skip']} of port then_skip of node RunOnce is not "
                               f"correct (true or false is expected)", WRONG_VALUE)
@@ -161,15 +168,15 @@ class TreeVerifier:
     def _ask_arguments(self, node: TreeNode) -> list[str]:
         return [p for p in node.ports if p not in ("behavior", "result")]
 
-    def check_integer(self, node: TreeNode, port: str, minimum: int) -> int | None:
+    def check_integer(self, node: TreeNode, port: str, minimum: int | None) -> int | None:
         text = node.ports[port]
-        if bare_key(text) is not None:  # read from the blackboard in flight
+        if bare_key(text) is not None and port in _FROM_BLACKBOARD:  # read from the blackboard in flight
             return None
         value = parse_number(text)
-        if not isinstance(value, int) or value < minimum:
+        if not isinstance(value, int) or (minimum is not None and value < minimum):
+            expected = ("" if minimum is None else f"of at least {minimum} " if minimum >= 0 else "(-1: forever) ")
             self.report(node, f"The value {text} of port {port} of node {node.type} is not correct (an integer "
-                              f"{'of at least ' + str(minimum) if minimum >= 0 else '(-1: forever)'} is expected)",
-                        WRONG_VALUE)
+                              f"{expected}is expected)", WRONG_VALUE)
             return None
         return value
 
@@ -287,7 +294,7 @@ class TreeVerifier:
         for port, text in node.ports.items():
             if node.type == "SubTree" and port not in PRECONDITIONS:
                 continue
-            if node.type == "AskBehavior" and port == "result":
+            if (node.type, port) in _OUTPUTS or (node.type.startswith("Loop") and port == "value"):
                 continue
             keys += template_keys(text)
         return keys

@@ -191,3 +191,22 @@ def test_scripts_are_checked_and_a_repeat_count_may_come_from_the_blackboard():
         <ScriptCondition code="n == 2" _skipIf="n &gt; 3"/></Sequence></BehaviorTree></root>"""
     problems = verify_document(read_mission_tree(text, "s.xml"))
     assert [p.message.split(":")[0] for p in problems] == ["The _onSuccess of node AlwaysSuccess is not a script"]
+
+
+def test_status_and_integer_ports_of_the_v4_nodes_are_checked():
+    text = """<root BTCPP_format="4"><BehaviorTree><Sequence>
+      <Precondition if="true" else="MAYBE"><AlwaysSuccess/></Precondition>
+      <LoopInt queue="1;2" value="{v}" if_empty="RUNNING"><AlwaysSuccess/></LoopInt>
+      <Sleep msec="{t}"/>
+      <ParallelAll max_failures="x"><AlwaysSuccess/></ParallelAll>
+    </Sequence></BehaviorTree></root>"""
+    messages = [(p.line, p.message) for p in verify_document(read_mission_tree(text, "v.xml"))]
+    assert messages == [
+        (2, "The value MAYBE of port else of node Precondition is not correct (SUCCESS, FAILURE, SKIPPED, RUNNING "
+            "is expected)"),
+        (3, "The value RUNNING of port if_empty of node LoopInt is not correct (SUCCESS, FAILURE, SKIPPED is "
+            "expected)"),
+        (4, "The value {t} of port msec of node Sleep is not correct (an integer of at least 0 is expected)"),
+        (4, "The blackboard key t is read before any node writes it"),
+        (5, "The value x of port max_failures of node ParallelAll is not correct (an integer is expected)"),
+    ]
