@@ -64,7 +64,8 @@ class UnsetBlackboard(Leaf):
 
 
 class Precondition(Decorator):
-    """Ticks its child while the ``if`` script holds at its start; otherwise answers ``else`` (FAILURE)."""
+    """Ticks its child once the ``if`` script holds, until the child completes; otherwise answers ``else``
+    (FAILURE)."""
 
     def __init__(self, name: str, child: Behaviour, code: str, otherwise: str, board: Any, context: Any):
         super().__init__(name, child)
@@ -83,12 +84,9 @@ class Precondition(Decorator):
         if not self.running:
             return self.otherwise
         result = yield from tick_child(self.decorated)
-        if result != Status.RUNNING:
+        if result in (Status.SUCCESS, Status.FAILURE):  # as BT.CPP: a skipped child, or a halt, keeps it open
             self.running = False
         return result
-
-    def halted(self) -> None:
-        self.running = False
 
 
 class Switch(Control):

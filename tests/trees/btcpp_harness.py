@@ -21,8 +21,8 @@ to IDLE when their parent completes (and the root after every completed tick), w
 for display until the node starts again; a reset of a completed node is no observation of its own.
 BT.CPP keeps a skipped node IDLE and tells only its parent, so SKIPPED shows as ``-``
 (the parent's status carries it). BT.CPP's transitions are read from its FileLogger2 (``.btlog``): records
-carry system-clock microseconds, and each tick's records are those stamped between the instants taken just
-before and just after ``tick_exactly_once``.
+carry system-clock microseconds, ticks are kept 20 us apart, and each tick's records are those stamped up to
+just after ``tick_exactly_once`` returned (a timer's halt between two ticks belongs to the next one).
 """
 
 from __future__ import annotations
@@ -129,6 +129,27 @@ def _observe(previous: str, statuses: list[str]) -> tuple[str, str]:
     return seen, status
 
 
+def _apply(state: dict[int, str], seen: dict[int, str], key: int, new: str, children_of: dict[int, list[int]]) -> None:
+    """One status set on our side, as ``_observe`` reads BT.CPP's; a RESET that halts a node whose SKIPPED left it
+    RUNNING resets its children too, as BT.CPP's halt does."""
+    status = state[key]
+    if new in ("RESET", "CLEAR"):
+        if status != "RUNNING" or new == "CLEAR":
+            state[key] = "IDLE" if status != "RUNNING" else status
+            return
+        seen[key], state[key] = "HALTED", "IDLE"
+        for child in children_of[key]:
+            _apply(state, seen, child, "RESET", children_of)
+        return
+    if new == status:
+        return
+    if new != "IDLE":
+        seen[key] = new
+    elif status == "RUNNING":
+        seen[key] = "HALTED"
+    state[key] = new
+
+
 def _drain(path: Path) -> None:
     """Wait until the logger's writer thread (which wakes on every record) has written what it was given."""
     size, steady = -1, 0
@@ -214,8 +235,10 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
 
 
 #: Decorators that answer without setting RUNNING when they do not tick their child.
-_ANSWER_WITHOUT_CHILD = ("RunOnce", "SkipUnlessUpdated", "WaitValueUpdate", "Precondition", "LoopInt", "LoopDouble",
+_ANSWER_WITHOUT_CHILD = ("RunOnce", "SkipUnlessUpdated", "WaitValueUpdate", "LoopInt", "LoopDouble",
                          "LoopString", "LoopBool")
+#: Nodes that never set RUNNING on entering a tick (only their result is set).
+_NO_RUNNING_ON_ENTRY = ("Precondition", "Switch2", "Switch3", "Switch4", "Switch5", "Switch6")
 
 
 def _is_leaf(node: Behaviour) -> bool:
@@ -261,6 +284,7 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
     nodes = [node for _, node in describe(root)]
     events: list[tuple[int, str]] = []
     positions = {id(node) for node in nodes}
+    children_of = {id(node): [id(child) for child in _visible_children(node)] for node in nodes}
     for node in root.iterate():  # every halt (resets of completed nodes: see _resets_children)
         def stop(new_status: Status, node: Behaviour = node, original: Any = node.stop) -> None:
             if new_status == Status.INVALID and node.status == Status.RUNNING:
@@ -278,20 +302,24 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
         for ticked in root.tick():
             yielded.add(id(ticked))
             result = result_of(ticked)
-            remembered = (getattr(model_of(ticked), "type", "") in _ANSWER_WITHOUT_CHILD
-                          and id(ticked.children[0]) not in yielded)
+            kind = getattr(model_of(ticked), "type", "")
+            remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD
+                                                          and id(ticked.children[0]) not in yielded)
             if not _is_leaf(ticked) and not remembered:
                 events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
             if result != "SKIPPED":  # BT.CPP keeps a skipped node's status
                 events.append((id(ticked), "IDLE" if result == Status.INVALID else result.value))
             if id(ticked) in positions and _resets_children(ticked, ticked.status, result):
                 reset = "CLEAR" if ticked.status == Status.RUNNING else "RESET"
-                events.extend((id(child), reset) for child in _visible_children(ticked))
-        row = []
-        for node in nodes:
-            seen, state[id(node)] = _observe(state[id(node)], [s for n, s in events if n == id(node)])
-            row.append(seen)
-        run.ticks.append(row)
+                children = _visible_children(ticked)
+                if kind == "SequenceWithMemory" and ticked.status == Status.FAILURE:
+                    children = children[ticked.index:]  # BT.CPP halts from the failed child on only
+                events.extend((id(child), reset) for child in children)
+        seen = {key: "RUNNING" if status == "RUNNING" else "-" for key, status in state.items()}
+        for key, new in events:
+            if key in state:
+                _apply(state, seen, key, new, children_of)
+        run.ticks.append([seen[id(node)] for node in nodes])
         if root.status in (Status.SUCCESS, Status.FAILURE):
             state[id(root)] = "IDLE"  # BT.CPP's tickRoot resets a root that completed
         result = result_of(root)

@@ -198,8 +198,11 @@ def node(draw, depth: int, leaves: list[list[str]], condition: bool = False, scr
             extra = " " + draw(ATTRIBUTES).format(n=draw(st.integers(1, 6)))
         return f"<L{len(leaves)}{extra}/>"
     if kind == "decorator":
-        name = draw(st.sampled_from(DECORATORS))
+        name = draw(st.sampled_from(DECORATORS + (("Precondition",) if scripted else ())))
         ports = ""
+        if name == "Precondition":
+            ports = (f' if="t != {draw(st.integers(1, 6))}" '
+                     f'else="{draw(st.sampled_from(("SUCCESS", "FAILURE", "SKIPPED")))}"')
         if name == "Repeat":
             ports = f' num_cycles="{draw(st.integers(1, 3))}"'
         elif name == "RetryUntilSuccessful":
@@ -207,7 +210,12 @@ def node(draw, depth: int, leaves: list[list[str]], condition: bool = False, scr
         elif name == "RunOnce":
             ports = f' then_skip="{draw(st.sampled_from(("true", "false")))}"'
         return f"<{name}{ports}>{draw(node(depth + 1, leaves, scripted=scripted))}</{name}>"
-    name = draw(st.sampled_from(CONTROLS))
+    name = draw(st.sampled_from(CONTROLS + (("Switch2", "Switch3") if scripted else ())))
+    if name.startswith("Switch"):
+        cases = int(name[-1])
+        ports = "".join(f' case_{i}="{draw(st.integers(1, 6))}"' for i in range(1, cases + 1))
+        children = "".join(draw(node(depth + 1, leaves, scripted=scripted)) for _ in range(cases + 1))
+        return f'<{name} variable="{{s}}"{ports}>{children}</{name}>'  # s: t as text (a Switch reads text)
     low, high = (2, 3) if name in ("IfThenElse", "WhileDoElse") else (1, 4)
     count = draw(st.integers(low, high))
     conditional = name in ("IfThenElse", "WhileDoElse")
@@ -231,10 +239,11 @@ def generated(draw) -> tuple[str, dict[str, list[str]]]:
 
 @st.composite
 def generated_with_conditions(draw) -> tuple[str, dict[str, list[str]]]:
-    """Trees whose leaves carry scripted pre- and post-conditions, a Script counting the ticks in front."""
+    """Trees whose leaves carry scripted pre- and post-conditions, with Switch and Precondition nodes on a tick
+    counter that a Script in front of the tree increments."""
     leaves: list[list[str]] = []
     body = draw(node(1, leaves, scripted=True))
-    return (tree(f'<Sequence><Script code="t := t + 1"/>{body}</Sequence>'),
+    return (tree(f'<Sequence><Script code="t := t + 1; s := t .. \'\'"/>{body}</Sequence>'),
             {f"L{i}": script for i, script in enumerate(leaves, 1)})
 
 
