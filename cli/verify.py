@@ -21,6 +21,7 @@ from aeroexec.engine.library import LibraryError, default_library
 
 class WorldChoiceError(Exception):
     """A ``--world`` that cannot be read."""
+from aeroexec.trees.portability import portability_problems
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -35,6 +36,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             "its home (default: the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_library_arguments(parser)
+    parser.add_argument("--strict-btcpp", action="store_true",
+                        help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
 
 
 def add_library_arguments(parser: argparse.ArgumentParser) -> None:
@@ -86,6 +89,8 @@ def run(args: argparse.Namespace) -> int:
             failed = True
             continue
         checked.problems += unimplemented(catalog, library, Path(name))
+        if args.strict_btcpp and checked.tree is not None:
+            checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:
             print(problem)
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)

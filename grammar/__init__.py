@@ -1,1 +1,2 @@
-"""The grammar of the belief language (`beliefs.lark`), shipped as package data."""
+"""The grammars, shipped as package data: the belief language (`beliefs.lark`) and BehaviorTree.CPP's scripts
+(`script.lark`)."""

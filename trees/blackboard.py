@@ -22,6 +22,7 @@ class Blackboard(MutableMapping[str, Any]):
         self.remap = dict(remap or {})
         self.autoremap = autoremap and parent is not None
         self._local: dict[str, Any] = dict(values or {})
+        self._versions: dict[str, int] = dict.fromkeys(self._local, 1)
 
     @classmethod
     def for_subtree(cls, parent: Blackboard, ports: Mapping[str, str]) -> Blackboard:
@@ -54,6 +55,12 @@ class Blackboard(MutableMapping[str, Any]):
     def __setitem__(self, key: str, value: Any) -> None:
         board, name = self._route(key)
         board._local[name] = value
+        board._versions[name] = board._versions.get(name, 0) + 1
+
+    def version(self, key: str) -> int:
+        """How many times ``key`` was written (0: never), as BehaviorTree.CPP's entry sequence id."""
+        board, name = self._route(key)
+        return board._versions.get(name, 0) if name in board._local else 0
 
     def __delitem__(self, key: str) -> None:
         board, name = self._route(key)

@@ -8,10 +8,11 @@ blackboard of its own, remapped to its parent's as its ports say.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from aeroexec.trees.blackboard import Blackboard
-from aeroexec.trees.control import make_control
+from aeroexec.trees.control import SKIPPED, make_control
 from aeroexec.trees.decorators import (
     Delay,
     Force,
@@ -24,13 +25,18 @@ from aeroexec.trees.decorators import (
     Timeout,
 )
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import CONTROL_TYPES, PRECONDITIONS
+from aeroexec.trees.node_types import CONTROL_TYPES, POSTCONDITIONS, PRECONDITIONS, bare_key
 from aeroexec.trees.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
 from aeroexec.trees.ports import parse_number
+from aeroexec.trees.script_nodes import Precondition, ScriptLeaf, SetBlackboard, Switch, UnsetBlackboard
+from aeroexec.trees.v4_nodes import LOOP_TYPES, EntryUpdated, ParallelAll, Sleep, TryCatch, WasEntryUpdated
+from aeroexec.trees.v4_nodes import Loop as V4Loop
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
-BELIEF_LEAVES = ("Condition", "QueryBelief", "AddBelief", "RemoveBelief")
+BELIEF_LEAVES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
+#: A leaf type registered by the caller, as BehaviorTree.CPP's factory registers nodes: model node, blackboard -> leaf.
+LeafFactory = Callable[[TreeNode, Blackboard], Behaviour]
 
 
 class TreeBuildError(ValueError):
@@ -40,10 +46,12 @@ class TreeBuildError(ValueError):
 class TreeBuilder:
     """Builds the py_trees behaviours of one document for one run."""
 
-    def __init__(self, document: TreeDocument, context: TreeContext) -> None:
+    def __init__(self, document: TreeDocument, context: TreeContext,
+                 leaves: Mapping[str, LeafFactory] | None = None) -> None:
         self.document = document
         self.context = context
         self.catalog = context.engine.catalog
+        self.leaves = dict(leaves or {})
 
     def build(self, blackboard: Blackboard) -> Behaviour:
         return self.node(self.document.root, blackboard, (self.document.main,))
@@ -51,12 +59,14 @@ class TreeBuilder:
     def node(self, model: TreeNode, board: Blackboard, stack: tuple[str, ...]) -> Behaviour:
         behaviour = self._make(model, board, stack)
         behaviour.source = model  # type: ignore[attr-defined]
-        conditions = {a: self.context.belief_check(model.ports[a], board, f"{model.where} {a}")
+        conditions = {a: self.context.condition(model.ports[a], board, f"{model.where} {a}")
                       for a in PRECONDITIONS if model.ports.get(a, "").strip()}
-        if not conditions:
+        actions = {a: self.context.action(model.ports[a], board, f"{model.where} {a}")
+                   for a in POSTCONDITIONS if model.ports.get(a, "").strip()}
+        if not conditions and not actions:
             return behaviour
         behaviour.hidden = True  # type: ignore[attr-defined]
-        wrapper = Preconditions(model.name, behaviour, conditions)
+        wrapper = Preconditions(model.name, behaviour, conditions, actions)
         wrapper.source = model  # type: ignore[attr-defined]
         return wrapper
 
@@ -65,13 +75,37 @@ class TreeBuilder:
         if kind == "SubTree":
             return self._subtree(model, board, stack)
         children = [self.node(child, board, stack) for child in model.children]
+        if kind == "ParallelAll":
+            return ParallelAll(name, children, self._integer(model, "max_failures", default=1))
+        if kind == "TryCatch":
+            return TryCatch(name, children, ports.get("catch_on_halt", "false").strip().lower() == "true")
+        if kind in LOOP_TYPES and len(children) == 1:
+            return V4Loop(name, children[0], kind, ports, board)
+        if kind in ("SkipUnlessUpdated", "WaitValueUpdate") and len(children) == 1:
+            return EntryUpdated(name, children[0], ports.get("entry", ""), board,
+                                SKIPPED if kind == "SkipUnlessUpdated" else Status.RUNNING)
+        if kind == "WasEntryUpdated":
+            return WasEntryUpdated(name, ports.get("entry", ""), self.context, board, model)
+        if kind == "Sleep":
+            return Sleep(name, self._integer(model, "msec") / 1000.0, self.context, board, model)
+        if kind.startswith("Switch") and kind in CONTROL_TYPES:
+            return Switch(name, children, ports, board)
+        if kind == "Precondition" and len(children) == 1:
+            return Precondition(name, children[0], ports.get("if", ""), ports.get("else", "FAILURE"), board,
+                                self.context)
         if kind in CONTROL_TYPES:
             typed = {k: self._integer(model, k) for k in ("success_count", "failure_count") if k in ports}
             return make_control(kind, name, children, typed)
         if children:
-            decorator = self._decorator(model, children)
+            decorator = self._decorator(model, children, board)
             if decorator is not None:
                 return decorator
+        if kind in ("Script", "ScriptCondition"):
+            return ScriptLeaf(name, ports.get("code", ""), kind == "ScriptCondition", self.context, board, model)
+        if kind == "SetBlackboard":
+            return SetBlackboard(name, ports, self.context, board, model)
+        if kind == "UnsetBlackboard":
+            return UnsetBlackboard(name, ports.get("key", ""), self.context, board, model)
         if kind == "AlwaysSuccess":
             return Constant(name, Status.SUCCESS, self.context, board, model)
         if kind == "AlwaysFailure":
@@ -82,11 +116,13 @@ class TreeBuilder:
             return leaf
         if kind == "AskBehavior":
             return AskBehaviorLeaf(name, ports, self.context, board, model)
+        if kind in self.leaves and not model.children:
+            return self.leaves[kind](model, board)
         if kind in self.catalog and not model.children:
             return BehaviorLeaf(name, kind, ports, self.context, board, model)
         raise TreeBuildError(f"{model.where}: {kind} cannot be built here (verify the mission first)")
 
-    def _decorator(self, model: TreeNode, children: list[Behaviour]) -> Behaviour | None:
+    def _decorator(self, model: TreeNode, children: list[Behaviour], board: Blackboard) -> Behaviour | None:
         kind, name, child = model.type, model.name, children[0]
         if len(children) != 1:
             return None
@@ -96,9 +132,9 @@ class TreeBuilder:
         if kind in ("ForceSuccess", "ForceFailure"):
             return Force(name, child, Status.SUCCESS if kind == "ForceSuccess" else Status.FAILURE)
         if kind == "Repeat":
-            return Loop(name, child, self._integer(model, "num_cycles"), retry=False)
+            return Loop(name, child, self._count(model, "num_cycles", board), retry=False)
         if kind == "RetryUntilSuccessful":
-            return Loop(name, child, self._integer(model, "num_attempts"), retry=True)
+            return Loop(name, child, self._count(model, "num_attempts", board), retry=True)
         if kind == "KeepRunningUntilFailure":
             return KeepRunningUntilFailure(name, child)
         if kind == "Timeout":
@@ -120,8 +156,26 @@ class TreeBuilder:
         inner = self.node(root, Blackboard.for_subtree(board, model.ports), (*stack, tree_id))
         return PassThrough(model.name, inner)
 
+    def _count(self, model: TreeNode, port: str, board: Blackboard) -> int | Callable[[], int]:
+        """An integer port, or a function reading it from the blackboard when it is written ``{key}``."""
+        key = bare_key(model.ports.get(port, ""))
+        if key is None:
+            return self._integer(model, port)
+
+        def read() -> int:
+            value = board.get(key)
+            number = parse_number(str(value)) if value is not None else None
+            if not isinstance(number, int | float) or number != int(number):
+                raise TreeBuildError(f"{model.where}: {model.type} needs an integer {port}, and {{{key}}} is "
+                                     f"{value!r}")
+            return int(number)
+
+        return read
+
     @staticmethod
-    def _integer(model: TreeNode, port: str) -> int:
+    def _integer(model: TreeNode, port: str, default: int | None = None) -> int:
+        if default is not None and not model.ports.get(port, "").strip():
+            return default
         value = parse_number(model.ports.get(port, ""))
         if not isinstance(value, int):
             raise TreeBuildError(f"{model.where}: {model.type} needs an integer {port}, not "
@@ -129,8 +183,9 @@ class TreeBuilder:
         return value
 
 
-def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackboard | None = None) -> Behaviour:
-    """The py_trees root of ``document``'s main tree for a run in ``context``.
+def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackboard | None = None,
+               leaves: Mapping[str, LeafFactory] | None = None) -> Behaviour:
+    """The py_trees root of ``document``'s main tree for a run in ``context`` (``leaves``: extra leaf types).
 
     A document with a ``build(context, blackboard)`` method builds itself (a TML mission: see ``trees.tml_compile``).
     """
@@ -138,7 +193,7 @@ def build_tree(document: TreeDocument, context: TreeContext, blackboard: Blackbo
     build = getattr(document, "build", None)
     if callable(build):
         return build(context, board)
-    return TreeBuilder(document, context).build(board)
+    return TreeBuilder(document, context, leaves).build(board)
 
 
 def describe(root: Behaviour) -> list[tuple[int, Behaviour]]:

@@ -130,6 +130,9 @@ class SequenceNode(Control):
 
     stop_on = Status.FAILURE
     restart_on_stop = True
+    #: BehaviorTree.CPP's AsyncSequence/AsyncFallback (and SequenceWithMemory): a child that completed on its first
+    #: tick hands control back to the tree (RUNNING) before the next child is ticked.
+    asynchronous = False
 
     def __init__(self, name: str, children: Sequence[Behaviour] | None = None) -> None:
         super().__init__(name, children)
@@ -141,6 +144,7 @@ class SequenceNode(Control):
         if self.status != Status.RUNNING:
             self.skipped_count = 0
         while self.index < count:
+            before = self.children[self.index].status
             result = yield from self.tick_index(self.index)
             if result == Status.RUNNING:
                 return Status.RUNNING
@@ -153,6 +157,8 @@ class SequenceNode(Control):
                 return self.stop_on
             self.index += 1
             self.skipped_count += result == SKIPPED
+            if self.asynchronous and result != SKIPPED and before != Status.RUNNING and self.index < count:
+                return Status.RUNNING
         all_skipped = self.skipped_count == count
         self.index = self.skipped_count = 0
         return SKIPPED if all_skipped else Status.SUCCESS if self.stop_on == Status.FAILURE else Status.FAILURE
@@ -167,6 +173,7 @@ class SequenceWithMemory(SequenceNode):
     """BehaviorTree.CPP ``SequenceWithMemory``: after a failure or a halt it resumes at the child that failed."""
 
     restart_on_stop = False
+    asynchronous = True
 
     def restart_from(self) -> int:
         return self.index  # the children before it are not ticked again
@@ -181,7 +188,7 @@ class FallbackNode(SequenceNode):
 class ReactiveNode(Control):
     """BehaviorTree.CPP ``ReactiveSequence`` (``stop_on`` FAILURE) and ``ReactiveFallback`` (``stop_on`` SUCCESS).
 
-    Every tick starts at the first child; a RUNNING child halts every other child.
+    Every tick starts at the first child; a RUNNING child halts every other child (completed ones back to IDLE).
     """
 
     def __init__(self, name: str, children: Sequence[Behaviour] | None = None, *, fallback: bool = False) -> None:
@@ -196,8 +203,8 @@ class ReactiveNode(Control):
             all_skipped &= result == SKIPPED
             if result == Status.RUNNING:
                 for other in self.children:
-                    if other is not child and other.status == Status.RUNNING:
-                        halt(other)
+                    if other is not child:
+                        reset(other)
                 return Status.RUNNING
             if result == self.stop_on:
                 self.reset_children()
@@ -310,6 +317,10 @@ def make_control(kind: str, name: str, children: list[Behaviour], ports: dict[st
         return SequenceWithMemory(name, children)
     if kind == "Fallback":
         return FallbackNode(name, children)
+    if kind in ("AsyncSequence", "AsyncFallback"):
+        node = SequenceNode(name, children) if kind == "AsyncSequence" else FallbackNode(name, children)
+        node.asynchronous = True
+        return node
     if kind in ("ReactiveSequence", "ReactiveFallback"):
         return ReactiveNode(name, children, fallback=kind == "ReactiveFallback")
     if kind == "Parallel":

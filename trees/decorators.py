@@ -65,13 +65,16 @@ class Force(Decorator):
 class Loop(Decorator):
     """Repeat (``until`` FAILURE ends it, SUCCESS counts) and RetryUntilSuccessful (SUCCESS ends it, FAILURE counts)."""
 
-    def __init__(self, name: str, child: Behaviour, cycles: int, *, retry: bool) -> None:
+    def __init__(self, name: str, child: Behaviour, cycles: int | Callable[[], int], *, retry: bool) -> None:
         super().__init__(name, child)
-        self.cycles, self.retry = cycles, retry
+        self.count_of, self.retry = cycles, retry
+        self.cycles = cycles if isinstance(cycles, int) else 0
         self.count = 0
         self.counted = Status.FAILURE if retry else Status.SUCCESS
 
     def run(self) -> Ticking:
+        if not isinstance(self.count_of, int):  # a ``{key}`` port, read on every tick as BT.CPP does
+            self.cycles = self.count_of()
         while self.cycles < 0 or self.count < self.cycles:
             before = self.decorated.status
             result = yield from tick_child(self.decorated)
@@ -183,11 +186,27 @@ class Preconditions(Decorator):
 
     ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
-    def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]]) -> None:
+    def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]],
+                 actions: dict[str, Callable[[], None]] | None = None) -> None:
         super().__init__(name, child)
         self.conditions = conditions
+        self.actions = actions or {}
 
     def run(self) -> Ticking:
+        result = yield from self.checked()
+        if result in (Status.SUCCESS, Status.FAILURE):  # BT.CPP's post-conditions: _onSuccess/_onFailure, _post
+            action = self.actions.get("_onSuccess" if result == Status.SUCCESS else "_onFailure")
+            if action is not None:
+                action()
+            if "_post" in self.actions:
+                self.actions["_post"]()
+        return result
+
+    def halted(self) -> None:
+        if "_onHalted" in self.actions and self.status == Status.RUNNING:
+            self.actions["_onHalted"]()
+
+    def checked(self) -> Ticking:
         starting = self.status != Status.RUNNING
         for attribute in self.ORDER:
             check = self.conditions.get(attribute)

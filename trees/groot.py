@@ -1,9 +1,11 @@
-"""The TreeNodesModel palette of a behavior catalog, so Groot2 offers every behavior with its ports.
+"""The TreeNodesModel palette of a behavior catalog, so Groot2 and BehaviorTree.CPP know every node aeroexec reads.
 
-``tree_nodes_model(catalog)`` returns a BehaviorTree.CPP v4 XML document holding only a
-``<TreeNodesModel>``: one ``<Action>`` per catalog behavior with an ``<input_port>`` per
-argument (allowed values and description in the port's text), and the engine's own leaves
-(Condition, QueryBelief, AskBehavior, AddBelief, RemoveBelief).
+``tree_nodes_model(catalog)`` returns a BehaviorTree.CPP v4 XML document holding only a ``<TreeNodesModel>``: one
+``<Action>`` per catalog behavior with an ``<input_port>`` per argument (its C++ type where one fits, else
+``BT::AnyTypeAllowed``; allowed values and description in the port's text) and the ``timeout`` every behavior
+leaf takes, and the engine's own leaves: CheckBelief (a condition), QueryBelief, AddBelief (``multivalued``),
+RemoveBelief and AskBehavior, whose ports are the arguments of every deliberative behavior besides its own.
+Every port aeroexec accepts on these nodes is declared, so a tree aeroexec accepts loads in BehaviorTree.CPP.
 """
 
 from __future__ import annotations
@@ -11,39 +13,75 @@ from __future__ import annotations
 import xml.etree.ElementTree as ElementTree
 
 from aeroexec.engine.catalog import BehaviorCatalog
+from aeroexec.engine.catalog.arguments import ArgumentDescriptor
+from aeroexec.engine.catalog.descriptors import DELIBERATIVE
 
-#: The engine's leaves that are not catalog behaviors: (kind, ID, [(direction, port, description)]).
+ANY = "BT::AnyTypeAllowed"
+_TYPES = {"NUMBER": "double", "INTEGER": "int", "BOOLEAN": "bool", "TEXT": "std::string", "BELIEF": "std::string"}
+
+#: The engine's leaves that are not catalog behaviors: (kind, ID, [(direction, port, type, description)]).
 ENGINE_LEAVES = [
-    ("Condition", "Condition", [("input", "belief", "a belief expression; SUCCESS when it holds")]),
-    ("Action", "QueryBelief", [("input", "belief", "a belief expression; its variables go to the blackboard")]),
-    ("Action", "AskBehavior", [("input", "behavior", "a deliberative behavior of the catalog"),
-                               ("output", "result", "the blackboard key that receives its result")]),
-    ("Action", "AddBelief", [("input", "belief", "a ground belief to add")]),
-    ("Action", "RemoveBelief", [("input", "belief", "a belief pattern; matching beliefs are removed")]),
+    ("Condition", "CheckBelief", [("input", "belief", "std::string", "a belief expression; SUCCESS when it holds")]),
+    ("Action", "QueryBelief", [("input", "belief", "std::string",
+                                "a belief expression; its variables go to the blackboard")]),
+    ("Action", "AddBelief", [("input", "belief", "std::string", "a ground belief to add"),
+                             ("input", "multivalued", "bool", "a predicate the catalog does not declare may hold "
+                                                              "several values at once (default false)")]),
+    ("Action", "RemoveBelief", [("input", "belief", "std::string", "a belief pattern; matching beliefs are removed")]),
+    ("Action", "AskBehavior", [("input", "behavior", "std::string", "a deliberative behavior of the catalog"),
+                               ("output", "result", ANY, "the blackboard key that receives its result"),
+                               ("input", "timeout", "double", "seconds before the behavior times out")]),
 ]
+
+
+def port_type(argument: ArgumentDescriptor) -> str:
+    """The C++ type BehaviorTree.CPP would give the argument's port (AnyTypeAllowed for points, paths, lists)."""
+    if argument.choices or argument.dimensions > 1:
+        return "std::string" if argument.choices else ANY
+    return _TYPES.get(argument.value_type or "", ANY if argument.value_type else "double")
+
+
+def _argument_port(parent: ElementTree.Element, argument: ArgumentDescriptor) -> None:
+    port = ElementTree.SubElement(parent, "input_port", name=argument.name, type=port_type(argument))
+    notes = [argument.describe()]
+    if argument.required:
+        notes.append("required")
+    if argument.default is not None:
+        port.set("default", str(argument.default))
+    if argument.description:
+        notes.append(argument.description)
+    port.text = "; ".join(notes)
 
 
 def tree_nodes_model(catalog: BehaviorCatalog) -> str:
     """The palette as XML text (UTF-8, indented)."""
     root = ElementTree.Element("root", BTCPP_format="4")
     model = ElementTree.SubElement(root, "TreeNodesModel")
+    asked: dict[str, ArgumentDescriptor] = {}
     for behavior in catalog:
         action = ElementTree.SubElement(model, "Action", ID=behavior.name)
         if behavior.description:
             action.set("description", behavior.description)
         for argument in behavior.arguments.values():
-            port = ElementTree.SubElement(action, "input_port", name=argument.name)
-            notes = [argument.describe()]
-            if argument.required:
-                notes.append("required")
-            if argument.default is not None:
-                port.set("default", str(argument.default))
-            if argument.description:
-                notes.append(argument.description)
-            port.text = "; ".join(notes)
+            _argument_port(action, argument)
+            if behavior.category == DELIBERATIVE:
+                asked.setdefault(argument.name, argument)
+        if "timeout" not in behavior.arguments:
+            ElementTree.SubElement(action, "input_port", name="timeout", type="double").text = (
+                "seconds before the behavior times out (overrides the catalog's)")
     for kind, identifier, ports in ENGINE_LEAVES:
         leaf = ElementTree.SubElement(model, kind, ID=identifier)
-        for direction, name, text in ports:
-            ElementTree.SubElement(leaf, f"{direction}_port", name=name).text = text
+        for direction, name, kind_of, text in ports:
+            ElementTree.SubElement(leaf, f"{direction}_port", name=name, type=kind_of).text = text
+        if identifier == "AskBehavior":
+            for argument in asked.values():
+                if argument.name not in ("behavior", "result", "timeout"):
+                    _argument_port(leaf, argument)
     ElementTree.indent(root)
     return ElementTree.tostring(root, encoding="unicode", xml_declaration=False) + "\n"
+
+
+def palette_ports(catalog: BehaviorCatalog) -> dict[str, set[str]]:
+    """Node ID -> the ports the palette declares for it (what BehaviorTree.CPP accepts on that node)."""
+    model = ElementTree.fromstring(tree_nodes_model(catalog)).find("TreeNodesModel")
+    return {node.get("ID", ""): {port.get("name", "") for port in node} for node in model}  # type: ignore[union-attr]

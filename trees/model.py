@@ -28,6 +28,7 @@ class TreeNode:
     file: str = ""
     line: int = 0
     named: bool = True
+    tag: str = ""  # the XML element as written (``Condition``, ``Action``...), for portability checks
 
     def __post_init__(self) -> None:
         if not self.name:

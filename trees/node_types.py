@@ -10,6 +10,8 @@ from dataclasses import dataclass
 
 #: Attributes every node may have besides its ports: BehaviorTree.CPP's pre-conditions take belief expressions here.
 PRECONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")
+#: Scripts run when a node completes: BehaviorTree.CPP's post-conditions.
+POSTCONDITIONS = ("_onSuccess", "_onFailure", "_onHalted", "_post")
 #: Aerostack's dialect: "false" lets the node of a recurrent behavior succeed once the behavior is active.
 WAIT_FOR_COMPLETION = "_wait_for_completion"
 #: Attributes that are never arguments of a behavior.
@@ -49,9 +51,12 @@ def _leaf(name: str, ports: tuple[str, ...] = (), required: tuple[str, ...] = ()
 
 CONTROL_TYPES = {t.name: t for t in (
     _control("Sequence"), _control("ReactiveSequence"), _control("SequenceWithMemory"),
-    _control("Fallback"), _control("ReactiveFallback"),
+    _control("Fallback"), _control("ReactiveFallback"), _control("AsyncSequence"), _control("AsyncFallback"),
     _control("Parallel", ("success_count", "failure_count")),
     _control("IfThenElse", minimum=2, maximum=3), _control("WhileDoElse", minimum=2, maximum=3),
+    _control("ParallelAll", ("max_failures",)), _control("TryCatch", ("catch_on_halt",), minimum=2),
+    *(_control(f"Switch{n}", ("variable", *(f"case_{i}" for i in range(1, n + 1))), n + 1, n + 1)
+      for n in range(2, 7)),
 )}
 DECORATOR_TYPES = {t.name: t for t in (
     _decorator("Inverter"), _decorator("ForceSuccess"), _decorator("ForceFailure"),
@@ -61,11 +66,18 @@ DECORATOR_TYPES = {t.name: t for t in (
     _decorator("Timeout", ("msec",), ("msec",)),
     _decorator("Delay", ("delay_msec",), ("delay_msec",)),
     _decorator("RunOnce", ("then_skip",)),
+    _decorator("Precondition", ("if", "else"), ("if",)),
+    *(_decorator(f"Loop{t}", ("queue", "value", "if_empty"), ("queue",)) for t in ("Int", "Double", "String", "Bool")),
+    _decorator("SkipUnlessUpdated", ("entry",), ("entry",)), _decorator("WaitValueUpdate", ("entry",), ("entry",)),
 )}
 #: Leaves that are not catalog behaviors. AskBehavior also takes the behavior's arguments as ports.
 LEAF_TYPES = {t.name: t for t in (
     _leaf("AlwaysSuccess"), _leaf("AlwaysFailure"),
-    _leaf("Condition", ("belief",), ("belief",)),
+    _leaf("Script", ("code",), ("code",)), _leaf("ScriptCondition", ("code",), ("code",)),
+    _leaf("SetBlackboard", ("output_key", "value"), ("output_key", "value")),
+    _leaf("UnsetBlackboard", ("key",), ("key",)),
+    _leaf("Sleep", ("msec",), ("msec",)), _leaf("WasEntryUpdated", ("entry",), ("entry",)),
+    _leaf("Condition", ("belief",), ("belief",)), _leaf("CheckBelief", ("belief",), ("belief",)),
     _leaf("QueryBelief", ("belief",), ("belief",)),
     _leaf("AddBelief", ("belief", "multivalued"), ("belief",)),
     _leaf("RemoveBelief", ("belief",), ("belief",)),
@@ -76,7 +88,7 @@ BUILT_IN = {**CONTROL_TYPES, **DECORATOR_TYPES, **LEAF_TYPES}
 
 #: Control nodes and decorators that tick part of their subtree again and again.
 LOOPING = ("ReactiveSequence", "ReactiveFallback", "WhileDoElse", "Repeat", "RetryUntilSuccessful",
-           "KeepRunningUntilFailure")
+           "KeepRunningUntilFailure", "LoopInt", "LoopDouble", "LoopString", "LoopBool", "ParallelAll")
 
 
 def bare_key(text: str) -> str | None:

@@ -56,6 +56,45 @@ class TreeContext:
 
         return holds
 
+    def belief_holds(self, text: str) -> bool:
+        """Whether a belief expression holds now (scripts' ``belief("...")``)."""
+        return self.engine.memory.holds(text)
+
+    def condition(self, text: str, blackboard: Any, where: str) -> Callable[[], bool]:
+        """A pre-condition attribute as a function: a script (BT.CPP's meaning), or else, read with a warning, the
+        belief expression aeroexec took there before (``<CheckBelief>`` or ``belief("...")`` is the portable way)."""
+        from aeroexec.trees.script import ScriptError, compile_script
+
+        try:
+            script = compile_script(text)
+        except ScriptError:
+            logger.warning("%s: %r is no script: read as a belief expression (write belief(\"...\") instead)",
+                           where, text)
+            return self.belief_check(text, blackboard, where)
+
+        def holds() -> bool:
+            try:
+                return script.holds(blackboard, self.belief_holds)
+            except (ScriptError, BeliefError) as error:
+                self.record("tree_error", f"{where}: {error}", once=True)
+                return False
+
+        return holds
+
+    def action(self, text: str, blackboard: Any, where: str) -> Callable[[], None]:
+        """A post-condition attribute (``_onSuccess``...) as a function running its script."""
+        from aeroexec.trees.script import ScriptError, compile_script
+
+        script = compile_script(text)
+
+        def run() -> None:
+            try:
+                script.run(blackboard, self.belief_holds)
+            except (ScriptError, BeliefError) as error:
+                self.record("tree_error", f"{where}: {error}", once=True)
+
+        return run
+
     def stop_started(self, reason: str) -> None:
         """Stop every behavior this tree started that is still active (INTERRUPTED)."""
         coordinator = self.engine.coordinator
@@ -176,7 +215,7 @@ class BeliefLeaf(Leaf):
         memory = self.context.engine.memory
         try:
             text = substitute(self.belief, self.blackboard, as_term=True)
-            if self.kind == "Condition":
+            if self.kind in ("Condition", "CheckBelief"):
                 return Status.SUCCESS if memory.holds(text) else Status.FAILURE
             if self.kind == "QueryBelief":
                 found = memory.query(text)

@@ -141,7 +141,7 @@ class SequenceChecker:
             return self.decorator(node, state, looping)
         if kind == "SubTree":
             return self.subtree(node, state, looping)
-        if kind in ("Condition", "QueryBelief"):
+        if kind in ("Condition", "CheckBelief", "QueryBelief"):
             after = self.forget(state, self.related(node.ports.get("belief", "")))
             return after, after
         if kind in ("AddBelief", "RemoveBelief", "AlwaysSuccess", "AlwaysFailure"):

@@ -13,6 +13,7 @@ some node writes the key earlier in tick order, or anywhere inside a loop or Par
 
 from __future__ import annotations
 
+import contextlib
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -24,13 +25,27 @@ from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import BUILT_IN, COMMON_ATTRIBUTES, LOOPING, PRECONDITIONS, bare_key, output_key
+from aeroexec.trees.node_types import (
+    BUILT_IN,
+    COMMON_ATTRIBUTES,
+    LOOPING,
+    POSTCONDITIONS,
+    PRECONDITIONS,
+    bare_key,
+    output_key,
+)
 from aeroexec.trees.ports import parse_number, port_errors, template_keys
+from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 
 Problem = MissionProblem
-_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0}
-_BELIEF_PORTS = ("belief", *PRECONDITIONS)
+_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": None}
+_FROM_BLACKBOARD = ("num_cycles", "num_attempts")  # integer ports that may read {key} in flight
+_OUTPUTS = {("AskBehavior", "result"), ("SetBlackboard", "output_key")}  # ports that write, never read
+_STATUS_PORTS = {"else": ("SUCCESS", "FAILURE", "SKIPPED", "RUNNING"), "if_empty": ("SUCCESS", "FAILURE", "SKIPPED")}
+_SCRIPT_PORTS = ("code", "if", *POSTCONDITIONS)
+_SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
+BELIEF_LEAF_TYPES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
 
 
 @dataclass
@@ -102,10 +117,14 @@ class TreeVerifier:
         else:
             self.check_children(node, spec.min_children if spec else 0, spec.max_children if spec else 0,
                                 spec.children_text() if spec else "no children")
-        for attribute in _BELIEF_PORTS:
-            if attribute in node.ports and (attribute != "belief" or kind in ("Condition", "QueryBelief",
-                                                                              "AddBelief", "RemoveBelief")):
-                self.check_expression(node, attribute, node.ports[attribute])
+        for attribute in PRECONDITIONS:
+            if attribute in node.ports:
+                self.check_condition(node, attribute, node.ports[attribute])
+        if "belief" in node.ports and kind in BELIEF_LEAF_TYPES:
+            self.check_expression(node, "belief", node.ports["belief"])
+        for attribute in _SCRIPT_PORTS:
+            if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
+                self.check_script(node, attribute, node.ports[attribute])
         if spec is not None:
             self.check_built_in(node, spec)
         elif behavior is not None:
@@ -132,6 +151,10 @@ class TreeVerifier:
                 self.check_integer(node, port, minimum)
         if kind == "Parallel":
             self.check_parallel(node)
+        for port, allowed in _STATUS_PORTS.items():
+            if port in spec.ports and node.ports.get(port, "").strip() not in ("", *allowed):
+                self.report(node, f"The value {node.ports[port]} of port {port} of node {kind} is not correct "
+                                  f"({', '.join(allowed)} is expected)", WRONG_VALUE)
         if kind == "RunOnce" and node.ports.get("then_skip", "true").strip().lower() not in ("true", "false"):
             self.report(node, f"The value {node.ports['then_skip']} of port then_skip of node RunOnce is not "
                               f"correct (true or false is expected)", WRONG_VALUE)
@@ -147,13 +170,15 @@ class TreeVerifier:
     def _ask_arguments(self, node: TreeNode) -> list[str]:
         return [p for p in node.ports if p not in ("behavior", "result")]
 
-    def check_integer(self, node: TreeNode, port: str, minimum: int) -> int | None:
+    def check_integer(self, node: TreeNode, port: str, minimum: int | None) -> int | None:
         text = node.ports[port]
+        if bare_key(text) is not None and port in _FROM_BLACKBOARD:  # read from the blackboard in flight
+            return None
         value = parse_number(text)
-        if not isinstance(value, int) or value < minimum:
+        if not isinstance(value, int) or (minimum is not None and value < minimum):
+            expected = ("" if minimum is None else f"of at least {minimum} " if minimum >= 0 else "(-1: forever) ")
             self.report(node, f"The value {text} of port {port} of node {node.type} is not correct (an integer "
-                              f"{'of at least ' + str(minimum) if minimum >= 0 else '(-1: forever)'} is expected)",
-                        WRONG_VALUE)
+                              f"{expected}is expected)", WRONG_VALUE)
             return None
         return value
 
@@ -183,6 +208,19 @@ class TreeVerifier:
         if node.type != "AddBelief":
             for message in self.specialist.unwritten_values(expression):
                 self.report(node, message, WRONG_VALUE, "warning")
+
+    def check_condition(self, node: TreeNode, attribute: str, text: str) -> None:
+        """A pre-condition: a script, or else the belief expression aeroexec took there before."""
+        try:
+            compile_script(text)
+        except ScriptError:
+            self.check_expression(node, attribute, text)
+
+    def check_script(self, node: TreeNode, attribute: str, text: str) -> None:
+        try:
+            compile_script(text)
+        except ScriptError as error:
+            self.report(node, f"The {attribute} of node {node.type} is not a script: {error}")
 
     def request_problems(self, node: TreeNode, errors: list[SpecificationError]) -> None:
         for error in errors:
@@ -248,6 +286,7 @@ class TreeVerifier:
                 target = node.ports.get("ID", "").strip()
                 if target in self.document.trees and target not in stack:
                     inner = self._subtree_scope(node, scope)
+                    writes.extend((here, inner.resolve(port)) for port in inner.literals)
                     walk(self.document.trees[target], inner, span, (*stack, target))
             for child in node.children:
                 walk(child, scope, span, stack)
@@ -283,13 +322,26 @@ class TreeVerifier:
         for port, text in node.ports.items():
             if node.type == "SubTree" and port not in PRECONDITIONS:
                 continue
-            if node.type == "AskBehavior" and port == "result":
+            if (node.type, port) in _OUTPUTS or (node.type.startswith("Loop") and port == "value"):
                 continue
             keys += template_keys(text)
         return keys
 
     @staticmethod
     def _writes(node: TreeNode) -> list[str]:
+        keys: list[str] = []
+        for port in ("code", *PRECONDITIONS, *POSTCONDITIONS):
+            if port in node.ports:
+                with contextlib.suppress(ScriptError):  # reported by check_script
+                    keys += compile_script(node.ports[port]).writes
+        if node.type == "SetBlackboard":
+            keys.append(output_key(node.ports.get("output_key", "")))
+        if node.type in ("LoopInt", "LoopDouble", "LoopString", "LoopBool") and node.ports.get("value"):
+            keys.append(output_key(node.ports["value"]))
+        return keys + TreeVerifier._leaf_writes(node)
+
+    @staticmethod
+    def _leaf_writes(node: TreeNode) -> list[str]:
         if node.type == "QueryBelief":
             return [v.lstrip("?") for v in re.findall(r"\?[A-Za-z_][A-Za-z0-9_]*", node.ports.get("belief", ""))]
         if node.type == "AskBehavior" and node.ports.get("result", "").strip():

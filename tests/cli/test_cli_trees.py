@@ -17,7 +17,7 @@ def aeroexec(*args: str) -> subprocess.CompletedProcess:
                           timeout=120, cwd=RUNS.name)
 
 
-TREES = ["figure10.xml", "square_patrol.yaml", "iarc7.xml", "iarc7.yaml"]
+TREES = ["figure10.xml", "square_patrol.yaml", "iarc7.xml", "iarc7.yaml", "survey_legs.xml"]
 
 
 def test_every_tree_mission_verifies():
@@ -42,6 +42,19 @@ def test_iarc7_lands_on_the_target():
     landed = [line for line in result.stdout.splitlines() if "drone_landed" in line][-1]
     x, y = (float(v) for v in landed.split("at (")[1].rstrip(")").split(","))
     assert abs(x + 13) < 0.5 and abs(y + 15) < 0.5
+
+
+def test_survey_legs_flies_both_subtree_legs_skips_the_detour_and_switches_home():
+    """A SubTree port given a literal, Script, Switch, _skipIf and _onSuccess, as BehaviorTree.CPP runs them."""
+    result = aeroexec("run", str(MISSIONS / "survey_legs.xml"), "--plain")
+    assert result.returncode == 0, result.stderr + result.stdout
+    out = result.stdout
+    arrivals = [line.split("at (")[1].rstrip(")") for line in out.splitlines() if "drone_arrived" in line]
+    assert arrivals[:3] == ["3.0, 0.0, 2.0", "3.0, 3.0, 2.0", "0.0, 0.0, 2.0"]  # both legs, then straight home
+    assert "detour: IDLE -> SKIPPED" in out  # _skipIf: legs >= 2, counted by each leg's _onSuccess
+    assert "straight home: RUNNING -> SUCCESS" in out and "home by the detour" not in out
+    assert "both legs flown: IDLE -> SUCCESS" in out  # _onSuccess set back := 'home'
+    assert "survey_legs.xml: completed" in result.stderr
 
 
 def test_a_wrong_tree_is_refused_with_every_problem_and_its_line(tmp_path):

@@ -84,6 +84,7 @@ def test_sequence_restarts_from_the_first_child_after_a_failure():
 def test_sequence_with_memory_ticks_the_failed_child_again_not_the_ones_before():
     a, b = Scripted("a", S), Scripted("b", F, S)
     sequence = SequenceWithMemory("seq", [a, b])
+    assert tick(sequence) == "RUNNING"  # as in BT.CPP: a child done on its first tick hands control back
     assert tick(sequence) == "FAILURE"
     assert tick(sequence) == "SUCCESS"
     assert a.ticks == 1 and b.ticks == 2

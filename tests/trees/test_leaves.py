@@ -161,3 +161,24 @@ def test_an_aerostack_flat_yaml_mission_verifies_and_runs(engine):
     mission = TreeMission(document, engine)
     assert mission.run(300.0) == Status.SUCCESS
     assert [e.behavior for e in engine.log.events(kind="GOAL_ACHIEVED")][-1] == "LAND"
+
+
+def test_check_belief_and_scripts_consult_the_belief_memory(engine):
+    engine.memory.add("code(box, 7)")
+    mission = run(engine, N("Sequence", N("CheckBelief", belief="code(box, 7)"),
+                            N("ScriptCondition", code='belief("code(box, ?C), ?C > 5") && !belief("code(box, 1)")'),
+                            N("TAKE_OFF", _skipIf='belief("code(box, 7)")', _onSuccess="took := 1"),
+                            N("Script", code="done := true")))
+    assert mission.status == Status.SUCCESS
+    assert mission.blackboard["done"] == 1 and "took" not in mission.blackboard
+    assert not engine.log.events(kind="activated", behavior="TAKE_OFF")  # skipped: the belief holds
+
+
+def test_a_script_failing_in_flight_fails_its_node_with_its_place(engine):
+    mission = run(engine, N("Fallback", N("Script", code="y := missing + 1", line=3),
+                            N("Precondition", N("AlwaysSuccess"), line=4, **{"if": "nothing > 1"}),
+                            N("Script", code="handled := 1")))
+    assert mission.status == Status.SUCCESS and mission.blackboard["handled"] == 1
+    errors = [e.detail for e in engine.log.events(kind="tree_error")]
+    assert errors == ["mission.xml:3: Error in script [y := missing + 1]: Variable not found: missing",
+                      "mission.xml:4: Error in script [nothing > 1]: Variable not found: nothing"]

@@ -273,3 +273,17 @@ def test_any_truncation_is_a_format_error_or_a_mission(name):
             read_mission_tree(text[:end], name)
         except TreeFormatError as exc:
             assert exc.problems and all(isinstance(line, int) for _, line, _ in exc.problems)
+
+
+def test_check_belief_is_the_portable_belief_condition_and_the_old_spelling_is_read_with_a_warning(caplog):
+    from aeroexec.trees.loaders.xml_loader import read_xml
+
+    new = read_xml('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><CheckBelief belief="p(a)"/>'
+                   '<Condition ID="CheckBelief" belief="q(b)"/></Sequence></BehaviorTree></root>', "new.xml")
+    assert [n.type for n in new.root.children] == ["CheckBelief", "CheckBelief"]
+    assert not caplog.records
+    old = read_xml('<root BTCPP_format="4"><BehaviorTree ID="M">\n<Condition belief="p(a)"/>'
+                   '</BehaviorTree></root>', "old.xml")
+    assert old.root.type == "Condition"
+    assert "old.xml:2: <Condition belief=...> is aeroexec's old spelling" in caplog.text
+    assert "<CheckBelief" in caplog.text

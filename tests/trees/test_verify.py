@@ -167,3 +167,46 @@ def test_add_belief_declares_new_predicates_for_the_rest_of_the_mission():
     problems = verify_document(TreeDocument({"Main": root}, "Main", "m.xml"))
     assert [(p.line, p.message) for p in problems] == [
         (4, "The predicate inspectd of the belief expression inspectd(?X) does not exist")]
+
+
+LEG = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence><TAKE_OFF/><SubTree ID="Leg" target="3, 0, 2"/><SubTree ID="Leg"/><LAND/></Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Leg"><GO_TO_POINT COORDINATES="{target}"/></BehaviorTree>
+  <TreeNodesModel><SubTree ID="Leg"><input_port name="target" default="1, 1, 2"/></SubTree></TreeNodesModel>
+</root>"""
+
+
+def test_a_subtree_port_given_a_literal_or_a_palette_default_is_written_for_the_subtree():
+    assert verify_document(read_mission_tree(LEG, "leg.xml")) == []
+    document = read_mission_tree(LEG, "leg.xml")
+    uses = [n for n in document.root.walk() if n.type == "SubTree"]
+    assert [u.ports.get("target") for u in uses] == ["3, 0, 2", "1, 1, 2"]
+
+
+def test_scripts_are_checked_and_a_repeat_count_may_come_from_the_blackboard():
+    text = """<root BTCPP_format="4"><BehaviorTree>
+      <Sequence><Script code="n := 2"/><Repeat num_cycles="{n}"><AlwaysSuccess _onSuccess="k := := 1"/></Repeat>
+        <ScriptCondition code="n == 2" _skipIf="n &gt; 3"/></Sequence></BehaviorTree></root>"""
+    problems = verify_document(read_mission_tree(text, "s.xml"))
+    assert [p.message.split(":")[0] for p in problems] == ["The _onSuccess of node AlwaysSuccess is not a script"]
+
+
+def test_status_and_integer_ports_of_the_v4_nodes_are_checked():
+    text = """<root BTCPP_format="4"><BehaviorTree><Sequence>
+      <Precondition if="true" else="MAYBE"><AlwaysSuccess/></Precondition>
+      <LoopInt queue="1;2" value="{v}" if_empty="RUNNING"><AlwaysSuccess/></LoopInt>
+      <Sleep msec="{t}"/>
+      <ParallelAll max_failures="x"><AlwaysSuccess/></ParallelAll>
+    </Sequence></BehaviorTree></root>"""
+    messages = [(p.line, p.message) for p in verify_document(read_mission_tree(text, "v.xml"))]
+    assert messages == [
+        (2, "The value MAYBE of port else of node Precondition is not correct (SUCCESS, FAILURE, SKIPPED, RUNNING "
+            "is expected)"),
+        (3, "The value RUNNING of port if_empty of node LoopInt is not correct (SUCCESS, FAILURE, SKIPPED is "
+            "expected)"),
+        (4, "The value {t} of port msec of node Sleep is not correct (an integer of at least 0 is expected)"),
+        (4, "The blackboard key t is read before any node writes it"),
+        (5, "The value x of port max_failures of node ParallelAll is not correct (an integer is expected)"),
+    ]

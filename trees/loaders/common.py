@@ -20,7 +20,7 @@ from aeroexec.engine.yaml_nodes import MAP, SEQ, NodeReader
 #: Node tags that name their type in an ``ID`` attribute, as BehaviorTree.CPP writes them.
 EXPLICIT_TAGS = ("Action", "Condition", "Control", "Decorator")
 #: Leaf types whose one value, when given alone, is a belief expression.
-BELIEF_LEAVES = ("Condition", "QueryBelief", "AddBelief", "RemoveBelief")
+BELIEF_LEAVES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
 
 _QUOTE_IN_LIST = re.compile(r"[,\[\]{}:#'\"]")
 _VARIABLE = re.compile(r"\+([A-Za-z_]\w*)")

@@ -125,6 +125,7 @@ class _XmlReader:
         self.trees: dict[str, TreeNode] = {}
         self.places: dict[str, tuple[str, int]] = {}  # tree ID -> (file, line)
         self.seen: set[str] = set()  # resolved paths already read
+        self.subtree_models: dict[str, dict[str, str | None]] = {}  # <TreeNodesModel><SubTree>: port -> default
 
     def error(self, file: str, line: int, message: str) -> None:
         self.problems.append((file, line, message))
@@ -162,14 +163,17 @@ class _XmlReader:
             self.error(file, root.line, f"BTCPP_format=\"{version}\" is not supported: aeroexec reads "
                                         "BehaviorTree.CPP's format 4 (write BTCPP_format=\"4\")")
         declared: list[str] = []
+        alone = sum(element.tag == "BehaviorTree" for element in root.children) == 1
         for element in root.children:
             if element.tag == "BehaviorTree":
-                tree_id = self.read_tree(element, file)
+                tree_id = self.read_tree(element, file, alone)
                 if tree_id:
                     declared.append(tree_id)
             elif element.tag == "include":
                 self.read_include(element, file, stack)
-            elif element.tag != "TreeNodesModel":
+            elif element.tag == "TreeNodesModel":
+                self.read_models(element)
+            else:
                 self.error(file, element.line, f"unexpected <{element.tag}> in <root>: expected "
                                                f"<BehaviorTree>, <include> or <TreeNodesModel>"
                                                f"{suggestion(element.tag, _ROOT_CHILDREN)}")
@@ -189,10 +193,21 @@ class _XmlReader:
             return
         self.read_file(path, stack, (file, element.line))
 
-    def read_tree(self, element: _Element, file: str) -> str | None:
+    def read_models(self, element: _Element) -> None:
+        """The ports of the SubTrees the palette declares, with their defaults (BehaviorTree.CPP applies them)."""
+        for model in element.children:
+            if model.tag == "SubTree" and model.attrs.get("ID", "").strip():
+                self.subtree_models[model.attrs["ID"].strip()] = {
+                    port.attrs["name"]: port.attrs.get("default") for port in model.children
+                    if port.tag in ("input_port", "output_port", "inout_port") and port.attrs.get("name")}
+
+    def read_tree(self, element: _Element, file: str, alone: bool = False) -> str | None:
         tree_id = element.attrs.get("ID", "").strip()
+        if not tree_id and alone:  # BehaviorTree.CPP accepts one unnamed tree and names it so
+            tree_id = f"BehaviorTree_{len(self.places)}"
         if not tree_id:
-            self.error(file, element.line, "a <BehaviorTree> needs ID=\"...\"")
+            self.error(file, element.line, "a <BehaviorTree> needs ID=\"...\" (only a file's one tree may go "
+                                           "without)")
             return None
         nodes = [self.node(child, file) for child in element.children]
         if len(element.children) != 1:
@@ -221,9 +236,31 @@ class _XmlReader:
             if not ports.get("ID", "").strip():
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
             name = name or ports.get("ID", "")
+        if node_type == "Condition" and element.tag == "Condition":
+            logger.warning("%s:%d: <Condition belief=...> is aeroexec's old spelling, refused by BehaviorTree.CPP and "
+                           "Groot2: write <CheckBelief belief=\"...\"/>", file, element.line)
         children = [self.node(child, file) for child in element.children]
         return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line,
-                        named="name" in element.attrs)
+                        tag=element.tag, named="name" in element.attrs)
+
+
+def _apply_subtree_models(reader: _XmlReader) -> None:
+    """Ports a SubTree leaves out take their ``<TreeNodesModel>`` default (a port without one must be given)."""
+    for root in reader.trees.values():
+        for node in root.walk():
+            model = reader.subtree_models.get(node.ports.get("ID", "").strip()) if node.type == "SubTree" else None
+            if not model or node.ports.get("_autoremap", "").strip().lower() == "true":
+                continue
+            for port, default in model.items():
+                if port in node.ports:
+                    continue
+                if default is None:
+                    tree = node.ports["ID"]
+                    reader.error(node.file, node.line, f"In the <TreeNodesModel> the <SubTree ID=\"{tree}\"> is "
+                                                       f"defining a mandatory port called [{port}], but you are not "
+                                                       "remapping it")
+                else:
+                    node.ports[port] = default
 
 
 def _main_tree(reader: _XmlReader, root: _Element, file: str, declared: list[str]) -> str:
@@ -253,6 +290,7 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     reader = _XmlReader()
     declared = reader.read_document(root, file, (os.path.realpath(file),))
     main = _main_tree(reader, root, file, declared)
+    _apply_subtree_models(reader)
     if reader.problems:
         raise TreeFormatError(reader.problems)
     lines = {tree_id: line for tree_id, (_, line) in reader.places.items()}

@@ -1,0 +1,343 @@
+"""Run one XML tree in BehaviorTree.CPP (through behaviortreepy) and in aeroexec's runtime, tick by tick.
+
+Leaves are scripted: each leaf type named in ``scripts`` answers the statuses of its script in turn (cycling),
+RUNNING included, in both runtimes (in BT.CPP a stateful action when its script has RUNNING, else a condition;
+a py_trees leaf here); BT.CPP's halts are recorded through ``on_halted``. One BT.CPP behaviour is left out on
+purpose: a StatefulActionNode ticked again after it completed, without its parent resetting it (the condition
+of IfThenElse/WhileDoElse), answers its old status without running; aeroexec runs the leaf again.
+
+What is compared after every tick, for every node (BT.CPP's uid = its place in document order, as in our
+``describe``): what the tick did to it --
+
+* ``SUCCESS``/``FAILURE``/``RUNNING``: the status it returned when ticked (a node RUNNING at the start of the
+  tick and not halted was ticked again);
+* ``HALTED``: it was RUNNING and was halted (BT.CPP: a transition RUNNING -> IDLE);
+* ``-``: the tick neither ticked nor halted it.
+
+Both runtimes are observed through status transitions (BT.CPP logs a status set only when it changes): BT.CPP's
+from its log, aeroexec's from the statuses its nodes take while ticked and their resets (``stop(INVALID)``), with
+the RUNNING that BT.CPP's control nodes and decorators set on entering a tick. BT.CPP resets completed children
+to IDLE when their parent completes (and the root after every completed tick), where aeroexec keeps the status
+for display until the node starts again; a reset of a completed node is no observation of its own.
+BT.CPP keeps a skipped node IDLE and tells only its parent, so SKIPPED shows as ``-``
+(the parent's status carries it). BT.CPP's transitions are read from its FileLogger2 (``.btlog``): records
+carry system-clock microseconds, ticks are kept 20 us apart, and each tick's records are those stamped up to
+just after ``tick_exactly_once`` returned (a timer's halt between two ticks belongs to the next one).
+"""
+
+from __future__ import annotations
+
+import gc
+import itertools
+import re
+import struct
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+import behaviortreepy as bt
+from aeroexec.beliefs import BeliefMemory
+from aeroexec.engine.catalog import default_catalog
+from aeroexec.trees.blackboard import Blackboard
+from aeroexec.trees.builder import build_tree, describe, model_of
+from aeroexec.trees.control import result_of
+from aeroexec.trees.loaders.xml_loader import read_xml
+from aeroexec.trees.nodes import TreeContext
+from aeroexec.trees.script import text_of
+from py_trees.behaviour import Behaviour
+from py_trees.common import Status
+
+NAMES = {0: "IDLE", 1: "RUNNING", 2: "SUCCESS", 3: "FAILURE", 4: "SKIPPED"}
+_CATALOG = default_catalog()
+_RUNS = itertools.count()
+_GAP = 20  # microseconds between one tick's end and the next one's start
+
+
+@dataclass
+class Run:
+    """What one runtime did: per tick, the root's status and each node's observation; the halted leaves."""
+
+    roots: list[str] = field(default_factory=list)
+    ticks: list[list[str]] = field(default_factory=list)
+    halts: list[list[str]] = field(default_factory=list)
+    blackboard: dict[str, Any] = field(default_factory=dict)
+
+    def table(self) -> str:
+        return "\n".join(f"tick {i}: root {r:8s} {' '.join(f'{s:8s}' for s in t)} halts {h}"
+                         for i, (r, t, h) in enumerate(zip(self.roots, self.ticks, self.halts, strict=True)))
+
+
+class Clock:
+    """The engine clock of our runtime, moved by the harness as BT.CPP's wall clock moves."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+class ScriptedLeaf(Behaviour):
+    """A leaf answering its script's statuses in turn (cycling); records its halts in ``halts``."""
+
+    def __init__(self, name: str, script: list[str], halts: list[str]) -> None:
+        super().__init__(name)
+        self.script, self.halts, self.index = script, halts, 0
+        self.kind = name
+
+    def update(self) -> Status:
+        answer = self.script[self.index % len(self.script)]
+        self.index += 1
+        return Status[answer]
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID and self.status == Status.RUNNING:
+            self.halts.append(self.kind)
+
+
+def _records(path: Path) -> tuple[int, int, list[tuple[int, int, int]]]:
+    """The log's start (microseconds), its number of nodes and its records (stamp, uid, status)."""
+    data = path.read_bytes()
+    (length,) = struct.unpack_from("<i", data, 19)
+    count = max(int(uid) for uid in re.findall(rb'_uid="(\d+)"', data[23:23 + length]))
+    (start,) = struct.unpack_from("<q", data, 23 + length)
+    body = data[31 + length:]
+    return start, count, [(int.from_bytes(body[i:i + 6], "little"), int.from_bytes(body[i + 6:i + 8], "little"),
+                           body[i + 8]) for i in range(0, len(body) - len(body) % 9, 9)]
+
+
+def _observe(previous: str, statuses: list[str]) -> tuple[str, str]:
+    """What one tick did to a node, from the statuses it was set to in that tick (a status equal to the one it has
+    is no transition, as in BT.CPP's ``setStatus``); and its status afterwards."""
+    seen = "RUNNING" if previous == "RUNNING" else "-"
+    status = previous
+    for new in statuses:
+        if new in ("RESET", "CLEAR"):  # BT.CPP's resetChildren: a completed node back to IDLE (RESET: a stale
+            if status != "RUNNING" or new == "CLEAR":  # RUNNING one, whose SKIPPED left it RUNNING, halted)
+                status = "IDLE" if status != "RUNNING" else status
+                continue
+            new = "IDLE"
+        if new == status:
+            continue
+        if new != "IDLE":
+            seen = new
+        elif status == "RUNNING":
+            seen = "HALTED"
+        status = new
+    return seen, status
+
+
+def _apply(state: dict[int, str], seen: dict[int, str], key: int, new: str, children_of: dict[int, list[int]]) -> None:
+    """One status set on our side, as ``_observe`` reads BT.CPP's; a RESET that halts a node whose SKIPPED left it
+    RUNNING resets its children too, as BT.CPP's halt does."""
+    status = state[key]
+    if new in ("RESET", "CLEAR"):
+        if status != "RUNNING" or new == "CLEAR":
+            state[key] = "IDLE" if status != "RUNNING" else status
+            return
+        seen[key], state[key] = "HALTED", "IDLE"
+        for child in children_of[key]:
+            _apply(state, seen, child, "RESET", children_of)
+        return
+    if new == status:
+        return
+    if new != "IDLE":
+        seen[key] = new
+    elif status == "RUNNING":
+        seen[key] = "HALTED"
+    state[key] = new
+
+
+def _drain(path: Path) -> None:
+    """Wait until the logger's writer thread (which wakes on every record) has written what it was given."""
+    size, steady = -1, 0
+    while steady < 5:
+        time.sleep(0.004)
+        now = path.stat().st_size
+        steady = steady + 1 if now == size else 0
+        size = now
+
+
+def run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path,
+              between: float = 0.0, blackboard: dict[str, Any] | None = None) -> Run:
+    """The tree run in BT.CPP for ``ticks`` ticks (``between`` seconds of wall time between ticks).
+
+    Now and then (a loaded machine) the logger's writer thread writes nothing: the first tick always sets the
+    root's status, so a log without records is run again (the leaves' scripts make the run deterministic).
+    """
+    for _ in range(3):
+        run = _run_btcpp(xml, scripts, ticks, folder, between, blackboard)
+        if run.ticks and any(seen != "-" for seen in run.ticks[0]):
+            return run
+    return run
+
+
+def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path,
+               between: float, blackboard: dict[str, Any] | None) -> Run:
+    factory = bt.BehaviorTreeFactory()
+    halts: list[str] = []
+    for kind, script in scripts.items():
+        counter = [0]
+
+        def answer(node: Any, script: list[str] = script, counter: list[int] = counter) -> str:
+            counter[0] += 1
+            return script[(counter[0] - 1) % len(script)]
+
+        if "RUNNING" in script:
+            factory.register_simple_stateful_action(kind, answer, answer,
+                                                    lambda node, kind=kind: halts.append(kind))
+        else:
+            factory.register_simple_condition(kind, answer)
+    board = bt.Blackboard.create()
+    for key, value in (blackboard or {}).items():
+        {int: board.set_int, float: board.set_double, str: board.set_string}[type(value)](key, value)
+    tree = factory.create_tree_from_text(xml, board)
+    path = folder / f"parity{next(_RUNS)}.btlog"
+    logger = bt.FileLogger(tree, str(path))
+    run = Run()
+    bounds: list[tuple[int, int]] = []
+    paced = time.monotonic()
+    before = 0
+    for _ in range(ticks):
+        start = time.time_ns() // 1000
+        run.roots.append(NAMES[int(tree.tick_exactly_once())])
+        end = time.time_ns() // 1000
+        while time.time_ns() // 1000 <= end + _GAP:  # ticks far enough apart for microsecond stamps
+            pass
+        bounds.append((start, end))
+        run.halts.append(sorted(halts[before:]))  # a timer's halt between two ticks counts for the next one
+        before = len(halts)
+        if between:  # ticks ``between`` seconds apart, whatever a tick took
+            paced += between
+            time.sleep(max(0.0, paced - time.monotonic()))
+    _drain(path)
+    del logger
+    gc.collect()
+    origin, count, records = _records(path)
+    state = ["IDLE"] * (count + 1)
+    for index, (_, end) in enumerate(bounds):
+        low = bounds[index - 1][1] + _GAP // 2 if index else 0
+        high = end + _GAP // 2
+        by_node: dict[int, list[int]] = {}
+        for stamp, uid, status in records:
+            if low < origin + stamp <= high:
+                by_node.setdefault(uid, []).append(status)
+        row = []
+        for uid in range(1, count + 1):
+            seen, state[uid] = _observe(state[uid], [NAMES[code] for code in by_node.get(uid, [])])
+            row.append(seen)
+        run.ticks.append(row)
+    keys = tree.root_blackboard().get_keys()
+    run.blackboard = {k: tree.root_blackboard().get_string(k) for k in keys}
+    return run
+
+
+#: Decorators that answer without setting RUNNING when they do not tick their child.
+_ANSWER_WITHOUT_CHILD = ("RunOnce", "SkipUnlessUpdated", "WaitValueUpdate", "LoopInt", "LoopDouble",
+                         "LoopString", "LoopBool")
+#: Nodes that never set RUNNING on entering a tick (only their result is set).
+_NO_RUNNING_ON_ENTRY = ("Precondition", "Switch2", "Switch3", "Switch4", "Switch5", "Switch6")
+
+
+def _is_leaf(node: Behaviour) -> bool:
+    model = model_of(node)
+    return model is not None and not model.children and model.type != "SubTree"
+
+
+def _visible_children(node: Behaviour) -> list[Behaviour]:
+    found = []
+    for child in node.children:
+        found += _visible_children(child) if getattr(child, "hidden", False) else [child]
+    return found
+
+
+def _resets_children(node: Behaviour, status: Status, result: Any) -> bool:
+    """Whether BT.CPP resets the children of ``node`` as a tick of it ends with ``status`` (``result``)."""
+    kind = getattr(model_of(node), "type", "")
+    if result == "SKIPPED":
+        return kind in ("Sequence", "Fallback", "SequenceWithMemory", "AsyncSequence", "AsyncFallback",
+                        "ReactiveSequence", "ReactiveFallback", "IfThenElse", "WhileDoElse", "Repeat",
+                        "RetryUntilSuccessful")
+    if status == Status.RUNNING:
+        return kind in ("Repeat", "RetryUntilSuccessful", "KeepRunningUntilFailure", "ReactiveSequence",
+                        "ReactiveFallback", "LoopInt", "LoopDouble", "LoopString", "LoopBool")
+    if kind in ("SkipUnlessUpdated", "WaitValueUpdate"):
+        return False
+    if status == Status.FAILURE and kind == "IfThenElse" and len(node.children) == 2:
+        return node.children[1].status != Status.INVALID  # the condition failed: BT.CPP leaves it as it is
+    return status in (Status.SUCCESS, Status.FAILURE)
+
+
+def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: float = 0.0,
+                 blackboard: dict[str, Any] | None = None) -> Run:
+    """The same tree on aeroexec's tree runtime, its clock moved ``between`` seconds between ticks."""
+    document = read_xml(xml, "parity.xml")
+    clock = Clock()
+    halts: list[str] = []
+    engine = SimpleNamespace(catalog=_CATALOG, now=clock, memory=BeliefMemory(),
+                             log=SimpleNamespace(record=lambda *a, **k: None))
+    leaves = {kind: (lambda model, board, kind=kind: ScriptedLeaf(kind, scripts[kind], halts)) for kind in scripts}
+    board = Blackboard(values=blackboard)
+    root = build_tree(document, TreeContext(engine), board, leaves)
+    nodes = [node for _, node in describe(root)]
+    events: list[tuple[int, str]] = []
+    positions = {id(node) for node in nodes}
+    children_of = {id(node): [id(child) for child in _visible_children(node)] for node in nodes}
+    for node in root.iterate():  # every halt (resets of completed nodes: see _resets_children)
+        def stop(new_status: Status, node: Behaviour = node, original: Any = node.stop) -> None:
+            if new_status == Status.INVALID and node.status == Status.RUNNING:
+                events.append((id(node), "IDLE"))
+                events.extend((id(child), "CLEAR") for child in _visible_children(node))
+            original(new_status)
+
+        node.stop = stop  # type: ignore[method-assign]
+    state = {id(node): "IDLE" for node in nodes}
+    run = Run()
+    for _ in range(ticks):
+        before = len(halts)
+        events.clear()
+        yielded: set[int] = set()
+        for ticked in root.tick():
+            yielded.add(id(ticked))
+            result = result_of(ticked)
+            kind = getattr(model_of(ticked), "type", "")
+            remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD
+                                                          and id(ticked.children[0]) not in yielded)
+            if not _is_leaf(ticked) and not remembered:
+                events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
+            if result != "SKIPPED":  # BT.CPP keeps a skipped node's status
+                events.append((id(ticked), "IDLE" if result == Status.INVALID else result.value))
+            if id(ticked) in positions and _resets_children(ticked, ticked.status, result):
+                reset = "CLEAR" if ticked.status == Status.RUNNING else "RESET"
+                children = _visible_children(ticked)
+                if kind == "SequenceWithMemory" and ticked.status == Status.FAILURE:
+                    children = children[ticked.index:]  # BT.CPP halts from the failed child on only
+                events.extend((id(child), reset) for child in children)
+        seen = {key: "RUNNING" if status == "RUNNING" else "-" for key, status in state.items()}
+        for key, new in events:
+            if key in state:
+                _apply(state, seen, key, new, children_of)
+        run.ticks.append([seen[id(node)] for node in nodes])
+        if root.status in (Status.SUCCESS, Status.FAILURE):
+            state[id(root)] = "IDLE"  # BT.CPP's tickRoot resets a root that completed
+        result = result_of(root)
+        run.roots.append(result if isinstance(result, str) else "IDLE" if result == Status.INVALID else result.value)
+        run.halts.append(sorted(halts[before:]))
+        clock.now += between
+    run.blackboard = {key: text_of(value) for key, value in board.items()}
+    return run
+
+
+def compare(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path, between: float = 0.0,
+            blackboard: dict[str, Any] | None = None) -> tuple[Run, Run]:
+    """Both runs; an AssertionError showing both tables when they differ."""
+    theirs = run_btcpp(xml, scripts, ticks, folder, between, blackboard)
+    ours = run_aeroexec(xml, scripts, ticks, between, blackboard)
+    if (theirs.roots, theirs.ticks, theirs.halts, theirs.blackboard) != (ours.roots, ours.ticks, ours.halts,
+                                                                         ours.blackboard):
+        raise AssertionError(f"BehaviorTree.CPP and aeroexec differ on\n{xml}\nscripts {scripts}\n"
+                             f"BehaviorTree.CPP:\n{theirs.table()}\nblackboard {theirs.blackboard}\n"
+                             f"aeroexec:\n{ours.table()}\nblackboard {ours.blackboard}")
+    return theirs, ours

@@ -1,0 +1,73 @@
+"""What of a tree mission BehaviorTree.CPP (and Groot2) would not read as aeroexec does: ``verify --strict-btcpp``.
+
+``portability_problems(document, catalog)`` finds, each with file:line:
+
+* a file that is not BehaviorTree.CPP XML (YAML, TML);
+* ``<Condition belief=...>`` (BT.CPP refuses a ``<Condition>`` without ID: ``<CheckBelief>`` is portable);
+* ``{key}`` inside a longer value (``"{x}, {y}, 3"``: to BT.CPP one key named ``x}, {y}, 3``; a value is a
+  blackboard pointer only when it is all ``{key}``);
+* a pre-condition written as a belief expression, and ``belief("...")`` in a script (aeroexec's extensions);
+* a port the palette does not declare on a catalog behavior or an engine leaf (a lower-case argument name, an
+  alias): BT.CPP refuses ports a node's model does not list.
+"""
+
+from __future__ import annotations
+
+from aeroexec.engine.catalog import BehaviorCatalog
+from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.trees.groot import palette_ports
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.node_types import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, bare_key
+from aeroexec.trees.ports import template_keys
+from aeroexec.trees.script import ScriptError, compile_script
+
+KIND = "NOT_PORTABLE"
+_SCRIPTED = ("code", "if", *PRECONDITIONS, *POSTCONDITIONS)
+
+
+def _problem(node: TreeNode | None, document: TreeDocument, message: str) -> MissionProblem:
+    file = (node.file if node is not None else "") or document.file
+    return MissionProblem("error", message, file, node.line if node is not None else 0, KIND)
+
+
+def _node_problems(node: TreeNode, palette: dict[str, set[str]]) -> list[str]:
+    found: list[str] = []
+    if node.type == "Condition" and node.tag == "Condition":
+        found.append("<Condition belief=...> is refused by BehaviorTree.CPP and Groot2 (<Condition> needs an ID): "
+                     "write <CheckBelief belief=\"...\"/>")
+    for port, text in node.ports.items():
+        if port in _SCRIPTED and (port not in ("code", "if") or node.type in ("Script", "ScriptCondition",
+                                                                               "Precondition")):
+            try:
+                script = compile_script(text)
+            except ScriptError:
+                found.append(f"{port}=\"{text}\" is a belief expression, aeroexec's old reading: BehaviorTree.CPP "
+                             f"reads a script there (write belief(\"...\") in a script, or a <CheckBelief> node)")
+                continue
+            if not script.portable:
+                found.append(f"{port}=\"{text}\" uses belief(\"...\"), aeroexec's extension of BT.CPP's scripts")
+            continue
+        keys = template_keys(text)
+        if keys and bare_key(text) is None:
+            found.append(f"{port}=\"{text}\": {{key}} inside a longer value is aeroexec's extension; to "
+                         f"BehaviorTree.CPP it is one key named {text.strip()[1:-1]!r} (build the value with a "
+                         f"Script, or write the whole value as one {{key}})")
+    declared = palette.get(node.type)
+    if declared is not None:
+        for port in node.ports:
+            if port not in declared and port not in COMMON_ATTRIBUTES:
+                found.append(f"the port {port} of {node.type} is not in the palette (aeroexec groot-model): "
+                             f"BehaviorTree.CPP refuses it (ports: {', '.join(sorted(declared)) or 'none'})")
+    return found
+
+
+def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> list[MissionProblem]:
+    """Every construct of ``document`` that BehaviorTree.CPP would refuse or read differently."""
+    if not document.file.lower().endswith(".xml") or document.file.lower().endswith(".tml.xml"):
+        return [_problem(None, document, "not a BehaviorTree.CPP file: only its v4 XML is portable")]
+    palette = palette_ports(catalog)
+    problems: list[MissionProblem] = []
+    for root in document.trees.values():
+        for node in root.walk():
+            problems.extend(_problem(node, document, message) for message in _node_problems(node, palette))
+    return problems
