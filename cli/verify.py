@@ -17,11 +17,11 @@ from aeroexec.cli import robots
 from aeroexec.cli.mission_files import MissionFileError, check_mission
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
+from aeroexec.trees.portability import portability_problems
 
 
 class WorldChoiceError(Exception):
     """A ``--world`` that cannot be read."""
-from aeroexec.trees.portability import portability_problems
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
