@@ -16,7 +16,7 @@ from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.trees.btlog import BtlogWriter
 from aeroexec.trees.loaders.plan_loader import load_plan
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 
 SURVEY = Path(__file__).parents[1] / "missions" / "survey.plan"
 

@@ -258,7 +258,7 @@ def trees(repeat: int, quick: bool) -> None:
     from aeroexec.drones.sim import SimulatedDrone
     from aeroexec.engine.engine import Engine
     from aeroexec.trees import read_mission_tree
-    from aeroexec.trees.runner import TreeMission
+    from aeroexec.trees.runtime.runner import TreeMission
     from py_trees.common import Status
 
     print("Tree ticks (measured only: the tree runtime is issue 19's other part; ratios to bare py_trees and to plain "

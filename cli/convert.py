@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.mission_files import MissionFileError, check_mission, is_plan, is_tree, world_home
+from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, is_plan, is_tree, world_home
 from aeroexec.trees.loaders.xml_writer import write_xml
 
 

@@ -16,11 +16,11 @@ import sys
 import threading
 from typing import Any
 
-from aeroexec.cli import web
 from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.live import wanted as live_view_wanted
-from aeroexec.cli.mission_files import MissionFileError
+from aeroexec.cli.flying import web
+from aeroexec.cli.flying.mission_files import MissionFileError
 from aeroexec.cli.run import RunError, load_mission
+from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.engine.supervision.output import make_output_folder
 from aeroexec.engine.supervision.supervisor import is_flying
@@ -129,7 +129,7 @@ def fly_fleet(args: argparse.Namespace) -> int:
         browser = web.serve_console(args, fleet.engines, world,
                                     {d.name: d.mission for d in spec.drones if str(d.mission).endswith(".py")})
         if live:
-            from aeroexec.cli.fleet_view import FleetView
+            from aeroexec.cli.views.fleet_view import FleetView
 
             view = FleetView(spec.name, fleet.engines, {m.name: m.link for m in fleet.members}).start()
         elif not args.quiet:

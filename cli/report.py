@@ -22,8 +22,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from aeroexec.cli.report_html import write_html
-    from aeroexec.cli.report_render import draw_flight, draw_path, draw_timeline
+    from aeroexec.cli.reporting.html import write_html
+    from aeroexec.cli.reporting.render import draw_flight, draw_path, draw_timeline
 
     log = Path(args.log)
     try:

@@ -19,12 +19,12 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
-from aeroexec.cli import robots, web
-from aeroexec.cli.lines import whole_lines
-from aeroexec.cli.live import OperatorConsole
-from aeroexec.cli.live import wanted as live_view_wanted
-from aeroexec.cli.mission_files import MissionFileError, check_mission, mission_function
+from aeroexec.cli.flying import robots, web
+from aeroexec.cli.flying.lines import whole_lines
+from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, mission_function
 from aeroexec.cli.verify import WorldChoiceError, add_library_arguments, chosen_world
+from aeroexec.cli.views.live import OperatorConsole
+from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.drones import Drone
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.clock import SimulatedClock, WallClock
@@ -38,7 +38,7 @@ from aeroexec.engine.supervision.output import make_output_folder
 from aeroexec.engine.supervision.run_status import COMPLETED, FAILED, RunStatus, record_run_status, run_status
 from aeroexec.trees import TreeDocument
 from aeroexec.trees.btlog import BtlogWriter
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 
 logger = logging.getLogger(__name__)
 

@@ -13,8 +13,8 @@ import re
 from pathlib import Path
 from typing import Any
 
-from aeroexec.cli import robots
-from aeroexec.cli.mission_files import MissionFileError, check_mission
+from aeroexec.cli.flying import robots
+from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.trees.portability import portability_problems

@@ -26,7 +26,7 @@ from aeroexec.fleet.fleet_file import DroneSpec
 from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.node import FleetNode
 from aeroexec.trees import TreeDocument
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 
 logger = logging.getLogger(__name__)
 

@@ -1,5 +1,6 @@
 """Groot2 replay files (``.btlog``) of tree missions in BehaviorTree.CPP's current FileLogger2 format: a writer that
-follows a :class:`~aeroexec.trees.runner.TreeMission` tick by tick, and a reader that checks a file against the format.
+follows a :class:`~aeroexec.trees.runtime.runner.TreeMission` tick by tick, and a reader that checks a file against
+the format.
 
 The format (BehaviorTree.CPP 4.3 to 4.10, ``src/loggers/bt_file_logger_v2.cpp``), every number little-endian:
 
@@ -37,10 +38,10 @@ from pathlib import Path
 from typing import Any
 
 import defusedxml.ElementTree as SafeElementTree
-from aeroexec.trees.builder import model_of
-from aeroexec.trees.control import status_name
 from aeroexec.trees.groot import tree_nodes_model
 from aeroexec.trees.node_types import CONTROL_TYPES, DECORATOR_TYPES
+from aeroexec.trees.runtime.builder import model_of
+from aeroexec.trees.runtime.control import status_name
 from py_trees.behaviour import Behaviour
 
 MAGIC = b"BTCPP4-FileLogger2"

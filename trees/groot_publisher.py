@@ -55,7 +55,7 @@ def _jsonable(value: Any) -> Any:
 
 
 class GrootPublisher:
-    """Serves one :class:`~aeroexec.trees.runner.TreeMission` to Groot2 clients until :meth:`close`."""
+    """Serves one :class:`~aeroexec.trees.runtime.runner.TreeMission` to Groot2 clients until :meth:`close`."""
 
     def __init__(self, mission: Any, port: int = DEFAULT_PORT, host: str = "127.0.0.1", catalog: Any = None) -> None:
         from aeroexec.trees.btlog import tree_xml

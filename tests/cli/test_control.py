@@ -1,5 +1,5 @@
 """The control socket (engine/control.py, ``aeroexec ctl``) on a simulated mission paced at 20x real time, and
-the live view (cli/live.py) rendered once to text."""
+the live view (cli/views/live.py) rendered once to text."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from aeroexec.cli.live import KeyReader, LiveView
+from aeroexec.cli.views.live import KeyReader, LiveView
 from aeroexec.drones import LandedState
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.clock import SimulatedClock
@@ -25,7 +25,7 @@ from aeroexec.engine.events import Outcome
 from aeroexec.engine.supervision.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.engine.supervision.operator import RemoteOperator
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 from rich.console import Console
 
 ROOT = Path(__file__).parents[2]

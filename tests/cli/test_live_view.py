@@ -8,7 +8,7 @@ import io
 import re
 import textwrap
 
-from aeroexec.cli.live import KEYS_HELP, LiveView
+from aeroexec.cli.views.live import KEYS_HELP, LiveView
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine import api
 from aeroexec.engine.engine import Engine

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from aeroexec.cli.report_render import PATH_COLOR, RETURN_COLOR
+from aeroexec.cli.reporting.render import PATH_COLOR, RETURN_COLOR
 from aeroexec.trees.btlog import STATUS_CODES, read_btlog
 from PIL import Image
 
@@ -199,7 +199,7 @@ def test_the_report_counts_refused_requests_and_plots_altitude_speed_battery(tmp
 
 def test_behavior_labels_stay_on_the_map_at_its_edges():
     """Labels of behaviors that start or end near the bounds grow towards the middle: never clipped."""
-    from aeroexec.cli.report_render import path_figure
+    from aeroexec.cli.reporting.render import path_figure
     from aeroexec.drones.sim import default_world
     from aeroexec.engine.supervision.flight_summary import summarize
 

@@ -4,7 +4,7 @@ import pytest
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.trees import read_mission_tree
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 from console_helpers import TREE
 
 

@@ -14,7 +14,7 @@ from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.supervision.operator import LoggingOperator, RemoteOperator
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 from py_trees.common import Status
 
 FAR = (12.0, 0.0, 3.0)

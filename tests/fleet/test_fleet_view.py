@@ -2,7 +2,7 @@
 
 import io
 
-from aeroexec.cli.fleet_view import FleetView
+from aeroexec.cli.views.fleet_view import FleetView
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.engine.engine import Engine
 from rich.console import Console

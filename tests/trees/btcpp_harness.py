@@ -40,11 +40,11 @@ from typing import Any
 import behaviortreepy as bt
 from aeroexec.beliefs import BeliefMemory
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.blackboard import Blackboard
-from aeroexec.trees.builder import build_tree, describe, model_of
-from aeroexec.trees.control import result_of
 from aeroexec.trees.loaders.xml_loader import read_xml
-from aeroexec.trees.nodes import TreeContext
+from aeroexec.trees.runtime.blackboard import Blackboard
+from aeroexec.trees.runtime.builder import build_tree, describe, model_of
+from aeroexec.trees.runtime.control import result_of
+from aeroexec.trees.runtime.nodes import TreeContext
 from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status

@@ -8,12 +8,12 @@ from pathlib import Path
 
 import pytest
 from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.mission_files import check_mission
+from aeroexec.cli.flying.mission_files import check_mission
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.trees import TreeFormatError, load_mission_tree, read_mission_tree
 from aeroexec.trees.loaders.aerostack_loader import split_parameters
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 from py_trees.common import Status
 
 DATA = Path(__file__).parent / "data" / "aerostack"

@@ -14,7 +14,7 @@ from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.trees.btlog import MAGIC, RECORD, BtlogWriter, read_btlog
 from aeroexec.trees.loaders.xml_loader import read_xml
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 from btcpp_files import settle
 from py_trees.common import Status
 

@@ -15,12 +15,12 @@ from types import SimpleNamespace
 import behaviortreepy as bt
 import pytest
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.blackboard import Blackboard
 from aeroexec.trees.btlog import TransitionTracker, read_btlog
-from aeroexec.trees.builder import TreeBuilder, describe
-from aeroexec.trees.control import status_name
 from aeroexec.trees.loaders.xml_writer import write_xml
 from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runtime.blackboard import Blackboard
+from aeroexec.trees.runtime.builder import TreeBuilder, describe
+from aeroexec.trees.runtime.control import status_name
 from btcpp_files import settle
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st

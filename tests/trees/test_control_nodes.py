@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import py_trees
 import pytest
-from aeroexec.trees.control import (
+from aeroexec.trees.runtime.control import (
     FallbackNode,
     IfThenElseNode,
     ParallelNode,
@@ -14,7 +14,7 @@ from aeroexec.trees.control import (
     WhileDoElseNode,
     status_name,
 )
-from aeroexec.trees.decorators import (
+from aeroexec.trees.runtime.decorators import (
     Delay,
     Force,
     Inverter,
@@ -265,7 +265,7 @@ def test_while_halts_the_running_node_when_it_becomes_false():
 
 @pytest.mark.parametrize("kind", ["Sequence", "Fallback", "ReactiveSequence"])
 def test_halting_a_composite_halts_its_running_child(kind):
-    from aeroexec.trees.control import make_control
+    from aeroexec.trees.runtime.control import make_control
 
     child = Scripted("busy", R)
     children = [Scripted("ok", S if kind != "Fallback" else F), child]

@@ -5,9 +5,9 @@ from __future__ import annotations
 import pytest
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.trees.blackboard import Blackboard
 from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.blackboard import Blackboard
+from aeroexec.trees.runtime.runner import TreeMission
 from py_trees.common import Status
 
 

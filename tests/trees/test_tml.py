@@ -8,12 +8,12 @@ import sys
 from pathlib import Path
 
 import pytest
-from aeroexec.cli.mission_files import check_mission
+from aeroexec.cli.flying.mission_files import check_mission
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.engine.engine import Engine
 from aeroexec.trees import TreeFormatError, load_mission_tree, read_mission_tree
-from aeroexec.trees.runner import TreeMission
+from aeroexec.trees.runtime.runner import TreeMission
 from aeroexec.trees.tml.compiler import TmlDocument, read_tml_document
 from aeroexec.trees.tml.verify import verify_tml
 from py_trees.common import Status

@@ -115,7 +115,7 @@ class TmlDocument(TreeDocument):
 
     def build(self, context: Any, blackboard: Any) -> Behaviour:
         """The runnable mission: the main tree under the event handling node (see :mod:`.tml_runtime`)."""
-        from aeroexec.trees.builder import TreeBuilder
+        from aeroexec.trees.runtime.builder import TreeBuilder
         from aeroexec.trees.tml.runtime import TmlEventHandling
 
         builder = TreeBuilder(self, context)

@@ -28,9 +28,9 @@ from collections.abc import Mapping
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, to_python
-from aeroexec.trees.control import Control, ParallelNode, SequenceWithMemory, Ticking, halt
-from aeroexec.trees.decorators import Decorator
 from aeroexec.trees.ports import MissingKey, substitute
+from aeroexec.trees.runtime.control import Control, ParallelNode, SequenceWithMemory, Ticking, halt
+from aeroexec.trees.runtime.decorators import Decorator
 from aeroexec.trees.tml.reader import TmlEvent
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status

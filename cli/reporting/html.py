@@ -7,7 +7,7 @@ import base64
 from html import escape
 from pathlib import Path
 
-from aeroexec.cli.report_render import OUTCOME_COLORS
+from aeroexec.cli.reporting.render import OUTCOME_COLORS
 from aeroexec.engine.supervision.flight_summary import FlightSummary
 
 STYLE = """

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import Any
 
 import py_trees
-from aeroexec.trees.control import SKIPPED, Result, Ticking, halt, run_tick, tick_child
+from aeroexec.trees.runtime.control import SKIPPED, Result, Ticking, halt, run_tick, tick_child
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 

@@ -11,9 +11,12 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from aeroexec.trees.blackboard import Blackboard
-from aeroexec.trees.control import SKIPPED, make_control
-from aeroexec.trees.decorators import (
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.node_types import CONTROL_TYPES, POSTCONDITIONS, PRECONDITIONS, bare_key
+from aeroexec.trees.ports import parse_number
+from aeroexec.trees.runtime.blackboard import Blackboard
+from aeroexec.trees.runtime.control import SKIPPED, make_control
+from aeroexec.trees.runtime.decorators import (
     Delay,
     Force,
     Inverter,
@@ -24,13 +27,10 @@ from aeroexec.trees.decorators import (
     RunOnce,
     Timeout,
 )
-from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import CONTROL_TYPES, POSTCONDITIONS, PRECONDITIONS, bare_key
-from aeroexec.trees.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
-from aeroexec.trees.ports import parse_number
-from aeroexec.trees.script_nodes import Precondition, ScriptLeaf, SetBlackboard, Switch, UnsetBlackboard
-from aeroexec.trees.v4_nodes import LOOP_TYPES, EntryUpdated, ParallelAll, Sleep, TryCatch, WasEntryUpdated
-from aeroexec.trees.v4_nodes import Loop as V4Loop
+from aeroexec.trees.runtime.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
+from aeroexec.trees.runtime.script_nodes import Precondition, ScriptLeaf, SetBlackboard, Switch, UnsetBlackboard
+from aeroexec.trees.runtime.v4_nodes import LOOP_TYPES, EntryUpdated, ParallelAll, Sleep, TryCatch, WasEntryUpdated
+from aeroexec.trees.runtime.v4_nodes import Loop as V4Loop
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 

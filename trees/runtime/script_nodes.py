@@ -10,10 +10,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from aeroexec.trees.control import SKIPPED, Control, Ticking, halt, reset
-from aeroexec.trees.decorators import Decorator, tick_child
 from aeroexec.trees.node_types import bare_key
-from aeroexec.trees.nodes import Leaf
+from aeroexec.trees.runtime.control import SKIPPED, Control, Ticking, halt, reset
+from aeroexec.trees.runtime.decorators import Decorator, tick_child
+from aeroexec.trees.runtime.nodes import Leaf
 from aeroexec.trees.script import ScriptError, compile_script, truth
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status

@@ -16,11 +16,11 @@ import logging
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from aeroexec.trees.blackboard import Blackboard
-from aeroexec.trees.builder import build_tree, describe, model_of
-from aeroexec.trees.control import status_name
 from aeroexec.trees.model import TreeDocument
-from aeroexec.trees.nodes import TreeContext
+from aeroexec.trees.runtime.blackboard import Blackboard
+from aeroexec.trees.runtime.builder import build_tree, describe, model_of
+from aeroexec.trees.runtime.control import status_name
+from aeroexec.trees.runtime.nodes import TreeContext
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
