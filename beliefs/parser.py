@@ -13,6 +13,8 @@ from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from lark.exceptions import UnexpectedToken, VisitError
 
+from aeroexec.limits import MAX_LITERALS, MAX_TERM_DEPTH, nesting_beyond
+
 __all__ = ["parse_belief", "parse_expression", "parse_term"]
 
 #: Longest expression accepted; longer text is refused before parsing.
@@ -151,6 +153,10 @@ def parse_expression(text: str) -> Conjunction:
         raise BeliefSyntaxError(
             text, f"{len(stripped)} characters is longer than {MAX_EXPRESSION_LENGTH}"
         )
+    deep = nesting_beyond(stripped, MAX_TERM_DEPTH)
+    if deep is not None:
+        column = len(text) - len(text.lstrip()) + deep + 1
+        raise BeliefSyntaxError(text, f"nested more than {MAX_TERM_DEPTH} levels deep at column {column}", column)
     parser, lock = _parser()
     try:
         with lock:  # a Lark parser with an inline transformer is not re-entrant
@@ -164,6 +170,9 @@ def parse_expression(text: str) -> Conjunction:
         raise BeliefSyntaxError(text, str(exc)) from None
     except RecursionError:
         raise BeliefSyntaxError(text, "the expression is nested too deeply") from None
+    if len(literals) > MAX_LITERALS:
+        raise BeliefSyntaxError(text, f"{len(literals)} literals is more than the limit of {MAX_LITERALS} "
+                                      "in one expression")
     for lit in literals:
         if type(lit) is Comparison and lit.op not in COMPARISON_OPERATORS:
             raise BeliefSyntaxError(text, f"unknown comparison {lit.op}")

@@ -18,6 +18,8 @@ from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.tml.verify import verify_mission_document
 
+from aeroexec.limits import InputError, read_text
+
 
 class MissionFileError(Exception):
     """A mission that cannot be flown, already phrased for the operator."""
@@ -56,9 +58,9 @@ def check_mission(path: Path, catalog: BehaviorCatalog) -> CheckedMission:
         raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
                                f"({', '.join(sorted(MISSION_EXTENSIONS))})")
     try:
-        checked.source = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MissionFileError(f"{path}: cannot read the mission: {exc}") from None
+        checked.source = read_text(path, what="the mission")
+    except InputError as exc:
+        raise MissionFileError(str(exc)) from None
     checked.problems = check_mission_source(checked.source, str(path), catalog)
     return checked
 

@@ -21,6 +21,7 @@ reaching the behavior could avoid. The policy, conservative everywhere:
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable
 
 from aeroexec.engine.catalog.specialist import BehaviorSpecialist, PhenomenonState, Request
@@ -184,9 +185,10 @@ class SequenceChecker:
 
     def parallel(self, children: list[TreeNode], state: State, looping: bool) -> Exits:
         touched = [self.touched(child) for child in children]
+        counts = Counter(phenomenon for found in touched for phenomenon in found)  # linear in the children
         ends: list[State | None] = []
         for index, child in enumerate(children):
-            others = set().union(*(t for i, t in enumerate(touched) if i != index))
+            others = {p for p, count in counts.items() if count > (p in touched[index])}
             ends.append(join(*self.flow(child, self.forget(state, others), looping)))
         merged: State = {}
         for phenomenon, before in state.items():

@@ -11,7 +11,9 @@ function or a local function running behaviors is used other than by calling it 
 from __future__ import annotations
 
 import ast
+import io
 import logging
+import tokenize
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,6 +27,8 @@ from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.yaml_nodes import suggestion
+
+from aeroexec.limits import MAX_NESTING, InputError, read_text
 
 logger = logging.getLogger(__name__)
 
@@ -319,10 +323,44 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
+def parse_source(source: str, filename: str) -> ast.Module:
+    """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``."""
+    try:
+        tree = ast.parse(source, filename)
+    except (RecursionError, MemoryError):  # Python's own parser gives up: name the statement it choked on
+        raise SyntaxError(f"an expression is nested too deeply to read (the limit is {MAX_NESTING} levels)",
+                          (filename, _longest_statement(source), 0, "")) from None
+    stack: list[tuple[ast.AST, int]] = [(tree, 0)]
+    while stack:  # iterative, so that the depth itself is measured without recursion
+        node, depth = stack.pop()
+        if depth > MAX_NESTING:
+            raise SyntaxError(f"an expression or block is nested more than {MAX_NESTING} levels deep",
+                              (filename, getattr(node, "lineno", 0), getattr(node, "col_offset", -1) + 1, ""))
+        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+    return tree
+
+
+def _longest_statement(source: str) -> int:
+    """The line where the statement with the most tokens starts (where a too-deep expression is)."""
+    best, best_line, count, start = 0, 0, 0, 1
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(source).readline):
+            if count == 0:
+                start = token.start[0]
+            count += 1
+            if token.type in (tokenize.NEWLINE, tokenize.ENDMARKER):
+                if count > best:
+                    best, best_line = count, start
+                count = 0
+    except (tokenize.TokenError, SyntaxError):
+        pass
+    return max(best_line, start if count > best else 0, 1)
+
+
 def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | None = None) -> list[Problem]:
     """Every problem of a mission program, by line: request errors, belief expressions, sequences."""
     try:
-        tree = ast.parse(source, filename)
+        tree = parse_source(source, filename)
     except SyntaxError as exc:
         return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
                                WRONG_FORMAT, exc.offset or 0)]
@@ -349,10 +387,9 @@ def check_mission_file(path: str | Path, catalog: BehaviorCatalog | None = None)
     """Read and check a mission file (see :func:`check_mission_source`)."""
     path = Path(path)
     try:
-        source = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        return [MissionProblem("error", f"The mission cannot be read: {reason}", str(path), 0)]
+        source = read_text(path)
+    except InputError as exc:
+        return [MissionProblem("error", f"The mission cannot be read: {exc.message}", exc.file, exc.line)]
     return check_mission_source(source, str(path), catalog)
 
 
