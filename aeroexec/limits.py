@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import stat
 from pathlib import Path
+from typing import Any
 
 import yaml
 from yaml.composer import Composer, ComposerError
@@ -32,6 +33,8 @@ MAX_LITERALS = 100
 MAX_NUMBER_LENGTH = 64
 
 _NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
+_CHECKED_TAGS = frozenset((*_NUMBER_TAGS, *(f"tag:yaml.org,2002:{kind}" for kind in ("bool", "timestamp", "binary",
+                                                                                      "null"))))
 _KINDS = ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a directory"))
 
@@ -155,6 +158,11 @@ class _BoundedLoader(*_PARSING, Composer, SafeConstructor, Resolver):
                 self._limit(event.start_mark, f"the alias *{event.anchor} nests the document more than "
                                               f"{MAX_NESTING} levels deep")
             return Composer.compose_node(self, parent, index)
+        if isinstance(event, yaml.ScalarEvent):  # a scalar is no level of nesting: counted, then composed
+            self._count(1, event.start_mark)
+            if event.anchor is not None:
+                self._heights[event.anchor] = (0, 1)
+            return Composer.compose_node(self, parent, index)
         self._depth += 1
         if self._depth > MAX_NESTING:
             self._limit(event.start_mark, f"nested more than {MAX_NESTING} levels deep")
@@ -183,6 +191,15 @@ class _BoundedLoader(*_PARSING, Composer, SafeConstructor, Resolver):
         if node.tag in _NUMBER_TAGS and len(node.value) > MAX_NUMBER_LENGTH:
             self._limit(node.start_mark, f"a number of {len(node.value)} characters is longer than the limit "
                                          f"of {MAX_NUMBER_LENGTH}")
+        if node.tag in _CHECKED_TAGS:  # built once here, so that reading the value later cannot fail
+            try:
+                SafeConstructor.construct_object(self, node)
+            except Exception as exc:  # PyYAML raises ValueError, KeyError, AttributeError... for these
+                kind = node.tag.rsplit(":", 1)[-1]
+                shown = node.value if len(node.value) <= 40 else node.value[:37] + "..."
+                self._limit(node.start_mark, f"{shown!r} is not a valid {kind} ({type(exc).__name__})")
+            finally:
+                self.constructed_objects.pop(node, None)
         return node
 
 
@@ -208,6 +225,21 @@ def compose_yaml(text: str, file: str) -> yaml.Node | None:
         raise InputError(file, 0, f"not valid YAML: nested too deeply (the limit is {MAX_NESTING})") from None
     finally:
         loader.dispose()
+
+
+def load_yaml(text: str, file: str) -> Any:
+    """The Python value of one YAML document, composed within the limits (see :func:`compose_yaml`)."""
+    node = compose_yaml(text, file)
+    if node is None:
+        return None
+    try:
+        return SafeConstructor().construct_document(node)
+    except yaml.YAMLError as exc:  # e.g. a !!binary that is not base64, a bad timestamp
+        mark = getattr(exc, "problem_mark", None)
+        raise InputError(file, mark.line + 1 if mark else 0, f"not valid YAML: {getattr(exc, 'problem', exc)}") \
+            from None
+    except ValueError as exc:
+        raise InputError(file, node.start_mark.line + 1, f"not valid YAML: {exc}") from None
 
 
 def _reader_line(text: str, exc: yaml.reader.ReaderError) -> int:

@@ -13,7 +13,7 @@ from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from lark.exceptions import UnexpectedToken, VisitError
 
-from aeroexec.limits import MAX_LITERALS, MAX_TERM_DEPTH, nesting_beyond
+from aeroexec.limits import MAX_LITERALS, MAX_NUMBER_LENGTH, MAX_TERM_DEPTH, nesting_beyond
 
 __all__ = ["parse_belief", "parse_expression", "parse_term"]
 
@@ -69,6 +69,8 @@ class _Build(Transformer):
 
     def number(self, items):
         text = str(items[0])
+        if len(text) > MAX_NUMBER_LENGTH:
+            raise _Invalid(f"a number of {len(text)} characters is longer than the limit of {MAX_NUMBER_LENGTH}")
         if any(c in text for c in ".eE"):
             return float(text)
         return int(text)
@@ -223,8 +225,13 @@ def _read_items(text: str, item: re.Pattern) -> list:
     return values
 
 
+_LONG_DIGITS = re.compile(rf"\d{{{MAX_NUMBER_LENGTH + 1}}}")
+
+
 def _read_flat(text: str) -> Struct | None:
     whole, item, _ = _flat_fact()
+    if _LONG_DIGITS.search(text):  # the parser reads it, and refuses a number that is too long with the reason
+        return None
     found = whole.fullmatch(text)
     if found is None or found.group(1) == "not":
         return None

@@ -7,6 +7,7 @@ and every problem found before flight, each naming the file and line.
 from __future__ import annotations
 
 import importlib.util
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -70,7 +71,10 @@ def mission_function(path: Path) -> Callable[[], Any]:
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     try:
-        spec.loader.exec_module(module)
+        with warnings.catch_warnings():  # SyntaxWarnings of the mission's source are not the project's messages
+            warnings.simplefilter("ignore", SyntaxWarning)
+            warnings.simplefilter("ignore", DeprecationWarning)
+            spec.loader.exec_module(module)
     except Exception as exc:
         raise MissionFileError(f"{path}: the mission cannot be loaded: {type(exc).__name__}: {exc}") from None
     function = getattr(module, "mission", None) or getattr(module, "runMission", None)

@@ -30,11 +30,11 @@ def suggestion(name: str, known: Iterable[str]) -> str:
     return f" (did you mean {close[0]}?)" if close else ""
 
 
-def _finite(number: int | float) -> bool:
+def _finite(number: int | float | None) -> bool:
     """True for a number a float can hold (``1e400``, ``.inf`` and a 400-digit integer are not)."""
     try:
         return math.isfinite(float(number))
-    except OverflowError:
+    except (OverflowError, TypeError):
         return False
 
 
@@ -134,7 +134,11 @@ class NodeReader:
 
     def value(self, node: yaml.Node) -> Any:
         """The Python value of a node as YAML 1.1 reads it."""
-        return self._constructor.construct_object(node, deep=True)
+        try:
+            return self._constructor.construct_object(node, deep=True)
+        except yaml.YAMLError as exc:  # an unknown tag such as !foo: an error at its line, the value is None
+            self.error(node, f"not a value this reader knows: {getattr(exc, 'problem', None) or exc}")
+            return None
 
     def text(self, node: yaml.Node, what: str) -> str | None:
         """A scalar as written (``ON`` stays ``ON``, not ``True``)."""

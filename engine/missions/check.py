@@ -14,6 +14,7 @@ import ast
 import io
 import logging
 import tokenize
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -326,17 +327,21 @@ def _is_number(value: Any) -> bool:
 def parse_source(source: str, filename: str) -> ast.Module:
     """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``."""
     try:
-        tree = ast.parse(source, filename)
+        with warnings.catch_warnings():  # Python's own SyntaxWarnings would print on stderr without our place
+            warnings.simplefilter("ignore", SyntaxWarning)
+            warnings.simplefilter("ignore", DeprecationWarning)
+            tree = ast.parse(source, filename)
     except (RecursionError, MemoryError):  # Python's own parser gives up: name the statement it choked on
         raise SyntaxError(f"an expression is nested too deeply to read (the limit is {MAX_NESTING} levels)",
                           (filename, _longest_statement(source), 0, "")) from None
-    stack: list[tuple[ast.AST, int]] = [(tree, 0)]
+    stack: list[tuple[ast.AST, int, int, int]] = [(tree, 0, 1, 0)]
     while stack:  # iterative, so that the depth itself is measured without recursion
-        node, depth = stack.pop()
+        node, depth, line, column = stack.pop()
+        line, column = getattr(node, "lineno", line), getattr(node, "col_offset", column - 1) + 1
         if depth > MAX_NESTING:
             raise SyntaxError(f"an expression or block is nested more than {MAX_NESTING} levels deep",
-                              (filename, getattr(node, "lineno", 0), getattr(node, "col_offset", -1) + 1, ""))
-        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+                              (filename, line, column, ""))
+        stack.extend((child, depth + 1, line, column) for child in ast.iter_child_nodes(node))
     return tree
 
 
@@ -361,9 +366,10 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     """Every problem of a mission program, by line: request errors, belief expressions, sequences."""
     try:
         tree = parse_source(source, filename)
-    except SyntaxError as exc:
-        return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
-                               WRONG_FORMAT, exc.offset or 0)]
+    except SyntaxError as exc:  # a NUL byte has no line from Python: it is found here
+        line = exc.lineno or (source.count("\n", 0, source.find("\0")) + 1 if "\0" in source else 0)
+        return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, line,
+                               WRONG_FORMAT, exc.offset or 0 if exc.lineno else 0)]
     checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
