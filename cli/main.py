@@ -45,8 +45,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     quiet = logging.INFO if args.command == "sim" else logging.WARNING  # run prints events, not log lines
-    logging.basicConfig(level=logging.DEBUG if args.verbose else quiet,
-                        format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(OneLineFormatter("%(levelname)s %(name)s: %(message)s", tracebacks=args.verbose))
+    logging.basicConfig(level=logging.DEBUG if args.verbose else quiet, handlers=[handler])
     threading.excepthook = _thread_failed
     if not getattr(args, "run", None):
         parser.print_help()
@@ -63,6 +64,27 @@ def main(argv: list[str] | None = None) -> int:
         logging.getLogger("aeroexec").debug("internal error", exc_info=True)
         print(internal_error_message(error), file=sys.stderr)
         return INTERNAL_ERROR
+
+
+class OneLineFormatter(logging.Formatter):
+    """Log lines without tracebacks (unless ``-v``): a failure inside a background task is one line with its reason."""
+
+    def __init__(self, fmt: str, tracebacks: bool = False) -> None:
+        super().__init__(fmt)
+        self.tracebacks = tracebacks
+
+    def format(self, record: logging.LogRecord) -> str:
+        if self.tracebacks or not record.exc_info or record.exc_info[1] is None:
+            return super().format(record)
+        error = record.exc_info[1]
+        saved = record.exc_info, record.exc_text
+        record.exc_info, record.exc_text = None, None
+        try:
+            line = super().format(record)
+        finally:
+            record.exc_info, record.exc_text = saved
+        detail = " ".join(str(error).split())[:200]
+        return f"{line} ({type(error).__name__}{': ' + detail if detail else ''}; -v shows the traceback)"
 
 
 def internal_error_message(error: BaseException, where: str = "") -> str:

@@ -3,13 +3,16 @@ file and line, exit status 1, never a traceback or a hang; an internal error exi
 
 from __future__ import annotations
 
+import io
 import json
+import logging
 import os
 import re
 import shutil
 import socket
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import pytest
@@ -150,3 +153,36 @@ def test_a_refused_mission_exits_1_and_a_usage_error_2(capsys):
         main(["verify", "--no-such-option"])
     assert usage.value.code == 2
     assert cli_main.REFUSED == 1 and cli_main.USAGE == 2
+
+
+def test_a_failure_in_a_background_task_is_one_log_line_without_a_traceback():
+    stream = io.StringIO()
+    handler = logging.StreamHandler(stream)
+    handler.setFormatter(cli_main.OneLineFormatter("%(levelname)s %(name)s: %(message)s"))
+    log = logging.getLogger("aeroexec.test.background")
+    log.addHandler(handler)
+    try:
+        try:
+            raise ZeroDivisionError("division by zero")
+        except ZeroDivisionError:
+            log.exception("a tick callback failed")
+    finally:
+        log.removeHandler(handler)
+    assert stream.getvalue() == ("ERROR aeroexec.test.background: a tick callback failed (ZeroDivisionError: "
+                                 "division by zero; -v shows the traceback)\n")
+
+
+def test_a_thread_that_dies_logs_one_line_asking_to_report_it(capsys, caplog, monkeypatch):
+    monkeypatch.setattr(threading, "excepthook", threading.excepthook)  # main() installs its own: undone after
+    aeroexec(capsys, "verify", str(DATA / "d8_null_children.yaml"))
+
+    def task():
+        raise RuntimeError("the camera is gone")
+
+    thread = threading.Thread(target=task, name="aeroexec-background")
+    thread.start()
+    thread.join()
+    assert "Traceback" not in capsys.readouterr().err
+    assert [r.getMessage() for r in caplog.records if r.levelno == logging.ERROR] == [
+        "aeroexec: internal error in the thread aeroexec-background (RuntimeError: the camera is gone); this is a "
+        "bug in aeroexec, not in your input: please report it with the command you ran (-v shows the traceback)"]
