@@ -35,6 +35,8 @@ from typing import Any
 from aeroexec.beliefs import BeliefChange, Struct, format_term
 from aeroexec.engine.events import EngineEvent, Outcome
 
+from aeroexec.limits import MAX_NESTING, InputError, nesting_beyond, read_text
+
 logger = logging.getLogger(__name__)
 
 FORMAT = "aeroexec-events/1"
@@ -171,15 +173,23 @@ def plain(value: Any) -> Any:
         return str(value)
 
 
+#: Largest event log read back (``aeroexec report``, ``aeroexec beliefs``), in bytes.
+MAX_LOG_BYTES = 1 << 30
+
+
 def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
     """The records of an event log; a last line cut short (by a crash mid-write) is left out."""
     records: list[dict[str, Any]] = []
-    with open(path, encoding="utf-8") as file:
-        lines = file.read().split("\n")
+    try:
+        lines = read_text(path, limit=MAX_LOG_BYTES).split("\n")  # a FIFO is refused unread
+    except InputError as exc:  # the callers say "cannot read the event log" and the file
+        raise ValueError(exc.message.removeprefix("cannot read the file: ")) from None
     for number, line in enumerate(lines, 1):
         if not line.strip():
             continue
         try:
+            if nesting_beyond(line, MAX_NESTING, "[{", "]}") is not None:
+                raise ValueError(f"{path}:{number}: nested more than {MAX_NESTING} levels deep")
             records.append(json.loads(line))
         except json.JSONDecodeError:
             if number == len(lines):  # the torn last line (no newline after it)

@@ -132,3 +132,15 @@ def test_an_answers_file_is_read_within_the_limits(tmp_path):
     path.write_text("Fly east?: " + "[" * 500 + "]" * 500 + "\n")
     with pytest.raises(OperatorError, match=f"answers.yaml:1: not valid YAML: nested more than {MAX_NESTING}"):
         ScriptedOperator.from_file(path)
+
+
+def test_an_event_log_that_is_a_fifo_or_too_deep_is_refused(tmp_path):
+    from aeroexec.engine.supervision.flight_log import read_flight_log
+
+    os.mkfifo(tmp_path / "events.jsonl")
+    with pytest.raises(ValueError, match="not a regular file: it is a FIFO"):
+        read_flight_log(tmp_path / "events.jsonl")
+    deep = tmp_path / "deep.jsonl"
+    deep.write_text('{"kind": "engine_started"}\n' + "[" * 60_000 + "\n{}\n")
+    with pytest.raises(ValueError, match=f"deep.jsonl:2: nested more than {MAX_NESTING} levels deep"):
+        read_flight_log(deep)
