@@ -36,6 +36,8 @@ from aeroexec.trees.builder import model_of
 from aeroexec.trees.groot import tree_nodes_model
 from py_trees.behaviour import Behaviour
 
+from aeroexec.limits import InputError, read_bytes
+
 STATUS_CODES = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3, "SKIPPED": 4}
 STATUS_NAMES = {code: name for name, code in STATUS_CODES.items()}
 TIMESTAMP_BITS, UID_BITS, STATUS_BITS = 45, 16, 3
@@ -176,15 +178,20 @@ class Btlog:
 
 def read_btlog(path: str | Path) -> Btlog:
     """Parse a ``.btlog`` per the FileLogger2 format; a :class:`BtlogError` says where it does not follow it."""
-    data = Path(path).read_bytes()
+    try:
+        data = read_bytes(path, limit=1 << 30)  # a FIFO or a device is refused unread
+    except InputError as exc:
+        raise BtlogError(str(exc)) from None
     if len(data) < 4:
         raise BtlogError(f"{path}: {len(data)} bytes, too short for the XML size")
     (size,) = struct.unpack_from("<i", data, 0)
     if size < 0 or 4 + size + 8 > len(data):
         raise BtlogError(f"{path}: the XML size {size} does not fit in the file ({len(data)} bytes)")
-    xml = data[4:4 + size].decode("utf-8")
     try:
+        xml = data[4:4 + size].decode("utf-8")
         document = SafeElementTree.fromstring(xml)
+    except UnicodeDecodeError as error:
+        raise BtlogError(f"{path}: the tree XML is not UTF-8 (byte {error.start + 4})") from None
     except ElementTree.ParseError as error:
         raise BtlogError(f"{path}: the tree XML does not parse: {error}") from None
     if document.tag != "root" or document.find("BehaviorTree") is None:
