@@ -254,8 +254,12 @@ def _reader_problem(exc: yaml.reader.ReaderError) -> str:
     return f"not valid YAML: the control character #x{character:04x} is not allowed (not even in a comment)"
 
 
-def nesting_beyond(text: str, limit: int, opening: str = "([{", closing: str = ")]}") -> int | None:
-    """The 0-based offset where brackets outside quoted strings first nest deeper than ``limit``, or None."""
+def nesting_beyond(text: str, limit: int, opening: str = "([{", closing: str = ")]}",
+                   quotes: str = "\"'") -> int | None:
+    """The 0-based offset where brackets outside quoted strings first nest deeper than ``limit``, or None.
+
+    ``quotes`` are the characters that open a string (JSON has only ``"``; belief expressions both).
+    """
     depth, quote, escaped = 0, "", False
     for offset, char in enumerate(text):
         if quote:
@@ -265,7 +269,7 @@ def nesting_beyond(text: str, limit: int, opening: str = "([{", closing: str = "
                 escaped = True
             elif char == quote:
                 quote = ""
-        elif char in "\"'":
+        elif char in quotes:
             quote = char
         elif char in opening:
             depth += 1

@@ -122,7 +122,7 @@ class ControlServer:
         """The reply to one request line, and whether the connection stays open."""
         if len(line) > MAX_LINE:
             return {"ok": False, "error": "request too long"}, False
-        deep = nesting_beyond(line.decode("utf-8", "replace"), MAX_NESTING, "[{", "]}")
+        deep = nesting_beyond(line.decode("utf-8", "replace"), MAX_NESTING, "[{", "]}", quotes='"')
         if deep is not None:
             logger.warning("control socket: a request nested more than %d levels deep was refused", MAX_NESTING)
             return {"ok": False, "error": f"bad request: nested more than {MAX_NESTING} levels deep "

@@ -188,7 +188,7 @@ def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
         if not line.strip():
             continue
         try:
-            if nesting_beyond(line, MAX_NESTING, "[{", "]}") is not None:
+            if nesting_beyond(line, MAX_NESTING, "[{", "]}", quotes='"') is not None:
                 raise ValueError(f"{path}:{number}: nested more than {MAX_NESTING} levels deep")
             records.append(json.loads(line))
         except json.JSONDecodeError:
