@@ -23,6 +23,8 @@ from yaml.resolver import Resolver
 MAX_FILE_BYTES = 2 * 1024 * 1024
 #: Deepest nesting of YAML collections, XML elements, tree nodes, JSON messages and Python expressions.
 MAX_NESTING = 100
+#: Most nodes of a behavior tree with its SubTrees expanded where they are used (the runtime builds them all).
+MAX_TREE_NODES = 100_000
 #: Most YAML nodes in one document, aliases counted at every place they are used.
 MAX_YAML_NODES = 50_000
 #: Deepest nesting of a belief term or expression: parentheses, brackets and not() together.

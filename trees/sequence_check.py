@@ -61,6 +61,7 @@ class SequenceChecker:
         self.unknown: State = dict.fromkeys(self.specialist.initial_states())
         self.silent = 0
         self.stack: list[str] = []
+        self._memo: dict[tuple, Exits] = {}
 
     def check(self) -> None:
         if self.document.main in self.document.trees:
@@ -221,11 +222,16 @@ class SequenceChecker:
         if tree not in self.document.trees or tree in self.stack:
             unknown = dict(self.unknown)
             return unknown, unknown
-        self.stack.append(tree)
-        try:
-            return self.flow(self.document.trees[tree], state, looping)
-        finally:
-            self.stack.pop()
+        key = (tree, looping, bool(self.silent),
+               tuple(sorted((p, (s.state, s.since) if s else None) for p, s in state.items())))
+        if key not in self._memo:  # a tree used many times from the same states is walked once
+            self.stack.append(tree)
+            try:
+                self._memo[key] = self.flow(self.document.trees[tree], state, looping)
+            finally:
+                self.stack.pop()
+        success, failure = self._memo[key]
+        return (dict(success) if success is not None else None), (dict(failure) if failure is not None else None)
 
     def behavior(self, node: TreeNode, behavior: str, state: State) -> Exits:
         descriptor = self.catalog.behavior(behavior)

@@ -369,7 +369,7 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     except SyntaxError as exc:  # a NUL byte has no line from Python: it is found here
         line = exc.lineno or (source.count("\n", 0, source.find("\0")) + 1 if "\0" in source else 0)
         return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, line,
-                               WRONG_FORMAT, exc.offset or 0 if exc.lineno else 0)]
+                               WRONG_FORMAT, max(exc.offset or 0, 0) if exc.lineno else 0)]  # f-strings: < 0
     checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}

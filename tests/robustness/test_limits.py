@@ -19,6 +19,7 @@ from aeroexec.limits import (
     MAX_NESTING,
     MAX_NUMBER_LENGTH,
     MAX_TERM_DEPTH,
+    MAX_TREE_NODES,
     MAX_YAML_NODES,
     InputError,
     compose_yaml,
@@ -144,3 +145,24 @@ def test_an_event_log_that_is_a_fifo_or_too_deep_is_refused(tmp_path):
     deep.write_text('{"kind": "engine_started"}\n' + "[" * 60_000 + "\n{}\n")
     with pytest.raises(ValueError, match=f"deep.jsonl:2: nested more than {MAX_NESTING} levels deep"):
         read_flight_log(deep)
+
+
+def test_subtrees_used_many_times_are_checked_once_and_an_expansion_bomb_is_refused(tmp_path):
+    def trees(levels: int, uses: int) -> str:
+        body = "".join(f'<BehaviorTree ID="T{i}"><Sequence>' + f'<SubTree ID="T{i + 1}"/>' * uses
+                       + "</Sequence></BehaviorTree>" for i in range(levels))
+        return (f'<root BTCPP_format="4" main_tree_to_execute="T0">{body}<BehaviorTree ID="T{levels}">'
+                f'<WAIT DURATION="1"/></BehaviorTree></root>')
+
+    path = tmp_path / "bomb.xml"
+    path.write_text(trees(3, 30))  # 27,000 WAIT leaves once expanded: verified, each tree walked once
+    assert not check_mission(path, default_catalog()).errors
+    path.write_text(trees(6, 10))  # a million leaves: refused at the main tree
+    errors = check_mission(path, default_catalog()).errors
+    assert [(e.line, e.message) for e in errors] == [(1, f"The mission has more than {MAX_TREE_NODES:,} nodes once "
+                                                        "its SubTrees are expanded where they are used (the limit "
+                                                        "of the readers)")]
+    path.write_text(trees(MAX_NESTING, 1))  # a chain of SubTrees deeper than the limit
+    assert [e.message for e in check_mission(path, default_catalog()).errors] == [
+        f"The mission is nested more than {MAX_NESTING} levels deep once its SubTrees are expanded where they are "
+        "used (the limit of the readers)"]
