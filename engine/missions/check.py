@@ -13,6 +13,7 @@ from __future__ import annotations
 import ast
 import io
 import logging
+import re
 import tokenize
 import warnings
 from dataclasses import dataclass
@@ -324,8 +325,15 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
+_LONG_DOTTED = re.compile(rf"^[ \t]*(?:import|from)[ \t]+(?:\w+[ \t]*\.[ \t]*){{{MAX_NESTING}}}", re.MULTILINE)
+
+
 def parse_source(source: str, filename: str) -> ast.Module:
     """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``."""
+    dotted = _LONG_DOTTED.search(source)  # Python's parser joins an imported dotted name in quadratic time
+    if dotted is not None:
+        raise SyntaxError(f"a dotted name of more than {MAX_NESTING} parts",
+                          (filename, source.count("\n", 0, dotted.start()) + 1, 0, ""))
     try:
         with warnings.catch_warnings():  # Python's own SyntaxWarnings would print on stderr without our place
             warnings.simplefilter("ignore", SyntaxWarning)
