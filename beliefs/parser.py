@@ -13,6 +13,8 @@ from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from lark.exceptions import UnexpectedToken, VisitError
 
+from aeroexec.limits import MAX_LITERALS, MAX_NUMBER_LENGTH, MAX_TERM_DEPTH, nesting_beyond
+
 __all__ = ["parse_belief", "parse_expression", "parse_term"]
 
 #: Longest expression accepted; longer text is refused before parsing.
@@ -67,6 +69,8 @@ class _Build(Transformer):
 
     def number(self, items):
         text = str(items[0])
+        if len(text) > MAX_NUMBER_LENGTH:
+            raise _Invalid(f"a number of {len(text)} characters is longer than the limit of {MAX_NUMBER_LENGTH}")
         if any(c in text for c in ".eE"):
             return float(text)
         return int(text)
@@ -151,6 +155,10 @@ def parse_expression(text: str) -> Conjunction:
         raise BeliefSyntaxError(
             text, f"{len(stripped)} characters is longer than {MAX_EXPRESSION_LENGTH}"
         )
+    deep = nesting_beyond(stripped, MAX_TERM_DEPTH)
+    if deep is not None:
+        column = len(text) - len(text.lstrip()) + deep + 1
+        raise BeliefSyntaxError(text, f"nested more than {MAX_TERM_DEPTH} levels deep at column {column}", column)
     parser, lock = _parser()
     try:
         with lock:  # a Lark parser with an inline transformer is not re-entrant
@@ -164,6 +172,9 @@ def parse_expression(text: str) -> Conjunction:
         raise BeliefSyntaxError(text, str(exc)) from None
     except RecursionError:
         raise BeliefSyntaxError(text, "the expression is nested too deeply") from None
+    if len(literals) > MAX_LITERALS:
+        raise BeliefSyntaxError(text, f"{len(literals)} literals is more than the limit of {MAX_LITERALS} "
+                                      "in one expression")
     for lit in literals:
         if type(lit) is Comparison and lit.op not in COMPARISON_OPERATORS:
             raise BeliefSyntaxError(text, f"unknown comparison {lit.op}")
@@ -214,8 +225,13 @@ def _read_items(text: str, item: re.Pattern) -> list:
     return values
 
 
+_LONG_DIGITS = re.compile(rf"\d{{{MAX_NUMBER_LENGTH + 1}}}")
+
+
 def _read_flat(text: str) -> Struct | None:
     whole, item, _ = _flat_fact()
+    if _LONG_DIGITS.search(text):  # the parser reads it, and refuses a number that is too long with the reason
+        return None
     found = whole.fullmatch(text)
     if found is None or found.group(1) == "not":
         return None

@@ -16,10 +16,12 @@ from collections.abc import Iterator
 from typing import Any
 
 _anonymous_ids = itertools.count()
+#: Prefix of an anonymous variable's name: ``#`` cannot appear in a variable the user writes (``?[A-Za-z0-9_]*``).
+_ANONYMOUS = "?#"
 
 
 class Var(str):
-    """A logic variable written ``?X``; ``?`` alone is anonymous (each one distinct).
+    """A logic variable written ``?X``; ``?`` alone is anonymous (each one distinct, named ``?#N``).
 
     A ``str`` subclass so bindings hash at C speed; terms are told apart by
     ``type(x) is Var``, never ``isinstance(x, str)``. Named variables are
@@ -31,7 +33,7 @@ class Var(str):
 
     def __new__(cls, name: str) -> Var:
         if name == "?":
-            return super().__new__(cls, f"?_{next(_anonymous_ids)}")
+            return super().__new__(cls, f"{_ANONYMOUS}{next(_anonymous_ids)}")
         known = cls._interned.get(name)
         if known is None:
             known = super().__new__(cls, name)
@@ -45,7 +47,7 @@ class Var(str):
 
     @property
     def anonymous(self) -> bool:
-        return self.startswith("?_")
+        return self.startswith(_ANONYMOUS)
 
     def __repr__(self) -> str:
         return "?" if self.anonymous else str.__str__(self)

@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+from pathlib import Path
 
 from aeroexec.engine.supervision.control import CONTROL_FILE, live_runs, read_control_file, send_command
 from aeroexec.engine.supervision.output import DEFAULT_BASE
@@ -62,12 +64,13 @@ def run(args: argparse.Namespace) -> int:
         return fleet_command(args, argument)
     try:
         port, token = endpoint(args)
-        answer = send_command(port, token, args.command, argument)
     except ValueError as error:
         print(error, file=sys.stderr)
         return 1
-    except OSError as error:
-        print(f"cannot reach the run on port {args.port or 'from ' + CONTROL_FILE}: {error}", file=sys.stderr)
+    try:
+        answer = send_command(port, token, args.command, argument)
+    except (OSError, ValueError) as error:
+        print(f"cannot reach the run on port {port}: {error}{_stale_hint(args)}", file=sys.stderr)
         return 1
     if args.json:
         print(json.dumps(answer, indent=2))
@@ -80,6 +83,32 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
     return 0 if answer.get("ok") else 1
+
+
+def _stale_hint(args: argparse.Namespace) -> str:
+    """When the port came from a control file whose run is gone (killed), say so and which file it is."""
+    if args.port is not None:
+        return ""
+    folder = Path(args.run_dir) if args.run_dir else None
+    if folder is None:
+        files = sorted(DEFAULT_BASE.glob(f"*/{CONTROL_FILE}"), key=lambda p: p.stat().st_mtime)
+        folder = files[-1].parent if files else None
+    if folder is None:
+        return ""
+    try:
+        pid = int(json.loads((folder / CONTROL_FILE).read_text(encoding="utf-8")).get("pid", 0))
+    except (OSError, ValueError, TypeError, AttributeError):
+        return ""
+    if pid <= 0:
+        return ""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return (f" (the run that wrote {folder / CONTROL_FILE}, process {pid}, is no longer running: the file was "
+                "left by a run that was killed; remove it)")
+    except (OSError, ValueError):
+        return ""
+    return ""
 
 
 def endpoint(args: argparse.Namespace) -> tuple[int, str]:

@@ -12,8 +12,13 @@ import importlib
 import logging
 import os
 import sys
+import threading
 
 from aeroexec import __version__
+
+#: Exit statuses: 0 done, 1 refused or failed mission, 2 usage, 3 a run completed with refused requests, 4 a run
+#: aborted (engine/supervision/run_status.py), 70 internal error (EX_SOFTWARE), 130 interrupted.
+REFUSED, USAGE, INTERNAL_ERROR = 1, 2, 70
 
 #: sub-command -> (module in aeroexec.cli, one-line help)
 COMMANDS = {
@@ -58,8 +63,10 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser(argv)
     args = parser.parse_args(argv)
     quiet = logging.INFO if args.command == "sim" else logging.WARNING  # run prints events, not log lines
-    logging.basicConfig(level=logging.DEBUG if args.verbose else quiet,
-                        format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(OneLineFormatter("%(levelname)s %(name)s: %(message)s", tracebacks=args.verbose))
+    logging.basicConfig(level=logging.DEBUG if args.verbose else quiet, handlers=[handler])
+    threading.excepthook = _thread_failed
     if not getattr(args, "run", None):
         parser.print_help()
         return 2
@@ -73,6 +80,50 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     except KeyboardInterrupt:
         return 130
+    except Exception as error:  # a bug in aeroexec, not a mistake in the input: its own status and one line
+        logging.getLogger("aeroexec").debug("internal error", exc_info=True)
+        print(internal_error_message(error), file=sys.stderr)
+        return INTERNAL_ERROR
+
+
+class OneLineFormatter(logging.Formatter):
+    """Log lines without tracebacks (unless ``-v``): a failure inside a background task is one line with its reason."""
+
+    def __init__(self, fmt: str, tracebacks: bool = False) -> None:
+        super().__init__(fmt)
+        self.tracebacks = tracebacks
+
+    def format(self, record: logging.LogRecord) -> str:
+        if self.tracebacks or not record.exc_info or record.exc_info[1] is None:
+            return super().format(record)
+        error = record.exc_info[1]
+        saved = record.exc_info, record.exc_text
+        record.exc_info, record.exc_text = None, None
+        try:
+            line = super().format(record)
+        finally:
+            record.exc_info, record.exc_text = saved
+        detail = " ".join(str(error).split())[:200]
+        return f"{line} ({type(error).__name__}{': ' + detail if detail else ''}; -v shows the traceback)"
+
+
+def internal_error_message(error: BaseException, where: str = "") -> str:
+    """The one line an internal error prints: what broke, and a request to report it."""
+    detail = " ".join(str(error).split())
+    detail = detail if len(detail) <= 200 else detail[:197] + "..."
+    place = f" in {where}" if where else ""
+    return (f"aeroexec: internal error{place} ({type(error).__name__}{': ' + detail if detail else ''}); this is a "
+            f"bug in aeroexec, not in your input: please report it with the command you ran (-v shows the traceback)")
+
+
+def _thread_failed(hook: threading.ExceptHookArgs) -> None:
+    """A background thread that dies says so in one logged line, never with a traceback on stderr."""
+    if hook.exc_type is SystemExit or hook.exc_value is None:
+        return
+    logging.getLogger("aeroexec").debug("thread %s failed", getattr(hook.thread, "name", "?"),
+                                        exc_info=(hook.exc_type, hook.exc_value, hook.exc_traceback))
+    logging.getLogger("aeroexec").error("%s", internal_error_message(
+        hook.exc_value, f"the thread {getattr(hook.thread, 'name', '?')}"))
 
 
 if __name__ == "__main__":

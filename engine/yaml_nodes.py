@@ -8,12 +8,16 @@ records with the file and the 1-based line of the node at fault.
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import yaml
 from aeroexec.engine.errors import Problem
+from yaml.constructor import SafeConstructor
+
+from aeroexec.limits import MAX_NUMBER_LENGTH, InputError, compose_yaml, read_text
 
 MAP = "tag:yaml.org,2002:map"
 SEQ = "tag:yaml.org,2002:seq"
@@ -24,6 +28,14 @@ def suggestion(name: str, known: Iterable[str]) -> str:
     """`` (did you mean X?)`` for a misspelt name, or an empty string."""
     close = difflib.get_close_matches(str(name), list(known), n=1, cutoff=0.6)
     return f" (did you mean {close[0]}?)" if close else ""
+
+
+def _finite(number: int | float | None) -> bool:
+    """True for a number a float can hold (``1e400``, ``.inf`` and a 400-digit integer are not)."""
+    try:
+        return math.isfinite(float(number))
+    except (OverflowError, TypeError):
+        return False
 
 
 def line_of(node: yaml.Node | None) -> int:
@@ -52,7 +64,7 @@ class NodeReader:
     def __init__(self, text: str, file: str) -> None:
         self.file = file
         self.problems: list[Problem] = []
-        self._loader = yaml.SafeLoader(text)
+        self._constructor = SafeConstructor()
         self.root: yaml.Node | None = None
         fast = getattr(yaml, "CSafeLoader", None)  # libyaml composes the same nodes and lines, ~8x faster
         if fast is not None:
@@ -65,24 +77,18 @@ class NodeReader:
             finally:
                 loader.dispose()
         try:
-            self.root = self._loader.get_single_node()
-        except yaml.MarkedYAMLError as exc:
-            mark = exc.problem_mark or exc.context_mark
-            detail = " ".join(part for part in (exc.context, exc.problem) if part)
-            self.problems.append(Problem("error", f"not valid YAML: {detail}", file, mark.line + 1 if mark else 0))
-        except yaml.YAMLError as exc:
-            self.problems.append(Problem("error", f"not valid YAML: {exc}", file, 0))
-        finally:
-            self._loader.dispose()
+            self.root = compose_yaml(text, file)
+        except InputError as exc:
+            self.problems.append(Problem("error", exc.message, file, exc.line))
 
     @classmethod
     def from_file(cls, path: str | Path) -> NodeReader:
-        path = Path(path)
+        """The reader of a file read within the limits of :mod:`aeroexec.limits` (size, special files, UTF-8)."""
         try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
+            text = read_text(path)
+        except InputError as exc:
             reader = cls("", str(path))
-            reader.problems.append(Problem("error", f"cannot read the file: {exc}", str(path), 0))
+            reader.problems.append(Problem("error", exc.message, exc.file, exc.line))
             return reader
         return cls(text, str(path))
 
@@ -154,7 +160,11 @@ class NodeReader:
 
     def value(self, node: yaml.Node) -> Any:
         """The Python value of a node as YAML 1.1 reads it."""
-        return self._loader.construct_object(node, deep=True)
+        try:
+            return self._constructor.construct_object(node, deep=True)
+        except yaml.YAMLError as exc:  # an unknown tag such as !foo: an error at its line, the value is None
+            self.error(node, f"not a value this reader knows: {getattr(exc, 'problem', None) or exc}")
+            return None
 
     def text(self, node: yaml.Node, what: str) -> str | None:
         """A scalar as written (``ON`` stays ``ON``, not ``True``)."""
@@ -164,17 +174,19 @@ class NodeReader:
         return str(node.value)
 
     def number(self, node: yaml.Node, what: str, positive: bool = False) -> float | None:
-        if not (isinstance(node, yaml.ScalarNode) and node.tag in _NUMBER_TAGS):
+        """A finite number (a whole one stays ``int``), or None with an error recorded."""
+        if not (isinstance(node, yaml.ScalarNode) and node.tag in _NUMBER_TAGS) or len(node.value) > MAX_NUMBER_LENGTH:
             self.error(node, f"{what} must be a number, not {self.shown(node)}")
             return None
         number = self.value(node)
-        if number != number or number in (float("inf"), float("-inf")) or (positive and number <= 0):
-            self.error(node, f"{what} must be a {'positive ' if positive else ''}number, not {self.shown(node)}")
+        if not _finite(number) or (positive and number <= 0):
+            self.error(node, f"{what} must be a {'positive ' if positive else ''}finite number, not {self.shown(node)}")
             return None
         return number
 
     def integer(self, node: yaml.Node, what: str, minimum: int = 0) -> int | None:
-        if not (isinstance(node, yaml.ScalarNode) and node.tag == _NUMBER_TAGS[0]) or self.value(node) < minimum:
+        if not (isinstance(node, yaml.ScalarNode) and node.tag == _NUMBER_TAGS[0]) or not _finite(
+                self.value(node)) or self.value(node) < minimum:
             self.error(node, f"{what} must be a whole number of at least {minimum}, not {self.shown(node)}")
             return None
         return int(self.value(node))

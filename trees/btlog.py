@@ -44,6 +44,8 @@ from aeroexec.trees.runtime.builder import model_of
 from aeroexec.trees.runtime.control import status_name
 from py_trees.behaviour import Behaviour
 
+from aeroexec.limits import InputError, read_bytes
+
 MAGIC = b"BTCPP4-FileLogger2"
 PROTOCOL = 1
 RECORD = 9
@@ -365,7 +367,10 @@ class Btlog:
 
 def read_btlog(path: str | Path) -> Btlog:
     """Parse a ``.btlog`` per the FileLogger2 format; a :class:`BtlogError` says where it does not follow it."""
-    data = Path(path).read_bytes()
+    try:
+        data = read_bytes(path, limit=1 << 30)  # a FIFO or a device is refused unread
+    except InputError as exc:
+        raise BtlogError(str(exc)) from None
     if not data.startswith(MAGIC):
         raise BtlogError(f"{path}: not a FileLogger2 file: it does not start with {MAGIC.decode()} "
                          "(files of BehaviorTree.CPP before 4.3 are not read)")
@@ -378,9 +383,11 @@ def read_btlog(path: str | Path) -> Btlog:
     start = header + 4
     if size < 0 or start + size + 8 > len(data):
         raise BtlogError(f"{path}: the XML size {size} does not fit in the file ({len(data)} bytes)")
-    xml = data[start:start + size].decode("utf-8", errors="replace")
     try:
+        xml = data[start:start + size].decode("utf-8")
         document = SafeElementTree.fromstring(xml)
+    except UnicodeDecodeError as error:
+        raise BtlogError(f"{path}: the tree XML is not UTF-8 (byte {error.start + start})") from None
     except ElementTree.ParseError as error:
         raise BtlogError(f"{path}: the tree XML does not parse: {error}") from None
     if document.tag != "root" or document.find("BehaviorTree") is None:

@@ -40,9 +40,11 @@ class TreeNode:
 
     def walk(self) -> Iterator[TreeNode]:
         """This node and every node below it, depth first, in document order."""
-        yield self
-        for child in self.children:
-            yield from child.walk()
+        stack = [self]
+        while stack:  # iterative: linear in the nodes whatever the depth
+            node = stack.pop()
+            yield node
+            stack.extend(reversed(node.children))
 
 
 @dataclass

@@ -7,6 +7,7 @@ paper's words (Table 1: "The value x of argument y for behavior z is not correct
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
 from typing import Any
@@ -18,6 +19,8 @@ from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_VALUE, SpecificationError
 from aeroexec.trees.node_types import COMMON_ATTRIBUTES, bare_key
+
+from aeroexec.limits import MAX_NUMBER_LENGTH
 
 _KEY = re.compile(r"\{([^{}]+)\}")
 _NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
@@ -57,11 +60,14 @@ def substitute(text: str, blackboard: Mapping[str, Any], as_term: bool = False) 
 
 
 def parse_number(text: str) -> int | float | None:
+    """The number ``text`` writes; None when it is no number, longer than ``MAX_NUMBER_LENGTH`` or beyond a float."""
     text = text.strip()
-    if not _NUMBER.fullmatch(text):
+    if len(text) > MAX_NUMBER_LENGTH or not _NUMBER.fullmatch(text):
         return None
     number = float(text)
-    return int(number) if re.fullmatch(r"[+-]?\d+", text) else number
+    if not math.isfinite(number):
+        return None
+    return int(text) if re.fullmatch(r"[+-]?\d+", text) else number
 
 
 def parse_value(text: str) -> Any:

@@ -21,6 +21,7 @@ reaching the behavior could avoid. The policy, conservative everywhere:
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable
 
 from aeroexec.engine.catalog.specialist import BehaviorSpecialist, PhenomenonState, Request
@@ -60,6 +61,7 @@ class SequenceChecker:
         self.unknown: State = dict.fromkeys(self.specialist.initial_states())
         self.silent = 0
         self.stack: list[str] = []
+        self._memo: dict[tuple, Exits] = {}
 
     def check(self) -> None:
         if self.document.main in self.document.trees:
@@ -184,9 +186,10 @@ class SequenceChecker:
 
     def parallel(self, children: list[TreeNode], state: State, looping: bool) -> Exits:
         touched = [self.touched(child) for child in children]
+        counts = Counter(phenomenon for found in touched for phenomenon in found)  # linear in the children
         ends: list[State | None] = []
         for index, child in enumerate(children):
-            others = set().union(*(t for i, t in enumerate(touched) if i != index))
+            others = {p for p, count in counts.items() if count > (p in touched[index])}
             ends.append(join(*self.flow(child, self.forget(state, others), looping)))
         merged: State = {}
         for phenomenon, before in state.items():
@@ -219,11 +222,16 @@ class SequenceChecker:
         if tree not in self.document.trees or tree in self.stack:
             unknown = dict(self.unknown)
             return unknown, unknown
-        self.stack.append(tree)
-        try:
-            return self.flow(self.document.trees[tree], state, looping)
-        finally:
-            self.stack.pop()
+        key = (tree, looping, bool(self.silent),
+               tuple(sorted((p, (s.state, s.since) if s else None) for p, s in state.items())))
+        if key not in self._memo:  # a tree used many times from the same states is walked once
+            self.stack.append(tree)
+            try:
+                self._memo[key] = self.flow(self.document.trees[tree], state, looping)
+            finally:
+                self.stack.pop()
+        success, failure = self._memo[key]
+        return (dict(success) if success is not None else None), (dict(failure) if failure is not None else None)
 
     def behavior(self, node: TreeNode, behavior: str, state: State) -> Exits:
         descriptor = self.catalog.behavior(behavior)

@@ -38,6 +38,8 @@ from aeroexec.trees.ports import parse_number, port_errors, template_keys
 from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 
+from aeroexec.limits import MAX_NESTING, MAX_TREE_NODES
+
 Problem = MissionProblem
 _INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": None}
 _FROM_BLACKBOARD = ("num_cycles", "num_attempts")  # integer ports that may read {key} in flight
@@ -100,7 +102,7 @@ class TreeVerifier:
             for node in root.walk():
                 self.check_node(node)
             self.check_cycles(tree_id)
-        if document.main in document.trees:
+        if document.main in document.trees and self.check_expansion():
             self.check_blackboard()
             self.check_subtree_paths()
             SequenceChecker(document, self.specialist, self.report).check()
@@ -228,7 +230,10 @@ class TreeVerifier:
 
     # -- subtrees --------------------------------------------------------------------------------
     def check_cycles(self, tree_id: str) -> None:
+        visited: set[str] = set()  # each tree once: a tree used many times is not walked again
+
         def visit(tree: str, path: tuple[str, ...]) -> None:
+            visited.add(tree)
             for node in self.document.trees[tree].walk():
                 if node.type != "SubTree":
                     continue
@@ -236,7 +241,7 @@ class TreeVerifier:
                 if target == tree_id:
                     self.report(node, f"The tree {tree_id} includes itself "
                                       f"({' -> '.join((*path, target))})")
-                elif target in self.document.trees and target not in path:
+                elif target in self.document.trees and target not in visited and len(path) < MAX_NESTING:
                     visit(target, (*path, target))
 
         visit(tree_id, (tree_id,))
@@ -262,6 +267,42 @@ class TreeVerifier:
                 walk(child, path, stack)
 
         walk(self.document.root, "", (self.document.main,))
+
+    def check_expansion(self) -> bool:
+        """False (with an error) when the main tree, its SubTrees expanded where used, is too large or too deep."""
+        trees = self.document.trees
+        order: list[str] = []  # trees after the trees they use (post-order), found without recursion
+        seen: set[str] = set()
+        for start in trees:
+            stack = [(start, False)]
+            while stack:
+                tree, finished = stack.pop()
+                if finished:
+                    order.append(tree)
+                    continue
+                if tree in seen:
+                    continue
+                seen.add(tree)
+                stack.append((tree, True))
+                stack.extend((t, False) for t in _subtrees(trees[tree]) if t in trees and t not in seen)
+        measures: dict[str, tuple[int, int]] = {}  # tree -> (nodes expanded, depth expanded); cycles left out
+        for tree in order:
+            size, deepest, nodes = 0, 0, [(trees[tree], 1)]
+            while nodes:
+                node, depth = nodes.pop()
+                used = measures.get(node.ports.get("ID", "").strip(), (0, 0)) if node.type == "SubTree" else (0, 0)
+                size, deepest = min(size + 1 + used[0], 10 * MAX_TREE_NODES), max(deepest, depth + used[1])
+                nodes.extend((child, depth + 1) for child in node.children)
+            measures[tree] = (size, deepest)
+        size, depth = measures.get(self.document.main, (0, 0))
+        root = self.document.root
+        if size > MAX_TREE_NODES:
+            self.report(root, f"The mission has more than {MAX_TREE_NODES:,} nodes once its SubTrees are expanded "
+                              f"where they are used (the limit of the readers)")
+        if depth > MAX_NESTING:
+            self.report(root, f"The mission is nested more than {MAX_NESTING} levels deep once its SubTrees are "
+                              f"expanded where they are used (the limit of the readers)")
+        return size <= MAX_TREE_NODES and depth <= MAX_NESTING
 
     # -- blackboard --------------------------------------------------------------------------------
     def check_blackboard(self) -> None:
@@ -352,6 +393,10 @@ class TreeVerifier:
 def _placeholders(text: str) -> str:
     """A belief expression with each ``{key}`` (known in flight) as an anonymous variable."""
     return re.sub(r"\{[^{}]+\}", "_", text)
+
+
+def _subtrees(root: TreeNode) -> list[str]:
+    return [n.ports.get("ID", "").strip() for n in root.walk() if n.type == "SubTree"]
 
 
 def _new_predicates(text: str, known: dict[str, int]) -> dict[str, int]:

@@ -8,6 +8,7 @@ and every problem found before flight, each naming the file and line.
 from __future__ import annotations
 
 import importlib.util
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,6 +22,8 @@ from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, lo
 from aeroexec.trees.loaders.plan_loader import PlanDocument
 from aeroexec.trees.tml.verify import verify_mission_document
 from aeroexec.trees.verify import verify_leaves
+
+from aeroexec.limits import InputError, read_text
 
 
 class MissionFileError(Exception):
@@ -73,9 +76,9 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
                                f"({', '.join(sorted(MISSION_EXTENSIONS))})")
     try:
-        checked.source = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise MissionFileError(f"{path}: cannot read the mission: {exc}") from None
+        checked.source = read_text(path, what="the mission")
+    except InputError as exc:
+        raise MissionFileError(str(exc)) from None
     checked.problems = check_mission_source(checked.source, str(path), catalog, world)
     return checked
 
@@ -85,7 +88,10 @@ def mission_function(path: Path) -> Callable[[], Any]:
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     try:
-        spec.loader.exec_module(module)
+        with warnings.catch_warnings():  # SyntaxWarnings of the mission's source are not the project's messages
+            warnings.simplefilter("ignore", SyntaxWarning)
+            warnings.simplefilter("ignore", DeprecationWarning)
+            spec.loader.exec_module(module)
     except Exception as exc:
         raise MissionFileError(f"{path}: the mission cannot be loaded: {type(exc).__name__}: {exc}") from None
     function = getattr(module, "mission", None) or getattr(module, "runMission", None)

@@ -25,7 +25,6 @@ import math
 from collections.abc import Iterator
 from pathlib import Path
 
-import yaml
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
 from aeroexec.drones.sim.world import (
     DECK_RADIUS,
@@ -39,6 +38,8 @@ from aeroexec.drones.sim.world import (
 )
 from yaml.constructor import ConstructorError, SafeConstructor
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from aeroexec.limits import InputError, compose_yaml, read_text
 
 Vector = tuple[float, float, float]
 
@@ -98,7 +99,10 @@ class _Reader:
         value = self.scalar(node, what)
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.error(node, f"{what} must be a number, not {value!r}")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # an integer too large for a float
+            value = math.inf
         if not math.isfinite(value):
             raise self.error(node, f"{what} must be a finite number, not {value}")
         if positive and value <= 0.0:
@@ -287,13 +291,9 @@ class _WorldParser:
 def parse_world(text: str, source: str = "<world>") -> World:
     """A :class:`World` from YAML ``text``; ``source`` names the file in error messages."""
     try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = f":{mark.line + 1}" if mark is not None else ""
-        raise WorldError(f"{source}{line}: not valid YAML: {exc.problem or exc.context}") from None
-    except yaml.YAMLError as exc:
-        raise WorldError(f"{source}: not valid YAML: {exc}") from None
+        root = compose_yaml(text, source)
+    except InputError as exc:
+        raise WorldError(str(exc)) from None
     if root is None:
         raise WorldError(f"{source}:1: the world file is empty")
     return _WorldParser(source).world(root)
@@ -301,13 +301,10 @@ def parse_world(text: str, source: str = "<world>") -> World:
 
 def load_world(path: str | Path) -> World:
     """Read a YAML world file; raises :class:`WorldError` naming ``file:line`` on any mistake."""
-    path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise WorldError(f"{path}: cannot read the world file: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise WorldError(f"{path}: the world file is not UTF-8 text") from None
+        text = read_text(path, what="the world file")
+    except InputError as exc:
+        raise WorldError(str(exc)) from None
     return parse_world(text, str(path))
 
 

@@ -361,7 +361,9 @@ class CatalogReader:
                 self.r.error(node, f"allowed_values of {what} is empty")
             return {}
         if len(items) == 2 and all(self.r.is_number(i) for i in items):
-            low, high = (self.r.value(i) for i in items)
+            low, high = (self.r.number(i, f"a bound of the range of {what}") for i in items)
+            if low is None or high is None:
+                return {}
             if low > high:
                 self.r.error(node, f"the range of {what} has its minimum {low:g} above its maximum {high:g}")
                 return {}

@@ -13,7 +13,11 @@ function or a local function running behaviors is used other than by calling it 
 from __future__ import annotations
 
 import ast
+import io
 import logging
+import re
+import tokenize
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,6 +45,8 @@ from aeroexec.engine.missions.api_modules import (
 from aeroexec.engine.missions.imports import missing_imports
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.yaml_nodes import suggestion
+
+from aeroexec.limits import MAX_NESTING, InputError, read_text
 
 logger = logging.getLogger(__name__)
 
@@ -364,15 +370,61 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
+_LONG_DOTTED = re.compile(rf"^[ \t]*(?:import|from)[ \t]+(?:\w+[ \t]*\.[ \t]*){{{MAX_NESTING}}}", re.MULTILINE)
+
+
+def parse_source(source: str, filename: str) -> ast.Module:
+    """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``."""
+    dotted = _LONG_DOTTED.search(source)  # Python's parser joins an imported dotted name in quadratic time
+    if dotted is not None:
+        raise SyntaxError(f"a dotted name of more than {MAX_NESTING} parts",
+                          (filename, source.count("\n", 0, dotted.start()) + 1, 0, ""))
+    try:
+        with warnings.catch_warnings():  # Python's own SyntaxWarnings would print on stderr without our place
+            warnings.simplefilter("ignore", SyntaxWarning)
+            warnings.simplefilter("ignore", DeprecationWarning)
+            tree = ast.parse(source, filename)
+    except (RecursionError, MemoryError):  # Python's own parser gives up: name the statement it choked on
+        raise SyntaxError(f"an expression is nested too deeply to read (the limit is {MAX_NESTING} levels)",
+                          (filename, _longest_statement(source), 0, "")) from None
+    stack: list[tuple[ast.AST, int, int, int]] = [(tree, 0, 1, 0)]
+    while stack:  # iterative, so that the depth itself is measured without recursion
+        node, depth, line, column = stack.pop()
+        line, column = getattr(node, "lineno", line), getattr(node, "col_offset", column - 1) + 1
+        if depth > MAX_NESTING:
+            raise SyntaxError(f"an expression or block is nested more than {MAX_NESTING} levels deep",
+                              (filename, line, column, ""))
+        stack.extend((child, depth + 1, line, column) for child in ast.iter_child_nodes(node))
+    return tree
+
+
+def _longest_statement(source: str) -> int:
+    """The line where the statement with the most tokens starts (where a too-deep expression is)."""
+    best, best_line, count, start = 0, 0, 0, 1
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(source).readline):
+            if count == 0:
+                start = token.start[0]
+            count += 1
+            if token.type in (tokenize.NEWLINE, tokenize.ENDMARKER):
+                if count > best:
+                    best, best_line = count, start
+                count = 0
+    except (tokenize.TokenError, SyntaxError):
+        pass
+    return max(best_line, start if count > best else 0, 1)
+
+
 def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | None = None,
                          world: WorldMap | None = None) -> list[Problem]:
     """Every problem of a mission program, by line: request errors, belief expressions, sequences; with a
     ``world``, literal destinations and paths against its bounds and obstacles."""
     try:
-        tree = ast.parse(source, filename)
-    except SyntaxError as exc:
-        return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, exc.lineno or 0,
-                               WRONG_FORMAT, exc.offset or 0)]
+        tree = parse_source(source, filename)
+    except SyntaxError as exc:  # a NUL byte has no line from Python: it is found here
+        line = exc.lineno or (source.count("\n", 0, source.find("\0")) + 1 if "\0" in source else 0)
+        return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, line,
+                               WRONG_FORMAT, max(exc.offset or 0, 0) if exc.lineno else 0)]  # f-strings: < 0
     checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog, world))
     for statement, module in missing_imports(tree, filename):
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
@@ -399,10 +451,9 @@ def check_mission_file(path: str | Path, catalog: BehaviorCatalog | None = None)
     """Read and check a mission file (see :func:`check_mission_source`)."""
     path = Path(path)
     try:
-        source = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        return [MissionProblem("error", f"The mission cannot be read: {reason}", str(path), 0)]
+        source = read_text(path)
+    except InputError as exc:
+        return [MissionProblem("error", f"The mission cannot be read: {exc.message}", exc.file, exc.line)]
     return check_mission_source(source, str(path), catalog)
 
 

@@ -31,6 +31,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from aeroexec.limits import MAX_NESTING, nesting_beyond
+
 logger = logging.getLogger(__name__)
 
 HOST = "127.0.0.1"
@@ -115,6 +117,13 @@ class ControlServer:
         self.close()
 
     def _serve(self, connection: socket.socket) -> None:
+        try:
+            self._conversation(connection)
+        except Exception as exc:  # a bug, not the client's input: logged with its reason, never a thread traceback
+            logger.error("control socket: a request could not be answered (%s: %s); please report it",
+                         type(exc).__name__, exc)
+
+    def _conversation(self, connection: socket.socket) -> None:
         connection.settimeout(IDLE_TIMEOUT)
         with connection, contextlib.suppress(OSError):
             reader = connection.makefile("rb")
@@ -131,11 +140,16 @@ class ControlServer:
         """The reply to one request line, and whether the connection stays open."""
         if len(line) > MAX_LINE:
             return {"ok": False, "error": "request too long"}, False
+        deep = nesting_beyond(line.decode("utf-8", "replace"), MAX_NESTING, "[{", "]}", quotes='"')
+        if deep is not None:
+            logger.warning("control socket: a request nested more than %d levels deep was refused", MAX_NESTING)
+            return {"ok": False, "error": f"bad request: nested more than {MAX_NESTING} levels deep "
+                                          f"(at character {deep + 1})"}, False
         try:
             request = json.loads(line)
             if not isinstance(request, dict):
                 raise ValueError("not an object")
-        except ValueError:
+        except (ValueError, RecursionError):
             return {"ok": False, "error": "bad request: expected one JSON object per line"}, False
         token = str(request.get("token", ""))
         if not hmac.compare_digest(token.encode(), self.token.encode()):

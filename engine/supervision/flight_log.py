@@ -37,6 +37,8 @@ from aeroexec.beliefs import BeliefChange, Struct, format_term
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.events import EngineEvent, Outcome
 
+from aeroexec.limits import MAX_NESTING, InputError, nesting_beyond, read_text
+
 logger = logging.getLogger(__name__)
 
 FORMAT = "aeroexec-events/1"
@@ -179,15 +181,23 @@ def plain(value: Any) -> Any:
         return str(value)
 
 
+#: Largest event log read back (``aeroexec report``, ``aeroexec beliefs``), in bytes.
+MAX_LOG_BYTES = 1 << 30
+
+
 def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
     """The records of an event log; a last line cut short (by a crash mid-write) is left out."""
     records: list[dict[str, Any]] = []
-    with open(path, encoding="utf-8") as file:
-        lines = file.read().split("\n")
+    try:
+        lines = read_text(path, limit=MAX_LOG_BYTES).split("\n")  # a FIFO is refused unread
+    except InputError as exc:  # the callers say "cannot read the event log" and the file
+        raise ValueError(exc.message.removeprefix("cannot read the file: ")) from None
     for number, line in enumerate(lines, 1):
         if not line.strip():
             continue
         try:
+            if nesting_beyond(line, MAX_NESTING, "[{", "]}", quotes='"') is not None:
+                raise ValueError(f"{path}:{number}: nested more than {MAX_NESTING} levels deep")
             records.append(json.loads(line))
         except json.JSONDecodeError:
             if number == len(lines):  # the torn last line (no newline after it)

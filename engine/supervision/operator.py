@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, TextIO
 
-import yaml
+from aeroexec.limits import InputError, load_yaml, read_text
 
 logger = logging.getLogger(__name__)
 
@@ -199,11 +199,9 @@ class ScriptedOperator(OperatorChannel):
         """Read an answers file; raises :class:`OperatorError` with the file's name when it is unusable."""
         path = Path(path)
         try:
-            data = yaml.safe_load(path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError) as exc:
-            raise OperatorError(f"{path}: cannot read the answers: {exc}") from None
-        except yaml.YAMLError as exc:
-            raise OperatorError(f"{path}: the answers are not valid YAML: {exc}") from None
+            data = load_yaml(read_text(path, what="the answers"), str(path))
+        except InputError as exc:
+            raise OperatorError(str(exc)) from None
         voice = None
         if isinstance(data, dict) and data and set(data) <= {"answers", "voice_command"} \
                 and isinstance(data.get("answers", []), list | dict):

@@ -18,6 +18,8 @@ from aeroexec.beliefs.parser import _read_flat
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from aeroexec.limits import MAX_LITERALS, MAX_TERM_DEPTH
+
 # Every belief expression quoted in the paper: section 5.1, Tables 5-7, the
 # catalog's reactive conditions (Figure 6, Appendix B), Table 8 and Figure 10.
 PAPER_EXPRESSIONS = [
@@ -131,9 +133,14 @@ def test_huge_expressions_are_refused_or_parsed_never_crash():
     with pytest.raises(BeliefSyntaxError):
         parse_expression(unbalanced)
     deep = "f(" * 20_000 + "x" + ")" * 20_000
-    assert parse_expression(deep).literals[0].term.name == "f"
+    with pytest.raises(BeliefSyntaxError, match=f"nested more than {MAX_TERM_DEPTH} levels deep at column"):
+        parse_expression(deep)
+    deepest = "f(" * (MAX_TERM_DEPTH - 1) + "[x]" + ")" * (MAX_TERM_DEPTH - 1)
+    assert parse_expression(deepest).literals[0].term.name == "f"
     long = ", ".join(f"p{i}(x, {i})" for i in range(8_000))  # about 100 KB
-    assert len(parse_expression(long).literals) == 8_000
+    with pytest.raises(BeliefSyntaxError, match=f"8000 literals is more than the limit of {MAX_LITERALS}"):
+        parse_expression(long)
+    assert len(parse_expression(", ".join(f"p{i}(x)" for i in range(MAX_LITERALS))).literals) == MAX_LITERALS
     with pytest.raises(BeliefSyntaxError, match="longer than"):
         parse_expression("p(" + "x" * 300_000 + ")")
 

@@ -51,6 +51,8 @@ from aeroexec.engine.yaml_nodes import MAP, NodeReader, line_of, suggestion
 from aeroexec.trees.loaders.common import port_text
 from aeroexec.trees.model import TreeDocument, TreeNode
 
+from aeroexec.limits import MAX_NESTING
+
 TREE_ID = "MainTree"
 _CONTROL = {"sequence": "Sequence", "fallback": "Fallback", "parallel": "Parallel", "inverter": "Inverter",
             "repeater": "Repeat", "repeat_until_fail": "ForceSuccess", "succeeder": "ForceSuccess"}
@@ -229,11 +231,15 @@ def _assemble(reader: NodeReader, entries: list[_Entry], nodes_key: yaml.Node, c
         reader.error(roots[1].item, f"nodes {numbers} all have parent 0: a tree has one root")
         return None
     reached: set[int] = set()
+    too_deep: list[_Entry] = []
 
-    def build(entry: _Entry) -> TreeNode:
+    def build(entry: _Entry, depth: int = 1) -> TreeNode:
         reached.add(entry.number)
         node = entry.node
-        node.children = [build(child) for child in entry.children]
+        if depth >= MAX_NESTING and entry.children:  # the parents chain deeper than the readers' limit
+            too_deep.append(entry)
+            return node
+        node.children = [build(child, depth + 1) for child in entry.children]
         if entry.subtype == "parallel" and entry.threshold is not None:
             count = len(node.children)
             if entry.threshold > count:
@@ -247,6 +253,10 @@ def _assemble(reader: NodeReader, entries: list[_Entry], nodes_key: yaml.Node, c
         return node
 
     root = build(roots[0])
+    if too_deep:
+        reader.error(too_deep[0].item, f"node {too_deep[0].number}: the tree is nested more than {MAX_NESTING} "
+                                       "levels deep (the limit of the readers)")
+        return None
     for entry in by_number.values():
         if entry.number not in reached and entry.parent in by_number:
             reader.error(entry.item, f"node {entry.number} is not under the root: its parents form a cycle")

@@ -40,6 +40,8 @@ from aeroexec.trees.loaders.common import resolve_type
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
 
+from aeroexec.limits import MAX_NESTING, InputError, read_bytes
+
 logger = logging.getLogger(__name__)
 
 _ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")
@@ -70,6 +72,8 @@ class _Collector(xml.sax.ContentHandler):
         return self.locator.getLineNumber() if self.locator is not None else 0
 
     def startElement(self, name: str, attrs: xml.sax.xmlreader.AttributesImpl) -> None:  # noqa: N802
+        if len(self.stack) >= MAX_NESTING:
+            raise _TooDeep(f"<{name}> is nested more than {MAX_NESTING} elements deep (the limit of the readers)")
         element = _Element(name, {key: attrs[key] for key in attrs.getNames()}, self.line)
         if self.stack:
             self.stack[-1].children.append(element)
@@ -79,6 +83,10 @@ class _Collector(xml.sax.ContentHandler):
 
     def endElement(self, name: str) -> None:  # noqa: N802
         self.stack.pop()
+
+
+class _TooDeep(Exception):
+    """An element deeper than :data:`~aeroexec.limits.MAX_NESTING`: reading stops at its line."""
 
 
 def _refusal(exc: DefusedXmlException) -> str:
@@ -108,6 +116,8 @@ def parse_xml(data: bytes, file: str) -> _Element:
         parser.parse(source)
     except DefusedXmlException as exc:
         raise TreeFormatError([(file, collector.line, _refusal(exc))]) from None
+    except _TooDeep as exc:
+        raise TreeFormatError([(file, collector.line, str(exc))]) from None
     except xml.sax.SAXParseException as exc:
         raise TreeFormatError([(file, exc.getLineNumber(), f"not well-formed XML: {exc.getMessage()}")]) from None
     except (xml.sax.SAXException, ValueError, LookupError) as exc:  # e.g. an unknown encoding
@@ -140,12 +150,10 @@ class _XmlReader:
         if key in self.seen:
             return
         try:
-            data = Path(path).read_bytes()
-        except FileNotFoundError:
-            self.error(*where, f"included file not found: {path}")
-            return
-        except OSError as exc:
-            self.error(*where, f"cannot read the included file {path}: {exc}")
+            data = read_bytes(path)
+        except InputError as exc:
+            self.error(*where, f"included file not found: {path}" if exc.missing
+                       else f"cannot read the included file {path}: {exc.message}")
             return
         try:
             self.read_document(parse_xml(data, path), path, (*stack, key))
@@ -301,7 +309,7 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
 def load_xml(path: str | Path) -> TreeDocument:
     """A mission from a BehaviorTree.CPP v4 XML file."""
     try:
-        data = Path(path).read_bytes()
-    except OSError as exc:
-        raise TreeFormatError([(str(path), 0, f"cannot read the file: {exc}")]) from None
+        data = read_bytes(path)
+    except InputError as exc:
+        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
     return read_xml(data, str(path))

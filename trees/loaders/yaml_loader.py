@@ -41,6 +41,8 @@ from aeroexec.trees.loaders.aerostack_loader import read_flat
 from aeroexec.trees.loaders.common import BELIEF_LEAVES, errors_of, port_text, resolve_type
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 
+from aeroexec.limits import InputError, read_text
+
 logger = logging.getLogger(__name__)
 
 SINGLE_TREE_ID = "MainTree"
@@ -73,7 +75,7 @@ class _NestedReader:
         if reader.is_null(body):
             pass
         elif body.tag == SEQ:
-            children = self.children(body, node_type)
+            children = self.children(body.value, node_type)
         elif isinstance(body, yaml.ScalarNode):
             if node_type in BELIEF_LEAVES:
                 ports["belief"] = str(body.value)
@@ -98,7 +100,7 @@ class _NestedReader:
                 name = reader.text(value, f"{node_type}: name") or ""
             elif key == "children":
                 items = reader.sequence(value, f"{node_type}: children")
-                children = self.children(value, node_type) if items is not None else []
+                children = self.children(items, node_type) if items is not None else []
             elif key == "child":
                 child = self.node(value, f"{node_type}: child")
                 children = [child] if child is not None else []
@@ -108,8 +110,8 @@ class _NestedReader:
                     ports[key] = text
         return name, children
 
-    def children(self, sequence: yaml.Node, parent: str) -> list[TreeNode]:
-        found = (self.node(item, f"a child of {parent}") for item in sequence.value)
+    def children(self, items: list[yaml.Node], parent: str) -> list[TreeNode]:
+        found = (self.node(item, f"a child of {parent}") for item in items)
         return [child for child in found if child is not None]
 
     def _make(self, node_type: str, ports: dict[str, str], name: str, children: list[TreeNode],
@@ -208,7 +210,7 @@ def _read_document(reader: NodeReader, leaves: list[TreeNode]) -> TreeDocument |
 def load_yaml(path: str | Path) -> TreeDocument:
     """A mission from a YAML file (nested form or Aerostack's ``nodes:`` list)."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise TreeFormatError([(str(path), 0, f"cannot read the file: {exc}")]) from None
+        text = read_text(path)
+    except InputError as exc:
+        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
     return read_yaml(text, str(path))

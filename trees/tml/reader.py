@@ -39,6 +39,8 @@ from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.loaders.xml_loader import _Element, parse_xml
 from aeroexec.trees.model import TreeFormatError
 
+from aeroexec.limits import InputError, read_bytes
+
 logger = logging.getLogger(__name__)
 
 TERMINATION_MODES = ("REPEAT_TASK", "NEXT_TASK", "END_MISSION", "ABORT_MISSION")
@@ -341,9 +343,9 @@ def read_tml(data: bytes | str, file: str = "<tml>") -> TmlProgram:
 def file_bytes(path: str | Path) -> bytes:
     """The bytes of a mission file; a TreeFormatError when it cannot be read."""
     try:
-        return Path(path).read_bytes()
-    except OSError as exc:
-        raise TreeFormatError([(str(path), 0, f"cannot read the file: {exc}")]) from None
+        return read_bytes(path)
+    except InputError as exc:
+        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
 
 
 def load_tml(path: str | Path) -> TmlProgram:

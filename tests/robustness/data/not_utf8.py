@@ -1,0 +1,5 @@
+from aeroexec.engine import api
+
+
+def mission():
+    api.execute_behavior("LAND")  # ÿ
