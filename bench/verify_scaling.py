@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.mission_files import check_mission
+from aeroexec.cli.flying.mission_files import check_mission
 
 
 def xml(n: int) -> str:

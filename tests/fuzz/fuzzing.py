@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
-from aeroexec.cli.mission_files import MissionFileError, check_mission
+from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
 from aeroexec.engine.errors import CatalogError

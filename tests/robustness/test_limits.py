@@ -7,7 +7,7 @@ import os
 
 import pytest
 from aeroexec.beliefs import BeliefMemory, BeliefSyntaxError, Var, parse_expression
-from aeroexec.cli.mission_files import check_mission
+from aeroexec.cli.flying.mission_files import check_mission
 from aeroexec.engine.catalog.behavior_catalog import default_catalog
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.engine.supervision.operator import OperatorError, ScriptedOperator
