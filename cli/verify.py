@@ -19,6 +19,8 @@ from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.trees.portability import portability_problems
 
+from aeroexec.limits import InputError, read_text
+
 
 class WorldChoiceError(Exception):
     """A ``--world`` that cannot be read."""
@@ -105,8 +107,8 @@ def run(args: argparse.Namespace) -> int:
 def unimplemented(catalog: Any, library: Any, path: Path) -> list[Problem]:
     """A warning for each behavior the mission names that the catalog has and no implementation serves."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return []
+        text = read_text(path, what="the mission")  # the guarded read: a FIFO or a device is never opened
+    except InputError:
+        return []  # the mission's own check has said why it cannot be read
     return [Problem("warning", f"{UNSUPPORTED}: {unsupported_message(name)}", str(path), 0)
             for name in sorted(catalog.behaviors) if name not in library and re.search(rf"\b{name}\b", text)]

@@ -37,6 +37,8 @@ from aeroexec.trees.loaders.geofence import Fence, breach
 from aeroexec.trees.loaders.lined_json import Lined, parse_json
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 
+from aeroexec.limits import InputError, read_text
+
 Vector = tuple[float, float, float]
 COMMANDS = {16: "NAV_WAYPOINT", 17: "NAV_LOITER_UNLIM", 18: "NAV_LOITER_TURNS", 19: "NAV_LOITER_TIME",
             20: "NAV_RETURN_TO_LAUNCH", 21: "NAV_LAND", 22: "NAV_TAKEOFF", 93: "NAV_DELAY", 177: "DO_JUMP",
@@ -388,7 +390,7 @@ def read_plan(text: str, file: str, home: Geodetic | None = None) -> PlanDocumen
 def load_plan(path: str | Path, home: Geodetic | None = None) -> PlanDocument:
     """The QGroundControl plan in ``path``."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise TreeFormatError([(str(path), 0, f"cannot read the plan: {exc}")]) from None
+        text = read_text(path, what="the plan")  # size bound, UTF-8 with a line, never a FIFO or a device
+    except InputError as exc:
+        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
     return read_plan(text, str(path), home)
