@@ -42,22 +42,6 @@ def line_of(node: yaml.Node | None) -> int:
     return node.start_mark.line + 1 if node is not None else 0
 
 
-def _plain_style(node: yaml.Node | None) -> yaml.Node | None:
-    """libyaml marks plain scalars with style ``''`` where the Python reader says None: make them agree."""
-    stack = [node] if node is not None else []
-    while stack:
-        current = stack.pop()
-        if isinstance(current, yaml.ScalarNode):
-            if current.style == "":
-                current.style = None
-        elif isinstance(current, yaml.SequenceNode):
-            stack.extend(current.value)
-        elif isinstance(current, yaml.MappingNode):
-            for key, value in current.value:
-                stack.extend((key, value))
-    return node
-
-
 class NodeReader:
     """Composes one YAML document and reads it node by node, collecting problems."""
 
@@ -66,17 +50,7 @@ class NodeReader:
         self.problems: list[Problem] = []
         self._constructor = SafeConstructor()
         self.root: yaml.Node | None = None
-        fast = getattr(yaml, "CSafeLoader", None)  # libyaml composes the same nodes and lines, ~8x faster
-        if fast is not None:
-            loader = fast(text)
-            try:
-                self.root = _plain_style(loader.get_single_node())
-                return
-            except yaml.YAMLError:
-                pass  # the pure-Python reader below says what is wrong, in its words
-            finally:
-                loader.dispose()
-        try:
+        try:  # libyaml's parser when PyYAML has it, composed within the readers' limits (aeroexec.limits)
             self.root = compose_yaml(text, file)
         except InputError as exc:
             self.problems.append(Problem("error", exc.message, file, exc.line))
