@@ -37,8 +37,9 @@ from aeroexec.trees.node_types import (
 from aeroexec.trees.ports import parse_number, port_errors, template_keys
 from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
+from aeroexec.trees.subtrees import check_expansion, check_subtree_paths
 
-from aeroexec.limits import MAX_NESTING, MAX_TREE_NODES
+from aeroexec.limits import MAX_NESTING
 
 Problem = MissionProblem
 _INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": None}
@@ -102,9 +103,9 @@ class TreeVerifier:
             for node in root.walk():
                 self.check_node(node)
             self.check_cycles(tree_id)
-        if document.main in document.trees and self.check_expansion():
+        if document.main in document.trees and check_expansion(self.document, self.report):
             self.check_blackboard()
-            self.check_subtree_paths()
+            check_subtree_paths(self.document, self.report)
             SequenceChecker(document, self.specialist, self.report).check()
         self.problems.sort(key=lambda p: (p.file, p.line))
         return self.problems
@@ -246,65 +247,6 @@ class TreeVerifier:
 
         visit(tree_id, (tree_id,))
 
-    def check_subtree_paths(self) -> None:
-        """BehaviorTree.CPP (4.10) refuses two SubTree instances with one path (the same name, same parent)."""
-        seen: set[str] = set()
-        uid = [0]
-
-        def walk(node: TreeNode, path: str, stack: tuple[str, ...]) -> None:
-            uid[0] += 1
-            if node.type == "SubTree":
-                target = node.ports.get("ID", "").strip()
-                inner = (f"{path}/" if path else "") + (node.name if node.named and node.name != "SubTree"
-                                                          else f"{target}::{uid[0]}")
-                if inner in seen:
-                    self.report(node, f"Duplicate SubTree path detected: '{inner}'. Multiple SubTree nodes with the "
-                                      "same 'name' attribute under the same parent are not allowed")
-                seen.add(inner)
-                if target in self.document.trees and target not in stack:
-                    walk(self.document.trees[target], inner, (*stack, target))
-            for child in node.children:
-                walk(child, path, stack)
-
-        walk(self.document.root, "", (self.document.main,))
-
-    def check_expansion(self) -> bool:
-        """False (with an error) when the main tree, its SubTrees expanded where used, is too large or too deep."""
-        trees = self.document.trees
-        order: list[str] = []  # trees after the trees they use (post-order), found without recursion
-        seen: set[str] = set()
-        for start in trees:
-            stack = [(start, False)]
-            while stack:
-                tree, finished = stack.pop()
-                if finished:
-                    order.append(tree)
-                    continue
-                if tree in seen:
-                    continue
-                seen.add(tree)
-                stack.append((tree, True))
-                stack.extend((t, False) for t in _subtrees(trees[tree]) if t in trees and t not in seen)
-        measures: dict[str, tuple[int, int]] = {}  # tree -> (nodes expanded, depth expanded); cycles left out
-        for tree in order:
-            size, deepest, nodes = 0, 0, [(trees[tree], 1)]
-            while nodes:
-                node, depth = nodes.pop()
-                used = measures.get(node.ports.get("ID", "").strip(), (0, 0)) if node.type == "SubTree" else (0, 0)
-                size, deepest = min(size + 1 + used[0], 10 * MAX_TREE_NODES), max(deepest, depth + used[1])
-                nodes.extend((child, depth + 1) for child in node.children)
-            measures[tree] = (size, deepest)
-        size, depth = measures.get(self.document.main, (0, 0))
-        root = self.document.root
-        if size > MAX_TREE_NODES:
-            self.report(root, f"The mission has more than {MAX_TREE_NODES:,} nodes once its SubTrees are expanded "
-                              f"where they are used (the limit of the readers)")
-        if depth > MAX_NESTING:
-            self.report(root, f"The mission is nested more than {MAX_NESTING} levels deep once its SubTrees are "
-                              f"expanded where they are used (the limit of the readers)")
-        return size <= MAX_TREE_NODES and depth <= MAX_NESTING
-
-    # -- blackboard --------------------------------------------------------------------------------
     def check_blackboard(self) -> None:
         writes: list[tuple[int, tuple[int, str]]] = []  # (position, resolved key)
         reads: list[tuple[int, tuple[int, str], str, TreeNode, list[tuple[int, int]]]] = []
@@ -393,10 +335,6 @@ class TreeVerifier:
 def _placeholders(text: str) -> str:
     """A belief expression with each ``{key}`` (known in flight) as an anonymous variable."""
     return re.sub(r"\{[^{}]+\}", "_", text)
-
-
-def _subtrees(root: TreeNode) -> list[str]:
-    return [n.ports.get("ID", "").strip() for n in root.walk() if n.type == "SubTree"]
 
 
 def _new_predicates(text: str, known: dict[str, int]) -> dict[str, int]:

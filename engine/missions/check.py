@@ -13,11 +13,7 @@ function or a local function running behaviors is used other than by calling it 
 from __future__ import annotations
 
 import ast
-import io
 import logging
-import re
-import tokenize
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -44,9 +40,10 @@ from aeroexec.engine.missions.api_modules import (
 )
 from aeroexec.engine.missions.imports import missing_imports
 from aeroexec.engine.missions.sequence import SequenceWalker
+from aeroexec.engine.missions.source import parse_source
 from aeroexec.engine.yaml_nodes import suggestion
 
-from aeroexec.limits import MAX_NESTING, InputError, read_text
+from aeroexec.limits import InputError, read_text
 
 logger = logging.getLogger(__name__)
 
@@ -368,51 +365,6 @@ def _called_name(call: ast.Call) -> str | None:
 
 def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
-
-
-_LONG_DOTTED = re.compile(rf"^[ \t]*(?:import|from)[ \t]+(?:\w+[ \t]*\.[ \t]*){{{MAX_NESTING}}}", re.MULTILINE)
-
-
-def parse_source(source: str, filename: str) -> ast.Module:
-    """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``."""
-    dotted = _LONG_DOTTED.search(source)  # Python's parser joins an imported dotted name in quadratic time
-    if dotted is not None:
-        raise SyntaxError(f"a dotted name of more than {MAX_NESTING} parts",
-                          (filename, source.count("\n", 0, dotted.start()) + 1, 0, ""))
-    try:
-        with warnings.catch_warnings():  # Python's own SyntaxWarnings would print on stderr without our place
-            warnings.simplefilter("ignore", SyntaxWarning)
-            warnings.simplefilter("ignore", DeprecationWarning)
-            tree = ast.parse(source, filename)
-    except (RecursionError, MemoryError):  # Python's own parser gives up: name the statement it choked on
-        raise SyntaxError(f"an expression is nested too deeply to read (the limit is {MAX_NESTING} levels)",
-                          (filename, _longest_statement(source), 0, "")) from None
-    stack: list[tuple[ast.AST, int, int, int]] = [(tree, 0, 1, 0)]
-    while stack:  # iterative, so that the depth itself is measured without recursion
-        node, depth, line, column = stack.pop()
-        line, column = getattr(node, "lineno", line), getattr(node, "col_offset", column - 1) + 1
-        if depth > MAX_NESTING:
-            raise SyntaxError(f"an expression or block is nested more than {MAX_NESTING} levels deep",
-                              (filename, line, column, ""))
-        stack.extend((child, depth + 1, line, column) for child in ast.iter_child_nodes(node))
-    return tree
-
-
-def _longest_statement(source: str) -> int:
-    """The line where the statement with the most tokens starts (where a too-deep expression is)."""
-    best, best_line, count, start = 0, 0, 0, 1
-    try:
-        for token in tokenize.generate_tokens(io.StringIO(source).readline):
-            if count == 0:
-                start = token.start[0]
-            count += 1
-            if token.type in (tokenize.NEWLINE, tokenize.ENDMARKER):
-                if count > best:
-                    best, best_line = count, start
-                count = 0
-    except (tokenize.TokenError, SyntaxError):
-        pass
-    return max(best_line, start if count > best else 0, 1)
 
 
 def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | None = None,
