@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli.flying.lines import write_output
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, is_plan, is_tree, world_home
 from aeroexec.trees.loaders.xml_writer import write_xml
 
@@ -42,14 +43,4 @@ def run(args: argparse.Namespace) -> int:
         print(f"{path}: a TML mission does not convert: its events and variables have no BehaviorTree.CPP form",
               file=sys.stderr)
         return 1
-    text = write_xml(checked.tree, catalog)
-    if not args.output:
-        sys.stdout.write(text)
-        return 0
-    try:
-        Path(args.output).write_text(text, encoding="utf-8")
-    except OSError as error:
-        print(f"{args.output}: cannot write it: {error}", file=sys.stderr)
-        return 1
-    print(f"{args.output}: {path.name} as BehaviorTree.CPP v4 XML", file=sys.stderr)
-    return 0
+    return write_output(write_xml(checked.tree, catalog), args.output, f"{path.name} as BehaviorTree.CPP v4 XML")

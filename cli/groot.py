@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 from aeroexec.cli.catalog import chosen_catalog
+from aeroexec.cli.flying.lines import write_output
 from aeroexec.trees.groot import tree_nodes_model
 
 
@@ -17,14 +16,4 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     catalog = chosen_catalog(args.catalog)
-    text = tree_nodes_model(catalog)
-    if not args.output:
-        sys.stdout.write(text)
-        return 0
-    try:
-        Path(args.output).write_text(text, encoding="utf-8")
-    except OSError as error:
-        print(f"{args.output}: cannot write the palette: {error}", file=sys.stderr)
-        return 1
-    print(f"{args.output}: {len(catalog)} behaviors for Groot2", file=sys.stderr)
-    return 0
+    return write_output(tree_nodes_model(catalog), args.output, f"{len(catalog)} behaviors for Groot2")

@@ -64,3 +64,19 @@ def whole_lines() -> Iterator[LineWriter]:
     finally:
         sys.stdout = previous
         writer.finish()
+
+
+def write_output(text: str, output: str | None, done: str) -> int:
+    """A command's text to ``output`` (a file) or to standard output; says ``done`` on stderr once written. The
+    exit status: 0, or 1 with the reason when the file cannot be written."""
+    if not output:
+        sys.stdout.write(text)
+        return 0
+    try:
+        with open(output, "w", encoding="utf-8") as file:
+            file.write(text)
+    except OSError as error:
+        print(f"{output}: cannot write it: {error.strerror or error}", file=sys.stderr)
+        return 1
+    print(f"{output}: {done}", file=sys.stderr)
+    return 0
