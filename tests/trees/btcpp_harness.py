@@ -290,6 +290,8 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
             if new_status == Status.INVALID and node.status == Status.RUNNING:
                 events.append((id(node), "IDLE"))
                 events.extend((id(child), "CLEAR") for child in _visible_children(node))
+            elif new_status == Status.INVALID and result_of(node) == "SKIPPED":
+                events.append((id(node), "RESET"))  # BT.CPP halts the RUNNING its SKIPPED left (a reactive parent)
             original(new_status)
 
         node.stop = stop  # type: ignore[method-assign]

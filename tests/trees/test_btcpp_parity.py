@@ -110,6 +110,8 @@ HAND_WRITTEN.update({
     "WasEntryUpdated": ('<Sequence><Script code="n := n + 1"/><Fallback><ScriptCondition code="n == 2 || n == 5"/>'
                         '<Script code="x := n"/></Fallback><Fallback><WasEntryUpdated entry="x"/><A/></Fallback>'
                         '</Sequence>', {"A": [S]}),
+    "skipped Sequence under a ReactiveSequence": ('<ReactiveSequence><Sequence><A _skipIf="true"/></Sequence><B/>'
+                                                  '</ReactiveSequence>', {"A": [S], "B": [R, R, S]}),
     "Repeat num_cycles={n}": ('<Sequence><Script code="n := 2"/><Repeat num_cycles="{n}"><A/></Repeat></Sequence>',
                               {"A": [S, R, S]}),
 })
