@@ -21,7 +21,7 @@ from yaml.resolver import Resolver
 
 #: Largest file a reader accepts (mission, catalog, world, fleet file), in bytes.
 MAX_FILE_BYTES = 2 * 1024 * 1024
-#: Deepest nesting of YAML collections, XML elements, tree nodes, JSON messages and Python expressions.
+#: Deepest nesting of YAML collections, XML elements, tree nodes, JSON messages, Python expressions and scripts.
 MAX_NESTING = 100
 #: Most nodes of a behavior tree with its SubTrees expanded where they are used (the runtime builds them all).
 MAX_TREE_NODES = 100_000

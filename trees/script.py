@@ -18,6 +18,7 @@ from typing import Any
 
 __all__ = ["Script", "ScriptError", "compile_script", "text_of", "truth"]
 
+from aeroexec.limits import MAX_NESTING
 from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
 
@@ -192,6 +193,9 @@ class Script:
         except LarkError as error:
             raise ScriptError(f"Error parsing the script [{text}]: {str(error).splitlines()[0]}") from None
         statements = [s for s in tree.children if s is not None]
+        if _depth(tree) > MAX_NESTING:
+            raise ScriptError(f"Error parsing the script [{_shortened(text)}]: it is nested more than "
+                              f"{MAX_NESTING} levels deep")
         if not statements:
             raise ScriptError(f"Empty Script [{text}]")
         self.statements = [_compile(s) for s in statements]
@@ -210,6 +214,20 @@ class Script:
 
     def holds(self, blackboard: MutableMapping[str, Any], beliefs: Callable[[str], bool] | None = None) -> bool:
         return truth(self.run(blackboard, beliefs))
+
+
+def _depth(tree: Tree) -> int:
+    """The depth of a parse tree, walked without recursion (a chain of a thousand ``..`` is one long branch)."""
+    deepest, pending = 0, [(tree, 1)]
+    while pending:
+        node, depth = pending.pop()
+        deepest = max(deepest, depth)
+        pending.extend((child, depth + 1) for child in node.children if isinstance(child, Tree))
+    return deepest
+
+
+def _shortened(text: str, limit: int = 80) -> str:
+    return text if len(text) <= limit else text[:limit] + "..."
 
 
 @functools.lru_cache(maxsize=1024)

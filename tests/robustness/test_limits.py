@@ -166,3 +166,19 @@ def test_subtrees_used_many_times_are_checked_once_and_an_expansion_bomb_is_refu
     assert [e.message for e in check_mission(path, default_catalog()).errors] == [
         f"The mission is nested more than {MAX_NESTING} levels deep once its SubTrees are expanded where they are "
         "used (the limit of the readers)"]
+
+
+def test_a_script_at_the_nesting_limit_runs_and_one_operator_more_is_refused_with_its_line(tmp_path):
+    from aeroexec.trees.script import ScriptError, compile_script
+
+    def chain(operators: int) -> str:  # the script's statement and assignment are two levels, the value one more
+        return "a := " + " + ".join(["1"] * (operators + 1))
+
+    assert compile_script(chain(MAX_NESTING - 3)).run({}) == MAX_NESTING - 2
+    with pytest.raises(ScriptError, match=f"nested more than {MAX_NESTING} levels deep"):
+        compile_script(chain(MAX_NESTING - 2))
+    path = tmp_path / "deep_script.xml"  # found by the fuzz suite: a 1,000-term chain overflowed Python's stack
+    path.write_text('<root BTCPP_format="4"><BehaviorTree ID="M">\n<Sequence>\n'
+                    f'<Script code="s := {" .. ".join(["x"] * 1000)}"/>\n</Sequence></BehaviorTree></root>\n')
+    errors = check_mission(path, default_catalog()).errors
+    assert [(e.line, f"nested more than {MAX_NESTING} levels deep" in e.message) for e in errors] == [(3, True)]
