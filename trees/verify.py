@@ -13,6 +13,8 @@ some node writes the key earlier in tick order, or anywhere inside a loop or Par
 
 from __future__ import annotations
 
+import bisect
+
 import contextlib
 import re
 from collections.abc import Iterable
@@ -277,12 +279,16 @@ class TreeVerifier:
                 span[-1][1] = position[0]  # type: ignore[index]
 
         walk(self.document.root, root_scope, [], (self.document.main,))
+        written: dict[tuple[int, str], list[int]] = {}  # key -> the positions writing it, in order (walk order)
+        for at, key in writes:
+            written.setdefault(key, []).append(at)
         for here, key, text, node, loops in reads:
             if key in known:
                 continue
-            if any(at < here and written == key for at, written in writes):
+            places = written.get(key, [])
+            if places and places[0] < here:
                 continue
-            if any(start <= at <= end and written == key for start, end in loops for at, written in writes):
+            if any(bisect.bisect_left(places, start) < bisect.bisect_right(places, end) for start, end in loops):
                 continue
             mapped = f" (mapped to {key[1]})" if key[1] != text else ""
             self.report(node, f"The blackboard key {text}{mapped} is read before any node writes it")

@@ -43,11 +43,11 @@ def missing_imports(tree: ast.Module, filename: str) -> list[tuple[ast.stmt, str
 
 
 def _found(top: str, here: Path | None) -> bool:
-    if here is not None and ((here / f"{top}.py").exists() or (here / top / "__init__.py").exists()):
-        return True
-    try:
+    try:  # a name no file system takes (longer than a file name may be) is no module beside the file
+        if here is not None and ((here / f"{top}.py").exists() or (here / top / "__init__.py").exists()):
+            return True
         return importlib.util.find_spec(top) is not None
-    except (ImportError, ValueError):
+    except (ImportError, ValueError, OSError):
         return False
 
 
