@@ -14,7 +14,6 @@ some node writes the key earlier in tick order, or anywhere inside a loop or Par
 from __future__ import annotations
 
 import bisect
-
 import contextlib
 import re
 from collections.abc import Iterable

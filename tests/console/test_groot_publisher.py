@@ -134,7 +134,8 @@ def test_btview_attaches_to_a_running_mission_and_names_our_nodes_with_their_sta
             if "Groot2: connect" in line or time.monotonic() > deadline:
                 break
         time.sleep(2.5)  # the mission is flying
-        view = subprocess.run(["btview", "snapshot", "--ascii", "--no-color", "--uid", "-p", str(port),
+        btview = os.path.join(os.path.dirname(sys.executable), "btview")  # installed beside this Python
+        view = subprocess.run([btview, "snapshot", "--ascii", "--no-color", "--uid", "-p", str(port),
                                "--timeout", "5"], capture_output=True, text=True, timeout=30)
     finally:
         run.terminate()

@@ -45,6 +45,7 @@ from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree, describe, model_of
 from aeroexec.trees.runtime.control import result_of
 from aeroexec.trees.runtime.nodes import TreeContext
+from aeroexec.trees.runtime.ticking import TickState, attach, tick_tree
 from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -281,17 +282,20 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
     leaves = {kind: (lambda model, board, kind=kind: ScriptedLeaf(kind, scripts[kind], halts)) for kind in scripts}
     board = Blackboard(values=blackboard)
     root = build_tree(document, TreeContext(engine), board, leaves)
+    ticking = attach(root, TickState())
     nodes = [node for _, node in describe(root)]
     events: list[tuple[int, str]] = []
+    stops: list[tuple[int, int, str]] = []  # (how many nodes the tick had returned then, node, what)
     positions = {id(node) for node in nodes}
     children_of = {id(node): [id(child) for child in _visible_children(node)] for node in nodes}
     for node in root.iterate():  # every halt (resets of completed nodes: see _resets_children)
         def stop(new_status: Status, node: Behaviour = node, original: Any = node.stop) -> None:
+            at = len(ticking.visits or ())
             if new_status == Status.INVALID and node.status == Status.RUNNING:
-                events.append((id(node), "IDLE"))
-                events.extend((id(child), "CLEAR") for child in _visible_children(node))
+                stops.append((at, id(node), "IDLE"))
+                stops.extend((at, id(child), "CLEAR") for child in _visible_children(node))
             elif new_status == Status.INVALID and result_of(node) == "SKIPPED":
-                events.append((id(node), "RESET"))  # BT.CPP halts the RUNNING its SKIPPED left (a reactive parent)
+                stops.append((at, id(node), "RESET"))  # BT.CPP halts the RUNNING its SKIPPED left (reactive parent)
             original(new_status)
 
         node.stop = stop  # type: ignore[method-assign]
@@ -300,10 +304,16 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
     for _ in range(ticks):
         before = len(halts)
         events.clear()
+        stops.clear()
         yielded: set[int] = set()
-        for ticked in root.tick():
+        visits = tick_tree(root)  # each node as it returned, as the runner sees them; the halts in between
+        for place, (ticked, result) in enumerate([*visits, (None, None)]):
+            if ticked is None:  # after the root returned: the runtime shows IDLE the children a node that
+                events.extend((key, what) for at, key, what in stops if at == place and what != "RESET")
+                break  # started again did not reach (no halt in BT.CPP, which leaves them as they were)
+            events.extend((key, what) for at, key, what in stops if at == place)
             yielded.add(id(ticked))
-            result = result_of(ticked)
+            status = Status.SUCCESS if result == "SKIPPED" else result
             kind = getattr(model_of(ticked), "type", "")
             remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD
                                                           and id(ticked.children[0]) not in yielded)
@@ -311,10 +321,10 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
                 events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
             if result != "SKIPPED":  # BT.CPP keeps a skipped node's status
                 events.append((id(ticked), "IDLE" if result == Status.INVALID else result.value))
-            if id(ticked) in positions and _resets_children(ticked, ticked.status, result):
-                reset = "CLEAR" if ticked.status == Status.RUNNING else "RESET"
+            if id(ticked) in positions and _resets_children(ticked, status, result):
+                reset = "CLEAR" if status == Status.RUNNING else "RESET"
                 children = _visible_children(ticked)
-                if kind == "SequenceWithMemory" and ticked.status == Status.FAILURE:
+                if kind == "SequenceWithMemory" and status == Status.FAILURE:
                     children = children[ticked.index:]  # BT.CPP halts from the failed child on only
                 events.extend((id(child), reset) for child in children)
         seen = {key: "RUNNING" if status == "RUNNING" else "-" for key, status in state.items()}

@@ -21,6 +21,7 @@ from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import TreeBuilder, describe
 from aeroexec.trees.runtime.control import status_name
+from aeroexec.trees.runtime.ticking import TickState, attach, result_name, tick_tree
 from btcpp_files import settle
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -109,8 +110,9 @@ def ours(document: TreeDocument) -> list[tuple[int, str]]:
     mission = SimpleNamespace(nodes=describe(root), root=root)
     found: list[tuple[int, str]] = []
     tracker = TransitionTracker(mission, lambda uid, status: found.append((uid, status)))
+    attach(root, TickState())
     for clock[0] in range(TICKS):
-        tracker.ticked([(node, status_name(node)) for node in root.tick()])
+        tracker.ticked([(node, result_name(result)) for node, result in tick_tree(root)])  # as the runner does
         if status_name(root) != "RUNNING":
             return found
     root.stop(Status.INVALID)

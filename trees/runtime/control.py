@@ -20,85 +20,63 @@ as BehaviorTree.CPP does (passed over; all children skipped -> the composite is 
 from __future__ import annotations
 
 import abc
-from collections.abc import Generator, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import py_trees
+from aeroexec.trees.runtime.ticking import (
+    INVALID,
+    RUNNING,
+    SKIPPED,
+    SUCCESS,
+    Node,
+    Result,
+    halt,
+    reset,
+    result_of,
+    status_name,
+)
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
-#: The fourth status of BehaviorTree.CPP; a node ends SUCCESS and ``skipped`` is set.
-SKIPPED = "SKIPPED"
-Result = Status | str
-Ticking = Generator[Behaviour, None, Result]
+__all__ = ["SKIPPED", "Control", "Result", "halt", "make_control", "reset", "result_of", "status_name"]
 
 
-def result_of(node: Behaviour) -> Result:
-    """A node's status, SKIPPED when it was skipped."""
-    return SKIPPED if node.status == Status.SUCCESS and getattr(node, "skipped", False) else node.status
-
-
-def status_name(node: Behaviour) -> str:
-    """The status as BehaviorTree.CPP names it: IDLE, RUNNING, SUCCESS, FAILURE or SKIPPED."""
-    result = result_of(node)
-    return "IDLE" if result == Status.INVALID else result if isinstance(result, str) else result.value
-
-
-def tick_child(child: Behaviour) -> Ticking:
-    """Tick one child (yielding every node ticked, as py_trees expects) and return its result."""
-    yield from child.tick()
-    return result_of(child)
-
-
-def halt(node: Behaviour) -> None:
-    """BehaviorTree.CPP's ``haltChild`` of a running node: it is stopped, and the behaviors it runs.
-
-    A completed node keeps its status (shown until it starts again): ticking it again starts it afresh anyway.
-    """
-    if node.status == Status.RUNNING:
-        node.stop(Status.INVALID)
-
-
-def reset(node: Behaviour) -> None:
-    """Back to IDLE (a running node is halted first)."""
-    if node.status != Status.INVALID:
-        node.stop(Status.INVALID)
-
-
-def run_tick(node: Any, restart: Any) -> Any:
-    """The tick of a node deciding its result in ``node.run()``: BehaviorTree.CPP's SKIPPED becomes SUCCESS +
-    ``skipped``; ``restart()`` runs first when the node was not RUNNING."""
-    if node.status != Status.RUNNING:
-        restart()
-        node.initialise()
-    node.skipped = False
-    result = yield from node.run()
-    if result == SKIPPED:
-        node.skipped, result = True, Status.SUCCESS
-    if result != Status.RUNNING:
-        node.stop(result)
-    node.status = result
-    yield node
-
-
-class Control(py_trees.composites.Composite):
-    """A composite whose ``run()`` generator decides its result from its children, BehaviorTree.CPP style."""
+class Control(Node, py_trees.composites.Composite):
+    """A composite whose ``run()`` decides its result from its children, BehaviorTree.CPP style."""
 
     def __init__(self, name: str, children: Sequence[Behaviour] | None = None) -> None:
         super().__init__(name, list(children or []))
         self.skipped = False
 
     @abc.abstractmethod
-    def run(self) -> Ticking:
-        """One tick of this control node, as a generator (every control node says how it ticks)."""
+    def run(self) -> Result:
+        """One tick of this control node: its result (every control node says how it ticks)."""
 
-    def tick(self) -> Any:
-        return run_tick(self, self.restart)
+    def step(self) -> Result:
+        old, old_skipped = self.status, self.skipped
+        if old is not RUNNING:  # starting again: see restart()
+            self.tree.stale.append((self, self.restart_from()))
+            if self.initialises:
+                self.initialise()
+        result = self.run()
+        if result is RUNNING:
+            status, skipped = result, False
+        else:
+            status, skipped = (SUCCESS, True) if result is SKIPPED else (result, False)
+            self.terminate(status)
+        tree = self.tree  # Node.settle, inlined: a control node's tick is on every path
+        if status is not old or skipped is not old_skipped:
+            tree.changed.append(self)
+        self.status, self.skipped, self.ticked = status, skipped, tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, result))
+        return result
 
     def restart(self) -> None:
-        """Starting again: the children it will tick are reset (shown IDLE until ticked)."""
-        for child in self.children[self.restart_from():]:
-            reset(child)
+        """Starting again: the children it will not tick again are shown IDLE once the tick ends (those it ticks
+        show their new status); a running child (none, but for a bug) is halted at once."""
+        self.tree.stale.append((self, self.restart_from()))
 
     def restart_from(self) -> int:
         """The first child reset when the node starts again (the rest keep their status for display)."""
@@ -106,15 +84,17 @@ class Control(py_trees.composites.Composite):
 
     def reset_children(self, start: int = 0) -> None:
         """Halt the running children from ``start`` on."""
-        for child in self.children[start:]:
-            halt(child)
+        children = self.children
+        for index in range(start, len(children)):
+            if children[index].status is RUNNING:
+                children[index].stop(INVALID)
 
-    def tick_index(self, index: int) -> Ticking:
-        self.current_child = self.children[index]
-        return (yield from tick_child(self.children[index]))
+    def tick_index(self, index: int) -> Result:
+        child = self.current_child = self.children[index]
+        return child.step()  # type: ignore[attr-defined]
 
     def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
+        if new_status is INVALID:
             self.halted()
 
     def halted(self) -> None:
@@ -139,29 +119,37 @@ class SequenceNode(Control):
         self.index = 0
         self.skipped_count = 0
 
-    def run(self) -> Ticking:
-        count = len(self.children)
-        if self.status != Status.RUNNING:
+    def run(self) -> Result:
+        children = self.children
+        count = len(children)
+        if self.status is not RUNNING:
             self.skipped_count = 0
-        while self.index < count:
-            before = self.children[self.index].status
-            result = yield from self.tick_index(self.index)
-            if result == Status.RUNNING:
-                return Status.RUNNING
-            if result == self.stop_on:
+        index, stop_on, asynchronous = self.index, self.stop_on, self.asynchronous
+        while index < count:
+            child = children[index]
+            before = child.status
+            result = child.step()
+            if result is RUNNING:
+                self.index, self.current_child = index, child
+                return RUNNING
+            if result is stop_on:
+                self.index, self.current_child = index, child
                 if self.restart_on_stop:
                     self.reset_children()
                     self.index = 0
                 else:
-                    self.reset_children(self.index + 1)
-                return self.stop_on
-            self.index += 1
-            self.skipped_count += result == SKIPPED
-            if self.asynchronous and result != SKIPPED and before != Status.RUNNING and self.index < count:
-                return Status.RUNNING
+                    self.reset_children(index + 1)
+                return stop_on
+            index += 1
+            if result is SKIPPED:
+                self.skipped_count += 1
+            elif asynchronous and before is not RUNNING and index < count:
+                self.index, self.current_child = index, child
+                return RUNNING
+        self.current_child = children[-1] if children else None
         all_skipped = self.skipped_count == count
         self.index = self.skipped_count = 0
-        return SKIPPED if all_skipped else Status.SUCCESS if self.stop_on == Status.FAILURE else Status.FAILURE
+        return SKIPPED if all_skipped else Status.SUCCESS if stop_on is Status.FAILURE else Status.FAILURE
 
     def halted(self) -> None:
         if self.restart_on_stop:
@@ -196,12 +184,12 @@ class ReactiveNode(Control):
         self.stop_on = Status.SUCCESS if fallback else Status.FAILURE
         self.otherwise = Status.FAILURE if fallback else Status.SUCCESS
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         all_skipped = True
         for index, child in enumerate(self.children):
-            result = yield from self.tick_index(index)
-            all_skipped &= result == SKIPPED
-            if result == Status.RUNNING:
+            result = self.tick_index(index)
+            all_skipped &= result is SKIPPED
+            if result is Status.RUNNING:
                 for other in self.children:
                     if other is not child:
                         reset(other)
@@ -226,19 +214,19 @@ class ParallelNode(Control):
     def threshold(value: int, children: int) -> int:
         return max(children + value + 1, 0) if value < 0 else value
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         count = len(self.children)
         needed = self.threshold(self.success_count, count)
         failing = self.threshold(self.failure_count, count)
         skipped = 0
         for index in range(count):
             if index not in self.completed:
-                result = yield from self.tick_index(index)
-                if result == SKIPPED:
+                result = self.tick_index(index)
+                if result is SKIPPED:
                     skipped += 1
                 elif result in (Status.SUCCESS, Status.FAILURE):
                     self.completed.add(index)
-                    if result == Status.SUCCESS:
+                    if result is Status.SUCCESS:
                         self.successes += 1
                     else:
                         self.failures += 1
@@ -251,7 +239,7 @@ class ParallelNode(Control):
     def _done(self, status: Status) -> Status:
         self.halted()
         for child in self.children:
-            if child.status == Status.RUNNING:
+            if child.status is Status.RUNNING:
                 halt(child)
         return status
 
@@ -267,10 +255,10 @@ class IfThenElseNode(Control):
         super().__init__(name, children)
         self.branch = 0
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if self.branch == 0:
-            condition = yield from self.tick_index(0)
-            if condition == Status.RUNNING:
+            condition = self.tick_index(0)
+            if condition is Status.RUNNING:
                 return Status.RUNNING
             if condition in (Status.SUCCESS, SKIPPED):
                 self.branch = 1
@@ -278,8 +266,8 @@ class IfThenElseNode(Control):
                 self.branch = 2
             else:
                 return Status.FAILURE
-        result = yield from self.tick_index(self.branch)
-        if result == Status.RUNNING:
+        result = self.tick_index(self.branch)
+        if result is Status.RUNNING:
             return Status.RUNNING
         self.branch = 0
         return result
@@ -291,20 +279,20 @@ class IfThenElseNode(Control):
 class WhileDoElseNode(Control):
     """BehaviorTree.CPP ``WhileDoElse``: the condition is ticked every time; switching branch halts the other."""
 
-    def run(self) -> Ticking:
-        condition = yield from self.tick_index(0)
-        if condition == Status.RUNNING:
+    def run(self) -> Result:
+        condition = self.tick_index(0)
+        if condition is Status.RUNNING:
             return Status.RUNNING
         if condition in (Status.SUCCESS, SKIPPED):
             if len(self.children) == 3:
                 halt(self.children[2])
-            result = yield from self.tick_index(1)
+            result = self.tick_index(1)
         elif len(self.children) == 3:
             halt(self.children[1])
-            result = yield from self.tick_index(2)
+            result = self.tick_index(2)
         else:
             result = Status.FAILURE
-        if result != Status.RUNNING:
+        if result is not Status.RUNNING:
             self.reset_children()
         return result
 

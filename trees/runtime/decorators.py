@@ -12,32 +12,48 @@ instantaneous nodes never spins inside one tick. SubTree passes its child's stat
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 import py_trees
-from aeroexec.trees.runtime.control import SKIPPED, Result, Ticking, halt, run_tick, tick_child
+from aeroexec.trees.runtime.ticking import INVALID, RUNNING, SKIPPED, Node, Result, halt
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
 
-class Decorator(py_trees.decorators.Decorator):
-    """A decorator whose ``run()`` generator decides when and whether to tick its child."""
+class Decorator(Node, py_trees.decorators.Decorator):
+    """A decorator whose ``run()`` decides when and whether to tick its child."""
 
     def __init__(self, name: str, child: Behaviour) -> None:
         super().__init__(name=name, child=child)
         self.skipped = False
 
-    def run(self) -> Ticking:
-        return (yield from tick_child(self.decorated))
+    def run(self) -> Result:
+        return self.decorated.step()  # type: ignore[attr-defined]
 
-    def tick(self) -> Any:
-        return run_tick(self, lambda: None)
+    def step(self) -> Result:
+        old, old_skipped = self.status, self.skipped
+        if old is not RUNNING and self.initialises:
+            self.initialise()
+        result = self.run()
+        if result is RUNNING:
+            status, skipped = result, False
+        else:
+            status, skipped = (Status.SUCCESS, True) if result is SKIPPED else (result, False)
+            self.terminate(status)
+            if self.decorated.status is RUNNING:  # py_trees: a decorator that completes stops its running child
+                self.decorated.stop(INVALID)
+        tree = self.tree  # Node.settle, inlined: a decorator's tick is on every path
+        if status is not old or skipped is not old_skipped:
+            tree.changed.append(self)
+        self.status, self.skipped, self.ticked = status, skipped, tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, result))
+        return result
 
     def update(self) -> Status:  # unused: ``run()`` decides
         return self.status
 
     def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
+        if new_status is INVALID:
             self.halted()
 
     def halted(self) -> None:
@@ -45,9 +61,9 @@ class Decorator(py_trees.decorators.Decorator):
 
 
 class Inverter(Decorator):
-    def run(self) -> Ticking:
-        result = yield from tick_child(self.decorated)
-        return {Status.SUCCESS: Status.FAILURE, Status.FAILURE: Status.SUCCESS}.get(result, result)
+    def run(self) -> Result:
+        result = self.decorated.step()
+        return Status.FAILURE if result is Status.SUCCESS else Status.SUCCESS if result is Status.FAILURE else result
 
 
 class Force(Decorator):
@@ -57,9 +73,9 @@ class Force(Decorator):
         super().__init__(name, child)
         self.forced = status
 
-    def run(self) -> Ticking:
-        result = yield from tick_child(self.decorated)
-        return self.forced if result in (Status.SUCCESS, Status.FAILURE) else result
+    def run(self) -> Result:
+        result = self.decorated.step()
+        return self.forced if result is Status.SUCCESS or result is Status.FAILURE else result
 
 
 class Loop(Decorator):
@@ -72,15 +88,15 @@ class Loop(Decorator):
         self.count = 0
         self.counted = Status.FAILURE if retry else Status.SUCCESS
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if not isinstance(self.count_of, int):  # a ``{key}`` port, read on every tick as BT.CPP does
             self.cycles = self.count_of()
         while self.cycles < 0 or self.count < self.cycles:
             before = self.decorated.status
-            result = yield from tick_child(self.decorated)
-            if result == Status.RUNNING:
+            result = self.decorated.step()
+            if result is Status.RUNNING:
                 return Status.RUNNING
-            if result == SKIPPED:
+            if result is SKIPPED:
                 halt(self.decorated)
                 return SKIPPED
             if result != self.counted:
@@ -89,7 +105,7 @@ class Loop(Decorator):
                 return result
             self.count += 1
             halt(self.decorated)
-            if before != Status.RUNNING and (self.cycles < 0 or self.count < self.cycles):
+            if before is not Status.RUNNING and (self.cycles < 0 or self.count < self.cycles):
                 return Status.RUNNING  # completed on its first tick: go on at the next tick
         self.count = 0
         return Status.FAILURE if self.retry else Status.SUCCESS
@@ -99,12 +115,12 @@ class Loop(Decorator):
 
 
 class KeepRunningUntilFailure(Decorator):
-    def run(self) -> Ticking:
-        result = yield from tick_child(self.decorated)
-        if result == Status.FAILURE:
+    def run(self) -> Result:
+        result = self.decorated.step()
+        if result is Status.FAILURE:
             halt(self.decorated)
             return Status.FAILURE
-        if result == Status.SUCCESS:
+        if result is Status.SUCCESS:
             halt(self.decorated)
         return Status.RUNNING
 
@@ -124,9 +140,9 @@ class Timed(Decorator):
             self.started_at = now
         return now - self.started_at >= self.seconds - 1e-9
 
-    def tick_decorated(self) -> Ticking:
-        result = yield from tick_child(self.decorated)
-        if result != Status.RUNNING:
+    def tick_decorated(self) -> Result:
+        result = self.decorated.step()
+        if result is not Status.RUNNING:
             self.started_at = None
         return result
 
@@ -137,22 +153,22 @@ class Timed(Decorator):
 class Timeout(Timed):
     """Fails when ``seconds`` of engine time pass before the child completes, halting the child."""
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if self.seconds > 0 and self.elapsed():
             self.started_at = None
             self.feedback_message = f"timed out after {self.seconds:g} s"
             halt(self.decorated)
             return Status.FAILURE
-        return (yield from self.tick_decorated())
+        return self.tick_decorated()
 
 
 class Delay(Timed):
     """Ticks the child only once ``seconds`` of engine time have passed since the node started."""
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if not self.elapsed():
             return Status.RUNNING
-        return (yield from self.tick_decorated())
+        return self.tick_decorated()
 
 
 class RunOnce(Decorator):
@@ -163,10 +179,10 @@ class RunOnce(Decorator):
         self.then_skip = then_skip
         self.first: Result | None = None
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if self.first is not None:
             return SKIPPED if self.then_skip else self.first
-        result = yield from tick_child(self.decorated)
+        result = self.decorated.step()
         if result in (Status.SUCCESS, Status.FAILURE):
             self.first = result
         return result
@@ -192,10 +208,10 @@ class Preconditions(Decorator):
         self.conditions = conditions
         self.actions = actions or {}
 
-    def run(self) -> Ticking:
-        result = yield from self.checked()
+    def run(self) -> Result:
+        result = self.checked()
         if result in (Status.SUCCESS, Status.FAILURE):  # BT.CPP's post-conditions: _onSuccess/_onFailure, _post
-            action = self.actions.get("_onSuccess" if result == Status.SUCCESS else "_onFailure")
+            action = self.actions.get("_onSuccess" if result is Status.SUCCESS else "_onFailure")
             if action is not None:
                 action()
             if "_post" in self.actions:
@@ -203,11 +219,11 @@ class Preconditions(Decorator):
         return result
 
     def halted(self) -> None:
-        if "_onHalted" in self.actions and self.status == Status.RUNNING:
+        if "_onHalted" in self.actions and self.status is Status.RUNNING:
             self.actions["_onHalted"]()
 
-    def checked(self) -> Ticking:
-        starting = self.status != Status.RUNNING
+    def checked(self) -> Result:
+        starting = self.status is not Status.RUNNING
         for attribute in self.ORDER:
             check = self.conditions.get(attribute)
             if check is None:
@@ -220,4 +236,4 @@ class Preconditions(Decorator):
                 self.feedback_message = "_while does not hold"
                 halt(self.decorated)
                 return SKIPPED
-        return (yield from tick_child(self.decorated))
+        return self.decorated.step()

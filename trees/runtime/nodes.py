@@ -20,6 +20,7 @@ from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
 from aeroexec.trees.node_types import WAIT_FOR_COMPLETION, output_key
 from aeroexec.trees.ports import MissingKey, request_from_ports, substitute
+from aeroexec.trees.runtime.ticking import RUNNING, Node, kept
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -104,13 +105,22 @@ class TreeContext:
         self.started.clear()
 
 
-class Leaf(Behaviour):
+class Leaf(Node, Behaviour):
     """A leaf built from a model node: ``source`` is the node (file, line) and ``blackboard`` its scope."""
 
     def __init__(self, name: str, context: TreeContext, blackboard: Any, source: Any = None) -> None:
         super().__init__(name)
         self.context, self.blackboard, self.source = context, blackboard, source
-        self.skipped = False
+
+    def step(self) -> Status:
+        """py_trees' leaf tick in one call: ``initialise`` when not RUNNING, ``update``, ``terminate`` when done."""
+        old = self.status
+        if old is not RUNNING and self.initialises:
+            self.initialise()
+        status = self.update()
+        if status is not RUNNING:
+            self.terminate(status)
+        return kept(self, status)
 
     @property
     def where(self) -> str:
@@ -210,12 +220,23 @@ class BeliefLeaf(Leaf):
         super().__init__(name, context, blackboard, source)
         self.kind, self.belief = kind, belief
         self.multivalued = False
+        self.condition = kind in ("Condition", "CheckBelief")
+        self.fixed = "{" not in belief  # no blackboard key to read: the text is the question
+
+    def step(self) -> Status:
+        if not (self.condition and self.fixed):
+            return super().step()
+        try:  # a condition without blackboard keys, ticked in one call (Leaf.step and update)
+            status = Status.SUCCESS if self.context.engine.memory.holds(self.belief) else Status.FAILURE
+        except BeliefError as error:
+            status = self.error(f"{self.kind} {self.belief}: {error}")
+        return kept(self, status)
 
     def update(self) -> Status:
         memory = self.context.engine.memory
         try:
-            text = substitute(self.belief, self.blackboard, as_term=True)
-            if self.kind in ("Condition", "CheckBelief"):
+            text = self.belief if self.fixed else substitute(self.belief, self.blackboard, as_term=True)
+            if self.condition:
                 return Status.SUCCESS if memory.holds(text) else Status.FAILURE
             if self.kind == "QueryBelief":
                 found = memory.query(text)
@@ -250,3 +271,6 @@ class Constant(Leaf):
 
     def update(self) -> Status:
         return self.result
+
+    def step(self) -> Status:
+        return kept(self, self.result)

@@ -5,8 +5,9 @@ engine's ``tick_callbacks``) until its root completes, and records events the te
 ``mission_started``, ``node_status`` for every change of a node's status (``node``, ``old``, ``new``, ``line``,
 ``depth``, ``uid``: the node's 1-based place in ``nodes``, as in the Groot2 log), then ``mission_completed``
 (root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit). ``observers`` are called after each tick
-with ``(node, status it returned)`` for every node it ticked (in the order py_trees' ``tick()`` yields them), and
-with None when the tree is halted.
+with ``(node, status it returned)`` for every node it ticked (children before their parent, as py_trees' ``tick()``
+yields them), and with None when the tree is halted. The tree is ticked one call per node (``trees.runtime.ticking``):
+the nodes record their status changes as they happen, and only those are reported.
 Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
 """
 
@@ -19,8 +20,8 @@ from typing import Any
 from aeroexec.trees.model import TreeDocument
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree, describe, model_of
-from aeroexec.trees.runtime.control import status_name
 from aeroexec.trees.runtime.nodes import TreeContext
+from aeroexec.trees.runtime.ticking import TickState, attach, result_name, status_name, step
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -38,7 +39,9 @@ class TreeMission:
         self.blackboard = Blackboard(values=blackboard)
         self.root: Behaviour = build_tree(document, self.context, self.blackboard)
         self.nodes = describe(self.root)
+        self._places = {id(node): (uid, depth, node) for uid, (depth, node) in enumerate(self.nodes, 1)}
         self._statuses: dict[int, str] = {}
+        self._state = attach(self.root, TickState())
         self.status: Status = Status.INVALID
         self.started = False
         self.done = False
@@ -60,16 +63,19 @@ class TreeMission:
         """One tick of the tree (the engine calls it each period); finishes the mission when the root completes."""
         if self.done or self.paused:
             return
+        state = self._state
+        state.visits = [] if self.observers else None
         try:
-            visited = [(node, status_name(node)) for node in self.root.tick()]  # each as it returned
+            step(self.root, state)
         except Exception as exc:  # a bug in a node: the mission stops, the engine goes on
             logger.exception("the behavior tree %s failed", self.name)
-            self._report()
+            self._report(scan=True)
             self.halt(f"{type(exc).__name__}: {exc}")
             return
         self.status = self.root.status
-        self._report()
-        self._notify(visited)
+        self._report(scan=state.foreign)
+        if state.visits is not None:
+            self._notify([(node, result_name(result)) for node, result in state.visits])
         if self.status in (Status.SUCCESS, Status.FAILURE):
             self._finish("mission_completed" if self.status == Status.SUCCESS else "mission_failed",
                          f"{self.name}: the tree ended {status_name(self.root)}")
@@ -80,7 +86,7 @@ class TreeMission:
             return
         if self.root.status != Status.INVALID:
             self.root.stop(Status.INVALID)
-        self._report()
+        self._report(scan=self._state.foreign)
         self._notify(None)
         self._finish("mission_failed", f"{self.name}: halted ({reason})")
 
@@ -107,8 +113,19 @@ class TreeMission:
             except Exception:  # an observer's bug (a log that cannot be written) never stops the mission
                 logger.exception("an observer of the behavior tree %s failed", self.name)
 
-    def _report(self) -> None:
-        for uid, (depth, node) in enumerate(self.nodes, 1):  # uid: the node's place in document order
+    def _report(self, scan: bool = False) -> None:
+        """A ``node_status`` event for each visible node whose status changed since the last report, in document
+        order: the nodes that recorded a change (``scan``: every node, when a foreign behaviour may not record)."""
+        changed = self._state.changed
+        if not changed and not scan:
+            return
+        places = self._places
+        if scan:
+            chosen = [(uid, depth, node) for uid, (depth, node) in enumerate(self.nodes, 1)]
+        else:
+            chosen = sorted({places[id(node)] for node in changed if id(node) in places}, key=lambda p: p[0])
+        changed.clear()
+        for uid, depth, node in chosen:  # uid: the node's place in document order
             new = status_name(node)
             old = self._statuses.get(id(node), "IDLE")
             if new == old:

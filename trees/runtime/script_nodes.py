@@ -11,8 +11,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from aeroexec.trees.node_types import bare_key
-from aeroexec.trees.runtime.control import SKIPPED, Control, Ticking, halt, reset
-from aeroexec.trees.runtime.decorators import Decorator, tick_child
+from aeroexec.trees.runtime.control import SKIPPED, Control, Result, halt, reset
+from aeroexec.trees.runtime.decorators import Decorator
 from aeroexec.trees.runtime.nodes import Leaf
 from aeroexec.trees.script import ScriptError, compile_script, truth
 from py_trees.behaviour import Behaviour
@@ -73,7 +73,7 @@ class Precondition(Decorator):
         self.otherwise = SKIPPED if otherwise.strip() == "SKIPPED" else Status[otherwise.strip() or "FAILURE"]
         self.running = False
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if not self.running:
             try:
                 self.running = self.script.holds(self.board, self.context.belief_holds)
@@ -83,7 +83,7 @@ class Precondition(Decorator):
                 return Status.FAILURE
         if not self.running:
             return self.otherwise
-        result = yield from tick_child(self.decorated)
+        result = self.decorated.step()
         if result in (Status.SUCCESS, Status.FAILURE):  # as BT.CPP: a skipped child, or a halt, keeps it open
             self.running = False
         return result
@@ -104,7 +104,7 @@ class Switch(Control):
             return None if key not in self.board else str(self.board[key])
         return text
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         cases = len(self.children) - 1
         chosen = cases
         variable = self._read("variable")
@@ -116,14 +116,14 @@ class Switch(Control):
                     break
         if self.running is not None and self.running != chosen:
             halt(self.children[self.running])
-        result = yield from self.tick_index(chosen)
-        if result == Status.RUNNING:
+        result = self.tick_index(chosen)
+        if result is Status.RUNNING:
             self.running = chosen
         else:
             self.running = None
-            if result != SKIPPED:
+            if result is not SKIPPED:
                 for child in self.children:
-                    reset(child) if child.status == Status.RUNNING else None
+                    reset(child) if child.status is Status.RUNNING else None
         return result
 
     def halted(self) -> None:

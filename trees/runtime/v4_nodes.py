@@ -8,8 +8,8 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from aeroexec.trees.node_types import bare_key
-from aeroexec.trees.runtime.control import SKIPPED, Control, Ticking, halt, reset
-from aeroexec.trees.runtime.decorators import Decorator, tick_child
+from aeroexec.trees.runtime.control import SKIPPED, Control, Result, halt, reset
+from aeroexec.trees.runtime.decorators import Decorator
 from aeroexec.trees.runtime.nodes import Leaf
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -25,17 +25,17 @@ class ParallelAll(Control):
         self.completed: set[int] = set()
         self.failures = 0
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         skipped = 0
         for index in range(len(self.children)):
             if index in self.completed:
                 continue
-            result = yield from self.tick_index(index)
-            if result == SKIPPED:
+            result = self.tick_index(index)
+            if result is SKIPPED:
                 skipped += 1
             elif result in (Status.SUCCESS, Status.FAILURE):
                 self.completed.add(index)
-                self.failures += result == Status.FAILURE
+                self.failures += result is Status.FAILURE
         count = len(self.children)
         if skipped == count:
             return SKIPPED
@@ -61,24 +61,24 @@ class TryCatch(Control):
         self.catch_on_halt = catch_on_halt
         self.index, self.skipped_count, self.catching = 0, 0, False
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         tries = len(self.children) - 1
-        if self.status != Status.RUNNING:
+        if self.status is not Status.RUNNING:
             self.skipped_count, self.catching = 0, False
         while not self.catching and self.index < tries:
-            result = yield from self.tick_index(self.index)
-            if result == Status.RUNNING:
+            result = self.tick_index(self.index)
+            if result is Status.RUNNING:
                 return Status.RUNNING
-            if result == Status.FAILURE:
+            if result is Status.FAILURE:
                 for child in self.children:
                     halt(child)
                 self.index, self.catching = 0, True
                 break
             self.index += 1
-            self.skipped_count += result == SKIPPED
+            self.skipped_count += result is SKIPPED
         if self.catching:
-            result = yield from self.tick_index(tries)
-            if result == Status.RUNNING:
+            result = self.tick_index(tries)
+            if result is Status.RUNNING:
                 return Status.RUNNING
             self.catching = False
             return Status.FAILURE
@@ -87,12 +87,11 @@ class TryCatch(Control):
         return SKIPPED if all_skipped else Status.SUCCESS
 
     def halted(self) -> None:
-        if self.catch_on_halt and not self.catching and self.status == Status.RUNNING:
+        if self.catch_on_halt and not self.catching and self.status is Status.RUNNING:
             for child in self.children[:-1]:
                 halt(child)
             catch = self.children[-1]
-            for _ in catch.tick():
-                pass
+            catch.step()
             halt(catch)
         self.index = self.skipped_count = 0
         self.catching = False
@@ -143,9 +142,9 @@ class Loop(Decorator):
         self.queue: list[Any] = []
         self.child_running = False
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         popped = False
-        if self.status != Status.RUNNING:
+        if self.status is not Status.RUNNING:
             self.child_running = False
             if self.static is not None:
                 self.queue = queue_items(self.static, self.convert)
@@ -159,11 +158,11 @@ class Loop(Decorator):
                 popped = True
         if not popped and not self.child_running:
             return self.if_empty
-        result = yield from tick_child(self.decorated)
-        self.child_running = result == Status.RUNNING
+        result = self.decorated.step()
+        self.child_running = result is Status.RUNNING
         if result in (Status.SUCCESS, Status.FAILURE):
             reset(self.decorated)
-        return Status.FAILURE if result == Status.FAILURE else Status.RUNNING
+        return Status.FAILURE if result is Status.FAILURE else Status.RUNNING
 
     def halted(self) -> None:
         self.child_running = False
@@ -179,14 +178,14 @@ class EntryUpdated(Decorator):
         self.seen = 0
         self.executing = False
 
-    def run(self) -> Ticking:
+    def run(self) -> Result:
         if not self.executing:
             current = self.board.version(self.key)
             previous, self.seen = self.seen, current
             if current == 0 or current == previous:
                 return self.otherwise
-        result = yield from tick_child(self.decorated)
-        self.executing = result == Status.RUNNING
+        result = self.decorated.step()
+        self.executing = result is Status.RUNNING
         return result
 
     def halted(self) -> None:

@@ -29,7 +29,7 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefError, to_python
 from aeroexec.trees.ports import MissingKey, substitute
-from aeroexec.trees.runtime.control import Control, ParallelNode, SequenceWithMemory, Ticking, halt
+from aeroexec.trees.runtime.control import Control, ParallelNode, Result, SequenceWithMemory, halt
 from aeroexec.trees.runtime.decorators import Decorator
 from aeroexec.trees.tml.reader import TmlEvent
 from py_trees.behaviour import Behaviour
@@ -56,8 +56,8 @@ class TmlEventHandling(Control):
         self.needs = dict(needs or {})
 
     # -- the tick ----------------------------------------------------------------------------------
-    def run(self) -> Ticking:
-        if self.handling is None and self.main.status == Status.RUNNING:
+    def run(self) -> Result:
+        if self.handling is None and self.main.status is Status.RUNNING:
             event = self.check_events()
             if event is not None:
                 self.fire(event)
@@ -73,10 +73,10 @@ class TmlEventHandling(Control):
             event = self.handling
             if event.call:
                 tree = self.called[event.call]
-                result = yield from self.tick_index(list(self.called).index(event.call) + 1)
-                if result == Status.RUNNING:
+                result = self.tick_index(list(self.called).index(event.call) + 1)
+                if result is Status.RUNNING:
                     return Status.RUNNING
-                if result == Status.FAILURE:
+                if result is Status.FAILURE:
                     self.handling = None
                     self.context.record("tml_handler_failed", f"{event.name}: the tree {event.call} failed; "
                                                               f"the mission fails", event=event.name)
@@ -88,7 +88,7 @@ class TmlEventHandling(Control):
                 return ended
         if self.main_done:
             return Status.SUCCESS
-        return (yield from self.tick_index(0))
+        return self.tick_index(0)
 
     def check_events(self) -> TmlEvent | None:
         """The first armed event whose condition holds now (every condition is evaluated, to re-arm)."""
@@ -129,7 +129,7 @@ class TmlEventHandling(Control):
         halt(self.main)
         if event.call:
             tree = self.called[event.call]
-            if tree.status != Status.INVALID:
+            if tree.status is not Status.INVALID:
                 tree.stop(Status.INVALID)  # shown IDLE, started afresh
 
     def terminate_with(self, event: TmlEvent) -> Status | None:
@@ -156,7 +156,7 @@ class TmlEventHandling(Control):
 def running_path(node: Behaviour) -> list[Behaviour]:
     """The nodes from ``node`` down to the running leaf task (through sequences' current child and task bodies)."""
     path: list[Behaviour] = []
-    while node is not None and node.status == Status.RUNNING:
+    while node is not None and node.status is Status.RUNNING:
         path.append(node)
         if isinstance(node, SequenceWithMemory):
             node = node.children[node.index] if node.index < len(node.children) else None
