@@ -190,12 +190,8 @@ class BeliefMemory:
 
         ``bindings`` gives values to variables before solving (``{"?Y": (1, 2, 3)}``).
         """
-        if self._heap:
-            self._expire_due()
-        compiled = self._queries.get(expression)
-        if compiled is None:
-            compiled = self._compile(expression)
-        return compiled.first(self._relations, self._bind(bindings) if bindings else None)
+        answer = self._answer(expression, bindings)
+        return None if answer is None else dict(answer)
 
     def query_all(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> list[dict]:
         """Every unification of the expression, as a list of ``{"?X": value}`` dictionaries."""
@@ -208,7 +204,7 @@ class BeliefMemory:
 
     def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
         """True when the expression has at least one unification."""
-        return self.query(expression, bindings) is not None
+        return self._answer(expression, bindings) is not None
 
     def consult(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> tuple[bool, dict]:
         """The paper's ``consultBelief``: ``(success, unification)`` of the first solution."""
@@ -257,6 +253,33 @@ class BeliefMemory:
         return [b for b in self if predicate is None or b.name == predicate]
 
     # -- internals ----------------------------------------------------------------
+    def _answer(self, expression: Expression, bindings: Mapping[str, Any] | None) -> dict | None:
+        """The first unification (not to be changed: it may be the one remembered for the next call).
+
+        An expression without bindings that reads only stored beliefs is solved again only when a relation it
+        reads has changed (or the plans' epoch moved): relations' versions and the epoch only grow, so their
+        sum tells.
+        """
+        if self._heap:
+            self._expire_due()
+        compiled = self._queries.get(expression)
+        if compiled is None:
+            compiled = self._compile(expression)
+        if bindings:
+            return compiled.first(self._relations, self._bind(bindings))
+        reads = compiled.reads
+        if reads is None:  # a computed predicate: asked every time
+            return compiled.first(self._relations)
+        relations = self._relations
+        stamp = relations.epoch
+        for signature in reads:
+            rel = relations.get(signature)
+            if rel is not None:
+                stamp += rel.version + 1
+        if compiled.stamp != stamp:
+            compiled.answer, compiled.stamp = compiled.first(relations), stamp
+        return compiled.answer
+
     def _compile(self, expression: Expression) -> CompiledQuery:
         if type(expression) is Struct:
             conjunction = Conjunction((Goal(expression),), format_term(expression))
@@ -268,6 +291,9 @@ class BeliefMemory:
             raise BeliefSyntaxError(repr(expression), "a belief expression is text")
         self._check_vocabulary(conjunction)
         compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._computed)
+        predicates = conjunction.predicates
+        compiled.reads = (None if any(p in self._computed for p in predicates)
+                          else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
             self._queries.clear()
         self._queries[expression] = compiled

@@ -49,6 +49,11 @@ class CompiledQuery:
             self.steps.append(_compile(lit, exclusive, computed, others | outer_vars))
         self.ranges = _ranges(self.steps)
         self.signatures = tuple({s.signature for s in self.steps if type(s) is FactStep})
+        #: the stored predicates it reads (None: it reads a computed one); its last answer, and the sum of the
+        #: relations' versions it was found at (the memory answers from it while that stands: ``BeliefMemory``)
+        self.reads: tuple[tuple[str, int], ...] | None = None
+        self.answer: dict | None = None
+        self.stamp = -1
         self._plans: dict = {}
         only = self.steps[0] if len(self.steps) == 1 else None
         self._single = only if type(only) is FactStep and not only.nested else None

@@ -237,3 +237,37 @@ def test_check_verifies_an_expression_without_solving():
         m.check("battery(?X)")
     with pytest.raises(BeliefSyntaxError):
         m.check("charge(battery")
+
+
+def test_a_question_asked_again_is_answered_anew_as_soon_as_a_belief_it_reads_changes():
+    # the memory answers a repeated question from its last answer while the relations it reads stand: every kind
+    # of change must show at once (a tree ticks the same conditions 20 times a second)
+    clock = FakeClock()
+    m = BeliefMemory(persistence={"visible": 1.0}, clock=clock)
+    m.add("charge(battery, 80)")
+    question = "charge(battery, ?C), ?C > 20"
+    assert m.query(question) == {"?C": 80}
+    m.add("charge(battery, 15)")  # an exclusive value replaced
+    assert m.query(question) is None and not m.holds(question)
+    m.add("charge(battery, 30)")
+    assert m.query(question) == {"?C": 30}
+    m.query(question)["?C"] = 0  # an answer handed out is the caller's to change
+    assert m.query(question) == {"?C": 30}
+    assert m.holds("not(visible(?))")
+    m.add("visible(marker_3)")
+    assert not m.holds("not(visible(?))") and m.query("visible(?M)") == {"?M": "marker_3"}
+    clock.t += 2.0  # its persistence ran out
+    assert m.holds("not(visible(?))") and m.query("visible(?M)") is None
+    m.add("visible(marker_3)")
+    m.remove("visible(?)")
+    assert m.query("visible(?M)") is None
+
+
+def test_a_question_reading_a_computed_predicate_is_asked_every_time():
+    m = BeliefMemory()
+    calls = []
+    level = [10]
+    m.register("level", 1, lambda: calls.append(1) or level[0], inputs=0)
+    assert m.query("level(?L)") == {"?L": 10}
+    level[0] = 12
+    assert m.query("level(?L)") == {"?L": 12} and len(calls) == 2
