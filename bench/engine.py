@@ -25,6 +25,7 @@ import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSIONS = sorted(p for p in (ROOT / "missions").iterdir()
@@ -241,97 +242,6 @@ def wait_until(condition: Callable[[], bool], seconds: float) -> None:
         time.sleep(0.01)
 
 
-# -- trees ---------------------------------------------------------------------------------------------------
-def tree_xml(groups: int) -> str:
-    """A tree that runs forever: 5 nodes per group (a Sequence of a belief Condition, an Inverter of AlwaysFailure
-    and AlwaysSuccess) under one Sequence under KeepRunningUntilFailure."""
-    group = ('<Sequence><Condition belief="charge(battery, ?C), ?C > 20"/>'
-             '<Inverter><AlwaysFailure/></Inverter><AlwaysSuccess/></Sequence>')
-    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">'
-            f'<KeepRunningUntilFailure><Sequence>{group * groups}</Sequence></KeepRunningUntilFailure>'
-            f'</BehaviorTree></root>')
-
-
-def trees(repeat: int, quick: bool) -> None:
-    import py_trees
-    from aeroexec.beliefs import parse_expression
-    from aeroexec.drones.sim import SimulatedDrone
-    from aeroexec.engine.engine import Engine
-    from aeroexec.trees import read_mission_tree
-    from aeroexec.trees.runtime.runner import TreeMission
-    from py_trees.common import Status
-
-    print("Tree ticks (measured only: the tree runtime is issue 19's other part; ratios to bare py_trees and to plain "
-          "recursion over the same shape and belief queries)")
-    engine = Engine(SimulatedDrone())
-    engine.step(0.2)
-    memory = engine.memory
-    expression = parse_expression("charge(battery, ?C), ?C > 20")
-
-    class Query(py_trees.behaviour.Behaviour):
-        def update(self) -> Status:
-            return Status.SUCCESS if memory.query(expression) is not None else Status.FAILURE
-
-    def bare_tree(groups: int) -> py_trees.behaviour.Behaviour:
-        children = [py_trees.composites.Sequence("g", memory=False, children=[
-            Query("c"), py_trees.decorators.Inverter("i", py_trees.behaviours.Failure("f")),
-            py_trees.behaviours.Success("s")]) for _ in range(groups)]
-        return py_trees.composites.Sequence("root", memory=False, children=children)
-
-    class Plain:
-        __slots__ = ("children", "kind")
-
-        def __init__(self, kind: str, children: tuple = ()) -> None:
-            self.kind, self.children = kind, children
-
-        def tick(self) -> bool:
-            kind = self.kind
-            if kind == "sequence":
-                return all(child.tick() for child in self.children)
-            if kind == "condition":
-                return memory.query(expression) is not None
-            if kind == "inverter":
-                return not self.children[0].tick()
-            return kind == "success"
-
-    def plain_tree(groups: int) -> Plain:
-        return Plain("sequence", tuple(Plain("sequence", (
-            Plain("condition"), Plain("inverter", (Plain("failure"),)), Plain("success"))) for _ in range(groups)))
-
-    for groups, target in ((100, 0.5), (1000, 5.0)):
-        document = read_mission_tree(tree_xml(groups), "bench.xml")
-        mission = TreeMission(document, engine)
-        mission.start()
-        bare, plain = bare_tree(groups), plain_tree(groups)
-        ticks = 20 if groups > 500 or quick else 100
-
-        def ours(mission: TreeMission = mission, ticks: int = ticks) -> int:
-            for _ in range(ticks):
-                mission.tick()
-            return ticks
-
-        def py(root: py_trees.behaviour.Behaviour = bare, ticks: int = ticks) -> int:
-            for _ in range(ticks):
-                root.tick_once()
-            return ticks
-
-        def recursion(root: Plain = plain, ticks: int = ticks) -> int:
-            for _ in range(ticks):
-                root.tick()
-            return ticks
-
-        ours_t, py_t, plain_t = (spread(cpu_per_call(f, repeat)) for f in (ours, py, recursion))
-        nodes = len(mission.nodes)
-        line(f"{nodes} nodes, {groups} belief conditions: bare py_trees", f"{py_t[1] * 1000:.2f} ms")
-        line(f"{nodes} nodes: plain recursion", f"{plain_t[1] * 1000:.2f} ms", f"{plain_t[1] / py_t[1]:.2f}x py_trees")
-        line(f"{nodes} nodes: aeroexec tree tick", f"{ours_t[0] * 1000:.2f} / {ours_t[1] * 1000:.2f} ms",
-             f"{ours_t[1] / py_t[1]:.1f}x py_trees", verdict(ours_t[1] * 1000, target))
-        line(f"{nodes} nodes: aeroexec tree tick / plain recursion", "", f"{ours_t[1] / plain_t[1]:.1f}x",
-             verdict(ours_t[1] / plain_t[1], 2))
-        mission.halt("bench")
-    engine.stop()
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
@@ -343,11 +253,17 @@ def main() -> None:
              "step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),
              "missions": lambda: longest_steps(options.quick),
              "planning": enclosed_goal,
-             "trees": lambda: trees(options.repeat, options.quick)}
+             "trees": lambda: tree_ticks().trees(options.repeat, options.quick)}
     print(f"{'':52s}{'min / median':>22s}  {'ratio':>16s}")
     for name, part in parts.items():
         if options.only in (None, name):
             part()
+
+
+def tree_ticks() -> Any:
+    import tree_ticks  # bench/tree_ticks.py, beside this script
+
+    return tree_ticks
 
 
 def logging_quiet() -> None:

@@ -1,0 +1,112 @@
+"""Tree ticks for ``bench/engine.py --only trees``: aeroexec's tree runtime against a bare py_trees tree of the same
+shape and plain recursion over the same nodes, all three asking the belief memory the same questions.
+
+Two cases per size. *Standing beliefs*: every condition asks the same question and nothing changes between ticks,
+so the memory answers from its last answer (for all three alike). *Changing beliefs*: every condition asks a
+question of its own and the battery's charge changes before every tick, so every question is solved again: the
+worst case for the memory, the same for all three.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from engine import cpu_per_call, line, spread, verdict
+
+
+def tree_xml(groups: int, distinct: bool = False) -> str:
+    """A tree that runs forever: 5 nodes per group (a Sequence of a CheckBelief, an Inverter of AlwaysFailure
+    and AlwaysSuccess) under one Sequence under KeepRunningUntilFailure (``distinct``: a question per group)."""
+    body = "".join(f'<Sequence><CheckBelief belief="{question(i, distinct)}"/>'
+                   '<Inverter><AlwaysFailure/></Inverter><AlwaysSuccess/></Sequence>' for i in range(groups))
+    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">'
+            f'<KeepRunningUntilFailure><Sequence>{body}</Sequence></KeepRunningUntilFailure>'
+            f'</BehaviorTree></root>')
+
+
+def question(index: int, distinct: bool) -> str:
+    return f"charge(battery, ?C), ?C > {index % 20}.{index}" if distinct else "charge(battery, ?C), ?C > 20"
+
+
+def trees(repeat: int, quick: bool) -> None:
+    import py_trees
+    from aeroexec.drones.sim import SimulatedDrone
+    from aeroexec.engine.engine import Engine
+    from aeroexec.trees import read_mission_tree
+    from aeroexec.trees.runtime.runner import TreeMission
+    from py_trees.common import Status
+
+    print("Tree ticks (ratios to bare py_trees and to plain recursion over the same shape, asking the belief memory "
+          "the same questions)")
+    engine = Engine(SimulatedDrone())
+    engine.step(0.2)
+    memory = engine.memory
+
+    class Query(py_trees.behaviour.Behaviour):
+        def __init__(self, text: str) -> None:
+            super().__init__("condition")
+            self.text = text
+
+        def update(self) -> Status:
+            return Status.SUCCESS if memory.holds(self.text) else Status.FAILURE
+
+    def bare_tree(groups: int, distinct: bool) -> py_trees.behaviour.Behaviour:
+        children = [py_trees.composites.Sequence("g", memory=False, children=[
+            Query(question(i, distinct)), py_trees.decorators.Inverter("i", py_trees.behaviours.Failure("f")),
+            py_trees.behaviours.Success("s")]) for i in range(groups)]
+        return py_trees.composites.Sequence("root", memory=False, children=children)
+
+    class Plain:
+        __slots__ = ("children", "kind", "text")
+
+        def __init__(self, kind: str, children: tuple = (), text: str = "") -> None:
+            self.kind, self.children, self.text = kind, children, text
+
+        def tick(self) -> bool:
+            kind = self.kind
+            if kind == "sequence":
+                return all(child.tick() for child in self.children)
+            if kind == "condition":
+                return memory.holds(self.text)
+            if kind == "inverter":
+                return not self.children[0].tick()
+            return kind == "success"
+
+    def plain_tree(groups: int, distinct: bool) -> Plain:
+        return Plain("sequence", tuple(Plain("sequence", (
+            Plain("condition", text=question(i, distinct)), Plain("inverter", (Plain("failure"),)),
+            Plain("success"))) for i in range(groups)))
+
+    charge = [50]
+
+    def change(changing: bool) -> None:
+        if changing:  # the battery drains: every question reads it
+            charge[0] = 51 - charge[0] % 2
+            memory.add(f"charge(battery, {charge[0]})")
+
+    for groups, target in ((100, 0.5), (1000, 5.0)):
+        for changing in (False, True):
+            mission = TreeMission(read_mission_tree(tree_xml(groups, changing), "bench.xml"), engine)
+            mission.start()
+            bare, plain = bare_tree(groups, changing), plain_tree(groups, changing)
+            ticks = 20 if groups > 500 or quick else 100
+
+            def run(tick: Any, ticks: int = ticks, changing: bool = changing) -> int:
+                for _ in range(ticks):
+                    change(changing)
+                    tick()
+                return ticks
+
+            ours_t, py_t, plain_t = (spread(cpu_per_call(lambda f=f: run(f), repeat))
+                                     for f in (mission.tick, bare.tick_once, plain.tick))
+            nodes = len(mission.nodes)
+            case = "changing beliefs" if changing else "standing beliefs"
+            line(f"{nodes} nodes, {case}: bare py_trees", f"{py_t[1] * 1000:.2f} ms")
+            line(f"{nodes} nodes, {case}: plain recursion", f"{plain_t[1] * 1000:.2f} ms",
+                 f"{plain_t[1] / py_t[1]:.2f}x py_trees")
+            line(f"{nodes} nodes, {case}: aeroexec tree tick", f"{ours_t[0] * 1000:.2f} / {ours_t[1] * 1000:.2f} ms",
+                 f"{ours_t[1] / py_t[1]:.1f}x py_trees", verdict(ours_t[1] * 1000, target) if not changing else "")
+            line(f"{nodes} nodes, {case}: aeroexec / plain recursion", "", f"{ours_t[1] / plain_t[1]:.1f}x",
+                 verdict(ours_t[1] / plain_t[1], 2))
+            mission.halt("bench")
+    engine.stop()
