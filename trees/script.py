@@ -18,9 +18,10 @@ from typing import Any
 
 __all__ = ["Script", "ScriptError", "compile_script", "text_of", "truth"]
 
-from aeroexec.limits import MAX_NESTING
 from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
+
+from aeroexec.limits import MAX_NESTING
 
 _EPSILON = sys.float_info.epsilon * 2 ** 29  # float's epsilon, as BT.CPP compares doubles
 Value = int | float | str
