@@ -305,18 +305,19 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
         before = len(halts)
         events.clear()
         stops.clear()
-        yielded: set[int] = set()
+        returned: dict[int, int] = {}  # node -> the place it last returned at in this tick
         visits = tick_tree(root)  # each node as it returned, as the runner sees them; the halts in between
         for place, (ticked, result) in enumerate([*visits, (None, None)]):
             if ticked is None:  # after the root returned: the runtime shows IDLE the children a node that
                 events.extend((key, what) for at, key, what in stops if at == place and what != "RESET")
                 break  # started again did not reach (no halt in BT.CPP, which leaves them as they were)
             events.extend((key, what) for at, key, what in stops if at == place)
-            yielded.add(id(ticked))
             status = Status.SUCCESS if result == "SKIPPED" else result
             kind = getattr(model_of(ticked), "type", "")
-            remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD
-                                                          and id(ticked.children[0]) not in yielded)
+            child_ticked = bool(ticked.children) and (returned.get(id(ticked.children[0]), -1)
+                                                      > returned.get(id(ticked), -1))  # since it last returned
+            returned[id(ticked)] = place
+            remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD and not child_ticked)
             if not _is_leaf(ticked) and not remembered:
                 events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
             if result != "SKIPPED":  # BT.CPP keeps a skipped node's status

@@ -112,6 +112,8 @@ HAND_WRITTEN.update({
                         '</Sequence>', {"A": [S]}),
     "skipped Sequence under a ReactiveSequence": ('<ReactiveSequence><Sequence><A _skipIf="true"/></Sequence><B/>'
                                                   '</ReactiveSequence>', {"A": [S], "B": [R, R, S]}),
+    "RunOnce skipped on a second pass in one tick": ('<Repeat num_cycles="2"><Sequence><A/><RunOnce><B/></RunOnce>'
+                                                      '</Sequence></Repeat>', {"A": [R, S, S], "B": [S]}),
     "Repeat num_cycles={n}": ('<Sequence><Script code="n := 2"/><Repeat num_cycles="{n}"><A/></Repeat></Sequence>',
                               {"A": [S, R, S]}),
 })
