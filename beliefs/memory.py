@@ -79,6 +79,7 @@ class BeliefMemory:
         self._expiry: dict[tuple, float] = {}
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
+        self._changes = 0
 
     # -- configuration ------------------------------------------------------------
     def declare(
@@ -128,6 +129,11 @@ class BeliefMemory:
         """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
         return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES
 
+    @property
+    def changes(self) -> int:
+        """How many changes (a belief added or removed) the memory has had: a version that moves with every one."""
+        return self._changes
+
     def subscribe(self, listener: Callable[[BeliefChange], None]) -> Callable[[], None]:
         """Call ``listener`` with every :class:`BeliefChange`; returns an unsubscribe function."""
         self._listeners.append(listener)
@@ -154,10 +160,12 @@ class BeliefMemory:
             return False
         displaced = rel.insert(args)
         if displaced is None:
+            self._changes += 1
             size = len(rel.rows)
             if not size & (size - 1):
                 self._relations.epoch += 1
         else:
+            self._changes += 2
             if self._expiry:
                 self._expiry.pop((signature, displaced), None)
             if self._listeners:
@@ -325,6 +333,7 @@ class BeliefMemory:
 
     def _delete(self, signature: tuple, rel: Relation, args: tuple, reason: str) -> None:
         rel.delete(args)
+        self._changes += 1
         self._relations.resized(rel)
         self._expiry.pop((signature, args), None)
         if self._listeners:

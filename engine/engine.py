@@ -113,9 +113,8 @@ class Engine:
         self.context.position_source = getattr(telemetry, "position_source", None)
         self.updaters: list[BeliefUpdater] = [telemetry, *updaters]
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
-        self._belief_changes = 0
-        self.memory.subscribe(self._count_belief_change)
-        self.bridge = MissionBridge(self.clock.now, lambda: self._belief_changes,
+        memory = self.memory
+        self.bridge = MissionBridge(self.clock.now, lambda: memory.changes,
                                     lambda message: self.log.record("mission_polling", detail=message))
         self.timers = Timers(self.clock.now)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
@@ -128,9 +127,6 @@ class Engine:
         self._missions: list[threading.Thread] = []
         self._thread: threading.Thread | None = None
         self._lock = threading.RLock()
-
-    def _count_belief_change(self, change: Any) -> None:
-        self._belief_changes += 1
 
     # -- the loop ------------------------------------------------------------------------------
     def now(self) -> float:

@@ -121,9 +121,12 @@ class SimulatedDrone(Drone):
 
     def _read_telemetry(self, v: Multicopter) -> Telemetry:
         # The state is at the last whole substep; carry it over the remainder (< one substep) to ``time``.
-        ahead = max(self._now - v.time, 0.0)
-        x, y, z = (p + u * ahead for p, u in zip(v.position, v.velocity, strict=True))
-        position: Vector = (x, y, max(z, 0.0))
+        ahead = self._now - v.time
+        if ahead < 0.0:
+            ahead = 0.0
+        (px, py, pz), (ux, uy, uz) = v.position, v.velocity
+        z = pz + uz * ahead
+        position: Vector = (px + ux * ahead, py + uy * ahead, 0.0 if z < 0.0 else z)
         yaw = wrap180(v.yaw + v.yaw_rate * ahead)
         if self.config.position_noise_std > 0.0:
             position = tuple(p + n for p, n in zip(position, self._noise, strict=True))  # type: ignore[assignment]

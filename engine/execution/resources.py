@@ -57,6 +57,16 @@ class Process:
 
 
 ProcessFactory = Callable[[str], Process]
+_WORKS: dict[type, bool] = {}  # process class -> whether it steps or checks its health (else it is idle)
+
+
+def _works(process: Process) -> bool:
+    """Whether ``process`` has a :meth:`~Process.step` or :meth:`~Process.healthy` of its own (checked per class)."""
+    kind = type(process)
+    works = _WORKS.get(kind)
+    if works is None:
+        works = _WORKS[kind] = kind.step is not Process.step or kind.healthy is not Process.healthy
+    return works
 
 
 class ProcessRegistry:
@@ -171,6 +181,8 @@ class ResourceManager:
         failed = []
         for name, entry in list(self._running.items()):
             for index, process in enumerate(list(entry.processes)):
+                if not _works(process):  # steps as the idle process does: nothing to do, never fails
+                    continue
                 try:
                     process.step(now)
                     ok = process.healthy()
