@@ -112,11 +112,13 @@ class SimulatedDrone(Drone):
         self._settle_payload()
 
     # --- state -------------------------------------------------------------------------------------
-    @_locked
     def telemetry(self) -> Telemetry:
-        telemetry = self._telemetry
-        if telemetry is None:  # else asked again before anything moved
-            telemetry = self._telemetry = self._read_telemetry(self._vehicle)
+        telemetry = self._telemetry  # asked again before anything moved: the same (immutable) answer, lock-free
+        if telemetry is None:
+            with self._lock:
+                telemetry = self._telemetry
+                if telemetry is None:
+                    telemetry = self._telemetry = self._read_telemetry(self._vehicle)
         return telemetry
 
     def _read_telemetry(self, v: Multicopter) -> Telemetry:
@@ -170,10 +172,12 @@ class SimulatedDrone(Drone):
                 seen.append(Observation("object", name, where, shape="drone", distance=math.dist(position, where)))
         return seen
 
-    @_locked
     def events(self) -> list[DroneEvent]:
-        out, self._vehicle.events = self._vehicle.events, []
-        return out
+        if not self._vehicle.events:  # nothing happened (the usual answer, lock-free)
+            return []
+        with self._lock:
+            out, self._vehicle.events = self._vehicle.events, []
+            return out
 
     # --- commands ------------------------------------------------------------------------------------
     def _refuse(self, command: str, why: str, failure: Failure = Failure.DENIED) -> CommandHandle:
