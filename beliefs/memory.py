@@ -125,6 +125,11 @@ class BeliefMemory:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
         return self._persistence.get(name)
 
+    @property
+    def lifetimes(self) -> Mapping[str, float]:
+        """The predicates whose beliefs do not last (name -> lifetime in seconds); read it, do not change it."""
+        return self._persistence
+
     def is_computed(self, name: str, arity: int) -> bool:
         """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
         return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES
@@ -144,7 +149,7 @@ class BeliefMemory:
         """Add a ground belief; returns False when it was already there (its lifetime renews)."""
         if type(belief) is not Struct:
             belief = self._parse_belief(belief)
-        if self._spellings:
+        if self._spellings and belief.name in self._spellings:
             belief = respell_term(belief, self._spellings)
         if self._heap:
             self._expire_due()

@@ -48,6 +48,8 @@ class Timers:
         heapq.heappush(self._due, (self._clock() + seconds, self._count, callback))
 
     def run_due(self) -> None:
+        if not self._due:
+            return
         now = self._clock()
         while self._due and self._due[0][0] <= now + 1e-9:
             _, _, callback = heapq.heappop(self._due)
@@ -147,11 +149,12 @@ class Engine:
                 self.coordinator.fail_users(capability, reason)
             self.coordinator.tick()
             self.timers.run_due()
-            for callback in list(self.tick_callbacks):
-                try:
-                    callback()
-                except Exception:
-                    logger.exception("a tick callback failed")
+            if self.tick_callbacks:
+                for callback in list(self.tick_callbacks):
+                    try:
+                        callback()
+                    except Exception:
+                        logger.exception("a tick callback failed")
 
     def _begin(self) -> None:
         self._started = True

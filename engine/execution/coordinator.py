@@ -12,6 +12,7 @@ evaluated when their condition becomes true.
 from __future__ import annotations
 
 import logging
+import operator
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -38,6 +39,7 @@ logger = logging.getLogger(__name__)
 #: Priority of an activation request: reactive-higher > deliberative > reactive-lower.
 PRIORITY = {HIGHER: 2, "deliberative": 1, LOWER: 0}
 DELIBERATION = PRIORITY["deliberative"]
+_ORDER = operator.attrgetter("order")  # activations in the order they were activated
 
 
 @dataclass(eq=False)
@@ -263,7 +265,7 @@ class BehaviorCoordinator:
     def tick(self) -> None:
         """Monitor every active behavior once, then run the reactive rules if anything changed."""
         now = self.context.now()
-        for activation in sorted(self._active.values(), key=lambda a: a.order):
+        for activation in sorted(self._active.values(), key=_ORDER):
             if self._active.get(activation.name) is not activation:
                 continue  # finished while another one was monitored
             if not activation.running:

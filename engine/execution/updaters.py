@@ -107,9 +107,9 @@ class TelemetryUpdater(BeliefUpdater):
         if self.position_source.from_telemetry:
             x, y, z = t.position
             facts.append(("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
-        written, lifetime = self._written, memory.lifetime
+        written, lifetimes = self._written, memory.lifetimes
         for name, args in facts:  # only what changed (a belief with a lifetime is renewed every time)
-            if written.get(name) != args or lifetime(name) is not None:
+            if written.get(name) != args or name in lifetimes:
                 memory.add(Struct(name, args))
                 written[name] = args
         carried = self.drone.payload()  # carry(self, X) follows what the drone says it carries
