@@ -24,6 +24,7 @@ TOUCH_RELEASE = 0.2  # m: a touch ends once the drone is this much farther than 
 _CELL = 4.0  # m: the side of the objects' grid columns
 _SLACK = 1e-6  # m: added to the broad phase's margins, against rounding
 _NOWHERE: Box = (math.inf, math.inf, math.inf, -math.inf, -math.inf, -math.inf)
+_EVERYWHERE: Box = (-math.inf, -math.inf, -math.inf, math.inf, math.inf, math.inf)
 
 
 class Contacts:
@@ -43,7 +44,10 @@ class Contacts:
         self._indexed = len(set(names)) == len(names)  # touches are known by name: the broad phase needs them unique
         self._deck_top: float | None = None
         self._deck_box = self._touch_box = _NOWHERE
-        if platform is not None:
+        if platform is not None and not platform.path:  # a platform nowhere: no broad phase (as before it)
+            self._deck_top, self._deck_box = math.inf, _EVERYWHERE
+            self._touch_box = _EVERYWHERE
+        elif platform is not None:
             points = [tuple(float(v) for v in p) for p in platform.path]
             low = [min(p[i] for p in points) for i in range(3)]
             high = [max(p[i] for p in points) for i in range(3)]
