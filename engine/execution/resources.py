@@ -57,16 +57,14 @@ class Process:
 
 
 ProcessFactory = Callable[[str], Process]
-_WORKS: dict[type, bool] = {}  # process class -> whether it steps or checks its health (else it is idle)
+_OWN: dict[type, tuple[bool, bool]] = {}  # process class -> whether it has a step, a health check of its own
 
 
-def _works(process: Process) -> bool:
-    """Whether ``process`` has a :meth:`~Process.step` or :meth:`~Process.healthy` of its own (checked per class)."""
-    kind = type(process)
-    works = _WORKS.get(kind)
-    if works is None:
-        works = _WORKS[kind] = kind.step is not Process.step or kind.healthy is not Process.healthy
-    return works
+def _own(kind: type) -> tuple[bool, bool]:
+    """Whether processes of class ``kind`` have a :meth:`~Process.step`, a :meth:`~Process.healthy` of their own
+    (else they do nothing there, and are always healthy)."""
+    own = _OWN[kind] = (kind.step is not Process.step, kind.healthy is not Process.healthy)
+    return own
 
 
 class ProcessRegistry:
@@ -181,11 +179,11 @@ class ResourceManager:
         failed = []
         for name, entry in list(self._running.items()):
             for index, process in enumerate(list(entry.processes)):
-                if not _works(process):  # steps as the idle process does: nothing to do, never fails
-                    continue
+                steps, checks = _OWN.get(type(process)) or _own(type(process))
                 try:
-                    process.step(now)
-                    ok = process.healthy()
+                    if steps:
+                        process.step(now)
+                    ok = process.healthy() if checks else True
                 except Exception as exc:  # a process that raises has failed
                     logger.exception("process %s failed", process.name)
                     ok, process.failure = False, str(exc)
