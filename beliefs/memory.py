@@ -79,6 +79,7 @@ class BeliefMemory:
         self._expiry: dict[tuple, float] = {}
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
+        self._changes = 0
 
     # -- configuration ------------------------------------------------------------
     def declare(
@@ -124,9 +125,19 @@ class BeliefMemory:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
         return self._persistence.get(name)
 
+    @property
+    def lifetimes(self) -> Mapping[str, float]:
+        """The predicates whose beliefs do not last (name -> lifetime in seconds); read it, do not change it."""
+        return self._persistence
+
     def is_computed(self, name: str, arity: int) -> bool:
         """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
         return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES
+
+    @property
+    def changes(self) -> int:
+        """How many changes (a belief added or removed) the memory has had: a version that moves with every one."""
+        return self._changes
 
     def subscribe(self, listener: Callable[[BeliefChange], None]) -> Callable[[], None]:
         """Call ``listener`` with every :class:`BeliefChange`; returns an unsubscribe function."""
@@ -138,7 +149,7 @@ class BeliefMemory:
         """Add a ground belief; returns False when it was already there (its lifetime renews)."""
         if type(belief) is not Struct:
             belief = self._parse_belief(belief)
-        if self._spellings:
+        if self._spellings and belief.name in self._spellings:
             belief = respell_term(belief, self._spellings)
         if self._heap:
             self._expire_due()
@@ -154,10 +165,12 @@ class BeliefMemory:
             return False
         displaced = rel.insert(args)
         if displaced is None:
+            self._changes += 1
             size = len(rel.rows)
             if not size & (size - 1):
                 self._relations.epoch += 1
         else:
+            self._changes += 2
             if self._expiry:
                 self._expiry.pop((signature, displaced), None)
             if self._listeners:
@@ -351,6 +364,7 @@ class BeliefMemory:
 
     def _delete(self, signature: tuple, rel: Relation, args: tuple, reason: str) -> None:
         rel.delete(args)
+        self._changes += 1
         self._relations.resized(rel)
         self._expiry.pop((signature, args), None)
         if self._listeners:

@@ -48,6 +48,8 @@ class Timers:
         heapq.heappush(self._due, (self._clock() + seconds, self._count, callback))
 
     def run_due(self) -> None:
+        if not self._due:
+            return
         now = self._clock()
         while self._due and self._due[0][0] <= now + 1e-9:
             _, _, callback = heapq.heappop(self._due)
@@ -113,9 +115,8 @@ class Engine:
         self.context.position_source = getattr(telemetry, "position_source", None)
         self.updaters: list[BeliefUpdater] = [telemetry, *updaters]
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
-        self._belief_changes = 0
-        self.memory.subscribe(self._count_belief_change)
-        self.bridge = MissionBridge(self.clock.now, lambda: self._belief_changes,
+        memory = self.memory
+        self.bridge = MissionBridge(self.clock.now, lambda: memory.changes,
                                     lambda message: self.log.record("mission_polling", detail=message))
         self.timers = Timers(self.clock.now)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
@@ -128,9 +129,6 @@ class Engine:
         self._missions: list[threading.Thread] = []
         self._thread: threading.Thread | None = None
         self._lock = threading.RLock()
-
-    def _count_belief_change(self, change: Any) -> None:
-        self._belief_changes += 1
 
     # -- the loop ------------------------------------------------------------------------------
     def now(self) -> float:
@@ -151,11 +149,12 @@ class Engine:
                 self.coordinator.fail_users(capability, reason)
             self.coordinator.tick()
             self.timers.run_due()
-            for callback in list(self.tick_callbacks):
-                try:
-                    callback()
-                except Exception:
-                    logger.exception("a tick callback failed")
+            if self.tick_callbacks:
+                for callback in list(self.tick_callbacks):
+                    try:
+                        callback()
+                    except Exception:
+                        logger.exception("a tick callback failed")
 
     def _begin(self) -> None:
         self._started = True

@@ -49,3 +49,10 @@ class Battery:
 
     def drain(self, dt: float, armed: bool, airborne: bool, horizontal_speed: float, climb: float) -> None:
         self.percent = max(self.percent - dt * self.drain_rate(armed, airborne, horizontal_speed, climb), 0.0)
+
+    def drain_flying(self, dt: float, horizontal_speed: float, climb: float) -> None:
+        """:meth:`drain` armed and airborne (every substep of a flight): the same arithmetic in one call."""
+        c = self.config
+        load = (1.0 + c.battery_speed_drain * (horizontal_speed / c.max_speed) ** 2
+                + c.battery_climb_drain * max(climb, 0.0) / c.max_climb_rate)
+        self.percent = max(self.percent - dt * (self._hover_rate * load), 0.0)

@@ -40,6 +40,17 @@ def _locked(method: _F) -> _F:
     return wrapper  # type: ignore[return-value]
 
 
+def _command(method: _F) -> _F:
+    """A locked method that may change the vehicle's state: the telemetry read before it is read again."""
+    @wraps(method)
+    def wrapper(self: SimulatedDrone, *args, **kwargs):
+        with self._lock:
+            self._telemetry = None
+            return method(self, *args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
+
+
 def _fmt(point: Vector) -> str:
     return "(" + ", ".join(f"{v:.1f}" for v in point) + ")"
 
@@ -64,7 +75,7 @@ class SimulatedDrone(Drone):
         self._observations: list[Observation] | None = None
         self._payload = PayloadBay(self.config.payload if self.config.payload is not None else self.world.payload)
         self._renderer = None  # the camera image renderer, built on the first capture
-        self._telemetry: tuple[tuple, Telemetry] | None = None  # the last answer and the state it was read from
+        self._telemetry: Telemetry | None = None  # the last answer, until an update or a command changes the state
         self.airspace: Airspace | None = None  # the other drones of the world, seen by the cameras
         self.call_sign = ""
 
@@ -80,6 +91,7 @@ class SimulatedDrone(Drone):
         if now <= self._now:
             return
         self._now = now
+        self._telemetry = None
         dt = self.config.substep
         target = math.floor((now - self._start) / dt + 1e-9)
         v = self._vehicle
@@ -100,22 +112,23 @@ class SimulatedDrone(Drone):
         self._settle_payload()
 
     # --- state -------------------------------------------------------------------------------------
-    @_locked
     def telemetry(self) -> Telemetry:
-        v = self._vehicle
-        key = (self._now, v.time, v.position, v.velocity, v.yaw, v.phase, v.airborne, v.armed, v.mode,
-               v.battery.percent, self._noise)
-        if self._telemetry is not None and self._telemetry[0] == key:  # asked again before anything moved
-            return self._telemetry[1]
-        telemetry = self._read_telemetry(v)
-        self._telemetry = (key, telemetry)
+        telemetry = self._telemetry  # asked again before anything moved: the same (immutable) answer, lock-free
+        if telemetry is None:
+            with self._lock:
+                telemetry = self._telemetry
+                if telemetry is None:
+                    telemetry = self._telemetry = self._read_telemetry(self._vehicle)
         return telemetry
 
     def _read_telemetry(self, v: Multicopter) -> Telemetry:
         # The state is at the last whole substep; carry it over the remainder (< one substep) to ``time``.
-        ahead = max(self._now - v.time, 0.0)
-        x, y, z = (p + u * ahead for p, u in zip(v.position, v.velocity, strict=True))
-        position: Vector = (x, y, max(z, 0.0))
+        ahead = self._now - v.time
+        if ahead < 0.0:
+            ahead = 0.0
+        (px, py, pz), (ux, uy, uz) = v.position, v.velocity
+        z = pz + uz * ahead
+        position: Vector = (px + ux * ahead, py + uy * ahead, 0.0 if z < 0.0 else z)
         yaw = wrap180(v.yaw + v.yaw_rate * ahead)
         if self.config.position_noise_std > 0.0:
             position = tuple(p + n for p, n in zip(position, self._noise, strict=True))  # type: ignore[assignment]
@@ -159,10 +172,12 @@ class SimulatedDrone(Drone):
                 seen.append(Observation("object", name, where, shape="drone", distance=math.dist(position, where)))
         return seen
 
-    @_locked
     def events(self) -> list[DroneEvent]:
-        out, self._vehicle.events = self._vehicle.events, []
-        return out
+        if not self._vehicle.events:  # nothing happened (the usual answer, lock-free)
+            return []
+        with self._lock:
+            out, self._vehicle.events = self._vehicle.events, []
+            return out
 
     # --- commands ------------------------------------------------------------------------------------
     def _refuse(self, command: str, why: str, failure: Failure = Failure.DENIED) -> CommandHandle:
@@ -185,7 +200,7 @@ class SimulatedDrone(Drone):
             return self._refuse(command, f"{_fmt(point)} is outside the world's bounds (geofence)")
         return None
 
-    @_locked
+    @_command
     def arm(self) -> CommandHandle:
         v = self._vehicle
         if v.crashed:
@@ -200,7 +215,7 @@ class SimulatedDrone(Drone):
         v.arm()
         return CommandHandle.succeeded("arm")
 
-    @_locked
+    @_command
     def disarm(self) -> CommandHandle:
         v = self._vehicle
         if v.airborne and not v.crashed:
@@ -209,7 +224,7 @@ class SimulatedDrone(Drone):
             v.disarm("by command")
         return CommandHandle.succeeded("disarm")
 
-    @_locked
+    @_command
     def takeoff(self, altitude: float) -> CommandHandle:
         v = self._vehicle
         refusal = self._unflyable("takeoff")
@@ -228,7 +243,7 @@ class SimulatedDrone(Drone):
         v.take_off(altitude)
         return CommandHandle.succeeded("takeoff")
 
-    @_locked
+    @_command
     def land(self) -> CommandHandle:
         v = self._vehicle
         if v.crashed:
@@ -241,7 +256,7 @@ class SimulatedDrone(Drone):
         v.land()
         return CommandHandle.succeeded("land")
 
-    @_locked
+    @_command
     def goto(self, position: Vector, yaw: float | None = None, speed: float | None = None) -> CommandHandle:
         v = self._vehicle
         refusal = self._unflyable("goto") or self._outside("goto", tuple(position))
@@ -258,7 +273,7 @@ class SimulatedDrone(Drone):
                  face_travel=yaw is None, arrival_event=True)
         return CommandHandle.succeeded("goto")
 
-    @_locked
+    @_command
     def set_velocity(self, velocity: Vector, yaw_rate: float = 0.0) -> CommandHandle:
         v = self._vehicle
         refusal = self._unflyable("set_velocity")
@@ -271,7 +286,7 @@ class SimulatedDrone(Drone):
         v.fly_velocity(tuple(float(c) for c in velocity), float(yaw_rate))  # type: ignore[arg-type]
         return CommandHandle.succeeded("set_velocity")
 
-    @_locked
+    @_command
     def offboard_position(self, position: Vector, yaw: float | None = None) -> CommandHandle:
         """Fly to an ENU setpoint in OFFBOARD mode (as PX4 does with streamed position setpoints)."""
         v = self._vehicle
@@ -284,7 +299,7 @@ class SimulatedDrone(Drone):
                  yaw=yaw if yaw is not None and math.isfinite(yaw) else None)
         return CommandHandle.succeeded("offboard")
 
-    @_locked
+    @_command
     def hold(self) -> CommandHandle:
         refusal = self._unflyable("hold")
         if refusal is not None:
@@ -292,7 +307,7 @@ class SimulatedDrone(Drone):
         self._vehicle.hold_here("HOLD")
         return CommandHandle.succeeded("hold")
 
-    @_locked
+    @_command
     def return_to_launch(self) -> CommandHandle:
         v = self._vehicle
         refusal = self._unflyable("return_to_launch")
@@ -303,7 +318,7 @@ class SimulatedDrone(Drone):
         v.return_home()
         return CommandHandle.succeeded("return_to_launch")
 
-    @_locked
+    @_command
     def set_mode(self, name: str) -> CommandHandle:
         """Switch flight mode: HOLD, TAKEOFF (to the default altitude), LAND, RETURN or OFFBOARD."""
         mode = str(name).upper()
@@ -340,7 +355,7 @@ class SimulatedDrone(Drone):
         """The items the drone carries, in the order they are released."""
         return list(self._payload.carried)
 
-    @_locked
+    @_command
     def release_payload(self) -> CommandHandle:
         """Drop the first item carried: it falls and lands as an object of the world (see :mod:`.payload`)."""
         v = self._vehicle

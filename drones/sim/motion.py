@@ -44,38 +44,58 @@ def desired_velocity(position: Vector, velocity: Vector, target: Vector, limits:
 
     The speed along the line changes by at most one step of the acceleration limits, so from rest the
     drone flies a straight line; motion across the line is left to :func:`accelerate` to damp.
+    (Run every substep: minima and maxima are written out as comparisons, in ``min``'s and ``max``'s order.)
     """
     dx, dy, dz = target[0] - position[0], target[1] - position[1], target[2] - position[2]
     dist = math.sqrt(dx * dx + dy * dy + dz * dz)
     if dist < 1e-9:
         return (0.0, 0.0, 0.0)
-    u = (dx / dist, dy / dist, dz / dist)
-    uh, uz = math.hypot(u[0], u[1]), u[2]
-    vertical_limit = limits.climb_rate if uz > 0.0 else limits.descent_rate
-    speed = math.inf
-    accel = math.inf
+    ux, uy, uz = dx / dist, dy / dist, dz / dist
+    uh = math.hypot(ux, uy)
+    speed = accel = math.inf
     if uh > 1e-9:
-        speed = min(speed, limits.horizontal_speed / uh)
-        accel = min(accel, limits.horizontal_acceleration / uh)
-    if abs(uz) > 1e-9:
-        speed = min(speed, vertical_limit / abs(uz))
-        accel = min(accel, limits.vertical_acceleration / abs(uz))
-    speed = min(speed, math.sqrt(2.0 * accel * dist), limits.position_gain * dist)
-    along = max(velocity[0] * u[0] + velocity[1] * u[1] + velocity[2] * u[2], 0.0)
-    speed = min(max(speed, along - accel * dt), along + accel * dt)
-    return (u[0] * speed, u[1] * speed, u[2] * speed)
+        speed = limits.horizontal_speed / uh
+        accel = limits.horizontal_acceleration / uh
+    if uz > 1e-9 or uz < -1e-9:
+        uv = abs(uz)
+        vertical = (limits.climb_rate if uz > 0.0 else limits.descent_rate) / uv
+        if vertical < speed:
+            speed = vertical
+        vertical = limits.vertical_acceleration / uv
+        if vertical < accel:
+            accel = vertical
+    braking = math.sqrt(2.0 * accel * dist)
+    if braking < speed:
+        speed = braking
+    approach = limits.position_gain * dist
+    if approach < speed:
+        speed = approach
+    along = velocity[0] * ux + velocity[1] * uy + velocity[2] * uz
+    if along < 0.0:
+        along = 0.0
+    change = accel * dt
+    slowest, fastest = along - change, along + change
+    if slowest > speed:
+        speed = slowest
+    if fastest < speed:
+        speed = fastest
+    return (ux * speed, uy * speed, uz * speed)
 
 
 def accelerate(velocity: Vector, desired: Vector, limits: Limits, dt: float) -> Vector:
     """``velocity`` moved toward ``desired`` within the horizontal and vertical acceleration limits."""
-    dx, dy, dz = desired[0] - velocity[0], desired[1] - velocity[1], desired[2] - velocity[2]
+    vx, vy, vz = velocity
+    dx, dy, dz = desired[0] - vx, desired[1] - vy, desired[2] - vz
     dh = math.hypot(dx, dy)
     max_h = limits.horizontal_acceleration * dt
     if dh > max_h:
         dx, dy = dx * max_h / dh, dy * max_h / dh
     max_z = limits.vertical_acceleration * dt
-    dz = min(max(dz, -max_z), max_z)
-    return (velocity[0] + dx, velocity[1] + dy, velocity[2] + dz)
+    if -max_z > dz:
+        dz = -max_z
+    if max_z < dz:
+        dz = max_z
+    return (vx + dx, vy + dy, vz + dz)
 
 
 def clamp_velocity(velocity: Vector, limits: Limits) -> Vector:

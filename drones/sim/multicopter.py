@@ -37,6 +37,7 @@ _FACE_TRAVEL_MIN = 1.0  # m: farther than this from a target, the drone turns to
 # Flight phases (what the drone is doing); the flight mode is what the autopilot reports.
 IDLE, TAKEOFF, POSITION, VELOCITY, LAND, RETURN_CLIMB, RETURN_TRAVEL, RETURN_LAND, FALL = (
     "idle", "takeoff", "position", "velocity", "land", "return_climb", "return_travel", "return_land", "fall")
+_TO_TARGET = frozenset((TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL))  # phases flying to a target point
 
 
 class Multicopter:
@@ -72,6 +73,10 @@ class Multicopter:
         self._flew_since_armed = False
         self._outside = False
         self.contacts = Contacts(world, config.touch_distance)  # the platform's deck, touched objects
+        self._bounds = (world.bounds.lower, world.bounds.upper)
+        self._battery_watch = max(config.failsafe_battery_percent, 0.0)  # at or below it, the battery is checked
+        # above this height, a substep can reach neither the ground nor the platform's deck (at its highest)
+        self._contact_height = max(self.contacts.deck_top() or 0.0, 0.0) + _GROUND_CONTACT + 1e-6
 
     # --- reported state -----------------------------------------------------------------------------
     @property
@@ -176,33 +181,41 @@ class Multicopter:
         if not self.armed:
             self.yaw_rate = 0.0
             return
-        yaw_before, previous_z = self.yaw, self.position[2]
+        yaw_before = self.yaw
+        x, y, previous_z = self.position
         desired, limits = self._desired(dt)
         self.yaw_rate = wrap180(self.yaw - yaw_before) / dt
         velocity = accelerate(self.velocity, desired, limits, dt)
-        if not self.airborne and velocity[2] <= 0.0:
+        vx, vy, vz = velocity
+        if not self.airborne and vz <= 0.0:
             self.velocity = (0.0, 0.0, 0.0)
             self.ride_deck()
             self._ground_idle()
             self.battery.drain(dt, True, False, 0.0, 0.0)
             return
         self.velocity = velocity
-        x, y, z = self.position
-        self.position = (x + velocity[0] * dt, y + velocity[1] * dt, z + velocity[2] * dt)
-        if not self.airborne and self.position[2] > 0.0:
+        position = self.position = (x + vx * dt, y + vy * dt, previous_z + vz * dt)
+        z = position[2]
+        if not self.airborne and z > 0.0:
             self.airborne = True
             self.contacts.leave()
-        self.battery.drain(dt, True, True, math.hypot(velocity[0], velocity[1]), velocity[2])
-        deck = self.contacts.deck_below(self.position, self.time, previous_z)
-        if self.position[2] <= (deck or 0.0) + _GROUND_CONTACT and velocity[2] <= 0.0:
-            self._touch_down(deck)
+        self.battery.drain_flying(dt, math.hypot(vx, vy), vz)
+        if vz <= 0.0 and z <= self._contact_height:  # higher, neither the ground nor the deck is reached
+            deck = self.contacts.deck_below(position, self.time, previous_z)
+            if z <= (deck or 0.0) + _GROUND_CONTACT:
+                self._touch_down(deck)
+                return
+        if self._check_collision() or (self.battery.percent <= self._battery_watch and self._check_battery()):
             return
-        if self._check_collision() or self._check_battery():
-            return
-        for name, where in self.contacts.touches(self.position, self.time):
+        for name, where in self.contacts.touches(position, self.time):
             self.emit("touched", f"{name} at ({where[0]:.1f}, {where[1]:.1f}, {where[2]:.1f})", object=name,
                       position=where)
-        self._check_bounds()
+        low, high = self._bounds
+        if (low[0] <= position[0] <= high[0] and low[1] <= position[1] <= high[1]
+                and low[2] <= z <= high[2]):  # inside the geofence (``World.inside``)
+            self._outside = False
+        else:
+            self._check_bounds()
         self._progress()
 
     def _desired(self, dt: float) -> tuple[Vector, Limits]:
@@ -210,15 +223,15 @@ class Multicopter:
         if self.phase == VELOCITY:
             self.yaw = wrap180(self.yaw + self._yaw_rate_cmd * dt)
             return self._velocity_cmd, self.limits(c.max_speed)
-        if self.phase in (TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL):
+        if self.phase in _TO_TARGET:
             limits = self.limits(self._speed, c.climb_rate if self.phase == TAKEOFF else None)
-            target_yaw = self._target_yaw
-            far = math.hypot(self.position[0] - self._target[0], self.position[1] - self._target[1]) > _FACE_TRAVEL_MIN
-            if target_yaw is None and self._face_travel and far:
-                target_yaw = heading_to(self.position, self._target)
+            position, target, target_yaw = self.position, self._target, self._target_yaw
+            if (target_yaw is None and self._face_travel
+                    and math.hypot(position[0] - target[0], position[1] - target[1]) > _FACE_TRAVEL_MIN):
+                target_yaw = heading_to(position, target)
             if target_yaw is not None:
                 self.yaw = turn_yaw(self.yaw, target_yaw, c.yaw_rate, dt)
-            return desired_velocity(self.position, self.velocity, self._target, limits, dt), limits
+            return desired_velocity(position, self.velocity, target, limits, dt), limits
         if self.phase in (LAND, RETURN_LAND):
             limits = self.limits()
             x, y, z = self.position

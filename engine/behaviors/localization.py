@@ -71,8 +71,8 @@ def publish(context: BehaviorContext) -> None:
         return
     if context.position_source is not None:
         context.position_source.claim(OWNER)
-    x, y, z = (round(v, 2) for v in state.estimate)
-    context.memory.add(Struct("position", ("self", (x, y, z))))
+    x, y, z = state.estimate
+    context.memory.add(Struct("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
 
 
 def _setting(settings: EngineSettings, key: str, default: float) -> float:
@@ -115,17 +115,19 @@ class OdometryEstimator(Process):
         state = localization_state(self.context)
         vx, vy, vz = self.context.drone.telemetry().velocity
         velocity = (float(vx), float(vy), float(vz))
-        if self._last is not None and now > self._last[0]:
-            dt = now - self._last[0]
-            (lx, ly, lz) = self._last[1]
-            moved = ((vx + lx) / 2 * dt, (vy + ly) / 2 * dt, (vz + lz) / 2 * dt)
-            travelled = math.hypot(*moved)
+        last = self._last
+        if last is not None and now > last[0]:
+            dt = now - last[0]
+            (lx, ly, lz) = last[1]
+            mx, my, mz = (vx + lx) / 2 * dt, (vy + ly) / 2 * dt, (vz + lz) / 2 * dt  # moved
+            travelled = math.hypot(mx, my, mz)
             if travelled > 1e-6:
                 root, gauss, (bx, by, bz) = math.sqrt(travelled), self._rng.gauss, self._bias
                 step = self._noise * root
-                error = (bx * travelled + step * gauss(0.0, 1.0), by * travelled + step * gauss(0.0, 1.0),
-                         bz * travelled + step * gauss(0.0, 1.0) * 0.5)
-                state.estimate = _add(_add(state.estimate, moved), error)
+                ex, ey, ez = state.estimate  # + moved + error, as _add(_add(estimate, moved), error)
+                state.estimate = (ex + mx + (bx * travelled + step * gauss(0.0, 1.0)),
+                                  ey + my + (by * travelled + step * gauss(0.0, 1.0)),
+                                  ez + mz + (bz * travelled + step * gauss(0.0, 1.0) * 0.5))
                 state.travelled += travelled
         self._last = (now, velocity)
         if self._published is None or now - self._published >= PUBLISH_PERIOD - 1e-9:

@@ -12,6 +12,7 @@ evaluated when their condition becomes true.
 from __future__ import annotations
 
 import logging
+import operator
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -30,6 +31,7 @@ from aeroexec.engine.events import (
 from aeroexec.engine.execution.activation import ActivationConditions
 from aeroexec.engine.execution.explain import explain_failure
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, BehaviorProcess
+from aeroexec.engine.execution.reactive import RuleWatch
 from aeroexec.engine.execution.resources import ResourceError, ResourceManager
 
 logger = logging.getLogger(__name__)
@@ -37,6 +39,7 @@ logger = logging.getLogger(__name__)
 #: Priority of an activation request: reactive-higher > deliberative > reactive-lower.
 PRIORITY = {HIGHER: 2, "deliberative": 1, LOWER: 0}
 DELIBERATION = PRIORITY["deliberative"]
+_ORDER = operator.attrgetter("order")  # activations in the order they were activated
 
 
 @dataclass(eq=False)
@@ -86,12 +89,7 @@ class BehaviorCoordinator:
         self._order = 0
         self._react = False  # Algorithm 5 is due
         self._inhibited: set[str] = set()
-        self._rule_state: dict[int, bool] = {}
-        self._memory_version = 0
-        self._seen_version = -1
-        self._changed: set[tuple[str, int]] = set()  # predicates changed since the rules were last evaluated
-        self._rule_inputs: dict[int, tuple[frozenset, bool]] = {}  # rule -> its predicates, and if any is computed
-        context.memory.subscribe(self._belief_changed)
+        self._rules = RuleWatch(self.catalog.reactive_rules, context.memory)  # which rules to evaluate, and when
 
     # -- queries --------------------------------------------------------------------------
     def is_active(self, name: str) -> bool:
@@ -267,7 +265,7 @@ class BehaviorCoordinator:
     def tick(self) -> None:
         """Monitor every active behavior once, then run the reactive rules if anything changed."""
         now = self.context.now()
-        for activation in sorted(self._active.values(), key=lambda a: a.order):
+        for activation in sorted(self._active.values(), key=_ORDER):
             if self._active.get(activation.name) is not activation:
                 continue  # finished while another one was monitored
             if not activation.running:
@@ -276,7 +274,7 @@ class BehaviorCoordinator:
             outcome, message = self._monitor(activation, now)
             if outcome is not None:
                 self._finish(activation, outcome, message)
-        if self._react or self._memory_version != self._seen_version:
+        if self._react or self._rules.due():
             self.react()
 
     def _monitor(self, activation: Activation, now: float) -> tuple[Outcome | None, str]:
@@ -335,15 +333,9 @@ class BehaviorCoordinator:
         self._react = False
         if event:
             self.context.refresh()
-        self._seen_version = self._memory_version
-        changed, self._changed = self._changed, set()
+        changed = self._rules.take_changes()
         for index, rule in enumerate(self.catalog.reactive_rules):
-            if event or index not in self._rule_state or self._touched(index, rule, changed):
-                holds = self._holds(rule)
-            else:  # none of the beliefs its condition reads has changed: it holds as it did
-                holds = self._rule_state[index]
-            rising = holds and not self._rule_state.get(index, False)
-            self._rule_state[index] = holds
+            holds, rising = self._rules.evaluate(index, rule, event, changed, self._holds)
             if not holds or not (event or rising) or rule.behavior in self._active:
                 continue
             if rule.behavior in self._inhibited or rule.behavior not in self.library:
@@ -363,21 +355,6 @@ class BehaviorCoordinator:
         except Exception:
             logger.exception("the condition of the reactive rule for %s failed", rule.behavior)
             return False
-
-    def _touched(self, index: int, rule: ReactiveRule, changed: set[tuple[str, int]]) -> bool:
-        """Whether a belief the rule's condition reads has changed (always, for computed predicates)."""
-        if rule.condition is None:
-            return False
-        inputs = self._rule_inputs.get(index)
-        if inputs is None:
-            predicates = rule.condition.predicates
-            computed = any(self.context.memory.is_computed(name, arity) for name, arity in predicates)
-            inputs = self._rule_inputs[index] = (predicates, computed)
-        return inputs[1] or not inputs[0].isdisjoint(changed)
-
-    def _belief_changed(self, change: Any) -> None:
-        self._memory_version += 1
-        self._changed.add(change.belief.signature)
 
     def _next_order(self) -> int:
         self._order += 1

@@ -57,6 +57,14 @@ class Process:
 
 
 ProcessFactory = Callable[[str], Process]
+_OWN: dict[type, tuple[bool, bool]] = {}  # process class -> whether it has a step, a health check of its own
+
+
+def _own(kind: type) -> tuple[bool, bool]:
+    """Whether processes of class ``kind`` have a :meth:`~Process.step`, a :meth:`~Process.healthy` of their own
+    (else they do nothing there, and are always healthy)."""
+    own = _OWN[kind] = (kind.step is not Process.step, kind.healthy is not Process.healthy)
+    return own
 
 
 class ProcessRegistry:
@@ -171,9 +179,11 @@ class ResourceManager:
         failed = []
         for name, entry in list(self._running.items()):
             for index, process in enumerate(list(entry.processes)):
+                steps, checks = _OWN.get(type(process)) or _own(type(process))
                 try:
-                    process.step(now)
-                    ok = process.healthy()
+                    if steps:
+                        process.step(now)
+                    ok = process.healthy() if checks else True
                 except Exception as exc:  # a process that raises has failed
                     logger.exception("process %s failed", process.name)
                     ok, process.failure = False, str(exc)

@@ -93,11 +93,11 @@ class TelemetryUpdater(BeliefUpdater):
             memory.subscribe(self._changed)
         t = self.drone.telemetry()
         self._state = flight_state(t, self._state)
-        x, y, z = (round(v, 2) for v in t.position)
+        percent = t.battery_percent
         facts = [
             ("flight_state", ("self", self._state)),
-            ("charge", ("battery", int(math.floor(t.battery_percent)))),
-            ("battery_level", ("self", battery_level(t.battery_percent))),
+            ("charge", ("battery", int(math.floor(percent)))),
+            ("battery_level", ("self", battery_level(percent))),
             ("armed", ("self", "yes" if t.armed else "no")),
             ("orientation", ("self", round(t.yaw))),
             ("speed", ("self", round(t.speed, 1))),
@@ -105,13 +105,18 @@ class TelemetryUpdater(BeliefUpdater):
             ("communication", ("wireless", "ok" if t.link_ok else "lost")),
         ]
         if self.position_source.from_telemetry:
-            facts.append(("position", ("self", (x, y, z))))
-        written = self._written
+            x, y, z = t.position
+            facts.append(("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
+        written, lifetimes = self._written, memory.lifetimes
         for name, args in facts:  # only what changed (a belief with a lifetime is renewed every time)
-            if written.get(name) != args or memory.lifetime(name) is not None:
+            if written.get(name) != args or name in lifetimes:
                 memory.add(Struct(name, args))
                 written[name] = args
-        carried = set(self.drone.payload())  # carry(self, X) follows what the drone says it carries
+        carried = self.drone.payload()  # carry(self, X) follows what the drone says it carries
+        if carried or self._carried:
+            self._carry(memory, set(carried))
+
+    def _carry(self, memory: BeliefMemory, carried: set[str]) -> None:
         for item in sorted(carried - self._carried):
             memory.add(Struct("carry", ("self", item)))
         for item in sorted(self._carried - carried):

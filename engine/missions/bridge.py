@@ -115,11 +115,13 @@ class MissionBridge:
     def serve(self, lockstep: bool, until_wall: float | None = None) -> None:
         """Execute queued calls. In lockstep, return only when the mission waits or is done;
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
+        if self._state == DONE and until_wall is None and self._queue.empty():
+            return  # no mission, nothing queued: nothing to wait for (a call queued now is served next period)
         warned_at = time.monotonic() + _STALL_WARNING
         served = 0
         while True:
             request = None
-            if not self._held:
+            if not self._held and not self._queue.empty():
                 with contextlib.suppress(queue.Empty):
                     request = self._queue.get_nowait()
             if request is not None:

@@ -124,6 +124,8 @@ class Supervisor:
 
     def run_pending(self) -> None:
         """Execute the queued commands (the engine calls this at the end of every tick)."""
+        if not self._queue:  # none (the usual answer): no lock taken; one queued meanwhile waits a tick
+            return
         while True:
             with self._lock:
                 if not self._queue:

@@ -343,3 +343,17 @@ def test_same_world_seed_and_commands_give_the_same_trajectory():
     other = mission(8)
     assert other[0] != first[0]  # the seed drives the position noise
     assert [k for _, k in other[1]] == [k for _, k in first[1]]  # but not the flight itself
+
+
+def test_telemetry_asked_again_is_the_same_answer_until_an_update_or_a_command_changes_the_state():
+    run = airborne(5.0)
+    first = run.drone.telemetry()
+    assert run.drone.telemetry() is first  # nothing moved
+    run.drone.update(run.t)  # not later: nothing moved either
+    assert run.drone.telemetry() is first
+    assert run.drone.land().ok  # a command answers at once in the telemetry, before the next update
+    assert run.drone.telemetry().flight_mode == "LAND" and first.flight_mode == "HOLD"
+    assert run.drone.set_mode("HOLD").ok
+    assert run.drone.telemetry().flight_mode == "HOLD"
+    run.run(DT)
+    assert run.drone.telemetry().time == run.t > first.time
