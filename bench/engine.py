@@ -177,6 +177,9 @@ def longest_steps(quick: bool) -> None:
             with tempfile.TemporaryDirectory() as out, contextlib.redirect_stdout(io.StringIO()), \
                     contextlib.redirect_stderr(io.StringIO()):
                 main(["run", str(mission), "--plain", "--output", out])
+            if not timer.ticks:  # a fleet file (`aeroexec fleet` flies it): `run` refuses it
+                line(mission.name, "no step: not a one-drone mission")
+                continue
             cpu, ticks = max(timer.cpu), max(timer.ticks)
             line(f"{mission.name} ({len(timer.ticks)} steps)", f"CPU {cpu * 1000:.1f} ms, wall {ticks * 1000:.1f} ms",
                  f"{cpu / statistics.median(timer.cpu):.0f}x median", verdict(cpu * 1000, 50))
