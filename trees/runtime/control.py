@@ -55,7 +55,9 @@ class Control(Node, py_trees.composites.Composite):
 
     def step(self) -> Result:
         old, old_skipped = self.status, self.skipped
-        if old is not RUNNING:  # starting again: see restart()
+        if old is not RUNNING:
+            # starting again: the children it does not tick again are shown IDLE once the tick ends (those it
+            # ticks show their new status)
             self.tree.stale.append((self, self.restart_from()))
             if self.initialises:
                 self.initialise()
@@ -65,18 +67,13 @@ class Control(Node, py_trees.composites.Composite):
         else:
             status, skipped = (SUCCESS, True) if result is SKIPPED else (result, False)
             self.terminate(status)
-        tree = self.tree  # Node.settle, inlined: a control node's tick is on every path
+        tree = self.tree  # Node.settle, inlined: every tick goes through control nodes
         if status is not old or skipped is not old_skipped:
             tree.changed.append(self)
         self.status, self.skipped, self.ticked = status, skipped, tree.number
         if tree.visits is not None:
             tree.visits.append((self, result))
         return result
-
-    def restart(self) -> None:
-        """Starting again: the children it will not tick again are shown IDLE once the tick ends (those it ticks
-        show their new status); a running child (none, but for a bug) is halted at once."""
-        self.tree.stale.append((self, self.restart_from()))
 
     def restart_from(self) -> int:
         """The first child reset when the node starts again (the rest keep their status for display)."""

@@ -34,20 +34,11 @@ class Decorator(Node, py_trees.decorators.Decorator):
         if old is not RUNNING and self.initialises:
             self.initialise()
         result = self.run()
-        if result is RUNNING:
-            status, skipped = result, False
-        else:
-            status, skipped = (Status.SUCCESS, True) if result is SKIPPED else (result, False)
-            self.terminate(status)
+        if result is not RUNNING:
+            self.terminate(Status.SUCCESS if result is SKIPPED else result)
             if self.decorated.status is RUNNING:  # py_trees: a decorator that completes stops its running child
                 self.decorated.stop(INVALID)
-        tree = self.tree  # Node.settle, inlined: a decorator's tick is on every path
-        if status is not old or skipped is not old_skipped:
-            tree.changed.append(self)
-        self.status, self.skipped, self.ticked = status, skipped, tree.number
-        if tree.visits is not None:
-            tree.visits.append((self, result))
-        return result
+        return self.settle(old, old_skipped, result)
 
     def update(self) -> Status:  # unused: ``run()`` decides
         return self.status
