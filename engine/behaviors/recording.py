@@ -28,10 +28,10 @@ from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess
 from aeroexec.engine.execution.resources import Process
 from aeroexec.engine.planning.path_planner import map_bounds
 from aeroexec.engine.supervision.output import choose_output_folder
-from PIL import Image
 
-if TYPE_CHECKING:  # the map needs numpy: imported when a map is first made
+if TYPE_CHECKING:  # the map needs numpy, the thumbnails Pillow: imported when first used
     from aeroexec.engine.planning.mapping import OccupancyMap
+    from PIL import Image
 
 logger = logging.getLogger(__name__)
 
@@ -107,7 +107,7 @@ class VideoRecording:
         self.gif_frames = max(2, gif_frames)
         self.frames = 0
         self.missed = 0  # captures that gave no image
-        self._thumbs: list[Image.Image] = []
+        self._thumbs: list[Image.Image] = []  # Pillow is imported when a picture is first taken
         self._stride = 1
         self._last: float | None = None
 
@@ -125,6 +125,8 @@ class VideoRecording:
         (self.folder / f"frame_{self.frames:05d}.png").write_bytes(image)
         if (self.frames - 1) % self._stride:
             return
+        from PIL import Image
+
         thumb = Image.open(io.BytesIO(image)).convert("RGB")
         thumb.thumbnail(GIF_SIZE)
         self._thumbs.append(thumb.quantize(colors=128))
