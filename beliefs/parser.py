@@ -5,11 +5,11 @@ from __future__ import annotations
 import re
 import threading
 from functools import lru_cache
+from importlib import resources
 
 from aeroexec.beliefs.errors import BeliefSyntaxError
 from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
 from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground, unquote
-from aeroexec.grammar import lalr_parser
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from lark.exceptions import UnexpectedToken, VisitError
 
@@ -98,7 +98,8 @@ def _as_literal(item):
 
 @lru_cache(maxsize=1)
 def _parser() -> tuple[Lark, threading.Lock]:
-    parser = lalr_parser("beliefs.lark", transformer=_Build(), maybe_placeholders=True)
+    grammar = resources.files("aeroexec.grammar").joinpath("beliefs.lark").read_text()
+    parser = Lark(grammar, parser="lalr", transformer=_Build(), maybe_placeholders=True)
     return parser, threading.Lock()
 
 

@@ -13,11 +13,11 @@ import functools
 import operator
 import sys
 from collections.abc import Callable, MutableMapping
+from importlib import resources
 from typing import Any
 
 __all__ = ["Script", "ScriptError", "compile_script", "text_of", "truth"]
 
-from aeroexec.grammar import lalr_parser
 from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
 
@@ -34,7 +34,7 @@ class ScriptError(ValueError):
 
 @functools.cache
 def _parser() -> Lark:
-    return lalr_parser("script.lark")
+    return Lark(resources.files("aeroexec.grammar").joinpath("script.lark").read_text(), parser="lalr")
 
 
 def _number(value: Any, what: str) -> float:
