@@ -115,6 +115,13 @@ class _Converter:
             frame = 3
         return self.enu(lat, lon, alt, frame)
 
+    def required_place(self, item: dict, seq: int, name: str) -> Vector | None:
+        """The position of an item that needs one (None, the problem reported, when it has none)."""
+        where = self.place(item, seq, name)
+        if where is None:
+            self.problem(seq, item.line, f"{name} without a latitude and longitude")
+        return where or None
+
     def check_fence(self, seq: int, line: int, name: str, point: Vector) -> None:
         why = breach(self.document.fences, point[:2])
         if why:
@@ -167,11 +174,8 @@ class _Converter:
             self.go_to(seq, item.line, name, (where[0], where[1], altitude))
 
     def _nav_waypoint(self, item: dict, seq: int, name: str, params: list[float]) -> None:
-        where = self.place(item, seq, name)
-        if where is False:
-            return
+        where = self.required_place(item, seq, name)
         if where is None:
-            self.problem(seq, item.line, f"{name} without a latitude and longitude")
             return
         if self.position is None:
             self.problem(seq, item.line, f"the plan flies to {name} before any NAV_TAKEOFF: aeroexec takes off "
@@ -234,11 +238,8 @@ class _Converter:
             self.node("TAKE_PHOTO", seq, name, item.line)
 
     def _set_roi_location(self, item: dict, seq: int, name: str, params: list[float]) -> None:
-        where = self.place(item, seq, name)
-        if where is False:
-            return
+        where = self.required_place(item, seq, name)
         if where is None:
-            self.problem(seq, item.line, f"{name} without a latitude and longitude")
             return
         self.roi = where
         if self.position is not None:
