@@ -57,6 +57,7 @@ class Telemetry:
     flight_mode: str = "UNKNOWN"  # e.g. HOLD, TAKEOFF, LAND, OFFBOARD, RETURN, MANUAL
     link_ok: bool = True  # False once the link has been silent for too long
     home: tuple[float, float, float] | None = None  # latitude, longitude, altitude (m AMSL)
+    wind: tuple[float, float] | None = None  # m/s east, north: the wind the vehicle estimates (None: not known)
 
     @property
     def altitude(self) -> float:

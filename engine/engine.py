@@ -30,6 +30,7 @@ from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap
 from aeroexec.engine.library import default_library, default_processes
 from aeroexec.engine.missions.bridge import DONE, MissionBridge
 from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorker
+from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates, VehicleModel
 from aeroexec.engine.supervision.supervisor import Supervisor
 
 logger = logging.getLogger(__name__)
@@ -119,6 +120,14 @@ class Engine:
         self.bridge = MissionBridge(self.clock.now, lambda: memory.changes,
                                     lambda message: self.log.record("mission_polling", detail=message))
         self.timers = Timers(self.clock.now)
+        #: The vehicle model and the predicates safety rules read (battery_to_home...); the rules' monitors.
+        self.vehicle_model = VehicleModel.of(drone)
+        self.safety_predicates = SafetyPredicates(self.memory, self.vehicle_model, self.clock.now)
+        self.safety_predicates.register()
+        self.log.subscribe(self._mission_clock)
+        self.safety: SafetyMonitor | None = None
+        if self.catalog.safety_rules:
+            self.safety = SafetyMonitor(self, self.catalog.safety_rules, self.vehicle_model, self.safety_predicates)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
         self.tick_callbacks: list[Callable[[], None]] = []
         #: The operator's commands (pause, resume, abort...), run on this loop's thread (engine/supervision.py).
@@ -147,6 +156,8 @@ class Engine:
                 updater.tick(self.memory, now)
             for capability, reason in self.resources.update(now):
                 self.coordinator.fail_users(capability, reason)
+            if self.safety is not None:  # before the behaviors are monitored: a contingency preempts in this tick
+                self.safety.tick(now)
             self.coordinator.tick()
             self.timers.run_due()
             if self.tick_callbacks:
@@ -155,6 +166,11 @@ class Engine:
                         callback()
                     except Exception:
                         logger.exception("a tick callback failed")
+
+    def _mission_clock(self, event: Any) -> None:
+        """``mission_time(T)`` counts from the mission's start."""
+        if event.kind == "mission_started" and self.safety_predicates.mission_started is None:
+            self.safety_predicates.mission_started = event.time
 
     def _begin(self) -> None:
         self._started = True

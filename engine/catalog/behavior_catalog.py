@@ -25,6 +25,7 @@ from aeroexec.engine.catalog.descriptors import (
     Transition,
 )
 from aeroexec.engine.catalog.loader import CatalogContent, CatalogReader
+from aeroexec.engine.catalog.safety_rules import SafetyRule
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
@@ -41,6 +42,8 @@ class BehaviorCatalog:
         self.lists: dict[str, tuple[str, ...]] = dict(content.lists)
         self.capabilities: dict[str, CapabilityDescriptor] = dict(content.capabilities)
         self.reactive_rules: tuple[ReactiveRule, ...] = tuple(content.reactive)
+        #: the operator's safety rules for every mission (a mission's own are added by :meth:`with_safety_rules`)
+        self.safety_rules: tuple[SafetyRule, ...] = tuple(content.safety_rules)
         self.transitions: tuple[Transition, ...] = tuple(content.transitions)
         self.predicates: dict[str, PredicateDeclaration] = dict(content.predicates)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
@@ -106,6 +109,15 @@ class BehaviorCatalog:
         fitted = copy.copy(self)
         fitted.behaviors, fitted.unsupported, fitted.predicates = behaviors, unsupported, predicates
         return fitted
+
+    def with_safety_rules(self, rules: Iterable[SafetyRule]) -> BehaviorCatalog:
+        """This catalog with ``rules`` watched too (a mission's, a rules file's); ``self`` when there are none."""
+        rules = tuple(rules)
+        if not rules:
+            return self
+        watched = copy.copy(self)
+        watched.safety_rules = self.safety_rules + rules
+        return watched
 
     def declare_vocabulary(self, memory: BeliefMemory) -> None:
         """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory."""

@@ -23,10 +23,11 @@ from aeroexec.engine.catalog.descriptors import (
     Transition,
 )
 from aeroexec.engine.catalog.dialects import catalog_dialect
+from aeroexec.engine.catalog.safety_rules import SafetyRule, read_rules
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
-            "capability_descriptors", "behavior_transitions", "phenomena", "predicates")
+            "capability_descriptors", "behavior_transitions", "phenomena", "predicates", "safety_rules")
 BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "required_capabilities",
                  "incompatibilities", "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
 ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
@@ -44,6 +45,7 @@ class CatalogContent:
     behaviors: dict[str, BehaviorDescriptor] = field(default_factory=dict)
     lists: dict[str, tuple[str, ...]] = field(default_factory=dict)
     reactive: list[ReactiveRule] = field(default_factory=list)
+    safety_rules: list[SafetyRule] = field(default_factory=list)
     capabilities: dict[str, CapabilityDescriptor] = field(default_factory=dict)
     transitions: list[Transition] = field(default_factory=list)
     phenomena: dict[str, Phenomenon] = field(default_factory=dict)
@@ -82,7 +84,7 @@ class CatalogReader:
         sections = self.r.mapping(root, "the catalog", SECTIONS) or {}
         # predicates first: preconditions and conditions are checked against them
         order = ("default_behavior_values", "predicates", "behavior_lists", "capability_descriptors",
-                 "behavior_descriptors", "phenomena", "reactive_activation", "behavior_transitions")
+                 "behavior_descriptors", "phenomena", "reactive_activation", "behavior_transitions", "safety_rules")
         for name in order:
             if name in sections:
                 getattr(self, "_" + name)(sections[name][1])
@@ -230,6 +232,11 @@ class CatalogReader:
             if name is not None:
                 self.content.reactive.append(ReactiveRule(name, condition, priority, arguments,
                                                           item.start_mark.line + 1))
+
+    def _safety_rules(self, node: yaml.Node) -> None:
+        found = read_rules(self.r, node, self._memory())
+        self.r.problems += found.problems
+        self.content.safety_rules = found.rules
 
     def _behavior_transitions(self, node: yaml.Node) -> None:
         aliases = {"phenomenon": "physical_phenomenon"}  # Figure 8 writes both
