@@ -15,7 +15,7 @@ from typing import Any
 
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
-from aeroexec.flight.missions import MissionFileError, check_mission
+from aeroexec.flight.missions import MissionFileError, check_mission, safety_check
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees.portability import portability_problems
@@ -36,8 +36,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             "its home (default: the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_library_arguments(parser)
+    add_rules_argument(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
                         help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
+
+
+def add_rules_argument(parser: argparse.ArgumentParser) -> None:
+    """``--rules FILE``: safety rules to watch besides the catalog's and the mission's (run and verify)."""
+    parser.add_argument("--rules", action="append", default=[], metavar="FILE",
+                        help="safety rules (YAML) to check before flight and watch in flight, besides the catalog's "
+                             "and the mission's own (repeatable)")
 
 
 def add_library_arguments(parser: argparse.ArgumentParser) -> None:
@@ -73,6 +81,7 @@ def run(args: argparse.Namespace) -> int:
             failed = True
             continue
         checked.problems += unimplemented(catalog, library, Path(name))
+        checked.problems += safety_check(checked, catalog, args.rules)[1]
         if args.strict_btcpp and checked.tree is not None:
             checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:

@@ -28,7 +28,7 @@ from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, 
 from aeroexec.engine.execution.resources import ProcessRegistry, ResourceManager
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
 from aeroexec.engine.library import default_library, default_processes
-from aeroexec.engine.missions.bridge import DONE, MissionBridge
+from aeroexec.engine.missions.bridge import DONE, MissionBridge, MissionPreempted
 from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorker
 from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates, VehicleModel
 from aeroexec.engine.supervision.supervisor import Supervisor
@@ -122,7 +122,8 @@ class Engine:
         self.timers = Timers(self.clock.now)
         #: The vehicle model and the predicates safety rules read (battery_to_home...); the rules' monitors.
         self.vehicle_model = VehicleModel.of(drone)
-        self.safety_predicates = SafetyPredicates(self.memory, self.vehicle_model, self.clock.now)
+        self.safety_predicates = SafetyPredicates(self.memory, self.vehicle_model, self.clock.now,
+                                                  lambda: drone.telemetry().velocity)
         self.safety_predicates.register()
         self.log.subscribe(self._mission_clock)
         self.safety: SafetyMonitor | None = None
@@ -236,8 +237,17 @@ class Engine:
             api.bind(self)
             self.bridge.mission_started()
             try:
-                mission()
+                try:
+                    mission()
+                except MissionPreempted as preempted:  # a safety rule's contingency: one of the mission's functions
+                    self.bridge.call(lambda: self.log.record("mission_preempted", detail=str(preempted)))
+                    preempted.function()
+                    raise MissionPreempted(preempted.function, str(preempted)) from None
                 self.bridge.call(lambda: self.log.record("mission_completed", detail=name))
+            except MissionPreempted as preempted:
+                with contextlib.suppress(api.MissionAborted):
+                    self.bridge.call(lambda: self.log.record("mission_failed", detail=f"{name}: {preempted}; its "
+                                                             f"contingency {preempted.function.__name__} ended"))
             except api.MissionAborted:
                 pass
             except Exception as exc:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import importlib.util
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -19,6 +19,7 @@ from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.check import check_mission_source
+from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.loaders.plan_loader import PlanDocument
@@ -113,6 +114,48 @@ def mission_function(path: Path) -> Callable[[], Any]:
     if not callable(function):
         raise MissionFileError(f"{path}: no mission() or runMission() function")
     return function
+
+
+def safety_check(checked: CheckedMission, catalog: BehaviorCatalog, rules_files: Iterable[str] = (),
+                 model: VehicleModel | None = None) -> tuple[BehaviorCatalog, list[Problem]]:
+    """The catalog with the safety rules of the mission and of ``rules_files`` added, and the problems of those
+    rules: their own (syntax, unknown predicates or contingencies, with file:line) and, when they are sound, the
+    mission's literal destinations that break one (engine/safety/static.py)."""
+    from aeroexec.engine.safety.declared import mission_rules, rules_file
+    from aeroexec.engine.safety.static import route, route_problems
+
+    found = mission_rules(checked.path, catalog)
+    for name in rules_files:
+        found.extend(rules_file(name, catalog))
+    problems = list(found.problems)
+    if found.errors:
+        return catalog, problems
+    watched = catalog.with_safety_rules(found.rules)
+    mission = checked.tree if checked.tree is not None else checked.source
+    if watched.safety_rules and mission is not None and not checked.errors:
+        model = model or VehicleModel()
+        problems += route_problems(route(mission, str(checked.path), model), watched.safety_rules, model)
+    return watched, problems
+
+
+def watched_catalog(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (), world: Any = None,
+                    report: Callable[[Problem], None] = lambda problem: None) -> BehaviorCatalog:
+    """The catalog a flight watches the safety rules of (:func:`safety_check`); raises :class:`MissionFileError`
+    when a rule is wrong or the mission breaks one before flight."""
+    from aeroexec.engine.safety.declared import mission_rules
+
+    declared = mission_rules(path, catalog)
+    if not (rules_files or catalog.safety_rules or declared.rules or declared.problems):
+        return catalog  # no rules: nothing to check again
+    checked = check_mission(path, catalog, world)
+    watched, problems = safety_check(checked, catalog, rules_files)
+    for problem in problems:
+        report(problem)
+    errors = [p for p in problems if p.severity == "error"]
+    if errors:
+        raise MissionFileError(f"{path}: {len(errors)} safety rule error{'s' if len(errors) != 1 else ''}; "
+                               f"the mission will not fly")
+    return watched
 
 
 def world_home(world: str | None) -> Geodetic:

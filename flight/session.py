@@ -13,6 +13,7 @@ faults, how the run ended).
 
 from __future__ import annotations
 
+import copy
 import logging
 import threading
 from collections.abc import Callable
@@ -25,10 +26,11 @@ from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.library import LibraryError, default_updaters
+from aeroexec.engine.missions.bridge import MissionPreempted
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter
-from aeroexec.flight.missions import load_mission
+from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
 from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice
 from aeroexec.flight.run_status import FAILED, SUSPENDED, RunStatus, exit_status, record_run_status, run_status
@@ -124,6 +126,7 @@ class FlightSession:
         if self.control is not None:
             self.control.starting = "checking its mission"
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report)
+        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.rules, self.world, self.report)
         if self.robot is None:
             if self.control is not None:
                 self.control.starting = "waiting for its vehicle"
@@ -158,6 +161,8 @@ class FlightSession:
             self.btlog = BtlogWriter(self.tree, self.folder / "mission.btlog", self.catalog)
             if spec.groot is not None:
                 self._surfaces.add(serve_groot(self.tree, self.catalog, spec.groot, self.notify))
+        if self.engine.safety is not None:
+            self._serve_contingencies(self.engine.safety.contingencies.handlers)
         if spec.web is not None:
             self._surfaces.add(serve_console({spec.robot: self.engine}, self.world,
                                              {spec.robot: None if self.tree is not None else spec.mission},
@@ -176,6 +181,29 @@ class FlightSession:
             raise FlightError(str(error)) from None
         return Engine(self.robot, catalog=self.catalog, clock=self.clock, rate=RATE, obstacles=self.world,
                       operator=self.operator, output_dir=self.folder, updaters=updaters, **options)
+
+    def _serve_contingencies(self, handlers: dict) -> None:
+        """A safety rule's ``subtree ID`` runs that tree of the mission instead; ``call FUNCTION`` that function."""
+        def subtree(tree_id: str, rule: Any) -> bool:
+            if self.tree is None or tree_id not in self.mission.trees:
+                return False
+            from aeroexec.trees.runtime.runner import TreeMission
+
+            self.tree.halt(f"safety rule {rule.name}: subtree {tree_id}")
+            document = copy.copy(self.mission)
+            document.main = tree_id
+            self.tree = TreeMission(document, self.engine, name=f"{self.spec.name} ({tree_id})")
+            self.tree.start()
+            return True
+
+        def call(name: str, rule: Any) -> bool:
+            function = getattr(self.mission, "__globals__", {}).get(name)
+            if self.tree is not None or not callable(function):
+                return False
+            self.engine.bridge.preempt(MissionPreempted(function, f"safety rule {rule.name}: call {name}"))
+            return True
+
+        handlers.update(subtree=subtree, call=call)
 
     def _join_fleet(self) -> None:
         from aeroexec.fleet.joined import join_fleet

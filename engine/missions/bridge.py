@@ -33,6 +33,14 @@ CALLS_PER_TICK = 10
 POLLING_REPORT = 30.0
 
 
+class MissionPreempted(Exception):
+    """Raised in a Python mission's thread when a safety rule hands the mission over to ``function``."""
+
+    def __init__(self, function: Callable[[], Any], message: str) -> None:
+        super().__init__(message)
+        self.function = function
+
+
 class _Request:
     __slots__ = ("function", "waits", "done", "value", "error")
 
@@ -63,6 +71,7 @@ class MissionBridge:
         self._poll_since: float | None = None
         self._poll_version: int | None = None
         self._poll_reported = False
+        self.preempted: BaseException | None = None
 
     # -- the mission's side ------------------------------------------------------------
     def call(self, function: Callable[[], Any]) -> Any:
@@ -76,6 +85,9 @@ class MissionBridge:
     def _submit(self, request: _Request) -> Any:
         if self._closed:
             raise MissionAborted("the engine has stopped")
+        if self.preempted is not None:  # a safety rule handed the mission over to one of its functions
+            preempted, self.preempted = self.preempted, None
+            raise preempted
         with self._cond:
             self._queue.put(request)
             self._cond.notify_all()
@@ -85,6 +97,17 @@ class MissionBridge:
         if request.error is not None:
             raise request.error
         return request.value
+
+    def preempt(self, preempted: BaseException) -> None:
+        """The mission thread raises ``preempted`` from the call it waits in, or its next call (a safety rule's
+        contingency ``call FUNCTION``, engine/safety)."""
+        with self._cond:
+            self.preempted = preempted
+            for request in self._pending:
+                request.error, self.preempted = preempted, None
+                request.done.set()
+            self._pending.clear()
+            self._cond.notify_all()
 
     def mission_started(self) -> None:
         with self._cond:

@@ -88,6 +88,9 @@ class Contingencies:
                   on_end: Callable | None = None) -> None:
         result = self.coordinator.activate(behavior, arguments, priority="higher", source="safety", timeout=timeout,
                                            on_end=on_end, check_preconditions=False)
+        if not result.accepted and behavior == GO and result.outcome is Outcome.GOAL_ACHIEVED and on_end is not None:
+            on_end(Outcome.GOAL_ACHIEVED, result.message, None)  # already there: what comes after
+            return
         if not result.accepted and behavior != DESCEND:
             logger.warning("safety rule %s: %s refused (%s); landing", rule.name, behavior, result.message)
             self.coordinator.activate(DESCEND, {}, priority="higher", source="safety", check_preconditions=False)

@@ -59,6 +59,7 @@ def sources(model: VehicleModel) -> dict[tuple[str, int], Source]:
         ("minimum_distance_to_obstacle", 2): Source(through=(0,)),
         ("distance_to_obstacle", 2): Source(through=(0,)),
         ("rally_distance", 2): Source(move),
+        ("stopping_point", 2): Source(Rate(2.0 * speed, jump + 0.5)),  # it moves with the speed's changes too
         ("battery_to_home", 2): Source(home, reads=(("wind", 2),)),
         ("return_margin", 2): Source(home + drain, reads=(("wind", 2),)),
     }

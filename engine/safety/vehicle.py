@@ -25,6 +25,7 @@ class VehicleModel:
     cruise_speed: float = 5.0  # m/s
     max_speed: float = 12.0  # m/s: the most airspeed the vehicle flies
     max_climb_rate: float = 3.0  # m/s
+    max_acceleration: float = 3.0  # m/s^2, horizontal
     descent_rate: float = 1.5  # m/s
     land_speed: float = 0.7  # m/s below land_slow_altitude
     land_slow_altitude: float = 5.0  # m
@@ -118,11 +119,13 @@ class VehicleModel:
 
 
 class SafetyPredicates:
-    """Registers the computed predicates of safety rules on a belief memory, reading the drone's position and
-    charge from the memory (what the rules see) and the wind from ``position(self)``'s writer, the telemetry."""
+    """Registers the computed predicates of safety rules on a belief memory, reading the drone's position, charge
+    and wind from the memory (what the rules see); ``stopping_point`` also reads the velocity from ``velocity()``
+    (the telemetry's)."""
 
-    def __init__(self, memory: BeliefMemory, model: VehicleModel, now: Callable[[], float]) -> None:
-        self.memory, self.model, self.now = memory, model, now
+    def __init__(self, memory: BeliefMemory, model: VehicleModel, now: Callable[[], float],
+                 velocity: Callable[[], Sequence[float]] = lambda: (0.0, 0.0, 0.0)) -> None:
+        self.memory, self.model, self.now, self.velocity = memory, model, now, velocity
         self.mission_started: float | None = None
         self.rally_points: list[Point] = []
 
@@ -132,6 +135,7 @@ class SafetyPredicates:
         memory.register("return_margin", 2, self._return_margin)
         memory.register("rally_distance", 2, self._rally_distance)
         memory.register("mission_time", 1, self._mission_time)
+        memory.register("stopping_point", 2, self._stopping_point)
 
     # -- what the rules read ---------------------------------------------------------------------------
     def wind(self) -> tuple[float, float]:
@@ -178,6 +182,15 @@ class SafetyPredicates:
             return None
         places = [self.model.home, *self.rally_points]
         return round(min(math.hypot(point[0] - p[0], point[1] - p[1]) for p in places), 2)
+
+    def _stopping_point(self, who: Any) -> Point | None:
+        """Where the drone would stop if it braked now (its position plus v|v|/2a, horizontally)."""
+        point = self.position(who) if who == "self" else None
+        if point is None:
+            return None
+        vx, vy, _ = self.velocity()
+        k = math.hypot(vx, vy) / (2.0 * self.model.max_acceleration)
+        return (round(point[0] + vx * k, 2), round(point[1] + vy * k, 2), point[2])
 
     def _mission_time(self) -> float | None:
         return None if self.mission_started is None else round(self.now() - self.mission_started, 2)

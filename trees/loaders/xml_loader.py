@@ -44,7 +44,7 @@ from aeroexec.limits import MAX_NESTING, InputError, read_bytes
 
 logger = logging.getLogger(__name__)
 
-_ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")
+_ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel", "SafetyRules")  # the rules: engine/safety
 
 
 @dataclass
@@ -181,6 +181,8 @@ class _XmlReader:
                 self.read_include(element, file, stack)
             elif element.tag == "TreeNodesModel":
                 self.read_models(element)
+            elif element.tag == "SafetyRules":
+                pass  # the operator's safety rules, read by engine/safety/declared.py (BT.CPP ignores it)
             else:
                 self.error(file, element.line, f"unexpected <{element.tag}> in <root>: expected "
                                                f"<BehaviorTree>, <include> or <TreeNodesModel>"

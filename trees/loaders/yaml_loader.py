@@ -203,7 +203,7 @@ def _read_document(reader: NodeReader, leaves: list[TreeNode]) -> TreeDocument |
         reader.error(root, "not a behavior-tree mission: expected tree: (one tree), trees: (trees by ID) "
                            "or Aerostack's nodes: list")
         return None
-    entries = reader.mapping(root, "the mission", known=("main_tree_to_execute", "trees", "tree"))
+    entries = reader.mapping(root, "the mission", known=("main_tree_to_execute", "trees", "tree", "safety_rules"))
     return _read_nested(reader, entries) if entries is not None else None
 
 
