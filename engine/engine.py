@@ -240,14 +240,12 @@ class Engine:
                 try:
                     mission()
                 except MissionPreempted as preempted:  # a safety rule's contingency: one of the mission's functions
-                    self.bridge.call(lambda: self.log.record("mission_preempted", detail=str(preempted)))
+                    handed = f"{name}: {preempted}; its contingency {preempted.function.__name__} ran"
+                    self.bridge.call(lambda: self.log.record("mission_preempted", detail=handed))
                     preempted.function()
-                    raise MissionPreempted(preempted.function, str(preempted)) from None
-                self.bridge.call(lambda: self.log.record("mission_completed", detail=name))
-            except MissionPreempted as preempted:
-                with contextlib.suppress(api.MissionAborted):
-                    self.bridge.call(lambda: self.log.record("mission_failed", detail=f"{name}: {preempted}; its "
-                                                             f"contingency {preempted.function.__name__} ended"))
+                    self.bridge.call(lambda: self.log.record("mission_failed", detail=handed))
+                else:
+                    self.bridge.call(lambda: self.log.record("mission_completed", detail=name))
             except api.MissionAborted:
                 pass
             except Exception as exc:
