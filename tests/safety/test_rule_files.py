@@ -100,13 +100,13 @@ def test_two_rules_of_one_name_are_refused(tmp_path):
 def test_a_literal_waypoint_in_a_keep_out_volume_is_refused_by_verify(tmp_path, capsys):
     rules = write(tmp_path / "rules.yaml", """\
         - rule: keep_out_tower
-          never: position(self, ?p), distance(?p, (-12, -12, 6), ?d), ?d < 5
+          never: position(self, ?p), distance(?p, (15, -15, 6), ?d), ?d < 5
           contingency: hold
         """)
-    inside = write(tmp_path / "in.xml", MISSION.format(point="-10, -10, 6"))
+    inside = write(tmp_path / "in.xml", MISSION.format(point="13, -13, 6"))
     assert main(["verify", str(inside), "--rules", str(rules)]) == 1
     out = capsys.readouterr().out
-    assert f"{inside}:5: error: the destination (-10, -10, 6)" in out and "keep_out_tower" in out
+    assert f"{inside}:5: error: the destination (13, -13, 6)" in out and "keep_out_tower" in out
     assert f"({rules}:1)" in out
     outside = write(tmp_path / "out.xml", MISSION.format(point="5, -5, 6"))
     assert main(["verify", str(outside), "--rules", str(rules)]) == 0
