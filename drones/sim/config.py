@@ -57,7 +57,7 @@ class SimConfig:
     # Weather and link
     wind: tuple[float, float] = (0.0, 0.0)  # m/s east, north: the mean wind (blows the drone; airspeed drains)
     wind_gust: float = 0.0  # m/s: standard deviation of the gusts about the mean (a 5 s correlation), seeded
-    link_loss: tuple[float, float] | None = None  # (at, for) s of simulated time: the link to the ground drops
+    link_loss: tuple[float, float] | None = None  # (at, for) s of simulated time: the ground station's link drops
 
     def __post_init__(self) -> None:
         for name in ("max_speed", "cruise_speed", "max_acceleration", "vertical_acceleration", "climb_rate",

@@ -114,9 +114,10 @@ class SimulatedDrone(Drone):
         if self.config.link_loss is not None and self.link_ok(now) != self._link_up:
             self._link_up = not self._link_up
             if self._link_up:
-                v.emit("link_restored")
+                v.emit("ground_link_restored")
             else:
-                v.emit("link_lost", "the simulated link dropped", altitude=round(v.position[2], 2), in_air=v.airborne)
+                v.emit("ground_link_lost", "the simulated ground link dropped", altitude=round(v.position[2], 2),
+                       in_air=v.airborne)
         if self.config.position_noise_std > 0.0:
             s = self.config.position_noise_std
             self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
@@ -136,7 +137,8 @@ class SimulatedDrone(Drone):
         self._vehicle.wind = (c.wind[0] + self._gust[0], c.wind[1] + self._gust[1])
 
     def link_ok(self, now: float) -> bool:
-        """Whether the link to the ground is up at ``now`` (the configured drop, if any)."""
+        """Whether the link to the ground station is up at ``now`` (the configured drop, if any); the engine flies
+        on board, so its commands still reach the vehicle."""
         loss = self.config.link_loss
         return loss is None or not (self._start + loss[0] <= now < self._start + loss[0] + loss[1])
 
@@ -171,7 +173,7 @@ class SimulatedDrone(Drone):
             armed=v.armed,
             landed_state=v.landed_state,
             flight_mode=v.mode,
-            link_ok=self.link_ok(self._now),
+            ground_link=self.link_ok(self._now) if self.config.link_loss is not None else None,
             home=self.world.home,
             wind=v.wind if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0 else None,
         )

@@ -102,7 +102,7 @@ class TelemetryUpdater(BeliefUpdater):
             ("orientation", ("self", round(t.yaw))),
             ("speed", ("self", round(t.speed, 1))),
             ("flight_mode", ("self", t.flight_mode)),
-            ("communication", ("wireless", "ok" if t.link_ok else "lost")),
+            ("communication", ("wireless", "ok" if t.link_ok and t.ground_link is not False else "lost")),
         ]
         if t.wind is not None:  # to half a meter per second: gusts do not rewrite it every update
             facts.append(("wind", ("self", round(2.0 * math.hypot(*t.wind)) / 2.0)))

@@ -57,7 +57,7 @@ class Plan:
 
     @classmethod
     def of(cls, condition: Conjunction, sources: Mapping[Signature, Source],
-           computed: Callable[[Signature], bool]) -> Plan | None:
+           computed: Callable[[str, int], bool]) -> Plan | None:
         goals: list[Any] = []
         comparisons: list[Comparison] = []
         rates: dict[Var, Rate] = {}
@@ -68,12 +68,12 @@ class Plan:
                 continue
             goals.append(literal)
             if type(literal) is Negation:
-                if any(p in sources or computed(p) for p in literal.body.predicates):
+                if any(p in sources or computed(*p) for p in literal.body.predicates):
                     return None  # what it negates moves without a belief changing
                 continue
             term = literal.term
             source = sources.get(term.signature)
-            if source is None and computed(term.signature):
+            if source is None and computed(*term.signature):
                 return None  # a built-in or computed predicate whose value moves without a belief changing
             if source is not None and term.args:  # a rated value: its last argument moves at the source's rate
                 rate = source.rate

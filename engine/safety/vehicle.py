@@ -16,6 +16,7 @@ from typing import Any
 from aeroexec.beliefs import BeliefMemory
 
 Point = tuple[float, float, float]
+SETTLE = 4.0  # s a return spends arriving and starting its landing, beyond the leg and the descent
 
 
 @dataclass(frozen=True)
@@ -29,6 +30,7 @@ class VehicleModel:
     descent_rate: float = 1.5  # m/s
     land_speed: float = 0.7  # m/s below land_slow_altitude
     land_slow_altitude: float = 5.0  # m
+    land_fast_altitude: float = 10.0  # m: between the two, the descent slows from descent_rate to land_speed
     return_altitude: float = 10.0  # m: a return climbs to it first
     battery_hover_minutes: float = 20.0
     battery_speed_drain: float = 0.5
@@ -93,9 +95,19 @@ class VehicleModel:
         return seconds, percent
 
     def descent_seconds(self, height: float) -> float:
-        """Seconds to descend from ``height`` to the ground as a landing does."""
-        slow = min(max(height, 0.0), self.land_slow_altitude)
-        return slow / self.land_speed + max(height - self.land_slow_altitude, 0.0) / self.descent_rate
+        """Seconds to descend from ``height`` to the ground as a landing does (slowing down between the fast and
+        the slow altitudes, the simulator's and PX4's MPC_LAND_ALT1/2)."""
+        low, high = self.land_slow_altitude, max(self.land_fast_altitude, self.land_slow_altitude)
+        seconds = min(max(height, 0.0), low) / self.land_speed
+        middle = min(max(height - low, 0.0), high - low)
+        if middle > 0.0:
+            v0, v1 = self.land_speed, self.descent_rate
+            span = high - low
+            if abs(v1 - v0) < 1e-9:
+                seconds += middle / v0
+            else:  # v(z) = v0 + (z - low) / span * (v1 - v0): the time is a logarithm
+                seconds += span / (v1 - v0) * math.log((v0 + middle / span * (v1 - v0)) / v0)
+        return seconds + max(height - high, 0.0) / self.descent_rate
 
     def to_home(self, position: Sequence[float], wind: tuple[float, float] = (0.0, 0.0),
                 home: Point | None = None) -> float:
@@ -108,7 +120,8 @@ class VehicleModel:
         _, climb = self.leg(here, (here[0], here[1], altitude), wind)
         _, travel = self.leg((here[0], here[1], altitude), (home[0], home[1], altitude), wind)
         _, descend = self.leg((home[0], home[1], altitude), (home[0], home[1], 0.0), wind)
-        return climb + travel + descend
+        settle = SETTLE * self.drain(math.hypot(*wind))  # braking at home and the landing's start
+        return climb + travel + descend + settle
 
     def home_rate(self, horizontal: float, vertical: float) -> float:
         """A bound on how fast :meth:`to_home` changes (percent per second) while the vehicle moves at most
