@@ -25,6 +25,8 @@ REFUSED, USAGE, INTERNAL_ERROR = 1, 2, 70
 COMMANDS = {
     "run": ("run", "check a mission (Python, behavior tree or TML), then fly it on the simulator or a MAVSDK drone"),
     "verify": ("verify", "check missions without flying: every error with file:line"),
+    "rehearse": ("rehearse", "fly a mission many times in the simulator with wind, battery, noise and link "
+                             "variations, on every core or a Dask cluster; an HTML report"),
     "convert": ("convert", "write a mission tree (a QGroundControl .plan, YAML) as BehaviorTree.CPP v4 XML"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),

@@ -11,9 +11,9 @@ from aeroexec.cli.main import main
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.config import SimConfig
 from aeroexec.engine.catalog import default_catalog
+from aeroexec.engine.catalog.safety_rules import read_rules_text
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.safety.declared import vocabulary
-from aeroexec.engine.catalog.safety_rules import read_rules_text
 
 
 def engine_with(rules: str, config: SimConfig) -> tuple[Engine, SimulatedDrone]:
