@@ -41,7 +41,12 @@ def _plot(values: Sequence[float], title: str, unit: str) -> str:
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png")
     pyplot.close(figure)
-    return f'<img alt="{html.escape(title)}" src="data:image/png;base64,{base64.b64encode(buffer.getvalue()).decode()}">'
+    data = base64.b64encode(buffer.getvalue()).decode()
+    return f'<img alt="{html.escape(title)}" src="data:image/png;base64,{data}">'
+
+
+def _beliefs(beliefs: dict) -> str:
+    return ", ".join(f"{k} = {v}" for k, v in beliefs.items())
 
 
 def write_report(results: Sequence[RunResult], mission: str, path: Path, engine: str) -> Path:
@@ -53,8 +58,8 @@ def write_report(results: Sequence[RunResult], mission: str, path: Path, engine:
         f"<td>{r.variation.wind_speed:.1f}</td><td>{e(', '.join(sorted({x['rule'] for x in r.rules})) or '-')}</td>"
         f"<td><code>aeroexec rehearse {e(mission)} --replay {r.variation.seed}</code></td></tr>"
         for r in figures["worst"])
-    where = "".join(f"<tr><td>{e(str(event['rule']))}</td><td>{r.variation.seed}</td><td>{event['time']:.1f}</td>"
-                    f"<td>{e(', '.join(f'{k} = {v}' for k, v in event['beliefs'].items()))}</td></tr>"
+    where = "".join(f"<tr><td>{e(str(event['rule']))}</td><td>{r.variation.seed}</td>"
+                    f"<td>{event['time']:.1f}</td><td>{e(_beliefs(event['beliefs']))}</td></tr>"
                     for r in results for event in r.rules)
     plots = "".join([
         _plot([r.duration for r in results], "duration", "simulated s"),

@@ -92,7 +92,7 @@ def test_a_keep_out_rule_holds_the_drone_at_the_boundary(tmp_path, capsys):
     path = [r["belief"] for r in records if r["kind"] == "belief_added" and r["belief"].startswith("position(self")]
     points = [tuple(float(v) for v in p[p.index("(", 9) + 1:p.rindex(")") - 1].split(",")) for p in path]
     nearest = min(math.dist(p[:2], (10, -10)) for p in points)
-    assert 3.3 <= nearest <= 4.6, f"it stopped at the boundary (4 m, braking from 5 m/s), {nearest:.2f} m from the center"
+    assert 3.3 <= nearest <= 4.6, f"it stopped at the boundary (4 m, braking from 5 m/s), {nearest:.2f} m away"
 
 
 def test_a_rule_far_from_breaking_is_hardly_checked():

@@ -82,7 +82,9 @@ def test_rules_come_from_the_catalog_a_tree_and_a_python_mission(tmp_path):
     wrong = write(tmp_path / "w.py", python.read_text().replace("call go_home", "call go_hom"))
     (problem,) = mission_rules(wrong, catalog).problems
     assert problem.line == 6 and "go_hom" in problem.message and "go_home" in problem.message  # did you mean
-    text = (default_catalog().source and open(default_catalog().source).read()) or ""
+    from pathlib import Path
+
+    text = Path(default_catalog().source).read_text()
     extra = text + "\nsafety_rules:\n- rule: low\n  never: charge(battery, ?c), ?c < 15\n  contingency: land\n"
     assert [r.name for r in parse_catalog(extra, "c.yaml").safety_rules] == ["low"]
 
