@@ -129,6 +129,10 @@ def fly(mission: str, seed: int, rules: tuple[str, ...] = (), max_time: float = 
 
 
 def _fly(arguments: tuple) -> RunResult:
+    """A worker's run: what the engine logs below an error stays in the run, not on the campaign's terminal."""
+    import logging
+
+    logging.getLogger("aeroexec").setLevel(logging.ERROR)
     return fly(*arguments)
 
 
