@@ -26,7 +26,8 @@ def main() -> None:
     wall = time.perf_counter() - began
     simulated = sum(r.duration for r in results)
     cpu = sum(r.wall for r in results)
-    print(f"{args.runs} runs of {Path(args.mission).name} on {cores} cores: {simulated:.0f} simulated s in {wall:.1f} s")
+    name = Path(args.mission).name
+    print(f"{args.runs} runs of {name} on {cores} cores: {simulated:.0f} simulated s in {wall:.1f} s")
     print(f"  simulated s per wall s per core   {simulated / wall / cores:8.1f}")
     print(f"  simulated s per CPU s (workers)   {simulated / max(cpu, 1e-9):8.1f}")
     print(f"  load average                      {os.getloadavg()[0]:8.2f}")
