@@ -124,6 +124,14 @@ def _world(path: Path) -> list[str]:
     return []
 
 
+def _rules(path: Path) -> list[str]:
+    global _catalog
+    _catalog = _catalog or default_catalog()
+    from aeroexec.engine.safety.declared import rules_file
+
+    return [str(p) for p in rules_file(path, _catalog).errors]
+
+
 _memory: BeliefMemory | None = None
 
 
@@ -184,6 +192,7 @@ FORMATS = {f.name: f for f in [
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
+    Format("safety rules", ".rules.yaml", _files("tests/fuzz/seeds/*.rules.yaml"), _rules),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.
