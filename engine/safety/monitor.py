@@ -98,6 +98,10 @@ class SafetyMonitor:
             for signature in watch.reads:
                 self._by_signature.setdefault(signature, []).append(watch)
         self._any = self._by_signature.get(("*", 0), [])
+        self._readers: dict[tuple, list[_Watch]] = {}  # every rule reading a predicate, scheduled or not
+        for watch in self._watches:
+            for signature in watch.rule.predicates:
+                self._readers.setdefault(signature, []).append(watch)
         self._rated = {s for s in rated if s in RATED}
         self._woken: set[int] = {w.index for w in self._watches}  # everything is checked at the first tick
         self._due: list[tuple[float, int]] = []
@@ -138,6 +142,8 @@ class SafetyMonitor:
                 for watch in self._any:
                     self._woken.add(watch.index)
                 return
+            for watch in self._readers.get(signature, ()):  # a belief that comes or goes: a new fleet mate
+                self._woken.add(watch.index)
         for watch in self._by_signature.get(signature, ()):
             self._woken.add(watch.index)
         for watch in self._any:
