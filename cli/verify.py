@@ -15,7 +15,7 @@ from typing import Any
 
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
-from aeroexec.flight.missions import MissionFileError, check_mission, safety_check
+from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees.portability import portability_problems
@@ -74,6 +74,14 @@ def run(args: argparse.Namespace) -> int:
         return 1
     failed = False
     for name in args.missions:
+        fleet = fleet_safety_check(Path(name), catalog, args.rules, world)
+        if fleet is not None:  # a fleet file: its drones' routes flown together against the separation rules
+            for problem in fleet:
+                print(problem)
+            errors = sum(p.severity == "error" for p in fleet)
+            print(f"{name}: {errors} error{'s' if errors != 1 else ''}; {'will not fly' if errors else 'ready to fly'}")
+            failed = failed or errors > 0
+            continue
         try:
             checked = check_mission(Path(name), catalog, world)
         except MissionFileError as error:

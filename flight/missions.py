@@ -138,6 +138,38 @@ def safety_check(checked: CheckedMission, catalog: BehaviorCatalog, rules_files:
     return watched, problems
 
 
+def fleet_safety_check(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (),
+                       world: Any = None) -> list[Problem] | None:
+    """A fleet file's routes flown together against the separation rules of its missions and ``rules_files``
+    (engine/safety/static.py); None when ``path`` is not a fleet file."""
+    from dataclasses import replace
+
+    from aeroexec.engine.safety.static import Waypoint, route, separation_problems
+    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
+
+    try:
+        text = read_text(path, what="the mission")
+    except InputError:
+        return None
+    if path.suffix.lower() not in (".yaml", ".yml") or "\ndrones:" not in "\n" + text:
+        return None
+    try:
+        fleet = load_fleet(path)
+    except FleetFileError as error:
+        return [Problem("error", str(error), str(path), 0)]
+    routes, rules, problems = {}, [], []
+    for drone in fleet.drones:
+        checked = check_mission(drone.mission, catalog, world)
+        watched, found = safety_check(checked, catalog, rules_files)
+        problems += found
+        rules += [r for r in watched.safety_rules if r not in rules]
+        model = replace(VehicleModel(), home=(drone.home[0], drone.home[1], 0.0))
+        mission = checked.tree if checked.tree is not None else checked.source
+        start = Waypoint(model.home, str(drone.mission), 0)  # where it stands at first
+        routes[drone.name] = [start, *(route(mission, str(drone.mission), model) if mission is not None else [])]
+    return problems + separation_problems(routes, rules, VehicleModel())
+
+
 def watched_catalog(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (), world: Any = None,
                     report: Callable[[Problem], None] = lambda problem: None) -> BehaviorCatalog:
     """The catalog a flight watches the safety rules of (:func:`safety_check`); raises :class:`MissionFileError`

@@ -114,7 +114,7 @@ def separation_problems(routes: dict[str, list[Waypoint]], rules: Iterable[Safet
 
 
 def _at(points: list[Waypoint], t: float, model: VehicleModel) -> tuple[float, float, float]:
-    here, since = model.home, 0.0
+    here, since = (points[0].point, 0.0) if points and points[0].seconds == 0.0 else (model.home, 0.0)
     for w in points:
         if t <= w.seconds:
             span = w.seconds - since

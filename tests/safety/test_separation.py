@@ -56,3 +56,20 @@ def test_two_fleet_drones_on_crossing_routes_keep_the_separation(tmp_path, capsy
     main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "bare")])
     one, two = track(tmp_path / "bare" / "d1" / "events.jsonl"), track(tmp_path / "bare" / "d2" / "events.jsonl")
     assert min(math.dist(one[t], two[t]) for t in one.keys() & two.keys()) < 3.0
+
+
+def test_verify_refuses_fleet_routes_that_cross_within_the_separation(tmp_path, capsys):
+    for name, point in (("cross1.py", [12, 0, 5]), ("cross2.py", [0, 12, 5])):
+        (tmp_path / name).write_text(MISSION.format(point=point).replace("SAFETY_RULES", "NO_RULES"))
+    rules = tmp_path / "separation.yaml"
+    rules.write_text("- rule: separation\n  never: position(self, ?p), position(?o, ?q), ?o != self, "
+                     "distance(?p, ?q, ?d), ?d < 3\n  contingency: hold\n")
+    fleet = tmp_path / "cross.yaml"
+    fleet.write_text("fleet: cross\ndrones:\n  - {name: d1, mission: cross1.py, home: [-12, 0]}\n"
+                     "  - {name: d2, mission: cross2.py, home: [0, -12]}\n")
+    assert main(["verify", str(fleet), "--rules", str(rules)]) == 1
+    out = capsys.readouterr().out
+    assert f"{tmp_path / 'cross1.py'}:12: error: the routes of d1 and d2 come" in out
+    assert f"safety rule separation ({rules}:1)" in out
+    fleet.write_text(fleet.read_text().replace("home: [0, -12]", "home: [0, -18]"))  # d2 crosses well after d1
+    assert main(["verify", str(fleet), "--rules", str(rules)]) == 0
