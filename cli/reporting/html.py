@@ -51,6 +51,12 @@ def write_html(summary: FlightSummary, images: dict[str, Path], path: Path) -> P
                              for f in summary.failures]))
     else:
         parts.append("<p>None.</p>")
+    if summary.safety:  # compliance: each safety rule, held or violated, when, and the contingency taken
+        parts.append("<h2>Safety rules</h2>")
+        parts.append(_table(["rule", "held", "when", "contingency", "rule text"],
+                            [[escape(c.rule), "held" if c.held else "<b>violated</b>",
+                              escape("; ".join(f"{t:.1f} s {k[7:]}: {d}" for t, k, d in c.events) or "-"),
+                              escape(c.contingency), escape(f"{c.text} ({c.where})")] for c in summary.safety]))
     for title, image in images.items():
         data = base64.b64encode(Path(image).read_bytes()).decode("ascii")
         parts.append(f"<h2>{escape(title)}</h2><img alt='{escape(title)}' src='data:image/png;base64,{data}'>"
