@@ -107,3 +107,51 @@ def test_a_rule_far_from_breaking_is_hardly_checked():
     engine.run(patrol, max_time=60)
     checks = engine.safety.checks
     assert checks["far_away"] <= 3 and checks["low"] <= 3, checks
+
+
+def test_a_maximum_mission_time_hands_a_tree_over_to_its_subtree_and_a_python_mission_to_its_function(
+        tmp_path, capsys):
+    tree = tmp_path / "timed.xml"
+    tree.write_text("""<root BTCPP_format="4" main_tree_to_execute="M">
+  <SafetyRules><![CDATA[
+    - {rule: max_time, never: "mission_time(?t), ?t > 8", contingency: subtree GoHome}
+  ]]></SafetyRules>
+  <BehaviorTree ID="M">
+    <Sequence><TAKE_OFF ALTITUDE="3"/><WAIT DURATION="60"/></Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="GoHome">
+    <Sequence><GO_TO_POINT COORDINATES="0, 0, 3"/><LAND/></Sequence>
+  </BehaviorTree>
+</root>
+""")
+    assert main(["run", str(tree), "--quiet", "--output", str(tmp_path / "t")]) != 0  # its mission did not finish
+    records = [json.loads(line) for line in (tmp_path / "t" / "events.jsonl").read_text().splitlines()]
+    (violation,) = [r for r in records if r["kind"] == "safety_violated"]
+    assert 8.0 < violation["time"] < 8.5 and "handed over to subtree GoHome" in violation["detail"]
+    landed = [r for r in records if r["kind"] == "drone_landed"]
+    assert landed and landed[0]["time"] < 30, "the subtree landed it, long before the WAIT would have ended"
+    assert main(["report", str(tmp_path / "t" / "events.jsonl")]) == 0
+    page = (tmp_path / "t" / "report.html").read_text()
+    assert "<h2>Safety rules</h2>" in page and "max_time" in page and "violated" in page
+    python = tmp_path / "timed.py"
+    python.write_text('''from aeroexec.engine.api import execute_behavior
+
+SAFETY_RULES = """
+- {rule: max_time, never: "mission_time(?t), ?t > 8", contingency: call go_home}
+"""
+
+
+def go_home():
+    execute_behavior("LAND")
+
+
+def mission():
+    execute_behavior("TAKE_OFF", ALTITUDE=3)
+    execute_behavior("WAIT", DURATION=60)
+''')
+    assert main(["run", str(python), "--quiet", "--output", str(tmp_path / "p")]) == 1
+    records = [json.loads(line) for line in (tmp_path / "p" / "events.jsonl").read_text().splitlines()]
+    kinds = [r["kind"] for r in records]
+    assert "mission_preempted" in kinds and kinds.index("mission_preempted") < kinds.index("drone_landed")
+    landing = next(r for r in records if r["kind"] == "activated" and r["behavior"] == "LAND")
+    assert landing["data"]["source"] == "mission" and 8.0 < landing["time"] < 9.0
