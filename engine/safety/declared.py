@@ -69,7 +69,7 @@ def _xml_rules(text: str, file: str, catalog: BehaviorCatalog) -> RuleSet:
 def _python_rules(text: str, file: str, catalog: BehaviorCatalog) -> RuleSet:
     try:
         tree = ast.parse(text, file)
-    except SyntaxError:
+    except (SyntaxError, ValueError, MemoryError, RecursionError):
         return RuleSet()  # the mission's check reports it
     functions = [node.name for node in tree.body if isinstance(node, ast.FunctionDef)]
     for node in tree.body:
