@@ -20,6 +20,7 @@ from aeroexec.cli.catalog import chosen_catalog
 from aeroexec.cli.flying import web
 from aeroexec.cli.flying.mission_files import MissionFileError
 from aeroexec.cli.run import RunError, load_mission
+from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.engine.supervision.output import make_output_folder
@@ -45,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="print only the summary lines")
     parser.add_argument("--output", metavar="DIR", help="where each drone's event log goes (DIR/<drone>/)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
+    add_home_argument(parser)
     web.add_console_arguments(parser)
     parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
                         help="stop every mission after S seconds of mission time (default 1800)")
@@ -87,17 +89,18 @@ def serve_router(listen: list[str], connect: list[str]) -> int:
 
 
 def fly_fleet(args: argparse.Namespace) -> int:
-    from aeroexec.drones.sim import WorldError, default_world, load_world
+    from aeroexec.drones.sim import WorldError
     from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
     from aeroexec.fleet.node import FleetNode
     from aeroexec.fleet.runner import FleetRun
     from aeroexec.fleet.transport import free_endpoint, open_session
+    from aeroexec.trees.mission_world import mission_world
 
     try:
         spec = load_fleet(args.fleet_file)
         catalog = chosen_catalog(args.catalog)
         missions = {d.name: load_mission(d.mission, catalog) for d in spec.drones}
-        world = load_world(spec.world) if spec.world else default_world()
+        world = mission_world(None, spec.world, args.home)  # the fleet's world, at --home when given
     except FleetFileError as error:
         for problem in error.problems:
             print(problem, file=sys.stderr)

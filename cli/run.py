@@ -22,7 +22,7 @@ from typing import Any, TextIO
 from aeroexec.cli.flying import robots, web
 from aeroexec.cli.flying.lines import whole_lines
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, mission_function
-from aeroexec.cli.verify import WorldChoiceError, add_library_arguments, chosen_world
+from aeroexec.cli.verify import WorldChoiceError, add_home_argument, add_library_arguments, chosen_world
 from aeroexec.cli.views.live import OperatorConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.drones import Drone
@@ -84,6 +84,7 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--world", metavar="FILE", help="the simulated world; literal destinations are checked "
                                                         "against it (default: the robot kind's, else the "
                                                         "built-in one)")
+    add_home_argument(parser)
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
     parser.add_argument("--speed", type=float, metavar="N",
                         help="simulated time N times faster than real time (default: real time with the live "
@@ -117,7 +118,8 @@ def run(args: argparse.Namespace) -> int:
         catalog = choice.catalog(args.catalog)
         if choice.kind is not None and not args.world and choice.kind.world:
             args.world = str(choice.kind.world)  # the kind's own world, checked against and flown in
-        world = chosen_world(args, default=args.drone == "sim")  # destinations checked against it
+        world = chosen_world(args, default=args.drone == "sim", mission=path)  # checked against, and flown in
+        args.mission_world = world  # make_drone's simulated world (trees.mission_world: a plan's open field...)
         mission = load_mission(path, catalog, world)
         if choice.kind is None:  # --library: found before flight (a robot kind brings its own behaviors)
             args.behavior_library = default_library(getattr(args, "library", ()))
@@ -151,7 +153,7 @@ def make_drone(args: argparse.Namespace, choice: robots.RobotChoice | None = Non
     kind = choice.kind if choice is not None else None
     try:
         path = world_file(args, choice)
-        world = load_world(path) if path else default_world()
+        world = getattr(args, "mission_world", None) or (load_world(path) if path else default_world())
     except WorldError as error:
         raise RunError(str(error)) from None
     if kind is not None:

@@ -1,7 +1,10 @@
 """``aeroexec verify MISSION``: every problem of a mission found without flying, with file:line; exit 1 on errors.
 
-Literal destinations and paths are checked against a world too (its bounds and the obstacle clearance the
-catalog's preconditions ask): ``--world FILE``, else the simulator's built-in world; ``--no-world`` skips it.
+Literal destinations and paths are checked against a world too (its bounds, geofence and the obstacle clearance the
+catalog's preconditions ask): ``--world FILE``; else a mission planned on a map (a plan, a waypoint file) gets an
+open field around it, a mission in local meters the simulator's built-in world (``trees.mission_world``);
+``--home LAT,LON[,ALT]`` puts that world's home there; ``--no-world`` skips it. The whole route is estimated too
+(length, duration, battery at landing: ``trees.route``).
 ``--library module:attribute`` adds behavior implementations, so a catalog behavior with no implementation
 is reported before flight.
 """
@@ -9,12 +12,14 @@ is reported before flight.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 from pathlib import Path
 from typing import Any
 
 from aeroexec.cli.flying import robots
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
+from aeroexec.drones.geodesy import Geodetic, valid_latitude_longitude
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.trees.portability import portability_problems
@@ -29,14 +34,15 @@ class WorldChoiceError(Exception):
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
                         help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
-                             "QGroundControl plans (.plan)")
+                             "QGroundControl plans (.plan, .mission), waypoint files (.waypoints, .txt)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     robots.add_arguments(parser)
     world = parser.add_mutually_exclusive_group()
     world.add_argument("--world", metavar="FILE",
-                       help="check destinations and paths against this world, and place QGroundControl plans at "
-                            "its home (default: the simulator's)")
+                       help="check destinations and paths against this world, and place plans and waypoint "
+                            "files at its home (default: an open field around a plan, else the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
+    add_home_argument(parser)
     add_library_arguments(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
                         help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
@@ -53,18 +59,41 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
                              "(repeatable)")
 
 
-def chosen_world(args: argparse.Namespace, default: bool = True) -> Any:
-    """The world of ``--world FILE``; else the built-in one when ``default`` (and not ``--no-world``)."""
-    from aeroexec.drones.sim import WorldError, default_world, load_world
+def parse_home(text: str) -> Geodetic:
+    """``LAT,LON[,ALT]`` (degrees, meters AMSL) as a home; the altitude is None when not given."""
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        numbers = [float(p) for p in parts]
+    except ValueError:
+        numbers = []
+    if len(numbers) not in (2, 3) or not all(math.isfinite(n) for n in numbers):
+        raise argparse.ArgumentTypeError(f"{text!r} is not LATITUDE,LONGITUDE[,ALTITUDE] (degrees, meters AMSL)")
+    why = valid_latitude_longitude(numbers[0], numbers[1])
+    if why:
+        raise argparse.ArgumentTypeError(f"{text!r} is no place on Earth: {why}")
+    return (numbers[0], numbers[1], numbers[2] if len(numbers) == 3 else None)  # type: ignore[return-value]
+
+
+def add_home_argument(parser: argparse.ArgumentParser) -> None:
+    """``--home LAT,LON[,ALT]``: where the world's home (the take-off point) is (run, verify, fleet, convert)."""
+    parser.add_argument("--home", type=parse_home, metavar="LAT,LON[,ALT]",
+                        help="the world's home (the take-off point): latitude, longitude and altitude AMSL "
+                             "(default: the mission's home for a plan or waypoint file, else the world's)")
+
+
+def chosen_world(args: argparse.Namespace, default: bool = True, mission: Path | None = None) -> Any:
+    """The world ``mission`` is checked against and flown in (``trees.mission_world``: ``--world FILE``, an open
+    field around a mission planned on a map, else the built-in one when ``default``), at ``--home`` when given;
+    None with ``--no-world``."""
+    from aeroexec.drones.sim import WorldError
+    from aeroexec.trees.mission_world import mission_world
 
     if getattr(args, "no_world", False):
         return None
     try:
-        if getattr(args, "world", None):
-            return load_world(args.world)
+        return mission_world(mission, getattr(args, "world", None), getattr(args, "home", None), default)
     except WorldError as error:
         raise WorldChoiceError(str(error)) from None
-    return default_world() if default else None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -77,7 +106,7 @@ def run(args: argparse.Namespace) -> int:
     if choice.kind is not None and not args.world and not args.no_world and choice.kind.world:
         args.world = str(choice.kind.world)  # its robot kind's world
     try:
-        world = chosen_world(args)
+        chosen_world(args)  # a world file that cannot be read is said once
         library = choice.library() if choice.kind is not None else default_library(args.library)
     except (WorldChoiceError, LibraryError) as error:
         print(error)
@@ -85,8 +114,9 @@ def run(args: argparse.Namespace) -> int:
     failed = False
     for name in args.missions:
         try:
+            world = chosen_world(args, mission=Path(name))
             checked = check_mission(Path(name), catalog, world)
-        except MissionFileError as error:
+        except (MissionFileError, WorldChoiceError) as error:
             print(error)
             failed = True
             continue
@@ -95,6 +125,8 @@ def run(args: argparse.Namespace) -> int:
             checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:
             print(problem)
+        if checked.route is not None:
+            print(f"{name}: {checked.route.summary()}")
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
         verdict = "ready to fly" if not errors else "will not fly"
         against = f" (checked against the world {world.name})" if world is not None and not errors else ""

@@ -4,7 +4,7 @@
 ``charge(battery, N)``, ``battery_level``, ``armed``, ``orientation``, ``speed``,
 ``flight_mode``, ``communication(wireless, ok|lost)`` and ``carry(self, X)`` for
 each item the drone says it carries; :func:`register_computed`
-answers ``distance``, ``distance_to``, ``approximate_travel_time`` and the
+answers ``distance``, ``distance_to``, ``approximate_travel_time``, ``flight_time_left`` and the
 obstacle distances from functions. A :class:`PositionSource` says whether the
 telemetry or a self-localization estimator writes ``position(self, ...)``.
 """
@@ -130,8 +130,9 @@ class TelemetryUpdater(BeliefUpdater):
 
 
 def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
-                      obstacles: ObstacleMap | None = None) -> None:
-    """Register the predicates answered by functions (Table 7)."""
+                      obstacles: ObstacleMap | None = None, flight_time: float | None = None) -> None:
+    """Register the predicates answered by functions (Table 7); ``flight_time``: seconds a full battery keeps the
+    drone in the air (the catalog's ``vehicle_limits.max_flight_time``; None: unknown, never the limit)."""
 
     def point(value: Any) -> tuple[float, float, float] | None:
         if isinstance(value, tuple) and len(value) == 3 and all(isinstance(v, int | float) for v in value):
@@ -154,5 +155,14 @@ def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
     memory.register("distance", 3, guarded(lambda a, b: round(math.dist(a, b), 2)))
     memory.register("distance_to", 2, guarded(lambda p: round(math.dist(drone.telemetry().position, p), 2)))
     memory.register("approximate_travel_time", 3, guarded(travel_time))
+
+    def time_left(who: Any) -> float | None:
+        if who != "self":
+            return None
+        if flight_time is None:
+            return math.inf
+        return round(max(drone.telemetry().battery_percent, 0.0) / 100.0 * flight_time, 1)
+
+    memory.register("flight_time_left", 2, time_left)
     memory.register("minimum_distance_to_obstacle", 2, guarded(to_obstacle))
     memory.register("distance_to_obstacle", 2, guarded(to_obstacle))
