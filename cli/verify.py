@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
             checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:
             print(problem)
-        if checked.route is not None:
+        if checked.route is not None and checked.route.length > 0:
             print(f"{name}: {checked.route.summary()}")
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
         verdict = "ready to fly" if not errors else "will not fly"

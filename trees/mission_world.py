@@ -18,7 +18,7 @@ from typing import Any
 from aeroexec.drones.geodesy import Geodetic, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
 from aeroexec.trees.items.behaviors import mission_home
-from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, POSITIONAL, ItemMission
+from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, MISSION_FRAME, POSITIONAL, ItemMission
 from aeroexec.trees.items.readers import is_item_file, load_item_mission
 from aeroexec.trees.model import TreeFormatError
 
@@ -43,7 +43,8 @@ def mission_places(mission: ItemMission, home: Geodetic) -> list[tuple[float, fl
     places = []
     top = 0.0
     for item in mission.items:
-        if item.command in _HEIGHTS and item.frame in GLOBAL_FRAMES and not math.isnan(item.altitude):
+        if item.command in _HEIGHTS and item.frame in (*GLOBAL_FRAMES, MISSION_FRAME) and \
+                not math.isnan(item.altitude):
             alt = item.altitude - (home[2] if item.frame in ABSOLUTE_FRAMES else 0.0)
             top = max(top, alt)
         else:

@@ -159,6 +159,9 @@ class _Flight:
             self.spend(node, altitude / self.config.climb_rate, 0.0, self.config.climb_rate)
             self.estimate.length += altitude
             self.position = (self.position[0], self.position[1], self.position[2] + altitude)
+            why = self.world.why_outside(self.position) if hasattr(self.world, "why_outside") else None
+            if why:  # the points flown to are the specialist's to check; a take-off's height is this one's
+                self.problem(node, f"TAKE_OFF to {altitude:g} m climbs to ({_fmt(self.position)}), {why}")
         elif kind == "GO_TO_POINT":
             if "COORDINATES" in node.ports:
                 target = self.point(node, "COORDINATES")

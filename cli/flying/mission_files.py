@@ -71,6 +71,9 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
+        if isinstance(checked.tree, PlanDocument) and not checked.tree.root.children:
+            checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
+            return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
         checked.route = estimate_route(checked.tree, world) if world is not None else None
         if checked.route is not None:

@@ -42,6 +42,7 @@ LOITER_YAW_GAIN = 2.0  # 1/s: how briskly it turns to face its travel
 LOITER_LEAD = 0.1  # m: KEEP_LOITERING flies along the pattern's direction this far ahead of its nearest point
 LOITER_MAX_DEVIATION = 2.0  # m: once on its pattern, farther than this from it is WRONG_PROGRESS
 LOITER_ON_PATTERN = 0.5  # m: this close, the drone has joined its pattern
+LOITER_JOIN_BRAKING = 1.0  # m/s^2: KEEP_LOITERING flies to its pattern no faster than it stops at this deceleration
 DEFAULT_RADIUS = 2.0  # m: a CIRCLE without RADIUS
 DEFAULT_SIDE = 4.0  # m: a SQUARE without SIDE
 FLIP_JOG = 1.5  # m: the length of FLIP's jog
@@ -362,8 +363,10 @@ class KeepLoitering(MotionBehavior):
             return self.fail(f"the drone left its {self.arguments.get('SHAPE', 'CIRCLE').lower()} by {off:.1f} m")
         if self.now() - self.sent_at >= LOITER_COMMAND_PERIOD - 1e-9:
             self.sent_at = self.now()
-            vx = tx * self.speed + LOITER_GAIN * (px - x)
-            vy = ty * self.speed + LOITER_GAIN * (py - y)
+            # toward the pattern no faster than the drone can stop on it (a wide circle is joined from its center)
+            reach = min(LOITER_GAIN * off, math.sqrt(2.0 * LOITER_JOIN_BRAKING * off))
+            vx = tx * self.speed + (reach * (px - x) / off if off > 1e-9 else 0.0)
+            vy = ty * self.speed + (reach * (py - y) / off if off > 1e-9 else 0.0)
             vz = min(max(LOITER_GAIN * (self.center[2] - z), -0.5), 0.5)
             facing = wrap180(math.degrees(math.atan2(vy, vx)) - telemetry.yaw)
             self.command(self.drone.set_velocity((vx, vy, vz), max(-30.0, min(30.0, LOITER_YAW_GAIN * facing))))

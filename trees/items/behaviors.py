@@ -489,7 +489,33 @@ def items_document(mission: ItemMission, home: Geodetic | None = None) -> PlanDo
     for item in mission.items:
         converter.item(item)
     document.trees[main] = TreeNode("Sequence", main, {}, converter.finish(), mission.file, mission.line)
+    document.problems = _grouped(document.problems)
     if not document.root.children and not any(p.severity == "error" for p in document.problems):
         document.problems.append(MissionProblem("error", "no item of the mission has a behavior: nothing to fly",
                                                 mission.file, mission.line))
     return document
+
+
+SAME_SAID = 3  # items with the same problem: this many are listed, the others counted
+
+
+def _grouped(problems: list[MissionProblem]) -> list[MissionProblem]:
+    """The problems, those that repeat one message for many items said for the first few and counted after."""
+    import re
+
+    def gist(p: MissionProblem) -> str:
+        return re.sub(r"^item \d+( \([^)]*\))?: ", "", p.message)
+
+    counts: dict[tuple[str, str], int] = {}
+    for p in problems:
+        counts[(p.severity, gist(p))] = counts.get((p.severity, gist(p)), 0) + 1
+    kept, seen = [], {}
+    for p in problems:
+        key = (p.severity, gist(p))
+        seen[key] = seen.get(key, 0) + 1
+        if counts[key] <= SAME_SAID + 1 or seen[key] < SAME_SAID:
+            kept.append(p)
+        elif seen[key] == SAME_SAID:
+            kept.append(MissionProblem(p.severity, f"{p.message.split(':')[0]} and {counts[key] - SAME_SAID} more "
+                                                   f"items after it: {gist(p)}", p.file, p.line, p.kind))
+    return kept

@@ -5,10 +5,11 @@ The first line is ``QGC WPL 110``; each other line is one item, tab (or space) s
 
     INDEX  CURRENT  FRAME  COMMAND  PARAM1  PARAM2  PARAM3  PARAM4  LATITUDE  LONGITUDE  ALTITUDE  AUTOCONTINUE
 
-The line of index 0 is home (an AMSL altitude), as Mission Planner and MAVProxy write it; a file whose first line
-has another index has no home line. Items are numbered in file order, as an autopilot receives them. Blank lines
-and lines starting with ``#`` are skipped. These files come from ArduPilot's tools: latitude and longitude 0 mean
-"where the drone is" and a waypoint's altitude 0 "the altitude it flies at", as ArduPilot reads them.
+A first line of index 0 that is a NAV_WAYPOINT (or all zeros) is home (an AMSL altitude), as Mission Planner and
+MAVProxy write it; any other first line is an item (MAVSDK's sample starts with its NAV_TAKEOFF as line 0). Items
+are numbered in file order, as an autopilot receives them. Blank lines and lines starting with ``#`` are skipped.
+These files come from ArduPilot's tools: latitude and longitude 0 mean "where the drone is" and a waypoint's
+altitude 0 "the altitude it flies at", as ArduPilot reads them.
 """
 
 from __future__ import annotations
@@ -63,7 +64,7 @@ def read_wpl(text: str, file: str) -> ItemMission:
             mission.problem(number, "the frame and command of a waypoint line are integers")
             continue
         params = tuple(values[4:11])
-        if previous is None and index == 0:  # the home line
+        if previous is None and index == 0 and command in (0, 16):  # the home line (a waypoint numbered 0)
             lat, lon, alt = params[4:7]
             if not (lat == 0.0 and lon == 0.0):
                 why = valid_latitude_longitude(lat, lon)
