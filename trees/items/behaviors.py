@@ -235,8 +235,8 @@ class _Converter:
             return
         altitude = self.altitude(item, keep_zero=True) if not math.isnan(item.altitude) else None
         if altitude is None or altitude <= 0:
-            self.problem(item, f"NAV_TAKEOFF to {item.altitude:g} m: a take-off climbs above home",
-                         kind=WRONG_VALUE)
+            self.problem(item, "NAV_TAKEOFF without an altitude (param7)" if math.isnan(item.altitude) else
+                         f"NAV_TAKEOFF to {item.altitude:g} m: a take-off climbs above home", kind=WRONG_VALUE)
             return
         if self.position is not None:
             self.problem(item, "a take-off while flying", kind=WRONG_SEQUENCE)
@@ -360,9 +360,14 @@ class _Converter:
             self.node("LOOK_AT_A_POINT", item, item.name.removeprefix("DO_"), COORDINATES=where[1])
 
     def _do_set_roi(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[0] == 3 or (self.mission.ardupilot and item.has_position()):  # ArduPilot reads the location
+        if self.mission.ardupilot:  # ArduPilot reads the location: a place is where to look, none is no ROI
+            if item.has_position():
+                self._do_set_roi_location(item, params)
+            else:
+                self.roi = None
+        elif params[0] == 3:
             self._do_set_roi_location(item, params)
-        elif params[0] == 0 or not item.has_position():
+        elif params[0] == 0:
             self.roi = None
         else:
             self.problem(item, f"DO_SET_ROI in MAV_ROI mode {params[0]:g}: only a location (3) or none (0) has a "
