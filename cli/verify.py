@@ -12,14 +12,14 @@ is reported before flight.
 from __future__ import annotations
 
 import argparse
-import math
 import re
 from pathlib import Path
 from typing import Any
 
 from aeroexec.cli.flying import robots
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
-from aeroexec.drones.geodesy import Geodetic, valid_latitude_longitude
+from aeroexec.drones import geodesy
+from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.trees.portability import portability_problems
@@ -60,18 +60,11 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def parse_home(text: str) -> Geodetic:
-    """``LAT,LON[,ALT]`` (degrees, meters AMSL) as a home; the altitude is None when not given."""
-    parts = [p.strip() for p in text.split(",")]
+    """``--home LAT,LON[,ALT]`` (degrees, meters AMSL); the altitude is None when not given."""
     try:
-        numbers = [float(p) for p in parts]
-    except ValueError:
-        numbers = []
-    if len(numbers) not in (2, 3) or not all(math.isfinite(n) for n in numbers):
-        raise argparse.ArgumentTypeError(f"{text!r} is not LATITUDE,LONGITUDE[,ALTITUDE] (degrees, meters AMSL)")
-    why = valid_latitude_longitude(numbers[0], numbers[1])
-    if why:
-        raise argparse.ArgumentTypeError(f"{text!r} is no place on Earth: {why}")
-    return (numbers[0], numbers[1], numbers[2] if len(numbers) == 3 else None)  # type: ignore[return-value]
+        return geodesy.parse_home(text)  # type: ignore[return-value]
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def add_home_argument(parser: argparse.ArgumentParser) -> None:

@@ -21,7 +21,7 @@ GEO_PREFIX = "geo:"
 _GEO = re.compile(r"\s*geo:\s*([^,;\s]+)\s*,\s*([^,;\s]+)\s*(?:,\s*([^,;\s]+)\s*)?", re.IGNORECASE)
 
 __all__ = ["GEO_PREFIX", "Geodetic", "enu_to_geodetic", "format_geo", "geo_to_enu", "geodetic_to_enu",
-           "is_geo", "parse_geo", "valid_latitude_longitude"]
+           "is_geo", "parse_geo", "parse_home", "valid_latitude_longitude"]
 
 
 def enu_to_geodetic(enu: Vector, home: Geodetic) -> Geodetic:
@@ -51,6 +51,21 @@ def valid_latitude_longitude(lat: float, lon: float) -> str | None:
     if not (math.isfinite(lon) and -180.0 <= lon <= 180.0):
         return f"longitude {lon:g} is not between -180 and 180"
     return None
+
+
+def parse_home(text: str) -> tuple[float, float, float | None]:
+    """``LAT,LON[,ALT]`` (degrees, meters AMSL) as a home point; the altitude is None when not given. Raises
+    ValueError saying what is wrong."""
+    try:
+        numbers = [float(p) for p in text.split(",")]
+    except ValueError:
+        numbers = []
+    if len(numbers) not in (2, 3) or not all(math.isfinite(n) for n in numbers):
+        raise ValueError(f"{text!r} is not LATITUDE,LONGITUDE[,ALTITUDE] (degrees, meters AMSL)")
+    why = valid_latitude_longitude(numbers[0], numbers[1])
+    if why:
+        raise ValueError(f"{text!r} is no place on Earth: {why}")
+    return numbers[0], numbers[1], numbers[2] if len(numbers) == 3 else None
 
 
 def is_geo(value: object) -> bool:

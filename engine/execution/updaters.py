@@ -1,6 +1,7 @@
 """The engine's belief updaters: the drone's own state from telemetry, and the predicates computed when consulted.
 
-:class:`TelemetryUpdater` writes ``position(self, (x, y, z))``, ``flight_state``,
+:class:`TelemetryUpdater` writes ``position(self, (x, y, z))`` (and ``position_accuracy(self, M)`` when the vehicle
+says how good its own estimate is), ``flight_state``,
 ``charge(battery, N)``, ``battery_level``, ``armed``, ``orientation``, ``speed``,
 ``flight_mode``, ``communication(wireless, ok|lost)`` and ``carry(self, X)`` for
 each item the drone says it carries; :func:`register_computed`
@@ -51,7 +52,7 @@ def battery_level(percent: float) -> str:
 
 #: The predicates the telemetry updater writes, declared by the engine when a catalog does not.
 TELEMETRY_PREDICATES = {"position": 2, "flight_state": 2, "charge": 2, "battery_level": 2, "armed": 2,
-                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2}
+                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2, "position_accuracy": 2}
 
 
 class PositionSource:
@@ -107,6 +108,8 @@ class TelemetryUpdater(BeliefUpdater):
         if self.position_source.from_telemetry:
             x, y, z = t.position
             facts.append(("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
+        if t.position_accuracy is not None:  # the vehicle's own estimate says how far off it may be
+            facts.append(("position_accuracy", ("self", round(t.position_accuracy, 1))))
         written, lifetimes = self._written, memory.lifetimes
         for name, args in facts:  # only what changed (a belief with a lifetime is renewed every time)
             if written.get(name) != args or name in lifetimes:

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from aeroexec.drones.angles import wrap180
 from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, format_geo, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
 from aeroexec.engine.errors import WRONG_SEQUENCE, WRONG_VALUE, Problem
@@ -166,7 +167,7 @@ class _Converter:
         if self.roi is not None:
             ports["POINT_TO_LOOK_DURING_FLIGHT"] = self.roi
         elif not math.isnan(yaw):
-            ports["YAW_ANGLE_AT_THE_END"] = _text((90.0 - yaw + 180.0) % 360.0 - 180.0)  # MAVLink: 0 north, cw
+            ports["YAW_ANGLE_AT_THE_END"] = _text(wrap180(90.0 - yaw))  # MAVLink: 0 north, clockwise
         if accept > 0:
             ports["ACCEPTANCE_RADIUS"] = _text(accept)
         self.node("GO_TO_POINT", item, label, **ports)
@@ -251,7 +252,12 @@ class _Converter:
         where = self.place(item)
         if where is False:
             return
-        if where is not None:
+        if where is None and self.position is not None and not math.isnan(item.altitude) and item.altitude != 0:
+            altitude = self.altitude(item)  # here, at its altitude
+            where = None if altitude is None else self.here(altitude)
+        there = where is not None and (self.position is None or math.dist(where[0][:2], self.xy) > 0.5
+                                       or abs(where[0][2] - self.position[2]) > 0.3)
+        if there:
             self.airborne(item, where[0][2])
             self.go_to(item, item.name.removeprefix("NAV_"), where)
         if then == "WAIT":
@@ -330,7 +336,7 @@ class _Converter:
             turn = math.fmod(angle, 360.0) * (-1.0 if params[2] >= 0 else 1.0)  # MAVLink: clockwise positive
             self.node("ROTATE", item, "yaw", RELATIVE_ANGLE=_text(turn))
         else:
-            self.node("ROTATE", item, "yaw", ANGLE=_text((90.0 - angle + 180.0) % 360.0 - 180.0))
+            self.node("ROTATE", item, "yaw", ANGLE=_text(wrap180(90.0 - angle)))
 
     def _do_jump(self, item: MissionItem, params: tuple[float, ...]) -> None:
         target = int(params[0]) if not math.isnan(params[0]) else -1
