@@ -13,6 +13,7 @@ saying how much is missing.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,6 +28,7 @@ QUICK = {"TAKE_PHOTO": 1.0, "LOOK_AT_A_POINT": 3.0, "ROTATE": 4.0, "DROP_ITEM": 
          "NOTIFY_OPERATOR": 0.0, "BROADCAST_MESSAGE": 0.0}  # s of hovering the behaviors that do not fly take
 BESIDE = {"TRIGGER_CAMERA", "RECORD_VIDEO", "KEEP_LOITERING", "PAY_ATTENTION_TO_VISUAL_MARKERS",
           "PAY_ATTENTION_TO_COLORS", "PAY_ATTENTION_TO_SHAPES", "DISPLAY_CAMERA_IMAGE", "SPEAK_UP"}
+_ITEM = re.compile(r"item (\d+) ")
 FENCE_STEP = 2.0  # m between the points of a leg checked against the geofence
 RESERVE = 20.0  # %: landing with less than this is a warning
 
@@ -70,6 +72,8 @@ class _Flight:
         self.said: set[tuple[int, str]] = set()
 
     def problem(self, node: TreeNode, message: str, severity: str = "error") -> None:
+        item = _ITEM.match(node.name)  # a mission item's behavior: its number (several items may share a line)
+        message = f"item {item.group(1)}: {message}" if item else message
         if (node.line, message) not in self.said:
             self.said.add((node.line, message))
             self.estimate.problems.append(MissionProblem(severity, message, node.file or self.document.file,

@@ -4,6 +4,7 @@ the route aeroexec flies for the same plan; MAVSDK's importer reads the real pla
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import math
 import socket
@@ -52,10 +53,8 @@ async def _fly_through_mavsdk(url: str, vehicle: MavlinkVehicle, track: list, im
         mission, action, telemetry = MissionRawAsync(system), ActionAsync(system), TelemetryAsync(system)
         for path in FILES:  # MAVSDK's own importer, for the comparison of items
             if path.suffix == ".plan":
-                try:
+                with contextlib.suppress(Exception):  # files MAVSDK refuses are not compared
                     imported.append((path, await mission.import_qgroundcontrol_mission(str(path))))
-                except Exception:  # noqa: BLE001 - files MAVSDK refuses are not compared
-                    pass
         plan = await mission.import_qgroundcontrol_mission(str(PLAN))
         await mission.upload_mission(plan.mission_items)
         await telemetry.set_rate_position(10.0)

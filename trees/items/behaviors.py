@@ -487,7 +487,9 @@ def items_document(mission: ItemMission, home: Geodetic | None = None) -> PlanDo
                             f"latitudes and longitudes", severity="warning", kind=WRONG_VALUE)
     main = mission.file.rsplit("/", 1)[-1].rsplit(".", 1)[0] or "mission"
     document = PlanDocument({}, main, mission.file, {main: mission.line}, problems=list(mission.problems),
-                            home=home, mission=mission, item_lines={i.line: i.seq for i in mission.items})
+                            home=home, mission=mission, item_lines={})
+    for item in mission.items:  # the items a survey generated share its line: the survey's own number
+        document.item_lines.setdefault(item.line, item.seq)
     for fence in mission.fences:
         if fence.center is not None:
             east, north, _ = geo_to_enu((*fence.center, 0.0), home)
