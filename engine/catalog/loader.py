@@ -393,8 +393,8 @@ class CatalogReader:
                 self.r.error(node, f"allowed_values of {what} is empty")
             return {}
         limits = self.content.vehicle_limits
-        if len(items) == 2 and all(self.r.is_number(i) or (isinstance(i, yaml.ScalarNode)
-                                                           and str(i.value).lstrip("-") in limits) for i in items):
+        named = [isinstance(i, yaml.ScalarNode) and str(i.value).lstrip("-") in limits for i in items]
+        if len(items) == 2 and (any(self.r.is_number(i) for i in items) or all(named)):  # a range: its bounds
             low, high = (self._bound(i, f"a bound of the range of {what}") for i in items)
             if low is None or high is None:
                 return {}
