@@ -214,12 +214,19 @@ class _Items:
         return self.items
 
 
-def _survey(item: dict) -> list[Item]:
-    corners = _polygon(item, "polygon", 3)
+def _scan(item: dict, key: str, minimum: int) -> tuple[_Items, list[Point], dict, dict]:
+    """What every transect item starts from: its items' builder, its points on the plane, its camera and style."""
+    places = _polygon(item, key, minimum)
     camera, altitude, frame = _camera(item)
     style = item.get("TransectStyleComplexItem", {})
-    plane = _Plane(corners[0])
-    polygon = [plane.to_plane(*c) for c in corners]
+    plane = _Plane(places[0])
+    turnaround = max(number(style.get("TurnAroundDistance")), 0.0) if style.get("TurnAroundDistance") else 0.0
+    builder = _Items(plane, altitude, frame, _spacing(camera, "AdjustedFootprintFrontal"), turnaround)
+    return builder, [plane.to_plane(*p) for p in places], camera, style
+
+
+def _survey(item: dict) -> list[Item]:
+    builder, polygon, camera, style = _scan(item, "polygon", 3)
     angle = number(item.get("angle"))
     angle = 0.0 if math.isnan(angle) else angle
     spacing = _spacing(camera, "AdjustedFootprintSide")
@@ -227,8 +234,6 @@ def _survey(item: dict) -> list[Item]:
                    bool(item.get("flyAlternateTransects")))
     if style.get("Refly90Degrees"):
         lines += _order(_survey_lines(polygon, angle + 90.0, spacing), 0, False)
-    builder = _Items(plane, altitude, frame, _spacing(camera, "AdjustedFootprintFrontal"),
-                     max(number(style.get("TurnAroundDistance")), 0.0) if style.get("TurnAroundDistance") else 0.0)
     return builder.transects([[a, b] for a, b in lines], bool(style.get("CameraTriggerInTurnAround", True)))
 
 
@@ -248,11 +253,7 @@ def _offset(points: list[Point], distance: float) -> list[Point]:
 
 
 def _corridor(item: dict) -> list[Item]:
-    route = _polygon(item, "polyline", 2)
-    camera, altitude, frame = _camera(item)
-    style = item.get("TransectStyleComplexItem", {})
-    plane = _Plane(route[0])
-    points = [plane.to_plane(*p) for p in route]
+    builder, points, camera, style = _scan(item, "polyline", 2)
     width = number(item.get("CorridorWidth"))
     if not width > 0:
         raise TransectError("it needs a CorridorWidth above 0", item)
@@ -263,16 +264,12 @@ def _corridor(item: dict) -> list[Item]:
         offset = 0.0 if count == 1 else width / 2.0 - spacing / 2.0 - i * spacing
         line = _offset(points, offset)
         lines.append(line[::-1] if i % 2 else line)
-    builder = _Items(plane, altitude, frame, _spacing(camera, "AdjustedFootprintFrontal"),
-                     max(number(style.get("TurnAroundDistance")), 0.0) if style.get("TurnAroundDistance") else 0.0)
     return builder.transects(lines, bool(style.get("CameraTriggerInTurnAround", True)))
 
 
 def _structure(item: dict) -> list[Item]:
-    corners = _polygon(item, "polygon", 3)
-    camera, distance, frame = _camera(item)
-    plane = _Plane(corners[0])
-    polygon = [plane.to_plane(*c) for c in corners]
+    builder, polygon, _, _ = _scan(item, "polygon", 3)
+    distance = builder.altitude  # the camera's distance to the structure's faces
     area = sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(polygon, polygon[1:] + polygon[:1], strict=True))
     ring = _offset(polygon + polygon[:1], -distance if area > 0 else distance)[:-1]  # pushed out of the structure
     ring = ring + ring[:1]
@@ -287,7 +284,6 @@ def _structure(item: dict) -> list[Item]:
         altitudes.reverse()
     entrance = number(item.get("EntranceAltitude"))
     entrance = altitudes[0] if math.isnan(entrance) else entrance
-    builder = _Items(plane, distance, frame, _spacing(camera, "AdjustedFootprintFrontal"), 0.0)
     builder.waypoint(ring[0], entrance)
     for altitude in altitudes:
         builder.waypoint(ring[0], altitude)
