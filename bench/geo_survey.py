@@ -16,10 +16,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from aeroexec.cli.flying.mission_files import check_mission
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.engine.engine import Engine
+from aeroexec.flight.missions import check_mission
 from aeroexec.trees.mission_world import mission_world
 from aeroexec.trees.runtime.runner import TreeMission
 

@@ -9,10 +9,11 @@ import argparse
 import sys
 from pathlib import Path
 
-from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.flying.lines import write_output
-from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, is_tree
-from aeroexec.cli.verify import WorldChoiceError, add_home_argument, chosen_world
+from aeroexec.cli.lines import write_output
+from aeroexec.cli.verify import add_home_argument
+from aeroexec.flight.missions import MissionFileError, check_mission, is_tree
+from aeroexec.flight.robot import chosen_catalog, load_world
+from aeroexec.flight.spec import FlightError
 from aeroexec.trees.items import PlanDocument
 from aeroexec.trees.items.writer import WriteError, write_plan, write_waypoints
 from aeroexec.trees.loaders.xml_writer import write_xml
@@ -45,9 +46,9 @@ def run(args: argparse.Namespace) -> int:
     target = args.to or SUFFIXES.get(Path(args.output).suffix.lower() if args.output else "", "xml")
     catalog = chosen_catalog(args.catalog)
     try:
-        world = chosen_world(args, mission=path)
+        world = None if args.no_world else load_world(args.world, mission=path, home=args.home)
         checked = check_mission(path, catalog, world, home=world.home if world is not None else None)
-    except (MissionFileError, WorldChoiceError) as error:
+    except (MissionFileError, FlightError) as error:
         print(error, file=sys.stderr)
         return 1
     for problem in checked.problems:

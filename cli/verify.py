@@ -16,19 +16,15 @@ import re
 from pathlib import Path
 from typing import Any
 
-from aeroexec.cli.flying import robots
-from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.drones import geodesy
-from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
+from aeroexec.flight.missions import MissionFileError, check_mission
+from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.flight.spec import FlightError
 from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
-
-
-class WorldChoiceError(Exception):
-    """A ``--world`` that cannot be read."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,16 +32,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
                              "QGroundControl plans (.plan, .mission), waypoint files (.waypoints, .txt)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
-    robots.add_arguments(parser)
+    parser.add_argument("--robot", default="drone", metavar="KIND",
+                        help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")
     world = parser.add_mutually_exclusive_group()
     world.add_argument("--world", metavar="FILE",
-                       help="check destinations and paths against this world, and place plans and waypoint "
-                            "files at its home (default: an open field around a plan, else the simulator's)")
+                       help="check destinations and paths against this world, and place plans and waypoint files "
+                            "at its home (default: an open field around a plan, else the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_home_argument(parser)
     add_library_arguments(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
                         help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
+
+
+def parse_home(text: str) -> tuple[float, float, float | None]:
+    """``--home LAT,LON[,ALT]`` (degrees, meters AMSL); the altitude is None when not given."""
+    try:
+        return geodesy.parse_home(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def add_home_argument(parser: argparse.ArgumentParser) -> None:
+    """``--home LAT,LON[,ALT]``: where the world's home (the take-off point) is (run, verify, fleet, convert)."""
+    parser.add_argument("--home", type=parse_home, metavar="LAT,LON[,ALT]",
+                        help="the world's home (the take-off point): latitude, longitude and altitude AMSL "
+                             "(default: the mission's home for a plan or waypoint file, else the world's)")
 
 
 def add_library_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,57 +71,26 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
                              "(repeatable)")
 
 
-def parse_home(text: str) -> Geodetic:
-    """``--home LAT,LON[,ALT]`` (degrees, meters AMSL); the altitude is None when not given."""
-    try:
-        return geodesy.parse_home(text)  # type: ignore[return-value]
-    except ValueError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
-
-
-def add_home_argument(parser: argparse.ArgumentParser) -> None:
-    """``--home LAT,LON[,ALT]``: where the world's home (the take-off point) is (run, verify, fleet, convert)."""
-    parser.add_argument("--home", type=parse_home, metavar="LAT,LON[,ALT]",
-                        help="the world's home (the take-off point): latitude, longitude and altitude AMSL "
-                             "(default: the mission's home for a plan or waypoint file, else the world's)")
-
-
-def chosen_world(args: argparse.Namespace, default: bool = True, mission: Path | None = None) -> Any:
-    """The world ``mission`` is checked against and flown in (``trees.mission_world``: ``--world FILE``, an open
-    field around a mission planned on a map, else the built-in one when ``default``), at ``--home`` when given;
-    None with ``--no-world``."""
-    from aeroexec.drones.sim import WorldError
-    from aeroexec.trees.mission_world import mission_world
-
-    if getattr(args, "no_world", False):
-        return None
-    try:
-        return mission_world(mission, getattr(args, "world", None), getattr(args, "home", None), default)
-    except WorldError as error:
-        raise WorldChoiceError(str(error)) from None
-
-
 def run(args: argparse.Namespace) -> int:
     try:
-        choice = robots.chosen(args)
+        choice = robot_choice(args.robot)
         catalog = choice.catalog(args.catalog)
-    except robots.RobotKindError as error:
+    except FlightError as error:
         print(error)
         return 2
-    if choice.kind is not None and not args.world and not args.no_world and choice.kind.world:
-        args.world = str(choice.kind.world)  # its robot kind's world
-    try:
-        chosen_world(args)  # a world file that cannot be read is said once
+    try:  # the robot kind's world unless one is given (a world file that cannot be read is said once)
+        world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
         library = choice.library() if choice.kind is not None else default_library(args.library)
-    except (WorldChoiceError, LibraryError) as error:
+    except (FlightError, LibraryError) as error:
         print(error)
         return 1
     failed = False
     for name in args.missions:
-        try:
-            world = chosen_world(args, mission=Path(name))
+        try:  # each mission in its own world: a plan's open field, at --home when given
+            world = None if args.no_world else load_world(choice.world_file(args.world), mission=Path(name),
+                                                           home=args.home)
             checked = check_mission(Path(name), catalog, world)
-        except (MissionFileError, WorldChoiceError) as error:
+        except (MissionFileError, FlightError) as error:
             print(error)
             failed = True
             continue

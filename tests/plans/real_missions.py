@@ -6,10 +6,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from aeroexec.cli.flying.mission_files import CheckedMission, check_mission
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.engine.engine import Engine
+from aeroexec.flight.missions import CheckedMission, check_mission
 from aeroexec.trees.mission_world import mission_world
 from aeroexec.trees.runtime.runner import TreeMission
 
