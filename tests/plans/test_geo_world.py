@@ -183,3 +183,23 @@ def test_positions_come_from_the_vehicles_own_estimate_with_its_accuracy(tmp_pat
         assert engine.memory.query("position_accuracy(self, ?M)")["?M"] == 0.8
     finally:
         engine.stop()
+
+
+def test_run_flies_a_plan_at_home_given_and_the_log_says_where(tmp_path):
+    path = DATA / "px4" / "MC_mission_box.plan"
+    east = enu_to_geodetic((30.0, 0.0, 0.0), HOME)
+    result = aeroexec("run", str(path), "--plain", "--home", f"{east[0]},{east[1]},488", "--output", str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    first = json.loads((tmp_path / "events.jsonl").read_text().splitlines()[0])
+    assert first["home"] == pytest.approx([east[0], east[1], 488.0], abs=1e-7)
+    assert first["bounds"][0][0] < -45 and first["bounds"][1][0] > 0  # the field around the box, 30 m west
+
+
+def test_convert_refuses_what_verify_refuses_the_route_too(tmp_path):
+    path = DATA / "qgroundcontrol" / "ArduPilotSITL-ArduCopter.plan"
+    result = aeroexec("convert", str(path), "-o", str(tmp_path / "copter.waypoints"))
+    assert result.returncode == 1 and "item 6: the battery runs down to its 7% failsafe here" in result.stderr
+    assert "nothing written" in result.stderr and not (tmp_path / "copter.waypoints").exists()
+    ok = aeroexec("convert", str(DATA / "px4" / "MC_mission_box.plan"), "-o", str(tmp_path / "box.waypoints"))
+    assert ok.returncode == 0 and (tmp_path / "box.waypoints").read_text().startswith("QGC WPL 110\n0\t1\t0\t16\t")
+    assert aeroexec("verify", str(tmp_path / "box.waypoints")).returncode == 0
