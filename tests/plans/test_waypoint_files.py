@@ -147,7 +147,7 @@ def test_a_mission_written_as_waypoints_and_as_a_plan_reads_back_as_the_same_beh
 
 
 def test_a_plan_converted_to_waypoints_and_back_flies_the_same_route(tmp_path):
-    path = DATA / "sky_mission" / "survey.plan"
+    path = DATA / "mavsdk" / "qgroundcontrol_sample_with_survey.plan"  # a survey with its camera triggers
     original = items_document(load_item_mission(path))
     written = tmp_path / "survey.waypoints"
     written.write_text(write_waypoints(original, original.home))
@@ -159,7 +159,7 @@ def test_a_plan_converted_to_waypoints_and_back_flies_the_same_route(tmp_path):
         assert status.name == "SUCCESS"
         flights.append([e.data["arguments"]["COORDINATES"] for e in events if e.kind == "activated"
                         and e.behavior == "GO_TO_POINT"])
-    assert len(flights[0]) == len(flights[1]) > 40
+    assert len(flights[0]) == len(flights[1]) >= 8
     assert all(math.dist(a, b) < 0.05 for a, b in zip(*flights, strict=True))
 
 
