@@ -35,8 +35,9 @@ from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, format_geo, geo_t
 from aeroexec.drones.sim.geofence import Fence
 from aeroexec.engine.errors import WRONG_SEQUENCE, WRONG_VALUE, Problem
 from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.trees.items.commands import CommandItems, text
 from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, POSITIONAL, REFUSED, ItemMission, MissionItem
-from aeroexec.trees.items.structure import Jump, Span, Step, build, nest_jumps
+from aeroexec.trees.items.structure import Span, Step, build, nest_jumps
 from aeroexec.trees.model import TreeDocument, TreeNode
 
 Vector = tuple[float, float, float]
@@ -50,12 +51,7 @@ NOTHING_TO_ACT_ON = {189: "marks where a landing sequence starts; aeroexec's ret
                      1000: "points a gimbal; the simulated camera keeps its own pitch"}
 
 
-def _text(*values: float) -> str:
-    def one(value: float) -> str:
-        text = f"{value:.2f}".rstrip("0").rstrip(".")
-        return "0" if text in ("-0", "") else text
 
-    return ", ".join(one(v) for v in values)
 
 
 @dataclass
@@ -82,7 +78,7 @@ class PlanDocument(TreeDocument):
         return numbered
 
 
-class _Converter:
+class _Converter(CommandItems):
     """The items, in order, into entries of the tree (one state: where the drone will be, how it flies)."""
 
     def __init__(self, mission: ItemMission, home: Geodetic, document: PlanDocument) -> None:
@@ -152,8 +148,8 @@ class _Converter:
     def airborne(self, item: MissionItem, altitude: float) -> None:
         if self.position is None:
             self.problem(item, f"the mission flies to {item.name} from the ground: aeroexec takes off to "
-                               f"{_text(altitude)} m first", severity="warning")
-            self.node("TAKE_OFF", item, "take-off", ALTITUDE=_text(max(altitude, 0.5)))
+                               f"{text(altitude)} m first", severity="warning")
+            self.node("TAKE_OFF", item, "take-off", ALTITUDE=text(max(altitude, 0.5)))
             self.position = (*self.xy, altitude)
 
     def go_to(self, item: MissionItem, label: str, where: tuple[Vector, str], yaw: float = math.nan,
@@ -163,13 +159,13 @@ class _Converter:
             self._release_held(item, point)
         ports = {"COORDINATES": geo}
         if self.speed is not None:
-            ports["SPEED"] = _text(self.speed)
+            ports["SPEED"] = text(self.speed)
         if self.roi is not None:
             ports["POINT_TO_LOOK_DURING_FLIGHT"] = self.roi
         elif not math.isnan(yaw):
-            ports["YAW_ANGLE_AT_THE_END"] = _text(wrap180(90.0 - yaw))  # MAVLink: 0 north, clockwise
+            ports["YAW_ANGLE_AT_THE_END"] = text(wrap180(90.0 - yaw))  # MAVLink: 0 north, clockwise
         if accept > 0:
-            ports["ACCEPTANCE_RADIUS"] = _text(accept)
+            ports["ACCEPTANCE_RADIUS"] = text(accept)
         self.node("GO_TO_POINT", item, label, **ports)
         self.position, self.xy = point, point[:2]
 
@@ -181,7 +177,7 @@ class _Converter:
             point = tuple(a + (b - a) * f for a, b in zip(start, target, strict=True))
             lat, lon, _ = enu_to_geodetic((point[0], point[1], 0.0), self.home)
             self.node("GO_TO_POINT", item, f"{self.distance_before:g} m before it",
-                      COORDINATES=format_geo(lat, lon, point[2]), **({"SPEED": _text(self.speed)} if self.speed
+                      COORDINATES=format_geo(lat, lon, point[2]), **({"SPEED": text(self.speed)} if self.speed
                                                                       else {}))
         self.entries.append(Step(item.seq, self.nodes))
         self.entries.extend(self.held)
@@ -224,7 +220,7 @@ class _Converter:
         yaw = math.nan if self.mission.ardupilot and params[3] == 0 else params[3]  # ArduPilot writes 0: none
         self.go_to(item, item.name.removeprefix("NAV_"), where, yaw, params[1])
         if params[0] > 0:
-            self.node("WAIT", item, "hold", DURATION=_text(params[0]))
+            self.node("WAIT", item, "hold", DURATION=text(params[0]))
 
     def _nav_spline_waypoint(self, item: MissionItem, params: tuple[float, ...]) -> None:
         self.problem(item, "NAV_SPLINE_WAYPOINT is flown as a straight NAV_WAYPOINT", severity="warning")
@@ -241,7 +237,7 @@ class _Converter:
             return
         if self.position is not None:
             self.problem(item, "a take-off while flying", kind=WRONG_SEQUENCE)
-        self.node("TAKE_OFF", item, "TAKEOFF", ALTITUDE=_text(altitude))
+        self.node("TAKE_OFF", item, "TAKEOFF", ALTITUDE=text(altitude))
         self.position = (*self.xy, altitude)
         if where is not None and math.dist(where[0][:2], self.xy) > 1.0:
             point, _ = where
@@ -261,7 +257,7 @@ class _Converter:
             self.airborne(item, where[0][2])
             self.go_to(item, item.name.removeprefix("NAV_"), where)
         if then == "WAIT":
-            self.node("WAIT", item, "loiter", DURATION=_text(max(params[0], 0.0)))
+            self.node("WAIT", item, "loiter", DURATION=text(max(params[0], 0.0)))
 
     def _nav_loiter_unlim(self, item: MissionItem, params: tuple[float, ...]) -> None:
         self._nav_loiter_time(item, params, then="")
@@ -275,10 +271,10 @@ class _Converter:
         turns = max(params[0], 0.0)
         speed = min(LOITER_SPEED, max(0.5, 0.5 * radius))
         seconds = turns * 2.0 * math.pi * radius / speed
-        loiter = TreeNode("KEEP_LOITERING", f"item {item.seq} circle", {"SHAPE": "CIRCLE", "RADIUS": _text(radius),
+        loiter = TreeNode("KEEP_LOITERING", f"item {item.seq} circle", {"SHAPE": "CIRCLE", "RADIUS": text(radius),
                                                                        "CLOCKWISE": str(params[2] >= 0).lower()},
                           [], self.file, item.line)
-        wait = TreeNode("WAIT", f"item {item.seq} {_text(turns)} turns", {"DURATION": _text(seconds)}, [],
+        wait = TreeNode("WAIT", f"item {item.seq} {text(turns)} turns", {"DURATION": text(seconds)}, [],
                         self.file, item.line)
         self.nodes.append(TreeNode("Parallel", f"item {item.seq} LOITER_TURNS",
                                    {"success_count": "1", "failure_count": "1"}, [loiter, wait], self.file, item.line))
@@ -301,8 +297,8 @@ class _Converter:
         target, geo = min(places, key=lambda p: math.dist(p[0][:2], self.xy))
         altitude = max(self.position[2] if self.position else 0.0, MIN_RETURN_ALTITUDE)
         if self.position is not None and math.dist(target[:2], self.xy) > 0.5:
-            text = _text(0.0, 0.0, altitude) if geo is None else format_geo(geo[0], geo[1], altitude)
-            self.go_to(item, "return", ((target[0], target[1], altitude), text))
+            place = text(0.0, 0.0, altitude) if geo is None else format_geo(geo[0], geo[1], altitude)
+            self.go_to(item, "return", ((target[0], target[1], altitude), place))
         self.node("LAND", item, "land")
         self.position = None
 
@@ -313,130 +309,7 @@ class _Converter:
         if params[0] < 0:
             self.problem(item, "NAV_DELAY until a time of day: aeroexec waits seconds, not clock times")
             return
-        self.node("WAIT", item, "delay", DURATION=_text(params[0]))
-
-    def _condition_delay(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        self.node("WAIT", item, "delay", DURATION=_text(max(params[0], 0.0)))
-
-    def _condition_change_alt(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        alt = self.altitude(item)
-        if alt is not None and self.position is not None:
-            self.go_to(item, "change altitude", self.here(alt))
-
-    def _condition_distance(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[0] > 0:
-            self.distance_before = params[0]
-
-    def _condition_yaw(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        angle, relative = params[0], params[3] != 0
-        if math.isnan(angle):
-            self.problem(item, "CONDITION_YAW without an angle (param1)")
-            return
-        if relative:
-            turn = math.fmod(angle, 360.0) * (-1.0 if params[2] >= 0 else 1.0)  # MAVLink: clockwise positive
-            self.node("ROTATE", item, "yaw", RELATIVE_ANGLE=_text(turn))
-        else:
-            self.node("ROTATE", item, "yaw", ANGLE=_text(wrap180(90.0 - angle)))
-
-    def _do_jump(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        target = int(params[0]) if not math.isnan(params[0]) else -1
-        target = self.jump_ids.get(target, target) if self.jump_ids else target
-        repeat = int(params[1]) if not math.isnan(params[1]) else 0
-        self.entries.append(Jump(item.seq, target, repeat, item.line))
-
-    def _do_change_speed(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[0] in (2, 3):
-            self.problem(item, "DO_CHANGE_SPEED of the climb or descent rate: the vehicle keeps its own",
-                         severity="warning")
-        elif params[1] == -2 or params[1] == 0 and self.mission.ardupilot:
-            self.speed = None
-        elif params[1] > 0:
-            self.speed = params[1]
-        elif params[1] != -1:
-            self.problem(item, f"DO_CHANGE_SPEED to {_text(params[1])} m/s", kind=WRONG_VALUE)
-
-    def _do_set_roi_location(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        where = self.place(item)
-        if where is None:
-            self.problem(item, f"{item.name} without a latitude and longitude")
-        if not where:
-            return
-        self.roi = where[1]
-        if self.position is not None:
-            self.node("LOOK_AT_A_POINT", item, item.name.removeprefix("DO_"), COORDINATES=where[1])
-
-    def _do_set_roi(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if self.mission.ardupilot:  # ArduPilot reads the location: a place is where to look, none is no ROI
-            if item.has_position():
-                self._do_set_roi_location(item, params)
-            else:
-                self.roi = None
-        elif params[0] == 3:
-            self._do_set_roi_location(item, params)
-        elif params[0] == 0:
-            self.roi = None
-        else:
-            self.problem(item, f"DO_SET_ROI in MAV_ROI mode {params[0]:g}: only a location (3) or none (0) has a "
-                               f"behavior")
-
-    def _nav_roi(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        self._do_set_roi(item, params)
-
-    def _do_set_roi_none(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        self.roi = None
-
-    def _do_digicam_control(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[4] == 1:
-            self.node("TAKE_PHOTO", item, "photo")
-        else:
-            self.problem(item, "DO_DIGICAM_CONTROL without a shot (param5 is not 1): nothing to do",
-                         severity="warning")
-
-    def span(self, item: MissionItem, key: str, behavior: str | None, **ports: str) -> None:
-        node = None if behavior is None else TreeNode(behavior, f"item {item.seq} {behavior}", dict(ports), [],
-                                                      self.file, item.line)
-        if self.nodes:
-            self.emit(Step(item.seq, self.nodes), item)
-            self.nodes = []
-        self.emit(Span(item.seq, key, node, item.line), item)
-
-    def _do_set_cam_trigg_dist(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[2] == 1:
-            self.node("TAKE_PHOTO", item, "photo")
-        if params[0] > 0:
-            self.span(item, "camera", "TRIGGER_CAMERA", DISTANCE=_text(params[0]))
-        else:
-            self.span(item, "camera", None)
-
-    def _do_set_cam_trigg_interval(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[0] > 0:
-            self.span(item, "camera", "TRIGGER_CAMERA", INTERVAL=_text(params[0] / 1000.0))
-        else:
-            self.span(item, "camera", None)
-
-    def _image_start_capture(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        interval, count = params[1], params[2]
-        if count == 1 or not interval > 0:
-            self.node("TAKE_PHOTO", item, "photo")
-        else:
-            ports = {"INTERVAL": _text(interval)} | ({"COUNT": _text(count)} if count > 1 else {})
-            self.span(item, "camera", "TRIGGER_CAMERA", **ports)
-
-    def _image_stop_capture(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        self.span(item, "camera", None)
-
-    def _video_start_capture(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        self.span(item, "video", "RECORD_VIDEO")
-
-    def _video_stop_capture(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        self.span(item, "video", None)
-
-    def _do_gripper(self, item: MissionItem, params: tuple[float, ...]) -> None:
-        if params[1] == 0:
-            self.node("DROP_ITEM", item, "release")
-        else:
-            self.problem(item, "DO_GRIPPER grab: the simulated gripper holds its payload from the start",
-                         severity="warning")
+        self.node("WAIT", item, "delay", DURATION=text(params[0]))
 
     def finish(self) -> list[TreeNode]:
         """The tree's nodes once every item is in."""
