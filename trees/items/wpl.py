@@ -47,7 +47,7 @@ def read_wpl(text: str, file: str) -> ItemMission:
     if lines[first].split() != HEADER.split():
         raise TreeFormatError([(file, first + 1, f"a waypoint file of version {lines[first].strip()!r}: aeroexec "
                                                  f"reads \"{HEADER}\"")])
-    mission = ItemMission(file, line=first + 2, ardupilot=True)
+    mission = ItemMission(file, line=first + 1, ardupilot=True)  # the header line: no item's
     seq, previous = 1, None
     for number, line in enumerate(lines[first + 1:], start=first + 2):
         if not line.strip() or line.lstrip().startswith("#"):
