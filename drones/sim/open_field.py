@@ -2,7 +2,8 @@
 
 :func:`open_field` makes a flat, obstacle-free world at a home point whose bounds are the places a mission names
 (ENU meters from that home) plus a margin that grows with the mission's size, with the mission's geofence as the
-world's fences; :func:`field_at` a square field of a given reach around a home (``aeroexec sim --home``).
+world's fences; :func:`field_at` a square field of a given reach around a home (``aeroexec sim --home``);
+:func:`field_of` the field an event log's first record describes (its home and bounds), for reports and replays.
 """
 
 from __future__ import annotations
@@ -41,9 +42,17 @@ def open_field(home: Geodetic, places: Iterable[Sequence[float]], fences: Sequen
     return World(home=home, bounds=bounds, fences=tuple(fences), payload=payload, name=name or _name(home))
 
 
+def field_of(home: Sequence[float], bounds: Sequence[Sequence[float]]) -> World:
+    """The open field an event log's first record describes (its ``home`` and ``bounds``): what a report or a
+    replay draws a flight at real scale in when the flight's world was generated, not read from a file."""
+    lower, upper = (tuple(float(v) for v in corner) for corner in bounds)
+    point = (float(home[0]), float(home[1]), float(home[2]))
+    return World(home=point, bounds=Bounds(lower, upper), name=_name(point))  # type: ignore[arg-type]
+
+
 def field_at(home: Geodetic, reach: float, ceiling: float) -> World:
     """A flat world at ``home``: ``reach`` meters around it, ``ceiling`` meters high."""
     return World(home=home, bounds=Bounds((-reach, -reach, 0.0), (reach, reach, ceiling)), name=_name(home))
 
 
-__all__ = ["field_at", "open_field"]
+__all__ = ["field_at", "field_of", "open_field"]

@@ -203,3 +203,11 @@ def test_convert_refuses_what_verify_refuses_the_route_too(tmp_path):
     ok = aeroexec("convert", str(DATA / "px4" / "MC_mission_box.plan"), "-o", str(tmp_path / "box.waypoints"))
     assert ok.returncode == 0 and (tmp_path / "box.waypoints").read_text().startswith("QGC WPL 110\n0\t1\t0\t16\t")
     assert aeroexec("verify", str(tmp_path / "box.waypoints")).returncode == 0
+
+
+def test_the_field_a_log_describes_is_the_world_the_flight_had():
+    from aeroexec.drones.sim.open_field import field_of
+
+    world = mission_world(ROOT / "missions" / "field_survey.plan")
+    again = field_of(list(world.home), [list(world.bounds.lower), list(world.bounds.upper)])
+    assert (again.home, again.bounds, again.name) == (world.home, world.bounds, world.name)
