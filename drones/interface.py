@@ -59,6 +59,7 @@ class Telemetry:
     home: tuple[float, float, float] | None = None  # latitude, longitude, altitude (m AMSL)
     wind: tuple[float, float] | None = None  # m/s east, north: the wind the vehicle estimates (None: not known)
     ground_link: bool | None = None  # the link to the ground station, when the engine flies on board (None: link_ok)
+    position_accuracy: float | None = None  # m, horizontal, of the vehicle's own estimate (None: unknown or exact)
 
     @property
     def altitude(self) -> float:
@@ -201,6 +202,11 @@ class Robot(abc.ABC):
 
 class Drone(Robot):
     """What the engine's flight behaviors need from a drone, besides what every robot gives."""
+
+    #: The telemetry's position is the vehicle's own estimate (a real autopilot's, from GPS and its EKF): the
+    #: engine's odometry then follows it. False for a simulator, whose position is the truth: the engine's odometry
+    #: estimator simulates dead reckoning's drift on top of it.
+    estimates_position: bool = True
 
     @abc.abstractmethod
     def arm(self) -> CommandHandle: ...
