@@ -103,6 +103,8 @@ class MissionBridge:
         contingency ``call FUNCTION``, engine/safety)."""
         with self._cond:
             self.preempted = preempted
+            if self._pending:  # the woken mission runs on: a lockstep loop waits for it, as after close()
+                self._state = RUNNING
             for request in self._pending:
                 request.error, self.preempted = preempted, None
                 request.done.set()
