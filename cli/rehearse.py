@@ -10,7 +10,7 @@ import os
 import time
 from pathlib import Path
 
-from aeroexec.cli.verify import add_rules_argument
+from aeroexec.cli.verify import add_safety_rules_argument
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,7 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask scheduler at ADDRESS")
     parser.add_argument("--replay", type=int, metavar="SEED", help="fly the run of SEED again, keeping its files")
     parser.add_argument("--output", metavar="DIR", default="aeroexec_rehearsal", help="where the report goes")
-    add_rules_argument(parser)
+    add_safety_rules_argument(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -41,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     output.mkdir(parents=True, exist_ok=True)
     if args.replay is not None:
-        result = fly(mission, args.replay, tuple(args.rules), args.max_time, str(output / f"run-{args.replay}"))
+        result = fly(mission, args.replay, tuple(args.safety_rules), args.max_time, str(output / f"run-{args.replay}"))
         print(f"run {args.replay}: {result.status} at t={result.duration:.1f} s, battery {result.battery:.1f} %, "
               f"wind {result.variation.wind_speed:.1f} m/s; files in {output / f'run-{args.replay}'}")
         return 0 if result.success else 1
@@ -49,10 +49,10 @@ def run(args: argparse.Namespace) -> int:
     workers = args.workers or os.cpu_count() or 1
     began = time.perf_counter()
     if args.dask or args.scheduler:
-        results = fly_dask(mission, run_seeds, tuple(args.rules), args.scheduler, workers, args.max_time)
+        results = fly_dask(mission, run_seeds, tuple(args.safety_rules), args.scheduler, workers, args.max_time)
         engine = f"Dask ({args.scheduler or f'a LocalCluster of {workers} workers'})"
     else:
-        results = fly_local(mission, run_seeds, tuple(args.rules), workers, args.max_time)
+        results = fly_local(mission, run_seeds, tuple(args.safety_rules), workers, args.max_time)
         engine = f"{workers} worker processes"
     wall = time.perf_counter() - began
     figures = summary(results)

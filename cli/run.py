@@ -53,13 +53,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_plugin_arguments(parser: argparse.ArgumentParser) -> None:
     """The robot kind, catalog and plugins (run, fleet)."""
-    from aeroexec.cli.verify import add_library_arguments, add_rules_argument
+    from aeroexec.cli.verify import add_library_arguments, add_safety_rules_argument
 
     parser.add_argument("--robot", default="drone", metavar="KIND",
                         help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     add_library_arguments(parser)
-    add_rules_argument(parser)
+    add_safety_rules_argument(parser)
     parser.add_argument("--updater", action="append", default=[], metavar="MODULE:ATTR",
                         help="belief updaters to add: a callable (drone) returning BeliefUpdaters (repeatable; "
                              "installed aeroexec.updaters entry points are always added)")
@@ -130,7 +130,7 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
                       home=args.home, catalog=args.catalog, library=tuple(args.library),
-                      processes=tuple(args.processes), rules=tuple(args.rules),
+                      processes=tuple(args.processes), safety_rules=tuple(args.safety_rules),
                       updaters=tuple(args.updater), speed=args.speed or paced, seed=args.seed, max_time=args.max_time,
                       output=args.output, log=args.log, answers=args.answers,
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),

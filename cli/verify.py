@@ -41,14 +41,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_home_argument(parser)
     add_library_arguments(parser)
-    add_rules_argument(parser)
+    add_safety_rules_argument(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
                         help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
 
 
-def add_rules_argument(parser: argparse.ArgumentParser) -> None:
-    """``--rules FILE``: safety rules to watch besides the catalog's and the mission's (run and verify)."""
-    parser.add_argument("--rules", action="append", default=[], metavar="FILE",
+def add_safety_rules_argument(parser: argparse.ArgumentParser) -> None:
+    """``--safety-rules FILE``: safety rules to watch besides the catalog's and the mission's (run and verify)."""
+    parser.add_argument("--safety-rules", action="append", default=[], metavar="FILE",
                         help="safety rules (YAML) to check before flight and watch in flight, besides the catalog's "
                              "and the mission's own (repeatable)")
 
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
         return 1
     failed = False
     for name in args.missions:
-        fleet = fleet_safety_check(Path(name), catalog, args.rules,
+        fleet = fleet_safety_check(Path(name), catalog, args.safety_rules,
                                    None if args.no_world else load_world(choice.world_file(args.world)))
         if fleet is not None:  # a fleet file: its drones' routes flown together against the separation rules
             for problem in fleet:
@@ -112,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
             failed = True
             continue
         checked.problems += unimplemented(catalog, library, Path(name))
-        checked.problems += safety_check(checked, catalog, args.rules)[1]
+        checked.problems += safety_check(checked, catalog, args.safety_rules)[1]
         if args.strict_btcpp and checked.tree is not None:
             checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:

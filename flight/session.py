@@ -127,7 +127,7 @@ class FlightSession:
         if self.control is not None:
             self.control.starting = "checking its mission"
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report)
-        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.rules, self.world, self.report)
+        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
         if self.robot is None:
             if self.control is not None:
                 self.control.starting = "waiting for its vehicle"

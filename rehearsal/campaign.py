@@ -100,7 +100,7 @@ def fly(mission: str, seed: int, rules: tuple[str, ...] = (), max_time: float = 
         world = load_world(None, default=True)
         drone = SimulatedDrone(world, config=variation.config(), seed=seed)
         spec = FlightSpec(mission=Path(mission), seed=seed, max_time=max_time, output=str(folder), register=False,
-                          rules=tuple(rules))
+                          safety_rules=tuple(rules))
         session = FlightSession(spec, notify=lambda message: None, robot=drone, world=world)
         try:
             session.open()

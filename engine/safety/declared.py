@@ -1,4 +1,4 @@
-"""Where safety rules are declared besides the catalog: a rules file (``--rules FILE``), a behavior tree's
+"""Where safety rules are declared besides the catalog: a rules file (``--safety-rules FILE``), a behavior tree's
 ``<SafetyRules>`` element (XML, YAML text inside; BehaviorTree.CPP ignores it) or ``safety_rules:`` key (YAML), a
 Python mission's module-level ``SAFETY_RULES`` string (YAML). Each problem names the file and its line."""
 

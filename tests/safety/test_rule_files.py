@@ -37,10 +37,10 @@ def write(path, text):
 def test_a_wrong_rule_is_refused_with_its_file_and_line(tmp_path, capsys, rule, line, words):
     rules = write(tmp_path / "rules.yaml", "# the field's rules\n" + rule)
     mission = write(tmp_path / "m.xml", MISSION.format(point="2, 2, 6"))
-    assert main(["verify", str(mission), "--rules", str(rules)]) == 1
+    assert main(["verify", str(mission), "--safety-rules", str(rules)]) == 1
     out = capsys.readouterr().out
     assert f"{rules}:{line + 1}: error: " in out and words in out and "Traceback" not in out
-    assert main(["run", str(mission), "--rules", str(rules), "--quiet", "--output", str(tmp_path / "o")]) == 1
+    assert main(["run", str(mission), "--safety-rules", str(rules), "--quiet", "--output", str(tmp_path / "o")]) == 1
 
 
 def test_rules_come_from_the_catalog_a_tree_and_a_python_mission(tmp_path):
@@ -106,12 +106,12 @@ def test_a_literal_waypoint_in_a_keep_out_volume_is_refused_by_verify(tmp_path, 
           contingency: hold
         """)
     inside = write(tmp_path / "in.xml", MISSION.format(point="13, -13, 6"))
-    assert main(["verify", str(inside), "--rules", str(rules)]) == 1
+    assert main(["verify", str(inside), "--safety-rules", str(rules)]) == 1
     out = capsys.readouterr().out
     assert f"{inside}:5: error: the destination (13, -13, 6)" in out and "keep_out_tower" in out
     assert f"({rules}:1)" in out
     outside = write(tmp_path / "out.xml", MISSION.format(point="5, -5, 6"))
-    assert main(["verify", str(outside), "--rules", str(rules)]) == 0
+    assert main(["verify", str(outside), "--safety-rules", str(rules)]) == 0
 
 
 def test_a_route_whose_battery_use_breaks_the_return_margin_is_refused(tmp_path, capsys):
@@ -122,6 +122,6 @@ def test_a_route_whose_battery_use_breaks_the_return_margin_is_refused(tmp_path,
         """)
     legs = "\n".join(f'      <GO_TO_POINT COORDINATES="{x}, {y}, 6"/>' for x, y in [(15, 0), (15, 15), (-15, 15)] * 2)
     mission = write(tmp_path / "long.xml", MISSION.replace('      <GO_TO_POINT COORDINATES="{point}"/>', legs))
-    assert main(["verify", str(mission), "--rules", str(rules)]) == 1
+    assert main(["verify", str(mission), "--safety-rules", str(rules)]) == 1
     out = capsys.readouterr().out
     assert "breaks safety rule margin" in out and "% left on arrival" in out

@@ -67,9 +67,9 @@ def test_verify_refuses_fleet_routes_that_cross_within_the_separation(tmp_path, 
     fleet = tmp_path / "cross.yaml"
     fleet.write_text("fleet: cross\ndrones:\n  - {name: d1, mission: cross1.py, home: [-12, 0]}\n"
                      "  - {name: d2, mission: cross2.py, home: [0, -12]}\n")
-    assert main(["verify", str(fleet), "--rules", str(rules)]) == 1
+    assert main(["verify", str(fleet), "--safety-rules", str(rules)]) == 1
     out = capsys.readouterr().out
     assert f"{tmp_path / 'cross1.py'}:12: error: the routes of d1 and d2 come" in out
     assert f"safety rule separation ({rules}:1)" in out
     fleet.write_text(fleet.read_text().replace("home: [0, -12]", "home: [0, -18]"))  # d2 crosses well after d1
-    assert main(["verify", str(fleet), "--rules", str(rules)]) == 0
+    assert main(["verify", str(fleet), "--safety-rules", str(rules)]) == 0
