@@ -22,7 +22,7 @@ from typing import Any, TextIO
 from aeroexec.cli.flying import robots, web
 from aeroexec.cli.flying.lines import whole_lines
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, mission_function
-from aeroexec.cli.verify import WorldChoiceError, add_library_arguments, chosen_world
+from aeroexec.cli.verify import WorldChoiceError, add_library_arguments, chosen_world, robot_kind_hint
 from aeroexec.cli.views.live import OperatorConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.drones import Drone
@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
         if choice.kind is not None and not args.world and choice.kind.world:
             args.world = str(choice.kind.world)  # the kind's own world, checked against and flown in
         world = chosen_world(args, default=args.drone == "sim")  # destinations checked against it
-        mission = load_mission(path, catalog, world)
+        mission = load_mission(path, catalog, world, verb="fly" if choice.kind is None else "run")
         if choice.kind is None:  # --library: found before flight (a robot kind brings its own behaviors)
             args.behavior_library = default_library(getattr(args, "library", ()))
             args.process_registry = default_processes(getattr(args, "processes", ()))
@@ -131,15 +131,18 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None) -> Callable[[], Any] | TreeDocument:
+def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, verb: str = "fly"
+                 ) -> Callable[[], Any] | TreeDocument:
     """Check a mission before flight (printing every problem), against ``world`` when given; the Python
-    function or the tree to fly."""
+    function or the tree to fly. ``verb``: what the robot does (a rover does not fly)."""
     checked = check_mission(path, catalog, world)
     for problem in checked.problems:
         print(problem, file=sys.stderr)
+    if hint := robot_kind_hint(checked.problems):  # a rover's mission flown without --robot rover
+        print(hint, file=sys.stderr)
     if checked.errors:
         count = len(checked.errors)
-        raise RunError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not fly")
+        raise RunError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not {verb}")
     return checked.tree if checked.tree is not None else mission_function(path)
 
 

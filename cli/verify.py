@@ -17,6 +17,7 @@ from aeroexec.cli.flying import robots
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
+from aeroexec.engine.robots import DRONE
 from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
@@ -93,15 +94,62 @@ def run(args: argparse.Namespace) -> int:
         checked.problems += unimplemented(catalog, library, Path(name))
         if args.strict_btcpp and checked.tree is not None:
             checked.problems += portability_problems(checked.tree, catalog)
+        elif args.strict_btcpp:  # said, not silently accepted: there is no tree to hold to BT.CPP's rules
+            checked.problems.append(Problem("warning", "--strict-btcpp checks behavior trees against "
+                                            "BehaviorTree.CPP and Groot2; a Python mission has no tree to check",
+                                            name, 0))
         for problem in checked.problems:
             print(problem)
+        hint = robot_kind_hint(checked.problems)
+        if hint:
+            print(hint)
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
-        verdict = "ready to fly" if not errors else "will not fly"
+        verb = "fly" if choice.kind is None else "run"  # a rover does not fly
+        verdict = f"ready to {verb}" if not errors else f"will not {verb}"
         against = f" (checked against the world {world.name})" if world is not None and not errors else ""
         print(f"{name}: {errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}"
               f"; {verdict}{against}")
         failed = failed or errors > 0
     return 1 if failed else 0
+
+
+_UNKNOWN_BEHAVIOR = re.compile(r"The behavior (\S+) does not exist")
+
+
+def robot_kind_hint(problems: list[Problem]) -> str | None:
+    """When behaviors the catalog does not know belong to an installed robot kind (forgetting ``--robot rover``),
+    one line naming the kind and the option to give; None otherwise."""
+    unknown = list(dict.fromkeys(m.group(1) for p in problems if (m := _UNKNOWN_BEHAVIOR.search(p.message))))
+    if not unknown:
+        return None
+    best, known = None, []
+    for name, behaviors in _kind_behaviors().items():
+        knows = [b for b in unknown if b in behaviors]
+        if len(knows) > len(known):
+            best, known = name, knows
+    if best is None:
+        return None
+    default = " (the default)" if best == DRONE else ""
+    names = ", ".join(known)
+    return (f"hint: {names} {'is a behavior' if len(known) == 1 else 'are behaviors'} of the robot kind {best}: "
+            f"give --robot {best}{default}")
+
+
+def _kind_behaviors() -> dict[str, set[str]]:
+    """The behaviors each installed robot kind's catalog describes (the drone's first); kinds that cannot be
+    loaded are left out."""
+    from aeroexec.engine.catalog import default_catalog, load_catalog
+    from aeroexec.engine.errors import CatalogError
+    from aeroexec.engine.robots import RobotKindError, robot_kind, robot_kinds
+
+    kinds = {DRONE: set(default_catalog().behaviors)}
+    for name in robot_kinds():
+        try:
+            kind = robot_kind(name)
+            kinds[name] = set(load_catalog(kind.catalog).behaviors) if kind and kind.catalog else kinds[DRONE]
+        except (RobotKindError, CatalogError, OSError):
+            continue
+    return kinds
 
 
 def unimplemented(catalog: Any, library: Any, path: Path) -> list[Problem]:

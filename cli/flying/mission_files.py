@@ -59,6 +59,11 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     ``world``'s home, else the default simulated world's)."""
     if home is None and world is not None and is_plan(path):
         home = world.home
+    if path.is_dir():
+        inside = sorted(p.name for p in path.iterdir()
+                        if p.suffix.lower() in {".py", *MISSION_EXTENSIONS} and not p.name.startswith(("_", ".")))
+        some = f" (missions in it: {', '.join(inside[:4])}{', ...' if len(inside) > 4 else ''})" if inside else ""
+        raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
     if is_tree(path):
         try:
@@ -73,8 +78,9 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems = sorted([*checked.tree.problems, *checked.problems], key=lambda p: (p.file, p.line))
         return checked
     if path.suffix.lower() != ".py":
-        raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
-                               f"({', '.join(sorted(MISSION_EXTENSIONS))})")
+        what = "no such file" if not path.exists() else "not a mission file"
+        raise MissionFileError(f"{path}: {what}: a mission is a Python program (.py), a behavior tree (.xml, .yaml, "
+                               f".yml), a TML mission (.tml.xml) or a QGroundControl plan (.plan)")
     try:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
