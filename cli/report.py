@@ -12,8 +12,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from aeroexec.engine.supervision.flight_log import read_flight_log
-from aeroexec.engine.supervision.flight_summary import summarize
+from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.summary import summarize
 
 from aeroexec import __version__
 
@@ -26,7 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from aeroexec.console.replay import ReplayError, find_log
+    from aeroexec.flight.replay import ReplayError, find_log
 
     try:
         log = find_log(args.run_dir)

@@ -13,18 +13,15 @@ import re
 from pathlib import Path
 from typing import Any
 
-from aeroexec.cli.flying import robots
-from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
-from aeroexec.engine.robots import DRONE
+from aeroexec.engine.robots import robot_kind_hint
+from aeroexec.flight.missions import MissionFileError, check_mission
+from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.flight.spec import FlightError
 from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
-
-
-class WorldChoiceError(Exception):
-    """A ``--world`` that cannot be read."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -32,7 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
                              "QGroundControl plans (.plan)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
-    robots.add_arguments(parser)
+    parser.add_argument("--robot", default="drone", metavar="KIND",
+                        help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")
     world = parser.add_mutually_exclusive_group()
     world.add_argument("--world", metavar="FILE",
                        help="check destinations and paths against this world, and place QGroundControl plans at "
@@ -54,33 +52,17 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
                              "(repeatable)")
 
 
-def chosen_world(args: argparse.Namespace, default: bool = True) -> Any:
-    """The world of ``--world FILE``; else the built-in one when ``default`` (and not ``--no-world``)."""
-    from aeroexec.drones.sim import WorldError, default_world, load_world
-
-    if getattr(args, "no_world", False):
-        return None
-    try:
-        if getattr(args, "world", None):
-            return load_world(args.world)
-    except WorldError as error:
-        raise WorldChoiceError(str(error)) from None
-    return default_world() if default else None
-
-
 def run(args: argparse.Namespace) -> int:
     try:
-        choice = robots.chosen(args)
+        choice = robot_choice(args.robot)
         catalog = choice.catalog(args.catalog)
-    except robots.RobotKindError as error:
+    except FlightError as error:
         print(error)
         return 2
-    if choice.kind is not None and not args.world and not args.no_world and choice.kind.world:
-        args.world = str(choice.kind.world)  # its robot kind's world
-    try:
-        world = chosen_world(args)
+    try:  # the robot kind's world unless one is given
+        world = None if args.no_world else load_world(choice.world_file(args.world))
         library = choice.library() if choice.kind is not None else default_library(args.library)
-    except (WorldChoiceError, LibraryError) as error:
+    except (FlightError, LibraryError) as error:
         print(error)
         return 1
     failed = False
@@ -100,9 +82,8 @@ def run(args: argparse.Namespace) -> int:
                                             name, 0))
         for problem in checked.problems:
             print(problem)
-        hint = robot_kind_hint(checked.problems)
-        if hint:
-            print(hint)
+        if hint := robot_kind_hint(p.message for p in checked.problems):  # a rover's mission without --robot
+            print(f"{name}: hint: {hint}")
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
         verb = "fly" if choice.kind is None else "run"  # a rover does not fly
         verdict = f"ready to {verb}" if not errors else f"will not {verb}"
@@ -111,45 +92,6 @@ def run(args: argparse.Namespace) -> int:
               f"; {verdict}{against}")
         failed = failed or errors > 0
     return 1 if failed else 0
-
-
-_UNKNOWN_BEHAVIOR = re.compile(r"The behavior (\S+) does not exist")
-
-
-def robot_kind_hint(problems: list[Problem]) -> str | None:
-    """When behaviors the catalog does not know belong to an installed robot kind (forgetting ``--robot rover``),
-    one line naming the kind and the option to give; None otherwise."""
-    unknown = list(dict.fromkeys(m.group(1) for p in problems if (m := _UNKNOWN_BEHAVIOR.search(p.message))))
-    if not unknown:
-        return None
-    best, known = None, []
-    for name, behaviors in _kind_behaviors().items():
-        knows = [b for b in unknown if b in behaviors]
-        if len(knows) > len(known):
-            best, known = name, knows
-    if best is None:
-        return None
-    default = " (the default)" if best == DRONE else ""
-    names = ", ".join(known)
-    return (f"hint: {names} {'is a behavior' if len(known) == 1 else 'are behaviors'} of the robot kind {best}: "
-            f"give --robot {best}{default}")
-
-
-def _kind_behaviors() -> dict[str, set[str]]:
-    """The behaviors each installed robot kind's catalog describes (the drone's first); kinds that cannot be
-    loaded are left out."""
-    from aeroexec.engine.catalog import default_catalog, load_catalog
-    from aeroexec.engine.errors import CatalogError
-    from aeroexec.engine.robots import RobotKindError, robot_kind, robot_kinds
-
-    kinds = {DRONE: set(default_catalog().behaviors)}
-    for name in robot_kinds():
-        try:
-            kind = robot_kind(name)
-            kinds[name] = set(load_catalog(kind.catalog).behaviors) if kind and kind.catalog else kinds[DRONE]
-        except (RobotKindError, CatalogError, OSError):
-            continue
-    return kinds
 
 
 def unimplemented(catalog: Any, library: Any, path: Path) -> list[Problem]:

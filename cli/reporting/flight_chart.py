@@ -9,7 +9,7 @@ from typing import Any
 
 from aeroexec.cli.reporting.labels import LabelPlacer
 from aeroexec.cli.reporting.style import SHADES, figure, span_limits
-from aeroexec.engine.supervision.flight_summary import FlightSummary
+from aeroexec.flight.summary import FlightSummary
 
 from aeroexec.extras import require
 

@@ -10,7 +10,7 @@ from html import escape
 from pathlib import Path
 
 from aeroexec.cli.reporting.style import OUTCOME_COLORS
-from aeroexec.engine.supervision.flight_summary import FlightSummary
+from aeroexec.flight.summary import FlightSummary
 
 WORD_COLORS = {"completed": "#2e7d32", "completed with refused requests": "#b26a00", "failed": "#c62828",
                "aborted": "#c62828", "incomplete": "#546e7a"}

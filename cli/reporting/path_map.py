@@ -15,7 +15,7 @@ from typing import Any
 from aeroexec.cli.reporting.labels import LabelPlacer
 from aeroexec.cli.reporting.labels import segment_meets as _meets
 from aeroexec.cli.reporting.style import OUTCOME_COLORS, PATH_COLOR, RETURN_COLOR, figure, nice_step
-from aeroexec.engine.supervision.flight_summary import FlightSummary
+from aeroexec.flight.summary import FlightSummary
 
 from aeroexec.extras import require
 

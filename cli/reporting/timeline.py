@@ -6,7 +6,7 @@ from __future__ import annotations
 import logging
 
 from aeroexec.cli.reporting.style import OUTCOME_COLORS, figure
-from aeroexec.engine.supervision.flight_summary import BeliefSpan, FlightSummary
+from aeroexec.flight.summary import BeliefSpan, FlightSummary
 
 from aeroexec.extras import require
 

@@ -171,8 +171,8 @@ def records_of_whole_lines(path: Path) -> list[dict]:
 
 def test_the_report_counts_refused_requests_and_plots_altitude_speed_battery(tmp_path):
     """Issue 18, point 8: FAILED_PRECONDITIONS in the outcomes table, the run's status word, flight states."""
-    from aeroexec.engine.supervision.flight_log import read_flight_log
-    from aeroexec.engine.supervision.flight_summary import summarize
+    from aeroexec.flight.flight_log import read_flight_log
+    from aeroexec.flight.summary import summarize
 
     mission = tmp_path / "refused.py"
     mission.write_text(

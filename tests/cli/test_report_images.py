@@ -12,7 +12,7 @@ from aeroexec.cli.reporting.labels import drawn_texts, overlaps
 from aeroexec.cli.reporting.path_map import path_figure
 from aeroexec.cli.reporting.timeline import timeline_figure
 from aeroexec.drones.sim import default_world
-from aeroexec.engine.supervision.flight_summary import summarize
+from aeroexec.flight.summary import summarize
 
 
 def flight(points, home=None, behaviors=("GO_TO_POINT",), speed=5.0, battery_drop=1.0):
