@@ -31,11 +31,12 @@ def flown(tmp_path_factory) -> Path:
 def test_a_rover_mission_without_robot_names_the_robot_kind_to_give():
     checked = aeroexec("verify", str(ROVER / "patrol.xml"))
     assert checked.returncode == 1
-    assert "hint: DRIVE_TO_POINT, TURN, FOLLOW_WALL, DOCK are behaviors of the robot kind rover: give --robot rover" \
-        in checked.stdout.splitlines()
+    assert (f"{ROVER / 'patrol.xml'}: hint: DRIVE_TO_POINT, TURN, FOLLOW_WALL, DOCK are behaviors of the robot kind "
+            f"rover: give --robot rover") in checked.stdout.splitlines()
     flown = aeroexec("run", str(ROVER / "patrol.py"), "--quiet")
     assert flown.returncode == 1 and flown.stdout == ""
-    assert "hint: DRIVE_TO_POINT, TURN, DOCK are behaviors of the robot kind rover: give --robot rover" in flown.stderr
+    assert (f"{ROVER / 'patrol.py'}: hint: DRIVE_TO_POINT, TURN, DOCK are behaviors of the robot kind rover: give "
+            f"--robot rover") in flown.stderr.splitlines()
     assert flown.stderr.rstrip().endswith("3 errors; the mission will not fly")
 
 
