@@ -19,7 +19,6 @@ from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.missions import MissionFileError, check_mission
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.spec import FlightError
-from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
 
@@ -75,6 +74,8 @@ def run(args: argparse.Namespace) -> int:
             continue
         checked.problems += unimplemented(catalog, library, Path(name))
         if args.strict_btcpp and checked.tree is not None:
+            from aeroexec.trees.portability import portability_problems  # here: only --strict-btcpp needs it
+
             checked.problems += portability_problems(checked.tree, catalog)
         elif args.strict_btcpp:  # said, not silently accepted: there is no tree to hold to BT.CPP's rules
             checked.problems.append(Problem("warning", "--strict-btcpp checks behavior trees against "
