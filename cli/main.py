@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import difflib
 import importlib
 import logging
 import os
@@ -73,6 +72,8 @@ class CommandLine(argparse.ArgumentParser):
     def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:  # type: ignore[override]
         parsed, unknown = self.parse_known_args(args, namespace)
         if unknown:
+            import difflib
+
             parser = self.commands.get(getattr(parsed, "sub_command", None) or "", self)
             options = [o for action in parser._actions for o in action.option_strings]
             guesses = [difflib.get_close_matches(u.split("=", 1)[0], options, n=1, cutoff=0.6)
