@@ -150,7 +150,7 @@ class FlightSession:
         self.notify(f"event log: {log_path}")
         self.engine.log.subscribe(self._warn_of_early_link_loss)
         if self.control is not None:
-            self.control.engine = self.engine
+            self.control.attach(self.engine)
         if isinstance(self.mission, TreeDocument):
             from aeroexec.trees.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission

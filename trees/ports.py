@@ -18,7 +18,7 @@ from aeroexec.engine.catalog import BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
 from aeroexec.engine.errors import WRONG_VALUE, SpecificationError
-from aeroexec.trees.node_types import COMMON_ATTRIBUTES, bare_key
+from aeroexec.trees.model import COMMON_ATTRIBUTES
 
 from aeroexec.limits import MAX_NUMBER_LENGTH
 
@@ -38,6 +38,19 @@ class MissingKey(KeyError):
 
     def __str__(self) -> str:
         return f"the blackboard has no value for {{{self.key}}}"
+
+
+def bare_key(text: str) -> str | None:
+    """The blackboard key of a port written ``{key}``, else None."""
+    text = text.strip()
+    if len(text) > 2 and text[0] == "{" and text[-1] == "}" and "{" not in text[1:-1] and "}" not in text[1:-1]:
+        return text[1:-1].strip()
+    return None
+
+
+def output_key(text: str) -> str:
+    """The key an output port writes: ``{key}`` or a plain ``key``."""
+    return bare_key(text) or text.strip()
 
 
 def template_keys(text: str) -> list[str]:
