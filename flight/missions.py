@@ -22,9 +22,6 @@ from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.loaders.plan_loader import PlanDocument
-from aeroexec.trees.tml.verify import verify_mission_document
-from aeroexec.trees.verify import verify_leaves
 
 from aeroexec.limits import InputError, read_text
 
@@ -69,6 +66,12 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
     if is_tree(path):
+        # here, not at the top: tree verification loads the tree runtime and py_trees (~30 ms), which a Python
+        # mission never needs
+        from aeroexec.trees.loaders.plan_loader import PlanDocument
+        from aeroexec.trees.tml.verify import verify_mission_document
+        from aeroexec.trees.verify import verify_leaves
+
         try:
             checked.tree = load_mission_tree(path, home)
         except TreeFormatError as error:
