@@ -13,7 +13,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
@@ -22,8 +22,12 @@ from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
+from aeroexec.trees.items import PlanDocument, is_item_file
 
 from aeroexec.limits import InputError, read_text
+
+if TYPE_CHECKING:
+    from aeroexec.trees.route import RouteEstimate
 
 
 class MissionFileError(FlightError):
@@ -38,6 +42,7 @@ class CheckedMission:
     problems: list[Problem] = field(default_factory=list)
     tree: TreeDocument | None = None
     source: str | None = None
+    route: RouteEstimate | None = None  # a tree's route in the world: length, duration, battery at landing
 
     @property
     def errors(self) -> list[Problem]:
@@ -49,7 +54,8 @@ def is_tree(path: Path) -> bool:
 
 
 def is_plan(path: Path) -> bool:
-    return path.suffix.lower() == ".plan"
+    """A mission-item file (QGroundControl plan or .mission, waypoint file), placed from a world's home."""
+    return is_item_file(path)
 
 
 def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
@@ -68,7 +74,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     if is_tree(path):
         # here, not at the top: tree verification loads the tree runtime and py_trees (~30 ms), which a Python
         # mission never needs
-        from aeroexec.trees.loaders.plan_loader import PlanDocument
+        from aeroexec.trees.route import estimate_route
         from aeroexec.trees.tml.verify import verify_mission_document
         from aeroexec.trees.verify import verify_leaves
 
@@ -79,9 +85,16 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
+        if isinstance(checked.tree, PlanDocument) and not checked.tree.root.children:
+            checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
+            return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
-        if isinstance(checked.tree, PlanDocument):  # items without a behavior, waypoints outside the geofence
-            checked.problems = sorted([*checked.tree.problems, *checked.problems], key=lambda p: (p.file, p.line))
+        checked.route = estimate_route(checked.tree, world) if world is not None else None
+        if checked.route is not None:
+            checked.problems += checked.route.problems
+        if isinstance(checked.tree, PlanDocument):  # items without a behavior, each message with its item number
+            checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
+        checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked
     if path.suffix.lower() != ".py":
         what = "no such file" if not path.exists() else "not a mission file"
@@ -128,12 +141,3 @@ def mission_function(path: Path) -> Callable[[], Any]:
         raise MissionFileError(f"{path}: no mission() or runMission() function")
     return function
 
-
-def world_home(world: str | None) -> Geodetic:
-    """The home point of the simulated world in ``world`` (a file; None: the built-in world)."""
-    from aeroexec.drones.sim import WorldError, default_world, load_world
-
-    try:
-        return (load_world(world) if world else default_world()).home
-    except WorldError as error:
-        raise MissionFileError(str(error)) from None
