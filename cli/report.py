@@ -21,7 +21,8 @@ from aeroexec import __version__
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("run_dir", metavar="RUN_DIR|LOG", help="a run's output folder or its event log")
     parser.add_argument("--world", metavar="FILE",
-                        help="the world flown in (default: the one the log names, else the built-in one)")
+                        help="the world flown in (default: the one the log names or describes, else the built-in "
+                             "one)")
     parser.add_argument("--output", metavar="DIR", help="where the report goes (default: the log's folder)")
 
 
@@ -43,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"{log}: the event log is empty", file=sys.stderr)
         return 1
     summary = summarize(records)
-    world = load_world_for(args.world or summary.meta.get("world"))
+    world = world_of_run(summary.meta, args.world)
     if isinstance(world, str):
         print(world, file=sys.stderr)
         return 1
@@ -87,11 +88,25 @@ def step(what: str) -> None:
     print(f"report: {what} ...", file=sys.stderr, flush=True)
 
 
-def load_world_for(name: str | None) -> Any:
-    """The world of the report (the built-in one without a name); a message (str) when it cannot be loaded."""
+def world_of_run(meta: dict[str, Any], world_file: str | None = None) -> Any:
+    """The world a run flew in, from its log's first record: ``world_file`` (``--world``) or the world file it
+    names; else the field its ``home`` and ``bounds`` describe (a world generated around a mission planned on a
+    map), the built-in world when they are the built-in world's; the built-in world for an older log of a
+    simulated run; None (no world to draw) for a vehicle flown without one. A message (str) when the file
+    cannot be loaded."""
     from aeroexec.drones.sim import WorldError, default_world, load_world
+    from aeroexec.drones.sim.open_field import field_of
 
+    name = world_file or meta.get("world")
     try:
-        return load_world(name) if name else default_world()
-    except (WorldError, OSError) as error:
-        return f"--world {name}: {error}"
+        if name:
+            return load_world(name)
+        built_in = default_world()
+        home, bounds = meta.get("home"), meta.get("bounds")
+        if home and bounds:
+            same = [list(built_in.bounds.lower), list(built_in.bounds.upper)] == [list(b) for b in bounds] and \
+                all(abs(float(a) - float(b)) < 1e-6 for a, b in zip(home[:2], built_in.home[:2], strict=False))
+            return built_in if same else field_of(home, bounds)
+        return built_in if str(meta.get("drone", "sim")) == "sim" else None
+    except (WorldError, OSError, TypeError, ValueError) as error:
+        return f"{'--world ' if world_file else ''}{name or 'the log'}: {error}"

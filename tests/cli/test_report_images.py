@@ -109,3 +109,18 @@ def test_axes_fit_the_data_with_minimum_spans():
     assert altitude.get_ylim()[1] >= 3 and altitude.get_ylim()[1] - altitude.get_ylim()[0] >= 2
     strips = [t.get_text() for t in figure.axes[0].texts]
     assert "GO_TO_POINT" in strips  # named inside its span where it fits
+
+
+def test_the_world_drawn_is_the_one_the_run_flew_in():
+    from aeroexec.cli.report import world_of_run
+
+    built_in = default_world()
+    home, bounds = list(built_in.home), [list(built_in.bounds.lower), list(built_in.bounds.upper)]
+    assert world_of_run({"drone": "sim", "home": home, "bounds": bounds}).obstacles == built_in.obstacles
+    generated = world_of_run({"drone": "sim", "world": None, "home": [48.1351, 11.582, 120.0],
+                              "bounds": [[-333.6, -333.6, 0.0], [2565.3, 3669.9, 165.0]]})
+    assert generated.home == (48.1351, 11.582, 120.0) and generated.bounds.upper[1] == 3669.9
+    assert not generated.obstacles  # an open field generated around a mission planned on a map
+    assert world_of_run({"drone": "mavsdk:udpin://0.0.0.0:14540"}) is None  # a vehicle flown without a world
+    assert world_of_run({"drone": "sim"}).name == built_in.name  # an older log of a simulated run
+    assert world_of_run({}, "/nonexistent/world.yaml").startswith("--world /nonexistent/world.yaml: ")
