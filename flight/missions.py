@@ -99,7 +99,8 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     if path.suffix.lower() != ".py":
         what = "no such file" if not path.exists() else "not a mission file"
         raise MissionFileError(f"{path}: {what}: a mission is a Python program (.py), a behavior tree (.xml, .yaml, "
-                               f".yml), a TML mission (.tml.xml) or a QGroundControl plan (.plan)")
+                               f".yml), a TML mission (.tml.xml) or a mission plan (.plan, .mission, .waypoints, "
+                               f".txt)")
     try:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
