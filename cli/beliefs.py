@@ -1,5 +1,6 @@
-"""``aeroexec beliefs``: belief queries at a prompt, against the beliefs an event log ends with (rebuilt from its
-belief changes); the unifications are printed as a table, one row per answer, one column per variable.
+"""``aeroexec beliefs [RUN_DIR|LOG]``: belief queries at a prompt, against the beliefs a run's event log ends with
+(rebuilt from its belief changes); the unifications are printed as a table, one row per answer, one column per
+variable. Without a run, the newest in ``aeroexec_output/``, named on stderr before anything is answered.
 
 At the prompt: a belief expression (``object(?X, ?Y), ?Y = box``) is answered; ``list [PREDICATE]`` lists the
 beliefs; ``help``; ``quit`` (or end of input). ``--query EXPR`` answers without a prompt. Computed predicates of a
@@ -23,25 +24,38 @@ HELP = ("a belief expression, e.g. object(?X, ?Y) or charge(battery, ?C), ?C < 5
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--log", metavar="FILE",
-                        help="the event log to query (default: the newest aeroexec_output/*/events.jsonl)")
+    parser.add_argument("run_dir", nargs="?", metavar="RUN_DIR|LOG",
+                        help="a run's output folder or its event log (default: the newest run in "
+                             f"{DEFAULT_BASE}/; a run flown with --output elsewhere is named here)")
     parser.add_argument("--query", "-q", action="append", metavar="EXPR",
                         help="answer EXPR and exit (may be repeated) instead of opening the prompt")
 
 
 def run(args: argparse.Namespace) -> int:
-    log = Path(args.log) if args.log else newest_log()
-    if log is None:
-        print(f"no event log given and none found in {DEFAULT_BASE}/: use --log FILE", file=sys.stderr)
-        return 1
+    from aeroexec.flight.replay import ReplayError, find_log
+
+    if args.run_dir:
+        try:
+            log = find_log(args.run_dir)
+        except ReplayError as error:
+            print(error, file=sys.stderr)
+            return 1
+        source = str(log)
+    else:
+        log = newest_log()
+        if log is None:
+            print(f"no run given and none in {DEFAULT_BASE}/: name a run's output folder or its event log "
+                  f"(aeroexec beliefs RUN_DIR)", file=sys.stderr)
+            return 1
+        source = f"{log} (the newest run in {DEFAULT_BASE}/; name another: aeroexec beliefs RUN_DIR)"
     try:
         records = read_flight_log(log)
     except (OSError, UnicodeDecodeError, ValueError) as error:
         print(f"{log}: cannot read the event log: {error}", file=sys.stderr)
         return 1
     memory = memory_from_log(records)
-    print(f"{log}: {len(memory)} beliefs at t={max((r.get('time', 0.0) for r in records), default=0.0):.1f} s",
-          file=sys.stderr)
+    print(f"{source}: {len(memory)} beliefs at t={max((r.get('time', 0.0) for r in records), default=0.0):.1f} s",
+          file=sys.stderr, flush=True)  # which run answers, before any answer
     if args.query:
         return max(answer(memory, expression) for expression in args.query)
     return prompt(memory)

@@ -19,10 +19,10 @@ from typing import Any
 from aeroexec.drones import geodesy
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
+from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.spec import FlightError
-from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
 
@@ -114,13 +114,22 @@ def run(args: argparse.Namespace) -> int:
         checked.problems += unimplemented(catalog, library, Path(name))
         checked.problems += safety_check(checked, catalog, args.safety_rules)[1]
         if args.strict_btcpp and checked.tree is not None:
+            from aeroexec.trees.portability import portability_problems  # here: only --strict-btcpp needs it
+
             checked.problems += portability_problems(checked.tree, catalog)
+        elif args.strict_btcpp:  # said, not silently accepted: there is no tree to hold to BT.CPP's rules
+            checked.problems.append(Problem("warning", "--strict-btcpp checks behavior trees against "
+                                            "BehaviorTree.CPP and Groot2; a Python mission has no tree to check",
+                                            name, 0))
         for problem in checked.problems:
             print(problem)
+        if hint := robot_kind_hint(p.message for p in checked.problems):  # a rover's mission without --robot
+            print(f"{name}: hint: {hint}")
         if checked.route is not None and checked.route.length > 0:
             print(f"{name}: {checked.route.summary()}")
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
-        verdict = "ready to fly" if not errors else "will not fly"
+        verb = "fly" if choice.kind is None else "run"  # a rover does not fly
+        verdict = f"ready to {verb}" if not errors else f"will not {verb}"
         against = f" (checked against the world {world.name})" if world is not None and not errors else ""
         print(f"{name}: {errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}"
               f"; {verdict}{against}")

@@ -10,6 +10,8 @@ import json
 import logging
 import socket
 
+from aeroexec.extras import require
+
 logger = logging.getLogger(__name__)
 
 DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
@@ -29,7 +31,8 @@ def free_endpoint() -> str:
 
 def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = ()):
     """A ``zenoh.Config``: ``mode`` peer, client or router; every endpoint explicit; no multicast scouting."""
-    import zenoh
+    with require("fleet"):
+        import zenoh
 
     for endpoint in (*listen, *connect):
         if not isinstance(endpoint, str) or "/" not in endpoint:
@@ -48,7 +51,8 @@ def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[st
 
 def open_session(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = ()):
     """An open Zenoh session; :class:`TransportError` when it cannot listen or connect. Close it when done."""
-    import zenoh
+    with require("fleet"):  # every Zenoh session starts here: without the extra, the pip line that adds it
+        import zenoh
 
     try:
         return zenoh.open(config(mode, listen, connect))

@@ -13,21 +13,22 @@ import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.check import check_mission_source
+from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.items import PlanDocument, is_item_file
-from aeroexec.trees.route import RouteEstimate, estimate_route
-from aeroexec.trees.tml.verify import verify_mission_document
-from aeroexec.trees.verify import verify_leaves
 
 from aeroexec.limits import InputError, read_text
+
+if TYPE_CHECKING:
+    from aeroexec.trees.route import RouteEstimate
 
 
 class MissionFileError(FlightError):
@@ -65,8 +66,19 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     ``world``'s home, else the default simulated world's)."""
     if home is None and world is not None and is_plan(path):
         home = world.home
+    if path.is_dir():
+        inside = sorted(p.name for p in path.iterdir()
+                        if p.suffix.lower() in {".py", *MISSION_EXTENSIONS} and not p.name.startswith(("_", ".")))
+        some = f" (missions in it: {', '.join(inside[:4])}{', ...' if len(inside) > 4 else ''})" if inside else ""
+        raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
     if is_tree(path):
+        # here, not at the top: tree verification loads the tree runtime and py_trees (~30 ms), which a Python
+        # mission never needs
+        from aeroexec.trees.route import estimate_route
+        from aeroexec.trees.tml.verify import verify_mission_document
+        from aeroexec.trees.verify import verify_leaves
+
         try:
             checked.tree = load_mission_tree(path, home)
         except TreeFormatError as error:
@@ -86,8 +98,10 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked
     if path.suffix.lower() != ".py":
-        raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
-                               f"({', '.join(sorted(MISSION_EXTENSIONS))})")
+        what = "no such file" if not path.exists() else "not a mission file"
+        raise MissionFileError(f"{path}: {what}: a mission is a Python program (.py), a behavior tree (.xml, .yaml, "
+                               f".yml), a TML mission (.tml.xml) or a mission plan (.plan, .mission, .waypoints, "
+                               f".txt)")
     try:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
@@ -97,15 +111,19 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
 
 
 def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
-                 report: Callable[[Problem], None] = lambda problem: None) -> Callable[[], Any] | TreeDocument:
+                 report: Callable[[Problem], None] = lambda problem: None, verb: str = "fly"
+                 ) -> Callable[[], Any] | TreeDocument:
     """Check a mission before flight (against ``world`` when given), each problem to ``report``; the Python
-    function or the tree to fly. Raises :class:`MissionFileError` when it has errors."""
+    function or the tree to fly. Raises :class:`MissionFileError` when it has errors. ``verb``: what the robot
+    does (a rover does not fly)."""
     checked = check_mission(path, catalog, world)
     for problem in checked.problems:
         report(problem)
+    if hint := robot_kind_hint(p.message for p in checked.problems):  # a rover's mission without --robot rover
+        report(Problem("hint", hint, str(path), 0))
     if checked.errors:
         count = len(checked.errors)
-        raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not fly")
+        raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not {verb}")
     return checked.tree if checked.tree is not None else mission_function(path)
 
 

@@ -126,7 +126,8 @@ class FlightSession:
                                     mission=Path(spec.mission), home=spec.home)  # a plan's open field, --home
         if self.control is not None:
             self.control.starting = "checking its mission"
-        self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report)
+        self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
+                                    verb="fly" if choice.kind is None else "run")  # a rover does not fly
         self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
         if self.robot is None:
             if self.control is not None:

@@ -155,7 +155,10 @@ def fly_dask(mission: str, run_seeds: Iterable[int], rules: tuple[str, ...] = ()
              progress: Callable[[RunResult], None] = lambda result: None) -> list[RunResult]:
     """Every run on a Dask cluster: the scheduler at ``scheduler``, else a ``LocalCluster`` of ``workers``
     processes on this machine (loopback only)."""
-    from distributed import Client, LocalCluster
+    from aeroexec.extras import require
+
+    with require("rehearse"):
+        from distributed import Client, LocalCluster
 
     jobs = [(str(mission), seed, tuple(rules), max_time) for seed in run_seeds]
     cluster = None

@@ -26,7 +26,10 @@ def summary(results: Sequence[RunResult], worst: int = 5) -> dict:
 
 
 def _plot(values: Sequence[float], title: str, unit: str) -> str:
-    import matplotlib
+    from aeroexec.extras import require
+
+    with require("report"):
+        import matplotlib
 
     matplotlib.use("Agg")
     from matplotlib import pyplot

@@ -29,6 +29,7 @@ from __future__ import annotations
 import io
 import logging
 import os
+import re
 import xml.sax
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -100,6 +101,23 @@ def _refusal(exc: DefusedXmlException) -> str:
     return f"refused XML construct: {exc}"
 
 
+def _unclosed(exc: xml.sax.SAXParseException, open_elements: list[_Element], data: bytes) -> str | None:
+    """For an end tag that does not match, or a file that ends too soon: the element still open and its line,
+    which is where the mistake usually is (a ``<TAKE_OFF>`` written without its ``/``); None otherwise."""
+    if not open_elements or exc.getMessage() not in ("mismatched tag", "no element found"):
+        return None
+    element = open_elements[-1]
+    still_open = (f"<{element.tag}> opened at line {element.line} is still open (close it: <{element.tag} .../> "
+                  f"or </{element.tag}>)")
+    lines = data.split(b"\n")
+    text = lines[exc.getLineNumber() - 1] if 0 < exc.getLineNumber() <= len(lines) else b""
+    column = exc.getColumnNumber()  # expat points into the end tag's name
+    closing = next((m for m in re.finditer(rb"</\s*([^\s>]+)", text) if m.start() <= column <= m.end()), None)
+    if exc.getMessage() == "mismatched tag" and closing:
+        return f"mismatched tag </{closing.group(1).decode('utf-8', 'replace')}>: {still_open}"
+    return f"the file ends while {still_open}"
+
+
 def parse_xml(data: bytes, file: str) -> _Element:
     """The element tree of an XML text, or a TreeFormatError naming the line where it stops being XML."""
     collector = _Collector()
@@ -119,7 +137,8 @@ def parse_xml(data: bytes, file: str) -> _Element:
     except _TooDeep as exc:
         raise TreeFormatError([(file, collector.line, str(exc))]) from None
     except xml.sax.SAXParseException as exc:
-        raise TreeFormatError([(file, exc.getLineNumber(), f"not well-formed XML: {exc.getMessage()}")]) from None
+        message = f"not well-formed XML: {_unclosed(exc, collector.stack, data) or exc.getMessage()}"
+        raise TreeFormatError([(file, exc.getLineNumber(), message)]) from None
     except (xml.sax.SAXException, ValueError, LookupError) as exc:  # e.g. an unknown encoding
         raise TreeFormatError([(file, collector.line, f"not readable as XML: {exc}")]) from None
     if collector.root is None:

@@ -28,7 +28,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
 from aeroexec.trees.loaders.xml_loader import parse_xml, read_xml
@@ -46,7 +46,9 @@ from aeroexec.trees.tml.reader import (
     read_tml,
     read_tml_root,
 )
-from py_trees.behaviour import Behaviour
+
+if TYPE_CHECKING:  # py_trees is loaded when a tree is built to run, not to read or verify one (~15 ms)
+    from py_trees.behaviour import Behaviour
 
 VARIABLE_USE = re.compile(r"\+([A-Za-z_]\w*)")
 VARIABLE_BINDING = re.compile(r"\?([A-Za-z_]\w*)")
