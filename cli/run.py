@@ -61,7 +61,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                                        "unless --speed says)")
     fleet.add_argument("--name", metavar="D", help="this drone's name in the fleet (with --fleet)")
     fleet.add_argument("--connect", action="append", metavar="ENDPOINT",
-                       help="the fleet's router (default tcp/127.0.0.1:7447)")
+                       help="the fleet's router (default tls/127.0.0.1:7447)")
+    fleet.add_argument("--credentials", metavar="DIR|CERT",
+                       help="this drone's identity: a folder holding D.pem, D.key and the fleet's ca.pem, or the "
+                            "certificate file (its .key and ca.pem beside it); see aeroexec fleet --make-credentials")
     fleet.add_argument("--share", action="append", default=[], metavar="PREDICATE",
                        help="share this drone's beliefs of PREDICATE with the fleet (repeatable)")
     fleet.add_argument("--token", metavar="T", help="the fleet's token for operator commands (default: "
@@ -216,7 +219,7 @@ def fly(args: argparse.Namespace, catalog: BehaviorCatalog, mission: Callable[[]
 
         try:
             link = join_fleet(engine, fleet_name, args.name, folder, name, args.connect, args.token,
-                              tuple(args.share))
+                              tuple(args.share), args.credentials)
             print(f"{args.name} joined fleet {fleet_name}", file=sys.stderr, flush=True)
         except (TransportError, ValueError) as error:
             engine.stop()

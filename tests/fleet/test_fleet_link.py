@@ -52,7 +52,7 @@ def test_malformed_and_foreign_messages_are_dropped_and_the_engine_goes_on(fleet
                                                              "object(self, drone)"]))
     assert settle(engine, lambda: engine.memory.holds("object(d2, drone)"))
     assert engine.memory.holds("object(marker_3, aruco)")
-    assert "The predicate seen" in caplog.text
+    assert "a predicate the sender does not share (seen(d2, marker_3))" in caplog.text
     assert not engine.memory.holds("object(box, thing)")
     assert not engine.memory.holds("position(self, (9.0, 9.0, 9.0))")
     assert "not JSON" in caplog.text and "version 99" in caplog.text and "says it is from 'd3'" in caplog.text
