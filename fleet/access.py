@@ -55,9 +55,10 @@ def access_control(roster: Roster) -> dict[str, Any]:
     prefix = f"aeroexec/{roster.fleet}"
     rules: list[dict[str, Any]] = [
         _rule("hear", "ingress", ["declare_subscriber"], [f"{prefix}/**"]),
-        _rule("heard", "egress", ["put"], [f"{prefix}/**"]),
+        # the others' subscribers too: a declared publisher sends only where someone listens
+        _rule("heard", "egress", ["put", "declare_subscriber"], [f"{prefix}/**"]),
         _rule("command", "ingress", ["query"], [f"{prefix}/*/command"]),
-        _rule("answered", "egress", ["reply"], [f"{prefix}/*/command"]),
+        _rule("answered", "egress", ["reply", "declare_queryable"], [f"{prefix}/*/command"]),
     ]
     subjects: list[dict[str, Any]] = []
     policies: list[dict[str, Any]] = []

@@ -11,7 +11,8 @@ and shared beliefs, with ``self`` replaced by the sender, accepted only when
 
 - their predicate is one the sender shares (the roster's share list for it, else this drone's own ``share``),
 - they are not about this drone: they do not name it, and are not of the predicates of its own state
-  (``charge``, ``position``, ``flight_state``...) unless about the sender itself, and are not ``said``.
+  (``charge``, ``position``, ``flight_state``...) unless about the sender itself, and are not ``said``;
+- they name no other member of the fleet (each drone speaks for itself).
 
 Each accepted belief keeps its source: ``said(dN, Belief)`` holds while the sender keeps saying it, beside the
 belief itself; a claim that contradicts a belief this drone formed itself (an exclusive predicate's other value)
@@ -58,15 +59,18 @@ def _named(value: Any, sender: str) -> Any:
     return value
 
 
-def _names(value: Any, name: str) -> bool:
-    """True when the atom ``name`` appears anywhere in the term."""
+def _atoms(value: Any, found: set[str] | None = None) -> set[str]:
+    """Every atom (and string) of a term."""
+    found = set() if found is None else found
     if isinstance(value, str):
-        return value == name
-    if isinstance(value, tuple):
-        return any(_names(v, name) for v in value)
-    if isinstance(value, Struct):
-        return any(_names(v, name) for v in value.args)
-    return False
+        found.add(value)
+    elif isinstance(value, tuple):
+        for v in value:
+            _atoms(v, found)
+    elif isinstance(value, Struct):
+        for v in value.args:
+            _atoms(v, found)
+    return found
 
 
 class FleetLink(BeliefUpdater):
@@ -251,10 +255,15 @@ class FleetLink(BeliefUpdater):
             return "reports what others said (only a drone's own claims are heard)"
         if belief.name not in shared:
             return "a predicate the sender does not share"
-        if _names(belief, self.name):
+        atoms = _atoms(belief)
+        if self.name in atoms:
             return "about this drone"
         if belief.name in OWN_STATE and (not belief.args or belief.args[0] != sender):
             return "about this drone's own state"
+        roster = self.node.roster
+        members = roster.drones if roster is not None else self._known
+        if any(atom in members and atom != sender for atom in atoms):
+            return "about another member (each drone speaks for itself)"
         return ""
 
     def _hold(self, sender: str, belief: Struct, wall: float) -> None:

@@ -22,7 +22,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from aeroexec.fleet.access import Roster
-from aeroexec.fleet.payloads import PayloadError, check_name, decode, encode, is_name, key
+from aeroexec.fleet.payloads import PayloadError, check_name, decode, encode, is_name, key, vector
 from aeroexec.fleet.refusals import Refusals
 
 logger = logging.getLogger(__name__)
@@ -148,6 +148,11 @@ class FleetNode:
         if not self._genuine(drone, topic):
             return
         if topic == "telemetry":
+            try:
+                vector(message.get("position"))
+            except PayloadError as error:  # a heartbeat that says nothing: not heard
+                self.refuse(drone, f"telemetry: {error.reason}", str(error))
+                return
             with self._lock:
                 self.last_heard[drone] = time.monotonic()
                 self.status[drone] = message
