@@ -41,10 +41,11 @@ class Membership:
     roster: Roster | None = None
     sessions: dict[str, Any] = field(default_factory=dict)
     operator: Path | None = None
+    local: tuple[str, ...] = ()  # the drones this process flies
 
     def node(self, token: str) -> FleetNode:
         """The process's :class:`FleetNode` on these sessions (close it before :meth:`close`)."""
-        return FleetNode(self.session, self.fleet, token, self.roster, self.sessions)
+        return FleetNode(self.session, self.fleet, token, self.roster, self.sessions, self.local)
 
     def close(self) -> None:
         for session in {id(s): s for s in (self.session, *self.sessions.values())}.values():
@@ -81,7 +82,8 @@ def listen(spec: FleetSpec, endpoints: list[str], output: Path) -> Membership:
     material = _read(router, spec.name, creds.ROUTER)
     session = open_session("router", listen=endpoints, identity=material, access=access_control(spec.roster()))
     found = operator.certificate if operator is not None and operator.certificate.exists() else None
-    return Membership(spec.name, session, list(endpoints), spec.roster(), operator=found)
+    return Membership(spec.name, session, list(endpoints), spec.roster(), operator=found,
+                      local=tuple(d.name for d in spec.flown))
 
 
 def connect(spec: FleetSpec, endpoints: list[str]) -> Membership:
@@ -99,7 +101,8 @@ def connect(spec: FleetSpec, endpoints: list[str]) -> Membership:
         for identity, drones, name in groups.values():
             session = open_session("client", connect=endpoints, identity=_read(identity, spec.name, name))
             if membership is None:
-                membership = Membership(spec.name, session, list(endpoints), spec.roster())
+                membership = Membership(spec.name, session, list(endpoints), spec.roster(),
+                                        local=tuple(d.name for d in spec.flown))
             else:
                 membership.sessions.update(dict.fromkeys(drones, session))
     except BaseException:
@@ -118,7 +121,8 @@ def join(fleet: str, name: str, credentials: str | Path, endpoints: list[str]) -
     material = identity.read(fleet)
     if material.name != common_name(name, fleet):
         logger.info("%s speaks as %s", name, material.name)
-    return Membership(fleet, open_session("client", connect=endpoints, identity=material), list(endpoints))
+    return Membership(fleet, open_session("client", connect=endpoints, identity=material), list(endpoints),
+                      local=(name,))
 
 
 def operator_identity(credentials: str | Path) -> Identity:

@@ -23,7 +23,7 @@ from typing import Any
 
 from aeroexec.fleet.access import Roster
 from aeroexec.fleet.payloads import PayloadError, check_name, decode, encode, is_name, key, vector
-from aeroexec.fleet.refusals import Refusals
+from aeroexec.fleet.refusals import MAX_KINDS, Refusals
 
 logger = logging.getLogger(__name__)
 
@@ -53,18 +53,21 @@ class FleetNode:
     """The local drones of ``fleet`` on one Zenoh ``session``: decoding, fan-out, commands, who was heard when.
 
     ``roster``: the fleet's members (a sender outside it is refused) and what each shares; ``sessions``: the
-    session of each local drone that speaks with an identity of its own (the others use ``session``)."""
+    session of each local drone that speaks with an identity of its own (the others use ``session``); ``local``:
+    the drones this process flies, known before they join (a message on their keys is theirs only)."""
 
     def __init__(self, session: Any, fleet: str, token: str, roster: Roster | None = None,
-                 sessions: Mapping[str, Any] | None = None) -> None:
+                 sessions: Mapping[str, Any] | None = None, local: tuple[str, ...] = ()) -> None:
         self.session, self.fleet, self.token = session, check_name(fleet, "the fleet name"), token
         self.roster = roster
         self.sessions = dict(sessions or {})
+        self.local = set(local)
         self.links: dict[str, Any] = {}
         self.last_heard: dict[str, float] = {}  # drone -> time.monotonic() of its last telemetry
         self.status: dict[str, dict[str, Any]] = {}  # drone -> its last telemetry
         self.latencies: list[float] = []  # s, telemetry publish -> receive (same-machine clocks)
         self.refusals = Refusals(fleet)
+        self._kinds: list[tuple[str, str, str]] = []  # every local drone hears of these refusals, even drones to come
         self._publishers: dict[tuple[str, str], Any] = {}
         self._queryables: dict[str, Any] = {}
         self._lock = threading.Lock()
@@ -86,6 +89,9 @@ class FleetNode:
             if link.name in self.links:
                 raise ValueError(f"two drones are called {link.name} in fleet {self.fleet}")
             self.links[link.name] = link
+            kinds = list(self._kinds)
+        for sender, reason, example in kinds:
+            link.refused(sender, reason, example)
         session = self.sessions.get(link.name, self.session)
         self._queryables[link.name] = session.declare_queryable(
             key(self.fleet, link.name, "command"), _direct(lambda query: self._on_query(link.name, query)))
@@ -132,6 +138,8 @@ class FleetNode:
         if self.refusals.refuse(sender, reason, example, what) and everyone:
             with self._lock:
                 links = list(self.links.values())
+                if len(self._kinds) < MAX_KINDS:
+                    self._kinds.append((sender, reason, example))
             for link in links:
                 link.refused(sender, reason, example)
 
@@ -176,7 +184,8 @@ class FleetNode:
         if self.roster is not None and drone not in self.roster.drones:
             self.refuse(drone, "not a fleet member")
             return False
-        if drone in self.links and drone not in self.sessions and getattr(self._speaking, "drone", None) != drone:
+        if (drone in self.local or drone in self.links) and drone not in self.sessions \
+                and getattr(self._speaking, "drone", None) != drone:
             self.refuse(drone, f"not said by {drone}, which flies in this process (someone else on its keys)")
             return False
         return True

@@ -140,15 +140,17 @@ def test_a_rogue_session_changes_nothing_the_drones_of_a_fleet_in_one_process_do
     path = fleet_file(tmp_path, ("d1", "d2", "d3"))
     assert main(["fleet", str(path), "--plain", "--quiet", "--output", str(tmp_path / "calm")]) == 0
     endpoint = free_endpoint("tls")
-    rogue = Rogue(endpoint, tmp_path / "creds", stranger, impostor=True)
-    rogue.start()
     attacked = aeroexec("fleet", str(path), "--plain", "--quiet", "--speed", "4", "--listen", endpoint, "--output",
                         str(tmp_path / "attacked"), cwd=tmp_path)
     try:
+        flying = wait_for_line(attacked, "drones here", 30)
+        rogue = Rogue(endpoint, tmp_path / "creds", stranger, impostor=True)
+        rogue.start()
         out, _ = attacked.communicate(timeout=120)
     finally:
         stop(attacked)
     rogue.join(30)
+    out = "".join(flying) + out
     assert attacked.returncode == 0, out[-3000:]
     assert rogue.report.get("joined") and "flood_seconds" in rogue.report, rogue.report
     assert rogue.report["refused"] == ["(a) no certificate", "(b) d2's certificate, not its key",
