@@ -47,7 +47,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "tls/127.0.0.1:7447 for --router); repeatable")
     parser.add_argument("--connect", action="append", metavar="ENDPOINT",
                         help="join the fleet through its router instead of listening (e.g. tls/127.0.0.1:7447), "
-                             "with the identities the fleet file names")
+                             "with the identities the fleet file names; with --router: the fleet's router on "
+                             "another machine, to link to")
     add_pacing_arguments(parser)
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
     add_plugin_arguments(parser)
@@ -64,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
             spec = load_fleet(args.fleet_file)
             if args.make_credentials:
                 return make_credentials(spec, args.make_credentials, args.listen or [])
-            return serve_router(spec, args.listen or ["tls/127.0.0.1:7447"], args.output)
+            return serve_router(spec, args.listen or ["tls/127.0.0.1:7447"], args.output, args.connect or [])
         return fly_fleet(args)
     except FleetFileError as error:
         for problem in error.problems:
@@ -89,8 +90,9 @@ def make_credentials(spec: Any, folder: str, listen: list[str]) -> int:
     return 0
 
 
-def serve_router(spec: Any, listen: list[str], output: str | None) -> int:
-    """The fleet's Zenoh router on ``listen`` (its access rules from ``spec``) until Ctrl-C."""
+def serve_router(spec: Any, listen: list[str], output: str | None, connect: list[str]) -> int:
+    """The fleet's Zenoh router on ``listen`` (its access rules from ``spec``), linked to its routers at ``connect``
+    (other machines), until Ctrl-C."""
     from aeroexec.fleet.members import listen as open_router
 
     stop = threading.Event()
@@ -100,9 +102,10 @@ def serve_router(spec: Any, listen: list[str], output: str | None) -> int:
     except FlightError as error:
         print(error, file=sys.stderr)
         return 2
-    membership = open_router(spec, listen, folder)
+    membership = open_router(spec, listen, folder, connect)
     try:
-        print(f"zenoh router of fleet {spec.name} listening on {', '.join(listen)} (Ctrl-C to stop)",
+        linked = f", linked to {', '.join(connect)}" if connect else ""
+        print(f"zenoh router of fleet {spec.name} listening on {', '.join(listen)}{linked} (Ctrl-C to stop)",
               file=sys.stderr, flush=True)
         while not stop.wait(0.5):
             pass

@@ -3,8 +3,9 @@
 The roster names each identity (a certificate's common name) and the drones it speaks for: one drone, or every
 drone of a process that hosts several. The router gives each identity the right to publish on its own drones'
 keys (``aeroexec/<fleet>/<drone>/{telemetry,events,beliefs,broadcast}``) and to answer their command queries,
-nowhere else; operators may query the ``command`` keys; every identity may subscribe to the fleet's keys. Anything
-else is denied, by the router, before it reaches anyone. Receivers use the roster too: who is a member and which
+nowhere else; operators may query the ``command`` keys; every identity may subscribe to the fleet's keys; the
+fleet's other routers (the router identity, linking machines) relay everything of the fleet. Anything else is
+denied, by the router, before it reaches anyone. Receivers use the roster too: who is a member and which
 predicates each drone shares.
 """
 
@@ -17,17 +18,20 @@ from typing import Any
 from aeroexec.fleet.payloads import TOPICS
 
 SPOKEN = tuple(t for t in TOPICS if t != "command")  # what a drone publishes
+RELAYED = ["put", "declare_subscriber", "declare_queryable", "query", "reply"]  # between the fleet's routers
 
 
 @dataclass(frozen=True)
 class Roster:
     """The identities of ``fleet``: ``speakers`` (identity -> the drones it speaks for), ``operators`` (identities
-    that may command), ``shares`` (drone -> the predicates it shares with the fleet)."""
+    that may command), ``shares`` (drone -> the predicates it shares with the fleet), ``routers`` (the identities
+    of the fleet's routers, which relay for each other)."""
 
     fleet: str
     speakers: Mapping[str, tuple[str, ...]]
     operators: tuple[str, ...] = ()
     shares: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    routers: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         owners: dict[str, str] = {}
@@ -59,6 +63,8 @@ def access_control(roster: Roster) -> dict[str, Any]:
         _rule("heard", "egress", ["put", "declare_subscriber"], [f"{prefix}/**"]),
         _rule("command", "ingress", ["query"], [f"{prefix}/*/command"]),
         _rule("answered", "egress", ["reply", "declare_queryable"], [f"{prefix}/*/command"]),
+        _rule("relay", "ingress", RELAYED, [f"{prefix}/**"]),
+        _rule("relayed", "egress", RELAYED, [f"{prefix}/**"]),
     ]
     subjects: list[dict[str, Any]] = []
     policies: list[dict[str, Any]] = []
@@ -79,6 +85,9 @@ def access_control(roster: Roster) -> dict[str, Any]:
         subjects.append({"id": "operators", "cert_common_names": sorted(roster.operators)})
         policies.append({"rules": ["command", "answered"], "subjects": ["operators"]})
         everyone.append("operators")
+    if roster.routers:
+        subjects.append({"id": "routers", "cert_common_names": sorted(roster.routers)})
+        policies.append({"rules": ["relay", "relayed"], "subjects": ["routers"]})
     if everyone:
         policies.append({"rules": ["hear", "heard"], "subjects": everyone})
     return {"enabled": True, "default_permission": "deny", "rules": rules, "subjects": subjects,

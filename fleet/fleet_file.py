@@ -82,7 +82,8 @@ class FleetSpec:
         for drone in self.drones:
             speakers.setdefault(common_name(self.identity_name(drone), self.name), []).append(drone.name)
         return Roster(self.name, {k: tuple(v) for k, v in speakers.items()},
-                      tuple(common_name(o, self.name) for o in self.operators), {d.name: d.share for d in self.drones})
+                      tuple(common_name(o, self.name) for o in self.operators), {d.name: d.share for d in self.drones},
+                      (common_name(ROUTER, self.name),))
 
 
 class FleetFileError(ValueError):

@@ -70,8 +70,10 @@ def make_credentials(spec: FleetSpec, folder: Path, hosts: tuple[str, ...] = cre
     return made
 
 
-def listen(spec: FleetSpec, endpoints: list[str], output: Path) -> Membership:
-    """The fleet's router on ``endpoints``, with the file's credentials or new ones in ``output/credentials``."""
+def listen(spec: FleetSpec, endpoints: list[str], output: Path,
+           routers: list[str] | tuple[str, ...] = ()) -> Membership:
+    """The fleet's router on ``endpoints``, with the file's credentials or new ones in ``output/credentials``, linked
+    to the fleet's ``routers`` on other machines (they show the same router identity)."""
     if spec.credentials is not None:
         router = Identity.at(spec.credentials, creds.ROUTER)
         operator = Identity.at(spec.credentials, spec.operators[0]) if spec.operators else None
@@ -80,7 +82,8 @@ def listen(spec: FleetSpec, endpoints: list[str], output: Path) -> Membership:
         made = make_credentials(spec, output / CREDENTIALS_FOLDER, hosts)
         router, operator = made[creds.ROUTER], made.get(spec.operators[0]) if spec.operators else None
     material = _read(router, spec.name, creds.ROUTER)
-    session = open_session("router", listen=endpoints, identity=material, access=access_control(spec.roster()))
+    session = open_session("router", listen=endpoints, connect=routers, identity=material,
+                           access=access_control(spec.roster()))
     found = operator.certificate if operator is not None and operator.certificate.exists() else None
     return Membership(spec.name, session, list(endpoints), spec.roster(), operator=found,
                       local=tuple(d.name for d in spec.flown))

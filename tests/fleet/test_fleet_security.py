@@ -169,18 +169,24 @@ def test_a_rogue_session_changes_nothing_the_drones_of_a_fleet_in_one_process_do
     assert check_refusal_lines(out) > 1000, out[-3000:]  # the flood, counted, not repeated
 
 
-def test_a_fleet_across_two_processes_and_a_router_flies_the_search_with_its_credentials(tmp_path, stranger):
+def test_a_fleet_across_two_processes_and_routers_flies_the_search_with_its_credentials(tmp_path, stranger):
     """Credentials made by `aeroexec fleet --make-credentials`; the fleet file names d1's and d2's certificates
-    (one process flies both, one session each), d3 flies in `aeroexec run --fleet`; the rogue attacks meanwhile."""
+    (one process flies both, one session each) and they join through the fleet's router; d3 flies in
+    `aeroexec run --fleet` and joins through a second router of the fleet, linked to the first (as on another
+    machine); the rogue attacks the first router meanwhile."""
     path = fleet_file(tmp_path, ("d1", "d2"), certificates=True)
-    endpoint = free_endpoint("tls")
+    endpoint, other = free_endpoint("tls"), free_endpoint("tls")
     router = aeroexec("fleet", str(path), "--router", "--listen", endpoint, "--output", str(tmp_path / "router"),
                       cwd=tmp_path)
     processes = [router]
     try:
         wait_for_line(router, "listening on", 30)
+        linked = aeroexec("fleet", str(path), "--router", "--listen", other, "--connect", endpoint, "--output",
+                          str(tmp_path / "router2"), cwd=tmp_path)
+        processes.append(linked)
+        wait_for_line(linked, "listening on", 30)
         d3 = aeroexec("run", str(MISSIONS / "fleet_search.py"), "--fleet", "search", "--name", "d3", "--connect",
-                      endpoint, "--credentials", str(tmp_path / "creds" / "d3.pem"), "--share", "object", "--share",
+                      other, "--credentials", str(tmp_path / "creds" / "d3.pem"), "--share", "object", "--share",
                       "code", "--speed", "4", "--plain", "--output", str(tmp_path / "d3"), cwd=tmp_path)
         processes.append(d3)
         before = wait_for_line(d3, "joined fleet search", 30)
