@@ -69,7 +69,7 @@ class Identity:
         """The identity ``name`` in the folder ``path`` (``name.pem``, ``name.key``, ``ca.pem``), or the certificate
         file ``path`` itself (its key beside it with the suffix ``.key``, the CA's ``ca.pem`` in the same folder)."""
         path = Path(path)
-        if path.is_dir():
+        if path.is_dir() or path.suffix != ".pem":
             return cls(path / f"{name}.pem", path / f"{name}.key", path / CA_CERTIFICATE)
         return cls(path, path.with_suffix(".key"), path.parent / CA_CERTIFICATE)
 
@@ -94,11 +94,11 @@ class Identity:
         if not certificate.not_valid_before_utc <= now <= certificate.not_valid_after_utc:
             raise CredentialsError(f"{self.certificate}: valid from {certificate.not_valid_before_utc:%Y-%m-%d} to "
                                    f"{certificate.not_valid_after_utc:%Y-%m-%d}, not now: make it again")
+        if _is_ca(certificate):
+            raise CredentialsError(f"{self.certificate}: a CA's certificate is no member's identity")
         name = _name(certificate)
         if not name.endswith(f"@{fleet}"):
             raise CredentialsError(f"{self.certificate}: the identity {name!r} is not of fleet {fleet}")
-        if _is_ca(certificate):
-            raise CredentialsError(f"{self.certificate}: a CA's certificate is no member's identity")
         return Material(name, ca_pem, cert_pem, key_pem)
 
     def common_name(self) -> str:
@@ -134,13 +134,21 @@ class Authority:
 
     def issue(self, name: str, certificate: Path | None = None, key: Path | None = None,
               hosts: tuple[str, ...] = ()) -> Identity:
-        """Identity ``name`` (``name.pem``/``name.key`` in the folder unless given), made unless a valid one is
-        there (signed by this CA, the same name, ``hosts`` among its addresses, not expiring within 30 days)."""
+        """Identity ``name`` (``name.pem``/``name.key`` in the folder unless given, with a copy of ``ca.pem`` beside
+        it), made unless a valid one is there (signed by this CA, the same name, ``hosts`` among its addresses, not
+        expiring within 30 days)."""
         certificate = certificate or self.folder / f"{name}.pem"
         key = key or certificate.with_suffix(".key")
         identity = Identity(certificate, key, self.folder / CA_CERTIFICATE)
-        if self._still_good(identity, name, hosts):
-            return identity
+        if not self._still_good(identity, name, hosts):
+            self._make(identity, name, hosts)
+        beside = certificate.parent / CA_CERTIFICATE  # a folder of certificates holds the CA's that checks them
+        ca = _certificate_pem(self.certificate)
+        if beside != identity.ca and (not beside.exists() or _read(beside, "the fleet's CA certificate") != ca):
+            _write(beside, ca)
+        return identity
+
+    def _make(self, identity: Identity, name: str, hosts: tuple[str, ...]) -> None:
         private = _new_key()
         subject = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, common_name(name, self.fleet))])
         builder = _builder(subject, self.certificate.subject, private, IDENTITY_DAYS).add_extension(
@@ -149,11 +157,10 @@ class Authority:
             critical=False)
         if hosts:
             builder = builder.add_extension(x509.SubjectAlternativeName([_address(h) for h in hosts]), critical=False)
-        for path in {certificate.parent, key.parent}:
+        for path in {identity.certificate.parent, identity.key.parent}:
             _private_folder(path)
-        _write(key, _key_pem(private))
-        _write(certificate, _certificate_pem(builder.sign(self.key, hashes.SHA256())))
-        return identity
+        _write(identity.key, _key_pem(private))
+        _write(identity.certificate, _certificate_pem(builder.sign(self.key, hashes.SHA256())))
 
     def _still_good(self, identity: Identity, name: str, hosts: tuple[str, ...]) -> bool:
         if not identity.certificate.exists() or not identity.key.exists():

@@ -75,6 +75,9 @@ def listen(spec: FleetSpec, endpoints: list[str], output: Path,
     """The fleet's router on ``endpoints``, with the file's credentials or new ones in ``output/credentials``, linked
     to the fleet's ``routers`` on other machines (they show the same router identity)."""
     if spec.credentials is not None:
+        if not spec.credentials.is_dir():
+            raise CredentialsError(f"{spec.file}: the credentials folder {spec.credentials} is not there: make it "
+                                   f"with aeroexec fleet {spec.file} --make-credentials {spec.credentials}")
         router = Identity.at(spec.credentials, creds.ROUTER)
         operator = Identity.at(spec.credentials, spec.operators[0]) if spec.operators else None
     else:

@@ -78,7 +78,7 @@ def test_a_drone_killed_mid_flight_is_reported_silent_and_the_other_finishes(rou
     assert out.index("fleet_drone_silent") < out.index("mission_completed")
 
 
-def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_token(tmp_path):
+def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_identity_and_token(tmp_path):
     fleet = tmp_path / "wait.yaml"
     fleet.write_text(f"fleet: waiting\ndrones:\n  - {{name: w1, mission: {MISSIONS / 'relay_carrier.py'}}}\n"
                      f"  - {{name: w2, mission: {MISSIONS / 'relay_carrier.py'}, home: [3, 0]}}\n")
@@ -98,6 +98,9 @@ def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_token(tmp_pat
         assert "w1: " in status.stdout and "w2: " in status.stdout and "battery" in status.stdout
         refused = ctl("abort", token="not-the-token")
         assert refused.returncode == 1 and "wrong token" in refused.stderr
+        as_drone = ctl("abort", "--credentials", str(out / "credentials" / "w1.pem"))  # the token, not the identity
+        assert as_drone.returncode == 1 and "no drone of fleet waiting answered" in as_drone.stderr, as_drone.stderr
+        assert process.poll() is None  # nobody aborted
         aborted = ctl("abort", "--drone", "w2")
         assert aborted.returncode == 0 and "w2: " in aborted.stdout and "w1" not in aborted.stdout
         ctl("abort", "--drone", "w1")
