@@ -40,7 +40,7 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
             sample = reply.ok if reply.ok is not None else reply.err
             try:
                 answer = json.loads(bytes(sample.payload))
-            except (ValueError, UnicodeDecodeError):
+            except (ValueError, UnicodeDecodeError, RecursionError):
                 text = bytes(sample.payload).decode(errors="replace")
                 if text == "Timeout":
                     continue

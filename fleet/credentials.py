@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from cryptography import x509
-from cryptography.exceptions import InvalidSignature
+from cryptography.exceptions import InvalidSignature, UnsupportedAlgorithm
 from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.hazmat.primitives.serialization import load_pem_private_key
@@ -82,11 +82,11 @@ class Identity:
         ca, certificate = _certificate(ca_pem, self.ca), _certificate(cert_pem, self.certificate)
         try:
             key = load_pem_private_key(key_pem, password=None)
-        except (ValueError, TypeError) as error:
+        except (ValueError, TypeError, UnsupportedAlgorithm) as error:
             raise CredentialsError(f"{self.key}: not a private key without a passphrase (PEM): {error}") from None
         try:
             certificate.verify_directly_issued_by(ca)
-        except (ValueError, TypeError, InvalidSignature):
+        except (ValueError, TypeError, InvalidSignature, UnsupportedAlgorithm):
             raise CredentialsError(f"{self.certificate}: not made by the fleet's CA ({self.ca})") from None
         if _public(key) != _public(certificate):
             raise CredentialsError(f"{self.key}: not the key of {self.certificate}")
@@ -116,7 +116,7 @@ class Authority:
             self.certificate = _certificate(_read(certificate, "the fleet's CA certificate"), certificate)
             try:
                 self.key = load_pem_private_key(_read(key, "the fleet's CA key"), password=None)
-            except (ValueError, TypeError) as error:
+            except (ValueError, TypeError, UnsupportedAlgorithm) as error:
                 raise CredentialsError(f"{key}: not a private key without a passphrase (PEM): {error}") from None
             if _public(self.key) != _public(self.certificate):
                 raise CredentialsError(f"{key}: not the key of {certificate}")
@@ -192,9 +192,11 @@ def _read(path: Path, what: str) -> bytes:
 
 def _certificate(data: bytes, path: Path) -> x509.Certificate:
     try:
-        return x509.load_pem_x509_certificate(data)
-    except ValueError as error:
-        raise CredentialsError(f"{path}: not a certificate (PEM): {error}") from None
+        certificate = x509.load_pem_x509_certificate(data)
+        certificate.public_key()  # a key of a kind this machine can check
+    except (ValueError, x509.InvalidVersion, UnsupportedAlgorithm) as error:
+        raise CredentialsError(f"{path}: not a certificate (PEM) this machine can check: {error}") from None
+    return certificate
 
 
 def _is_ca(certificate: x509.Certificate) -> bool:

@@ -203,7 +203,11 @@ def _place(fleet_file: Path, text: str | None) -> Path | None:
 
 def _path(r: NodeReader, fleet_file: Path, text: str, node, what: str) -> Path | None:
     for candidate in (fleet_file.parent / text, Path(text)):
-        if candidate.is_file():
-            return candidate
+        try:
+            if candidate.is_file():
+                return candidate
+        except (OSError, ValueError) as error:  # a name too long, a NUL byte...
+            r.error(node, f"{what} {text[:200]} cannot be a file: {getattr(error, 'strerror', None) or error}")
+            return None
     r.error(node, f"{what} {text} is not found (next to the fleet file, nor from the current folder)")
     return None

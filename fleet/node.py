@@ -207,7 +207,7 @@ class FleetNode:
     def _request(self, query: Any) -> dict[str, Any]:
         try:
             request = json.loads(bytes(query.payload)) if query.payload is not None else None
-        except (ValueError, UnicodeDecodeError):
+        except (ValueError, UnicodeDecodeError, RecursionError):
             request = None
         if not isinstance(request, dict) or request.get("v") != 1 or not isinstance(request.get("command"), str):
             raise PayloadError("not a fleet command (expected JSON {v: 1, token, command, argument})",

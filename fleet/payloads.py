@@ -7,6 +7,7 @@ the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topi
 from __future__ import annotations
 
 import json
+import math
 import re
 from typing import Any
 
@@ -65,6 +66,8 @@ def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[st
         message = json.loads(payload)
     except (ValueError, UnicodeDecodeError) as exc:
         raise PayloadError(f"not JSON on {key_expr}: {exc}", "not JSON") from None
+    except RecursionError:
+        raise PayloadError(f"JSON nested too deep on {key_expr}", "not JSON") from None
     if not isinstance(message, dict):
         raise PayloadError(f"not a JSON object on {key_expr}", "not a JSON object")
     if message.get("v") != VERSION:
@@ -78,11 +81,18 @@ def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[st
 
 def vector(value: Any, size: int = 3) -> tuple[float, ...]:
     """A list of ``size`` finite numbers as a tuple; PayloadError otherwise."""
+    refusal = PayloadError(f"expected {size} finite numbers, got {str(value)[:200]}", f"not {size} numbers")
     if not isinstance(value, list) or len(value) != size:
-        raise PayloadError(f"expected {size} numbers, got {value!r}", f"not {size} numbers")
+        raise refusal
     out = []
     for v in value:
-        if isinstance(v, bool) or not isinstance(v, int | float) or v != v or abs(v) == float("inf"):
-            raise PayloadError(f"expected {size} numbers, got {value!r}", f"not {size} numbers")
-        out.append(float(v))
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            raise refusal
+        try:
+            number = float(v)
+        except OverflowError:  # an integer no float holds
+            raise refusal from None
+        if not math.isfinite(number):
+            raise refusal
+        out.append(number)
     return tuple(out)
