@@ -13,6 +13,7 @@ from __future__ import annotations
 import datetime
 import ipaddress
 import os
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,7 @@ from cryptography.exceptions import InvalidSignature, UnsupportedAlgorithm
 from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.hazmat.primitives.serialization import load_pem_private_key
+from cryptography.utils import CryptographyDeprecationWarning
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
 from aeroexec.limits import InputError, read_bytes
@@ -192,7 +194,9 @@ def _read(path: Path, what: str) -> bytes:
 
 def _certificate(data: bytes, path: Path) -> x509.Certificate:
     try:
-        certificate = x509.load_pem_x509_certificate(data)
+        with warnings.catch_warnings():  # a certificate RFC 5280 disallows (a negative serial) is refused below
+            warnings.simplefilter("ignore", CryptographyDeprecationWarning)
+            certificate = x509.load_pem_x509_certificate(data)
         certificate.public_key()  # a key of a kind this machine can check
     except (ValueError, x509.InvalidVersion, UnsupportedAlgorithm) as error:
         raise CredentialsError(f"{path}: not a certificate (PEM) this machine can check: {error}") from None
