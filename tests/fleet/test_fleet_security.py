@@ -140,7 +140,7 @@ def test_a_rogue_session_changes_nothing_the_drones_of_a_fleet_in_one_process_do
     path = fleet_file(tmp_path, ("d1", "d2", "d3"))
     assert main(["fleet", str(path), "--plain", "--quiet", "--output", str(tmp_path / "calm")]) == 0
     endpoint = free_endpoint("tls")
-    attacked = aeroexec("fleet", str(path), "--plain", "--quiet", "--speed", "4", "--listen", endpoint, "--output",
+    attacked = aeroexec("fleet", str(path), "--plain", "--quiet", "--speed", "8", "--listen", endpoint, "--output",
                         str(tmp_path / "attacked"), cwd=tmp_path)
     try:
         flying = wait_for_line(attacked, "drones here", 30)
@@ -187,10 +187,10 @@ def test_a_fleet_across_two_processes_and_routers_flies_the_search_with_its_cred
         wait_for_line(linked, "listening on", 30)
         d3 = aeroexec("run", str(MISSIONS / "fleet_search.py"), "--fleet", "search", "--name", "d3", "--connect",
                       other, "--credentials", str(tmp_path / "creds" / "d3.pem"), "--share", "object", "--share",
-                      "code", "--speed", "4", "--plain", "--output", str(tmp_path / "d3"), cwd=tmp_path)
+                      "code", "--speed", "8", "--plain", "--output", str(tmp_path / "d3"), cwd=tmp_path)
         processes.append(d3)
         before = wait_for_line(d3, "joined fleet search", 30)
-        pair = aeroexec("fleet", str(path), "--connect", endpoint, "--speed", "4", "--plain", "--output",
+        pair = aeroexec("fleet", str(path), "--connect", endpoint, "--speed", "8", "--plain", "--output",
                         str(tmp_path / "pair"), cwd=tmp_path)
         processes.append(pair)
         flying = wait_for_line(pair, "drones here", 30)
