@@ -103,3 +103,38 @@ def test_the_routers_rules_give_each_identity_its_own_drones_keys_and_nothing_el
         Roster("f", {"a@f": ("d2",), "b@f": ("d2",)})
     with pytest.raises(ValueError, match="both an operator and a drone's"):
         Roster("f", {"a@f": ("d2",)}, ("a@f",))
+
+
+def test_a_process_identity_speaks_for_exactly_the_drones_it_hosts(tmp_path):
+    """A worker hosting d2 and d3 under one identity (w1) may publish as both, not as d1; d1 has its own."""
+    import time
+
+    import zenoh
+    from aeroexec.fleet.payloads import encode
+
+    fleet = tmp_path / "f.yaml"
+    fleet.write_text("fleet: f\ncredentials: creds\ndrones:\n  - {name: d1, mission: m.py}\n"
+                     "  - {name: d2, mission: m.py, certificate: creds/w1.pem}\n"
+                     "  - {name: d3, mission: m.py, certificate: creds/w1.pem}\n")
+    (tmp_path / "m.py").write_text("def mission():\n    pass\n")
+    assert main(["fleet", str(fleet), "--make-credentials", str(tmp_path / "creds")]) == 0
+    spec = load_fleet(fleet)
+    endpoint = free_endpoint("tls")
+    router = listen(spec, [endpoint], tmp_path)
+    heard = []
+    router.session.declare_subscriber("aeroexec/f/**", zenoh.handlers.Callback(
+        lambda sample: heard.append(str(sample.key_expr)), indirect=False))
+    worker = connect(spec, [endpoint])  # d1 speaks as d1, d2 and d3 as w1: two sessions
+    try:
+        assert worker.sessions["d2"] is worker.sessions["d3"] is not worker.session
+        w1, d1 = worker.sessions["d2"], worker.session
+        for session, drone in ((w1, "d2"), (w1, "d3"), (w1, "d1"), (d1, "d1"), (d1, "d2")):
+            session.put(f"aeroexec/f/{drone}/telemetry", encode(drone, position=[0, 0, 0]))
+        deadline = time.monotonic() + 5
+        while len(heard) < 3 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(0.3)
+    finally:
+        worker.close()
+        router.close()
+    assert sorted(heard) == ["aeroexec/f/d1/telemetry", "aeroexec/f/d2/telemetry", "aeroexec/f/d3/telemetry"]
