@@ -32,7 +32,8 @@ class Extra:
 #: The extras of pyproject.toml's ``[project.optional-dependencies]`` (a test holds the two equal); ``all`` is
 #: every one of them, ``test`` adds the test tools.
 EXTRAS = {
-    "fleet": Extra("fleet", "fleets (linked over Zenoh)", {"zenoh": "eclipse-zenoh"}),
+    "fleet": Extra("fleet", "fleets (linked over Zenoh, members with certificates)",
+                   {"zenoh": "eclipse-zenoh", "cryptography": "cryptography"}),
     "console": Extra("console", "the web console and its replays",
                      {"starlette": "starlette", "uvicorn": "uvicorn", "websockets": "websockets"}),
     "report": Extra("report", "the flight report's images", {"matplotlib": "matplotlib"}),

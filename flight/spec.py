@@ -32,6 +32,7 @@ class FleetJoin:
     token: str | None = None
     share: tuple[str, ...] = ()
     telemetry_rate: float = 5.0  # Hz the drone's telemetry goes to the fleet
+    credentials: str | None = None  # its identity: a folder holding <name>.pem, <name>.key, ca.pem, or the .pem
 
 
 @dataclass

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import os
 import re
 import signal
 import tempfile
@@ -176,6 +177,70 @@ def _control(path: Path) -> list[str]:
     return []
 
 
+def _fleet_file(path: Path) -> list[str]:
+    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
+
+    try:
+        load_fleet(path)
+    except FleetFileError as error:
+        return [str(p) for p in error.problems]
+    return []
+
+
+class _Sample:
+    def __init__(self, key_expr: str, payload: bytes) -> None:
+        self.key_expr, self.payload = key_expr, payload
+
+
+class _Session:
+    """Enough of a Zenoh session for a fleet node that is handed its samples."""
+
+    class _Entity:
+        def put(self, payload: bytes) -> None:
+            pass
+
+        def undeclare(self) -> None:
+            pass
+
+    def declare_subscriber(self, *args, **kwargs) -> _Entity:  # noqa: ANN002, ANN003
+        return self._Entity()
+
+    declare_queryable = declare_publisher = declare_subscriber
+
+
+_fleet = None
+
+
+def _fleet_message(path: Path) -> list[str]:
+    """A message of a fleet member (its first line the topic, then the payload) as drone d1's node and link take it:
+    refused or believed, never an exception (refusals are logged by sender and reason, not errors of a file)."""
+    global _fleet
+    if _fleet is None:
+        from aeroexec.drones.sim import SimulatedDrone
+        from aeroexec.engine.engine import Engine
+        from aeroexec.fleet.link import FleetLink
+        from aeroexec.fleet.node import FleetNode
+
+        engine = Engine(SimulatedDrone())
+        node = FleetNode(_Session(), "f", "token")
+        _fleet = FleetLink(node, "d1", engine, share=("object", "code", "position")).join()
+    topic, _, payload = path.read_bytes().partition(b"\n")
+    _fleet.node._on_sample(_Sample(f"aeroexec/f/d2/{topic.decode('utf-8', 'replace')}", payload))
+    _fleet.update(_fleet.engine.memory, _fleet.engine.now())
+    return []
+
+
+def _fleet_certificate(path: Path) -> list[str]:
+    """A member's certificate file, checked as before a session opens (against a CA and a key made here)."""
+    from aeroexec.fleet.credentials import Authority, CredentialsError, Identity
+
+    folder = Path(tempfile.gettempdir()) / f"aeroexec-fuzz-ca-{os.getpid()}"
+    made = Authority(folder, "f").issue("d1")
+    try:
+        Identity(path, made.key, made.ca).read("f")
+    except CredentialsError as error:
+        return [str(error)]
+    return []
 REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
 
 
@@ -206,11 +271,16 @@ FORMATS = {f.name: f for f in [
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
     Format("safety rules", ".rules.yaml", _files("tests/fuzz/seeds/*.rules.yaml"), _rules),
+    Format("fleet files", ".yaml", _files("missions/fleet_search.yaml", "missions/relay.yaml"), _fleet_file),
+    Format("fleet messages", ".msg", _files("tests/fuzz/seeds/*.msg"), _fleet_message),
+    Format("fleet certificates", ".pem", _files("tests/fuzz/seeds/*.pem"), _fleet_certificate),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.
 WHOLE_FILE = re.compile(r"(not a regular file|the file is [\d,]+ bytes|the file is more than|cannot read (the|an)"
-                        r"|has no mission\(\) or runMission\(\)|is empty|not XML: the file has no element)")
+                        r"|has no mission\(\) or runMission\(\)|is empty|not XML: the file has no element"
+                        r"|not a certificate \(PEM\)|not made by the fleet's CA|not the key of|valid from .* not now"
+                        r"|is not of fleet|a CA's certificate is no member's)")
 
 
 def placed(message: str, path: Path, fmt: Format) -> bool:
