@@ -172,15 +172,14 @@ def fleet_safety_check(path: Path, catalog: BehaviorCatalog, rules_files: Iterab
     (engine/safety/static.py); None when ``path`` is not a fleet file."""
     from dataclasses import replace
 
-    from aeroexec.engine.safety.static import Waypoint, route, separation_problems
-    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
-
     try:
         text = read_text(path, what="the mission")
     except InputError:
         return None
     if path.suffix.lower() not in (".yaml", ".yml") or "\ndrones:" not in "\n" + text:
         return None
+    from aeroexec.engine.safety.static import Waypoint, route, separation_problems
+    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet  # a fleet file: the fleet extra is needed
     try:
         fleet = load_fleet(path)
     except FleetFileError as error:
