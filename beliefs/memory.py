@@ -1,10 +1,11 @@
-"""The belief memory (paper section 5.1): add, remove and consult symbolic beliefs.
+"""The belief memory (paper section 5.1): add, remove and consult symbolic beliefs, and derive them by rules.
 
 Beliefs are ground terms such as ``charge(battery, 80)``. The memory keeps them
 consistent (adding a value of a mutually exclusive predicate retracts the old
 one), forgets beliefs whose persistence has run out, answers belief expressions
-by unification through its indexes, and tells listeners of every change. It is
-not thread-safe: the engine serializes access to it on its own loop.
+by unification through its indexes, derives beliefs by rules (``beliefs/derivation.py``),
+and tells listeners of every change. It is not thread-safe: the engine serializes
+access to it on its own loop.
 """
 
 from __future__ import annotations
@@ -13,12 +14,14 @@ import heapq
 import logging
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from dataclasses import dataclass
 from typing import Any
 
-from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
-from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
-from aeroexec.beliefs.parser import parse_belief, parse_expression
+from aeroexec.beliefs.changes import BeliefChange
+from aeroexec.beliefs.derivation import RuleBook
+from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, RuleError, UnknownPredicateError
+from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal, Rule
+from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules
+from aeroexec.beliefs.program import Vocabulary, check, stratify
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import Relation, Relations
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
@@ -28,25 +31,7 @@ from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
 log = logging.getLogger(__name__)
 
 Expression = str | Conjunction | Struct
-
-
-@dataclass(frozen=True, slots=True)
-class BeliefChange:
-    """One change of the memory: ``kind`` is "added" or "removed".
-
-    ``reason`` says why: "add", "remove", "replaced" (retracted by an exclusive
-    value), "expired" (its persistence ran out) or "clear".
-    """
-
-    kind: str
-    belief: Struct
-    reason: str
-    time: float
-
-    def __str__(self) -> str:
-        sign = "+" if self.kind == "added" else "-"
-        return f"{sign}{format_term(self.belief)} ({self.reason})"
-
+__all__ = ["BeliefChange", "BeliefMemory"]
 
 class BeliefMemory:
     """An indexed memory of beliefs answering belief expressions by unification.
@@ -80,6 +65,7 @@ class BeliefMemory:
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
         self._changes = 0
+        self._rulebook: RuleBook | None = None
 
     # -- configuration ------------------------------------------------------------
     def declare(
@@ -133,6 +119,52 @@ class BeliefMemory:
     def is_computed(self, name: str, arity: int) -> bool:
         """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
         return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES
+
+    # -- rules ------------------------------------------------------------------
+    def add_rules(self, rules: str | Iterable[Rule], file: str = "", first_line: int = 1) -> list[Rule]:
+        """Add rules, and facts as beliefs: text as in a rules file (``head :- body.``), or :class:`Rule` records.
+
+        Raises :class:`RuleError` listing every problem with its file and line (syntax, an unsafe rule, a negation
+        that cannot be stratified, a rule deriving a stored or computed predicate, an unknown predicate); then
+        nothing is added. Returns the rules and facts read.
+        """
+        rules = parse_rules(rules, file, first_line) if isinstance(rules, str) else list(rules)
+        book = self._rulebook
+        program = [*(book.rules if book else ()), *(r for r in rules if r.body.literals)]
+        derived = {r.head.name for r in program}
+        vocabulary = Vocabulary({n: a for n, a in self._vocabulary.items() if n not in derived},
+                                {s: inputs for s, (_, inputs) in self._computed.items()}, bool(self._vocabulary))
+        problems = check(program, vocabulary) + check([r for r in rules if not r.body.literals], vocabulary)
+        strata, unstratified = stratify(program, vocabulary.computed) if not problems else ([], [])
+        if problems or unstratified:
+            raise RuleError(problems + unstratified)
+        if book is None:
+            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._computed,
+                                             lambda body: respell(body, self._spellings))
+        self._multivalued |= derived  # a derived predicate holds a set of beliefs
+        for (name, _), rel in self._relations.items():
+            if name in derived:
+                rel.by_key = None
+        book.load(program, strata)
+        self._queries.clear()
+        for fact in rules:
+            if not fact.body.literals:
+                if fact.head.name not in self._vocabulary:  # facts written with rules are sets, as in Datalog
+                    self._multivalued.add(fact.head.name)
+                    rel = self._relations.get(fact.head.signature)
+                    if rel is not None:
+                        rel.by_key = None
+                self.add(fact.head)
+        return rules
+
+    @property
+    def rules(self) -> tuple[Rule, ...]:
+        """The rules the memory derives beliefs by, in the order they were added."""
+        return tuple(self._rulebook.rules) if self._rulebook else ()
+
+    def is_derived(self, name: str, arity: int) -> bool:
+        """True when rules derive ``name/arity``."""
+        return self._rulebook is not None and self._rulebook.is_derived((name, arity))
 
     @property
     def changes(self) -> int:
@@ -213,7 +245,8 @@ class BeliefMemory:
         compiled = self._queries.get(expression)
         if compiled is None:
             compiled = self._compile(expression)
-        return compiled.all(self._relations, self._bind(bindings) if bindings else None)
+        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
+        return compiled.all(relations, self._bind(bindings) if bindings else None)
 
     def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
         """True when the expression has at least one unification."""
@@ -262,8 +295,16 @@ class BeliefMemory:
         return [Struct(goal.name, args) for args in rows]
 
     def beliefs(self, predicate: str | None = None) -> list[Struct]:
-        """The stored beliefs (of one predicate, if named), in a stable order."""
-        return [b for b in self if predicate is None or b.name == predicate]
+        """The beliefs (of one predicate, if named), in a stable order: those stored, and for a predicate rules
+        derive, every belief they derive (its stored ones included)."""
+        book = self._rulebook
+        derived = {s for s in book.derived if predicate in (None, s[0])} if book else set()
+        found = [b for b in self if (predicate is None or b.name == predicate)
+                 and (b.name, len(b.args)) not in derived]
+        for name, arity in sorted(derived):
+            rows = book.rows((name, arity)).rows
+            found.extend(Struct(name, args) for args in sorted(rows, key=format_term))
+        return found
 
     # -- internals ----------------------------------------------------------------
     def _answer(self, expression: Expression, bindings: Mapping[str, Any] | None) -> dict | None:
@@ -278,12 +319,12 @@ class BeliefMemory:
         compiled = self._queries.get(expression)
         if compiled is None:
             compiled = self._compile(expression)
+        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
         if bindings:
-            return compiled.first(self._relations, self._bind(bindings))
+            return compiled.first(relations, self._bind(bindings))
         reads = compiled.reads
         if reads is None:  # a computed predicate: asked every time
-            return compiled.first(self._relations)
-        relations = self._relations
+            return compiled.first(relations)
         stamp = relations.epoch
         for signature in reads:
             rel = relations.get(signature)
@@ -305,7 +346,10 @@ class BeliefMemory:
         self._check_vocabulary(conjunction)
         compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._computed)
         predicates = conjunction.predicates
-        compiled.reads = (None if any(p in self._computed for p in predicates)
+        book = self._rulebook
+        derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
+        compiled.derived = derived or None
+        compiled.reads = (None if any(p in self._computed or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
             self._queries.clear()
@@ -322,8 +366,11 @@ class BeliefMemory:
     def _check_vocabulary(self, conjunction: Conjunction) -> None:
         if not self._vocabulary:
             return
+        book = self._rulebook
         for name, arity in conjunction.predicates:
             if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
+                continue
+            if book is not None and book.is_derived((name, arity)):
                 continue
             declared = self._vocabulary.get(name)
             if declared is None:

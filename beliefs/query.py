@@ -52,6 +52,7 @@ class CompiledQuery:
         #: the stored predicates it reads (None: it reads a computed one); its last answer, and the sum of the
         #: relations' versions it was found at (the memory answers from it while that stands: ``BeliefMemory``)
         self.reads: tuple[tuple[str, int], ...] | None = None
+        self.derived: tuple[tuple[str, int], ...] | None = None  # the derived predicates it reads
         self.answer: dict | None = None
         self.stamp = -1
         self._plans: dict = {}

@@ -9,7 +9,9 @@ A :class:`Relation` holds the argument tuples of every belief ``name(a1, ..., an
 - ``by_key``: for mutually exclusive predicates of two or more arguments, the key
   (all arguments but the last) -> the one row holding it (section 5.1);
 - ``ordered[p]``: built the first time a range is asked of position ``p``, the
-  distinct numeric values there, sorted, and kept up to date afterwards.
+  distinct numeric values there, sorted, and kept up to date afterwards;
+- ``journal``: for a relation rules read, the rows added and removed since the rules last looked
+  (:class:`Journal`), so derived beliefs follow by their differences.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ def is_number(value: Any) -> bool:
 class Relation:
     """Indexed storage of one predicate's beliefs (a name and an arity)."""
 
-    __slots__ = ("_projections", "arity", "by_key", "by_pos", "name", "ordered", "rows", "version")
+    __slots__ = ("_projections", "arity", "by_key", "by_pos", "journal", "name", "ordered", "rows", "version")
 
     def __init__(self, name: str, arity: int, exclusive: bool) -> None:
         self.name = name
@@ -38,6 +40,7 @@ class Relation:
         self.by_key: dict[tuple, tuple] | None = {} if exclusive and arity >= 2 else None
         self.ordered: dict[int, SortedList] = {}
         self.version = 0
+        self.journal: Journal | None = None
         self._projections: dict[tuple, tuple[int, dict]] = {}
 
     def __len__(self) -> int:
@@ -68,7 +71,30 @@ class Relation:
                 if is_number(value) and self.by_pos[p][value] is args:  # a value new here
                     values.add(value)
         self.version += 1
+        if self.journal is not None:
+            self.journal.inserted(args)
         return displaced
+
+    def insert_new(self, rows: Iterable[tuple]) -> None:
+        """Store rows known not to be stored yet, in bulk (a derived relation: neither exclusive nor journaled)."""
+        stored = self.rows
+        by_pos = self.by_pos
+        for args in rows:
+            stored[args] = None
+            for index, value in zip(by_pos, args):  # noqa: B905
+                bucket = index.get(value)
+                if bucket is None:
+                    index[value] = args
+                elif type(bucket) is dict:
+                    bucket[args] = None
+                else:
+                    index[value] = {bucket: None, args: None}
+            if self.ordered:
+                for p, values in self.ordered.items():
+                    value = args[p]
+                    if is_number(value) and by_pos[p][value] is args:
+                        values.add(value)
+        self.version += 1
 
     def delete(self, args: tuple) -> None:
         """Forget a stored row."""
@@ -86,6 +112,8 @@ class Relation:
         if self.by_key is not None and self.by_key.get(args[:-1]) == args:
             del self.by_key[args[:-1]]
         self.version += 1
+        if self.journal is not None:
+            self.journal.deleted(args)
 
     def bucket(self, position: int, value: Any) -> Any:
         """Rows whose argument at ``position`` equals ``value`` (may be empty)."""
@@ -143,6 +171,35 @@ class Relation:
             self._projections.clear()
         self._projections[key] = (self.version, values)
         return values
+
+
+class Journal:
+    """The net change of a relation since it was last read: rows added and rows removed (an add then a remove
+    of one row cancel), so its size stays bounded by the relation's, however long nobody reads it."""
+
+    __slots__ = ("added", "removed")
+
+    def __init__(self) -> None:
+        self.added: dict[tuple, None] = {}
+        self.removed: dict[tuple, None] = {}
+
+    def inserted(self, args: tuple) -> None:
+        if args in self.removed:
+            del self.removed[args]
+        else:
+            self.added[args] = None
+
+    def deleted(self, args: tuple) -> None:
+        if args in self.added:
+            del self.added[args]
+        else:
+            self.removed[args] = None
+
+    def take(self) -> tuple[dict, dict]:
+        """The rows added and removed since the last ``take``."""
+        added, removed = self.added, self.removed
+        self.added, self.removed = {}, {}
+        return added, removed
 
 
 class Relations(dict):
