@@ -11,6 +11,7 @@ changed, asking costs a look-up of versions.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from itertools import filterfalse
 from typing import Any
 
 from aeroexec.beliefs.expression import Conjunction, Goal, Rule
@@ -93,7 +94,7 @@ class RuleBook:
         for stratum in strata:
             own = []
             for name, arity in stratum.predicates:
-                relation = Relation(name, arity, False)
+                relation = Relation(name, arity, False, lazy=True)
                 if (name, arity) in old:  # versions only grow: a cached answer is never taken for a new one
                     relation.version = old[(name, arity)].version + 1
                 self.derived[(name, arity)] = relation
@@ -222,18 +223,14 @@ class RuleBook:
     def _compute(self, layer: _Layer) -> None:
         for signature in layer.stratum.predicates:
             old = self.derived[signature]
-            fresh = Relation(old.name, old.arity, False)
+            fresh = Relation(old.name, old.arity, False, lazy=True)
             fresh.version = old.version + 1
             self.derived[signature] = self.view[signature] = fresh
         found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
         for i, rule in enumerate(layer.rules):
-            rel = self.derived[rule.head.signature]
-            new = found[rule.head.signature]
-            for row in evaluate(self._variant(layer, i, None), self.view, rule.head):
-                if row not in rel.rows:
-                    new[row] = None
-        changes = {p: ({}, {}) for p in layer.predicates}
-        self._saturate(layer, found, changes)
+            found[rule.head.signature].update(dict.fromkeys(
+                evaluate(self._variant(layer, i, None), self.view, rule.head)))
+        self._saturate(layer, found, None)
 
     def _seeds(self, layer: _Layer, inputs: dict[Signature, dict]) -> dict[Signature, dict[tuple, None]]:
         """New rows of the stratum from rows added to its inputs: each goal on an input reads only those."""
@@ -243,42 +240,45 @@ class RuleBook:
             return found
         with self._deltas(inputs):
             for i, rule in enumerate(layer.rules):
-                rel = self.derived[rule.head.signature]
+                rows = self.derived[rule.head.signature].rows
                 new = found[rule.head.signature]
                 for j, signature in _positive_goals(rule):
                     if signature in inputs:
-                        for row in evaluate(self._variant(layer, i, j), self.view, rule.head):
-                            if row not in rel.rows:
-                                new[row] = None
+                        new.update(dict.fromkeys(filterfalse(
+                            rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule.head))))
         return found
 
     def _saturate(self, layer: _Layer, delta: dict[Signature, dict[tuple, None]],
-                  changes: dict[Signature, tuple[dict, dict]]) -> None:
-        """Add ``delta`` and follow it semi-naively until nothing new is derived."""
+                  changes: dict[Signature, tuple[dict, dict]] | None) -> None:
+        """Add ``delta`` and follow it semi-naively until nothing new is derived (``changes``: what was added and
+        removed, kept up to date; None when the caller does not need it)."""
         recursive = layer.stratum.recursive
         while any(delta.values()):
             for signature, rows in delta.items():
                 if rows:
-                    self.derived[signature].insert_new(rows)
-                    added, removed = changes[signature]
-                    for row in rows:
-                        if row in removed:
-                            del removed[row]
-                        else:
-                            added[row] = None
+                    rel = self.derived[signature]
+                    rows = dict.fromkeys(filterfalse(rel.rows.__contains__, rows))
+                    delta[signature] = rows
+                    rel.insert_new(rows)
+                    if changes is not None:
+                        added, removed = changes[signature]
+                        for row in rows:
+                            if row in removed:
+                                del removed[row]
+                            else:
+                                added[row] = None
             if not recursive:
                 return
             current = {s: rows for s, rows in delta.items() if rows}
             delta = {p: {} for p in layer.predicates}
             with self._deltas(current):
                 for i, rule in enumerate(layer.rules):
-                    rel = self.derived[rule.head.signature]
+                    rows = self.derived[rule.head.signature].rows
                     new = delta[rule.head.signature]
                     for j, signature in _positive_goals(rule):
                         if signature in current:
-                            for row in evaluate(self._variant(layer, i, j), self.view, rule.head):
-                                if row not in rel.rows:
-                                    new[row] = None
+                            new.update(dict.fromkeys(filterfalse(
+                                rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule.head))))
 
     def _dred(self, layer: _Layer, pending: dict[Signature, Delta]) -> dict[Signature, tuple[dict, dict]]:
         """Delete and rederive: remove what the removed rows could have derived, derive again what still holds,
@@ -374,7 +374,7 @@ class _Deltas:
 
     def __enter__(self) -> None:
         for (name, arity), rows in self.inputs.items():
-            rel = Relation(name + DELTA, arity, False)
+            rel = Relation(name + DELTA, arity, False, lazy=True)
             rel.insert_new(rows)
             self.view[(name + DELTA, arity)] = rel
 

@@ -61,10 +61,12 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tupl
     fresh = [(p, v) for p, v in step.simple if v not in at]
     constants = step.constants
     new_schema = schema + [v for _, v in fresh]
-    take = _getter([p for p, _ in fresh])
+    positions = [p for p, _ in fresh]
+    take = _getter(positions)
+    whole = positions == list(range(len(step.pattern)))  # the rows as they are
     if not shared:  # no value in common: the goal's own answers, times every row so far
         candidates = _matching(rel, constants)
-        found = [take(r) for r in candidates]
+        found = list(candidates) if whole else list(map(take, candidates))
         if rows == [()]:
             return new_schema, found
         return new_schema, list(starmap(add, product(rows, found)))
@@ -106,7 +108,7 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tupl
                       and all(r[p] == value[j] for p, j in others)]
             if not bucket:
                 continue
-        found = [take(r) for r in bucket]
+        found = list(bucket) if whole else list(map(take, bucket))
         if len(group) == 1:
             first = group[0]
             extend([first + f for f in found])

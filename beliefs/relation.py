@@ -32,11 +32,12 @@ class Relation:
 
     __slots__ = ("_projections", "arity", "by_key", "by_pos", "journal", "name", "ordered", "rows", "version")
 
-    def __init__(self, name: str, arity: int, exclusive: bool) -> None:
+    def __init__(self, name: str, arity: int, exclusive: bool, lazy: bool = False) -> None:
         self.name = name
         self.arity = arity
         self.rows: dict[tuple, None] = {}
-        self.by_pos: list[dict[Any, Any]] = [{} for _ in range(arity)]
+        # a derived relation indexes a position the first time it is asked of it (_Indexes)
+        self.by_pos: list[dict[Any, Any]] = _Indexes(self, arity) if lazy else [{} for _ in range(arity)]
         self.by_key: dict[tuple, tuple] | None = {} if exclusive and arity >= 2 else None
         self.ordered: dict[int, SortedList] = {}
         self.version = 0
@@ -79,9 +80,15 @@ class Relation:
         """Store rows known not to be stored yet, in bulk (a derived relation: neither exclusive nor journaled)."""
         stored = self.rows
         by_pos = self.by_pos
+        built = [(p, index) for p, index in enumerate(by_pos) if index is not None]
+        if not built and not self.ordered:
+            stored.update(dict.fromkeys(rows))
+            self.version += 1
+            return
         for args in rows:
             stored[args] = None
-            for index, value in zip(by_pos, args):  # noqa: B905
+            for p, index in built:
+                value = args[p]
                 bucket = index.get(value)
                 if bucket is None:
                     index[value] = args
@@ -100,6 +107,8 @@ class Relation:
         """Forget a stored row."""
         self.rows.pop(args, None)
         for p, (index, value) in enumerate(zip(self.by_pos, args)):  # noqa: B905
+            if index is None:  # not built yet (a derived relation)
+                continue
             bucket = index[value]
             if type(bucket) is dict:
                 bucket.pop(args, None)
@@ -171,6 +180,32 @@ class Relation:
             self._projections.clear()
         self._projections[key] = (self.version, values)
         return values
+
+
+class _Indexes(list):
+    """The per-position indexes of a derived relation, each built from the rows the first time it is asked."""
+
+    __slots__ = ("relation",)
+
+    def __init__(self, relation: Relation, arity: int) -> None:
+        super().__init__([None] * arity)
+        self.relation = relation
+
+    def __getitem__(self, position):  # type: ignore[override]
+        index = list.__getitem__(self, position)
+        if index is None:
+            index = {}
+            for args in self.relation.rows:
+                value = args[position]
+                bucket = index.get(value)
+                if bucket is None:
+                    index[value] = args
+                elif type(bucket) is dict:
+                    bucket[args] = None
+                else:
+                    index[value] = {bucket: None, args: None}
+            list.__setitem__(self, position, index)
+        return index
 
 
 class Journal:
