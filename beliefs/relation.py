@@ -17,6 +17,7 @@ A :class:`Relation` holds the argument tuples of every belief ``name(a1, ..., an
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
+from itertools import count
 from typing import Any
 
 from sortedcontainers import SortedList
@@ -161,10 +162,10 @@ class Relation:
             yield from list(self.bucket(position, value))
 
     def projection(self, constants: tuple, position: int) -> dict:
-        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs), as dict keys in
-        insertion order.
+        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs): a dict from each value
+        to its rank in insertion order.
 
-        Cached until the relation changes, so repeated joins test membership at C speed.
+        Cached until the relation changes, so repeated joins intersect at C speed and sort only the answers.
         """
         key = (constants, position)
         cached = self._projections.get(key)
@@ -175,7 +176,7 @@ class Relation:
             rows = min((self.bucket(p, v) for p, v in constants), key=len)
             if len(constants) > 1:
                 rows = [r for r in rows if all(r[p] == v for p, v in constants)]
-        values = dict.fromkeys(r[position] for r in rows)
+        values = dict(zip(dict.fromkeys(r[position] for r in rows), count()))
         if len(self._projections) > 256:
             self._projections.clear()
         self._projections[key] = (self.version, values)
