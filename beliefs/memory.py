@@ -18,11 +18,11 @@ from typing import Any
 
 from aeroexec.beliefs.changes import BeliefChange
 from aeroexec.beliefs.derivation import RuleBook
-from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, RuleError, UnknownPredicateError
-from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal, Rule
-from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules
-from aeroexec.beliefs.program import Vocabulary, check, stratify
+from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
+from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
+from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
+from aeroexec.beliefs.reasoning import Reasoning
 from aeroexec.beliefs.relation import Relation, Relations
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
@@ -33,7 +33,7 @@ log = logging.getLogger(__name__)
 Expression = str | Conjunction | Struct
 __all__ = ["BeliefChange", "BeliefMemory"]
 
-class BeliefMemory:
+class BeliefMemory(Reasoning):
     """An indexed memory of beliefs answering belief expressions by unification.
 
     ``multivalued`` names predicates whose values are not mutually exclusive;
@@ -95,7 +95,8 @@ class BeliefMemory:
 
     def accepts(self, name: str) -> bool:
         """True when beliefs of predicate ``name`` may be stored without declaring it (declared, or no vocabulary)."""
-        return not self._vocabulary or name in self._vocabulary
+        return not self._vocabulary or name in self._vocabulary or (
+            self._rulebook is not None and any(n == name for n, _ in self._rulebook.derived))
 
     def register(self, name: str, arity: int, function: Callable, inputs: int | None = None) -> None:
         """Answer ``name/arity`` with ``function`` instead of stored beliefs.
@@ -122,52 +123,6 @@ class BeliefMemory:
     def is_computed(self, name: str, arity: int) -> bool:
         """True when ``name/arity`` is answered by a registered function or a built-in, not by stored beliefs."""
         return (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES
-
-    # -- rules ------------------------------------------------------------------
-    def add_rules(self, rules: str | Iterable[Rule], file: str = "", first_line: int = 1) -> list[Rule]:
-        """Add rules, and facts as beliefs: text as in a rules file (``head :- body.``), or :class:`Rule` records.
-
-        Raises :class:`RuleError` listing every problem with its file and line (syntax, an unsafe rule, a negation
-        that cannot be stratified, a rule deriving a stored or computed predicate, an unknown predicate); then
-        nothing is added. Returns the rules and facts read.
-        """
-        rules = parse_rules(rules, file, first_line) if isinstance(rules, str) else list(rules)
-        book = self._rulebook
-        program = [*(book.rules if book else ()), *(r for r in rules if r.body.literals)]
-        derived = {r.head.name for r in program}
-        vocabulary = Vocabulary({n: a for n, a in self._vocabulary.items() if n not in derived},
-                                {s: inputs for s, (_, inputs) in self._computed.items()}, bool(self._vocabulary))
-        problems = check(program, vocabulary) + check([r for r in rules if not r.body.literals], vocabulary)
-        strata, unstratified = stratify(program, vocabulary.computed) if not problems else ([], [])
-        if problems or unstratified:
-            raise RuleError(problems + unstratified)
-        if book is None:
-            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._computed,
-                                             lambda body: respell(body, self._spellings))
-        self._multivalued |= derived  # a derived predicate holds a set of beliefs
-        for (name, _), rel in self._relations.items():
-            if name in derived:
-                rel.by_key = None
-        book.load(program, strata)
-        self._queries.clear()
-        for fact in rules:
-            if not fact.body.literals:
-                if fact.head.name not in self._vocabulary:  # facts written with rules are sets, as in Datalog
-                    self._multivalued.add(fact.head.name)
-                    rel = self._relations.get(fact.head.signature)
-                    if rel is not None:
-                        rel.by_key = None
-                self.add(fact.head)
-        return rules
-
-    @property
-    def rules(self) -> tuple[Rule, ...]:
-        """The rules the memory derives beliefs by, in the order they were added."""
-        return tuple(self._rulebook.rules) if self._rulebook else ()
-
-    def is_derived(self, name: str, arity: int) -> bool:
-        """True when rules derive ``name/arity``."""
-        return self._rulebook is not None and self._rulebook.is_derived((name, arity))
 
     @property
     def changes(self) -> int:
