@@ -3,7 +3,7 @@
 from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, RuleError, RuleProblem, UnknownPredicateError
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, Rule
 from aeroexec.beliefs.memory import BeliefChange, BeliefMemory
-from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, parse_term
+from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, parse_term, read_rules
 from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, term, to_python
 from aeroexec.beliefs.updater import BeliefUpdater, FunctionUpdater, publish
 
@@ -31,6 +31,7 @@ __all__ = [
     "parse_expression",
     "parse_rules",
     "parse_term",
+    "read_rules",
     "term",
     "to_python",
 ]

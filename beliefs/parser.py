@@ -6,6 +6,7 @@ import re
 import threading
 from functools import lru_cache
 from importlib import resources
+from pathlib import Path
 
 from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem
 from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation, Rule
@@ -13,9 +14,17 @@ from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, v_args
 from lark.exceptions import UnexpectedToken, VisitError
 
-from aeroexec.limits import MAX_LITERALS, MAX_NUMBER_LENGTH, MAX_TERM_DEPTH, line_of_offset, nesting_beyond
+from aeroexec.limits import (
+    MAX_LITERALS,
+    MAX_NUMBER_LENGTH,
+    MAX_TERM_DEPTH,
+    InputError,
+    line_of_offset,
+    nesting_beyond,
+    read_text,
+)
 
-__all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term"]
+__all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term", "read_rules"]
 
 #: Longest expression accepted; longer text is refused before parsing.
 MAX_EXPRESSION_LENGTH = 200_000
@@ -167,6 +176,16 @@ def parse_rules(text: str, file: str = "", first_line: int = 1) -> list[Rule]:
         raise refused(f"The format of the rule is not correct ({detail})", line) from None
     except RecursionError:
         raise refused("the rules are nested too deeply") from None
+
+
+def read_rules(path: str | Path) -> list[Rule]:
+    """The rules and facts of a rules file (``--rules FILE``); raises :class:`RuleError` naming the file and line
+    of a mistake (a file that cannot be read, too large, not UTF-8 included)."""
+    try:
+        text = read_text(path, what="the rules file")
+    except InputError as error:
+        raise RuleError([RuleProblem(error.message, str(path), error.line)]) from None
+    return parse_rules(text, str(path))
 
 
 def _clause_at(text: str, offset: int | None) -> str:

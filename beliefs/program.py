@@ -78,6 +78,9 @@ def check(rules: list[Rule], vocabulary: Vocabulary) -> list[RuleProblem]:
         if not rule.body.literals:
             if not is_ground(rule.head):
                 problems.append(_problem(rule, f"the fact {rule} holds variables: a fact is ground"))
+            elif rule.head.signature in computed:
+                problems.append(_problem(rule, f"the fact {rule} names {rule.head.name}, which is computed by the "
+                                               "engine: it cannot be stored"))
             continue
         problems.extend(_unknown(rule, derived, computed, vocabulary))
         problems.extend(_unsafe(rule, computed))

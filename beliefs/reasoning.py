@@ -60,6 +60,8 @@ class Reasoning:
             if not fact.body.literals:
                 if fact.head.name not in self._vocabulary:  # facts written with rules are sets, as in Datalog
                     self._multivalued.add(fact.head.name)
+                    if self._vocabulary:
+                        self.declare(fact.head.name, fact.head.arity, multivalued=True)  # type: ignore[attr-defined]
                     rel = self._relations.get(fact.head.signature)
                     if rel is not None:
                         rel.by_key = None

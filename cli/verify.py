@@ -3,7 +3,7 @@
 Literal destinations and paths are checked against a world too (its bounds and the obstacle clearance the
 catalog's preconditions ask): ``--world FILE``, else the simulator's built-in world; ``--no-world`` skips it.
 ``--library module:attribute`` adds behavior implementations, so a catalog behavior with no implementation
-is reported before flight.
+is reported before flight; ``--rules FILE`` adds rules, so expressions over the predicates they derive verify.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ import re
 from pathlib import Path
 from typing import Any
 
+from aeroexec.beliefs import RuleError
 from aeroexec.cli.flying import robots
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
@@ -51,6 +52,17 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--processes", action="append", default=[], metavar="MODULE:ATTR",
                         help="capability processes to add: a ProcessRegistry or a mapping of names to factories "
                              "(repeatable)")
+    parser.add_argument("--rules", action="append", default=[], metavar="FILE",
+                        help="rules deriving beliefs (head :- body.), and facts, added to the catalog's "
+                             "(repeatable)")
+
+
+def chosen_rules(catalog: Any, args: argparse.Namespace) -> Any:
+    """The catalog with the rules of ``--rules FILE`` added; raises RuleError (each problem with file:line)."""
+    from aeroexec.beliefs import read_rules
+
+    rules = [rule for path in getattr(args, "rules", None) or () for rule in read_rules(path)]
+    return catalog.with_rules(rules) if rules else catalog
 
 
 def chosen_world(args: argparse.Namespace, default: bool = True) -> Any:
@@ -79,7 +91,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         world = chosen_world(args)
         library = choice.library() if choice.kind is not None else default_library(args.library)
-    except (WorldChoiceError, LibraryError) as error:
+        catalog = chosen_rules(catalog, args)
+    except (WorldChoiceError, LibraryError, RuleError) as error:
         print(error)
         return 1
     failed = False

@@ -15,7 +15,7 @@ from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
-from aeroexec.beliefs import BeliefMemory
+from aeroexec.beliefs import BeliefMemory, Rule, RuleError
 from aeroexec.engine.catalog.descriptors import (
     BehaviorDescriptor,
     CapabilityDescriptor,
@@ -25,6 +25,7 @@ from aeroexec.engine.catalog.descriptors import (
     Transition,
 )
 from aeroexec.engine.catalog.loader import CatalogContent, CatalogReader
+from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
@@ -43,6 +44,8 @@ class BehaviorCatalog:
         self.reactive_rules: tuple[ReactiveRule, ...] = tuple(content.reactive)
         self.transitions: tuple[Transition, ...] = tuple(content.transitions)
         self.predicates: dict[str, PredicateDeclaration] = dict(content.predicates)
+        #: the rules that derive beliefs (the catalog's ``rules:``, and those added by :meth:`with_rules`)
+        self.rules: tuple[Rule, ...] = tuple(content.rules)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
         self.warnings: list[Problem] = list(warnings)
         #: behaviors the catalog describes that no registered implementation serves (see :meth:`served_by`)
@@ -107,10 +110,25 @@ class BehaviorCatalog:
         fitted.behaviors, fitted.unsupported, fitted.predicates = behaviors, unsupported, predicates
         return fitted
 
+    def with_rules(self, rules: Iterable[Rule]) -> BehaviorCatalog:
+        """This catalog with ``rules`` added (a rules file, ``--rules``): the predicates they derive join the
+        vocabulary that missions are checked against, and an engine built on it derives them. Raises
+        :class:`~aeroexec.beliefs.RuleError` (each problem with its file and line) when they cannot be taken."""
+        rules = [*self.rules, *rules]
+        own = {n: p for n, p in self.predicates.items() if not p.derived}
+        problems = check_rules(own, rules)
+        if problems:
+            raise RuleError(problems)
+        fitted = copy.copy(self)
+        fitted.rules = tuple(rules)
+        fitted.predicates = {**own, **derived_declarations(rules, own)}
+        return fitted
+
     def declare_vocabulary(self, memory: BeliefMemory) -> None:
-        """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory."""
+        """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory; its rules are
+        added once the computed predicates they may read are registered (``memory.add_rules(catalog.rules)``)."""
         for p in self.predicates.values():
-            if not p.computed:
+            if not p.computed and not p.derived:
                 memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence, values=p.values,
                                aliases=p.aliases)
 
