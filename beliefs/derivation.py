@@ -158,7 +158,11 @@ class RuleBook:
             self._stamp = stamp
         for layer in self._layers:
             if layer.stratum.index in needed and (not layer.valid or layer.pending or layer.stratum.volatile):
-                self._update(layer)
+                try:
+                    self._update(layer)
+                except BaseException:  # a rule past the limits: evaluated again from scratch when next asked
+                    layer.valid = False
+                    raise
         self.view.epoch = stored.epoch * 4096 + self._epoch
         return self.view
 
@@ -229,7 +233,7 @@ class RuleBook:
         found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
         for i, rule in enumerate(layer.rules):
             found[rule.head.signature].update(dict.fromkeys(
-                evaluate(self._variant(layer, i, None), self.view, rule.head)))
+                evaluate(self._variant(layer, i, None), self.view, rule)))
         self._saturate(layer, found, None)
 
     def _seeds(self, layer: _Layer, inputs: dict[Signature, dict]) -> dict[Signature, dict[tuple, None]]:
@@ -245,7 +249,7 @@ class RuleBook:
                 for j, signature in _positive_goals(rule):
                     if signature in inputs:
                         new.update(dict.fromkeys(filterfalse(
-                            rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule.head))))
+                            rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule))))
         return found
 
     def _saturate(self, layer: _Layer, delta: dict[Signature, dict[tuple, None]],
@@ -278,7 +282,7 @@ class RuleBook:
                     for j, signature in _positive_goals(rule):
                         if signature in current:
                             new.update(dict.fromkeys(filterfalse(
-                                rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule.head))))
+                                rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule))))
 
     def _dred(self, layer: _Layer, pending: dict[Signature, Delta]) -> dict[Signature, tuple[dict, dict]]:
         """Delete and rederive: remove what the removed rows could have derived, derive again what still holds,
@@ -330,7 +334,7 @@ class RuleBook:
                 rel = self.derived[signature]
                 for j, goal in _positive_goals(rule):
                     if goal in inputs:
-                        for row in evaluate(self._variant(layer, i, j, exclusive), self.view, rule.head):
+                        for row in evaluate(self._variant(layer, i, j, exclusive), self.view, rule):
                             if row in rel.rows and row not in gone[signature]:
                                 gone[signature][row] = None
                                 found[signature][row] = None

@@ -14,27 +14,45 @@ from itertools import product, starmap
 from operator import add, itemgetter
 from typing import Any
 
+from aeroexec.beliefs.errors import BeliefError
+from aeroexec.beliefs.expression import Rule
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import is_number
 from aeroexec.beliefs.steps import ComparisonStep, FactStep, NegationStep
 from aeroexec.beliefs.terms import Struct, Var, is_ground, match, substitute, variables
 
 Rows = list[tuple]
+#: Most partial answers one evaluation of a rule's body may build
+MAX_ROWS = 5_000_000
 
 _ORDER: dict[str, Callable[[Any, Any], bool]] = {
     "<": lambda a, b: a < b, ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
 }
 
 
-def evaluate(query: CompiledQuery, relations: Any, head: Struct) -> Iterable[tuple]:
-    """The arguments of ``head`` for every unification of ``query`` (duplicates possible)."""
+def evaluate(query: CompiledQuery, relations: Any, rule: Rule) -> Iterable[tuple]:
+    """The arguments of the rule's head for every unification of ``query`` (its body; duplicates possible).
+
+    Raises :class:`BeliefError` when the partial answers grow past :data:`MAX_ROWS` (a join of goals that share
+    no variable, over many beliefs): an answer that large would stall the engine.
+    """
     schema: list[Var] = []
     rows: Rows = [()]
-    for step in query._order(relations, {}):
-        schema, rows = _apply(step, schema, rows, relations, query.ranges)
-        if not rows:
-            return ()
-    return _project(head, schema, rows)
+    try:
+        for step in query._order(relations, {}):
+            schema, rows = _apply(step, schema, rows, relations, query.ranges)
+            if not rows:
+                return ()
+            if len(rows) > MAX_ROWS:
+                raise _Overflow
+    except _Overflow:
+        raise BeliefError(f"{rule.where}: the rule {rule} builds more than {MAX_ROWS:,} partial answers "
+                          "(goals that share no variable?)") from None
+    return _project(rule.head, schema, rows)
+
+
+class _Overflow(Exception):
+    """The partial answers of a rule's body grew past MAX_ROWS."""
 
 
 def _apply(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict) -> tuple[list[Var], Rows]:
@@ -69,6 +87,8 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tupl
         found = list(candidates) if whole else list(map(take, candidates))
         if rows == [()]:
             return new_schema, found
+        if len(rows) * len(found) > MAX_ROWS:
+            raise _Overflow
         return new_schema, list(starmap(add, product(rows, found)))
     if not fresh:  # every argument known: a membership test per row
         positions = sorted([*((p, None, c) for p, c in constants), *((p, i, None) for p, i in shared)])
@@ -114,6 +134,8 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tupl
             extend([first + f for f in found])
         else:
             extend(starmap(add, product(group, found)))
+        if len(out) > MAX_ROWS:
+            raise _Overflow
     return new_schema, out
 
 

@@ -20,7 +20,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
+from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, parse_expression, read_rules
 from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
@@ -147,6 +147,21 @@ def _belief(path: Path) -> list[str]:
     return []
 
 
+def _rules(path: Path) -> list[str]:
+    """A rules file (``--rules``): read, taken by a memory, and every predicate it derives asked."""
+    memory = BeliefMemory()
+    try:
+        rules = read_rules(path)
+        memory.add_rules(rules)
+        for name, arity in {r.head.signature for r in rules if r.body.literals}:
+            memory.query_all(f"{name}({', '.join(f'?A{i}' for i in range(arity))})" if arity else name)
+    except RuleError as error:
+        return [str(p) for p in error.problems]
+    except BeliefError as error:
+        return [str(error)]
+    return []
+
+
 _server = None
 
 
@@ -184,6 +199,7 @@ FORMATS = {f.name: f for f in [
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
+    Format("rules files", ".rules", _files("tests/fuzz/seeds/*.rules"), _rules),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.
