@@ -78,6 +78,27 @@ class Reasoning:
         """True when rules derive ``name/arity``."""
         return self._rulebook is not None and self._rulebook.is_derived((name, arity))
 
+    def reads(self, predicates: Iterable[tuple[str, int]]) -> tuple[frozenset[tuple[str, int]], bool]:
+        """The stored predicates that ``predicates`` read, through the rules deriving them (their own stored
+        beliefs included), and whether any of them reads a computed predicate (which changes without a belief
+        doing so)."""
+        found: set[tuple[str, int]] = set()
+        computed = False
+        book = self._rulebook
+        todo, seen = list(predicates), set()
+        while todo:
+            signature = todo.pop()
+            if signature in seen:
+                continue
+            seen.add(signature)
+            if signature in self._computed:
+                computed = True
+            found.add(signature)
+            if book is not None and book.is_derived(signature):
+                todo.extend(p for rule in book.rules if rule.head.signature == signature
+                            for p in rule.body.predicates)
+        return frozenset(found), computed
+
     def why(self, expression: str | Conjunction | Struct) -> list[Proof] | None:
         """Why the expression holds: a :class:`Proof` of each of its literals for its first answer (the rules and
         beliefs used), or None when it does not hold."""
