@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, Struct, format_term, read_rules
-from aeroexec.engine.supervision.flight_log import read_flight_log
-from aeroexec.engine.supervision.flight_summary import final_beliefs
 from aeroexec.engine.supervision.output import DEFAULT_BASE
+from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.summary import final_beliefs
 
 HELP = ("a belief expression, e.g. object(?X, ?Y) or charge(battery, ?C), ?C < 50 | list [PREDICATE] | "
         "a rule or fact ending with '.', e.g. near(?X) :- position(?X, ?P). | rules | why EXPR | why not EXPR | "
