@@ -1,6 +1,7 @@
 """Rule evaluation against SWI-Prolog with tabling and clingo, on the same workloads, as ratios in one run.
 
-Run ``python bench/rules.py`` (``--repeat N``, ``--links N``, ``--facts N``). Workloads:
+Run ``python bench/rules.py`` (``--repeat N``, ``--links N``, ``--facts N``; ``--readme`` writes the table into
+README.md). Workloads:
 
 - closure: ``reachable/2`` over 10,000 random links between 10,000 places (seeded), every pair derived;
 - join: ``route(?A, ?D) :- leg(?A, ?B), hop(?B, ?C), last(?C, ?D)`` over 100,000 facts;
@@ -28,6 +29,8 @@ from pathlib import Path
 
 from aeroexec.beliefs import BeliefMemory, Struct
 
+README = Path(__file__).resolve().parent.parent / "README.md"
+MARKS = ("<!-- bench/rules.py: start -->", "<!-- bench/rules.py: end -->")
 CLOSURE = """reachable(?A, ?B) :- link(?A, ?B).
 reachable(?A, ?C) :- link(?A, ?B), reachable(?B, ?C)."""
 JOIN = "route(?A, ?D) :- leg(?A, ?B), hop(?B, ?C), last(?C, ?D)."
@@ -161,6 +164,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--links", type=int, default=10_000)
     parser.add_argument("--facts", type=int, default=100_000)
+    parser.add_argument("--readme", action="store_true", help="write the table into README.md")
     args = parser.parse_args()
     edges = links(args.links)
     joined = join_facts(args.facts)
@@ -191,23 +195,34 @@ def main() -> None:
                 if figures[count] != mine[count]:
                     sys.exit(f"{who} found {figures[count]} {count}, aeroexec {mine[count]}")
     print(f"closure: {mine['pairs']:,} pairs from {args.links:,} links; join: {mine['routes']:,} routes from "
-          f"{args.facts:,} facts; median of {args.repeat}, CPU seconds")
+          f"{args.facts:,} facts; median of {args.repeat}, CPU seconds; × other: aeroexec's speed over theirs")
     goals = {"closure": ("SWI-Prolog", 0.5, "within 2x of SWI-Prolog"), "update": ("SWI-Prolog", 1.0, "faster")}
-    header = f"{'workload':<24}" + "".join(f"{who:>14}" for who in median)
-    header += "".join(f"{'vs ' + who:>16}" for who in median if who != "aeroexec") + "   goal"
-    print(header)
-    print("-" * len(header))
-    labels = {"closure": "closure (10,000 links)", "join": "three-way join", "update": "update one link"}
+    others = [who for who in median if who != "aeroexec"]
+    headers = ["workload", *(f"{who} (s)" for who in median), *(f"× {who}" for who in others), "goal"]
+    labels = {"closure": f"closure ({args.links:,} links)", "join": f"three-way join ({args.facts:,} facts)",
+              "update": "update one link"}
+    body = []
     for key, label in labels.items():
-        row = f"{label:<24}" + "".join(f"{figures[key]:>13.4f}s" for figures in median.values())
-        for who, figures in median.items():
-            if who != "aeroexec":
-                row += f"{figures[key] / mine[key]:>15.2f}x"
+        row = [label, *(f"{figures[key]:.4f}" for figures in median.values()),
+               *(f"{median[who][key] / mine[key]:.2f}×" for who in others)]
         goal = goals.get(key)
         if goal is not None and goal[0] in median:
             ratio = median[goal[0]][key] / mine[key]
-            row += f"   {goal[2]}: {'met' if ratio >= goal[1] else 'missed'}"
-        print(row)
+            row.append(f"{goal[2]}: {'met' if ratio >= goal[1] else 'missed'}")
+        else:
+            row.append("")
+        body.append(row)
+    widths = [max(len(r[i]) for r in [headers, *body]) for i in range(len(headers))]
+    for row in [headers, ["-" * w for w in widths], *body]:
+        print("  ".join(c.ljust(w) if i in (0, len(row) - 1) else c.rjust(w)
+                        for i, (c, w) in enumerate(zip(row, widths, strict=True))))
+    if args.readme:
+        table = ["| " + " | ".join(headers) + " |", "|---|" + "---:|" * (len(headers) - 2) + "---|"]
+        table += ["| " + " | ".join(r) + " |" for r in body]
+        text = README.read_text()
+        start, end = text.index(MARKS[0]) + len(MARKS[0]), text.index(MARKS[1])
+        README.write_text(text[:start] + "\n" + "\n".join(table) + "\n" + text[end:])
+        print(f"wrote the table into {README}")
 
 
 if __name__ == "__main__":
