@@ -82,6 +82,8 @@ class RuleBook:
         self._epoch = 0
         self._seen_epoch = -1
         self._names: set[str] = set()
+        self._read: list[Relation] = []  # the stored relations the rules read (those that exist)
+        self._needed: dict[tuple, list[_Layer]] = {}  # the derived predicates asked -> the strata they need
 
     # -- the program ------------------------------------------------------------------------------------------------
     def load(self, rules: list[Rule], strata: list[Stratum]) -> None:
@@ -90,7 +92,7 @@ class RuleBook:
         self.rules = list(rules)
         self.derived = {}
         self._names = {name for s in strata for name, _ in s.predicates}
-        self._layers, self._layer_of, self._readers, self._variants = [], {}, {}, {}
+        self._layers, self._layer_of, self._readers, self._variants, self._needed = [], {}, {}, {}, {}
         for stratum in strata:
             own = []
             for name, arity in stratum.predicates:
@@ -138,26 +140,29 @@ class RuleBook:
         return layer is not None and layer.stratum.volatile
 
     # -- asking ------------------------------------------------------------------------------------------------------
-    def ready(self, signatures: Iterable[Signature]) -> Relations:
-        """The relations (stored and derived) with the strata of ``signatures`` up to date."""
+    def ready(self, signatures: tuple[Signature, ...]) -> Relations:
+        """The relations (stored and derived) with the strata of ``signatures`` up to date.
+
+        While no relation the rules read has changed, this is a sum of their versions and a look at the needed
+        strata: asking a derived predicate again costs a few microseconds.
+        """
         stored = self.stored
         if self._seen_epoch != stored.epoch:
             self._mirror()
-        stamp = stored.epoch
-        for signature in self._readers:
-            rel = stored.get(signature)
-            if rel is not None:
-                stamp += rel.version + 1
-        needed: set[int] = set()
-        for signature in signatures:
-            layer = self._layer_of.get(signature)
-            if layer is not None:
-                needed |= layer.below
+        stamp = stored.epoch + sum(map(_version, self._read))
         if stamp != self._stamp:
             self._collect()
             self._stamp = stamp
-        for layer in self._layers:
-            if layer.stratum.index in needed and (not layer.valid or layer.pending or layer.stratum.volatile):
+        needed = self._needed.get(signatures)
+        if needed is None:
+            below: set[int] = set()
+            for signature in signatures:
+                layer = self._layer_of.get(signature)
+                if layer is not None:
+                    below |= layer.below
+            needed = self._needed[signatures] = [layer for layer in self._layers if layer.stratum.index in below]
+        for layer in needed:
+            if not layer.valid or layer.pending or layer.stratum.volatile:
                 try:
                     self._update(layer)
                 except BaseException:  # a rule past the limits: evaluated again from scratch when next asked
@@ -172,6 +177,7 @@ class RuleBook:
         return self.derived[signature]
 
     def _mirror(self) -> None:
+        self._read = [rel for signature in self._readers if (rel := self.stored.get(signature)) is not None]
         view = self.view
         for signature, rel in self.stored.items():
             if signature in self.derived:
@@ -368,6 +374,10 @@ class RuleBook:
         size = len(self.derived[signature].rows)
         if not size & (size - 1):
             self._epoch += 1
+
+
+def _version(rel: Relation) -> int:
+    return rel.version
 
 
 class _Deltas:
