@@ -28,6 +28,7 @@ ENGINE_LEAVES = [
                              ("input", "multivalued", "bool", "a predicate the catalog does not declare may hold "
                                                               "several values at once (default false)")]),
     ("Action", "RemoveBelief", [("input", "belief", "std::string", "a belief pattern; matching beliefs are removed")]),
+    ("Action", "AddRule", [("input", "rule", "std::string", "rules deriving beliefs (head :- body.) and facts")]),
     ("Action", "AskBehavior", [("input", "behavior", "std::string", "a deliberative behavior of the catalog"),
                                ("output", "result", ANY, "the blackboard key that receives its result"),
                                ("input", "timeout", "double", "seconds before the behavior times out")]),

@@ -81,6 +81,7 @@ LEAF_TYPES = {t.name: t for t in (
     _leaf("QueryBelief", ("belief",), ("belief",)),
     _leaf("AddBelief", ("belief", "multivalued"), ("belief",)),
     _leaf("RemoveBelief", ("belief",), ("belief",)),
+    _leaf("AddRule", ("rule",), ("rule",)),
     _leaf("AskBehavior", ("behavior", "result"), ("behavior", "result")),
     _leaf("SubTree", ("ID",), ("ID",)),
 )}

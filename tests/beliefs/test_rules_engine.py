@@ -111,3 +111,29 @@ def test_a_rules_file_given_to_the_engine_and_to_verify(tmp_path, capsys):
         engine.stop()
     with pytest.raises(RuleError, match="zones:1: The predicate nowhere of the rule"):
         Engine(SimulatedDrone(world), rules=parse_rules("pad(?M) :- nowhere(?M).", "zones"))
+
+
+TREE = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <AddRule rule="pad(pad_c, (2, -8)). pad(pad_a, (4, 2)). blocked(pad_a).
+                     landing_pad(?P, ?X, ?Y) :- pad(?P, (?X, ?Y)), not(blocked(?P))."/>
+      <TAKE_OFF ALTITUDE="3"/>
+      <QueryBelief belief="landing_pad(?P, ?X, ?Y)"/>
+      <GO_TO_POINT COORDINATES="{X}, {Y}, 3"/>
+      <LAND/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_a_tree_adds_rules_with_an_add_rule_node(tmp_path, capsys):
+    mission = tmp_path / "pads.xml"
+    mission.write_text(TREE)
+    assert main(["run", str(mission), "--plain", "--output", str(tmp_path / "out")]) == 0
+    assert "activated GO_TO_POINT: SPLINE=no, COORDINATES=(2, -8, 3)" in capsys.readouterr().out
+    mission.write_text(TREE.replace("not(blocked(?P))", "not(blocked(?Q))"))
+    assert main(["verify", str(mission)]) == 1
+    assert (f"{mission}:4: error: WRONG_FORMAT: AddRule: The rule landing_pad(?P, ?X, ?Y) :- pad(?P, (?X, ?Y)), "
+            "not(blocked(?Q)). is not safe: ?Q appears only in a negation") in capsys.readouterr().out

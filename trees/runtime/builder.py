@@ -27,7 +27,7 @@ from aeroexec.trees.runtime.decorators import (
     RunOnce,
     Timeout,
 )
-from aeroexec.trees.runtime.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, TreeContext
+from aeroexec.trees.runtime.nodes import AskBehaviorLeaf, BehaviorLeaf, BeliefLeaf, Constant, RuleLeaf, TreeContext
 from aeroexec.trees.runtime.script_nodes import Precondition, ScriptLeaf, SetBlackboard, Switch, UnsetBlackboard
 from aeroexec.trees.runtime.v4_nodes import LOOP_TYPES, EntryUpdated, ParallelAll, Sleep, TryCatch, WasEntryUpdated
 from aeroexec.trees.runtime.v4_nodes import Loop as V4Loop
@@ -116,6 +116,8 @@ class TreeBuilder:
             return leaf
         if kind == "AskBehavior":
             return AskBehaviorLeaf(name, ports, self.context, board, model)
+        if kind == "AddRule":
+            return RuleLeaf(name, ports.get("rule", ""), self.context, board, model)
         if kind in self.leaves and not model.children:
             return self.leaves[kind](model, board)
         if kind in self.catalog and not model.children:

@@ -262,6 +262,24 @@ class BeliefLeaf(Leaf):
         engine.memory.add(belief)
 
 
+class RuleLeaf(Leaf):
+    """AddRule: the ``rule`` port's rules (and facts) added to the belief memory the first time it is ticked."""
+
+    def __init__(self, name: str, rule: str, context: TreeContext, blackboard: Any, source: Any = None) -> None:
+        super().__init__(name, context, blackboard, source)
+        self.rule, self.added = rule, False
+
+    def update(self) -> Status:
+        if not self.added:
+            try:
+                self.context.engine.memory.add_rules(self.rule, getattr(self.source, "file", "") or self.name,
+                                                     getattr(self.source, "line", 0) or 1)
+            except BeliefError as error:
+                return self.error(f"AddRule: {error}")
+            self.added = True
+        return Status.SUCCESS
+
+
 class Constant(Leaf):
     """AlwaysSuccess / AlwaysFailure."""
 
