@@ -243,7 +243,8 @@ class RuleBook:
         self._saturate(layer, found, None)
 
     def _seeds(self, layer: _Layer, inputs: dict[Signature, dict]) -> dict[Signature, dict[tuple, None]]:
-        """New rows of the stratum from rows added to its inputs: each goal on an input reads only those."""
+        """New rows of the stratum derived with one goal reading only the rows of ``inputs`` (rows added to a
+        relation, or a round's new rows), the other goals everything."""
         found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
         inputs = {s: rows for s, rows in inputs.items() if rows}
         if not inputs:
@@ -279,16 +280,7 @@ class RuleBook:
                                 added[row] = None
             if not recursive:
                 return
-            current = {s: rows for s, rows in delta.items() if rows}
-            delta = {p: {} for p in layer.predicates}
-            with self._deltas(current):
-                for i, rule in enumerate(layer.rules):
-                    rows = self.derived[rule.head.signature].rows
-                    new = delta[rule.head.signature]
-                    for j, signature in _positive_goals(rule):
-                        if signature in current:
-                            new.update(dict.fromkeys(filterfalse(
-                                rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule))))
+            delta = self._seeds(layer, delta)
 
     def _dred(self, layer: _Layer, pending: dict[Signature, Delta]) -> dict[Signature, tuple[dict, dict]]:
         """Delete and rederive: remove what the removed rows could have derived, derive again what still holds,

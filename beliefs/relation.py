@@ -89,14 +89,7 @@ class Relation:
         for args in rows:
             stored[args] = None
             for p, index in built:
-                value = args[p]
-                bucket = index.get(value)
-                if bucket is None:
-                    index[value] = args
-                elif type(bucket) is dict:
-                    bucket[args] = None
-                else:
-                    index[value] = {bucket: None, args: None}
+                _index(index, args[p], args)
             if self.ordered:
                 for p, values in self.ordered.items():
                     value = args[p]
@@ -197,16 +190,20 @@ class _Indexes(list):
         if index is None:
             index = {}
             for args in self.relation.rows:
-                value = args[position]
-                bucket = index.get(value)
-                if bucket is None:
-                    index[value] = args
-                elif type(bucket) is dict:
-                    bucket[args] = None
-                else:
-                    index[value] = {bucket: None, args: None}
+                _index(index, args[position], args)
             list.__setitem__(self, position, index)
         return index
+
+
+def _index(index: dict, value: Any, args: tuple) -> None:
+    """File ``args`` under ``value`` in a position's index (the row alone, then a dict of rows from the second)."""
+    bucket = index.get(value)
+    if bucket is None:
+        index[value] = args
+    elif type(bucket) is dict:
+        bucket[args] = None
+    else:
+        index[value] = {bucket: None, args: None}
 
 
 class Journal:
