@@ -60,13 +60,7 @@ class Relation:
             by_key[key] = args
         self.rows[args] = None
         for index, value in zip(self.by_pos, args):  # noqa: B905 (a row has the arity of its relation)
-            bucket = index.get(value)
-            if bucket is None:
-                index[value] = args
-            elif type(bucket) is dict:
-                bucket[args] = None
-            else:
-                index[value] = {bucket: None, args: None}
+            _index(index, value, args)
         if self.ordered:
             for p, values in self.ordered.items():
                 value = args[p]
