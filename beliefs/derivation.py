@@ -293,9 +293,9 @@ class RuleBook:
             rel.journal = journal
         gone: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
         try:
-            frontier = self._matches(layer, removed_inputs, gone, exclusive=False)
+            frontier = self._matches(layer, removed_inputs, gone)
             while layer.stratum.recursive and any(frontier.values()):
-                frontier = self._matches(layer, {s: r for s, r in frontier.items() if r}, gone, exclusive=False)
+                frontier = self._matches(layer, {s: r for s, r in frontier.items() if r}, gone)
         finally:
             for rel, rows in restored:
                 journal, rel.journal = rel.journal, None
@@ -322,9 +322,10 @@ class RuleBook:
         self._saturate(layer, again, changes)
         return changes
 
-    def _matches(self, layer: _Layer, inputs: dict[Signature, dict], gone: dict[Signature, dict[tuple, None]],
-                 exclusive: bool) -> dict[Signature, dict[tuple, None]]:
-        """Rows of the stratum (still stored) that a rule derives with one goal on the rows of ``inputs``."""
+    def _matches(self, layer: _Layer, inputs: dict[Signature, dict], gone: dict[Signature, dict[tuple, None]]
+                 ) -> dict[Signature, dict[tuple, None]]:
+        """Rows of the stratum (still stored) that a rule derives with one goal on the rows of ``inputs``, the
+        relations as they were (rows removed put back, so no goal is answered through an exclusive key)."""
         found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
         with self._deltas(inputs):
             for i, rule in enumerate(layer.rules):
@@ -332,7 +333,7 @@ class RuleBook:
                 rel = self.derived[signature]
                 for j, goal in _positive_goals(rule):
                     if goal in inputs:
-                        for row in evaluate(self._variant(layer, i, j, exclusive), self.view, rule):
+                        for row in evaluate(self._variant(layer, i, j, exclusive=False), self.view, rule):
                             if row in rel.rows and row not in gone[signature]:
                                 gone[signature][row] = None
                                 found[signature][row] = None

@@ -9,7 +9,7 @@ dependency graph, evaluated once the strata it reads are complete.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
 from aeroexec.beliefs.errors import RuleProblem
@@ -36,13 +36,12 @@ class Stratum:
 
 @dataclass
 class Vocabulary:
-    """What the rules are checked against: the stored predicates declared (name -> arity, and where), the
-    computed ones, and whether an undeclared predicate is an error."""
+    """What the rules are checked against: the stored predicates declared (name -> arity), the computed ones, and
+    whether an undeclared predicate is an error."""
 
     stored: Mapping[str, int]
     computed: Mapping[Signature, int]  # a computed predicate -> how many of its first arguments are its inputs
     closed: bool = False  # a vocabulary is declared: an unknown predicate is an error
-    where: Callable[[str], str] = lambda name: ""
 
 
 def check(rules: list[Rule], vocabulary: Vocabulary) -> list[RuleProblem]:
@@ -65,14 +64,12 @@ def check(rules: list[Rule], vocabulary: Vocabulary) -> list[RuleProblem]:
                                            "a rule cannot derive it"))
         elif name in vocabulary.stored:
             declared = vocabulary.stored[name]
-            where = vocabulary.where(name)
-            where = f" ({where})" if where else ""
             if declared != arity:
                 problems.append(_problem(rule, f"the rule {rule} derives {name}/{arity}, which clashes with the "
-                                               f"stored predicate {name}/{declared}{where}"))
+                                               f"stored predicate {name}/{declared}"))
             else:
                 problems.append(_problem(rule, f"the rule {rule} derives {name}, which clashes with the stored "
-                                               f"predicate {name}{where}: a predicate is stored or derived"))
+                                               f"predicate {name}: a predicate is stored or derived"))
     derived = {r.head.signature for r in rules if r.body.literals}
     for rule in rules:
         if not rule.body.literals:
