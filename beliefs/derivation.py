@@ -118,10 +118,8 @@ class RuleBook:
                         (layer, signature))
                 elif signature not in self._layer_of:
                     self._readers.setdefault(signature, []).append((layer, signature))
-        for signature in list(self._readers):
-            rel = self.stored.get(signature)
-            if rel is not None:
-                rel.journal = None  # its rows are read whole when next asked
+        for rel in self.stored.values():
+            rel.journal = None  # a relation the rules read is read whole when next asked; the others kept no journal
         self.view = Relations()
         self._seen_epoch = -1
         self._stamp = None
