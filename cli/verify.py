@@ -13,7 +13,6 @@ import re
 from pathlib import Path
 from typing import Any
 
-from aeroexec.beliefs import RuleError
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.flight.missions import MissionFileError, check_mission
@@ -64,6 +63,8 @@ def chosen_rules(catalog: Any, args: argparse.Namespace) -> Any:
 
 
 def run(args: argparse.Namespace) -> int:
+    from aeroexec.beliefs import RuleError
+
     try:
         choice = robot_choice(args.robot)
         catalog = choice.catalog(args.catalog)
