@@ -47,6 +47,8 @@ class BehaviorCatalog:
         #: the rules that derive beliefs (the catalog's ``rules:``, and those added by :meth:`with_rules`)
         self.rules: tuple[Rule, ...] = tuple(content.rules)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
+        #: the vehicle's documented limits (``vehicle_limits:``, an extension of Appendix B): name -> value
+        self.vehicle_limits: dict[str, float] = dict(content.vehicle_limits)
         self.warnings: list[Problem] = list(warnings)
         #: behaviors the catalog describes that no registered implementation serves (see :meth:`served_by`)
         self.unsupported: frozenset[str] = frozenset()
