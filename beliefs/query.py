@@ -149,18 +149,7 @@ class CompiledQuery:
 
     def _star(self, order: list, length: int, relations: dict, bindings: dict) -> Iterator[dict]:
         var = order[0].simple[0][1]
-        sets = []
-        for step in order[:length]:
-            rel = relations.get(step.signature)
-            if rel is None:
-                return
-            sets.append(rel.projection(step.constants, step.simple[0][0]))
-        sets.sort(key=len)
-        found = sets[0].keys() & sets[1].keys()  # at C speed, the smaller one walked
-        for other in sets[2:]:
-            found = found & other.keys()
-        values = sorted(found, key=sets[0].__getitem__)  # the answers in insertion order
-        for value in values:
+        for value in _star_values(order, length, relations):
             extended = dict(bindings)
             extended[var] = value
             yield from _dfs(order, length, relations, extended, self.ranges)
@@ -186,7 +175,14 @@ class CompiledQuery:
 
     def all(self, relations: dict, bindings: dict | None = None) -> list[dict]:
         """Every unification, as ``{"?X": value}`` dictionaries."""
-        return [self.result(s) for s in self.solutions(relations, bindings or {})]
+        bindings = bindings or {}
+        order = self.plan(relations, bindings)
+        var = order[0].simple[0][1] if order and type(order[0]) is FactStep and order[0].simple else None
+        if var is not None and not var.anonymous and _star_length(order, bindings) == len(order) > 1 \
+                and self.names == (var,):  # goals on one variable and nothing else: the values are the answers
+            name = var.name
+            return [{name: to_python(value)} for value in _star_values(order, len(order), relations)]
+        return [self.result(s) for s in self.solutions(relations, bindings)]
 
     def result(self, solution: dict) -> dict:
         return {v.name: to_python(solution[v]) for v in self.names if v in solution}
@@ -207,6 +203,22 @@ def _dfs(order: list, i: int, relations: dict, bindings: dict, ranges: dict) -> 
         return
     for extended in step.solve(relations, bindings, ranges):
         yield from _dfs(order, i + 1, relations, extended, ranges)
+
+
+def _star_values(order: list, length: int, relations: dict) -> list:
+    """The values of the one variable the first ``length`` goals share, in insertion order: their cached value
+    sets intersected at C speed (the smallest walked), then only the answers sorted."""
+    sets = []
+    for step in order[:length]:
+        rel = relations.get(step.signature)
+        if rel is None:
+            return []
+        sets.append(rel.projection(step.constants, step.simple[0][0]))
+    sets.sort(key=len)
+    found = sets[0].keys() & sets[1].keys()
+    for other in sets[2:]:
+        found = found & other.keys()
+    return sorted(found, key=sets[0].__getitem__)
 
 
 def _star_length(order: list, bindings: dict) -> int:
