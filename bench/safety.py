@@ -13,7 +13,7 @@ import time
 import aeroexec.engine.api as api
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.engine.catalog.safety_rules import read_rules_text
+from aeroexec.engine.catalog.safety_rules import read_safety_rules_text
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.safety.declared import vocabulary
 
@@ -43,7 +43,7 @@ def patrol() -> None:
 
 def step_cpu(rules: str) -> tuple[float, int]:
     catalog = default_catalog()
-    found = read_rules_text(rules, "bench.yaml", vocabulary(catalog)) if rules else None
+    found = read_safety_rules_text(rules, "bench.yaml", vocabulary(catalog)) if rules else None
     engine = Engine(SimulatedDrone(), catalog=catalog.with_safety_rules(found.rules) if found else catalog)
     began = time.thread_time()
     engine.run(patrol, max_time=600)

@@ -139,7 +139,8 @@ def fly_fleet(args: argparse.Namespace) -> int:
     live = live_view_wanted(args)  # a person at a terminal: paced at real time unless --speed says
     watched = live or args.web is not None  # in a browser too; questions then wait for an answer
     base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
-                      catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
+                      catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
+                      processes=tuple(args.processes),
                       updaters=tuple(args.updater), max_time=args.max_time, home=args.home)
     with ending_signals():
         try:

@@ -133,7 +133,7 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                           credentials=args.credentials)
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
-                      home=args.home, catalog=args.catalog, library=tuple(args.library),
+                      home=args.home, catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
                       processes=tuple(args.processes), safety_rules=tuple(args.safety_rules),
                       updaters=tuple(args.updater), speed=args.speed or paced, seed=args.seed, max_time=args.max_time,
                       output=args.output, log=args.log, answers=args.answers,

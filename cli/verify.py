@@ -6,7 +6,7 @@ open field around it, a mission in local meters the simulator's built-in world (
 ``--home LAT,LON[,ALT]`` puts that world's home there; ``--no-world`` skips it. The whole route is estimated too
 (length, duration, battery at landing: ``trees.route``).
 ``--library module:attribute`` adds behavior implementations, so a catalog behavior with no implementation
-is reported before flight.
+is reported before flight; ``--rules FILE`` adds rules, so expressions over the predicates they derive verify.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
-from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.flight.robot import load_world, robot_choice, with_rule_files
 from aeroexec.flight.spec import FlightError
 
 from aeroexec.limits import InputError, read_text
@@ -77,6 +77,9 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--processes", action="append", default=[], metavar="MODULE:ATTR",
                         help="capability processes to add: a ProcessRegistry or a mapping of names to factories "
                              "(repeatable)")
+    parser.add_argument("--rules", action="append", default=[], metavar="FILE",
+                        help="rules deriving beliefs (head :- body.), and facts, added to the catalog's "
+                             "(repeatable)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -89,6 +92,7 @@ def run(args: argparse.Namespace) -> int:
     try:  # the robot kind's world unless one is given (a world file that cannot be read is said once)
         world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
         library = choice.library() if choice.kind is not None else default_library(args.library)
+        catalog = with_rule_files(catalog, args.rules)
     except (FlightError, LibraryError) as error:
         print(error)
         return 1

@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
-from aeroexec.beliefs import BeliefMemory, BeliefUpdater
+from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Rule
 from aeroexec.drones import Robot
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
 from aeroexec.engine.clock import Clock, SimulatedClock
@@ -66,7 +66,9 @@ class Engine:
     ``telemetry`` is the updater of the robot's beliefs about itself; without it, a drone's telemetry beliefs
     (``position``, ``flight_state``, ``charge``...) are written. A robot of another kind passes its own, and
     ``described_in``: the catalog its behaviors' implementations are described in (a thin catalog takes their
-    arguments from it; default: the aerial catalog).
+    arguments from it; default: the aerial catalog). ``rules`` derive beliefs besides the catalog's own
+    ``rules:`` (``aeroexec.beliefs.read_rules(path)`` reads a rules file; ``catalog.with_rules(rules)`` is the same):
+    checked against the catalog, they raise :class:`~aeroexec.beliefs.RuleError` with each problem's file and line.
     """
 
     def __init__(self, drone: Robot, *, catalog: BehaviorCatalog | None = None,
@@ -75,7 +77,8 @@ class Engine:
                  updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
                  capability_grace: float = 2.0, belief_period: float = 0.1, operator: Any = None,
                  bus: Any = None, output_dir: str | Path | None = None,
-                 telemetry: BeliefUpdater | None = None, described_in: BehaviorCatalog | None = None) -> None:
+                 telemetry: BeliefUpdater | None = None, described_in: BehaviorCatalog | None = None,
+                 rules: Iterable[Rule] = ()) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = self.robot = drone
@@ -85,6 +88,8 @@ class Engine:
             library = default_library()
         # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
         self.catalog = (catalog or default_catalog()).served_by(library.names(), reference)
+        if rules:  # a rules file (--rules): checked against the catalog, RuleError with file:line
+            self.catalog = self.catalog.with_rules(rules)
         self.clock = clock or SimulatedClock()
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
@@ -96,6 +101,7 @@ class Engine:
                     self.memory.declare(name, arity)
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles,
                           self.catalog.vehicle_limits.get("max_flight_time"))
+        self.memory.add_rules(self.catalog.rules)  # derived predicates, asked like stored ones
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
                                        obstacles=obstacles, operator=operator, bus=bus,

@@ -32,7 +32,7 @@ from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
-from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice
+from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice, with_rule_files
 from aeroexec.flight.run_status import FAILED, SUSPENDED, RunStatus, exit_status, record_run_status, run_status
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
@@ -117,7 +117,7 @@ class FlightSession:
                                          on_abort=self._cancel.set).start()
         choice = robot_choice(spec.robot)
         try:
-            self.catalog = choice.catalog(spec.catalog)
+            self.catalog = with_rule_files(choice.catalog(spec.catalog), spec.rules)
         except CatalogError as error:
             raise FlightError("\n".join(str(p) for p in error.problems)) from None
         world_path = choice.world_file(spec.world)

@@ -63,6 +63,7 @@ class FlightSpec:
     ready_timeout: float = READY_TIMEOUT
     fleet: FleetJoin | None = None
     register: bool = True  # list the run in the user's runtime folder (``aeroexec ctl`` finds it)
+    rules: tuple[str, ...] = ()  # rules files of the belief memory (derived beliefs)
     safety_rules: tuple[str, ...] = ()  # safety rules files (the catalog's and the mission's rules are watched too)
 
     @property

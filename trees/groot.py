@@ -23,7 +23,7 @@ ANY_TYPE = "BT::AnyTypeAllowed"
 _TYPES = {"NUMBER": "double", "INTEGER": "int", "BOOLEAN": "bool", "TEXT": "std::string", "BELIEF": "std::string"}
 
 #: The engine's leaves that are not catalog behaviors, as the palette lists them (their ports are their classes').
-ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AskBehavior")
+ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AddRule", "AskBehavior")
 #: C++ types of the runtime's port types.
 _CPP_TYPES = {STRING: "std::string", BOOL: "bool", INT: "int", DOUBLE: "double", ANY: ANY_TYPE}
 

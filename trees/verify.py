@@ -19,8 +19,10 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
+from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, parse_expression, parse_rules
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
+from aeroexec.engine.catalog.descriptors import PredicateDeclaration
+from aeroexec.engine.catalog.vocabulary import check_rules
 from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
 from aeroexec.engine.missions.check import MissionProblem
@@ -78,6 +80,10 @@ class TreeVerifier:
             for node in root.walk():
                 if node.type == "AddBelief":
                     self.vocabulary.update(_new_predicates(node.ports.get("belief", ""), self.vocabulary))
+                elif node.type == "AddRule":  # what its rules derive, and its facts' predicates
+                    with contextlib.suppress(BeliefError):
+                        self.vocabulary.update({r.head.name: r.head.arity
+                                                for r in parse_rules(node.ports.get("rule", ""))})
 
     def report(self, node: TreeNode | None, message: str, kind: str = WRONG_FORMAT, severity: str = "error") -> None:
         file = (node.file if node is not None else "") or self.document.file
@@ -118,6 +124,8 @@ class TreeVerifier:
                 self.check_condition(node, attribute, node.ports[attribute])
         if "belief" in node.ports and kind in BELIEF_LEAF_TYPES:
             self.check_expression(node, "belief", node.ports["belief"])
+        if kind == "AddRule":
+            self.check_rules(node, node.ports.get("rule", ""))
         for attribute in _SCRIPT_PORTS:
             if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
                 self.check_script(node, attribute, node.ports[attribute])
@@ -205,6 +213,19 @@ class TreeVerifier:
         if node.type != "AddBelief":
             for message in self.specialist.unwritten_values(expression):
                 self.report(node, message, WRONG_VALUE, "warning")
+
+    def check_rules(self, node: TreeNode, text: str) -> None:
+        """AddRule's rules: read and checked against the catalog's vocabulary (each problem at the node's line)."""
+        try:
+            rules = parse_rules(text, node.file or self.document.file, node.line or 1)
+            derived = {r.head.name for r in rules if r.body.literals}
+            known = {name: PredicateDeclaration(name, arity) for name, arity in self.vocabulary.items()
+                     if name not in derived}  # the mission's own (AddBelief, facts) as stored ones
+            problems = check_rules({**known, **self.catalog.predicates}, [*self.catalog.rules, *rules])
+        except RuleError as error:
+            problems = error.problems
+        for problem in problems:
+            self.report(node, f"AddRule: {problem.message}")
 
     def check_condition(self, node: TreeNode, attribute: str, text: str) -> None:
         """A pre-condition: a script, or else the belief expression aeroexec took there before."""

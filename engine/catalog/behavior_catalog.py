@@ -15,7 +15,7 @@ from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
-from aeroexec.beliefs import BeliefMemory
+from aeroexec.beliefs import BeliefMemory, Rule, RuleError
 from aeroexec.engine.catalog.descriptors import (
     BehaviorDescriptor,
     CapabilityDescriptor,
@@ -26,6 +26,7 @@ from aeroexec.engine.catalog.descriptors import (
 )
 from aeroexec.engine.catalog.loader import CatalogContent, CatalogReader
 from aeroexec.engine.catalog.safety_rules import SafetyRule
+from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
@@ -46,6 +47,8 @@ class BehaviorCatalog:
         self.safety_rules: tuple[SafetyRule, ...] = tuple(content.safety_rules)
         self.transitions: tuple[Transition, ...] = tuple(content.transitions)
         self.predicates: dict[str, PredicateDeclaration] = dict(content.predicates)
+        #: the rules that derive beliefs (the catalog's ``rules:``, and those added by :meth:`with_rules`)
+        self.rules: tuple[Rule, ...] = tuple(content.rules)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
         #: the vehicle's documented limits (``vehicle_limits:``, an extension of Appendix B): name -> value
         self.vehicle_limits: dict[str, float] = dict(content.vehicle_limits)
@@ -121,10 +124,25 @@ class BehaviorCatalog:
         watched.safety_rules = self.safety_rules + rules
         return watched
 
+    def with_rules(self, rules: Iterable[Rule]) -> BehaviorCatalog:
+        """This catalog with ``rules`` added (a rules file, ``--rules``): the predicates they derive join the
+        vocabulary that missions are checked against, and an engine built on it derives them. Raises
+        :class:`~aeroexec.beliefs.RuleError` (each problem with its file and line) when they cannot be taken."""
+        rules = [*self.rules, *rules]
+        own = {n: p for n, p in self.predicates.items() if not p.derived}
+        problems = check_rules(own, rules)
+        if problems:
+            raise RuleError(problems)
+        fitted = copy.copy(self)
+        fitted.rules = tuple(rules)
+        fitted.predicates = {**own, **derived_declarations(rules, own)}
+        return fitted
+
     def declare_vocabulary(self, memory: BeliefMemory) -> None:
-        """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory."""
+        """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory; its rules are
+        added once the computed predicates they may read are registered (``memory.add_rules(catalog.rules)``)."""
         for p in self.predicates.values():
-            if not p.computed:
+            if not p.computed and not p.derived:
                 memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence, values=p.values,
                                aliases=p.aliases)
 

@@ -107,7 +107,7 @@ class RuleSet:
         return self
 
 
-def read_rules(reader: NodeReader, node: yaml.Node | None, vocabulary: BeliefMemory, line_offset: int = 0,
+def read_safety_rules(reader: NodeReader, node: yaml.Node | None, vocabulary: BeliefMemory, line_offset: int = 0,
                subtrees: Iterable[str] | None = None, functions: Iterable[str] | None = None) -> RuleSet:
     """The rules of a YAML list ``node`` (composed by ``reader``), their conditions checked against
     ``vocabulary``; ``subtrees``/``functions``, when given, are the names a named contingency may take.
@@ -128,7 +128,7 @@ def read_rules(reader: NodeReader, node: yaml.Node | None, vocabulary: BeliefMem
     return found
 
 
-def read_rules_text(text: str, file: str, vocabulary: BeliefMemory, line_offset: int = 0,
+def read_safety_rules_text(text: str, file: str, vocabulary: BeliefMemory, line_offset: int = 0,
                     subtrees: Iterable[str] | None = None, functions: Iterable[str] | None = None) -> RuleSet:
     """The rules of a YAML text: a list of rules, or a mapping with the key ``safety_rules``."""
     reader = NodeReader(text, file)
@@ -140,7 +140,7 @@ def read_rules_text(text: str, file: str, vocabulary: BeliefMemory, line_offset:
         root = entries["safety_rules"][1] if "safety_rules" in entries else None
         found.problems += _offset(reader.problems, line_offset)
         reader.problems = []
-    return found.extend(read_rules(reader, root, vocabulary, line_offset, subtrees, functions))
+    return found.extend(read_safety_rules(reader, root, vocabulary, line_offset, subtrees, functions))
 
 
 def _offset(problems: list[Problem], offset: int) -> list[Problem]:
@@ -242,4 +242,4 @@ def rule_vocabulary(predicates: Mapping[str, int]) -> BeliefMemory:
 
 
 __all__ = ["ALWAYS", "CALL", "CONTINGENCIES", "HOLD", "LAND", "NEVER", "RETURN", "SUBTREE", "WITHIN", "Contingency",
-           "RuleSet", "SafetyRule", "read_rules", "read_rules_text", "rule_vocabulary"]
+           "RuleSet", "SafetyRule", "read_safety_rules", "read_safety_rules_text", "rule_vocabulary"]

@@ -10,7 +10,7 @@ from pathlib import Path
 from xml.sax.saxutils import unescape
 
 from aeroexec.engine.catalog import BehaviorCatalog
-from aeroexec.engine.catalog.safety_rules import RuleSet, read_rules_text, rule_vocabulary
+from aeroexec.engine.catalog.safety_rules import RuleSet, read_safety_rules_text, rule_vocabulary
 from aeroexec.engine.errors import Problem
 
 from aeroexec.limits import InputError, line_of_offset, read_text
@@ -30,7 +30,7 @@ def rules_file(path: str | Path, catalog: BehaviorCatalog) -> RuleSet:
         text = read_text(path, what="the rules file")
     except InputError as exc:
         return RuleSet(problems=[Problem("error", exc.message, exc.file, exc.line)])
-    return read_rules_text(text, str(path), vocabulary(catalog))
+    return read_safety_rules_text(text, str(path), vocabulary(catalog))
 
 
 def mission_rules(path: str | Path, catalog: BehaviorCatalog) -> RuleSet:
@@ -46,7 +46,7 @@ def mission_rules(path: str | Path, catalog: BehaviorCatalog) -> RuleSet:
     if suffix == ".xml":
         return _xml_rules(text, str(path), catalog)
     if suffix in (".yaml", ".yml") and re.search(r"^safety_rules\s*:", text, re.MULTILINE):
-        return read_rules_text(text, str(path), vocabulary(catalog), subtrees=_yaml_tree_ids(text))
+        return read_safety_rules_text(text, str(path), vocabulary(catalog), subtrees=_yaml_tree_ids(text))
     return RuleSet()
 
 
@@ -62,7 +62,7 @@ def _xml_rules(text: str, file: str, catalog: BehaviorCatalog) -> RuleSet:
         else:
             body = unescape(body, {"&quot;": '"', "&apos;": "'"})
         offset = line_of_offset(text, start) - 1
-        found.extend(read_rules_text(_dedent(body), file, vocabulary(catalog), offset, subtrees=ids))
+        found.extend(read_safety_rules_text(_dedent(body), file, vocabulary(catalog), offset, subtrees=ids))
     return found
 
 
@@ -80,7 +80,7 @@ def _python_rules(text: str, file: str, catalog: BehaviorCatalog) -> RuleSet:
                 return RuleSet(problems=[Problem("error", "SAFETY_RULES must be a string of YAML (a list of rules)",
                                                  file, node.lineno)])
             # a string's first line is the line of its opening quotes (and its text starts there)
-            return read_rules_text(value.value, file, vocabulary(catalog), value.lineno - 1, functions=functions)
+            return read_safety_rules_text(value.value, file, vocabulary(catalog), value.lineno - 1, functions=functions)
     return RuleSet()
 
 

@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
+from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, parse_expression, read_rules
 from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
 from aeroexec.engine.errors import CatalogError
@@ -127,7 +127,7 @@ def _world(path: Path) -> list[str]:
     return []
 
 
-def _rules(path: Path) -> list[str]:
+def _safety_rules(path: Path) -> list[str]:
     global _catalog
     _catalog = _catalog or default_catalog()
     from aeroexec.engine.safety.declared import rules_file
@@ -153,6 +153,21 @@ def _belief(path: Path) -> list[str]:
             with contextlib.suppress(BeliefError):
                 _memory.add(text)
                 _memory.remove(text)
+    except BeliefError as error:
+        return [str(error)]
+    return []
+
+
+def _rules(path: Path) -> list[str]:
+    """A rules file (``--rules``): read, taken by a memory, and every predicate it derives asked."""
+    memory = BeliefMemory()
+    try:
+        rules = read_rules(path)
+        memory.add_rules(rules)
+        for name, arity in {r.head.signature for r in rules if r.body.literals}:
+            memory.query_all(f"{name}({', '.join(f'?A{i}' for i in range(arity))})" if arity else name)
+    except RuleError as error:
+        return [str(p) for p in error.problems]
     except BeliefError as error:
         return [str(error)]
     return []
@@ -270,10 +285,11 @@ FORMATS = {f.name: f for f in [
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
-    Format("safety rules", ".rules.yaml", _files("tests/fuzz/seeds/*.rules.yaml"), _rules),
+    Format("safety rules", ".rules.yaml", _files("tests/fuzz/seeds/*.rules.yaml"), _safety_rules),
     Format("fleet files", ".yaml", _files("missions/fleet_search.yaml", "missions/relay.yaml"), _fleet_file),
     Format("fleet messages", ".msg", _files("tests/fuzz/seeds/*.msg"), _fleet_message),
     Format("fleet certificates", ".pem", _files("tests/fuzz/seeds/*.pem"), _fleet_certificate),
+    Format("rules files", ".rules", _files("tests/fuzz/seeds/*.rules"), _rules),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.

@@ -11,14 +11,14 @@ from aeroexec.cli.main import main
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.config import SimConfig
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.engine.catalog.safety_rules import read_rules_text
+from aeroexec.engine.catalog.safety_rules import read_safety_rules_text
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.safety.declared import vocabulary
 
 
 def engine_with(rules: str, config: SimConfig) -> tuple[Engine, SimulatedDrone]:
     catalog = default_catalog()
-    found = read_rules_text(textwrap.dedent(rules), "rules.yaml", vocabulary(catalog))
+    found = read_safety_rules_text(textwrap.dedent(rules), "rules.yaml", vocabulary(catalog))
     assert not found.problems, found.problems
     drone = SimulatedDrone(config=config)
     return Engine(drone, catalog=catalog.with_safety_rules(found.rules)), drone

@@ -1,5 +1,5 @@
-"""The engine's belief leaves: CheckBelief (and its old spelling ``<Condition belief>``), QueryBelief, AddBelief and
-RemoveBelief on the engine's belief memory.
+"""The engine's belief leaves: CheckBelief (and its old spelling ``<Condition belief>``), QueryBelief, AddBelief,
+RemoveBelief and AddRule on the engine's belief memory.
 
 Belief expressions may read the blackboard with ``{key}``; QueryBelief writes each variable it unifies (``?P`` ->
 key ``P``). An expression that cannot be read makes the node FAILURE, with a ``tree_error`` naming its place.
@@ -104,4 +104,25 @@ class RemoveBelief(BeliefLeaf):
 
     def apply(self, text: str) -> Status:
         self.context.engine.memory.remove(text)
+        return Status.SUCCESS
+
+
+class AddRule(Leaf):
+    """Adds the rules (and facts) of its ``rule`` port the first time it is ticked; FAILURE when they cannot be
+    taken (each problem named with the node's file and line)."""
+
+    ports = (InputPort("rule", STRING, required=True, description="rules deriving beliefs (head :- body.) and facts"),)
+
+    def __init__(self, name: str, config: NodeConfig) -> None:
+        super().__init__(name, config)
+        self.rule, self.added = config.model.ports.get("rule", ""), False
+        self.file, self.line = config.model.file, config.model.line or 1
+
+    def update(self) -> Status:
+        if not self.added:
+            try:
+                self.context.engine.memory.add_rules(self.rule, self.file or self.name, self.line)
+            except BeliefError as error:
+                return self.error(f"AddRule: {error}")
+            self.added = True
         return Status.SUCCESS
