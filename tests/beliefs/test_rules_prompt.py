@@ -28,7 +28,7 @@ def test_rules_are_added_asked_and_explained_at_the_prompt(flight, monkeypatch, 
              "bad(?X) :- seen(?Y).",
              "quit"]
     monkeypatch.setattr("sys.stdin", io.StringIO("\n".join(lines) + "\n"))
-    assert main(["beliefs", "--log", str(flight)]) == 0
+    assert main(["beliefs", str(flight)]) == 0
     out, err = capsys.readouterr()
     assert out.count("added 1 clause") == 2
     assert "seen(?M) :- object(?M, marker), code(?M, ?C).    % <prompt>:1" in out
@@ -43,10 +43,10 @@ def test_rules_are_added_asked_and_explained_at_the_prompt(flight, monkeypatch, 
 def test_a_rules_file_is_read_with_its_errors_lines(flight, tmp_path, capsys):
     rules = tmp_path / "markers.rules"
     rules.write_text("% markers by code\nlow(?M) :- object(?M, marker), code(?M, ?C), ?C < 3.\n")
-    assert main(["beliefs", "--log", str(flight), "--rules", str(rules), "--query", "low(?M)"]) == 0
+    assert main(["beliefs", str(flight), "--rules", str(rules), "--query", "low(?M)"]) == 0
     assert "marker_1" in capsys.readouterr().out
     rules.write_text("% markers by code\nlow(?M) :- object(?M, marker), not(code(?M, ?C)).\n")
-    assert main(["beliefs", "--log", str(flight), "--rules", str(rules), "--query", "low(?M)"]) == 1
+    assert main(["beliefs", str(flight), "--rules", str(rules), "--query", "low(?M)"]) == 1
     err = capsys.readouterr().err
     assert f"{rules}:2: The rule low(?M) :- object(?M, marker), not(code(?M, ?C)). is not safe: ?C appears only " \
            "in a negation" in err
