@@ -2,14 +2,15 @@
 AlwaysFailure, Script, ScriptCondition, SetBlackboard, UnsetBlackboard, Sleep and WasEntryUpdated; and
 :class:`Leaf`, the base of every leaf, the engine's included.
 
-A script that fails while it runs (a key not written, a type mismatch) makes its node FAILURE and records a
-``tree_error`` with the node's place (BT.CPP throws out of the tick instead).
+A script that fails while it runs (a variable nothing wrote, a type mismatch) raises :class:`TickError` out of
+the tick, naming the node, as BT.CPP throws: the run fails unless a TryCatch around it catches it.
 """
 
 from __future__ import annotations
 
-from aeroexec.trees.runtime.ports import ANY, STRING, UNSIGNED, BidirectionalPort, InputPort, NodeConfig
-from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SUCCESS, Node, kept
+from aeroexec.trees.conversions import ANY, STRING, UNSIGNED, ConversionError
+from aeroexec.trees.runtime.ports import BidirectionalPort, InputPort, NodeConfig
+from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SUCCESS, Node, TickError, kept
 from aeroexec.trees.script import ScriptError, compile_script, truth
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -74,9 +75,9 @@ class Script(Leaf):
     def update(self) -> Status:
         try:
             value = self.script.run(self.blackboard, self.context.belief_holds)
+            return SUCCESS if not self.condition or truth(value) else FAILURE
         except ScriptError as error:
-            return self.error(str(error))
-        return SUCCESS if not self.condition or truth(value) else FAILURE
+            raise TickError(self.source, str(error)) from None
 
 
 class ScriptCondition(Script):
@@ -86,7 +87,8 @@ class ScriptCondition(Script):
 
 
 class SetBlackboard(Leaf):
-    """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value)."""
+    """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value); text written to a typed entry is
+    converted to its type."""
 
     ports = (InputPort("value", ANY, required=True, description="the value to write"),
              BidirectionalPort("output_key", ANY, "the blackboard entry it writes", required=True))
@@ -100,10 +102,15 @@ class SetBlackboard(Leaf):
         source = self.value.key
         if source is not None:
             if source not in self.blackboard:
-                return self.error(f"Can't find the port referred by [value]: {{{source}}}")
-            self.blackboard[self.key] = self.blackboard[source]
+                raise TickError(self.source, f"Can't find the port referred by [value]: {{{source}}}")
+            value = self.blackboard[source]
         else:
-            self.blackboard[self.key] = self.value.value if self.value.value is not None else ""
+            value = self.value.value if self.value.value is not None else ""
+        try:
+            self.blackboard[self.key] = value
+        except ConversionError as error:
+            raise TickError(self.source, f"Can't convert string [{value}] to type "
+                                         f"[{self.blackboard.type_of(self.key)}]: {error}") from None
         return SUCCESS
 
 

@@ -10,9 +10,10 @@ from __future__ import annotations
 import abc
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
+from aeroexec.trees.conversions import BOOL, STRING
 from aeroexec.trees.ports import MissingKey, substitute
 from aeroexec.trees.runtime.actions import Leaf
-from aeroexec.trees.runtime.ports import BOOL, STRING, InputPort, NodeConfig, Port
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig, Port
 from aeroexec.trees.runtime.ticking import kept
 from py_trees.common import Status
 

@@ -5,9 +5,10 @@ became impossible; completing halts the running children. ParallelAll ticks ever
 
 from __future__ import annotations
 
+from aeroexec.trees.conversions import INT
 from aeroexec.trees.runtime.controls import Control
-from aeroexec.trees.runtime.ports import INT, InputPort, NodeConfig
-from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, halt
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig
+from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -35,6 +36,9 @@ class Parallel(Control):
         success_count = self.success_count.get()
         needed = _threshold(success_count, count)
         failing = _threshold(self.failure_count.get(), count)
+        if count < needed or count < failing:
+            raise TickError(self.config.model, "Number of children is less than threshold. Can never "
+                                               f"{'succeed' if count < needed else 'fail'}.")
         skipped = 0
         for index in range(count):
             if index not in self.completed:
@@ -80,6 +84,9 @@ class ParallelAll(Control):
     def run(self) -> Result:
         skipped = 0
         count = len(self.children)
+        threshold = _threshold(self.max_failures.get(), count)
+        if count < threshold:
+            raise TickError(self.config.model, "Number of children is less than threshold. Can never fail.")
         for index in range(count):
             if index in self.completed:
                 continue
@@ -92,7 +99,7 @@ class ParallelAll(Control):
         if skipped == count:
             return SKIPPED
         if skipped + len(self.completed) >= count:
-            failed = self.failures >= _threshold(self.max_failures.get(), count)
+            failed = self.failures >= threshold
             for child in self.children:
                 halt(child)
             self.halted()

@@ -20,13 +20,30 @@ from collections.abc import Iterator
 from types import MethodType
 from typing import Any
 
+from aeroexec.trees import conversions
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
 #: The fourth status of BehaviorTree.CPP; a node ends SUCCESS and ``skipped`` is set.
-SKIPPED = "SKIPPED"
+SKIPPED = conversions.SKIPPED
 Result = Status | str
 RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAILURE, Status.INVALID
+
+
+class TickError(RuntimeError):
+    """A node that cannot go on ticking: a script that fails (a variable nothing wrote, a type mismatch), a port it
+    cannot read. BT.CPP throws out of the tick; the run fails naming the node (``where``: file:line), unless a
+    TryCatch around it catches it."""
+
+    def __init__(self, node: Any, message: str) -> None:
+        self.node, self.message = node, message
+        kind, name = getattr(node, "type", ""), getattr(node, "name", "")
+        self.what = kind if name in ("", kind) else f"{kind} {name!r}"
+        super().__init__(f"{self.where}: {self.what}: {message}" if self.where else f"{self.what}: {message}")
+
+    @property
+    def where(self) -> str:
+        return getattr(self.node, "where", "")
 
 
 class _Discard(list):
