@@ -82,6 +82,18 @@ CONVERSIONS: dict[str, Callable[[str], Any]] = {INT: _integer, UNSIGNED: lambda 
                                                 DOUBLE: _double, BOOL: _bool, STATUS: _status, STRING: str, ANY: str}
 
 
+def compatible(known: str | None, kind: str) -> bool:
+    """Whether a port of type ``kind`` may use an entry a port of type ``known`` typed first (BT.CPP: the same type,
+    or any type after a string's)."""
+    return known is None or known in (kind, STRING)
+
+
+def type_conflict(key: str, known: str, kind: str) -> str:
+    """BT.CPP's message refusing a tree whose ports give one entry two types."""
+    return (f"The creation of the tree failed because the port [{key}] was initially created with type [{known}] "
+            f"and, later type [{kind}] was used somewhere else.")
+
+
 def queue_items(text: str, item: str) -> list[Any]:
     """BT.CPP's ``convertFromString<SharedQueue<T>>``: the items between ``;``, each converted (none in "")."""
     parts = text.split(";")

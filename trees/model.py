@@ -65,6 +65,10 @@ class TreeDocument:
     main: str  # the ID of the tree to execute
     file: str = ""
     lines: dict[str, int] = field(default_factory=dict)  # BehaviorTree ID -> the line it is declared on
+    warnings: list[tuple[str, int, str]] = field(default_factory=list)  # what the loader read with a warning
+    #: what strict XML refuses and BehaviorTree.CPP reads (raw ``<``, ``&`` in attributes): warnings too, errors
+    #: for ``verify --strict-btcpp``
+    lenient: list[tuple[str, int, str]] = field(default_factory=list)
 
     @property
     def root(self) -> TreeNode:

@@ -65,7 +65,7 @@ def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> li
     if not document.file.lower().endswith(".xml") or document.file.lower().endswith(".tml.xml"):
         return [_problem(None, document, "not a BehaviorTree.CPP file: only its v4 XML is portable")]
     palette = palette_ports(catalog)
-    problems: list[MissionProblem] = []
+    problems = [MissionProblem("error", message, file, line, KIND) for file, line, message in document.lenient]
     for root in document.trees.values():
         for node in root.walk():
             problems.extend(_problem(node, document, message) for message in _node_problems(node, palette))

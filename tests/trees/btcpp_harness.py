@@ -40,10 +40,13 @@ from typing import Any
 import behaviortreepy as bt
 from aeroexec.beliefs import BeliefMemory
 from aeroexec.engine.catalog import default_catalog
+from aeroexec.trees.conversions import DOUBLE, INT
 from aeroexec.trees.loaders.xml_loader import read_xml
+from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import TreeBuildError, build_tree, describe, model_of
 from aeroexec.trees.runtime.context import TreeContext
+from aeroexec.trees.runtime.node_conditions import NodeConditions
 from aeroexec.trees.runtime.ticking import TickError, TickState, attach, result_of, tick_tree
 from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour
@@ -291,13 +294,19 @@ def _resets_children(node: Behaviour, status: Status, result: Any) -> bool:
 def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: float = 0.0,
                  blackboard: dict[str, Any] | None = None) -> Run:
     """The same tree on aeroexec's tree runtime, its clock moved ``between`` seconds between ticks."""
-    document = read_xml(xml, "parity.xml")
+    try:
+        document = read_xml(xml, "parity.xml")
+    except TreeFormatError as error:  # refused as it loads
+        return Run(error_at=-1, error=str(error))
     clock = Clock()
     halts: list[str] = []
     engine = SimpleNamespace(catalog=_CATALOG, now=clock, memory=BeliefMemory(),
                              log=SimpleNamespace(record=lambda *a, **k: None))
     leaves = {kind: (lambda model, board, kind=kind: ScriptedLeaf(kind, scripts[kind], halts)) for kind in scripts}
     board = Blackboard(values=blackboard)
+    for key, value in (blackboard or {}).items():  # BT.CPP's set<int>/set<double> type the entry
+        if not isinstance(value, str):
+            board.declare(key, INT if isinstance(value, int) else DOUBLE)
     try:
         root = build_tree(document, TreeContext(engine), board, leaves)
     except TreeBuildError as error:  # refused as it loads
@@ -341,7 +350,9 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
             child_ticked = bool(ticked.children) and (returned.get(id(ticked.children[0]), -1)
                                                       > returned.get(id(ticked), -1))  # since it last returned
             returned[id(ticked)] = place
-            remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD and not child_ticked)
+            remembered = (kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD and not child_ticked)
+                          or (isinstance(ticked, NodeConditions) and not child_ticked))  # a pre-condition decided:
+            # BT.CPP does not call the node's tick()
             if not _is_leaf(ticked) and not remembered:
                 events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
             if result != "SKIPPED":  # BT.CPP keeps a skipped node's status

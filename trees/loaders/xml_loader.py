@@ -37,6 +37,7 @@ from xml.sax.xmlreader import InputSource
 import defusedxml.sax
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.loaders.common import resolve_type
+from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
 
@@ -100,8 +101,13 @@ def _refusal(exc: DefusedXmlException) -> str:
     return f"refused XML construct: {exc}"
 
 
-def parse_xml(data: bytes, file: str) -> _Element:
-    """The element tree of an XML text, or a TreeFormatError naming the line where it stops being XML."""
+def parse_xml(data: bytes, file: str, lenient: list[tuple[str, int, str]] | None = None) -> _Element:
+    """The element tree of an XML text, or a TreeFormatError naming the line where it stops being XML. With a
+    ``lenient`` list, raw ``<`` and ``&`` in attribute values are read as BehaviorTree.CPP reads them, each place
+    added to the list (``loaders.lenient_xml``)."""
+    if lenient is not None:
+        data, found = escape_attributes(data, file)
+        lenient += found
     collector = _Collector()
     parser = defusedxml.sax.make_parser()
     parser.forbid_dtd = True
@@ -132,6 +138,8 @@ class _XmlReader:
 
     def __init__(self) -> None:
         self.problems: list[tuple[str, int, str]] = []
+        self.warnings: list[tuple[str, int, str]] = []  # (file, line, message): read all the same
+        self.lenient: list[tuple[str, int, str]] = []  # what strict XML refuses and BT.CPP reads
         self.trees: dict[str, TreeNode] = {}
         self.places: dict[str, tuple[str, int]] = {}  # tree ID -> (file, line)
         self.seen: set[str] = set()  # resolved paths already read
@@ -156,7 +164,7 @@ class _XmlReader:
                        else f"cannot read the included file {path}: {exc.message}")
             return
         try:
-            self.read_document(parse_xml(data, path), path, (*stack, key))
+            self.read_document(parse_xml(data, path, self.lenient), path, (*stack, key))
         except TreeFormatError as exc:
             self.problems.extend(exc.problems)
 
@@ -245,8 +253,9 @@ class _XmlReader:
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
             name = name or ports.get("ID", "")
         if node_type == "Condition" and element.tag == "Condition":
-            logger.warning("%s:%d: <Condition belief=...> is aeroexec's old spelling, refused by BehaviorTree.CPP and "
-                           "Groot2: write <CheckBelief belief=\"...\"/>", file, element.line)
+            self.warnings.append((file, element.line, "<Condition belief=...> is aeroexec's old spelling, refused "
+                                                      "by BehaviorTree.CPP and Groot2: write <CheckBelief "
+                                                      "belief=\"...\"/>"))
         children = [self.node(child, file) for child in element.children]
         return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line,
                         tag=element.tag, named="name" in element.attrs)
@@ -294,8 +303,8 @@ def _main_tree(reader: _XmlReader, root: _Element, file: str, declared: list[str
 def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     """A mission from XML text; ``file`` names it in problems and anchors relative includes."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    root = parse_xml(raw, file)
     reader = _XmlReader()
+    root = parse_xml(raw, file, reader.lenient)
     declared = reader.read_document(root, file, (os.path.realpath(file),))
     main = _main_tree(reader, root, file, declared)
     _apply_subtree_models(reader)
@@ -303,7 +312,7 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
         raise TreeFormatError(reader.problems)
     lines = {tree_id: line for tree_id, (_, line) in reader.places.items()}
     logger.debug("read %d behavior trees from %s (main %s)", len(reader.trees), file, main)
-    return TreeDocument(reader.trees, main, file, lines)
+    return TreeDocument(reader.trees, main, file, lines, reader.warnings, reader.lenient)
 
 
 def load_xml(path: str | Path) -> TreeDocument:

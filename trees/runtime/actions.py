@@ -87,10 +87,10 @@ class ScriptCondition(Script):
 
 
 class SetBlackboard(Leaf):
-    """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value); text written to a typed entry is
-    converted to its type."""
+    """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value; FAILURE when it holds none, as in
+    BT.CPP); text written to a typed entry is converted to its type."""
 
-    ports = (InputPort("value", ANY, required=True, description="the value to write"),
+    ports = (InputPort("value", ANY, required=True, description="the value to write", empty=True),
              BidirectionalPort("output_key", ANY, "the blackboard entry it writes", required=True))
 
     def __init__(self, name: str, config: NodeConfig) -> None:
@@ -101,8 +101,9 @@ class SetBlackboard(Leaf):
     def update(self) -> Status:
         source = self.value.key
         if source is not None:
-            if source not in self.blackboard:
-                raise TickError(self.source, f"Can't find the port referred by [value]: {{{source}}}")
+            if source not in self.blackboard:  # BT.CPP: the entry holds no value yet
+                self.feedback_message = f"{{{source}}} holds no value"
+                return FAILURE
             value = self.blackboard[source]
         else:
             value = self.value.value if self.value.value is not None else ""

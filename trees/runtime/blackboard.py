@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, MutableMapping
 from typing import Any
 
-from aeroexec.trees.conversions import STRING, from_blackboard
+from aeroexec.trees.conversions import compatible, from_blackboard, type_conflict
 from aeroexec.trees.model import COMMON_ATTRIBUTES
 from aeroexec.trees.ports import bare_key
 from aeroexec.trees.runtime.ports import PortError
@@ -78,11 +78,9 @@ class Blackboard(MutableMapping[str, Any]):
         second of another type is refused unless the first was a string's)."""
         board, name = self._route(key)
         known = board._types.get(name)
-        if known is None or known == kind:
-            board._types[name] = kind
-        elif known != STRING:
-            raise PortError(f"The creation of the tree failed because the port [{key}] was initially created with "
-                            f"type [{known}] and, later type [{kind}] was used somewhere else.")
+        if not compatible(known, kind):
+            raise PortError(type_conflict(key, known, kind))  # type: ignore[arg-type]
+        board._types.setdefault(name, kind)
 
     def type_of(self, key: str) -> str | None:
         """The type a port gave the entry, None when none did."""

@@ -278,7 +278,7 @@ class Loop(Decorator):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        cls.ports = (BidirectionalPort("queue", ANY, "the items, ';' between them", required=True),
+        cls.ports = (BidirectionalPort("queue", ANY, "the items, ';' between them", required=True, empty=True),
                      InputPort("if_empty", STATUS, "SUCCESS", "the result when the queue is empty"),
                      OutputPort("value", cls.item, "the current item"))
 

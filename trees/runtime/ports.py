@@ -28,8 +28,9 @@ class PortError(ValueError):
 
 @dataclass(frozen=True, slots=True)
 class Port:
-    """One port of a node type (BT.CPP's ``PortInfo``): its name, type, direction, default text and whether the
-    XML must write it (BT.CPP then fails at the first read of a port left out without a default)."""
+    """One port of a node type (BT.CPP's ``PortInfo``): its name, type (``trees.conversions``), direction, default
+    text, whether the XML must write it (BT.CPP then fails at the first read of a port left out without a default)
+    and whether an empty value means something there."""
 
     name: str
     type: str = STRING
@@ -37,6 +38,7 @@ class Port:
     default: str | None = None
     required: bool = False
     description: str = ""
+    empty: bool = False  # an empty value means something (an empty queue, an empty text)
 
     @property
     def reads(self) -> bool:
@@ -48,9 +50,9 @@ class Port:
 
 
 def InputPort(name: str, type: str = STRING, default: str | None = None, description: str = "",  # noqa: N802
-              required: bool = False) -> Port:
+              required: bool = False, empty: bool = False) -> Port:
     """BT.CPP's ``InputPort<T>(name, default, description)``."""
-    return Port(name, type, "input", default, required, description)
+    return Port(name, type, "input", default, required, description, empty)
 
 
 def OutputPort(name: str, type: str = ANY, description: str = "", required: bool = False) -> Port:  # noqa: N802
@@ -59,9 +61,9 @@ def OutputPort(name: str, type: str = ANY, description: str = "", required: bool
 
 
 def BidirectionalPort(name: str, type: str = ANY, description: str = "",  # noqa: N802
-                      required: bool = False) -> Port:
+                      required: bool = False, empty: bool = False) -> Port:
     """BT.CPP's ``BidirectionalPort<T>(name, description)``."""
-    return Port(name, type, "inout", None, required, description)
+    return Port(name, type, "inout", None, required, description, empty)
 
 
 class Input:
