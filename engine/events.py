@@ -72,8 +72,10 @@ class EventLog:
         self._listeners: list[Callable[[EngineEvent], None]] = []
         self._lock = threading.Lock()
 
-    def record(self, kind: str, behavior: str = "", detail: str = "", **data: Any) -> EngineEvent:
-        event = EngineEvent(self._clock(), kind, behavior, detail, data)
+    def record(self, kind: str, behavior: str = "", detail: str = "", *, at: float | None = None,
+               **data: Any) -> EngineEvent:
+        """Record an event that happened now, or ``at`` an earlier time of the same clock (a robot's own report)."""
+        event = EngineEvent(self._clock() if at is None else at, kind, behavior, detail, data)
         with self._lock:
             self._events.append(event)
             listeners = list(self._listeners)
