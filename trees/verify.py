@@ -70,7 +70,7 @@ class TreeVerifier:
 
     def verify(self) -> list[Problem]:
         document = self.document
-        for file, line, message in (*document.warnings, *document.lenient):  # counted with the others
+        for file, line, message in (*document.warnings, *document.not_portable):  # counted with the others
             self.problems.append(Problem("warning", message, file, line, WRONG_FORMAT))
         if document.main not in document.trees:
             self.problems.append(Problem("error", f"The main tree {document.main} does not exist"

@@ -36,7 +36,8 @@ from xml.sax.xmlreader import InputSource
 
 import defusedxml.sax
 from aeroexec.engine.yaml_nodes import suggestion
-from aeroexec.trees.loaders.common import resolve_type
+from aeroexec.trees.loaders.btcpp_names import model_name_problem, port_name_problem, refused
+from aeroexec.trees.loaders.common import EXPLICIT_TAGS, resolve_type
 from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
@@ -139,7 +140,7 @@ class _XmlReader:
     def __init__(self) -> None:
         self.problems: list[tuple[str, int, str]] = []
         self.warnings: list[tuple[str, int, str]] = []  # (file, line, message): read all the same
-        self.lenient: list[tuple[str, int, str]] = []  # what strict XML refuses and BT.CPP reads
+        self.not_portable: list[tuple[str, int, str]] = []  # read here, refused by BT.CPP 4.10 or Groot2
         self.trees: dict[str, TreeNode] = {}
         self.places: dict[str, tuple[str, int]] = {}  # tree ID -> (file, line)
         self.seen: set[str] = set()  # resolved paths already read
@@ -164,7 +165,7 @@ class _XmlReader:
                        else f"cannot read the included file {path}: {exc.message}")
             return
         try:
-            self.read_document(parse_xml(data, path, self.lenient), path, (*stack, key))
+            self.read_document(parse_xml(data, path, self.not_portable), path, (*stack, key))
         except TreeFormatError as exc:
             self.problems.extend(exc.problems)
 
@@ -188,7 +189,7 @@ class _XmlReader:
             elif element.tag == "include":
                 self.read_include(element, file, stack)
             elif element.tag == "TreeNodesModel":
-                self.read_models(element)
+                self.read_models(element, file)
             else:
                 self.error(file, element.line, f"unexpected <{element.tag}> in <root>: expected "
                                                f"<BehaviorTree>, <include> or <TreeNodesModel>"
@@ -209,10 +210,14 @@ class _XmlReader:
             return
         self.read_file(path, stack, (file, element.line))
 
-    def read_models(self, element: _Element) -> None:
+    def read_models(self, element: _Element, file: str) -> None:
         """The ports of the SubTrees the palette declares, with their defaults (BehaviorTree.CPP applies them)."""
         for model in element.children:
             if model.tag == "SubTree" and model.attrs.get("ID", "").strip():
+                for port in model.children:
+                    problem = port_name_problem(port.attrs.get("name", "")) if port.tag.endswith("_port") else None
+                    if problem is not None:
+                        self.not_portable.append((file, port.line, refused(problem)))
                 self.subtree_models[model.attrs["ID"].strip()] = {
                     port.attrs["name"]: port.attrs.get("default") for port in model.children
                     if port.tag in ("input_port", "output_port", "inout_port") and port.attrs.get("name")}
@@ -225,6 +230,9 @@ class _XmlReader:
             self.error(file, element.line, "a <BehaviorTree> needs ID=\"...\" (only a file's one tree may go "
                                            "without)")
             return None
+        problem = model_name_problem(tree_id) if element.attrs.get("ID", "").strip() else None
+        if problem is not None:
+            self.not_portable.append((file, element.line, refused(problem)))
         nodes = [self.node(child, file) for child in element.children]
         if len(element.children) != 1:
             count = len(element.children)
@@ -248,6 +256,10 @@ class _XmlReader:
         node_type, problem = resolve_type(element.tag, ports)
         if problem:
             self.error(file, element.line, problem)
+        named = ports.get("ID", "").strip() if node_type == "SubTree" else element.tag
+        problem = model_name_problem(named) if named and element.tag not in EXPLICIT_TAGS else None
+        if problem is not None:
+            self.not_portable.append((file, element.line, refused(problem)))
         if node_type == "SubTree":
             if not ports.get("ID", "").strip():
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
@@ -304,7 +316,7 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     """A mission from XML text; ``file`` names it in problems and anchors relative includes."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
     reader = _XmlReader()
-    root = parse_xml(raw, file, reader.lenient)
+    root = parse_xml(raw, file, reader.not_portable)
     declared = reader.read_document(root, file, (os.path.realpath(file),))
     main = _main_tree(reader, root, file, declared)
     _apply_subtree_models(reader)
@@ -312,7 +324,7 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
         raise TreeFormatError(reader.problems)
     lines = {tree_id: line for tree_id, (_, line) in reader.places.items()}
     logger.debug("read %d behavior trees from %s (main %s)", len(reader.trees), file, main)
-    return TreeDocument(reader.trees, main, file, lines, reader.warnings, reader.lenient)
+    return TreeDocument(reader.trees, main, file, lines, reader.warnings, reader.not_portable)
 
 
 def load_xml(path: str | Path) -> TreeDocument:
