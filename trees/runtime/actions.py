@@ -54,8 +54,15 @@ class AlwaysSuccess(Leaf):
     def update(self) -> Status:
         return self.result
 
-    def step(self) -> Status:
-        return kept(self, self.result)
+    def step(self) -> Status:  # ticking.kept, inlined: constants are ticked often
+        status, tree = self.result, self.tree
+        if status is not self.status:
+            tree.changed.append(self)
+            self.status = status
+        self.ticked = tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, status))
+        return status
 
 
 class AlwaysFailure(AlwaysSuccess):

@@ -90,6 +90,23 @@ class Inverter(Decorator):
         result = self.decorated.step()
         return FAILURE if result is SUCCESS else SUCCESS if result is FAILURE else result
 
+    def step(self) -> Result:  # Decorator.step and Node.settle for a node with nothing to start or stop
+        result = self.decorated.step()
+        tree = self.tree
+        if result is SUCCESS:
+            result = status = FAILURE
+        elif result is FAILURE:
+            result = status = SUCCESS
+        else:
+            status = SUCCESS if result is SKIPPED else result
+        skipped = result is SKIPPED
+        if status is not self.status or skipped is not self.skipped:
+            tree.changed.append(self)
+        self.status, self.skipped, self.ticked = status, skipped, tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, result))
+        return result
+
 
 class ForceSuccess(Decorator):
     """A completed child becomes SUCCESS; RUNNING and SKIPPED pass through."""

@@ -21,6 +21,7 @@ class Parallel(Control):
     """Succeeds once ``success_count`` children succeed (default -1: all), fails once ``failure_count`` failed
     (default 1) or success became impossible."""
 
+    in_order = True
     ports = (InputPort("success_count", INT, "-1", "children that must succeed (negative: all but -1 - n)"),
              InputPort("failure_count", INT, "1", "children whose failure fails the node"))
 
@@ -74,6 +75,7 @@ class ParallelAll(Control):
 
     ports = (InputPort("max_failures", INT, "1", "children whose failure fails the node"),)
     loops = True
+    in_order = True
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
