@@ -83,9 +83,9 @@ CONVERSIONS: dict[str, Callable[[str], Any]] = {INT: _integer, UNSIGNED: lambda 
 
 
 def compatible(known: str | None, kind: str) -> bool:
-    """Whether a port of type ``kind`` may use an entry a port of type ``known`` typed first (BT.CPP: the same type,
-    or any type after a string's)."""
-    return known is None or known in (kind, STRING)
+    """Whether a port of type ``kind`` may use an entry a port of type ``known`` made first (BT.CPP: the same type,
+    any type after a string's, and anything when either is untyped)."""
+    return known is None or known in (kind, STRING, ANY) or kind == ANY
 
 
 def type_conflict(key: str, known: str, kind: str) -> str:

@@ -217,7 +217,8 @@ class ScriptCompiler(Transformer):
 
         def assign(board, beliefs):
             board, name = _scope(board, written)
-            if op != ":=" and name not in board:
+            has_entry = getattr(board, "has_entry", board.__contains__)  # made by a port that uses it, or written
+            if op != ":=" and not has_entry(name):
                 raise ScriptError(f"The blackboard entry [{name}] doesn't exist, yet. If you want to create a new "
                                   "one, use the operator [:=] instead of [=]")
             result = value(board, beliefs)

@@ -166,6 +166,8 @@ DECORATORS = {
 
 ACTIONS = {
     "Script = on a missing entry throws": Case('<Script code="x = 1"/>', {}),
+    "Script = on an entry a port made as the tree loaded": Case(
+        '<Sequence><Script code="n = 2"/><Repeat num_cycles="{n}"><A/></Repeat></Sequence>', {"A": [S, F, R]}),
     "Script reading an undefined variable throws": Case('<Sequence><A/><Script code="x := y + 1"/></Sequence>',
                                                         {"A": [S]}),
     "ScriptCondition of a string throws": Case("<Sequence><Script code=\"s := 'abc'\"/><ScriptCondition code=\"s\"/>"

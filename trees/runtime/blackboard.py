@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, MutableMapping
 from typing import Any
 
-from aeroexec.trees.conversions import compatible, from_blackboard, type_conflict
+from aeroexec.trees.conversions import ANY, compatible, from_blackboard, type_conflict
 from aeroexec.trees.model import COMMON_ATTRIBUTES
 from aeroexec.trees.ports import bare_key
 from aeroexec.trees.runtime.ports import PortError
@@ -74,18 +74,25 @@ class Blackboard(MutableMapping[str, Any]):
         board._versions[name] = board._versions.get(name, 0) + 1
 
     def declare(self, key: str, kind: str) -> None:
-        """Give the entry ``key`` the type of a port that uses it (BT.CPP: the first strongly typed port does; a
-        second of another type is refused unless the first was a string's)."""
+        """Make the entry ``key`` for a port of type ``kind`` that uses it, as BT.CPP does when it loads a tree: the
+        first port gives it its type (``any``: none); a second of another type is refused unless either is untyped
+        or the first was a string's."""
         board, name = self._route(key)
         known = board._types.get(name)
         if not compatible(known, kind):
             raise PortError(type_conflict(key, known, kind))  # type: ignore[arg-type]
-        board._types.setdefault(name, kind)
+        board._types.setdefault(name, kind)  # the first port makes the entry (``any``: untyped)
+
+    def has_entry(self, key: str) -> bool:
+        """Whether the entry exists: written, or made by a port that uses it (a script may assign it with ``=``)."""
+        board, name = self._route(key)
+        return name in board._local or name in board._types
 
     def type_of(self, key: str) -> str | None:
-        """The type a port gave the entry, None when none did."""
+        """The type a port gave the entry, None when none did (or an untyped one)."""
         board, name = self._route(key)
-        return board._types.get(name)
+        kind = board._types.get(name)
+        return None if kind == ANY else kind
 
     def version(self, key: str) -> int:
         """How many times ``key`` was written (0: never), as BehaviorTree.CPP's entry sequence id."""

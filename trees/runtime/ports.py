@@ -144,7 +144,7 @@ class NodeConfig:
             raise KeyError(f"{self.model.type} declares no port {name}")
         key = bare_key(self.model.ports.get(name) or "")
         declare = getattr(self.blackboard, "declare", None)
-        if key is not None and port.type != ANY and declare is not None:
+        if key is not None and declare is not None:
             try:
                 declare(key, port.type)
             except PortError as error:
