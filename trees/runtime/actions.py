@@ -50,12 +50,17 @@ class Leaf(Node, Behaviour):
 
 class AlwaysSuccess(Leaf):
     result = SUCCESS
+    __slots__ = ("_result",)  # read at every tick: in a slot
+
+    def __init__(self, name: str, config: NodeConfig) -> None:
+        super().__init__(name, config)
+        self._result = self.result
 
     def update(self) -> Status:
         return self.result
 
     def step(self) -> Status:  # ticking.kept, inlined: constants are ticked often
-        status, tree = self.result, self.tree
+        status, tree = self._result, self.tree
         if status is not self.status:
             tree.changed.append(self)
             self.status = status

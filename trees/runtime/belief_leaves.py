@@ -45,6 +45,7 @@ class BeliefLeaf(Leaf):
 class CheckBelief(BeliefLeaf):
     """SUCCESS when the belief expression holds, else FAILURE."""
 
+    __slots__ = ("belief", "fixed", "holds")  # read at every tick: in slots
     ports = (_belief("a belief expression; SUCCESS when it holds"),)
 
     def __init__(self, name: str, config: NodeConfig) -> None:
