@@ -193,3 +193,12 @@ def test_a_try_catch_catches_a_script_failing_in_its_try_block(engine):
     assert [e.detail for e in engine.log.events(kind="tree_error")] == [
         "mission.xml:4: Precondition: Error in script [nothing > 1]: Variable not found: nothing (caught by TryCatch "
         "TryCatch)"]
+
+
+def test_a_script_failing_while_a_node_is_halted_is_recorded_and_the_halt_goes_on(engine):
+    mission = run(engine, N("Sequence", N("Script", code="n := 0"),
+                            N("ReactiveSequence", N("ScriptCondition", code="n := n + 1; n < 3"),
+                              N("Sleep", msec="10000", line=7, _onHalted="x := missing"))))
+    assert mission.status == Status.FAILURE  # the condition failed on the third tick: the tree ended there
+    [error] = [e.detail for e in engine.log.events(kind="tree_error")]
+    assert error.startswith("mission.xml:7: Sleep: _onHalted: Error in script [x := missing]")

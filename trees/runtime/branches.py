@@ -195,7 +195,10 @@ class TryCatch(Control):
             for child in self.children[:-1]:
                 halt(child)
             catch = self.children[-1]
-            catch.step()
+            try:
+                catch.step()
+            except TickError as error:  # a halt goes on: the error is recorded
+                self.caught(error)
             halt(catch)
         self.index = self.skipped_count = 0
         self.catching = False

@@ -52,7 +52,7 @@ class TreeBuilder:
         if not conditions and not actions:
             return behaviour
         behaviour.hidden = True  # type: ignore[attr-defined]
-        wrapper = NodeConditions(model.name, behaviour, conditions, actions)
+        wrapper = NodeConditions(model.name, behaviour, conditions, actions, self.context)
         wrapper.source = model  # type: ignore[attr-defined]
         return wrapper
 
