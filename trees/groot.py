@@ -15,8 +15,8 @@ import xml.etree.ElementTree as ElementTree
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE
+from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING
 from aeroexec.trees.runtime.belief_leaves import CheckBelief
-from aeroexec.trees.runtime.ports import ANY, BOOL, DOUBLE, INT, STRING
 from aeroexec.trees.runtime.registry import BUILT_IN
 
 ANY_TYPE = "BT::AnyTypeAllowed"

@@ -180,11 +180,9 @@ def read_yaml(text: str, file: str = "<yaml>") -> TreeDocument:
         document = _read_document(reader, leaves)
     elif not reader.failed:
         reader.error_at(0, "the file is empty: expected tree:, trees: or Aerostack's nodes:")
-    for problem in reader.problems:
-        if problem.severity == "warning":
-            logger.warning("%s", problem)
     if reader.failed or document is None:
         raise TreeFormatError(errors_of(reader) or [(file, 0, "not a behavior-tree mission")], leaves)
+    document.warnings += [(p.file, p.line, p.message) for p in reader.problems if p.severity == "warning"]
     logger.debug("read %d behavior trees from %s (main %s)", len(document.trees), file, document.main)
     return document
 

@@ -10,10 +10,11 @@ from __future__ import annotations
 import abc
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
+from aeroexec.trees.conversions import BOOL, STRING
 from aeroexec.trees.ports import MissingKey, substitute
 from aeroexec.trees.runtime.actions import Leaf
-from aeroexec.trees.runtime.ports import BOOL, STRING, InputPort, NodeConfig, Port
-from aeroexec.trees.runtime.ticking import kept
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig, Port
+from aeroexec.trees.runtime.ticking import FAILURE, SUCCESS
 from py_trees.common import Status
 
 
@@ -44,16 +45,29 @@ class BeliefLeaf(Leaf):
 class CheckBelief(BeliefLeaf):
     """SUCCESS when the belief expression holds, else FAILURE."""
 
+    __slots__ = ("belief", "fixed", "holds")  # read at every tick: in slots
     ports = (_belief("a belief expression; SUCCESS when it holds"),)
+
+    def __init__(self, name: str, config: NodeConfig) -> None:
+        super().__init__(name, config)
+        memory = getattr(getattr(config.context, "engine", None), "memory", None)
+        self.holds = memory.holds if memory is not None else None  # the engine keeps its memory for a run
 
     def step(self) -> Status:
         if not self.fixed:
             return super().step()
-        try:  # a condition without blackboard keys, ticked in one call (Leaf.step and update)
-            status = Status.SUCCESS if self.context.engine.memory.holds(self.belief) else Status.FAILURE
+        try:  # a condition without blackboard keys, ticked in one call (Leaf.step, update and kept)
+            status = SUCCESS if self.holds(self.belief) else FAILURE
         except BeliefError as error:
             status = self.error(f"{type(self).__name__} {self.belief}: {error}")
-        return kept(self, status)
+        tree = self.tree
+        if status is not self.status:
+            tree.changed.append(self)
+            self.status = status
+        self.ticked = tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, status))
+        return status
 
     def apply(self, text: str) -> Status:
         return Status.SUCCESS if self.context.engine.memory.holds(text) else Status.FAILURE

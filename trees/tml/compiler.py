@@ -216,8 +216,11 @@ def load_tml_document(path: str | Path) -> TmlDocument:
 def read_xml_mission(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     """An XML mission of either kind: TML when the document element is ``<mission>``, else BehaviorTree.CPP v4."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    root = parse_xml(raw, file)
+    lenient: list[tuple[str, int, str]] = []
+    root = parse_xml(raw, file, lenient)  # as BehaviorTree.CPP reads it (a raw < in an attribute)
     if is_tml(root):
+        if lenient:
+            root = parse_xml(raw, file)  # TML is read strictly: this says where it stops being XML
         return compile_tml(read_tml_root(root, file))
     return read_xml(raw, file)
 
