@@ -196,6 +196,10 @@ class MissionBridge:
         if not request.waits:
             try:
                 request.value = request.function()
+            except KeyboardInterrupt:  # Ctrl-C or SIGTERM reached the loop's thread: it is the loop's to handle
+                request.error = MissionAborted("interrupted by the operator")
+                request.done.set()
+                raise
             except BaseException as exc:  # handed to the mission thread, which raises it
                 request.error = exc
             request.done.set()
@@ -216,11 +220,14 @@ class MissionBridge:
         try:
             request.function(resolve)
         except BaseException as exc:
+            interrupted = isinstance(exc, KeyboardInterrupt)  # the loop's to handle: the mission is aborted
             with self._cond:
                 self._pending.discard(request)
-                request.error = exc
+                request.error = MissionAborted("interrupted by the operator") if interrupted else exc
                 self._state = RUNNING
                 request.done.set()
+            if interrupted:
+                raise
 
     def close(self) -> None:
         """Abort every waiting call: the mission thread raises :class:`MissionAborted`."""

@@ -9,13 +9,14 @@ from __future__ import annotations
 import re
 
 import pytest
+from aeroexec.trees import groot
 from aeroexec.trees.runtime.registry import BUILT_IN
 from btcpp_harness import compare, run_aeroexec
 from one_feature_trees import DATA, LENIENT, ONE_FEATURE, Case
 from test_btcpp_parity import HAND_WRITTEN, SUBTREES
 
 S, F, R = "SUCCESS", "FAILURE", "RUNNING"
-ENGINE_LEAVES = ("AskBehavior", "CheckBelief", "Condition", "QueryBelief", "AddBelief", "RemoveBelief")
+ENGINE_LEAVES = (*groot.ENGINE_LEAVES, "Condition")  # aeroexec's own leaves: BT.CPP has none of them
 #: TryCatch came with BT.CPP 4.10, which behaviortreepy does not embed: its trees are checked against the ticks
 #: read off 4.10's try_catch_node.cpp (test_btcpp_parity has the tick tables).
 ONLY_4_10 = {
