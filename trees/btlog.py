@@ -42,7 +42,7 @@ from typing import Any
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.trees.groot import tree_nodes_model
 from aeroexec.trees.runtime.builder import model_of
-from aeroexec.trees.runtime.registry import CONTROLS, DECORATORS
+from aeroexec.trees.runtime.manifests import CONTROLS, DECORATORS
 from aeroexec.trees.runtime.ticking import status_name
 from py_trees.behaviour import Behaviour
 
