@@ -23,7 +23,7 @@ from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.items import PlanDocument, is_item_file
+from aeroexec.trees.items import is_item_file
 
 from aeroexec.limits import InputError, read_text
 
@@ -73,8 +73,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
     if is_tree(path):
-        # here, not at the top: tree verification loads the tree runtime and py_trees (~30 ms), which a Python
-        # mission never needs
+        # here, not at the top: a Python mission needs none of tree verification (its checks, the format readers)
         from aeroexec.trees.route import estimate_route
         from aeroexec.trees.tml.verify import verify_mission_document
         from aeroexec.trees.verify import verify_leaves
@@ -86,14 +85,15 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
-        if isinstance(checked.tree, PlanDocument) and not checked.tree.root.children:
+        plan = is_plan(path)  # read as a PlanDocument: its items, numbered
+        if plan and not checked.tree.root.children:
             checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
             return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
         checked.route = estimate_route(checked.tree, world) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
-        if isinstance(checked.tree, PlanDocument):  # items without a behavior, each message with its item number
+        if plan:  # items without a behavior, each message with its item number
             checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
         checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked

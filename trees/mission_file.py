@@ -15,11 +15,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from aeroexec.drones.geodesy import Geodetic
-from aeroexec.trees.items import ITEM_EXTENSIONS, items_document, read_item_mission
-from aeroexec.trees.items.readers import load_item_mission
-from aeroexec.trees.loaders.yaml_loader import load_yaml, read_yaml
+from aeroexec.trees.items.readers import ITEM_EXTENSIONS
 from aeroexec.trees.model import TreeDocument, TreeFormatError
-from aeroexec.trees.tml.compiler import load_xml_mission, read_xml_mission
+
+# Each format's reader is imported when a file of that format is read: one command reads one kind of file (the XML
+# reader alone pulls in the SAX parser and urllib; the mission items, the simulator's geofences).
 
 MISSION_EXTENSIONS = (".xml", ".yaml", ".yml", *ITEM_EXTENSIONS)
 _EXPECTED = "expected .xml, .yaml, .yml, .plan, .mission, .waypoints or .txt"
@@ -29,10 +29,17 @@ def load_mission_tree(path: str | Path, home: Geodetic | None = None) -> TreeDoc
     """The behavior-tree mission in ``path`` (see the module's docstring for the extensions)."""
     suffix = Path(path).suffix.lower()
     if suffix in ITEM_EXTENSIONS:
+        from aeroexec.trees.items.behaviors import items_document
+        from aeroexec.trees.items.readers import load_item_mission
+
         return items_document(load_item_mission(path), home)
     if suffix == ".xml":
+        from aeroexec.trees.tml.compiler import load_xml_mission
+
         return load_xml_mission(path)
     if suffix in (".yaml", ".yml"):
+        from aeroexec.trees.loaders.yaml_loader import load_yaml
+
         return load_yaml(path)
     raise TreeFormatError([(str(path), 0, f"unknown mission file type {suffix or '(no extension)'}: {_EXPECTED}")])
 
@@ -41,10 +48,17 @@ def read_mission_tree(text: str | bytes, file: str, home: Geodetic | None = None
     """A mission from text; ``file`` (its extension chooses the format) names it in problems."""
     suffix = Path(file).suffix.lower()
     if suffix in ITEM_EXTENSIONS:
+        from aeroexec.trees.items.behaviors import items_document
+        from aeroexec.trees.items.readers import read_item_mission
+
         return items_document(read_item_mission(text, file), home)
     if suffix == ".xml":
+        from aeroexec.trees.tml.compiler import read_xml_mission
+
         return read_xml_mission(text, file)
     if suffix in (".yaml", ".yml"):
+        from aeroexec.trees.loaders.yaml_loader import read_yaml
+
         try:
             return read_yaml(text.decode("utf-8") if isinstance(text, bytes) else text, file)
         except UnicodeDecodeError as exc:
