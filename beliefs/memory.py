@@ -195,7 +195,7 @@ class BeliefMemory(Reasoning):
         """
         compiled = self._queries.get(expression)
         if compiled is not None and compiled.probe is not None and not bindings and not self._heap:
-            return compiled.probe(self._relations)  # one look-up: cheaper than the standing answer's check
+            return compiled.probe()  # one look-up: cheaper than the standing answer's check
         answer = self._answer(expression, bindings)
         return None if answer is None else dict(answer)
 
@@ -310,8 +310,8 @@ class BeliefMemory(Reasoning):
         book = self._rulebook
         derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
         compiled.derived = derived or None
-        if derived:
-            compiled.probe = None
+        if not derived:
+            compiled.probe = compiled.probe_in(self._relations)
         compiled.reads = (None if any(p in self._computed or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
