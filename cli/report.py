@@ -47,8 +47,10 @@ def run(args: argparse.Namespace) -> int:
     page = write_html(summary, images, folder / "report.html")
     for written in (*images.values(), page):
         print(written)
+    refused = sum(not c.taken for c in summary.changes)
+    changed = f", {len(summary.changes)} mission changes ({refused} refused)" if summary.changes else ""
     print(f"{summary.meta.get('mission', 'mission')}: {summary.outcome}, {summary.duration:.1f} s, "
-          f"{summary.distance:.1f} m flown, {len(summary.failures)} failures", file=sys.stderr)
+          f"{summary.distance:.1f} m flown, {len(summary.failures)} failures{changed}", file=sys.stderr)
     return 0
 
 

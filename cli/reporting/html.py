@@ -1,5 +1,6 @@
 """The flight report's one-page HTML summary: outcome, duration, distance, battery, each behavior's outcomes, the
-failures with their reasons, every activation, and the report's images embedded (so the page stands alone)."""
+failures with their reasons, the changes of the mission in flight, every activation, and the report's images
+embedded (so the page stands alone)."""
 
 from __future__ import annotations
 
@@ -51,6 +52,13 @@ def write_html(summary: FlightSummary, images: dict[str, Path], path: Path) -> P
                              for f in summary.failures]))
     else:
         parts.append("<p>None.</p>")
+    if summary.changes:
+        parts.append("<h2>Mission changes</h2>")
+        parts.append(_table(["time (s)", "from", "change", "taken", "what it did, or why it was refused"],
+                            [[f"{c.time:.2f}", escape(c.origin), escape(f"{c.command} {c.argument}".strip()),
+                              "yes" if c.taken else "<b>refused</b>",
+                              escape(c.said) + "".join(f"<br>{escape(p)}" for p in c.problems[1:])]
+                             for c in summary.changes]))
     for title, image in images.items():
         data = base64.b64encode(Path(image).read_bytes()).decode("ascii")
         parts.append(f"<h2>{escape(title)}</h2><img alt='{escape(title)}' src='data:image/png;base64,{data}'>"
