@@ -168,6 +168,26 @@ def _control(path: Path) -> list[str]:
     return []
 
 
+def _fragment(path: Path) -> list[str]:
+    """A fragment of a change in flight (XML or BEHAVIOR PORT=VALUE), read and its nodes checked as a change's are."""
+    global _catalog
+    from aeroexec.trees.loaders.fragment import read_fragment
+    from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
+    from aeroexec.trees.verify import TreeVerifier
+
+    _catalog = _catalog or default_catalog()
+    try:
+        nodes = read_fragment(path.read_bytes().decode("utf-8", "replace"), str(path))
+    except TreeFormatError as error:
+        return [f"{file}:{line}: {message}" for file, line, message in error.problems]
+    verifier = TreeVerifier(TreeDocument({"m": TreeNode("Sequence", "m", {}, nodes, str(path), 1)}, "m", str(path)),
+                            _catalog)
+    for node in nodes:
+        for inner in node.walk():
+            verifier.check_node(inner)
+    return [str(p) for p in verifier.problems if p.severity == "error"]
+
+
 REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
 
 
@@ -197,6 +217,7 @@ FORMATS = {f.name: f for f in [
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
+    Format("change fragments", ".fragment", _files("tests/fuzz/seeds/*.fragment"), _fragment),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.

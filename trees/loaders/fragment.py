@@ -23,10 +23,10 @@ _WRAPPER = "__change__"
 def read_fragment(text: str, file: str) -> list[TreeNode]:
     """The nodes of a fragment (see the module); :class:`TreeFormatError` says what cannot be read, with its line."""
     if len(text) > MAX_FRAGMENT:
-        raise TreeFormatError([(file, 0, f"the fragment has {len(text)} characters, more than {MAX_FRAGMENT}")])
+        raise TreeFormatError([(file, 1, f"the fragment has {len(text)} characters, more than {MAX_FRAGMENT}")])
     stripped = text.strip()
     if not stripped:
-        raise TreeFormatError([(file, 0, "the fragment is empty: give BehaviorTree.CPP XML or BEHAVIOR PORT=VALUE")])
+        raise TreeFormatError([(file, 1, "the fragment is empty: give BehaviorTree.CPP XML or BEHAVIOR PORT=VALUE")])
     if stripped.startswith("<"):
         return _xml(stripped, file)
     return [_behavior(stripped, file)]

@@ -173,19 +173,20 @@ class TreeChanges:
         return f" ({item.name})" if item is not None else ""
 
     def items(self) -> list[dict[str, Any]]:
-        """The mission's items, in order: number, name(s), and whether done, running, skipped or to come."""
+        """The mission's items, in order: number (a plan's inserted items: ``new``, named by their name), name(s),
+        and whether done, running, skipped or to come."""
+        listed: list[tuple[str, list[Behaviour]]] = []
         if self.plan_items:
-            groups: dict[Any, list[Behaviour]] = {}
+            groups: dict[int, list[Behaviour]] = {}
             for node in self.visible():
                 number = _item_of(node)
                 if number is not None and not any(_item_of(a) == number for a in _ancestors(node)):
-                    groups.setdefault(number, []).append(node)
-            listed = [(str(number), nodes) for number, nodes in groups.items()]
-            inserted = [(n.name, [n]) for n in self.visible()
-                        if _item_of(n) is None and _is_sequence(n.parent) and _item_of(n.parent) is None
-                        and model_of(n) is not None and not model_of(n).name.startswith("item")
-                        and model_of(n).file != self.mission.document.file]
-            listed += inserted
+                    if number not in groups:
+                        groups[number] = []
+                        listed.append((str(number), groups[number]))
+                    groups[number].append(node)
+                elif number is None and _inserted(node) and not any(_inserted(a) for a in _ancestors(node)):
+                    listed.append(("new", [node]))
         else:
             sequence = self.main_sequence()
             listed = [(str(i), [child]) for i, child in enumerate(sequence.children, 1)] if sequence else []
@@ -447,6 +448,12 @@ def _place(parent: Behaviour, node: Behaviour) -> int | None:
 def _item_of(node: Any) -> int | None:
     match = ITEM.match(getattr(node, "name", "") or "")
     return int(match.group(1)) if match else None
+
+
+def _inserted(node: Any) -> bool:
+    """True for a node a change brought (its model was read from a fragment, ``change N``)."""
+    model = model_of(node)
+    return model is not None and model.file.startswith("change ")
 
 
 def _name(node: Behaviour) -> str:
