@@ -147,7 +147,7 @@ class MissionChanges:
         prepared.problems = tuple(str(p) for p in errors)
         prepared.ground = tuple(str(p) for p in order) if checked.tree is None else ()
         if errors:
-            prepared.refusal = f"{path}: {len(errors)} error{'s' if len(errors) != 1 else ''}: {_first(errors)}"
+            prepared.refusal = _first(errors)
             return prepared
         if checked.tree is None:
             try:
@@ -190,9 +190,9 @@ class MissionChanges:
 
             problems = check_new_mission(checked.tree, engine, session.world)
             if problems:
-                return False, f"{prepared.path.name}: {_first(problems)}", [str(p) for p in problems]
+                return False, _first(problems), [str(p) for p in problems]
         elif prepared.ground and not flying:  # a program's order from the ground says nothing of a flying drone
-            return False, f"{prepared.path.name}: {prepared.ground[0]}", list(prepared.ground)
+            return False, prepared.ground[0], list(prepared.ground)
         reason = f"{prepared.path.name} was loaded in its place"
         if session.tree is not None:
             session.tree.halt(reason, kind="mission_replaced")

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,7 @@ from aeroexec.flight.ending import end_flight
 ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
 DATA = Path(__file__).with_name("data")
+sys.path.insert(0, str(ROOT / "tests" / "flight"))  # runs of aeroexec in a subprocess: flight_runs.Command
 
 
 class ChangedFlight:
