@@ -10,11 +10,10 @@ import threading
 import time
 
 import pytest
-from changing import DATA, ROOT, ended
-from flight_runs import Command, read_log  # tests/flight's, put on the path by changing
-
 from aeroexec.engine import MissionChange
 from aeroexec.engine.supervision.changes import AEROSTACK2_UPDATES, ChangeError, aerostack2_update
+from changing import DATA, ROOT, ended
+from flight_runs import Command, read_log  # tests/flight's, put on the path by changing
 
 PATROL = DATA / "patrol.xml"
 

@@ -6,10 +6,9 @@ is refused with the reason and the mission flies on unchanged; the event log and
 
 from __future__ import annotations
 
-from changing import MISSIONS, ChangedFlight, changes, ended, statuses
-
 from aeroexec.cli.reporting.html import write_html
 from aeroexec.flight.summary import summarize
+from changing import MISSIONS, ChangedFlight, changes, ended, statuses
 
 SURVEY = MISSIONS / "survey.plan"
 ITEM_9 = "geo:47.39765206,8.54572646,15"
@@ -101,7 +100,8 @@ def test_the_event_log_and_the_report_show_each_change_taken_or_refused(tmp_path
     records = flight.finish()
     said = changes(records)
     assert [(c["command"], c["ok"]) for c in said] == [("insert", True), ("delete", False), ("skip", True)]
-    assert said[1]["detail"] == "delete 99: refused: the plan has no item 99 (items with behaviors: 1, 3-4, 6-17, 19-20)"
+    assert said[1]["detail"] == ("delete 99: refused: the plan has no item 99 (items with behaviors: 1, 3-4, 6-17, "
+                                 "19-20)")
     summary = summarize(records)
     assert [(c.command, c.taken, c.origin) for c in summary.changes] == [
         ("insert", True, "test"), ("delete", False, "test"), ("skip", True, "test")]

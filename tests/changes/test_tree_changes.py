@@ -6,11 +6,10 @@ document builds (what a flight journal captured after it resumes into)."""
 from __future__ import annotations
 
 import pytest
-from changing import DATA, ChangedFlight, changes, ended, statuses
-
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree
 from aeroexec.trees.runtime.context import TreeContext
+from changing import DATA, ChangedFlight, changes, ended, statuses
 
 PATROL = DATA / "patrol.xml"
 A, B, C = (6.0, 0.0, 3.0), (14.0, 2.0, 3.0), (2.0, 4.0, 3.0)
