@@ -28,13 +28,7 @@ from typing import Any
 
 from aeroexec.engine.errors import WRONG_SEQUENCE, Problem
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import (
-    EDITS,
-    ChangeError,
-    MissionChange,
-    not_cut_short,
-    skip_program_behavior,
-)
+from aeroexec.engine.supervision.changes import ChangeError, MissionChange, not_cut_short, program_change
 from aeroexec.flight.missions import CheckedMission, MissionFileError, check_mission, mission_function
 from aeroexec.trees import TreeFormatError
 
@@ -85,11 +79,7 @@ class MissionChanges:
             return self._tree_change(tree, change)
         if self.session.mission_done:
             return False, "no mission is running", []
-        if change.command in EDITS or change.command == "jump":
-            return False, ("a Python mission is a program: its items cannot be changed while it runs (skip skips "
-                           "the behavior it waits for; load flies a new mission)"), []
-        ok, message = skip_program_behavior(self.engine)
-        return ok, message, []
+        return program_change(self.engine, change)
 
     def items(self) -> list[dict[str, Any]]:
         tree = self.session.tree

@@ -224,6 +224,18 @@ def not_cut_short(catalog: Any, behavior: str) -> str | None:
             f"{ground[1]}): change the mission once it ends")
 
 
+PROGRAM_EDIT = ("a Python mission is a program: its items cannot be changed while it runs (skip skips the behavior it "
+                "waits for; load flies a new mission)")
+
+
+def program_change(engine: Any, change: MissionChange) -> tuple[bool, str, list[str]]:
+    """A change of a running Python mission: skip, or why not."""
+    if change.command != "skip":
+        return False, PROGRAM_EDIT, []
+    ok, message = skip_program_behavior(engine)
+    return ok, message, []
+
+
 def skip_program_behavior(engine: Any) -> tuple[bool, str]:
     """``skip`` for a Python mission: the behavior it waits for now (its newest goal-seeking request) is stopped and
     the waiting call returns INTERRUPTED with the reason "skipped by the operator"; the program decides what comes
@@ -251,4 +263,4 @@ def skip_program_behavior(engine: Any) -> tuple[bool, str]:
 
 
 __all__ = ["AEROSTACK2_UPDATES", "CHANGES", "EDITS", "ChangeError", "MissionChange", "aerostack2_update",
-           "ground_transitions", "not_cut_short", "skip_program_behavior"]
+           "ground_transitions", "not_cut_short", "program_change", "skip_program_behavior"]

@@ -39,7 +39,7 @@ from typing import Any, Protocol
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import CHANGES, EDITS, ChangeError, MissionChange, skip_program_behavior
+from aeroexec.engine.supervision.changes import CHANGES, ChangeError, MissionChange, program_change
 from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
@@ -306,11 +306,7 @@ class Supervisor:
             return False, "a tree mission's changes are checked and made by its flight session", []
         if self.engine.bridge.state == "done":  # the mission bridge's DONE: no Python mission runs
             return False, "no mission is running", []
-        if change.command in EDITS or change.command == "jump":
-            return False, ("a Python mission is a program: its items cannot be changed while it runs (skip skips "
-                           "the behavior it waits for; load flies a new mission)"), []
-        ok, message = skip_program_behavior(self.engine)
-        return ok, message, []
+        return program_change(self.engine, change)
 
     def suspended_requests(self) -> list[Any]:
         """The activations a pause stopped, which resume requests again."""

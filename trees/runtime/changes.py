@@ -264,10 +264,7 @@ class TreeChanges:
 
     def _plan_insert(self, change: MissionChange, fragment: list[TreeNode]) -> ChangePlan:
         parent, start, nodes = self.span(change.target)
-        self._editable_here(parent, "insert into")
-        if not _is_sequence(parent):
-            raise ChangeError(f"items are inserted into sequences; {_name(nodes[0])} is in {_name(parent)} "
-                              f"({type(parent).__name__}): replace {_name(parent)} instead")
+        self._in_a_sequence(parent, nodes, "inserted into")
         at = start + len(nodes) if change.after else start
         plan = ChangePlan(change, f"{_names(fragment)} inserted {'after' if change.after else 'before'} "
                                   f"{_names(nodes)}", [Splice(parent, at, 0, list(fragment))],
@@ -282,10 +279,7 @@ class TreeChanges:
 
     def _plan_delete(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
         parent, start, nodes = self.span(change.target)
-        self._editable_here(parent, "delete from")
-        if not _is_sequence(parent):
-            raise ChangeError(f"items are deleted from sequences; {_name(nodes[0])} is in {_name(parent)} "
-                              f"({type(parent).__name__}): replace {_name(parent)} instead")
+        self._in_a_sequence(parent, nodes, "deleted from")
         if len(nodes) >= len(parent.children):
             raise ChangeError(f"{_name(parent)} would be left empty: delete {_name(parent)} itself")
         return ChangePlan(change, f"{_names(nodes)} deleted", [Splice(parent, start, len(nodes), [])],
@@ -293,7 +287,7 @@ class TreeChanges:
 
     def _plan_replace(self, change: MissionChange, fragment: list[TreeNode]) -> ChangePlan:
         parent, start, nodes = self.span(change.target)
-        self._editable_here(parent, "replace in")
+        self._editable_here(parent, "replaced in")
         count = len(parent.children) - len(nodes) + len(fragment)
         if count < parent.min_children or (parent.max_children is not None and count > parent.max_children):
             raise ChangeError(f"{_name(parent)} ({type(parent).__name__}) cannot have {count} children: replace "
@@ -304,7 +298,7 @@ class TreeChanges:
 
     def _plan_modify(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
         parent, start, nodes = self.span(change.target)
-        self._editable_here(parent, "modify in")
+        self._editable_here(parent, "modified in")
         ports = dict(change.ports)
         models: list[TreeNode | Behaviour] = []
         used: set[str] = set()
@@ -329,6 +323,12 @@ class TreeChanges:
                           halted=[n for n, m in zip(nodes, models, strict=True)
                                   if isinstance(m, TreeNode) and n.status is RUNNING], new=changed)
 
+    def _in_a_sequence(self, parent: Behaviour, nodes: list[Behaviour], verb: str) -> None:
+        self._editable_here(parent, verb)
+        if not _is_sequence(parent):
+            raise ChangeError(f"items are {verb} sequences; {_name(nodes[0])} is in {_name(parent)} "
+                              f"({type(parent).__name__}): replace {_name(parent)} instead")
+
     def _ports(self, model: TreeNode) -> set[str]:
         descriptor = self.engine.catalog.behavior(model.type)
         declared = set(descriptor.arguments) if descriptor is not None else set(ports_of(model.type))
@@ -348,7 +348,7 @@ class TreeChanges:
                 uses = sum(1 for n in _walk(self.mission.root)
                            if isinstance(n, SubTree) and model_of(n).ports.get("ID", "").strip() == tree_id)
                 if uses > 1:
-                    raise ChangeError(f"the tree {tree_id} is used {uses} times: a change to {verb} it would change "
+                    raise ChangeError(f"the tree {tree_id} is used {uses} times: what is {verb} it would change "
                                       f"every use; replace one SubTree node instead")
 
     # -- making it -------------------------------------------------------------------------------------------
