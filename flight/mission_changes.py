@@ -28,14 +28,19 @@ from typing import Any
 
 from aeroexec.engine.errors import WRONG_SEQUENCE, Problem
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import ChangeError, MissionChange, not_cut_short, program_change
+from aeroexec.engine.supervision.changes import (
+    ChangeError,
+    ChangeOutcome,
+    MissionChange,
+    not_cut_short,
+    program_change,
+)
 from aeroexec.flight.missions import CheckedMission, MissionFileError, check_mission, mission_function
 from aeroexec.trees import TreeFormatError
 
 logger = logging.getLogger(__name__)
 
 CHANGED = "changed by the operator"
-Result = tuple[bool, str, list[str]]
 
 
 @dataclass
@@ -43,6 +48,7 @@ class PreparedLoad:
     """A mission file read and checked for ``load`` (on the thread that sent the command)."""
 
     path: Path
+    kept: Path | None = None  # its copy in the output folder
     checked: CheckedMission | None = None
     function: Any = None  # a Python mission's mission()
     refusal: str = ""
@@ -67,18 +73,18 @@ class MissionChanges:
         return self.session.engine
 
     # -- on the engine's thread ------------------------------------------------------------------------------
-    def change(self, change: MissionChange, origin: str, prepared: Any = None) -> Result:
+    def change(self, change: MissionChange, origin: str, prepared: Any = None) -> ChangeOutcome:
         """Check and make ``change`` now (the supervisor calls it on the engine's thread)."""
         self.count += 1
         if change.command == "load":
             return self._load(change, prepared if prepared is not None else self.prepare(change))
         if self.replacing is not None:
-            return False, "a new mission is being loaded: change it once it flies", []
+            return ChangeOutcome(False, "a new mission is being loaded: change it once it flies")
         tree = self.session.tree
         if tree is not None and not tree.done:
             return self._tree_change(tree, change)
         if self.session.mission_done:
-            return False, "no mission is running", []
+            return ChangeOutcome(False, "no mission is running")
         return program_change(self.engine, change)
 
     def items(self) -> list[dict[str, Any]]:
@@ -92,7 +98,7 @@ class MissionChanges:
             self._changes = {id(tree): TreeChanges(tree)}
         return self._changes[id(tree)]
 
-    def _tree_change(self, tree: Any, change: MissionChange) -> Result:
+    def _tree_change(self, tree: Any, change: MissionChange) -> ChangeOutcome:
         from aeroexec.trees.change_check import check_change
         from aeroexec.trees.loaders.fragment import read_fragment
 
@@ -103,19 +109,20 @@ class MissionChanges:
             except TreeFormatError as error:
                 said = [f"{file}:{line}: {message}" if line else f"{file}: {message}"
                         for file, line, message in error.problems]
-                return False, f"the fragment cannot be read: {said[0]}", said
+                return ChangeOutcome(False, f"the fragment cannot be read: {said[0]}", said)
         changes = self._tree_changes(tree)
         try:
             plan = changes.plan(change, fragment)
         except ChangeError as error:
-            return False, str(error), []
+            return ChangeOutcome(False, str(error))
         problems = check_change(tree, plan, self.session.world)
         if problems:
-            return False, _first(problems), [str(p) for p in problems]
+            return ChangeOutcome(False, _first(problems), [str(p) for p in problems])
+        edits = plan.edits(tree.document)
         ended = changes.apply(plan)
         if ended:
             self.engine.supervisor.drop_suspended(ended, Outcome.INTERRUPTED, CHANGED)
-        return True, plan.what, []
+        return ChangeOutcome(True, plan.what, recorded={"edits": edits} if edits else {})
 
     # -- load ------------------------------------------------------------------------------------------------
     def prepare(self, change: MissionChange) -> PreparedLoad:
@@ -145,34 +152,37 @@ class MissionChanges:
             except MissionFileError as error:
                 prepared.refusal = str(error)
                 return prepared
-        self._keep(path)
+        prepared.kept = self._keep(path)
         return prepared
 
-    def _keep(self, path: Path) -> None:
+    def _keep(self, path: Path) -> Path | None:
         """A copy of a loaded mission in the output folder (``loaded/N-NAME``), for the record."""
         folder = self.session.folder
         if folder is None:
-            return
+            return None
         self.loads += 1
+        kept = folder / "loaded" / f"{self.loads}-{path.name}"
         try:
-            (folder / "loaded").mkdir(exist_ok=True)
-            shutil.copyfile(path, folder / "loaded" / f"{self.loads}-{path.name}")
+            kept.parent.mkdir(exist_ok=True)
+            shutil.copyfile(path, kept)
         except OSError as error:
             logger.warning("the loaded mission %s cannot be copied into the output folder: %s", path, error)
+            return None
+        return kept
 
-    def _load(self, change: MissionChange, prepared: PreparedLoad) -> Result:
+    def _load(self, change: MissionChange, prepared: PreparedLoad) -> ChangeOutcome:
         if prepared.refusal:
-            return False, prepared.refusal, list(prepared.problems)
+            return ChangeOutcome(False, prepared.refusal, list(prepared.problems))
         engine, session = self.engine, self.session
         if self.replacing is not None:
-            return False, "a new mission is already being loaded", []
+            return ChangeOutcome(False, "a new mission is already being loaded")
         if session.mission_done:
-            return False, "the mission has ended: the flight is ending (start a new run)", []
+            return ChangeOutcome(False, "the mission has ended: the flight is ending (start a new run)")
         running = [a.name for a in engine.coordinator.active().values() if a.source == "mission"]
         why = next((not_cut_short(engine.catalog, name) for name in running if not_cut_short(engine.catalog, name)),
                    None)
         if why:
-            return False, why, []
+            return ChangeOutcome(False, why)
         checked = prepared.checked
         flying = _flying(engine)
         if checked.tree is not None:
@@ -180,9 +190,9 @@ class MissionChanges:
 
             problems = check_new_mission(checked.tree, engine, session.world)
             if problems:
-                return False, _first(problems), [str(p) for p in problems]
+                return ChangeOutcome(False, _first(problems), [str(p) for p in problems])
         elif prepared.ground and not flying:  # a program's order from the ground says nothing of a flying drone
-            return False, prepared.ground[0], list(prepared.ground)
+            return ChangeOutcome(False, prepared.ground[0], list(prepared.ground))
         reason = f"{prepared.path.name} was loaded in its place"
         if session.tree is not None:
             session.tree.halt(reason, kind="mission_replaced")
@@ -197,7 +207,8 @@ class MissionChanges:
             engine.tick_callbacks.append(self._after_unwinding)
         note = " (a Python mission's flight order is checked from the ground only)" if checked.tree is None and \
             flying else ""
-        return True, f"{prepared.path.name} loaded in place of the running mission{note}", []
+        return ChangeOutcome(True, f"{prepared.path.name} loaded in place of the running mission{note}",
+                             recorded={"mission": str(prepared.kept or prepared.path.resolve())})
 
     def _after_unwinding(self) -> None:
         """Start the loaded mission once the replaced program's thread has ended (a tick callback)."""

@@ -51,6 +51,18 @@ class ChangeError(ValueError):
     """A change that cannot be read or cannot be made, in words for the operator."""
 
 
+@dataclass
+class ChangeOutcome:
+    """What became of a change: taken or not, in words, the problems that refused it, and what the event log keeps
+    of it besides (``edits``: how the tree document was changed, to be made again on a resumed run; ``mission``:
+    the file a load flies)."""
+
+    ok: bool
+    message: str
+    problems: list[str] = field(default_factory=list)
+    recorded: dict[str, Any] = field(default_factory=dict)
+
+
 @dataclass(frozen=True)
 class MissionChange:
     """One change of a running mission (see the module's table). Build it with the class methods, or from its text
@@ -228,12 +240,11 @@ PROGRAM_EDIT = ("a Python mission is a program: its items cannot be changed whil
                 "waits for; load flies a new mission)")
 
 
-def program_change(engine: Any, change: MissionChange) -> tuple[bool, str, list[str]]:
+def program_change(engine: Any, change: MissionChange) -> ChangeOutcome:
     """A change of a running Python mission: skip, or why not."""
     if change.command != "skip":
-        return False, PROGRAM_EDIT, []
-    ok, message = skip_program_behavior(engine)
-    return ok, message, []
+        return ChangeOutcome(False, PROGRAM_EDIT)
+    return ChangeOutcome(*skip_program_behavior(engine))
 
 
 def skip_program_behavior(engine: Any) -> tuple[bool, str]:
@@ -262,5 +273,5 @@ def skip_program_behavior(engine: Any) -> tuple[bool, str]:
     return True, f"{activation.name} skipped; the mission's call returns INTERRUPTED ({SKIPPED_BY_OPERATOR})"
 
 
-__all__ = ["AEROSTACK2_UPDATES", "CHANGES", "EDITS", "ChangeError", "MissionChange", "aerostack2_update",
-           "ground_transitions", "not_cut_short", "program_change", "skip_program_behavior"]
+__all__ = ["AEROSTACK2_UPDATES", "CHANGES", "EDITS", "ChangeError", "ChangeOutcome", "MissionChange",
+           "aerostack2_update", "ground_transitions", "not_cut_short", "program_change", "skip_program_behavior"]

@@ -20,10 +20,11 @@ the loop. Every command is recorded as an ``operator_command`` event (``command`
   not end "completed". Time waited with ``wait`` or a tree's Delay/Timeout keeps running while paused.
 - abort: the mission stops (its waiting call raises MissionAborted, an attached tree is halted), every
   behavior but LAND is stopped and, when the drone is in the air, LAND is activated at the higher priority.
-- the changes of the running mission (skip, jump, insert, modify, remove, replace, load:
+- the changes of the running mission (skip, jump, insert, modify, delete, replace, load:
   :mod:`aeroexec.engine.supervision.changes`) are checked and made by the flight's :attr:`Supervisor.changes` (a
   bare engine takes a Python mission's skip only); each is recorded as a ``mission_change`` event (``command``,
-  ``argument``, ``origin``, ``ok``, and ``problems`` when refused) instead of ``operator_command``. ``items``
+  ``argument``, ``origin``, ``ok``, ``problems`` when refused, ``edits`` and ``mission`` when taken: see
+  :class:`~aeroexec.engine.supervision.changes.ChangeOutcome`) instead of ``operator_command``. ``items``
   lists the mission's items (read only).
 """
 
@@ -39,7 +40,7 @@ from typing import Any, Protocol
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import CHANGES, ChangeError, MissionChange, program_change
+from aeroexec.engine.supervision.changes import CHANGES, ChangeError, ChangeOutcome, MissionChange, program_change
 from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
@@ -68,8 +69,8 @@ class MissionChanges(Protocol):
     def prepare(self, change: MissionChange) -> Any:
         """What can be done before the engine's thread (read and check a file to load); on the caller's thread."""
 
-    def change(self, change: MissionChange, origin: str, prepared: Any = None) -> tuple[bool, str, list[str]]:
-        """Check and make ``change`` (on the engine's thread): taken or not, in words, and the problems found."""
+    def change(self, change: MissionChange, origin: str, prepared: Any = None) -> ChangeOutcome:
+        """Check and make ``change`` (on the engine's thread): what became of it."""
 
     def items(self) -> list[dict[str, Any]]:
         """The mission's items, for ``items``."""
@@ -281,31 +282,31 @@ class Supervisor:
 
     # -- changes of the running mission ------------------------------------------------------------------
     def _change(self, command: str, argument: str, origin: str, prepared: Any = None) -> CommandResult:
-        problems: list[str] = []
         try:
             change = MissionChange.parse(command, argument)
-            ok, message, problems = self._apply(change, origin, prepared)
+            outcome = self._apply(change, origin, prepared)
         except ChangeError as error:
-            ok, message = False, str(error)
+            outcome = ChangeOutcome(False, str(error))
         except Exception as exc:  # a change must never take the engine down
             logger.exception("the change %s %s failed", command, argument)
-            ok, message = False, f"{command} failed: {type(exc).__name__}: {exc}"
-        text = message if ok else f"refused: {message}"
+            outcome = ChangeOutcome(False, f"{command} failed: {type(exc).__name__}: {exc}")
+        text = outcome.message if outcome.ok else f"refused: {outcome.message}"
         self.engine.log.record("mission_change", detail=f"{command}{' ' + argument if argument else ''}: {text}",
-                               command=command, argument=argument, origin=origin, ok=ok, problems=problems)
-        return CommandResult(ok, message, {"problems": problems} if problems else {})
+                               command=command, argument=argument, origin=origin, ok=outcome.ok,
+                               problems=outcome.problems, **outcome.recorded)
+        return CommandResult(outcome.ok, outcome.message, {"problems": outcome.problems} if outcome.problems else {})
 
-    def _apply(self, change: MissionChange, origin: str, prepared: Any) -> tuple[bool, str, list[str]]:
+    def _apply(self, change: MissionChange, origin: str, prepared: Any) -> ChangeOutcome:
         if self.state == ABORTED:
-            return False, "the mission was aborted", []
+            return ChangeOutcome(False, "the mission was aborted")
         if self.changes is not None:
             return self.changes.change(change, origin, prepared)
         if change.command == "load":
-            return False, "this engine flies no flight session: a mission cannot be loaded into it", []
+            return ChangeOutcome(False, "this engine flies no flight session: a mission cannot be loaded into it")
         if self._missions:
-            return False, "a tree mission's changes are checked and made by its flight session", []
+            return ChangeOutcome(False, "a tree mission's changes are checked and made by its flight session")
         if self.engine.bridge.state == "done":  # the mission bridge's DONE: no Python mission runs
-            return False, "no mission is running", []
+            return ChangeOutcome(False, "no mission is running")
         return program_change(self.engine, change)
 
     def suspended_requests(self) -> list[Any]:

@@ -6,8 +6,11 @@ document builds (what a flight journal captured after it resumes into)."""
 from __future__ import annotations
 
 import pytest
+from aeroexec.trees import load_mission_tree
+from aeroexec.trees.loaders.fragment import read_fragment
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree
+from aeroexec.trees.runtime.changes import replay_edits
 from aeroexec.trees.runtime.context import TreeContext
 from changing import DATA, ChangedFlight, changes, ended, statuses
 
@@ -131,3 +134,20 @@ def test_after_a_change_the_running_tree_is_the_one_its_document_builds(tmp_path
     assert shape(flight.session.tree.root) == built_again(flight)
     records = flight.finish()
     assert ended(records) == "completed"
+
+
+def test_the_edits_recorded_in_the_event_log_make_the_changed_tree_again_from_the_mission_file(tmp_path):
+    flight = patrol_at(tmp_path, "lap west")
+    for command, argument in [("insert", "after 3 'GO_TO_POINT COORDINATES=\"9, -3, 4\" name=detour'"),
+                              ("modify", "detour SPEED=2 name=\"slow detour\""), ("delete", "6"),
+                              ("replace", "'lap south' '<Sequence><ROTATE ANGLE=\"45\"/><WAIT DURATION=\"1\"/>"
+                                          "</Sequence>'"), ("skip", "")]:
+        assert flight.change(command, argument).ok
+    running = shape(flight.session.tree.root)
+    edits = [edit for record in flight.records() if record["kind"] == "mission_change"
+             for edit in record["data"].get("edits", [])]
+    assert len(edits) == 4  # skip edits no document
+    document = load_mission_tree(PATROL)  # as a resumed run reads it
+    replay_edits(document, edits, read_fragment)
+    assert shape(build_tree(document, TreeContext(flight.engine), Blackboard())) == running
+    flight.finish()

@@ -15,7 +15,12 @@ mission's main sequence, the first Sequence or SequenceWithMemory from the root)
 deleting change sequences only; replace and modify any node but the root. A running take-off or landing is never cut
 short (:func:`~aeroexec.engine.supervision.changes.not_cut_short`). Inserting before the running item halts it: the
 new items fly first, then the item again, from its start. A TML mission's tasks compile into a tree of their own: it
-takes skip and jump, and is edited by loading a new mission.
+takes skip, and is edited by loading a new mission.
+
+What a change did to the document is kept as plain data (:meth:`ChangePlan.edits`: the tree, the path of the node
+whose children changed, the place, the fragment's text or the new port values) in its ``mission_change`` event;
+:func:`replay_edits` makes the same edits on the document read again from its file, so a resumed run builds the tree
+as it was changed (then puts the captured state back into it).
 """
 
 from __future__ import annotations
@@ -43,15 +48,25 @@ ITEM = re.compile(r"item (\d+) ")  # the nodes of a plan's item N are named "ite
 @dataclass
 class Splice:
     """``count`` children of ``parent`` from ``start`` replaced by ``models`` (a model is built; a runtime node is
-    kept as it is)."""
+    kept as it is); ``fragment``, the text the new models were read from (``file``), and ``ports``, the new port
+    values of modified models by their offset, say it again as data (:func:`replay_edits`)."""
 
     parent: Behaviour
     start: int
     count: int
     models: list[TreeNode | Behaviour]
+    fragment: str = ""
+    ports: dict[int, dict[str, str]] = field(default_factory=dict)
 
     def children(self, before: list[Any]) -> list[Any]:
         return [*before[:self.start], *self.models, *before[self.start + self.count:]]
+
+    def edit(self, document: Any) -> dict[str, Any]:
+        """This splice as data: which node of which tree of ``document``, where, and what is put there."""
+        tree, path = _model_path(document, model_of(self.parent))
+        files = {m.file for m in self.models if isinstance(m, TreeNode) and not self.ports}
+        return {"tree": tree, "path": path, "start": self.start, "count": self.count, "fragment": self.fragment,
+                "file": files.pop() if files else "", "ports": {str(k): v for k, v in self.ports.items()}}
 
 
 @dataclass
@@ -65,6 +80,10 @@ class ChangePlan:
     halted: list[Behaviour] = field(default_factory=list)  # running nodes stopped
     skipped: list[Behaviour] = field(default_factory=list)  # nodes shown SKIPPED
     new: list[TreeNode] = field(default_factory=list)  # the models of the new nodes (checked node by node)
+
+    def edits(self, document: Any) -> list[dict[str, Any]]:
+        """What the change does to ``document`` as data (made again by :func:`replay_edits`); before it is made."""
+        return [splice.edit(document) for splice in self.splices]
 
     # -- the tree as it will be (for the check) -------------------------------------------------------------
     def children(self, node: Behaviour) -> list[Any]:
@@ -267,7 +286,7 @@ class TreeChanges:
         self._in_a_sequence(parent, nodes, "inserted into")
         at = start + len(nodes) if change.after else start
         plan = ChangePlan(change, f"{_names(fragment)} inserted {'after' if change.after else 'before'} "
-                                  f"{_names(nodes)}", [Splice(parent, at, 0, list(fragment))],
+                                  f"{_names(nodes)}", [Splice(parent, at, 0, list(fragment), change.fragment)],
                           new=list(fragment))
         if parent.status is RUNNING and at == parent.index and at < len(parent.children) and \
                 parent.children[at].status is RUNNING:
@@ -293,7 +312,7 @@ class TreeChanges:
             raise ChangeError(f"{_name(parent)} ({type(parent).__name__}) cannot have {count} children: replace "
                               f"{_name(nodes[0])} with {len(nodes)} node{'s' if len(nodes) != 1 else ''}")
         return ChangePlan(change, f"{_names(nodes)} replaced by {_names(fragment)}",
-                          [Splice(parent, start, len(nodes), list(fragment))],
+                          [Splice(parent, start, len(nodes), list(fragment), change.fragment)],
                           halted=[n for n in nodes if n.status is RUNNING], new=list(fragment))
 
     def _plan_modify(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
@@ -302,7 +321,8 @@ class TreeChanges:
         ports = dict(change.ports)
         models: list[TreeNode | Behaviour] = []
         used: set[str] = set()
-        for node in nodes:
+        modified: dict[int, dict[str, str]] = {}
+        for offset, node in enumerate(nodes):
             model = model_of(node)
             accepted = {k: v for k, v in ports.items() if len(nodes) == 1 or k in self._ports(model)}
             if not accepted:
@@ -311,7 +331,8 @@ class TreeChanges:
             if node.status is RUNNING and _inner(node).children:
                 raise ChangeError(f"{_name(node)} is running: modify the behavior inside it that runs, or replace it")
             used |= set(accepted)
-            models.append(dataclasses.replace(model, ports={**model.ports, **accepted}))
+            modified[offset] = accepted
+            models.append(_modified(model, accepted))
         unknown = set(ports) - used
         if unknown:
             kinds = ", ".join(dict.fromkeys(model_of(n).type for n in nodes))
@@ -319,7 +340,8 @@ class TreeChanges:
                               f"{kinds})")
         changed = [m for m in models if isinstance(m, TreeNode)]
         what = ", ".join(f"{k}={v}" for k, v in ports.items())
-        return ChangePlan(change, f"{_names(nodes)}: {what}", [Splice(parent, start, len(nodes), models)],
+        return ChangePlan(change, f"{_names(nodes)}: {what}", [Splice(parent, start, len(nodes), models,
+                                                                      ports=modified)],
                           halted=[n for n, m in zip(nodes, models, strict=True)
                                   if isinstance(m, TreeNode) and n.status is RUNNING], new=changed)
 
@@ -405,6 +427,50 @@ class TreeChanges:
             board = self.mission.blackboard
         trees = [model_of(a).ports.get("ID", "").strip() for a in _ancestors(parent) if isinstance(a, SubTree)]
         return board, (self.mission.document.main, *reversed(trees))
+
+
+# -- the edits, made again on a document ------------------------------------------------------------------------
+def replay_edits(document: Any, edits: list[dict[str, Any]], read: Any) -> None:
+    """Make ``edits`` (:meth:`ChangePlan.edits`, in the order they were made) on ``document`` as it was read from its
+    file: each node's children spliced as the change did; ``read(fragment, file)`` reads a fragment's models
+    (``aeroexec.trees.loaders.fragment.read_fragment``). Raises KeyError for an edit that does not fit it."""
+    for edit in edits:
+        parent = _model_at(document, edit["tree"], edit["path"])
+        start, count = int(edit["start"]), int(edit["count"])
+        if edit.get("ports"):
+            old = parent.children[start:start + count]
+            new = [_modified(m, edit["ports"][str(i)]) if str(i) in edit["ports"] else m for i, m in enumerate(old)]
+        else:
+            new = list(read(edit["fragment"], edit["file"])) if edit.get("fragment") else []
+        if start + count > len(parent.children):
+            raise KeyError(f"{edit['tree']} {edit['path']}: no children {start} to {start + count}")
+        parent.children[start:start + count] = new
+
+
+def _modified(model: TreeNode, ports: dict[str, str]) -> TreeNode:
+    """A copy of ``model`` with new port values (``name`` renames it)."""
+    ports = dict(ports)
+    name = ports.pop("name", None)
+    return dataclasses.replace(model, ports={**model.ports, **ports}, name=name or model.name)
+
+
+def _model_path(document: Any, model: TreeNode) -> tuple[str, str]:
+    """The tree of ``document`` holding ``model`` and the child indexes down to it (``"0.3"``; ``""``: the root)."""
+    for tree_id, root in document.trees.items():
+        stack: list[tuple[TreeNode, str]] = [(root, "")]
+        while stack:
+            node, path = stack.pop()
+            if node is model:
+                return tree_id, path
+            stack.extend((child, f"{path}.{i}" if path else str(i)) for i, child in enumerate(node.children))
+    raise ChangeError(f"{model.name} is not in the mission's document")
+
+
+def _model_at(document: Any, tree: str, path: str) -> TreeNode:
+    node = document.trees[tree]
+    for part in filter(None, path.split(".")):
+        node = node.children[int(part)]
+    return node
 
 
 # -- helpers ----------------------------------------------------------------------------------------------------
@@ -502,4 +568,4 @@ def _ranges(numbers: list[int]) -> str:
     return ", ".join(parts)
 
 
-__all__ = ["ChangePlan", "Splice", "TreeChanges"]
+__all__ = ["ChangePlan", "Splice", "TreeChanges", "replay_edits"]
