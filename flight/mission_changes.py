@@ -41,6 +41,7 @@ from aeroexec.trees import TreeFormatError
 logger = logging.getLogger(__name__)
 
 CHANGED = "changed by the operator"
+UNWIND_TIMEOUT = 10.0  # s of engine time a replaced program has to unwind before the load is given up
 
 
 @dataclass
@@ -65,7 +66,8 @@ class MissionChanges:
         self.count = 0  # changes received (names the fragments: "change N")
         self.loads = 0  # missions loaded (the copies in the output folder)
         self.flown = 1  # missions flown in this flight (names a loaded tree's .btlog: mission-N.btlog)
-        self.replacing: Any = None  # (the Python mission thread unwinding, the load that follows it)
+        self.replacing: PreparedLoad | None = None  # the load that follows a replaced program once it unwound
+        self._unwinding_since = 0.0
         self._changes: dict[int, Any] = {}  # TreeChanges of each tree mission
 
     @property
@@ -200,6 +202,7 @@ class MissionChanges:
         else:
             engine.log.record("mission_replaced", detail=f"{session.spec.name}: {reason}")
             engine.bridge.close()  # the program's waiting call raises MissionAborted; it unwinds, then the new one
+            self._unwinding_since = engine.now()
             for activation in sorted(engine.coordinator.active().values(), key=lambda a: -a.order):
                 if activation.source == "mission":  # what the program started ends with it, as a tree's does
                     engine.coordinator.stop(activation.name, reason)
@@ -214,9 +217,15 @@ class MissionChanges:
         """Start the loaded mission once the replaced program's thread has ended (a tick callback)."""
         from aeroexec.engine.missions.bridge import DONE
 
-        if self.engine.bridge.state != DONE:
+        engine = self.engine
+        if engine.bridge.state != DONE:
+            if engine.now() - self._unwinding_since > UNWIND_TIMEOUT:  # it catches MissionAborted: give the load up
+                engine.tick_callbacks.remove(self._after_unwinding)
+                self.replacing = None
+                engine.log.record("mission_failed", detail=f"the replaced program did not stop within "
+                                                           f"{UNWIND_TIMEOUT:g} s: the loaded mission does not fly")
             return
-        self.engine.tick_callbacks.remove(self._after_unwinding)
+        engine.tick_callbacks.remove(self._after_unwinding)
         prepared, self.replacing = self.replacing, None
         self._start(prepared)
 

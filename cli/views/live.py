@@ -49,7 +49,7 @@ EVENT_STYLE = {"GOAL_ACHIEVED": "green", "TIME_OUT": "red", "WRONG_PROGRESS": "r
                "failed_preconditions": "red", "rejected": "red", "mission_failed": "bold red",
                "mission_completed": "bold green", "operator_command": "bold magenta", "operator": "cyan",
                "mission_change": "bold magenta", "mission_replaced": "bold magenta"}
-KEYS_HELP = "p pause  r resume  n next item  j jump  a abort+land  i inhibit  t answer  q quit (abort+land)"
+KEYS_HELP = "p pause  r resume  n next item  j jump  a/q abort+land  i inhibit  t answer"
 FINAL_STYLE = {COMPLETED: "bold green", REFUSED: "bold yellow", FAILED: "bold red", ABORTED: "bold red"}
 FLIGHT_CAPABILITY = "FLIGHT_CONTROL"  # the behaviors holding it command the drone's flight mode
 
