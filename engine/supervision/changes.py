@@ -24,12 +24,15 @@ supervisor records each one, taken or refused, as a ``mission_change`` event.
 
 from __future__ import annotations
 
+import logging
 import shlex
 from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
+
+logger = logging.getLogger(__name__)
 
 CHANGES = ("skip", "jump", "insert", "modify", "delete", "replace", "load")
 #: Changes that edit the mission's items (a Python program cannot be edited while it runs).
@@ -247,6 +250,36 @@ def program_change(engine: Any, change: MissionChange) -> ChangeOutcome:
     return ChangeOutcome(*skip_program_behavior(engine))
 
 
+def make_change(engine: Any, changes: Any, aborted: bool, command: str, argument: str, origin: str,
+                prepared: Any = None) -> ChangeOutcome:
+    """Read a change and have it made by ``changes`` (the flight's; without one, a Python mission's skip only),
+    never raising; records it as a ``mission_change`` event (on the engine's thread)."""
+    try:
+        change = MissionChange.parse(command, argument)
+        if aborted:
+            outcome = ChangeOutcome(False, "the mission was aborted")
+        elif changes is not None:
+            outcome = changes.change(change, origin, prepared)
+        elif change.command == "load":
+            outcome = ChangeOutcome(False, "this engine flies no flight session: a mission cannot be loaded into it")
+        elif engine.supervisor.missions:
+            outcome = ChangeOutcome(False, "a tree mission's changes are checked and made by its flight session")
+        elif engine.bridge.state == "done":  # the mission bridge's DONE: no Python mission runs
+            outcome = ChangeOutcome(False, "no mission is running")
+        else:
+            outcome = program_change(engine, change)
+    except ChangeError as error:
+        outcome = ChangeOutcome(False, str(error))
+    except Exception as exc:  # a change must never take the engine down
+        logger.exception("the change %s %s failed", command, argument)
+        outcome = ChangeOutcome(False, f"{command} failed: {type(exc).__name__}: {exc}")
+    text = outcome.message if outcome.ok else f"refused: {outcome.message}"
+    engine.log.record("mission_change", detail=f"{command}{' ' + argument if argument else ''}: {text}",
+                      command=command, argument=argument, origin=origin, ok=outcome.ok, problems=outcome.problems,
+                      **outcome.recorded)
+    return outcome
+
+
 def skip_program_behavior(engine: Any) -> tuple[bool, str]:
     """``skip`` for a Python mission: the behavior it waits for now (its newest goal-seeking request) is stopped and
     the waiting call returns INTERRUPTED with the reason "skipped by the operator"; the program decides what comes
@@ -274,4 +307,5 @@ def skip_program_behavior(engine: Any) -> tuple[bool, str]:
 
 
 __all__ = ["AEROSTACK2_UPDATES", "CHANGES", "EDITS", "ChangeError", "ChangeOutcome", "MissionChange",
-           "aerostack2_update", "ground_transitions", "not_cut_short", "program_change", "skip_program_behavior"]
+           "aerostack2_update", "ground_transitions", "make_change", "not_cut_short", "program_change",
+           "skip_program_behavior"]

@@ -40,7 +40,7 @@ from typing import Any, Protocol
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import CHANGES, ChangeError, ChangeOutcome, MissionChange, program_change
+from aeroexec.engine.supervision.changes import CHANGES, ChangeError, MissionChange, make_change
 from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
@@ -61,19 +61,6 @@ class SupervisedMission(Protocol):
     def resume(self) -> None: ...
 
     def halt(self, reason: str = "halted") -> None: ...
-
-
-class MissionChanges(Protocol):
-    """What makes the changes of the running mission (a flight's ``aeroexec.flight.mission_changes``)."""
-
-    def prepare(self, change: MissionChange) -> Any:
-        """What can be done before the engine's thread (read and check a file to load); on the caller's thread."""
-
-    def change(self, change: MissionChange, origin: str, prepared: Any = None) -> ChangeOutcome:
-        """Check and make ``change`` (on the engine's thread): what became of it."""
-
-    def items(self) -> list[dict[str, Any]]:
-        """The mission's items, for ``items``."""
 
 
 @dataclass
@@ -114,9 +101,9 @@ class Supervisor:
         self._missions: list[SupervisedMission] = []
         #: (activation, its on_end listeners, whether its preconditions held when paused), in order
         self._suspended: list[tuple[Any, list, bool]] = []
-        #: What checks and makes the changes of the running mission (the flight's); a bare engine has none, and
-        #: takes a Python mission's skip only.
-        self.changes: MissionChanges | None = None
+        #: What checks and makes the changes of the running mission (the flight's ``MissionChanges``: ``prepare``,
+        #: ``change``, ``items``); a bare engine has none, and takes a Python mission's skip only.
+        self.changes: Any = None
         engine.tick_callbacks.append(self.run_pending)
 
     # -- from any thread ----------------------------------------------------------------------
@@ -282,32 +269,8 @@ class Supervisor:
 
     # -- changes of the running mission ------------------------------------------------------------------
     def _change(self, command: str, argument: str, origin: str, prepared: Any = None) -> CommandResult:
-        try:
-            change = MissionChange.parse(command, argument)
-            outcome = self._apply(change, origin, prepared)
-        except ChangeError as error:
-            outcome = ChangeOutcome(False, str(error))
-        except Exception as exc:  # a change must never take the engine down
-            logger.exception("the change %s %s failed", command, argument)
-            outcome = ChangeOutcome(False, f"{command} failed: {type(exc).__name__}: {exc}")
-        text = outcome.message if outcome.ok else f"refused: {outcome.message}"
-        self.engine.log.record("mission_change", detail=f"{command}{' ' + argument if argument else ''}: {text}",
-                               command=command, argument=argument, origin=origin, ok=outcome.ok,
-                               problems=outcome.problems, **outcome.recorded)
+        outcome = make_change(self.engine, self.changes, self.state == ABORTED, command, argument, origin, prepared)
         return CommandResult(outcome.ok, outcome.message, {"problems": outcome.problems} if outcome.problems else {})
-
-    def _apply(self, change: MissionChange, origin: str, prepared: Any) -> ChangeOutcome:
-        if self.state == ABORTED:
-            return ChangeOutcome(False, "the mission was aborted")
-        if self.changes is not None:
-            return self.changes.change(change, origin, prepared)
-        if change.command == "load":
-            return ChangeOutcome(False, "this engine flies no flight session: a mission cannot be loaded into it")
-        if self._missions:
-            return ChangeOutcome(False, "a tree mission's changes are checked and made by its flight session")
-        if self.engine.bridge.state == "done":  # the mission bridge's DONE: no Python mission runs
-            return ChangeOutcome(False, "no mission is running")
-        return program_change(self.engine, change)
 
     def suspended_requests(self) -> list[Any]:
         """The activations a pause stopped, which resume requests again."""

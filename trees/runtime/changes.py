@@ -10,8 +10,7 @@ halts and those it shows SKIPPED — without touching the tree, so that it can b
 builder builds a document's, each sequence's index is kept on the child it was running (or moved where the change
 says), and the mission's node list is rebuilt (:meth:`~aeroexec.trees.runtime.runner.TreeMission.restructure`).
 
-Targets: an item number (a plan's MAVLink item, the nodes named ``item N ...``; otherwise the N-th child of the
-mission's main sequence, the first Sequence or SequenceWithMemory from the root) or a node's name. Inserting and
+Targets are found by :mod:`.change_targets` (an item number or a node's name). Inserting and
 deleting change sequences only; replace and modify any node but the root. A running take-off or landing is never cut
 short (:func:`~aeroexec.engine.supervision.changes.not_cut_short`). Inserting before the running item halts it: the
 new items fly first, then the item again, from its start. A TML mission's tasks compile into a tree of their own: it
@@ -26,7 +25,6 @@ as it was changed (then puts the captured state back into it).
 from __future__ import annotations
 
 import dataclasses
-import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -34,15 +32,24 @@ from aeroexec.engine.supervision.changes import ChangeError, MissionChange, not_
 from aeroexec.trees.model import COMMON_ATTRIBUTES, TreeNode
 from aeroexec.trees.runtime.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.builder import TreeBuilder, model_of
+from aeroexec.trees.runtime.change_targets import (
+    MissionItems,
+    ancestors,
+    inner,
+    is_fallback,
+    is_sequence,
+    item_of,
+    label,
+    labels,
+    place,
+    walk,
+)
 from aeroexec.trees.runtime.controls import Control, Sequence
 from aeroexec.trees.runtime.decorators import Decorator, SubTree
-from aeroexec.trees.runtime.node_conditions import NodeConditions
 from aeroexec.trees.runtime.parallels import Parallel, ParallelAll
 from aeroexec.trees.runtime.registry import ports_of
-from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SUCCESS, attach, status_name
+from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SUCCESS, attach
 from py_trees.behaviour import Behaviour
-
-ITEM = re.compile(r"item (\d+) ")  # the nodes of a plan's item N are named "item N ..."
 
 
 @dataclass
@@ -130,87 +137,8 @@ class TreeChanges:
         self.mission = mission
         self.engine = mission.engine
         self.editable = not callable(getattr(mission.document, "build", None))  # a TML mission builds itself
-        self.plan_items = hasattr(mission.document, "item_lines")  # a QGroundControl plan or waypoint file
-
-    # -- reading the tree ----------------------------------------------------------------------------------
-    def visible(self) -> list[Behaviour]:
-        return [node for _, node in self.mission.nodes]
-
-    def main_sequence(self) -> Behaviour | None:
-        """The sequence whose children are the mission's items: the first Sequence (or SequenceWithMemory) from the
-        root down through decorators and subtrees."""
-        node = self.mission.root
-        while node is not None:
-            node = _inner(node)
-            if _is_sequence(node):
-                return node
-            node = node.children[0] if isinstance(node, Decorator) and node.children else None
-        return None
-
-    def span(self, target: str) -> tuple[Behaviour, int, list[Behaviour]]:
-        """The nodes a target names: their parent, the first one's place in it, and the nodes (siblings in order)."""
-        target = target.strip()
-        if target.isdigit():
-            nodes = self._item(int(target))
-        else:
-            nodes = [n for n in self.visible() if n.name == target]
-            if not nodes:
-                raise ChangeError(f"the mission has no node named {target!r} (aeroexec ctl items lists its items)")
-            if len(nodes) > 1:
-                places = ", ".join(_where(n) for n in nodes[:5])
-                raise ChangeError(f"{len(nodes)} nodes are named {target!r} ({places}): name the item by its number")
-        parent = nodes[0].parent
-        if parent is None:
-            raise ChangeError(f"{target!r} is the mission's root: load a new mission to change all of it")
-        places = [_place(parent, n) for n in nodes]
-        if any(p is None for p in places) or places != list(range(places[0], places[0] + len(nodes))):
-            raise ChangeError(f"item {target} is spread over the tree (its nodes are not side by side): change its "
-                              f"nodes by name")
-        return parent, places[0], nodes
-
-    def _item(self, number: int) -> list[Behaviour]:
-        if self.plan_items:
-            matching = [n for n in self.visible() if _item_of(n) == number]
-            nodes = [n for n in matching if not any(_item_of(a) == number for a in _ancestors(n))]
-            if nodes:
-                return nodes
-            known = sorted({_item_of(n) for n in self.visible()} - {None})
-            said = self._item_name(number)
-            raise ChangeError(f"item {number}{said} has no behavior of its own in the mission (items with "
-                              f"behaviors: {_ranges(known)})" if said else
-                              f"the plan has no item {number} (items with behaviors: {_ranges(known)})")
-        sequence = self.main_sequence()
-        if sequence is None:
-            raise ChangeError("the mission has no main sequence whose items have numbers: name the node instead")
-        if not 1 <= number <= len(sequence.children):
-            raise ChangeError(f"the mission has items 1 to {len(sequence.children)}, not {number}")
-        return [sequence.children[number - 1]]
-
-    def _item_name(self, number: int) -> str:
-        mission = getattr(self.mission.document, "mission", None)
-        item = next((i for i in getattr(mission, "items", ()) if i.seq == number), None)
-        return f" ({item.name})" if item is not None else ""
-
-    def items(self) -> list[dict[str, Any]]:
-        """The mission's items, in order: number (a plan's inserted items: ``new``, named by their name), name(s),
-        and whether done, running, skipped or to come."""
-        listed: list[tuple[str, list[Behaviour]]] = []
-        if self.plan_items:
-            groups: dict[int, list[Behaviour]] = {}
-            for node in self.visible():
-                number = _item_of(node)
-                if number is not None and not any(_item_of(a) == number for a in _ancestors(node)):
-                    if number not in groups:
-                        groups[number] = []
-                        listed.append((str(number), groups[number]))
-                    groups[number].append(node)
-                elif number is None and _inserted(node) and not any(_inserted(a) for a in _ancestors(node)):
-                    listed.append(("new", [node]))
-        else:
-            sequence = self.main_sequence()
-            listed = [(str(i), [child]) for i, child in enumerate(sequence.children, 1)] if sequence else []
-        return [{"item": number, "name": " / ".join(n.name for n in nodes), "status": _state(nodes),
-                 "line": getattr(model_of(nodes[0]), "line", 0)} for number, nodes in listed]
+        self.targets = MissionItems(mission)
+        self.span, self.items = self.targets.span, self.targets.items
 
     # -- planning ------------------------------------------------------------------------------------------
     def plan(self, change: MissionChange, fragment: list[TreeNode] | None = None) -> ChangePlan:
@@ -230,29 +158,29 @@ class TreeChanges:
         return plan
 
     def _plan_skip(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
-        running = [n for n in _walk(self.mission.root) if n.status is RUNNING and not n.children]
+        running = [n for n in walk(self.mission.root) if n.status is RUNNING and not n.children]
         leaf = next((n for n in running if isinstance(n, BehaviorLeaf)), running[0] if running else None)
         if leaf is None:
             raise ChangeError("nothing of the mission is running: nothing to skip")
         child, parent = leaf, leaf.parent
-        while parent is not None and not (_is_sequence(parent) or _is_fallback(parent)):
+        while parent is not None and not (is_sequence(parent) or is_fallback(parent)):
             child, parent = parent, parent.parent
         if parent is None:
             raise ChangeError(f"{leaf.name} is not in a sequence: nothing comes after it to go on with")
         child = next((c for c in parent.children if c is child), child)
         nodes = [child]
-        number = _item_of(child) if self.plan_items else None
-        start = _place(parent, child)
+        number = item_of(child) if self.targets.plan_items else None
+        start = place(parent, child)
         if number is not None:  # a plan's item: every node of it
-            while start > 0 and _item_of(parent.children[start - 1]) == number:
+            while start > 0 and item_of(parent.children[start - 1]) == number:
                 start -= 1
             nodes = [parent.children[start]]
             while start + len(nodes) < len(parent.children) and \
-                    _item_of(parent.children[start + len(nodes)]) == number:
+                    item_of(parent.children[start + len(nodes)]) == number:
                 nodes.append(parent.children[start + len(nodes)])
         end = start + len(nodes)
-        following = _name(parent.children[end]) if end < len(parent.children) else f"what follows {_name(parent)}"
-        what = f"{' and '.join(_name(n) for n in nodes)} skipped; the mission goes on with {following}"
+        following = label(parent.children[end]) if end < len(parent.children) else f"what follows {label(parent)}"
+        what = f"{' and '.join(label(n) for n in nodes)} skipped; the mission goes on with {following}"
         return ChangePlan(change, what, cursors={id(parent): (parent, end)},
                           halted=[n for n in nodes if n.status is RUNNING],
                           skipped=[n for n in nodes if n.status not in (SUCCESS, FAILURE)])
@@ -260,16 +188,16 @@ class TreeChanges:
     def _plan_jump(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
         _, _, nodes = self.span(change.target)
         target = nodes[0]
-        path = [*reversed(_ancestors(target)), target]
-        plan = ChangePlan(change, f"the mission goes on from {_name(target)}")
+        path = [*reversed(ancestors(target)), target]
+        plan = ChangePlan(change, f"the mission goes on from {label(target)}")
         for ancestor, child in zip(path, path[1:], strict=False):
             inner = ancestor
             if isinstance(inner, Control) and not isinstance(inner, (Sequence, Parallel, ParallelAll)):
-                raise ChangeError(f"{_name(target)} is inside {_name(ancestor)} ({type(ancestor).__name__}), which "
-                                  f"chooses for itself what it ticks: jump to {_name(ancestor)} instead")
+                raise ChangeError(f"{label(target)} is inside {label(ancestor)} ({type(ancestor).__name__}), which "
+                                  f"chooses for itself what it ticks: jump to {label(ancestor)} instead")
             if not isinstance(inner, Sequence):
                 continue
-            index = _place(inner, child)
+            index = place(inner, child)
             if inner.status is RUNNING and inner.index == index:
                 continue
             if inner.status is RUNNING:
@@ -278,20 +206,20 @@ class TreeChanges:
         if target.status is RUNNING and target not in plan.halted:
             plan.halted.append(target)
         if not plan.cursors and not plan.halted:
-            plan.what = f"{_name(target)} is where the mission is already"
+            plan.what = f"{label(target)} is where the mission is already"
         return plan
 
     def _plan_insert(self, change: MissionChange, fragment: list[TreeNode]) -> ChangePlan:
         parent, start, nodes = self.span(change.target)
         self._in_a_sequence(parent, nodes, "inserted into")
         at = start + len(nodes) if change.after else start
-        plan = ChangePlan(change, f"{_names(fragment)} inserted {'after' if change.after else 'before'} "
-                                  f"{_names(nodes)}", [Splice(parent, at, 0, list(fragment), change.fragment)],
+        plan = ChangePlan(change, f"{labels(fragment)} inserted {'after' if change.after else 'before'} "
+                                  f"{labels(nodes)}", [Splice(parent, at, 0, list(fragment), change.fragment)],
                           new=list(fragment))
         if parent.status is RUNNING and at == parent.index and at < len(parent.children) and \
                 parent.children[at].status is RUNNING:
             plan.halted.append(parent.children[at])  # before the running item: the new ones fly first
-            plan.what += f" (it is running: it flies again after {_names(fragment)})"
+            plan.what += f" (it is running: it flies again after {labels(fragment)})"
         elif parent.status is RUNNING and at < parent.index:
             plan.what += " (where the mission has already been: it flies only if the mission comes back there)"
         return plan
@@ -300,8 +228,8 @@ class TreeChanges:
         parent, start, nodes = self.span(change.target)
         self._in_a_sequence(parent, nodes, "deleted from")
         if len(nodes) >= len(parent.children):
-            raise ChangeError(f"{_name(parent)} would be left empty: delete {_name(parent)} itself")
-        return ChangePlan(change, f"{_names(nodes)} deleted", [Splice(parent, start, len(nodes), [])],
+            raise ChangeError(f"{label(parent)} would be left empty: delete {label(parent)} itself")
+        return ChangePlan(change, f"{labels(nodes)} deleted", [Splice(parent, start, len(nodes), [])],
                           halted=[n for n in nodes if n.status is RUNNING])
 
     def _plan_replace(self, change: MissionChange, fragment: list[TreeNode]) -> ChangePlan:
@@ -309,9 +237,9 @@ class TreeChanges:
         self._editable_here(parent, "replaced in")
         count = len(parent.children) - len(nodes) + len(fragment)
         if count < parent.min_children or (parent.max_children is not None and count > parent.max_children):
-            raise ChangeError(f"{_name(parent)} ({type(parent).__name__}) cannot have {count} children: replace "
-                              f"{_name(nodes[0])} with {len(nodes)} node{'s' if len(nodes) != 1 else ''}")
-        return ChangePlan(change, f"{_names(nodes)} replaced by {_names(fragment)}",
+            raise ChangeError(f"{label(parent)} ({type(parent).__name__}) cannot have {count} children: replace "
+                              f"{label(nodes[0])} with {len(nodes)} node{'s' if len(nodes) != 1 else ''}")
+        return ChangePlan(change, f"{labels(nodes)} replaced by {labels(fragment)}",
                           [Splice(parent, start, len(nodes), list(fragment), change.fragment)],
                           halted=[n for n in nodes if n.status is RUNNING], new=list(fragment))
 
@@ -328,28 +256,28 @@ class TreeChanges:
             if not accepted:
                 models.append(node)
                 continue
-            if node.status is RUNNING and _inner(node).children:
-                raise ChangeError(f"{_name(node)} is running: modify the behavior inside it that runs, or replace it")
+            if node.status is RUNNING and inner(node).children:
+                raise ChangeError(f"{label(node)} is running: modify the behavior inside it that runs, or replace it")
             used |= set(accepted)
             modified[offset] = accepted
             models.append(_modified(model, accepted))
         unknown = set(ports) - used
         if unknown:
             kinds = ", ".join(dict.fromkeys(model_of(n).type for n in nodes))
-            raise ChangeError(f"{_names(nodes)} has no port {', '.join(sorted(unknown))} (its nodes: "
+            raise ChangeError(f"{labels(nodes)} has no port {', '.join(sorted(unknown))} (its nodes: "
                               f"{kinds})")
         changed = [m for m in models if isinstance(m, TreeNode)]
         what = ", ".join(f"{k}={v}" for k, v in ports.items())
-        return ChangePlan(change, f"{_names(nodes)}: {what}", [Splice(parent, start, len(nodes), models,
+        return ChangePlan(change, f"{labels(nodes)}: {what}", [Splice(parent, start, len(nodes), models,
                                                                       ports=modified)],
                           halted=[n for n, m in zip(nodes, models, strict=True)
                                   if isinstance(m, TreeNode) and n.status is RUNNING], new=changed)
 
     def _in_a_sequence(self, parent: Behaviour, nodes: list[Behaviour], verb: str) -> None:
         self._editable_here(parent, verb)
-        if not _is_sequence(parent):
-            raise ChangeError(f"items are {verb} sequences; {_name(nodes[0])} is in {_name(parent)} "
-                              f"({type(parent).__name__}): replace {_name(parent)} instead")
+        if not is_sequence(parent):
+            raise ChangeError(f"items are {verb} sequences; {label(nodes[0])} is in {label(parent)} "
+                              f"({type(parent).__name__}): replace {label(parent)} instead")
 
     def _ports(self, model: TreeNode) -> set[str]:
         descriptor = self.engine.catalog.behavior(model.type)
@@ -360,14 +288,14 @@ class TreeChanges:
     def _editable_here(self, parent: Behaviour, verb: str) -> None:
         """Refuse an edit whose model is shared: a parent inside a subtree used more than once, or a SubTree."""
         if isinstance(parent, SubTree):
-            raise ChangeError(f"{_name(parent)} is a SubTree: replace the SubTree node itself")
+            raise ChangeError(f"{label(parent)} is a SubTree: replace the SubTree node itself")
         model = model_of(parent)
         if model is None or len(model.children) != len(parent.children):
-            raise ChangeError(f"{_name(parent)} cannot be changed here (it was not built from the mission's model)")
-        for ancestor in [parent, *_ancestors(parent)]:
+            raise ChangeError(f"{label(parent)} cannot be changed here (it was not built from the mission's model)")
+        for ancestor in [parent, *ancestors(parent)]:
             if isinstance(ancestor, SubTree):
                 tree_id = model_of(ancestor).ports.get("ID", "").strip()
-                uses = sum(1 for n in _walk(self.mission.root)
+                uses = sum(1 for n in walk(self.mission.root)
                            if isinstance(n, SubTree) and model_of(n).ports.get("ID", "").strip() == tree_id)
                 if uses > 1:
                     raise ChangeError(f"the tree {tree_id} is used {uses} times: what is {verb} it would change "
@@ -425,7 +353,7 @@ class TreeChanges:
         board = getattr(getattr(parent, "config", None), "blackboard", None)
         if board is None:
             board = self.mission.blackboard
-        trees = [model_of(a).ports.get("ID", "").strip() for a in _ancestors(parent) if isinstance(a, SubTree)]
+        trees = [model_of(a).ports.get("ID", "").strip() for a in ancestors(parent) if isinstance(a, SubTree)]
         return board, (self.mission.document.main, *reversed(trees))
 
 
@@ -474,98 +402,8 @@ def _model_at(document: Any, tree: str, path: str) -> TreeNode:
 
 
 # -- helpers ----------------------------------------------------------------------------------------------------
-def _inner(node: Behaviour) -> Behaviour:
-    return node.decorated if isinstance(node, NodeConditions) else node
-
-
-def _is_sequence(node: Any) -> bool:
-    return isinstance(node, Sequence) and node.stop_on is FAILURE
-
-
-def _is_fallback(node: Any) -> bool:
-    return isinstance(node, Sequence) and node.stop_on is not FAILURE
-
-
-def _ancestors(node: Behaviour) -> list[Behaviour]:
-    found, parent = [], node.parent
-    while parent is not None:
-        found.append(parent)
-        parent = parent.parent
-    return found
-
-
-def _walk(root: Behaviour) -> list[Behaviour]:
-    found, stack = [], [root]
-    while stack:
-        node = stack.pop()
-        found.append(node)
-        stack.extend(reversed(node.children))
-    return found
-
-
 def _running_leaves(node: Behaviour) -> list[BehaviorLeaf]:
-    return [n for n in _walk(node) if isinstance(n, BehaviorLeaf) and n.status is RUNNING]
-
-
-def _place(parent: Behaviour, node: Behaviour) -> int | None:
-    return next((i for i, child in enumerate(parent.children) if child is node), None)
-
-
-def _item_of(node: Any) -> int | None:
-    match = ITEM.match(getattr(node, "name", "") or "")
-    return int(match.group(1)) if match else None
-
-
-def _inserted(node: Any) -> bool:
-    """True for a node a change brought (its model was read from a fragment, ``change N``)."""
-    model = model_of(node)
-    return model is not None and model.file.startswith("change ")
-
-
-def _name(node: Behaviour) -> str:
-    """The node's name, with its line (or the change that brought it) when its name is no plan item's."""
-    model = model_of(node)
-    if model is None or ITEM.match(node.name):
-        return node.name
-    if model.file.startswith("change "):
-        return f"{node.name} ({model.file})"
-    return f"{node.name} (line {model.line})" if model.line else node.name
-
-
-def _names(nodes: list[Any]) -> str:
-    names = [n.name for n in nodes]
-    return ", ".join(names[:4]) + (f" and {len(names) - 4} more" if len(names) > 4 else "") if names else "nothing"
-
-
-def _where(node: Behaviour) -> str:
-    model = model_of(node)
-    return f"line {model.line}" if model is not None and model.line else type(node).__name__
-
-
-def _state(nodes: list[Behaviour]) -> str:
-    names = [status_name(n) for n in nodes]
-    if "RUNNING" in names:
-        return "running"
-    if all(n == "SKIPPED" for n in names):
-        return "skipped"
-    if all(n in ("SUCCESS", "SKIPPED") for n in names):
-        return "done"
-    if any(n == "FAILURE" for n in names) and nodes[0].status is FAILURE:
-        return "failed"
-    return "to come"
-
-
-def _ranges(numbers: list[int]) -> str:
-    if not numbers:
-        return "none"
-    parts, start, last = [], numbers[0], numbers[0]
-    for number in numbers[1:]:
-        if number != last + 1:
-            parts.append(f"{start}-{last}" if last > start else str(start))
-            start = number
-        last = number
-    parts.append(f"{start}-{last}" if last > start else str(start))
-    return ", ".join(parts)
+    return [n for n in walk(node) if isinstance(n, BehaviorLeaf) and n.status is RUNNING]
 
 
 __all__ = ["ChangePlan", "Splice", "TreeChanges", "replay_edits"]
