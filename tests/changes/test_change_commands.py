@@ -4,6 +4,7 @@ load is named by its full path), and a fleet's drone changed through ``ctl --fle
 
 from __future__ import annotations
 
+import io
 import subprocess
 import sys
 import threading
@@ -139,3 +140,19 @@ def test_a_fleet_drone_takes_changes_through_ctl_fleet(tmp_path):
     records = read_log(tmp_path / "d1" / "events.jsonl")
     assert [(r["data"]["command"], r["data"]["origin"]) for r in records if r["kind"] == "mission_change"] == [
         ("insert", "fleet"), ("skip", "fleet")]
+
+
+def test_the_live_views_keys_skip_and_jump():
+    from aeroexec.cli.views.live import KeyReader
+
+    submitted = []
+
+    class Supervisor:
+        def submit(self, command: str, argument: str, origin: str):
+            submitted.append((command, argument, origin))
+            return type("Ticket", (), {"wait": lambda self, timeout: None})()
+
+    keys = KeyReader(Supervisor(), stream=io.StringIO())
+    for key in "n" + "jcorner A\r" + "j\r":
+        keys.press(key)
+    assert submitted == [("skip", "", "keyboard"), ("jump", "'corner A'", "keyboard")]
