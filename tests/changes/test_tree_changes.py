@@ -151,3 +151,18 @@ def test_the_edits_recorded_in_the_event_log_make_the_changed_tree_again_from_th
     replay_edits(document, edits, read_fragment)
     assert shape(build_tree(document, TreeContext(flight.engine), Blackboard())) == running
     flight.finish()
+
+
+def test_an_item_inserted_before_the_running_one_flies_first_and_a_deleted_running_item_gives_way(tmp_path):
+    flight = patrol_at(tmp_path, "corner B", 1.0)
+    now = flight.engine.now()
+    result = flight.change("insert", "before 3 'GO_TO_POINT COORDINATES=\"9, -3, 4\" name=detour'")
+    assert result.message == "detour inserted before corner B (it is running: it flies again after detour)"
+    flight.until(lambda: flight.running("corner B"))
+    again = flight.engine.now()
+    assert flight.change("delete", "'corner B'").message == "corner B deleted"
+    records = flight.finish()
+    assert flight.reached_at((9.0, -3.0, 4.0), after=now) < again  # the detour first, then corner B again
+    assert flight.closest(B, after=again) > 2.0  # deleted while it ran: the laps came next
+    assert statuses(records, "detour") == ["RUNNING", "SUCCESS"]
+    assert flight.reached_at((0.0, -4.0, 3.0), after=again) is not None and ended(records) == "completed"
