@@ -112,3 +112,16 @@ def test_the_event_log_and_the_report_show_each_change_taken_or_refused(tmp_path
     # a changed tree goes on in its own .btlog file, whose header is the changed tree
     assert sorted(p.name for p in flight.session.folder.glob("*.btlog")) == ["mission.btlog",
                                                                              "mission.change-1.btlog"]
+
+
+def test_a_loiter_without_end_goes_on_when_the_operator_skips_it(tmp_path):
+    plan = tmp_path / "survey_loiter_unlim.plan"  # the survey with its loiter (item 19) held until moved on
+    plan.write_text(SURVEY.read_text().replace('"command": 19,', '"command": 17,', 1))
+    flight = ChangedFlight(plan, tmp_path / "run")
+    flight.until(lambda: flight.running("item 19 loiter"))
+    flight.engine.step(5.0)
+    assert flight.running("item 19 loiter")  # KEEP_HOVERING: it holds there until the operator says
+    result = flight.change("skip")
+    assert result.message == "item 19 loiter skipped; the mission goes on with item 20 land"
+    records = flight.finish()
+    assert statuses(records, "item 20 land") == ["RUNNING", "SUCCESS"] and ended(records) == "completed"

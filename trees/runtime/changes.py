@@ -179,11 +179,11 @@ class TreeChanges:
                     item_of(parent.children[start + len(nodes)]) == number:
                 nodes.append(parent.children[start + len(nodes)])
         end = start + len(nodes)
+        skipped = [n for n in nodes if n.status not in (SUCCESS, FAILURE)]
         following = label(parent.children[end]) if end < len(parent.children) else f"what follows {label(parent)}"
-        what = f"{' and '.join(label(n) for n in nodes)} skipped; the mission goes on with {following}"
+        what = f"{' and '.join(label(n) for n in skipped)} skipped; the mission goes on with {following}"
         return ChangePlan(change, what, cursors={id(parent): (parent, end)},
-                          halted=[n for n in nodes if n.status is RUNNING],
-                          skipped=[n for n in nodes if n.status not in (SUCCESS, FAILURE)])
+                          halted=[n for n in nodes if n.status is RUNNING], skipped=skipped)
 
     def _plan_jump(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
         _, _, nodes = self.span(change.target)
