@@ -12,7 +12,7 @@ from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree
 from aeroexec.trees.runtime.changes import replay_edits
 from aeroexec.trees.runtime.context import TreeContext
-from changing import DATA, ChangedFlight, changes, ended, statuses
+from changing import DATA, MISSIONS, ChangedFlight, changes, ended, statuses
 
 PATROL = DATA / "patrol.xml"
 A, B, C = (6.0, 0.0, 3.0), (14.0, 2.0, 3.0), (2.0, 4.0, 3.0)
@@ -166,3 +166,14 @@ def test_an_item_inserted_before_the_running_one_flies_first_and_a_deleted_runni
     assert flight.closest(B, after=again) > 2.0  # deleted while it ran: the laps came next
     assert statuses(records, "detour") == ["RUNNING", "SUCCESS"]
     assert flight.reached_at((0.0, -4.0, 3.0), after=again) is not None and ended(records) == "completed"
+
+
+def test_a_tml_mission_takes_skip_of_the_task_it_waits_for_and_is_edited_by_loading_a_new_one(tmp_path):
+    flight = ChangedFlight(MISSIONS / "search_for_object.tml.xml", tmp_path / "run")
+    flight.until(lambda: flight.active("ROTATE"))
+    skipped = flight.change("skip")  # the task waited for, not SELF_LOCALIZE_BY_ODOMETRY running beside it
+    assert skipped.message.startswith("Face the search area (line 28) skipped; the mission goes on with")
+    assert flight.change("insert", "after 1 LAND").message == (
+        "a TML mission's tasks compile into a tree of their own: it takes skip; load a new mission to change its "
+        "tasks")
+    assert ended(flight.finish()) == "completed"

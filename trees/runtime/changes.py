@@ -28,6 +28,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Any
 
+from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.supervision.changes import ChangeError, MissionChange, not_cut_short
 from aeroexec.trees.model import COMMON_ATTRIBUTES, TreeNode
 from aeroexec.trees.runtime.behavior_leaves import BehaviorLeaf
@@ -146,8 +147,8 @@ class TreeChanges:
         says why it cannot be made here."""
         command = change.command
         if command in ("insert", "modify", "delete", "replace") and not self.editable:
-            raise ChangeError("a TML mission's tasks compile into a tree of their own: it takes skip and jump; load "
-                              "a new mission to change its tasks")
+            raise ChangeError("a TML mission's tasks compile into a tree of their own: it takes skip; load a new "
+                              "mission to change its tasks")
         planner = getattr(self, f"_plan_{command}")
         plan = planner(change, fragment or [])
         for node in plan.halted:
@@ -159,7 +160,9 @@ class TreeChanges:
 
     def _plan_skip(self, change: MissionChange, _: list[TreeNode]) -> ChangePlan:
         running = [n for n in walk(self.mission.root) if n.status is RUNNING and not n.children]
-        leaf = next((n for n in running if isinstance(n, BehaviorLeaf)), running[0] if running else None)
+        behaviors = [n for n in running if isinstance(n, BehaviorLeaf)]
+        goals = [n for n in behaviors if getattr(self.engine.catalog.behavior(n.behavior), "category", "") != RECURRENT]
+        leaf = next(iter(goals or behaviors or running), None)  # what the mission waits for, not what runs beside
         if leaf is None:
             raise ChangeError("nothing of the mission is running: nothing to skip")
         child, parent = leaf, leaf.parent
