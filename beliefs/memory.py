@@ -23,7 +23,7 @@ from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
 from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.reasoning import Reasoning
-from aeroexec.beliefs.relation import Relation, Relations
+from aeroexec.beliefs.relation import PRESENT, Relation, Relations
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
 from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
@@ -151,9 +151,9 @@ class BeliefMemory(Reasoning):
         ttl = self._persistence.get(signature[0]) if self._persistence else None
         if ttl is not None:
             self._schedule(signature, args, ttl)
-        if args in rel.rows:
-            return False
         displaced = rel.insert(args)
+        if displaced is PRESENT:
+            return False
         if displaced is None:
             self._changes += 1
             size = len(rel.rows)

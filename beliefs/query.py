@@ -77,33 +77,35 @@ class CompiledQuery:
         if single is None or (single.simple and self._keyed is None):
             return None
         signature = single.signature
-        found: list = []  # the relation, once it exists
-
-        def relation() -> Any:
-            rel = relations.get(signature)
-            if rel is not None:
-                found.append(rel)
-            return rel
+        rel: Any = None  # the relation, once it exists
+        first: dict | None = None  # its first argument's index (a relation's indexes are never replaced)
 
         if not single.simple:
             pattern = single.pattern
 
             def holds() -> dict | None:
-                rel = found[0] if found else relation()
-                return {} if rel is not None and pattern in rel.rows else None
+                nonlocal rel
+                if rel is None:
+                    rel = relations.get(signature)
+                    if rel is None:
+                        return None
+                return {} if pattern in rel.rows else None
             return holds
         key, name = self._keyed
         # the key of a two-argument belief is its first argument: its index holds the one row with that value
-        first = key[0] if len(key) == 1 else None
+        by_first, value_of = len(key) == 1, key[0]
         solve = self.first
 
         def value() -> dict | None:
-            rel = found[0] if found else relation()
+            nonlocal rel, first
             if rel is None:
-                return None
+                rel = relations.get(signature)
+                if rel is None:
+                    return None
+                first = rel.by_pos[0]
             if rel.by_key is None:  # declared multivalued since
                 return solve(relations)
-            row = rel.by_pos[0].get(first) if first is not None else rel.by_key.get(key)
+            row = first.get(value_of) if by_first else rel.by_key.get(key)
             if row is None:
                 return None
             if not name:
