@@ -17,7 +17,10 @@ from typing import Any
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
+from aeroexec.engine.missions import ros
 from aeroexec.engine.missions.check import check_mission_source
+from aeroexec.engine.missions.script import is_script, script_mission
+from aeroexec.engine.missions.source import parse_source
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.loaders.plan_loader import PlanDocument
 from aeroexec.trees.tml.verify import verify_mission_document
@@ -84,7 +87,12 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
 
 
 def mission_function(path: Path) -> Callable[[], Any]:
-    """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function."""
+    """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
+    script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
+    source = read_text(path, what="the mission")
+    if is_script(parse_source(source, str(path))):
+        return script_mission(path, source)
+    ros.install()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     try:

@@ -1,0 +1,149 @@
+"""Missions that are scripts: a program with no ``mission()`` function, written for Aerostack2 (``rclpy.init()``,
+``DroneInterface("drone0")``, ``if __name__ == '__main__':``), run whole as ``__main__`` on the mission's thread.
+
+The script runs unchanged; what it takes from its surroundings is the engine's. ``time.sleep``, ``time.time``
+and ``time.monotonic`` (as the script imports them) wait on and read the engine's clock, so a simulated run is
+paced by simulated time and a ``while ...: sleep(0.1)`` loop sees the world move; ``sys.argv`` holds the script
+alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; ``exit(0)``
+ends it completed, another status fails it; ROS modules it imports and never uses import as stand-ins
+(:mod:`.ros`). Each ``DroneInterface`` binds to a drone by its namespace (:func:`drone_engine`).
+"""
+
+from __future__ import annotations
+
+import ast
+import builtins
+import contextlib
+import os
+import sys
+import threading
+import time
+import types
+import weakref
+from collections.abc import Callable, Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine import api
+from aeroexec.engine.missions import ros
+
+#: The modules whose import makes a program without ``mission()`` an Aerostack2 script.
+SCRIPT_APIS = ("as2_python_api", "rclpy")
+#: The variable Aerostack2's simulation launch sets to the simulated drone's namespace (its examples read it).
+DRONE_ID_VARIABLE = "AEROSTACK2_SIMULATION_DRONE_ID"
+
+_lock = threading.RLock()
+_claimed: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()  # engine -> the namespace it flies as
+_fleet: dict[str, Any] | None = None  # namespace -> engine, while a script drives a fleet
+
+
+class ScriptExit(RuntimeError):
+    """The script ended with ``exit(N)``, N not 0."""
+
+
+class DroneNotFound(LookupError):
+    """A drone interface names a drone this run does not fly."""
+
+
+def is_script(tree: ast.Module) -> bool:
+    """True for an Aerostack2 script: no ``mission()``/``runMission()`` at top level, and an import of its API."""
+    if any(isinstance(n, ast.FunctionDef) and n.name in ("mission", "runMission") for n in tree.body):
+        return False
+    for node in ast.walk(tree):
+        names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                 [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level else [])
+        if any(name.split(".")[0] in SCRIPT_APIS for name in names):
+            return True
+    return False
+
+
+@contextlib.contextmanager
+def flying_fleet(engines: Mapping[str, Any]) -> Iterator[None]:
+    """While a script drives several drones: each ``DroneInterface(namespace)`` binds to ``engines[namespace]``."""
+    global _fleet
+    with _lock:
+        previous, _fleet = _fleet, dict(engines)
+    try:
+        yield
+    finally:
+        with _lock:
+            _fleet = previous
+
+
+def drone_engine(namespace: str) -> Any:
+    """The engine flying the drone ``namespace``: in a fleet, the drone of that name; alone, the run's drone
+    (whatever the script calls it: the first name it uses is the drone's for the run)."""
+    with _lock:
+        fleet = _fleet
+    if fleet is not None:
+        if namespace not in fleet:
+            raise DroneNotFound(f"no drone named {namespace} in this fleet (its drones: {', '.join(fleet)})")
+        return fleet[namespace]
+    engine = api.current_engine()
+    with _lock:
+        claimed = _claimed.setdefault(engine, namespace)
+    if claimed != namespace:
+        raise DroneNotFound(f"the script drives drone {namespace} besides {claimed}, and this run flies one drone: "
+                            f"fly it as a fleet, one drone per namespace")
+    return engine
+
+
+class _EngineTime(types.ModuleType):
+    """``time`` as a script sees it: the engine's clock; the rest of the module as it is."""
+
+    def __init__(self) -> None:
+        super().__init__("time", time.__doc__)
+        self._started = time.time()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(time, name)
+
+    def sleep(self, seconds: float) -> None:
+        api.wait(max(0.0, float(seconds)))
+
+    def time(self) -> float:
+        return self._started + api.now()
+
+    def monotonic(self) -> float:
+        return api.now()
+
+    perf_counter = monotonic
+
+
+def _builtins(engine_time: types.ModuleType) -> dict[str, Any]:
+    real_import = builtins.__import__
+
+    def import_(name: str, globals: Any = None, locals: Any = None, fromlist: Any = (), level: int = 0) -> Any:
+        module = real_import(name, globals, locals, fromlist, level)
+        return engine_time if name == "time" and level == 0 else module
+
+    return {**vars(builtins), "__import__": import_}
+
+
+def script_mission(path: Path, source: str) -> Callable[[], None]:
+    """The script in ``path`` as a mission function: run it whole as ``__main__`` (see the module's docstring)."""
+    code = compile(source, str(path), "exec")
+    folder = str(Path(path).resolve().parent)
+
+    def run() -> None:
+        ros.install()
+        scope = {"__name__": "__main__", "__file__": str(path), "__builtins__": _builtins(_EngineTime())}
+        saved = sys.argv, list(sys.path)
+        sys.argv = [str(path)]
+        if folder not in sys.path:
+            sys.path.insert(0, folder)
+        os.environ.setdefault(DRONE_ID_VARIABLE, "drone0")
+        try:
+            exec(code, scope)
+        except SystemExit as end:
+            if end.code not in (None, 0):
+                raise ScriptExit(f"the script exited with status {end.code}") from None
+        finally:
+            sys.argv = saved[0]
+            sys.path[:] = saved[1]
+
+    return run
+
+
+__all__ = ["DRONE_ID_VARIABLE", "DroneNotFound", "ScriptExit", "drone_engine", "flying_fleet", "is_script",
+           "script_mission"]
