@@ -2,8 +2,10 @@
 
 ``load_mission_tree(path)`` reads ``.xml`` (BehaviorTree.CPP v4, :mod:`aeroexec.trees.loaders.xml_loader`, or a TML
 mission when the document element is ``<mission>``, :mod:`aeroexec.trees.tml.compiler`) and
-``.yaml``/``.yml`` (the nested form or Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`)
-and ``.plan`` (a QGroundControl mission, :mod:`aeroexec.trees.loaders.plan_loader`, placed from ``home``, the
+``.yaml``/``.yml`` (the nested form or Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`),
+Aerostack2's interpreter missions in ``.json``, ``.yaml`` or ``.yml`` (``{target, plan}``,
+:mod:`aeroexec.trees.loaders.aerostack2_loader`), Aerostack2's behavior-tree nodes in XML mapped onto the catalog
+(:mod:`aeroexec.trees.aerostack2_nodes`) and ``.plan`` (a QGroundControl mission, :mod:`aeroexec.trees.loaders.plan_loader`, placed from ``home``, the
 world's home point) into a :class:`~aeroexec.trees.model.TreeDocument`. Every problem, whatever the format, is raised as
 one :class:`~aeroexec.trees.model.TreeFormatError` listing ``(file, line, message)``.
 """
@@ -13,25 +15,33 @@ from __future__ import annotations
 from pathlib import Path
 
 from aeroexec.drones.geodesy import Geodetic
+from aeroexec.trees.aerostack2_nodes import aerostack2_tree
+from aeroexec.trees.loaders.aerostack2_loader import is_aerostack2_plan, read_aerostack2_plan
 from aeroexec.trees.loaders.plan_loader import load_plan, read_plan
-from aeroexec.trees.loaders.yaml_loader import load_yaml, read_yaml
+from aeroexec.trees.loaders.yaml_loader import read_yaml
 from aeroexec.trees.model import TreeDocument, TreeFormatError
 from aeroexec.trees.tml.compiler import load_xml_mission, read_xml_mission
 
-MISSION_EXTENSIONS = (".xml", ".yaml", ".yml", ".plan")
+from aeroexec.limits import InputError, read_text
+
+MISSION_EXTENSIONS = (".xml", ".yaml", ".yml", ".plan", ".json")
 
 
 def load_mission_tree(path: str | Path, home: Geodetic | None = None) -> TreeDocument:
-    """The behavior-tree mission in ``path`` (.xml, .yaml, .yml or .plan)."""
+    """The behavior-tree mission in ``path`` (.xml, .yaml, .yml, .json or .plan)."""
     suffix = Path(path).suffix.lower()
     if suffix == ".plan":
         return load_plan(path, home)
     if suffix == ".xml":
-        return load_xml_mission(path)
-    if suffix in (".yaml", ".yml"):
-        return load_yaml(path)
+        return aerostack2_tree(load_xml_mission(path), home)
+    if suffix in (".yaml", ".yml", ".json"):
+        try:
+            text = read_text(path)
+        except InputError as exc:
+            raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
+        return read_mission_tree(text, str(path), home)
     raise TreeFormatError([(str(path), 0, f"unknown mission file type {suffix or '(no extension)'}: "
-                                          "expected .xml, .yaml, .yml or .plan")])
+                                          "expected .xml, .yaml, .yml, .json or .plan")])
 
 
 def read_mission_tree(text: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
@@ -43,11 +53,14 @@ def read_mission_tree(text: str | bytes, file: str, home: Geodetic | None = None
         except UnicodeDecodeError as exc:
             raise TreeFormatError([(file, 0, f"cannot read the file: {exc}")]) from None
     if suffix == ".xml":
-        return read_xml_mission(text, file)
-    if suffix in (".yaml", ".yml"):
+        return aerostack2_tree(read_xml_mission(text, file), home)
+    if suffix in (".yaml", ".yml", ".json"):
         try:
-            return read_yaml(text.decode("utf-8") if isinstance(text, bytes) else text, file)
+            text = text.decode("utf-8") if isinstance(text, bytes) else text
         except UnicodeDecodeError as exc:
             raise TreeFormatError([(file, 0, f"cannot read the file: {exc}")]) from None
+        if suffix == ".json" or is_aerostack2_plan(text):
+            return read_aerostack2_plan(text, file, home)
+        return read_yaml(text, file)
     raise TreeFormatError([(file, 0, f"unknown mission file type {suffix or '(no extension)'}: "
-                                     "expected .xml, .yaml, .yml or .plan")])
+                                     "expected .xml, .yaml, .yml, .json or .plan")])

@@ -6,7 +6,7 @@ from typing import Any
 
 from as2_python_api.drone_interface_base import DroneInterfaceBase
 from as2_python_api.modules.follow_path_module import FollowPathModule
-from as2_python_api.modules.go_to_module import GoToModule
+from as2_python_api.modules.go_to_module import GotoModule, GoToModule
 from as2_python_api.modules.land_module import LandModule
 from as2_python_api.modules.takeoff_module import TakeoffModule
 
@@ -19,6 +19,7 @@ class DroneInterface(DroneInterfaceBase):
         super().__init__(drone_id=drone_id, verbose=verbose, use_sim_time=use_sim_time, spin_rate=spin_rate)
         self.takeoff = TakeoffModule(drone=self)
         self.go_to = GoToModule(drone=self)
+        self.goto = GotoModule(drone=self)  # Aerostack2 1.0's spelling
         self.follow_path = FollowPathModule(drone=self)
         self.land = LandModule(drone=self)
 

@@ -6,7 +6,7 @@ from typing import Any
 
 from as2_python_api.drone_interface_base import DroneInterfaceBase
 from as2_python_api.modules.follow_path_gps_module import FollowPathGpsModule
-from as2_python_api.modules.go_to_gps_module import GoToGpsModule
+from as2_python_api.modules.go_to_gps_module import GotoGpsModule, GoToGpsModule
 from as2_python_api.modules.gps_module import GpsModule
 from as2_python_api.modules.land_module import LandModule
 from as2_python_api.modules.takeoff_module import TakeoffModule
@@ -21,5 +21,6 @@ class DroneInterfaceGPS(DroneInterfaceBase):
         self.gps = GpsModule(drone=self)
         self.takeoff = TakeoffModule(drone=self)
         self.go_to = GoToGpsModule(drone=self)
+        self.goto = GotoGpsModule(drone=self)  # Aerostack2 1.0's spelling
         self.follow_path = FollowPathGpsModule(drone=self)
         self.land = LandModule(drone=self)

@@ -58,9 +58,9 @@ def is_plan(path: Path) -> bool:
 def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
                   ) -> CheckedMission:
     """Read and check a mission without flying it (against ``world``'s bounds and obstacles when given);
-    raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan (default:
-    ``world``'s home, else the default simulated world's)."""
-    if home is None and world is not None and is_plan(path):
+    raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan and GPS points
+    of Aerostack2's missions (default: ``world``'s home, else the default simulated world's)."""
+    if home is None and world is not None and is_tree(path):  # plans and Aerostack2's GPS nodes are placed from it
         home = world.home
     checked = CheckedMission(path)
     if is_tree(path):

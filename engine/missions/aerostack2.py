@@ -33,12 +33,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE
+from aeroexec.engine.missions.ros import ROS2_BEYOND
 
 KEEP_YAW, PATH_FACING, FIXED_YAW = 0, 1, 2
 #: The frames that are aeroexec's local ENU frame (Aerostack2's default ``earth`` frame, and none given).
 EARTH_FRAMES = ("", "earth", "/earth")
-#: The words of every refusal of a feature only ROS 2 offers.
-ROS2_BEYOND = "this mission uses ROS 2 beyond the drone interface"
 
 
 class As2Error(ValueError):
@@ -138,6 +137,15 @@ MODULES: dict[str, dict[str, Method]] = {
         **{f"go_to_gps{suffix}": signature for suffix, signature in _GPS_METHODS.items()}}),
     "follow_path_gps": _methods("follow_path_gps", {
         "__call__": "geopath, speed, yaw_mode=0, yaw_angle=0.0, wait=True"}),
+    # Aerostack2 1.0's spellings (before February 2023): the module goto (x, y, z written _x, _y, _z), goto_gps
+    "goto": _methods("goto", {
+        "__call__": "_x, _y, _z, speed, yaw_mode=2, yaw_angle=None, wait=True",
+        "go_to": "_x, _y, _z, speed", "go_to_with_yaw": "_x, _y, _z, speed, angle",
+        "go_to_path_facing": "_x, _y, _z, speed", "go_to_point": "point, speed",
+        "go_to_point_with_yaw": "point, speed, angle", "go_to_point_path_facing": "point, speed"}),
+    "goto_gps": _methods("goto_gps", {
+        "__call__": "lat, lon, alt, speed, yaw_mode=2, yaw_angle=None, wait=True",
+        **{f"go_to_gps{suffix}": signature for suffix, signature in _GPS_METHODS.items()}}),
     "rtl": _methods("rtl", {"__call__": "height, speed, land_speed, yaw_mode=0, yaw_angle=None, wait=True"}),
     "point_gimbal": _methods("point_gimbal", {"__call__": "x, y, z, frame_id, mode=0, wait=False",
                                               "point_gimbal": "x, y, z, frame_id, mode=0"}),
@@ -151,12 +159,12 @@ MODULES: dict[str, dict[str, Method]] = {
 HANDLER_MEMBERS = ("status", "feedback", "result", "result_status", "is_running", "start", "modify", "pause",
                    "resume", "stop", "wait_to_result", "destroy", "get_plan_item")
 #: Aerostack2's drone interfaces: attribute -> the module alias it holds.
-_FLIGHT = {"takeoff": "takeoff", "go_to": "go_to", "follow_path": "follow_path", "land": "land"}
+_FLIGHT = {"takeoff": "takeoff", "go_to": "go_to", "goto": "goto", "follow_path": "follow_path", "land": "land"}
 INTERFACES: dict[str, dict[str, str]] = {
     "DroneInterfaceBase": {},
     "DroneInterface": _FLIGHT,
     "DroneInterfaceTeleop": {**_FLIGHT, "motion_ref_handler": "motion_ref_handler"},
-    "DroneInterfaceGPS": {"gps": "gps", "takeoff": "takeoff", "go_to": "go_to_gps",
+    "DroneInterfaceGPS": {"gps": "gps", "takeoff": "takeoff", "go_to": "go_to_gps", "goto": "goto_gps",
                           "follow_path": "follow_path_gps", "land": "land"},
 }
 #: What every drone interface offers besides its modules (drone_interface_base.py).
@@ -180,6 +188,9 @@ def method(module: str, name: str = "__call__") -> Method:
     return found
 
 
+_SAME = {"goto": "go_to", "goto_gps": "go_to_gps"}  # Aerostack2 1.0's modules
+
+
 def known(value: Any) -> bool:
     """A number (not a bool): what conversions can compute with; anything else passes through untouched."""
     return isinstance(value, int | float) and not isinstance(value, bool)
@@ -190,7 +201,7 @@ def requests(call: Method, bound: Mapping[str, Any], *, home: Sequence[float] | 
     """The catalog requests a bound call stands for. ``home`` (latitude, longitude, altitude) places GPS points
     (without it they stay :class:`Unplaced`), ``yaw`` (degrees) is the drone's yaw now, which KEEP_YAW keeps.
     Values that are not numbers (not known before flight) pass through, so the static check judges the rest."""
-    module, wait = call.module, bool(bound.get("wait", True))
+    module, wait = _SAME.get(call.module, call.module), bool(bound.get("wait", True))
     _check_frame(call, bound.get("frame_id"))
     if module == "takeoff":
         return [Request("TAKE_OFF", {"ALTITUDE": bound["height"]}, wait)]
@@ -237,7 +248,7 @@ def _point(call: Method, bound: Mapping[str, Any]) -> Any:
                                             f"([x, y, z] in meters is expected)")
             return tuple(point)
         return point
-    return bound["x"], bound["y"], bound["z"]
+    return tuple(bound[k] if k in bound else bound[f"_{k}"] for k in ("x", "y", "z"))
 
 
 def _speed(speed: Any) -> dict[str, Any]:
@@ -310,5 +321,5 @@ def _from_gps(point: Any, home: Sequence[float] | None) -> Any:
 
 
 __all__ = ["DRONE_MEMBERS", "EARTH_FRAMES", "FIXED_YAW", "HANDLER_MEMBERS", "INTERFACES", "KEEP_YAW", "MODULES",
-           "PATH_FACING", "ROS2_BEYOND", "As2Error", "Method", "Request", "Unplaced", "degrees", "known",
+           "PATH_FACING", "As2Error", "Method", "Request", "Unplaced", "degrees", "known",
            "method", "requests"]

@@ -6,7 +6,9 @@ parks the mission until the engine resolves it. With a simulated clock the
 engine does not advance time while the mission is running Python code, so a
 mission gives the same event log on every run; but every API call counts: after
 ``CALLS_PER_TICK`` calls that do not wait, the engine takes its next step, so a
-mission polling ``trueBelief`` in a loop sees simulated time (and the world) move.
+mission polling ``trueBelief`` in a loop sees simulated time (and the world) move; a call that waits but
+ends at once (a request refused, or a goal already achieved) lets the engine take its step before the next
+call, so a mission asking again and again for a refused behavior still sees time pass, a tick per request.
 A mission that keeps polling while no belief changes is reported once per stretch.
 """
 
@@ -131,6 +133,8 @@ class MissionBridge:
                     self._polled()
                     if lockstep and served >= CALLS_PER_TICK:
                         return  # the engine steps on: polling lets time move
+                elif lockstep and request.done.is_set():
+                    return  # a wait that ended at once (a refused request): the engine steps before the next call
                 continue
             with self._cond:
                 # in lockstep the mission's own code runs to its next call even while held (a wait that ended

@@ -3,20 +3,18 @@
 ``endPoint = [8, 8, 0.7]`` then ``executeBehavior('GO_TO_POINT', coordinates=endPoint)``: the checker judges the
 destination as if it were written inline. A name is a constant when it is bound exactly once in its scope (the
 module, or a function's body, at the top level of it, not in a branch or loop), by a plain assignment of a
-constant: a literal (numbers, text, booleans, ``None``), a list or tuple of constants, ``-x``, arithmetic on
-numbers (``+ - * /``), an item of a constant list (``PATH[0]``), or another constant name. Anything else — a
-parameter, a loop variable, a name assigned twice or declared ``global`` elsewhere — is not known before flight.
+constant: a literal (numbers, text, booleans, ``None``), a list or tuple of constants, ``-x`` of a number, an
+item of a constant list (``PATH[0]``), or another constant name. Anything else — arithmetic, a call, a
+parameter, a loop variable, a name assigned twice or declared ``global`` elsewhere — is left to the run.
 """
 
 from __future__ import annotations
 
 import ast
-import operator
 from typing import Any
 
 NOT_CONSTANT: Any = object()
 _MAX_ITEMS = 10_000  # a constant list longer than this is left to the run
-_ARITHMETIC = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv}
 _SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
 
 
@@ -96,11 +94,6 @@ class Constants:
             if not _number(operand):
                 return NOT_CONSTANT
             return -operand if isinstance(node.op, ast.USub) else operand
-        if isinstance(node, ast.BinOp) and type(node.op) in _ARITHMETIC:
-            left, right = self.value(node.left), self.value(node.right)
-            if not (_number(left) and _number(right)) or (isinstance(node.op, ast.Div) and right == 0):
-                return NOT_CONSTANT
-            return _ARITHMETIC[type(node.op)](left, right)
         if isinstance(node, ast.List | ast.Tuple):
             if len(node.elts) > _MAX_ITEMS:
                 return NOT_CONSTANT

@@ -30,7 +30,7 @@ _INTERPRETER = "MissionInterpreter"
 NODE_API = ("create_", "destroy_", "declare_", "get_parameter", "set_parameters", "has_parameter", "get_clock",
             "add_on_set_parameters_callback", "wait_for_")
 #: Where the argument that made a catalog argument is, to point at it: catalog argument -> Aerostack2 parameters.
-_SOURCES = {"ALTITUDE": ("height",), "COORDINATES": ("point", "waypoint", "x", "lat", "height"),
+_SOURCES = {"ALTITUDE": ("height",), "COORDINATES": ("point", "waypoint", "x", "_x", "lat", "height"),
             "SPEED": ("speed", "speed_x"), "PATH": ("path", "geopath"), "YAW_ANGLE_AT_THE_END": ("angle", "yaw_angle")}
 
 
@@ -202,7 +202,10 @@ class DroneObjects:
             owner = self.drone(func.value.value)
             if owner is None or func.value.attr in owner.own:
                 return None
-            alias = owner.modules(self.loaded).get(func.value.attr)
+            modules = owner.modules(self.loaded)
+            alias = modules.get(func.value.attr)
+            if alias is None and report and func.value.attr not in aerostack2.DRONE_MEMBERS:
+                self._unknown(func.value, owner, modules)
             if alias is None or alias not in aerostack2.MODULES:
                 return None
             methods = aerostack2.MODULES[alias]

@@ -9,3 +9,10 @@ class GoToGpsModule(ModuleBase):
 
     __alias__ = "go_to_gps"
     __deps__ = ["gps"]
+
+
+class GotoGpsModule(ModuleBase):
+    """Aerostack2 1.0's goto module of GPS drone interfaces (``drone.goto``)."""
+
+    __alias__ = "goto_gps"
+    __deps__ = ["gps"]

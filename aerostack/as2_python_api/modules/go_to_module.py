@@ -8,3 +8,9 @@ class GoToModule(ModuleBase):
     """go_to module."""
 
     __alias__ = "go_to"
+
+
+class GotoModule(ModuleBase):
+    """Aerostack2 1.0's goto module (``drone.goto``), as go_to with x, y, z written _x, _y, _z."""
+
+    __alias__ = "goto"

@@ -80,14 +80,16 @@ def module_class(name: str) -> type[ModuleBase]:
     import importlib
 
     alias = name.rsplit(".", 1)[-1].removesuffix("_module")
-    if alias not in (*aerostack2.MODULES, "gps", "motion_reference_handler", "motion_ref_handler"):
+    alias = {"motion_reference_handler": "motion_ref_handler"}.get(alias, alias)
+    if alias not in (*aerostack2.MODULES, "gps", "motion_ref_handler"):
         raise ModuleNotFoundError(f"Module {name} not found: aeroexec offers Aerostack2's own modules "
                                   f"({', '.join(aerostack2.MODULES)}, gps, motion_reference_handler); a module "
                                   f"of the mission's own talks to ROS 2 ({ros.ROS2_BEYOND})")
-    file = "motion_reference_handler" if alias == "motion_ref_handler" else alias
+    file = {"motion_ref_handler": "motion_reference_handler", "goto": "go_to", "goto_gps": "go_to_gps"}.get(alias,
+                                                                                                           alias)
     module = importlib.import_module(f"as2_python_api.modules.{file}_module")
-    return next(v for k, v in vars(module).items() if k.endswith("Module") and k != "ModuleBase"
-                and isinstance(v, type))
+    return next(v for v in vars(module).values() if isinstance(v, type) and issubclass(v, ModuleBase)
+                and v.__alias__ == alias)
 
 
 __all__ = ["ModuleBase", "module_class"]
