@@ -105,7 +105,7 @@ class _Mapper:
                     key = bare_key(node.ports.get(port, ""))
                     if key is not None and node.type == "GetOrigin":
                         writers.setdefault(key, []).append(("GetOrigin", index))
-                for port, text in node.ports.items():
+                for text in node.ports.values():
                     key = bare_key(text)
                     if key is not None and node.type not in ("GetOrigin", "GpsToCartesian", "GoToGps", "SetOrigin"):
                         writers.setdefault(key, []).append((node.type, -1))

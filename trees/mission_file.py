@@ -5,7 +5,8 @@ mission when the document element is ``<mission>``, :mod:`aeroexec.trees.tml.com
 ``.yaml``/``.yml`` (the nested form or Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`),
 Aerostack2's interpreter missions in ``.json``, ``.yaml`` or ``.yml`` (``{target, plan}``,
 :mod:`aeroexec.trees.loaders.aerostack2_loader`), Aerostack2's behavior-tree nodes in XML mapped onto the catalog
-(:mod:`aeroexec.trees.aerostack2_nodes`) and ``.plan`` (a QGroundControl mission, :mod:`aeroexec.trees.loaders.plan_loader`, placed from ``home``, the
+(:mod:`aeroexec.trees.aerostack2_nodes`) and
+``.plan`` (a QGroundControl mission, :mod:`aeroexec.trees.loaders.plan_loader`, placed from ``home``, the
 world's home point) into a :class:`~aeroexec.trees.model.TreeDocument`. Every problem, whatever the format, is raised as
 one :class:`~aeroexec.trees.model.TreeFormatError` listing ``(file, line, message)``.
 """

@@ -6,7 +6,7 @@ from typing import Any
 
 from as2_python_api.drone_interface_base import DroneInterfaceBase
 from as2_python_api.modules.follow_path_module import FollowPathModule
-from as2_python_api.modules.go_to_module import GotoModule, GoToModule
+from as2_python_api.modules.go_to_module import GoToModule, GotoModule
 from as2_python_api.modules.land_module import LandModule
 from as2_python_api.modules.takeoff_module import TakeoffModule
 

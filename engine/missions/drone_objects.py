@@ -12,17 +12,27 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
+from aeroexec.engine.catalog import BehaviorSpecialist
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE
 from aeroexec.engine.missions import aerostack2
 from aeroexec.engine.missions.aerostack2 import As2Error, Method, Request
-from aeroexec.engine.missions.constants import NOT_CONSTANT
+from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants
 from aeroexec.engine.missions.ros import ROS2_BEYOND
 from aeroexec.engine.yaml_nodes import suggestion
 
-if TYPE_CHECKING:
-    from aeroexec.engine.missions.check import MissionChecker
+
+class MissionChecker(Protocol):
+    """What this module uses of the mission's checker (:class:`~aeroexec.engine.missions.check.MissionChecker`)."""
+
+    tree: ast.Module
+    constants: Constants
+    specialist: BehaviorSpecialist
+
+    def dotted(self, node: ast.AST) -> str | None: ...
+    def value(self, node: ast.AST) -> Any: ...
+    def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None: ...
 
 _API = "as2_python_api"
 _INTERPRETER = "MissionInterpreter"

@@ -20,8 +20,8 @@ import behaviortreepy as bt
 import pytest
 from aeroexec.cli.main import main
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.groot import palette_ports
 from aeroexec.trees.aerostack2_nodes import is_aerostack2
+from aeroexec.trees.groot import palette_ports
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.portability import portability_problems
