@@ -57,8 +57,8 @@ class BehaviorHandler:
                     return False
                 self._runs = [run]
                 last = index == len(requests) - 1
-                if last and not request.wait:
-                    return run.start()
+                if last and not request.wait:  # accepted, or achieved already (the drone is there)
+                    return run.start() or run.outcome is Outcome.GOAL_ACHIEVED
                 if run.wait() is not Outcome.GOAL_ACHIEVED:
                     return False
         return True
