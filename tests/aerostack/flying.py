@@ -26,7 +26,8 @@ class Flight:
 
     def achieved(self) -> list[str]:
         """The behaviors that achieved their goal, in order (KEEP_HOVERING between requests left out)."""
-        return [r["behavior"] for r in self.records if r["kind"] == "GOAL_ACHIEVED" and r["behavior"] != "KEEP_HOVERING"]
+        return [r["behavior"] for r in self.records
+                if r["kind"] == "GOAL_ACHIEVED" and r["behavior"] != "KEEP_HOVERING"]
 
     def kinds(self, kind: str) -> list[dict]:
         return [r for r in self.records if r["kind"] == kind]
