@@ -1,4 +1,5 @@
-"""Old import paths of modules that moved when ``engine/`` was split by the paper's parts (0.2).
+"""Old import paths of modules that moved when ``engine/`` was split by the paper's parts (0.2), and when the
+run's files moved to the flight package (0.3).
 
 ``import aeroexec.engine.specialist`` still works for one release: it gives a
 module that forwards every name to the new place, with a DeprecationWarning
@@ -31,11 +32,16 @@ MOVED = {
     "aeroexec.engine.mission_bridge": "aeroexec.engine.missions.bridge",
     "aeroexec.engine.mission_check": "aeroexec.engine.missions.check",
     "aeroexec.engine.mission_sequence": "aeroexec.engine.missions.sequence",
-    "aeroexec.engine.control": "aeroexec.engine.supervision.control",
+    "aeroexec.engine.control": "aeroexec.flight.control",
     "aeroexec.engine.operator": "aeroexec.engine.supervision.operator",
     "aeroexec.engine.messages": "aeroexec.engine.supervision.messages",
-    "aeroexec.engine.flight_log": "aeroexec.engine.supervision.flight_log",
-    "aeroexec.engine.flight_summary": "aeroexec.engine.supervision.flight_summary",
+    "aeroexec.engine.flight_log": "aeroexec.flight.flight_log",
+    "aeroexec.engine.flight_summary": "aeroexec.flight.summary",
+    "aeroexec.engine.supervision.control": "aeroexec.flight.control",
+    "aeroexec.engine.supervision.flight_log": "aeroexec.flight.flight_log",
+    "aeroexec.engine.supervision.flight_summary": "aeroexec.flight.summary",
+    "aeroexec.engine.supervision.flight_end": "aeroexec.flight.ending",
+    "aeroexec.engine.supervision.run_status": "aeroexec.flight.run_status",
     "aeroexec.engine.output": "aeroexec.engine.supervision.output",
     "aeroexec.drones.sim.mavlink_vehicle": "aeroexec.drones.sim.mavlink.vehicle",
 }

@@ -15,8 +15,8 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.flying.mission_files import check_mission
+from aeroexec.flight.missions import check_mission
+from aeroexec.flight.robot import chosen_catalog
 
 
 def xml(n: int) -> str:

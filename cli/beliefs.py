@@ -14,9 +14,9 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, Struct, format_term
-from aeroexec.engine.supervision.flight_log import read_flight_log
-from aeroexec.engine.supervision.flight_summary import final_beliefs
 from aeroexec.engine.supervision.output import DEFAULT_BASE
+from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.summary import final_beliefs
 
 HELP = ("a belief expression, e.g. object(?X, ?Y) or charge(battery, ?C), ?C < 50 | list [PREDICATE] | "
         "help | quit")

@@ -9,9 +9,9 @@ import sys
 import textwrap
 from pathlib import Path
 
-from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, default_catalog_path, load_catalog
+from aeroexec.engine.catalog import BehaviorCatalog, default_catalog_path, load_catalog
 from aeroexec.engine.errors import CatalogError, Problem
-from aeroexec.engine.library import default_library
+from aeroexec.flight.robot import chosen_catalog
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -84,13 +84,6 @@ def worlds_listing() -> str:
                   f"    obstacles: {', '.join(o.name for o in world.obstacles) or 'none'}",
                   f"    markers: {', '.join(str(m.id) for m in world.markers) or 'none'}"]
     return "\n".join(lines)
-
-
-def chosen_catalog(path: str | None) -> BehaviorCatalog:
-    """The catalog of a ``--catalog`` option (the aerial one without it) as the behavior library serves it
-    (see :meth:`BehaviorCatalog.served_by`); raises CatalogError."""
-    catalog = load_catalog(path) if path else default_catalog()
-    return catalog.served_by(default_library().names(), default_catalog())
 
 
 def _check(path: str) -> int:

@@ -6,9 +6,6 @@ import argparse
 import sys
 import threading
 
-WEB_HOST_WARNING = "warning: --web-host {host} serves the console beyond this machine; anyone who has the URL " \
-                   "(with its token) can see and command the drone"
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("run_dir", metavar="RUN_DIR|LOG", help="a run's output folder or its events.jsonl")
@@ -20,10 +17,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from aeroexec.console.replay import ReplayError, replay_of
     from aeroexec.console.server import ConsoleError, ConsoleServer
     from aeroexec.console.world_map import world_map
     from aeroexec.drones.sim import WorldError, default_world, load_world
+    from aeroexec.flight.replay import ReplayError, replay_of
+    from aeroexec.flight.surfaces import WEB_HOST_WARNING
 
     try:
         replay = replay_of(args.run_dir)

@@ -7,9 +7,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.flying.lines import write_output
-from aeroexec.cli.flying.mission_files import MissionFileError, check_mission, is_plan, is_tree, world_home
+from aeroexec.cli.lines import write_output
+from aeroexec.flight.missions import MissionFileError, check_mission, is_plan, is_tree, world_home
+from aeroexec.flight.robot import chosen_catalog
 from aeroexec.trees.loaders.xml_writer import write_xml
 
 

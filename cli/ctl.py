@@ -1,9 +1,10 @@
 """``aeroexec ctl COMMAND``: command a running ``aeroexec run`` from another terminal, over its control socket.
 
-Without options, the newest of this user's live runs, wherever it was started (each run lists itself in the
-per-user runtime directory, ``$XDG_RUNTIME_DIR/aeroexec/``); ``aeroexec ctl list`` shows them. ``--run DIR``
-names a run by its output folder (its ``control.json`` holds the port and token) or by its process id;
-``--port P --token T`` skips the files.
+Without options, the one live run of this user, wherever it was started (each run lists itself in the per-user
+runtime directory, ``$XDG_RUNTIME_DIR/aeroexec/``, from the moment it starts); with several live runs nothing is
+sent: they are listed and one must be named. ``aeroexec ctl list`` shows them. ``--run DIR`` names a run by its
+output folder (its ``control.json`` holds the port and token) or by its process id; ``--port P --token T``
+skips the files. Every answer names the run it comes from.
 """
 
 from __future__ import annotations
@@ -14,8 +15,8 @@ import os
 import sys
 from pathlib import Path
 
-from aeroexec.engine.supervision.control import CONTROL_FILE, live_runs, read_control_file, send_command
 from aeroexec.engine.supervision.output import DEFAULT_BASE
+from aeroexec.flight.control import CONTROL_FILE, live_runs, read_control_file, send_command
 
 COMMANDS = {
     "pause": "stop the mission where it is; the drone hovers",
@@ -34,8 +35,8 @@ NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove", "query"}
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--run", dest="run_dir", metavar="DIR|PID",
-                        help="the run's output folder or process id (default: the newest live run of this user; "
-                             "see aeroexec ctl list)")
+                        help="the run's output folder or process id (default: the one live run of this user; "
+                             "with several, name one: see aeroexec ctl list)")
     parser.add_argument("--port", type=int, metavar="P", help="the run's control port (with --token)")
     parser.add_argument("--token", metavar="T", help="the run's control token (with --port)")
     parser.add_argument("--json", action="store_true", help="print the answer as JSON")
@@ -64,6 +65,9 @@ def run(args: argparse.Namespace) -> int:
         return fleet_command(args, argument)
     try:
         port, token = endpoint(args)
+    except AmbiguousRun as error:
+        print(error, file=sys.stderr)
+        return 2
     except ValueError as error:
         print(error, file=sys.stderr)
         return 1
@@ -75,14 +79,27 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(answer, indent=2))
     elif answer.get("ok"):
-        print(answer.get("message", "ok"))
+        print(f"{run_name(answer)}{answer.get('message', 'ok')}")
         if "status" in answer:
             print(describe_status(answer["status"]))
         for unification in answer.get("answers", []):
             print("  " + (", ".join(f"{k} = {v}" for k, v in unification.items()) or "true"))
     else:
-        print(f"refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
+        print(f"{run_name(answer)}refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
     return 0 if answer.get("ok") else 1
+
+
+class AmbiguousRun(ValueError):
+    """Several live runs and none named: nothing is sent."""
+
+
+def run_name(answer: dict) -> str:
+    """``figure10.py (pid 4242, /path/to/folder): `` from the answer's ``run``, or nothing."""
+    run = answer.get("run")
+    if not isinstance(run, dict):
+        return ""
+    folder = f", {run['folder']}" if run.get("folder") else ""
+    return f"{run.get('mission') or '?'} (pid {run.get('pid', '?')}{folder}): "
 
 
 def _stale_hint(args: argparse.Namespace) -> str:
@@ -112,7 +129,8 @@ def _stale_hint(args: argparse.Namespace) -> str:
 
 
 def endpoint(args: argparse.Namespace) -> tuple[int, str]:
-    """The port and token from --port/--token, --run DIR or the newest running run; ``ValueError`` if none."""
+    """The port and token from --port/--token, --run DIR|PID or the one live run; ``ValueError`` if none,
+    :class:`AmbiguousRun` when several are live and none is named."""
     if args.port is not None or args.token is not None:
         if args.port is None or args.token is None:
             raise ValueError("--port and --token go together")
@@ -125,8 +143,11 @@ def endpoint(args: argparse.Namespace) -> tuple[int, str]:
         return chosen[-1].port, chosen[-1].token
     if args.run_dir:
         return read_control_file(args.run_dir)
+    if len(runs) == 1:
+        return runs[0].port, runs[0].token
     if runs:
-        return runs[-1].port, runs[-1].token
+        listed = "\n".join(f"  {run}" for run in runs)
+        raise AmbiguousRun(f"{len(runs)} live runs: name one with --run DIR|PID (nothing was sent)\n{listed}")
     files = sorted(DEFAULT_BASE.glob(f"*/{CONTROL_FILE}"), key=lambda p: p.stat().st_mtime)
     if not files:
         raise ValueError("no live run found (aeroexec ctl list): give --run DIR (the run's --output folder)")

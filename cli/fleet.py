@@ -1,9 +1,11 @@
-"""``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one process, one world, linked over Zenoh;
-``aeroexec fleet --router``: a Zenoh router for fleets that span processes and machines.
+"""``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one process, one world, linked over Zenoh
+(a :class:`~aeroexec.flight.FleetFlight`: one flight session per drone); ``aeroexec fleet --router``: a Zenoh
+router for fleets that span processes and machines.
 
 The fleet's endpoint and token go to ``fleet.json`` in the output folder (``aeroexec ctl --fleet`` reads it).
-Events print one line each, prefixed by the drone; the run ends with one summary line per drone, exit 0
-only when every mission completed.
+Events print one line each, prefixed by the drone; every drone's files go to ``<output>/<drone>/``, the fleet's
+status to ``<output>/fleet_status.json``. Ctrl-C, SIGTERM, SIGHUP and the time limit land every drone. The run
+ends with one summary line per drone; exit 0 only when every drone's flight completed, else 1.
 """
 
 from __future__ import annotations
@@ -14,21 +16,24 @@ import secrets
 import signal
 import sys
 import threading
-from typing import Any
+from pathlib import Path
 
-from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.flying import web
-from aeroexec.cli.flying.mission_files import MissionFileError
-from aeroexec.cli.run import RunError, load_mission
+from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_arguments, add_surface_arguments, say
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.engine.supervision.output import make_output_folder
 from aeroexec.engine.supervision.supervisor import is_flying
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
+from aeroexec.flight.fleet import STATUS_FILE, FleetFlight, fleet_exit_status
+from aeroexec.flight.output import prepare_output
+from aeroexec.flight.session import FlightOutcome
+from aeroexec.flight.signals import ending_signals
+from aeroexec.flight.spec import FlightError, FlightSpec
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("fleet_file", nargs="?", metavar="FLEET.yaml", help="the fleet file (not with --router)")
+    parser.epilog = "exit status: 0 when every drone's flight completed, else 1 (each drone's status is in its " \
+                    "summary line and fleet_status.json: " + EXIT_HELP.removeprefix("exit status: ") + ")"
     parser.add_argument("--router", action="store_true", help="run a Zenoh router until Ctrl-C")
     parser.add_argument("--listen", action="append", metavar="ENDPOINT",
                         help="where to listen (default: a free port on 127.0.0.1 for a fleet, "
@@ -36,18 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--connect", action="append", metavar="ENDPOINT",
                         help="join the fleet through this router instead of listening (e.g. tcp/127.0.0.1:7447); "
                              "with --router: another machine's router to link to")
-    parser.add_argument("--speed", type=float, metavar="N",
-                        help="simulated time N times faster than real time (default: real time with the live view, "
-                             "else as fast as possible)")
-    parser.add_argument("--plain", action="store_true",
-                        help="one line per event, prefixed by the drone, instead of the live view (always so when "
-                             "stdout is no terminal)")
-    parser.add_argument("--quiet", action="store_true", help="print only the summary lines")
-    parser.add_argument("--output", metavar="DIR", help="where each drone's event log goes (DIR/<drone>/)")
-    parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the aerial one)")
-    web.add_console_arguments(parser)
-    parser.add_argument("--max-time", type=float, default=1800.0, metavar="S",
-                        help="stop every mission after S seconds of mission time (default 1800)")
+    add_pacing_arguments(parser)
+    parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
+    add_plugin_arguments(parser)
+    add_surface_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -87,94 +84,99 @@ def serve_router(listen: list[str], connect: list[str]) -> int:
 
 
 def fly_fleet(args: argparse.Namespace) -> int:
-    from aeroexec.drones.sim import WorldError, default_world, load_world
     from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
     from aeroexec.fleet.node import FleetNode
-    from aeroexec.fleet.runner import FleetRun
     from aeroexec.fleet.transport import free_endpoint, open_session
 
     try:
         spec = load_fleet(args.fleet_file)
-        catalog = chosen_catalog(args.catalog)
-        missions = {d.name: load_mission(d.mission, catalog) for d in spec.drones}
-        world = load_world(spec.world) if spec.world else default_world()
     except FleetFileError as error:
         for problem in error.problems:
             print(problem, file=sys.stderr)
         return 1
-    except (RunError, MissionFileError, WorldError) as error:
-        print(error, file=sys.stderr)
-        return 1
     for problem in spec.problems:
         print(problem, file=sys.stderr)
-    token = spec.token or os.environ.get(TOKEN_VARIABLE) or secrets.token_hex(16)
-    if args.connect:
-        session, endpoints = open_session("client", connect=args.connect), list(args.connect)
-    else:
-        endpoints = args.listen or [free_endpoint()]
-        session = open_session("router", listen=endpoints)
-    folder = make_output_folder(args.output)
-    try:
-        write_fleet_file(folder, spec.name, endpoints, token)
-        print(f"fleet {spec.name}: {len(spec.drones)} drones, link on {', '.join(endpoints)}; "
-              f"token and endpoint in {folder / FLEET_FILE}", file=sys.stderr, flush=True)
-        node = FleetNode(session, spec.name, token)
-        live = live_view_wanted(args)  # a person at a terminal: paced at real time unless --speed says
-        watched = live or web.wanted(args)  # in a browser too; questions then wait for an answer
-        fleet = FleetRun(node, list(spec.drones), missions, world=world, catalog=catalog,
-                         speed=args.speed or (1.0 if watched else None), output=folder,
-                         telemetry_rate=spec.telemetry_rate,
-                         operator=remote_operator if web.wanted(args) else None)
-        view = None
-        browser = web.serve_console(args, fleet.engines, world,
-                                    {d.name: d.mission for d in spec.drones if str(d.mission).endswith(".py")})
-        if live:
-            from aeroexec.cli.views.fleet_view import FleetView
-
-            view = FleetView(spec.name, fleet.engines, {m.name: m.link for m in fleet.members}).start()
-        elif not args.quiet:
-            for name, engine in fleet.engines.items():
-                engine.log.subscribe(prefixed(name, sys.stdout))
+    live = live_view_wanted(args)  # a person at a terminal: paced at real time unless --speed says
+    watched = live or args.web is not None  # in a browser too; questions then wait for an answer
+    base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
+                      catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
+                      updaters=tuple(args.updater), max_time=args.max_time)
+    with ending_signals():
         try:
-            outcomes = fleet.run(max_time=args.max_time)
-        except KeyboardInterrupt:
-            print("interrupted by the operator: the fleet stops", file=sys.stderr)
-            fleet.stop()
-            fleet.close()
-            outcomes = {m.name: m.outcome() for m in fleet.members}
+            folder = prepare_output(args.output)
+        except FlightError as error:
+            print(error, file=sys.stderr)
+            return 2
+        token = spec.token or os.environ.get(TOKEN_VARIABLE) or secrets.token_hex(16)
+        if args.connect:
+            session, endpoints = open_session("client", connect=args.connect), list(args.connect)
+        else:
+            endpoints = args.listen or [free_endpoint()]
+            session = open_session("router", listen=endpoints)
+        node = fleet = None
+        try:
+            write_fleet_file(folder, spec.name, endpoints, token)
+            node = FleetNode(session, spec.name, token)
+            fleet = FleetFlight(node, list(spec.drones), base, output=folder, speed=args.speed or (1.0 if watched
+                                                                                                 else None),
+                                telemetry_rate=spec.telemetry_rate, remote_questions=args.web is not None,
+                                notify=say, report=lambda problem: print(problem, file=sys.stderr))
+            try:
+                fleet.open()
+                if args.web is not None:
+                    fleet.serve_console(args.web, args.web_host)
+            except FlightError as error:
+                print(error, file=sys.stderr)
+                return 2 if error.usage else 1
+            except KeyboardInterrupt as interrupt:
+                print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
+                      file=sys.stderr)
+                return 130
+            say(f"fleet {spec.name}: {len(spec.drones)} drones, link on {', '.join(endpoints)}; "
+                f"token and endpoint in {folder / FLEET_FILE}")
+            outcomes = _fly(fleet, spec.name, live, args.quiet)
         finally:
-            if view is not None:
-                view.stop()
-            if browser is not None:
-                browser.close()
-            node.close()
-    finally:
-        session.close()
-        (folder / FLEET_FILE).unlink(missing_ok=True)
+            if fleet is not None:
+                fleet.close()
+            if node is not None:
+                node.close()
+            session.close()
+            (folder / FLEET_FILE).unlink(missing_ok=True)
     for member in fleet.members:
         print(summary_line(member, outcomes[member.name]), file=sys.stderr)
-    return 0 if all(outcome == "completed" for outcome in outcomes.values()) else 1
+    print(f"fleet {spec.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
+    return fleet_exit_status(outcomes)
 
 
-def remote_operator() -> Any:
-    """A drone's operator channel when the fleet is watched in a browser: questions wait for the console."""
-    from aeroexec.engine.supervision.operator import RemoteOperator
+def _fly(fleet: FleetFlight, name: str, live: bool, quiet: bool) -> dict[str, FlightOutcome]:
+    view = None
+    if live:
+        from aeroexec.cli.views.fleet_view import FleetView
 
-    return RemoteOperator()
+        view = FleetView(name, fleet.engines, {m.name: m.link for m in fleet.members}).start()
+    elif not quiet:
+        for drone, engine in fleet.engines.items():
+            engine.log.subscribe(prefixed(drone, sys.stdout))
+    try:
+        return fleet.fly()
+    finally:
+        if view is not None:
+            view.stop()
 
 
-def summary_line(member: Any, outcome: str) -> str:
+def summary_line(member: object, outcome: FlightOutcome) -> str:
     engine = member.engine
     t = engine.drone.telemetry()
     goals = sum(e.kind == Outcome.GOAL_ACHIEVED.value for e in engine.log.events())
     silent = sorted(member.link.silent)
-    return (f"{member.name}: {member.spec.mission.name} {outcome} at t={engine.now():.1f} s, {goals} goals achieved, "
-            f"{'in the air' if is_flying(engine) else 'landed'} at "
+    why = f" ({'; '.join(outcome.faults or outcome.status.reasons[:1])})" if outcome.exit_status else ""
+    return (f"{member.name}: {member.session.spec.name} {outcome.status.word}{why} at t={engine.now():.1f} s, "
+            f"{goals} goal{'' if goals == 1 else 's'} achieved, {'in the air' if is_flying(engine) else 'landed'} at "
             f"({t.position[0]:.1f}, {t.position[1]:.1f}), battery {t.battery_percent:.0f} %"
             + (f"; silent: {', '.join(silent)}" if silent else ""))
 
 
-def prefixed(name: str, out: Any) -> Any:
+def prefixed(name: str, out: object) -> object:
     def show(event: EngineEvent) -> None:
         if event.kind != "node_status":
             print(f"{name:>4} | {event}", file=out, flush=True)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from aeroexec.cli.catalog import chosen_catalog
-from aeroexec.cli.flying.lines import write_output
+from aeroexec.cli.lines import write_output
+from aeroexec.flight.robot import chosen_catalog
 from aeroexec.trees.groot import tree_nodes_model
 
 

@@ -8,6 +8,7 @@ Shell completion (argcomplete): ``eval "$(register-python-argcomplete aeroexec)"
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import logging
 import os
@@ -55,7 +56,30 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
+    """The command's exit status. Ctrl-C before a command has anything to stop is one line and 130; a reader
+    that closed standard output (``| head``) ends the command quietly."""
+    try:
+        status = _main(sys.argv[1:] if argv is None else argv)
+        sys.stdout.flush()  # here, not at exit: a reader that is gone is noticed where it is handled
+        return status
+    except KeyboardInterrupt:
+        print("aeroexec: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        _stdout_gone()
+        return 0
+
+
+def _stdout_gone() -> None:
+    """Standard output was closed by its reader: what is still buffered for it goes nowhere (Python would
+    otherwise complain at exit)."""
+    with contextlib.suppress(OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+
+
+def _main(argv: list[str]) -> int:
     if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: every sub-command's options
         import argcomplete
 
@@ -79,7 +103,11 @@ def main(argv: list[str] | None = None) -> int:
             print(problem, file=sys.stderr)
         return 1
     except KeyboardInterrupt:
+        print("aeroexec: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        _stdout_gone()
+        return 0
     except Exception as error:  # a bug in aeroexec, not a mistake in the input: its own status and one line
         logging.getLogger("aeroexec").debug("internal error", exc_info=True)
         print(internal_error_message(error), file=sys.stderr)

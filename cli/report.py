@@ -10,8 +10,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from aeroexec.engine.supervision.flight_log import read_flight_log
-from aeroexec.engine.supervision.flight_summary import summarize
+from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.summary import summarize
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -13,17 +13,14 @@ import re
 from pathlib import Path
 from typing import Any
 
-from aeroexec.cli.flying import robots
-from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
+from aeroexec.flight.missions import MissionFileError, check_mission
+from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.flight.spec import FlightError
 from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
-
-
-class WorldChoiceError(Exception):
-    """A ``--world`` that cannot be read."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -31,7 +28,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
                              "QGroundControl plans (.plan)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
-    robots.add_arguments(parser)
+    parser.add_argument("--robot", default="drone", metavar="KIND",
+                        help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")
     world = parser.add_mutually_exclusive_group()
     world.add_argument("--world", metavar="FILE",
                        help="check destinations and paths against this world, and place QGroundControl plans at "
@@ -53,33 +51,17 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
                              "(repeatable)")
 
 
-def chosen_world(args: argparse.Namespace, default: bool = True) -> Any:
-    """The world of ``--world FILE``; else the built-in one when ``default`` (and not ``--no-world``)."""
-    from aeroexec.drones.sim import WorldError, default_world, load_world
-
-    if getattr(args, "no_world", False):
-        return None
-    try:
-        if getattr(args, "world", None):
-            return load_world(args.world)
-    except WorldError as error:
-        raise WorldChoiceError(str(error)) from None
-    return default_world() if default else None
-
-
 def run(args: argparse.Namespace) -> int:
     try:
-        choice = robots.chosen(args)
+        choice = robot_choice(args.robot)
         catalog = choice.catalog(args.catalog)
-    except robots.RobotKindError as error:
+    except FlightError as error:
         print(error)
         return 2
-    if choice.kind is not None and not args.world and not args.no_world and choice.kind.world:
-        args.world = str(choice.kind.world)  # its robot kind's world
-    try:
-        world = chosen_world(args)
+    try:  # the robot kind's world unless one is given
+        world = None if args.no_world else load_world(choice.world_file(args.world))
         library = choice.library() if choice.kind is not None else default_library(args.library)
-    except (WorldChoiceError, LibraryError) as error:
+    except (FlightError, LibraryError) as error:
         print(error)
         return 1
     failed = False

@@ -141,8 +141,8 @@ class Engine:
                 self._begin()
             now = self.clock.now()
             self.drone.update(now)
-            for event in self.drone.events():
-                self.log.record(f"drone_{event.kind}", detail=event.detail, **event.data)
+            for event in self.drone.events():  # at the time it happened (the robot's clock is the engine's)
+                self.log.record(f"drone_{event.kind}", detail=event.detail, at=min(event.time, now), **event.data)
             for updater in self.updaters:
                 updater.tick(self.memory, now)
             for capability, reason in self.resources.update(now):

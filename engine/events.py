@@ -93,8 +93,10 @@ class EventLog:
         self._lock = threading.Lock()
         self._refused: dict[str, tuple[tuple[str, str], _Repeats]] = {}  # behavior -> (kind, detail), repeats
 
-    def record(self, kind: str, behavior: str = "", detail: str = "", **data: Any) -> EngineEvent:
-        now = self._clock()
+    def record(self, kind: str, behavior: str = "", detail: str = "", *, at: float | None = None,
+               **data: Any) -> EngineEvent:
+        """Record an event that happened now, or ``at`` an earlier time of the same clock (a robot's own report)."""
+        now = self._clock() if at is None else at
         if behavior and kind in REPEATED_KINDS:
             key = (kind, detail)
             last = self._refused.get(behavior)

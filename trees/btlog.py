@@ -27,6 +27,8 @@ BehaviorTree.CPP's built-in ones.
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import os
 import struct
 import threading
@@ -45,6 +47,8 @@ from aeroexec.trees.runtime.control import status_name
 from py_trees.behaviour import Behaviour
 
 from aeroexec.limits import InputError, read_bytes
+
+logger = logging.getLogger(__name__)
 
 MAGIC = b"BTCPP4-FileLogger2"
 PROTOCOL = 1
@@ -301,6 +305,7 @@ class BtlogWriter:
         self.start = mission.engine.now()
         self.first_timestamp_usec = time.time_ns() // 1000
         self.transitions = 0
+        self.incomplete: str | None = None  # why the file stopped short (a write error), None while whole
         self._lock = threading.Lock()
         self._pending = bytearray()
         xml = tree_xml(mission, catalog if catalog is not None else mission.engine.catalog).encode("utf-8")
@@ -327,11 +332,21 @@ class BtlogWriter:
 
     def _write(self, data: bytes) -> None:
         with self._lock:
-            if self._fd is None:
+            if self._fd is None or self.incomplete is not None:
                 return
-            written = os.write(self._fd, data)
-            while written < len(data):
-                written += os.write(self._fd, data[written:])
+            start = None
+            try:
+                start = os.lseek(self._fd, 0, os.SEEK_CUR)
+                written = os.write(self._fd, data)
+                while written < len(data):
+                    written += os.write(self._fd, data[written:])
+            except OSError as error:  # a full disk: cut back to the last whole record, write nothing more
+                self.incomplete = error.strerror or str(error)
+                if start is not None:
+                    with contextlib.suppress(OSError):
+                        os.ftruncate(self._fd, start)
+                logger.error("the tree log %s cannot be written (%s): it stops here; the flight goes on",
+                             self.path, self.incomplete)
 
     def close(self) -> None:
         if self.on_tick in self.mission.observers:

@@ -8,7 +8,7 @@ from html import escape
 from pathlib import Path
 
 from aeroexec.cli.reporting.render import OUTCOME_COLORS
-from aeroexec.engine.supervision.flight_summary import FlightSummary
+from aeroexec.flight.summary import FlightSummary
 
 STYLE = """
 body { font-family: sans-serif; margin: 2em; color: #222; }

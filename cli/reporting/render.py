@@ -10,7 +10,7 @@ import logging
 from pathlib import Path
 from typing import Any
 
-from aeroexec.engine.supervision.flight_summary import BeliefSpan, FlightSummary
+from aeroexec.flight.summary import BeliefSpan, FlightSummary
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Patch, Rectangle

@@ -29,9 +29,8 @@ from typing import Any, TextIO
 from aeroexec.cli.views.live_layout import behavior_table, newest, rows, share, window
 from aeroexec.console.feed import mission_line
 from aeroexec.engine.events import EngineEvent
-from aeroexec.engine.supervision.control import ControlServer
 from aeroexec.engine.supervision.operator import operator_of
-from aeroexec.engine.supervision.run_status import ABORTED, COMPLETED, FAILED, REFUSED, RUN_ENDED
+from aeroexec.flight.run_status import ABORTED, COMPLETED, FAILED, REFUSED, RUN_ENDED
 from rich.console import Console, Group, RenderableType
 from rich.live import Live
 from rich.panel import Panel
@@ -342,31 +341,24 @@ def wanted(args: Any) -> bool:
     return not getattr(args, "plain", False) and not getattr(args, "quiet", False) and sys.stdout.isatty()
 
 
-class OperatorConsole:
-    """The operator's side of a run: the control socket (``aeroexec ctl --run FOLDER``) and, when ``live``, the
-    live view with its keys. :meth:`close` stops everything (call it in a ``finally``: Ctrl-C included)."""
+class LiveConsole:
+    """The live view of one engine with its keys, for a person at a terminal; a context manager (closed on the
+    way out, Ctrl-C included)."""
 
-    def __init__(self, engine: Any, folder: Path, name: str, mission: Any = None, live: bool = False) -> None:
-        self.engine, self.folder, self.name, self.mission, self.live = engine, folder, name, mission, live
-        self.server: ControlServer | None = None
+    def __init__(self, engine: Any, name: str, mission: Any = None) -> None:
+        self.engine, self.name, self.mission = engine, name, mission
         self.view: LiveView | None = None
         self.keys: KeyReader | None = None
 
-    def start(self) -> OperatorConsole:
-        self.server = ControlServer(self.engine, self.folder, name=self.name).start()
-        print(f"commands: aeroexec ctl pause|resume|abort|inhibit|answer|add|remove|status (from anywhere; "
-              f"this run: --run {self.folder})", file=sys.stderr)
-        if self.live:
-            code = getattr(self.mission, "__code__", None)
-            self.view = LiveView(self.engine, self.name,
-                                 mission_file=code.co_filename if code is not None else None).start()
-            self.keys = KeyReader(self.engine.supervisor, self.view).start()
+    def __enter__(self) -> LiveConsole:
+        code = getattr(self.mission, "__code__", None)
+        mission_file = code.co_filename if code is not None else None
+        self.view = LiveView(self.engine, self.name, mission_file=mission_file).start()
+        self.keys = KeyReader(self.engine.supervisor, self.view).start()
         return self
 
-    def close(self) -> None:
+    def __exit__(self, *exc: object) -> None:
         if self.keys is not None:
             self.keys.stop()
         if self.view is not None:
             self.view.stop()
-        if self.server is not None:
-            self.server.close()

@@ -89,8 +89,12 @@ class MavsdkDrone(Drone):
         return owner + (time.monotonic() - wall)
 
     def update(self, now: float) -> None:
+        wall = time.monotonic()
         with self._time_lock:
-            self._owner_time = (now, time.monotonic())
+            first = self._owner_time is None
+            self._owner_time = (now, wall)
+        if first:  # what happened before the owner's clock started keeps its time, before ``now``
+            self._session.cache.retime(lambda stamp: now - (wall - stamp))
 
     def telemetry(self) -> Telemetry:
         return self._session.cache.snapshot()

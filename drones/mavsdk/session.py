@@ -48,7 +48,7 @@ class MavsdkSession:
 
     def __init__(self, url: str, *, clock: Callable[[], float], rates: TelemetryRates, link_timeout: float) -> None:
         self.url = check_url(url)
-        self.cache = TelemetryCache(clock)
+        self.cache = TelemetryCache(clock, link_timeout)
         self.rates = rates
         self.link_timeout = link_timeout
         self.error: str | None = None  # why the connection could not be opened

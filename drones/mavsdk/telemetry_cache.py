@@ -21,8 +21,9 @@ _MAX_EVENTS = 1000
 class TelemetryCache:
     """Latest values of the vehicle's telemetry; every method is thread-safe and returns at once."""
 
-    def __init__(self, clock: Callable[[], float]) -> None:
+    def __init__(self, clock: Callable[[], float], silence_limit: float = 1.5) -> None:
         self._clock = clock  # the owner's time, stamped on snapshots and events
+        self.silence_limit = silence_limit  # s without telemetry before the link counts as lost
         self._lock = threading.Lock()
         self.position: tuple[float, float, float] | None = None  # lat, lon, altitude AMSL
         self.velocity_ned = (0.0, 0.0, 0.0)
@@ -74,10 +75,14 @@ class TelemetryCache:
                 self._event("status_text", text, {"severity": severity})
 
     def set_connected(self, connected: bool, detail: str = "") -> bool:
-        """MAVSDK's own view of the link (heartbeats within its timeout); True when this loses the link."""
+        """MAVSDK's own view of the link (heartbeats within its timeout); True when this loses the link.
+
+        MAVSDK says "disconnected" only after its own, longer timeout: when telemetry came within the silence
+        limit, that report is about a drop the watchdog already counted (and saw end), not a new one."""
         with self._lock:
             self.connected = connected
-            if not connected and self.link_ok:
+            recent = self._last_rx is not None and time.monotonic() - self._last_rx <= self.silence_limit
+            if not connected and self.link_ok and not recent:
                 self._lose(detail or "MAVSDK reports the vehicle disconnected")
                 return True
             if connected and not self.link_ok and self._last_rx is not None:
@@ -123,6 +128,12 @@ class TelemetryCache:
     def _event(self, kind: str, detail: str = "", data: dict | None = None) -> None:
         if len(self._events) < _MAX_EVENTS:
             self._events.append(DroneEvent(self._clock(), kind, detail, data or {}))
+
+    def retime(self, owner_time: Callable[[float], float]) -> None:
+        """Restamp the events not yet read with ``owner_time(stamp)`` (when the owner's clock starts: events from
+        before it were stamped with the monotonic clock)."""
+        with self._lock:
+            self._events = [DroneEvent(owner_time(e.time), e.kind, e.detail, e.data) for e in self._events]
 
     # --- readers --------------------------------------------------------------------------------------
     def events(self) -> list[DroneEvent]:

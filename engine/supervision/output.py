@@ -20,10 +20,3 @@ def choose_output_folder(explicit: str | Path | None = None, base: str | Path = 
         folder = Path(base) / f"{stamp}-{n}"
         n += 1
     return folder
-
-
-def make_output_folder(explicit: str | Path | None = None, base: str | Path = DEFAULT_BASE) -> Path:
-    """:func:`choose_output_folder`, created (with its parents)."""
-    folder = choose_output_folder(explicit, base)
-    folder.mkdir(parents=True, exist_ok=True)
-    return folder

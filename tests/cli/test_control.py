@@ -22,8 +22,8 @@ from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.engine.supervision.operator import RemoteOperator
+from aeroexec.flight.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runtime.runner import TreeMission
 from rich.console import Console
@@ -139,7 +139,7 @@ def test_a_wrong_token_is_refused_and_the_server_stops_with_the_engine(run):
 
 
 def test_a_command_the_engine_cannot_run_says_so(tmp_path, monkeypatch):
-    monkeypatch.setattr("aeroexec.engine.supervision.control.COMMAND_TIMEOUT", 0.3)
+    monkeypatch.setattr("aeroexec.flight.control.COMMAND_TIMEOUT", 0.3)
     world = default_world()
     engine = Engine(SimulatedDrone(world), obstacles=world)  # never ticked
     with ControlServer(engine, tmp_path) as server:
@@ -277,7 +277,7 @@ def test_pause_during_take_off_then_resume_climbs_on_and_the_mission_goes_on(tmp
 
 
 def climb_pause_resume(engine, folder, tmp_path):
-    from aeroexec.engine.supervision.run_status import COMPLETED, run_status
+    from aeroexec.flight.run_status import COMPLETED, run_status
 
     path = tmp_path / "take_off_mission.py"
     path.write_text(TAKE_OFF_MISSION)

@@ -3,7 +3,7 @@
 import io
 import threading
 
-from aeroexec.cli.flying.lines import LineWriter
+from aeroexec.cli.lines import LineWriter
 
 
 def test_lines_written_piecewise_by_many_threads_never_interleave():

@@ -12,7 +12,7 @@ from aeroexec.cli.views.live import KEYS_HELP, LiveView
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine import api
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.supervision.run_status import record_run_status, run_status
+from aeroexec.flight.run_status import record_run_status, run_status
 from rich.console import Console
 
 NOTE = "(5, 5, 3) is 2.1 m from tower; GO_TO_POINT needs 3 m"

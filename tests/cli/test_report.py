@@ -171,8 +171,8 @@ def records_of_whole_lines(path: Path) -> list[dict]:
 
 def test_the_report_counts_refused_requests_and_plots_altitude_speed_battery(tmp_path):
     """Issue 18, point 8: FAILED_PRECONDITIONS in the outcomes table, the run's status word, flight states."""
-    from aeroexec.engine.supervision.flight_log import read_flight_log
-    from aeroexec.engine.supervision.flight_summary import summarize
+    from aeroexec.flight.flight_log import read_flight_log
+    from aeroexec.flight.summary import summarize
 
     mission = tmp_path / "refused.py"
     mission.write_text(
@@ -201,7 +201,7 @@ def test_behavior_labels_stay_on_the_map_at_its_edges():
     """Labels of behaviors that start or end near the bounds grow towards the middle: never clipped."""
     from aeroexec.cli.reporting.render import path_figure
     from aeroexec.drones.sim import default_world
-    from aeroexec.engine.supervision.flight_summary import summarize
+    from aeroexec.flight.summary import summarize
 
     corners = [(19.5, 19.5, 3), (19.5, -19.5, 3), (-19.5, -19.5, 3), (-19.5, 19.5, 3)]
     records = [{"kind": "log_started", "time": 0.0, "mission": "edges"}]

@@ -4,7 +4,7 @@ run waits for that landing instead of refusing LAND ("the flight state is landin
 from aeroexec.drones import LandedState
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.supervision.flight_end import end_flight
+from aeroexec.flight.ending import end_flight
 
 
 def test_an_abort_during_take_off_lands_and_the_run_has_no_fault():

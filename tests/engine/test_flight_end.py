@@ -12,7 +12,7 @@ from aeroexec.drones.interface import CommandHandle, DroneEvent, Failure
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine import api
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.supervision.flight_end import end_flight
+from aeroexec.flight.ending import end_flight
 
 
 class Drone(SimulatedDrone):

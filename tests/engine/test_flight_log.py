@@ -6,9 +6,10 @@ import aeroexec.engine.api as api
 import pytest
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.supervision.flight_log import FlightLogWriter, plain, read_flight_log
-from aeroexec.engine.supervision.flight_summary import final_beliefs, summarize
-from aeroexec.engine.supervision.output import choose_output_folder, make_output_folder
+from aeroexec.engine.supervision.output import choose_output_folder
+from aeroexec.flight.flight_log import FlightLogWriter, plain, read_flight_log
+from aeroexec.flight.output import prepare_output
+from aeroexec.flight.summary import final_beliefs, summarize
 
 
 def test_the_writer_logs_events_belief_changes_and_samples_then_closes(tmp_path):
@@ -78,6 +79,6 @@ def test_plain_values_are_json(tmp_path):
 
 def test_the_output_folder_is_chosen_in_one_place(tmp_path):
     assert choose_output_folder(tmp_path / "x") == tmp_path / "x"
-    first = make_output_folder(base=tmp_path)
-    second = make_output_folder(base=tmp_path)
+    first = prepare_output(base=tmp_path)
+    second = prepare_output(base=tmp_path)
     assert first != second and first.is_dir() and second.is_dir() and first.parent == tmp_path

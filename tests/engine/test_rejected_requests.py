@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.cli.main import main
-from aeroexec.engine.supervision.run_status import EXIT_STATUS, FAILED, REFUSED
+from aeroexec.flight.run_status import EXIT_STATUS, FAILED, REFUSED
 
 HEADER = "import aeroexec.engine.api as api\n\n"
 

@@ -263,7 +263,7 @@ def resume_engine():
 ])
 def test_a_resumed_behavior_continues_unless_the_situation_now_refuses_it(behavior, belief, falsified_during_pause,
                                                                           expected):
-    from aeroexec.engine.supervision.run_status import COMPLETED, REFUSED, run_status
+    from aeroexec.flight.run_status import COMPLETED, REFUSED, run_status
 
     engine = resume_engine()
     results = []

@@ -21,10 +21,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
-from aeroexec.cli.flying.mission_files import MissionFileError, check_mission
 from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
 from aeroexec.engine.errors import CatalogError
+from aeroexec.flight.missions import MissionFileError, check_mission
 
 ROOT = Path(__file__).parents[2]
 DATA = Path(__file__).with_name("data")  # failing examples found by the fuzz tests, replayed by test_fuzz.py
@@ -156,7 +156,7 @@ def _control(path: Path) -> list[str]:
     if _server is None:
         from aeroexec.drones.sim import SimulatedDrone, default_world
         from aeroexec.engine.engine import Engine
-        from aeroexec.engine.supervision.control import ControlServer
+        from aeroexec.flight.control import ControlServer
 
         world = default_world()
         _server = ControlServer(Engine(SimulatedDrone(world), obstacles=world))

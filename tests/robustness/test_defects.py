@@ -21,7 +21,7 @@ from aeroexec.cli import main as cli_main
 from aeroexec.cli.main import INTERNAL_ERROR, main
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.engine.supervision.control import CONTROL_FILE, MAX_LINE, ControlServer
+from aeroexec.flight.control import CONTROL_FILE, MAX_LINE, ControlServer
 
 from aeroexec.limits import MAX_NESTING, MAX_TERM_DEPTH
 

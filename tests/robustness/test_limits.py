@@ -7,10 +7,10 @@ import os
 
 import pytest
 from aeroexec.beliefs import BeliefMemory, BeliefSyntaxError, Var, parse_expression
-from aeroexec.cli.flying.mission_files import check_mission
 from aeroexec.engine.catalog.behavior_catalog import default_catalog
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.engine.supervision.operator import OperatorError, ScriptedOperator
+from aeroexec.flight.missions import check_mission
 from aeroexec.trees import TreeFormatError, load_mission_tree
 
 from aeroexec.limits import (
@@ -136,7 +136,7 @@ def test_an_answers_file_is_read_within_the_limits(tmp_path):
 
 
 def test_an_event_log_that_is_a_fifo_or_too_deep_is_refused(tmp_path):
-    from aeroexec.engine.supervision.flight_log import read_flight_log
+    from aeroexec.flight.flight_log import read_flight_log
 
     os.mkfifo(tmp_path / "events.jsonl")
     with pytest.raises(ValueError, match="not a regular file: it is a FIFO"):

@@ -8,10 +8,10 @@ import sys
 from pathlib import Path
 
 import pytest
-from aeroexec.cli.flying.mission_files import check_mission
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.engine.engine import Engine
+from aeroexec.flight.missions import check_mission
 from aeroexec.trees import TreeFormatError, load_mission_tree, read_mission_tree
 from aeroexec.trees.runtime.runner import TreeMission
 from aeroexec.trees.tml.compiler import TmlDocument, read_tml_document

@@ -14,10 +14,13 @@ Every line has ``time`` (engine seconds) and ``kind``. The kinds:
   remove, replaced, expired, clear).
 - ``state``: a drone state sample (``position`` and ``velocity`` ENU, ``yaw`` degrees, ``battery`` percent,
   ``armed``, ``landed_state``), every ``sample_period`` seconds of engine time (2 Hz by default).
-- ``log_closed`` (last line, only when the run ended normally).
+- ``log_closed`` (last line, only when the run ended normally and every record was written).
 
 Each line is written with one ``write`` system call on an unbuffered file, so a killed process leaves only
-whole lines. :func:`read_flight_log` reads a log back (ignoring a torn last line, should there be one).
+whole lines. When a line cannot be written whole (the disk is full, the file system is gone), what was written
+of it is cut off again and nothing more is written: the log ends at a record boundary, :attr:`incomplete` says
+why, and the error is logged once. :func:`read_flight_log` reads a log back (ignoring a torn last line, should
+there be one).
 """
 
 from __future__ import annotations
@@ -60,6 +63,9 @@ class FlightLogWriter:
         self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         self._last_sample: float | None = None
         self.lines = 0
+        #: Why records were lost (the write error), or None while every record is in the file.
+        self.incomplete: str | None = None
+        self.lost = 0  # records that could not be written
         header: dict[str, Any] = {"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT}
         if isinstance(getattr(engine, "clock", None), SimulatedClock):
             header["clock"] = "simulated"
@@ -100,13 +106,30 @@ class FlightLogWriter:
         with self._lock:
             if self._fd is None:
                 return
+            if self.incomplete is not None:
+                self.lost += 1
+                return
+            start = None
             try:
+                start = os.lseek(self._fd, 0, os.SEEK_CUR)
                 written = os.write(self._fd, data)
                 while written < len(data):  # a short write (a full disk, a signal): finish the line
                     written += os.write(self._fd, data[written:])
                 self.lines += 1
             except OSError as exc:
-                logger.error("the event log %s cannot be written: %s", self.path, exc)
+                self._stop_writing(exc, start)
+
+    def _stop_writing(self, error: OSError, start: int | None) -> None:
+        """A record could not be written whole: cut off what was (the log ends at a record boundary), write
+        nothing more, and say so once."""
+        self.incomplete = error.strerror or str(error)
+        self.lost += 1
+        if start is not None:
+            with contextlib.suppress(OSError):
+                os.ftruncate(self._fd, start)
+                os.lseek(self._fd, start, os.SEEK_SET)
+        logger.error("the event log %s cannot be written (%s): it stops after %d records; the flight goes on",
+                     self.path, self.incomplete, self.lines)
 
     def close(self) -> None:
         """A last state sample, ``log_closed``, then the file is synced and closed (idempotent)."""

@@ -43,11 +43,17 @@ MAX_LINE = 64 * 1024
 
 
 class ControlServer:
-    """Serves one engine's supervisor on a free loopback port; ``start()``, then ``close()`` (or stop the engine)."""
+    """Serves one engine's supervisor on a free loopback port; ``start()``, then ``close()`` (or stop the engine).
+
+    It may start before the engine exists (``engine=None``: the run is starting, e.g. waiting for its vehicle):
+    ``status`` then says so, ``abort`` calls ``on_abort`` (the start is given up), other commands are refused
+    until :attr:`engine` is set. Every answer names the run (``run``: mission, pid, folder)."""
 
     def __init__(self, engine: Any, folder: str | Path | None = None, port: int = 0, name: str = "",
-                 register: bool = True) -> None:
+                 register: bool = True, on_abort: Any = None) -> None:
         self.engine = engine
+        self.on_abort = on_abort
+        self.starting = "starting"  # what a run without its engine yet is doing, in words
         self.token = secrets.token_hex(16)
         self.file: Path | None = None
         self.entry: Path | None = None  # this run's file in the runtime directory
@@ -104,7 +110,7 @@ class ControlServer:
     # -- the threads ---------------------------------------------------------------------------
     def _accept(self) -> None:
         while not self._closed.is_set():
-            if self.engine.stopped:
+            if self.engine is not None and self.engine.stopped:
                 break
             try:
                 connection, _ = self._socket.accept()
@@ -132,6 +138,7 @@ class ControlServer:
                 if not line:
                     return
                 answer, keep = self._answer(line)
+                answer["run"] = self.identity
                 connection.sendall((json.dumps(answer) + "\n").encode())
                 if not keep:
                     return
@@ -157,6 +164,8 @@ class ControlServer:
             return {"ok": False, "error": "wrong token: this run's token is in its output folder's "
                                           f"{CONTROL_FILE}"}, False
         command, argument = str(request.get("command", "")), str(request.get("argument", "") or "")
+        if self.engine is None:
+            return self._starting(command), True
         if self.engine.stopped:
             return {"ok": False, "error": "the engine has stopped"}, False
         ticket = self.engine.supervisor.submit(command, argument, origin="ctl")
@@ -172,6 +181,22 @@ class ControlServer:
         if command == "query":
             answer["answers"] = result.data.get("answers", [])
         return answer, True
+
+
+    @property
+    def identity(self) -> dict[str, Any]:
+        """The run this server belongs to, as every answer names it."""
+        return {"mission": self.name, "pid": os.getpid(),
+                "folder": str(self._folder.resolve()) if self._folder is not None else ""}
+
+    def _starting(self, command: str) -> dict[str, Any]:
+        """The answer of a run whose engine is not built yet."""
+        if command == "status":
+            return {"ok": True, "message": f"the run is {self.starting}", "status": {"state": "starting"}}
+        if command == "abort" and self.on_abort is not None:
+            self.on_abort()
+            return {"ok": True, "message": f"the run's start is given up (it was {self.starting}); nothing flew"}
+        return {"ok": False, "error": f"the run is {self.starting}: {command!r} can be sent once it flies"}
 
 
 def write_control_file(folder: Path, port: int, token: str) -> Path:

@@ -1,8 +1,9 @@
-"""Reading and checking a mission file of any kind: a Python program, a behavior tree in XML or YAML, or a
-QGroundControl plan.
+"""Reading and checking a mission file of any kind: a Python program, a behavior tree (BehaviorTree.CPP XML,
+YAML, Aerostack's ``nodes:``), a TML mission or a QGroundControl plan.
 
-``check_mission(path, catalog)`` returns what would fly (the mission function or the tree document)
-and every problem found before flight, each naming the file and line.
+``check_mission(path, catalog)`` returns what would fly (the mission function or the tree document) and every
+problem found before flight, each naming the file and line; ``load_mission`` is what a flight flies, or the
+refusal.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from aeroexec.engine.missions import ros
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.engine.missions.script import is_script, script_mission
 from aeroexec.engine.missions.source import parse_source
+from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.loaders.plan_loader import PlanDocument
 from aeroexec.trees.tml.verify import verify_mission_document
@@ -29,7 +31,7 @@ from aeroexec.trees.verify import verify_leaves
 from aeroexec.limits import InputError, read_text
 
 
-class MissionFileError(Exception):
+class MissionFileError(FlightError):
     """A mission that cannot be flown, already phrased for the operator."""
 
 
@@ -84,6 +86,19 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         raise MissionFileError(str(exc)) from None
     checked.problems = check_mission_source(checked.source, str(path), catalog, world)
     return checked
+
+
+def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
+                 report: Callable[[Problem], None] = lambda problem: None) -> Callable[[], Any] | TreeDocument:
+    """Check a mission before flight (against ``world`` when given), each problem to ``report``; the Python
+    function or the tree to fly. Raises :class:`MissionFileError` when it has errors."""
+    checked = check_mission(path, catalog, world)
+    for problem in checked.problems:
+        report(problem)
+    if checked.errors:
+        count = len(checked.errors)
+        raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not fly")
+    return checked.tree if checked.tree is not None else mission_function(path)
 
 
 def mission_function(path: Path) -> Callable[[], Any]:

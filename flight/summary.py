@@ -1,7 +1,7 @@
 """What an event log says about a run: the path flown, each behavior's activation span and outcome, the beliefs'
 spans, failures with their reasons, duration, distance flown and battery used (for ``aeroexec report``).
 
-It reads the records of :mod:`aeroexec.engine.supervision.flight_log` and knows nothing of drawing.
+It reads the records of :mod:`aeroexec.flight.flight_log` and knows nothing of drawing.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.run_status import run_status
+from aeroexec.flight.run_status import run_status
 
 OUTCOMES = {o.value for o in Outcome}
 #: Event kinds that are failures worth an operator's attention (INTERRUPTED is how behaviors normally make way).

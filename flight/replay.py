@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from aeroexec.engine.supervision.flight_log import read_flight_log
+from aeroexec.flight.flight_log import read_flight_log
 
 KEPT = ("state", "belief_added", "belief_removed")  # besides the engine's events
 

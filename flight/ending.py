@@ -1,0 +1,189 @@
+"""The end of a flight: reach the drone again if its link is down (for a grace time, while the autopilot's own
+failsafe acts), land it if it is in the air, confirm it disarmed, and say what went wrong.
+
+:class:`FlightEnding` does this one engine period at a time, so one run (:func:`end_flight`) and a fleet of
+drones in lockstep end their flights the same way. A run whose link was lost in flight, whose final landing
+failed, or that leaves the drone armed or in the air has faults (:func:`flight_faults`), sentences for the run's
+last line; a link lost on the ground before the mission started is a warning, not a fault.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from aeroexec.drones import Drone, LandedState
+from aeroexec.engine.supervision.supervisor import LAND_BEHAVIOR, LANDING_TIMEOUT, is_flying, start_landing
+from aeroexec.flight.spec import LINK_GRACE
+
+logger = logging.getLogger(__name__)
+
+DISARM_TIMEOUT = 10.0  # s to wait for the drone to disarm on the ground (on its own, then by command)
+_AUTO_DISARM = 3.0  # s autopilots take to disarm on their own after touchdown before we command it
+_LOSSES = 3  # links lost during the final landing that are waited for again
+_LANDING_FAILED = ("WRONG_PROGRESS", "TIME_OUT", "FAILED_PRECONDITIONS", "failed_preconditions", "rejected")
+LINK, LAND, DISARM, DONE = "link", "land", "disarm", "done"
+
+
+class FlightEnding:
+    """The end of one engine's flight, advanced by :meth:`step` once per engine period (on the thread that
+    drives the loop) until it returns True; then :attr:`faults` says what went wrong."""
+
+    def __init__(self, engine: Any, *, link_grace: float = LINK_GRACE, landing_timeout: float = LANDING_TIMEOUT,
+                 disarm_timeout: float = DISARM_TIMEOUT, reason: str = "the mission ended with the drone in the air"
+                 ) -> None:
+        self.engine, self.reason = engine, reason
+        self.link_grace, self.landing_timeout, self.disarm_timeout = link_grace, landing_timeout, disarm_timeout
+        self.phase = LINK
+        self.faults: list[str] = []
+        self._since = engine.now()  # when the current phase began
+        self._losses = 0
+        self._waiting = False  # the link wait was announced
+        self._landing = False  # LAND was asked for
+        self._disarm: Any = None  # the disarm command, once sent
+        engine.bridge.close()
+
+    @property
+    def done(self) -> bool:
+        return self.phase == DONE
+
+    @property
+    def deadline(self) -> float:
+        """Engine seconds the whole ending may take at most (for a loop that drives it)."""
+        return (self.link_grace + self.landing_timeout) * _LOSSES + _AUTO_DISARM + self.disarm_timeout + 1.0
+
+    def step(self) -> bool:
+        """Advance by what the last engine period brought; True once the flight has ended."""
+        if self.phase == LINK:
+            self._wait_for_link()
+        if self.phase == LAND:
+            self._land()
+        if self.phase == DISARM:
+            self._confirm_disarm()
+        if self.phase == DONE and not self.faults:
+            self.faults = flight_faults(self.engine)
+        return self.phase == DONE
+
+    def _enter(self, phase: str) -> None:
+        self.phase, self._since = phase, self.engine.now()
+
+    def _elapsed(self) -> float:
+        return self.engine.now() - self._since
+
+    def _link_ok(self) -> bool:
+        return self.engine.drone.telemetry().link_ok
+
+    def _wait_for_link(self) -> None:
+        log = self.engine.log
+        if self._link_ok():
+            if self._waiting:
+                log.record("link_back", detail=f"the drone answers again at t={self.engine.now():.1f} s")
+                self._waiting = False
+            self._enter(LAND)
+            return
+        if not self._waiting:
+            self._waiting = True
+            log.record("waiting_for_link", detail=f"the link to the drone is down: trying to reach it for "
+                                                  f"{self.link_grace:g} s (its own failsafe acts meanwhile)")
+        if self._elapsed() >= self.link_grace - 1e-9:
+            log.record("link_not_back", detail=f"no answer from the drone within {self.link_grace:g} s")
+            self._enter(DONE)
+
+    def _land(self) -> None:
+        engine = self.engine
+        landing = engine.coordinator.is_active(LAND_BEHAVIOR)
+        if not self._landing:
+            if not is_flying(engine) and not landing:
+                self._landed()
+                return
+            self._landing = True
+            start_landing(engine, self.reason)
+            return
+        still = landing or (is_flying(engine) and engine.drone.telemetry().landed_state is LandedState.LANDING)
+        if still and self._elapsed() < self.landing_timeout:
+            return  # still landing
+        if not is_flying(engine):
+            self._landed()
+        elif not self._link_ok() and self._losses + 1 < _LOSSES:  # the link dropped during the landing
+            self._losses += 1
+            self._landing = False
+            self._enter(LINK)
+        else:
+            self._enter(DONE)
+
+    def _landed(self) -> None:
+        if self._link_ok() and isinstance(self.engine.drone, Drone):
+            self._enter(DISARM)
+        else:
+            self._enter(DONE)
+
+    def _confirm_disarm(self) -> None:
+        """On the ground and still armed: wait for the autopilot to disarm on its own, else disarm it."""
+        engine = self.engine
+        telemetry = engine.drone.telemetry()
+        if not telemetry.armed or is_flying(engine):
+            self._enter(DONE)
+            return
+        if self._disarm is None:
+            if self._elapsed() < min(_AUTO_DISARM, self.disarm_timeout):
+                return
+            engine.log.record("disarming", detail="the drone is on the ground and still armed")
+            self._disarm = engine.drone.disarm()
+            self._since = engine.now()
+            return
+        if self._disarm.done and not self._disarm.ok or self._elapsed() >= self.disarm_timeout:
+            logger.warning("the drone did not disarm: %s", self._disarm.reason if self._disarm.done else "no answer")
+            self._enter(DONE)
+
+
+def end_flight(engine: Any, *, link_grace: float = LINK_GRACE, landing_timeout: float = LANDING_TIMEOUT,
+               disarm_timeout: float = DISARM_TIMEOUT, reason: str = "the mission ended with the drone in the air"
+               ) -> list[str]:
+    """Bring one engine's flight to a safe end on the thread that drives its loop, after the mission; the faults
+    (empty when the drone is on the ground, disarmed, and the link never dropped in flight)."""
+    ending = FlightEnding(engine, link_grace=link_grace, landing_timeout=landing_timeout,
+                          disarm_timeout=disarm_timeout, reason=reason)
+    engine.run_until(ending.step, ending.deadline)
+    if not ending.done:  # the engine was stopped meanwhile
+        ending.phase = DONE
+        ending.faults = flight_faults(engine)
+    engine.tick()  # the log hears what the drone just reported (disarmed)
+    return ending.faults
+
+
+def flight_faults(engine: Any) -> list[str]:
+    """What went wrong with the vehicle during the run, in words: link losses in flight or during the mission, a
+    failed final landing, a drone left in the air or armed. A loss on the ground before the mission started is
+    recorded as a warning (``link_warning``), not a fault."""
+    faults = []
+    events = engine.log.events()
+    started = next((e.time for e in events if e.kind == "mission_started"), None)
+    for i, event in enumerate(events):
+        if event.kind != "drone_link_lost":
+            continue
+        data = event.data
+        back = next((e for e in events[i + 1:] if e.kind == "drone_link_restored"), None)
+        before = started is None or event.time < started
+        if before and not data.get("in_air") and (back is not None and (started is None or back.time <= started)):
+            continue  # a drop on the ground before the mission, over before it began: warned of when it happened
+        where = "with the drone in the air" if data.get("in_air") else "with the drone on the ground"
+        if data.get("in_air") and data.get("altitude") is not None:
+            where += f" at {data['altitude']:.1f} m"
+        faults.append(f"link lost at t={event.time:.1f} s {where}" +
+                      (f" (back at t={back.time:.1f} s)" if back is not None else ""))
+    telemetry = engine.drone.telemetry()
+    if not telemetry.link_ok:
+        if not faults:
+            faults.append("the link to the drone is down")
+        faults.append("the drone did not answer again: its state is unknown")
+        return faults
+    landing = [e for e in events if e.behavior == LAND_BEHAVIOR and e.kind in _LANDING_FAILED]
+    if is_flying(engine):
+        why = f" (landing failed: {landing[-1].detail or landing[-1].kind})" if landing else ""
+        faults.append(f"the drone was left in the air at {telemetry.position[2]:.1f} m{why}")
+    elif telemetry.armed and isinstance(engine.drone, Drone):  # a robot of another kind has no motors to arm
+        faults.append("the drone was left armed on the ground")
+    return faults
+
+
+__all__ = ["DISARM_TIMEOUT", "FlightEnding", "end_flight", "flight_faults"]

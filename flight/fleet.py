@@ -1,0 +1,235 @@
+"""A fleet in one process: one :class:`~aeroexec.flight.session.FlightSession` per drone (its own catalog,
+plugins, event log, ``.btlog`` and run status), in one world and airspace, ticked in lockstep on one simulated
+clock, linked over the process's Zenoh node.
+
+Each period ticks every engine, serves every Python mission until it waits, steps the end of every flight that
+is ending, then moves the clock one period on (paced to ``speed`` times real time when given: the clock's own
+pacing, as for one drone). A drone whose mission ended lands (:class:`~aeroexec.flight.ending.FlightEnding`);
+Ctrl-C, SIGTERM, SIGHUP, :meth:`FleetFlight.stop` and the time limit end every mission and land every drone; a
+second interrupt leaves them as they are. The run ends when every flight has ended.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine.clock import SimulatedClock
+from aeroexec.engine.errors import Problem
+from aeroexec.engine.missions.bridge import RUNNING
+from aeroexec.flight.ending import FlightEnding
+from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.flight.session import FlightOutcome, FlightSession
+from aeroexec.flight.spec import FleetJoin, FlightError, FlightSpec
+from aeroexec.flight.surfaces import Surfaces, serve_console
+
+logger = logging.getLogger(__name__)
+
+HAND_OVER = 0.0002  # wall seconds between two looks at missions still computing
+STALL_WARNING = 30.0  # wall seconds of missions computing before saying so
+STATUS_FILE = "fleet_status.json"  # how the fleet and each drone ended, in the fleet's output folder
+
+
+@dataclass
+class Member:
+    """One drone of the fleet: its session and the end of its flight."""
+
+    name: str
+    session: FlightSession
+    ending: FlightEnding | None = None
+    ended: bool = False
+    faults: list[str] = field(default_factory=list)
+
+    @property
+    def engine(self) -> Any:
+        return self.session.engine
+
+    @property
+    def link(self) -> Any:
+        return self.session.link
+
+
+class FleetFlight:
+    """The drones of a fleet flown in this process. ``drones`` are the fleet file's drone records (name, mission,
+    home, seed, share); ``base`` is the flight every drone shares (robot kind, catalog, plugins, world, time
+    limit; its ``mission`` is ignored); each drone's files go to ``output/<drone>/``. ``world`` overrides the
+    base's world file."""
+
+    def __init__(self, node: Any, drones: list[Any], base: FlightSpec, *, output: Path, speed: float | None = None,
+                 world: Any = None, telemetry_rate: float = 5.0, remote_questions: bool = False,
+                 notify: Callable[[str], None] = logger.warning,
+                 report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem)) -> None:
+        self.node, self.drones, self.base, self.output = node, drones, base, Path(output)
+        self.telemetry_rate, self.remote_questions = telemetry_rate, remote_questions
+        self.notify, self.report = notify, report
+        self.clock = SimulatedClock(speed=speed)  # one simulated time for every drone, paced when speed is given
+        self.world = world  # None: the base spec's world file (or the robot kind's, or the built-in field)
+        self.members: list[Member] = []
+        self.surfaces = Surfaces()
+        self._stop = threading.Event()
+        self._closed = False
+
+    @property
+    def engines(self) -> dict[str, Any]:
+        """The engines by drone name (for a console or a view that shows several)."""
+        return {m.name: m.engine for m in self.members}
+
+    def open(self) -> FleetFlight:
+        """Set every drone's flight up; FlightError (every session closed) when one cannot fly."""
+        try:
+            self._open()
+        except BaseException:
+            self.close()
+            raise
+        return self
+
+    def _open(self) -> None:
+        from aeroexec.drones.sim import Airspace
+
+        base = self.base
+        choice = robot_choice(base.robot)
+        if self.world is None:
+            self.world = load_world(choice.world_file(base.world))
+        airspace = Airspace()
+        for drone in self.drones:
+            robot = self._robot(choice, drone)
+            if hasattr(robot, "join"):
+                robot.join(airspace, drone.name)
+            spec = replace(base, mission=Path(drone.mission), seed=drone.seed, output=str(self.output / drone.name),
+                           log=None, web=None, groot=None, register=False, remote_questions=self.remote_questions,
+                           fleet=FleetJoin(self.node.fleet, drone.name, share=tuple(drone.share),
+                                           telemetry_rate=self.telemetry_rate))
+            session = FlightSession(spec, notify=lambda text: None, report=self.report, clock=self.clock,
+                                    robot=robot, world=self.world, fleet_node=self.node)
+            self.members.append(Member(drone.name, session))
+            session.open()
+
+    def _robot(self, choice: Any, drone: Any) -> Any:
+        if choice.kind is None:
+            from aeroexec.drones.sim import SimConfig, SimulatedDrone
+
+            return SimulatedDrone(self.world, seed=drone.seed, config=SimConfig(start=drone.home))
+        if tuple(drone.home) != (0.0, 0.0):
+            raise FlightError(f"{drone.name}: a {choice.kind.name} starts where its kind puts it; home: is for "
+                              f"drones", usage=True)
+        return choice.kind.simulator(self.world, drone.seed)
+
+    def serve_console(self, port: int, host: str = "127.0.0.1") -> None:
+        """The web console of every drone, on one map."""
+        files = {m.name: m.session.spec.mission for m in self.members if m.session.tree is None}
+        self.surfaces.add(serve_console(self.engines, self.world, files, port=port, host=host, notify=self.notify))
+
+    def stop(self) -> None:
+        """End every mission at the next period and land every drone (another thread may call it)."""
+        self._stop.set()
+
+    # -- the flight ---------------------------------------------------------------------------------
+    def fly(self, max_time: float | None = None) -> dict[str, FlightOutcome]:
+        """Fly every mission, then end every flight; each drone's outcome. Call it from the thread that may get
+        KeyboardInterrupt (Ctrl-C, or SIGTERM/SIGHUP through :mod:`aeroexec.flight.signals`)."""
+        max_time = self.base.max_time if max_time is None else max_time
+        for m in self.members:
+            m.session.start_mission()
+        try:
+            try:
+                self._loop(max_time)
+            except KeyboardInterrupt as interrupt:
+                self._interrupt(getattr(interrupt, "signal_name", "Ctrl-C"))
+                self._loop(float("inf"))
+        except KeyboardInterrupt:
+            self.notify("interrupted again: leaving the drones as they are")
+            for m in self.members:
+                if not m.ended:
+                    m.ended = True
+                    m.faults = ["the operator interrupted the end of the flight: the drone was left as it was"]
+        outcomes = {m.name: m.session.finish(m.faults) for m in self.members}
+        self._write_status(outcomes)
+        self.close()
+        return outcomes
+
+    def _interrupt(self, how: str) -> None:
+        self.notify(f"interrupted by the operator ({how}): every drone aborts and lands "
+                    f"({how} again leaves them as they are)")
+        for m in self.members:
+            if m.ending is None:
+                m.session.interrupted(how)
+
+    def _loop(self, max_time: float) -> None:
+        period = self.members[0].engine.period if self.members else 0.05
+        while not all(m.ended for m in self.members):
+            if self._stop.is_set():
+                self._stop.clear()
+                self._interrupt("stop")
+            now = self.clock.now()
+            if now >= max_time:
+                for m in self.members:
+                    if m.ending is None and not m.session.mission_done:
+                        m.session.time_limit()
+            self._period()
+            self.clock.sleep_until(now + period, self._stop)
+
+    def _period(self) -> None:
+        for m in self.members:
+            m.engine.tick()  # a drone whose flight ended is still heard (telemetry) and still hears
+        self._serve([m for m in self.members if m.ending is None])
+        for m in self.members:
+            if m.ending is None and m.session.mission_done:
+                m.ending = m.session.ending()
+            if m.ending is not None and not m.ended and m.ending.step():
+                m.ended, m.faults = True, m.ending.faults
+
+    def _serve(self, members: list[Member]) -> None:
+        """Serve every Python mission until each waits on its engine (lockstep, as ``Engine.step``); the
+        mission threads run side by side meanwhile, so N missions cost about one hand-over, not N."""
+        waiting = members
+        warned_at = time.monotonic() + STALL_WARNING
+        while waiting:
+            busy = []
+            for m in waiting:
+                m.engine.bridge.serve(lockstep=False)  # what is queued now; returns when the queue is empty
+                if m.engine.bridge.state == RUNNING and not m.engine.supervisor.paused and not m.engine.stopped:
+                    busy.append(m)
+            waiting = busy
+            if waiting:
+                time.sleep(HAND_OVER)
+                if time.monotonic() > warned_at:
+                    logger.warning("the missions of %s have been busy for %.0f s of wall time without calling "
+                                   "their engines; simulated time waits for them",
+                                   ", ".join(m.name for m in waiting), STALL_WARNING)
+                    warned_at = time.monotonic() + STALL_WARNING
+
+    def _write_status(self, outcomes: dict[str, FlightOutcome]) -> None:
+        words = sorted({o.status.word for o in outcomes.values()})
+        record = {"fleet": self.node.fleet, "status": words[0] if len(words) == 1 else "mixed",
+                  "exit_status": fleet_exit_status(outcomes),
+                  "drones": {name: {"status": o.status.word, "reasons": o.status.reasons, "faults": o.faults,
+                                    "exit_status": o.exit_status, "log_incomplete": o.log_incomplete}
+                             for name, o in outcomes.items()}}
+        try:
+            (self.output / STATUS_FILE).write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
+        except OSError as error:
+            logger.error("%s cannot be written: %s", self.output / STATUS_FILE, error.strerror or error)
+
+    def close(self) -> None:
+        """Close every drone's session and the surfaces (idempotent, never hangs)."""
+        if self._closed:
+            return
+        self._closed = True
+        self.surfaces.close()
+        for m in self.members:
+            m.session.close()
+
+
+def fleet_exit_status(outcomes: dict[str, FlightOutcome]) -> int:
+    """The fleet's exit status: 0 when every drone's flight completed (exit status 0), else 1; each drone's own
+    status is in its log, its summary line and :data:`STATUS_FILE`."""
+    return 0 if outcomes and all(o.exit_status == 0 for o in outcomes.values()) else 1
+
+
+__all__ = ["STATUS_FILE", "FleetFlight", "Member", "fleet_exit_status"]

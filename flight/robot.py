@@ -1,0 +1,136 @@
+"""The robot of a flight and the world it moves in: the robot kind (``drone`` by default, or one an installed
+plugin adds: its catalog, behaviors, processes, own-state beliefs, simulated robot, default world and engine
+settings), the adapter that drives it (the built-in simulator, MAVSDK, or an ``aeroexec.drones`` adapter), and
+the world file."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
+from aeroexec.engine.library import LibraryError, default_library, default_processes
+from aeroexec.engine.library import make_drone as make_adapter_drone
+from aeroexec.engine.robots import DRONE, RobotKind, RobotKindError, robot_kind
+from aeroexec.flight.spec import FlightError, FlightSpec
+
+logger = logging.getLogger(__name__)
+
+
+def chosen_catalog(path: str | None) -> BehaviorCatalog:
+    """The catalog of a ``--catalog`` option (the aerial one without it) as the behavior library serves it
+    (see :meth:`BehaviorCatalog.served_by`); raises CatalogError."""
+    catalog = load_catalog(path) if path else default_catalog()
+    return catalog.served_by(default_library().names(), default_catalog())
+
+
+@dataclass
+class RobotChoice:
+    """The chosen kind (None: the built-in drone) and what the engine is built with for it."""
+
+    kind: RobotKind | None
+
+    def catalog(self, path: str | None) -> BehaviorCatalog:
+        """The ``--catalog`` given, else the kind's, as the kind's behaviors serve it; raises CatalogError."""
+        if self.kind is None:
+            return chosen_catalog(path)
+        catalog = load_catalog(path or self.kind.catalog)
+        return catalog.served_by(self.library().names())
+
+    def library(self) -> Any:
+        return self.kind.behaviors() if self.kind is not None and self.kind.behaviors else None
+
+    def world_file(self, given: str | None) -> str | None:
+        """The world file a flight uses: the one given, else the kind's (None: the built-in field)."""
+        return given or (str(self.kind.world) if self.kind is not None and self.kind.world else None)
+
+    def engine_options(self, robot: Any, library: tuple[str, ...] = (), processes: tuple[str, ...] = ()
+                       ) -> dict[str, Any]:
+        """The Engine keyword arguments of this kind for ``robot`` (the drone: the aerial library with the
+        ``library`` and ``processes`` plugins); raises LibraryError."""
+        if self.kind is None:
+            return {"library": default_library(library), "processes": default_processes(processes)}
+        options: dict[str, Any] = {"library": self.library(), "settings": self.kind.settings()}
+        if self.kind.catalog is not None:
+            options["described_in"] = load_catalog(self.kind.catalog)
+        if self.kind.processes is not None:
+            options["processes"] = self.kind.processes()
+        if self.kind.telemetry is not None:
+            options["telemetry"] = self.kind.telemetry(robot)
+        return options
+
+
+def robot_choice(name: str = DRONE) -> RobotChoice:
+    """The robot kind named ``name``; raises :class:`FlightError` (a usage error) with a sentence."""
+    try:
+        return RobotChoice(robot_kind(name))
+    except RobotKindError as error:
+        raise FlightError(str(error), usage=True) from None
+
+
+def load_world(path: str | None, default: bool = True) -> Any:
+    """The world of ``path``; without one, the built-in field when ``default`` (else None)."""
+    from aeroexec.drones.sim import WorldError, default_world
+    from aeroexec.drones.sim import load_world as read_world
+
+    try:
+        if path:
+            return read_world(path)
+    except WorldError as error:
+        raise FlightError(str(error)) from None
+    return default_world() if default else None
+
+
+def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callable[[str], None] = logger.info,
+               cancelled: Callable[[], bool] = lambda: False) -> tuple[Any, bool]:
+    """The robot a flight drives, and whether it runs on simulated time. A MAVSDK vehicle is waited for until
+    it is ready to fly (at most ``spec.ready_timeout`` s, or until ``cancelled()``), saying so to ``notify``;
+    raises FlightError."""
+    kind = choice.kind
+    if kind is not None:
+        if spec.drone != "sim" or kind.simulator is None:
+            raise FlightError(f"--robot {kind.name}: only its simulated robot can be flown from here")
+        return kind.simulator(world, spec.seed), True
+    if spec.drone == "sim":
+        from aeroexec.drones.sim import SimulatedDrone
+
+        return SimulatedDrone(world, seed=spec.seed), True
+    if spec.drone.startswith("mavsdk:"):
+        return _mavsdk_vehicle(spec, notify, cancelled), False
+    scheme, _, address = spec.drone.partition(":")
+    try:  # an installed adapter (an aeroexec.drones entry point)
+        return make_adapter_drone(scheme, address), False
+    except LibraryError as error:
+        raise FlightError(f"--drone {spec.drone}: expected sim or mavsdk:URL (e.g. mavsdk:udpin://0.0.0.0:14540), "
+                          f"or NAME:ADDRESS of an installed adapter; {error}") from None
+
+
+def _mavsdk_vehicle(spec: FlightSpec, notify: Callable[[str], None], cancelled: Callable[[], bool]) -> Any:
+    from aeroexec.drones.mavsdk import MavsdkDrone
+
+    url = spec.drone[len("mavsdk:"):]
+    try:
+        drone = MavsdkDrone(url, ready_timeout=spec.ready_timeout)
+    except ValueError as error:
+        raise FlightError(f"--drone {spec.drone}: {error}") from None
+    notify(f"connecting to {url} (waiting up to {spec.ready_timeout:g} s for the vehicle to be ready) ...")
+    waited = 0.0
+    try:
+        while not drone.wait_ready(min(0.5, spec.ready_timeout - waited)):
+            waited += 0.5
+            if cancelled():
+                raise FlightError(f"--drone {spec.drone}: the start was aborted while waiting for the vehicle")
+            if waited >= spec.ready_timeout:
+                why = "; ".join(drone.not_ready_because()) or "no answer"
+                raise FlightError(f"--drone {spec.drone}: the vehicle is not ready to fly after "
+                                  f"{spec.ready_timeout:g} s: {why} (--ready-timeout gives it longer)")
+    except BaseException:
+        drone.close()
+        raise
+    notify(f"{drone.autopilot} vehicle ready on {url}")
+    return drone
+
+
+__all__ = ["DRONE", "FlightError", "RobotChoice", "chosen_catalog", "load_world", "make_robot", "robot_choice"]

@@ -1,0 +1,123 @@
+"""How a run ended, in one word shared by the summary line, the live view, ``--plain``, the report and the event
+log, and the exit status ``aeroexec run`` returns for it.
+
+- completed: the mission finished and every request it made was accepted (exit 0);
+- completed with refused requests: the mission finished, but a request of it was refused on the way
+  (FAILED_PRECONDITIONS, a rejected request the mission caught, a paused behavior the resume could not
+  restart) (exit 3);
+- failed: the mission raised, a tree ended in FAILURE, or the time limit stopped it; or the vehicle had a
+  fault (the link was lost in flight, the landing failed, the drone was left armed or in the air) (exit 1);
+- aborted: the operator aborted the run (``ctl abort``, the ``a`` key, Ctrl-C, SIGTERM, SIGHUP) (exit 4);
+- suspended: a safety reaction (a reactive behavior of the higher priority, such as LAND on low battery) took
+  the drone over before the mission finished, and the mission could not do all it asked (exit 5); the reasons
+  name the reaction and when (``LAND on low battery at t=95.2 s``).
+
+Whatever the word, a run whose event log could not be written whole (a full disk) exits 6 unless it failed
+or was aborted: its record is incomplete (:data:`LOG_INCOMPLETE`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+from aeroexec.engine.events import EngineEvent
+from aeroexec.flight.flight_log import event_record
+
+COMPLETED = "completed"
+REFUSED = "completed with refused requests"
+FAILED = "failed"
+ABORTED = "aborted"
+SUSPENDED = "suspended"
+#: The exit status of ``aeroexec run`` for each way a run ends.
+EXIT_STATUS = {COMPLETED: 0, FAILED: 1, REFUSED: 3, ABORTED: 4, SUSPENDED: 5}
+#: The exit status of a run whose event log is incomplete (unless it failed or was aborted).
+LOG_INCOMPLETE = 6
+#: The event that records the run's end (its ``detail`` is the word) in the event log.
+RUN_ENDED = "run_ended"
+#: Event kinds that are a request of the mission refused (with ``source`` mission).
+REFUSAL_KINDS = ("failed_preconditions", "rejected")
+#: Event kinds that make a run fail (the mission raised or its tree failed, the time limit stopped it).
+FAILURE_KINDS = ("mission_failed", "engine_time_limit")
+#: A safety reaction: a reactive behavior of the higher priority, which takes the drone over (``reactive``).
+REACTION = "reactive"
+HIGHER = "higher priority"
+#: Plain words for what a reaction's condition watches, by the predicate it reads.
+WATCHED = {"charge": "on low battery", "link": "on link loss", "wind": "in strong wind"}
+
+
+@dataclass(frozen=True)
+class RunStatus:
+    """How a run ended: the word, the exit status, and why (the refusals or the failure)."""
+
+    word: str
+    reasons: list[str] = field(default_factory=list)
+
+    @property
+    def exit_status(self) -> int:
+        return EXIT_STATUS[self.word]
+
+    def __str__(self) -> str:
+        return self.word
+
+
+def _record(item: dict[str, Any] | EngineEvent) -> dict[str, Any]:
+    return event_record(item) if isinstance(item, EngineEvent) else item
+
+
+def run_status(events: Iterable[dict[str, Any] | EngineEvent]) -> RunStatus:
+    """The status of a run from its events (engine events, or the records of an event log)."""
+    records = [_record(e) for e in events]
+    for record in records:  # a log that already says how it ended
+        if record.get("kind") == RUN_ENDED and record.get("detail") in EXIT_STATUS:
+            return RunStatus(record["detail"], list((record.get("data") or {}).get("reasons", [])))
+    aborted = [r.get("detail", "") for r in records if r.get("kind") == "operator_interrupt" or (
+        r.get("kind") == "operator_command" and (r.get("data") or {}).get("command") == "abort"
+        and (r.get("data") or {}).get("ok"))]
+    if aborted:
+        return RunStatus(ABORTED, aborted)
+    failed = [r.get("detail", "") for r in records if r.get("kind") in FAILURE_KINDS]
+    refused = [f"{r.get('behavior', '')}: {r.get('detail', '')}" for r in records
+               if r.get("kind") in REFUSAL_KINDS and (r.get("data") or {}).get("source") == "mission"]
+    completed = any(r.get("kind") == "mission_completed" for r in records)
+    reaction = safety_reaction(records)
+    if reaction is not None and (failed or refused or not completed):
+        cut = len(refused) + len(failed)
+        return RunStatus(SUSPENDED, [reaction] + ([f"{cut} request{'s' if cut != 1 else ''} of the mission "
+                                                   f"refused or failed after it"] if cut else []))
+    if failed or not completed:
+        return RunStatus(FAILED, failed or ["the mission did not finish"])
+    return RunStatus(REFUSED, refused) if refused else RunStatus(COMPLETED)
+
+
+def safety_reaction(records: list[dict[str, Any]]) -> str | None:
+    """The first reaction of the higher priority while the mission ran, in words (``LAND on low battery at
+    t=95.2 s (charge(battery, ?X), less_than(?X, 10))``), or None."""
+    ended = ("mission_completed", "mission_failed")
+    for record in records:
+        if record.get("kind") in ended:
+            return None
+        if record.get("kind") == REACTION and HIGHER in str(record.get("detail", "")):
+            condition = str(record.get("detail", "")).partition(": ")[2]
+            words = next((w for name, w in WATCHED.items() if f"{name}(" in condition), "by reaction")
+            return (f"{record.get('behavior', '')} {words} at t={float(record.get('time', 0.0)):.1f} s"
+                    + (f" ({condition})" if condition else ""))
+    return None
+
+
+def exit_status(status: RunStatus, log_incomplete: bool = False) -> int:
+    """The exit status of a run that ended with ``status`` (:data:`LOG_INCOMPLETE` when its event log could not
+    be written whole and it neither failed nor was aborted)."""
+    if log_incomplete and status.word not in (FAILED, ABORTED):
+        return LOG_INCOMPLETE
+    return status.exit_status
+
+
+def record_run_status(log: Any, status: RunStatus) -> None:
+    """Write the run's end to the event log (``run_ended``, detail the word)."""
+    log.record(RUN_ENDED, detail=status.word, exit_status=status.exit_status, reasons=list(status.reasons))
+
+
+__all__ = ["ABORTED", "COMPLETED", "EXIT_STATUS", "FAILED", "FAILURE_KINDS", "LOG_INCOMPLETE", "REFUSAL_KINDS",
+           "REFUSED", "SUSPENDED", "RunStatus", "exit_status", "record_run_status", "run_status", "safety_reaction"]

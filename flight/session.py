@@ -1,0 +1,358 @@
+"""One flight of one robot, from set-up to its end: the robot kind and adapter, catalog, plugins and updaters,
+the world, the clock and its pacing, the outputs (event log, ``.btlog``, control file), the control surfaces
+(control socket, web console, Groot2), the mission, and the end of the flight (link grace, landing, disarm,
+faults, how the run ended).
+
+``aeroexec run`` flies one :class:`FlightSession`; each drone of ``aeroexec fleet`` is one, driven in lockstep
+(:mod:`aeroexec.flight.fleet`); an embedder builds a :class:`~aeroexec.flight.spec.FlightSpec` and flies it::
+
+    with FlightSession(FlightSpec(mission=Path("figure10.py"))) as session:
+        outcome = session.fly()          # lands whatever ends it: the mission, the time limit, Ctrl-C, SIGTERM
+    print(outcome.status.word, outcome.exit_status)
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
+from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
+from aeroexec.engine.engine import Engine
+from aeroexec.engine.errors import Problem
+from aeroexec.engine.library import LibraryError, default_updaters
+from aeroexec.flight.control import ControlServer
+from aeroexec.flight.ending import FlightEnding, end_flight
+from aeroexec.flight.flight_log import FlightLogWriter
+from aeroexec.flight.missions import load_mission
+from aeroexec.flight.output import prepare_output
+from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice
+from aeroexec.flight.run_status import FAILED, SUSPENDED, RunStatus, exit_status, record_run_status, run_status
+from aeroexec.flight.spec import FlightError, FlightSpec
+from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
+from aeroexec.trees import TreeDocument
+
+logger = logging.getLogger(__name__)
+
+RATE = 20.0  # Hz: the engine's period
+
+
+@dataclass
+class FlightOutcome:
+    """How a flight ended: its status (the word and why), the vehicle's faults, whether the event log is whole,
+    and the exit status ``aeroexec run`` returns for it."""
+
+    status: RunStatus
+    faults: list[str] = field(default_factory=list)
+    log_incomplete: str | None = None  # why the event log stopped short (a full disk), None when whole
+    folder: Path | None = None
+
+    @property
+    def exit_status(self) -> int:
+        return exit_status(self.status, self.log_incomplete is not None)
+
+
+class FlightSession:
+    """One flight: :meth:`open` sets it up (raising :class:`FlightError` for anything the operator must fix,
+    before anything moves), :meth:`fly` flies the mission and ends the flight whatever ends it, :meth:`close`
+    releases everything (idempotent; after an error in :meth:`open` too).
+
+    ``notify`` hears one-line messages for the operator (where the log goes, the console's URL, warnings),
+    ``report`` each problem the mission's check finds. ``clock`` and ``robot`` are given by a fleet (one
+    simulated time, drones in one airspace); alone, a session makes its own."""
+
+    def __init__(self, spec: FlightSpec, *, notify: Callable[[str], None] = logger.warning,
+                 report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem),
+                 clock: Clock | None = None, robot: Any = None, world: Any = None, operator: Any = None,
+                 fleet_node: Any = None) -> None:
+        self.spec, self.notify, self.report = spec, notify, report
+        self.clock, self.robot, self.world, self.operator = clock, robot, world, operator
+        self.fleet_node = fleet_node  # a fleet's node in this process (the drone's link joins it)
+        self.folder: Path | None = None
+        self.catalog: BehaviorCatalog | None = None
+        self.mission: Callable[[], Any] | TreeDocument | None = None
+        self.engine: Engine | None = None
+        self.tree: Any = None  # the TreeMission of a tree mission
+        self.link: Any = None  # the fleet link
+        self._joined: Any = None  # the fleet joined from this process alone (its session and node)
+        self.flight_log: FlightLogWriter | None = None
+        self.btlog: Any = None
+        self.control: ControlServer | None = None
+        self.outcome: FlightOutcome | None = None
+        self._surfaces = Surfaces()
+        self._cancel = threading.Event()  # the start is given up (``ctl abort`` while starting)
+        self._opened = self._closed = False
+        self._mission_started_at: float | None = None
+
+    # -- set-up -------------------------------------------------------------------------------------
+    def __enter__(self) -> FlightSession:
+        return self.open()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def open(self) -> FlightSession:
+        """Set the flight up; raises :class:`FlightError` (closing what was opened) when it cannot fly."""
+        if self._opened:
+            return self
+        self._opened = True
+        try:
+            self._open()
+        except BaseException:
+            self.close()
+            raise
+        return self
+
+    def _open(self) -> None:
+        spec = self.spec
+        self.folder = prepare_output(spec.output)
+        if spec.register:  # ctl finds the run from now on, while it starts
+            self.control = ControlServer(None, self.folder, name=spec.name, register=spec.register,
+                                         on_abort=self._cancel.set).start()
+        choice = robot_choice(spec.robot)
+        try:
+            self.catalog = choice.catalog(spec.catalog)
+        except CatalogError as error:
+            raise FlightError("\n".join(str(p) for p in error.problems)) from None
+        world_path = choice.world_file(spec.world)
+        if self.world is None:
+            self.world = load_world(world_path, default=spec.simulated or choice.kind is not None)
+        if self.control is not None:
+            self.control.starting = "checking its mission"
+        self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report)
+        if self.robot is None:
+            if self.control is not None:
+                self.control.starting = "waiting for its vehicle"
+            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set)
+        else:
+            simulated = True
+        if self._cancel.is_set():
+            raise FlightError(f"{spec.name}: the start was aborted (aeroexec ctl abort)")
+        self.engine = self._engine(choice, simulated)
+        if spec.fleet is not None or self.fleet_node is not None:
+            self._join_fleet()
+        meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
+                "drone": spec.drone, "seed": spec.seed, "robot": spec.robot, "output": str(self.folder),
+                **_world_meta(self.world)}
+        if spec.fleet is not None:
+            meta.update(fleet=spec.fleet.fleet, drone_name=spec.fleet.name)
+        log_path = Path(spec.log) if spec.log else self.folder / "events.jsonl"
+        try:
+            self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta)
+        except OSError as error:
+            raise FlightError(f"the event log {log_path} cannot be written: {error.strerror or error}",
+                              usage=True) from None
+        self.notify(f"event log: {log_path}")
+        self.engine.log.subscribe(self._warn_of_early_link_loss)
+        if self.control is not None:
+            self.control.engine = self.engine
+        if isinstance(self.mission, TreeDocument):
+            from aeroexec.trees.btlog import BtlogWriter
+            from aeroexec.trees.runtime.runner import TreeMission
+
+            self.tree = TreeMission(self.mission, self.engine, name=spec.name)
+            self.btlog = BtlogWriter(self.tree, self.folder / "mission.btlog", self.catalog)
+            if spec.groot is not None:
+                self._surfaces.add(serve_groot(self.tree, self.catalog, spec.groot, self.notify))
+        if spec.web is not None:
+            self._surfaces.add(serve_console({spec.robot: self.engine}, self.world,
+                                             {spec.robot: None if self.tree is not None else spec.mission},
+                                             port=spec.web, host=spec.web_host, notify=self.notify))
+
+    def _engine(self, choice: RobotChoice, simulated: bool) -> Engine:
+        spec = self.spec
+        if self.clock is None:
+            self.clock = SimulatedClock(speed=spec.speed) if simulated else WallClock()
+        if self.operator is None:
+            self.operator = _operator(spec)
+        try:
+            updaters = default_updaters(self.robot, spec.updaters)
+            options = choice.engine_options(self.robot, spec.library, spec.processes)
+        except LibraryError as error:
+            raise FlightError(str(error)) from None
+        return Engine(self.robot, catalog=self.catalog, clock=self.clock, rate=RATE, obstacles=self.world,
+                      operator=self.operator, output_dir=self.folder, updaters=updaters, **options)
+
+    def _join_fleet(self) -> None:
+        from aeroexec.fleet.joined import join_fleet
+        from aeroexec.fleet.link import FleetLink
+        from aeroexec.fleet.transport import TransportError
+
+        join = self.spec.fleet
+        try:
+            if self.fleet_node is not None:  # a drone of a fleet flown in this process: the process's node
+                self.link = FleetLink(self.fleet_node, join.name, self.engine, join.share, join.telemetry_rate).join()
+            else:  # a drone in its own process: a client of the fleet's router
+                self._joined = join_fleet(self.engine, join.fleet, join.name, self.folder, self.spec.name,
+                                          list(join.connect) or None, join.token, join.share)
+                self.link = self._joined.link
+                self.notify(f"{join.name} joined fleet {join.fleet}")
+        except (TransportError, ValueError) as error:
+            raise FlightError(str(error)) from None
+        self.link.mission = self.spec.name
+
+    def _tell_fleet(self, state: str) -> None:
+        """The fleet hears how this drone's mission ended (its telemetry's status), once more before it leaves."""
+        if self.link is not None and self.link.state != state:
+            self.link.state = state
+            self.link.update(self.engine.memory, float("inf"))
+
+    # -- the flight ---------------------------------------------------------------------------------
+    def start_mission(self) -> None:
+        """Start the mission (a tree is ticked by the engine, a Python mission runs in its own thread)."""
+        engine = self.engine
+        self._mission_started_at = engine.now()
+        if self.tree is not None:
+            self.tree.start()
+        else:
+            engine.start_mission(self.mission, self.spec.name)
+
+    @property
+    def mission_done(self) -> bool:
+        if self.tree is not None:
+            return self.tree.done
+        from aeroexec.engine.missions.bridge import DONE
+
+        return self.engine.bridge.state == DONE
+
+    def halt_mission(self, reason: str) -> None:
+        """Stop the mission where it is (its behaviors stop; the drone is then landed by the ending)."""
+        if self.tree is not None:
+            self.tree.halt(reason)
+        self.engine.bridge.close()
+
+    def time_limit(self) -> None:
+        """The mission ran out of time: say so, and halt it."""
+        self.engine.log.record("engine_time_limit", detail=f"{self.spec.max_time:g} s of engine time have passed")
+        self.halt_mission("time limit")
+
+    def interrupted(self, how: str = "Ctrl-C") -> None:
+        """The operator interrupted the run (Ctrl-C, SIGTERM, SIGHUP): abort the mission; the ending lands."""
+        self.notify(f"interrupted by the operator ({how}): aborting and landing "
+                    f"({how} again leaves the drone as it is)")
+        self.engine.log.record("operator_interrupt", detail=how)
+        self.engine.supervisor.execute("abort", f"{how}: aborted by the operator", origin="keyboard")
+
+    def ending(self) -> FlightEnding:
+        """The end of this flight, to be stepped once per engine period (a fleet drives several in lockstep)."""
+        return FlightEnding(self.engine, link_grace=self.spec.link_grace)
+
+    def fly(self) -> FlightOutcome:
+        """Fly the mission to its end (or the time limit, an abort, Ctrl-C, SIGTERM or SIGHUP), then end the
+        flight: land, disarm, record how it ended. Call from the thread that may get KeyboardInterrupt."""
+        self.open()
+        engine = self.engine
+        try:
+            try:
+                self.start_mission()
+                if not engine.run_until(lambda: self.mission_done, self.spec.max_time):
+                    self.time_limit()
+            except KeyboardInterrupt as interrupt:
+                self.interrupted(getattr(interrupt, "signal_name", "Ctrl-C"))
+            faults = end_flight(engine, link_grace=self.spec.link_grace)
+        except KeyboardInterrupt:
+            self.notify("interrupted again: leaving the drone as it is")
+            faults = ["the operator interrupted the end of the flight: the drone was left as it was"]
+        return self.finish(faults)
+
+    def finish(self, faults: list[str]) -> FlightOutcome:
+        """Record how the flight ended (faults fail it) and close the outputs; the outcome."""
+        engine = self.engine
+        status = RunStatus(FAILED, faults) if faults else run_status(engine.log.events())
+        if status.word == SUSPENDED and self.tree is not None:
+            left, total = goals_left(self.tree, self.catalog)
+            status = RunStatus(SUSPENDED, [f"{status.reasons[0]}; {left} of {total} goals not reached"])
+        self._tell_fleet("failed" if status.word == FAILED else
+                         "completed" if status.exit_status in (0, 3) else "stopped")
+        record_run_status(engine.log, status)
+        self.close()
+        incomplete = self.flight_log.incomplete if self.flight_log is not None else None
+        self.outcome = FlightOutcome(status, list(faults), incomplete, self.folder)
+        return self.outcome
+
+    def _warn_of_early_link_loss(self, event: Any) -> None:
+        """A link lost on the ground before the mission started is a warning, once per drop, not a fault."""
+        if event.kind != "drone_link_lost" or event.data.get("in_air"):
+            return
+        if self._mission_started_at is not None and event.time >= self._mission_started_at:
+            return
+        self.notify(f"warning: the link to the vehicle dropped at t={event.time:.1f} s, on the ground, before the "
+                    f"mission ({event.detail or 'no reason given'})")
+        self.engine.log.record("link_warning", detail=f"link lost on the ground before the mission at "
+                                                      f"t={event.time:.1f} s: {event.detail}")
+
+    # -- the end ------------------------------------------------------------------------------------
+    def close(self) -> None:
+        """Stop the engine and the robot, close every surface and output (idempotent, never hangs)."""
+        if self._closed:
+            return
+        self._closed = True
+        parts = [self._surfaces]
+        if self.control is not None:
+            parts.append(self.control)
+        for part in parts:
+            _quietly(part.close)
+        if self.engine is not None:
+            _quietly(self.engine.stop)
+        if self._joined is not None:
+            _quietly(self._joined.close)
+        elif self.link is not None:
+            _quietly(self.link.leave)
+        for part in (self.flight_log, self.btlog, self.operator):
+            if part is not None:
+                _quietly(part.close)
+        if self.robot is not None:
+            _quietly(self.robot.close)
+
+
+def goals_left(tree: Any, catalog: Any) -> tuple[int, int]:
+    """How many of a tree's behavior leaves did not reach their goal, of how many."""
+    leaves = [node for _, node in tree.nodes if _behavior_of(node) in catalog]
+    done = sum(node.status.name == "SUCCESS" for node in leaves)
+    return len(leaves) - done, len(leaves)
+
+
+def _behavior_of(node: Any) -> str:
+    from aeroexec.trees.runtime.builder import model_of
+
+    model = model_of(node)
+    return getattr(model, "type", "") if model is not None else ""
+
+
+def _world_meta(world: Any) -> dict[str, Any]:
+    """What the event log's first record says of the world: its home (latitude, longitude, altitude) and bounds."""
+    if world is None:
+        return {}
+    meta: dict[str, Any] = {}
+    home = getattr(world, "home", None)
+    if home is not None:
+        meta["home"] = [round(float(home[0]), 8), round(float(home[1]), 8), round(float(home[2]), 3)]
+    bounds = getattr(world, "bounds", None)
+    if bounds is not None:
+        meta["bounds"] = [[float(v) for v in bounds.lower], [float(v) for v in bounds.upper]]
+    return meta
+
+
+def _operator(spec: FlightSpec) -> Any:
+    from aeroexec.engine.supervision.operator import OperatorError, RemoteOperator, make_operator
+
+    if spec.remote_questions and spec.answers is None:
+        return RemoteOperator()
+    try:
+        return make_operator(spec.answers, interactive=spec.interactive)
+    except OperatorError as error:
+        raise FlightError(f"--answers {error}") from None
+
+
+def _quietly(close: Callable[[], Any]) -> None:
+    try:
+        close()
+    except Exception:  # one part that fails to close never keeps the others open
+        logger.exception("closing %s failed", getattr(close, "__qualname__", close))
+
+
+__all__ = ["FlightOutcome", "FlightSession", "goals_left"]

@@ -1,0 +1,150 @@
+"""Every way a run ends lands the drone and tells the truth: SIGTERM and SIGHUP like Ctrl-C (abort, land, a
+complete log, exit 4), Ctrl-C before take-off (130, one line), an output folder that cannot be used (2, before
+anything flies), a full disk (whole lines only, exit 6, said once), a closed stdout (quiet, exit 0)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+
+import pytest
+from aeroexec.drones.interface import LandedState
+from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from flight_runs import MISSIONS, Command, ended, free_udp_port, landed, read_log
+
+FIGURE10 = str(MISSIONS / "figure10.py")
+FIGURE10_TREE = str(MISSIONS / "figure10.xml")
+
+
+@pytest.mark.parametrize("number", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+@pytest.mark.parametrize("mission", [FIGURE10, FIGURE10_TREE], ids=["python", "tree"])
+def test_a_signal_mid_flight_aborts_lands_and_closes_the_log(tmp_path, number, mission):
+    run = Command(tmp_path, "run", mission, "--plain", "--speed", "4", "--output", str(tmp_path / "out"))
+    run.wait_for("GOAL_ACHIEVED TAKE_OFF")
+    run.signal(number)
+    code, out, err = run.finish()
+    name = signal.Signals(number).name
+    assert code == 4, err
+    assert f"interrupted by the operator ({name}): aborting and landing" in err
+    assert "Traceback" not in err
+    records = read_log(tmp_path / "out" / "events.jsonl")
+    assert ended(records)["detail"] == "aborted" and records[-1]["kind"] == "log_closed"
+    assert any(r["kind"] == "operator_interrupt" and r["detail"] == name for r in records)
+    assert landed(records), "the drone was left in the air"
+    assert "aborted at t=" in err.splitlines()[-2] or "aborted at t=" in err
+
+
+@pytest.mark.mavsdk
+@pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
+def test_sigterm_mid_flight_lands_a_mavsdk_vehicle(tmp_path, autopilot):
+    port = free_udp_port()
+    vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=4.0, autopilot=autopilot)
+    vehicle.start()
+    try:
+        run = Command(tmp_path, "run", FIGURE10, "--plain", "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
+                      "--output", str(tmp_path / "out"))
+        run.wait_for("GOAL_ACHIEVED TAKE_OFF")
+        assert vehicle.telemetry().landed_state == LandedState.IN_AIR
+        run.signal(signal.SIGTERM)
+        code, out, err = run.finish()
+        ground = vehicle.telemetry()
+    finally:
+        vehicle.stop()
+    assert code == 4, err
+    assert ground.landed_state == LandedState.ON_GROUND and not ground.armed, "left in the air or armed"
+    records = read_log(tmp_path / "out" / "events.jsonl")
+    assert ended(records)["detail"] == "aborted" and records[-1]["kind"] == "log_closed"
+
+
+@pytest.mark.mavsdk
+def test_ctrl_c_before_take_off_exits_130_with_one_line(tmp_path):
+    port = free_udp_port()  # no vehicle there: the run waits for one
+    run = Command(tmp_path, "run", FIGURE10, "--plain", "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
+                  "--output", str(tmp_path / "out"))
+    run.wait_for("waiting up to")
+    run.signal(signal.SIGINT)
+    code, out, err = run.finish(timeout=30)
+    assert code == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err
+    assert err.splitlines()[-1] == "interrupted before take-off (Ctrl-C): nothing flew"
+
+
+@pytest.mark.parametrize("how", ["a file", "under a file"])
+def test_an_output_folder_that_cannot_be_used_is_refused_before_take_off(tmp_path, how):
+    blocker = tmp_path / "taken"
+    blocker.write_text("not a folder\n")
+    output = blocker if how == "a file" else blocker / "run"
+    result = subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "run", FIGURE10, "--plain", "--output",
+                             str(output)], capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert f"--output {output}:" in result.stderr and "folder" in result.stderr
+    assert "activated" not in result.stdout and "internal error" not in result.stderr
+
+
+FULL_DISK = """
+import errno, os, sys
+from aeroexec.flight import flight_log
+
+
+class FullDisk:  # os for the event log writer, on a disk that fills after ROOM bytes: the write that crosses it is
+    room = int(sys.argv[1])  # cut short, every later one fails with ENOSPC
+
+    def __getattr__(self, name):
+        return getattr(os, name)
+
+    def write(self, fd, data):
+        if self.room <= 0:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        part = bytes(data[:self.room])
+        self.room -= len(part)
+        return os.write(fd, part)
+
+
+flight_log.os = FullDisk()
+from aeroexec.cli.main import main
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+def test_a_full_disk_leaves_whole_lines_a_flight_that_lands_and_says_so_once(tmp_path):
+    result = subprocess.run([sys.executable, "-c", FULL_DISK, "6000", "run", FIGURE10, "--plain", "--output",
+                             str(tmp_path / "out")], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert result.returncode == 6, result.stderr
+    records = read_log(tmp_path / "out" / "events.jsonl")  # every line whole
+    assert len(records) > 10 and all(r["kind"] != "log_closed" for r in records)  # no claim to be complete
+    assert sum("cannot be written" in line for line in result.stderr.splitlines()) == 1, result.stderr
+    assert "figure10.py: completed" in result.stderr
+    assert "the event log is incomplete (No space left on device)" in result.stderr
+    assert "GOAL_ACHIEVED LAND" in result.stdout  # the flight went on to its end
+
+
+def test_a_closed_standard_output_ends_a_command_quietly(tmp_path):
+    read, write = os.pipe()
+    process = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "catalog"], stdout=write,
+                               stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    os.close(write)
+    os.close(read)  # the reader is gone before anything is written
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 0 and err == ""
+
+
+def test_catalog_piped_into_head_exits_0(tmp_path):
+    result = subprocess.run(["bash", "-c", f"'{sys.executable}' -m aeroexec.cli.main catalog | head -1; "
+                                           "exit ${PIPESTATUS[0]}"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0 and result.stderr == "" and len(result.stdout.splitlines()) == 1
+
+
+def test_a_closed_stdout_mid_flight_lets_the_flight_land(tmp_path):
+    read, write = os.pipe()
+    process = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "run", FIGURE10, "--plain", "--output",
+                                str(tmp_path / "out")], stdout=write, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    os.close(write)
+    with os.fdopen(read) as events:
+        assert events.readline()  # one event, then the reader goes away
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 0, err
+    assert "Traceback" not in err and "internal error" not in err
+    assert ended(read_log(tmp_path / "out" / "events.jsonl"))["detail"] == "completed"
