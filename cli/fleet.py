@@ -43,6 +43,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "with --router: another machine's router to link to")
     add_pacing_arguments(parser)
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
+    parser.add_argument("--answers", metavar="FILE",
+                        help="answer the missions' questions from FILE (YAML: question -> answer, or a list)")
     add_plugin_arguments(parser)
     add_surface_arguments(parser)
 
@@ -100,7 +102,7 @@ def fly_fleet(args: argparse.Namespace) -> int:
     watched = live or args.web is not None  # in a browser too; questions then wait for an answer
     base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
                       catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
-                      updaters=tuple(args.updater), max_time=args.max_time)
+                      updaters=tuple(args.updater), max_time=args.max_time, answers=args.answers)
     with ending_signals():
         try:
             folder = prepare_output(args.output)

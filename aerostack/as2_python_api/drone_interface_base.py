@@ -151,12 +151,13 @@ class DroneInterfaceBase:
         return True
 
     def refuse(self, what: str, kind: str, message: str) -> None:
-        """Record a call the engine cannot serve as a refused request (the run says so), and warn."""
+        """Record a call the engine cannot serve as a refused request: the event log says it (once, with a count
+        when it repeats) and the run ends completed with refused requests."""
         engine = self.engine
         where = api.caller_location()
         engine.bridge.call(lambda: engine.log.record("rejected", what, message, error=kind, source="mission",
                                                      where=where))
-        self._logger.warning(f"{what}: {message}")
+        self._logger.debug(f"{what}: {message}")
 
     def load_module(self, pkg: str) -> None:
         """Load a behavior module (``rtl_module``, ``as2_python_api.modules.rtl_module``...), its dependencies first."""

@@ -19,7 +19,7 @@ import logging
 import queue
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from aeroexec.engine.errors import MissionAborted
@@ -27,6 +27,9 @@ from aeroexec.engine.errors import MissionAborted
 logger = logging.getLogger(__name__)
 
 RUNNING, PARKED, DONE = "running", "parked", "done"
+#: What :attr:`MissionBridge.state` says of a running mission that has made its ``CALLS_PER_TICK`` calls of this
+#: engine period without waiting: a loop that serves several bridges without lockstep moves time on for it.
+POLLING = "polling"
 _STALL_WARNING = 30.0  # wall seconds a lockstep engine waits on a busy mission before saying so
 _CLOSED_GRACE = 2.0  # wall seconds a lockstep engine waits for an aborted mission to unwind
 #: Calls that do not wait served in one engine period before the loop steps on (lockstep, simulated clock).
@@ -46,6 +49,18 @@ class _Request:
         self.error: BaseException | None = None
 
 
+class _Mission:
+    """Whether the mission runs, waits or is done: one for every engine a program drives (a script flying a
+    fleet is one mission whichever drone it waits on)."""
+
+    __slots__ = ("cond", "polls", "polls_at", "state")
+
+    def __init__(self) -> None:
+        self.cond = threading.Condition()
+        self.state = DONE
+        self.polls, self.polls_at = 0, -1.0  # calls that did not wait, served at engine time polls_at
+
+
 class MissionBridge:
     """Queues the mission thread's calls for the engine thread; tracks whether the mission runs or waits."""
 
@@ -54,8 +69,7 @@ class MissionBridge:
         """``now``, ``world_version`` (changes whenever a belief does) and ``report`` let the bridge tell of a
         mission that polls a world that does not change."""
         self._queue: queue.SimpleQueue[_Request] = queue.SimpleQueue()
-        self._cond = threading.Condition()
-        self._state = DONE
+        self._mission = _Mission()
         self._pending: set[_Request] = set()
         self._closed = False
         self._closed_at = 0.0
@@ -65,6 +79,24 @@ class MissionBridge:
         self._poll_since: float | None = None
         self._poll_version: int | None = None
         self._poll_reported = False
+
+    @property
+    def _cond(self) -> threading.Condition:
+        return self._mission.cond
+
+    @property
+    def _state(self) -> str:
+        return self._mission.state
+
+    @_state.setter
+    def _state(self, state: str) -> None:
+        self._mission.state = state
+
+    def share_mission(self, others: Iterable[MissionBridge]) -> None:
+        """The bridges of other engines the same program drives see this one's mission: it runs, waits or is
+        done once, whichever engine it calls (a lockstep loop over them waits for it as for one)."""
+        for other in others:
+            other._mission = self._mission
 
     # -- the mission's side ------------------------------------------------------------
     def call(self, function: Callable[[], Any]) -> Any:
@@ -101,7 +133,11 @@ class MissionBridge:
     # -- the engine's side ---------------------------------------------------------------
     @property
     def state(self) -> str:
-        return self._state
+        mission = self._mission
+        if mission.state == RUNNING and mission.polls >= CALLS_PER_TICK and self._now is not None \
+                and mission.polls_at == self._now():
+            return POLLING
+        return mission.state
 
     @property
     def queued(self) -> int:
@@ -133,8 +169,11 @@ class MissionBridge:
                     self._polled()
                     if lockstep and served >= CALLS_PER_TICK:
                         return  # the engine steps on: polling lets time move
-                elif lockstep and request.done.is_set():
-                    return  # a wait that ended at once (a refused request): the engine steps before the next call
+                elif request.done.is_set():  # a wait that ended at once (a refused request): time moves on first
+                    if self._now is not None:
+                        self._mission.polls, self._mission.polls_at = CALLS_PER_TICK, self._now()
+                    if lockstep:
+                        return
                 continue
             with self._cond:
                 # in lockstep the mission's own code runs to its next call even while held (a wait that ended
@@ -156,6 +195,8 @@ class MissionBridge:
         if self._now is None:
             return
         now = self._now()
+        mission = self._mission
+        mission.polls, mission.polls_at = (mission.polls + 1, now) if mission.polls_at == now else (1, now)
         version = self._world_version() if self._world_version is not None else None
         if self._poll_since is None or version != self._poll_version:
             self._polls, self._poll_since, self._poll_version, self._poll_reported = 0, now, version, False

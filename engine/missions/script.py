@@ -4,9 +4,11 @@
 The script runs unchanged; what it takes from its surroundings is the engine's. ``time.sleep``, ``time.time``
 and ``time.monotonic`` (as the script imports them) wait on and read the engine's clock, so a simulated run is
 paced by simulated time and a ``while ...: sleep(0.1)`` loop sees the world move; ``sys.argv`` holds the script
-alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; ``exit(0)``
-ends it completed, another status fails it; ROS modules it imports and never uses import as stand-ins
-(:mod:`.ros`). Each ``DroneInterface`` binds to a drone by its namespace (:func:`drone_engine`).
+alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; ``input()`` is a
+question for the operator (:func:`ask_operator`); ``exit(0)`` ends it completed, another status fails it; ROS
+modules it imports and never uses import as stand-ins (:mod:`.ros`). Each ``DroneInterface`` binds to a drone by
+its namespace (:func:`drone_engine`); a script several drones of a fleet name flies them all
+(:func:`fly_together`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import ast
 import builtins
 import contextlib
 import os
+import re
 import sys
 import threading
 import time
@@ -110,6 +113,23 @@ class _EngineTime(types.ModuleType):
     perf_counter = monotonic
 
 
+_CHOICES = re.compile(r"\(([^()/]+(?:/[^()/]+)+)\)")
+
+
+def ask_operator(prompt: Any = "") -> str:
+    """``input()`` as a script sees it: a question for the operator (ASK_OPERATOR), answered at the terminal,
+    from ``--answers``, through ``aeroexec ctl answer`` or the console, or with its first possible answer when
+    nobody is there; ``(y/n)`` in the prompt gives the possible answers."""
+    question = str(prompt).strip()
+    found = _CHOICES.search(question)
+    answers = [a.strip() for a in found.group(1).split("/")] if found else []
+    arguments = {"question": question or "input", **({"possible_answers": answers} if answers else {})}
+    answer = api.ask_behavior("ASK_OPERATOR", **arguments)
+    if answer is None:
+        raise EOFError(f"the operator did not answer {question!r}")
+    return str(answer)
+
+
 def _builtins(engine_time: types.ModuleType) -> dict[str, Any]:
     real_import = builtins.__import__
 
@@ -117,33 +137,64 @@ def _builtins(engine_time: types.ModuleType) -> dict[str, Any]:
         module = real_import(name, globals, locals, fromlist, level)
         return engine_time if name == "time" and level == 0 else module
 
-    return {**vars(builtins), "__import__": import_}
+    return {**vars(builtins), "__import__": import_, "input": ask_operator}
 
 
-def script_mission(path: Path, source: str) -> Callable[[], None]:
-    """The script in ``path`` as a mission function: run it whole as ``__main__`` (see the module's docstring)."""
-    code = compile(source, str(path), "exec")
-    folder = str(Path(path).resolve().parent)
+class ScriptMission:
+    """The script in ``path`` as a mission function: calling it runs the script whole as ``__main__`` (see the
+    module's docstring)."""
 
-    def run() -> None:
+    def __init__(self, path: Path, source: str) -> None:
+        self.path = Path(path)
+        self.code = compile(source, str(path), "exec")
+
+    def __call__(self) -> None:
         ros.install()
-        scope = {"__name__": "__main__", "__file__": str(path), "__builtins__": _builtins(_EngineTime())}
-        saved = sys.argv, list(sys.path)
-        sys.argv = [str(path)]
+        folder = str(self.path.resolve().parent)
+        scope = {"__name__": "__main__", "__file__": str(self.path), "__builtins__": _builtins(_EngineTime())}
+        saved = sys.argv, list(sys.path), os.environ.get(DRONE_ID_VARIABLE)
+        sys.argv = [str(self.path)]
         if folder not in sys.path:
             sys.path.insert(0, folder)
         os.environ.setdefault(DRONE_ID_VARIABLE, "drone0")
         try:
-            exec(code, scope)
+            exec(self.code, scope)
         except SystemExit as end:
             if end.code not in (None, 0):
                 raise ScriptExit(f"the script exited with status {end.code}") from None
         finally:
-            sys.argv = saved[0]
-            sys.path[:] = saved[1]
+            sys.argv, sys.path[:] = saved[0], saved[1]
+            if saved[2] is None:
+                os.environ.pop(DRONE_ID_VARIABLE, None)
 
-    return run
+
+def script_mission(path: Path, source: str) -> ScriptMission:
+    """The script in ``path`` (its ``source``) as a mission function."""
+    return ScriptMission(path, source)
 
 
-__all__ = ["DRONE_ID_VARIABLE", "DroneNotFound", "ScriptExit", "drone_engine", "flying_fleet", "is_script",
-           "script_mission"]
+def fly_together(engines: Mapping[str, Any], mission: Callable[[], Any], name: str) -> threading.Thread:
+    """Start one mission that drives several drones (``engines`` by namespace): it runs once, on the first engine's
+    mission thread, each ``DroneInterface`` bound to its drone; every engine sees it run, wait and end as its own
+    mission (its log says when it started and how it ended)."""
+    first, *others = list(engines.values())
+    first.bridge.share_mission(e.bridge for e in others)
+    for engine in others:
+        engine.log.record("mission_started", detail=name)
+
+    def mirror(event: Any) -> None:  # how the mission ended, in every drone's log
+        if event.kind in ("mission_completed", "mission_failed"):
+            for engine in others:
+                engine.log.record(event.kind, detail=event.detail)
+
+    first.log.subscribe(mirror)
+
+    def run() -> None:
+        with flying_fleet(engines):
+            mission()
+
+    return first.start_mission(run, name)
+
+
+__all__ = ["DRONE_ID_VARIABLE", "DroneNotFound", "ScriptExit", "ScriptMission", "ask_operator", "drone_engine",
+           "fly_together", "flying_fleet", "is_script", "script_mission"]

@@ -53,7 +53,7 @@ class BehaviorHandler:
                 try:
                     run = BehaviorRun(request.behavior, **request.arguments)
                 except RequestRejected as rejected:  # recorded as refused; Aerostack2's goal rejection is False
-                    logger.warning("%s: goal rejected: %s", self._drone.drone_id, rejected.message)
+                    logger.debug("%s: goal rejected: %s", self._drone.drone_id, rejected.message)
                     return False
                 self._runs = [run]
                 last = index == len(requests) - 1
