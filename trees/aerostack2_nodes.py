@@ -65,6 +65,8 @@ V3_TYPES = {"SequenceStar": "SequenceWithMemory"}
 V3_PORTS = {"success_threshold": "success_count", "failure_threshold": "failure_count",
             "__shared_blackboard": "_autoremap"}
 _ROS_PORT_ENDINGS = ("topic_name", "topic", "service_name", "server_name", "action_name")
+#: What a mapped document was written for (``verify --strict-btcpp`` says it is not BehaviorTree.CPP 4's).
+DIALECT = "BehaviorTree.CPP 3 with Aerostack2's nodes (as2_behavior_tree)"
 #: How far (meters) an origin may be from the home point and still be it.
 ORIGIN_TOLERANCE = 1.0
 
@@ -83,7 +85,7 @@ def aerostack2_tree(document: TreeDocument, home: Geodetic | None = None) -> Tre
     trees = {tree_id: mapper.node(root) for tree_id, root in document.trees.items()}
     if mapper.problems:
         raise TreeFormatError(mapper.problems)
-    return TreeDocument(trees, document.main, document.file, document.lines)
+    return TreeDocument(trees, document.main, document.file, document.lines, DIALECT)
 
 
 class _Mapper:

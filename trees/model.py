@@ -55,6 +55,7 @@ class TreeDocument:
     main: str  # the ID of the tree to execute
     file: str = ""
     lines: dict[str, int] = field(default_factory=dict)  # BehaviorTree ID -> the line it is declared on
+    dialect: str = ""  # what the file was written for when not BehaviorTree.CPP 4 (mapped when it was read)
 
     @property
     def root(self) -> TreeNode:

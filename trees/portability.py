@@ -65,6 +65,9 @@ def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> li
     """Every construct of ``document`` that BehaviorTree.CPP would refuse or read differently."""
     if not document.file.lower().endswith(".xml") or document.file.lower().endswith(".tml.xml"):
         return [_problem(None, document, "not a BehaviorTree.CPP file: only its v4 XML is portable")]
+    if document.dialect:
+        return [_problem(None, document, f"written for {document.dialect}: BehaviorTree.CPP 4 reads what aeroexec "
+                                         f"makes of it (aeroexec convert)")]
     palette = palette_ports(catalog)
     problems: list[MissionProblem] = []
     for root in document.trees.values():

@@ -223,7 +223,7 @@ def requests(call: Method, bound: Mapping[str, Any], *, home: Sequence[float] | 
         return [Request("GO_TO_POINT", {"COORDINATES": _point(call, bound), **_yaw(call, bound, yaw),
                                         **(_speed(speed) if not known(speed) or speed > 0 else {})}, wait)]
     if module == "go_to_gps":
-        point = (_gps_point(call, bound["waypoint"]) if "waypoint" in bound
+        point = (_triple(call, bound["waypoint"], "waypoint", "[latitude, longitude, altitude]") if "waypoint" in bound
                  else (bound["lat"], bound["lon"], bound["alt"]))
         return [Request("GO_TO_POINT", {"COORDINATES": _from_gps(point, home), **_yaw(call, bound, yaw),
                                         **_speed(bound["speed"])}, wait)]
@@ -241,14 +241,18 @@ def _check_frame(call: Method, frame: Any) -> None:
 
 def _point(call: Method, bound: Mapping[str, Any]) -> Any:
     if "point" in bound:
-        point = bound["point"]
-        if isinstance(point, list | tuple):
-            if len(point) != 3:
-                raise As2Error(WRONG_VALUE, f"The point {list(point)} of {call.spelled}() is not correct "
-                                            f"([x, y, z] in meters is expected)")
-            return tuple(point)
-        return point
+        return _triple(call, bound["point"], "point", "[x, y, z] in meters")
     return tuple(bound[k] if k in bound else bound[f"_{k}"] for k in ("x", "y", "z"))
+
+
+def _triple(call: Method, value: Any, what: str, expected: str) -> Any:
+    """A list of three values as a tuple (anything else not known before flight passes through)."""
+    if not isinstance(value, list | tuple):
+        return value
+    if len(value) != 3:
+        raise As2Error(WRONG_VALUE, f"The {what} {list(value)} of {call.spelled}() is not correct ({expected} is "
+                                    f"expected)")
+    return tuple(value)
 
 
 def _speed(speed: Any) -> dict[str, Any]:
@@ -292,15 +296,6 @@ def _path(call: Method, path: Any, home: Sequence[float] | None) -> Any:
         else:
             points.append(point)
     return tuple(points)
-
-
-def _gps_point(call: Method, waypoint: Any) -> Any:
-    if isinstance(waypoint, list | tuple):
-        if len(waypoint) != 3:
-            raise As2Error(WRONG_VALUE, f"The waypoint {list(waypoint)} of {call.spelled}() is not correct "
-                                        f"([latitude, longitude, altitude] is expected)")
-        return tuple(waypoint)
-    return waypoint
 
 
 class Unplaced(tuple):

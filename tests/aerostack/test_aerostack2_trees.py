@@ -118,3 +118,37 @@ def test_aeroexec_run_takes_aerostack2_trees(tree, tmp_path, capsys):
         assert not [r for r in flight.kinds("activated") if r["behavior"] == "TAKE_OFF"]
     else:
         assert flight.status == 0, flight.err
+
+
+def test_strict_btcpp_says_an_aerostack2_file_is_not_behaviortree_cpp_4(tmp_path, capsys):
+    from aeroexec.cli.main import main
+
+    assert main(["verify", "--strict-btcpp", "--no-world", str(TREES / "as2_basic_mission.xml")]) == 1
+    assert "NOT_PORTABLE: written for BehaviorTree.CPP 3 with Aerostack2's nodes" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("tree", ["as2_basic_mission.xml", "as2_takeoff.xml", "as2_test.xml", "gazebo_square.xml",
+                                  "gazebo_go_back.xml"])
+def test_what_aeroexec_makes_of_aerostack2_trees_is_behaviortree_cpp_4_that_it_ticks(tree, tmp_path, capsys):
+    import xml.etree.ElementTree as ElementTree
+
+    import behaviortreepy as bt
+    from aeroexec.cli.main import main
+
+    out = tmp_path / "v4.xml"
+    assert main(["convert", str(TREES / tree), "-o", str(out), "--world", str(EMPTY_WORLD)]) == 0
+    root = ElementTree.parse(out).getroot()
+    for model in root.findall("TreeNodesModel"):
+        root.remove(model)
+    factory = bt.BehaviorTreeFactory()
+    conditions = {"CheckBelief", "QueryBelief"}
+    leaves = {e.tag for e in root.iter() if e.tag.isupper() or e.tag in conditions | {"AddBelief"}}
+    for name in leaves:
+        register = factory.register_simple_condition if name in conditions else factory.register_simple_action
+        register(name, lambda node: "SUCCESS")
+    for element in root.iter():
+        if element.tag in leaves:  # their ports were checked by verify; BT.CPP needs the palette's names only
+            element.attrib = {k: v for k, v in element.attrib.items() if k == "name"}
+    ElementTree.ElementTree(root).write(tmp_path / "bare.xml")
+    ticked = factory.create_tree_from_file(str(tmp_path / "bare.xml"), bt.Blackboard.create())
+    assert ticked.tick_while_running() == bt.NodeStatus.SUCCESS

@@ -16,6 +16,8 @@ and ignored. GPS points (``go_to_gps``) are placed from ``home``, the world's ho
 from __future__ import annotations
 
 import logging
+import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +29,7 @@ from aeroexec.engine.yaml_nodes import MAP, NodeReader
 from aeroexec.trees.loaders.common import errors_of
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 
-from aeroexec.limits import InputError, read_text
+from aeroexec.limits import MAX_NUMBER_LENGTH, InputError, read_text
 
 logger = logging.getLogger(__name__)
 
@@ -103,7 +105,7 @@ def _item(reader: NodeReader, item: yaml.Node, index: int, home: tuple[float, ..
     method = reader.text(entries["method"][1], f"{what}: method") if "method" in entries else "__call__"
     args: dict[str, Any] = {}
     if "args" in entries:
-        value = reader.value(entries["args"][1])
+        value = _value(reader, entries["args"][1])
         if isinstance(value, dict) and all(isinstance(k, str) for k in value):
             args = value
         elif not reader.is_null(entries["args"][1]):
@@ -126,6 +128,24 @@ def _item(reader: NodeReader, item: yaml.Node, index: int, home: tuple[float, ..
     if len(leaves) == 1:
         return leaves[0]
     return TreeNode("SequenceWithMemory", call.spelled, {}, leaves, reader.file, line)
+
+
+_JSON_NUMBER = re.compile(r"-?(0|[1-9]\d*)(\.\d+)?[eE][+-]?\d+")
+
+
+def _value(reader: NodeReader, node: yaml.Node) -> Any:
+    """A node's value; a plain ``1e-3`` is the number JSON (and YAML 1.2) reads, not YAML 1.1's text."""
+    if isinstance(node, yaml.ScalarNode) and node.style is None and _JSON_NUMBER.fullmatch(str(node.value)) \
+            and len(node.value) <= MAX_NUMBER_LENGTH:
+        number = float(node.value)
+        return number if math.isfinite(number) else node.value
+    if isinstance(node, yaml.SequenceNode):
+        return [_value(reader, item) for item in node.value]
+    if node.tag == MAP:
+        keys = [reader.value(k) for k, _ in node.value]
+        return dict(zip(keys, (_value(reader, v) for _, v in node.value), strict=True)) \
+            if all(isinstance(k, str) for k in keys) else reader.value(node)
+    return reader.value(node)
 
 
 def _leaf(request: Request, name: str, file: str, line: int) -> TreeNode:
