@@ -73,17 +73,17 @@ class MissionChecker:
     def __init__(self, tree: ast.Module, file: str, specialist: BehaviorSpecialist) -> None:
         self.tree, self.file, self.specialist = tree, file, specialist
         self.catalog = specialist.catalog
-        self.bindings = api_bindings(tree)
         self.constants = Constants(tree)
+        self.bindings = api_bindings(self.constants.nodes)
         self.problems: list[MissionProblem] = []
         self._seen: set[tuple[int, int, str]] = set()
+        self.nodes, self.parents = self.constants.nodes, self.constants.parents  # the program is walked once
         self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
-        for node in ast.walk(tree):
+        for node in self.nodes:
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
                 self.functions.setdefault(node.name, []).append(node)
         self.drones = DroneObjects(self)
-        self.effectful_functions = self._effectful_functions()
-        self._effect_cache: dict[int, bool] = {}
+        self.effectful_functions, self._effectful = self._effects()
         self.vocabulary, self.open_vocabulary = self._vocabulary()
 
     def _vocabulary(self) -> tuple[dict[str, int], bool]:
@@ -91,7 +91,7 @@ class MissionChecker:
         (whose predicate cannot be known)."""
         vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
         computed = False
-        for node in ast.walk(self.tree):
+        for node in self.nodes:
             if isinstance(node, ast.Call) and self.api_function(node.func) == "add_belief":
                 argument = self.belief_argument(node)
                 text = self.value(argument) if argument is not None else NOT_CONSTANT
@@ -153,7 +153,7 @@ class MissionChecker:
 
     # -- request checks ----------------------------------------------------------------
     def check_program(self) -> None:
-        for node in ast.walk(self.tree):
+        for node in self.nodes:
             if isinstance(node, ast.Attribute):  # imported names are checked at their import
                 member = self.api_member(node)
                 if member is not None and not offers(*member):
@@ -317,40 +317,55 @@ class MissionChecker:
         function = self.functions[call.func.id][0]
         return function if function in self.tree.body else None
 
-    def _calls_behaviors(self, node: ast.AST, effectful: set[str]) -> bool:
-        for sub in ast.walk(node):
-            if isinstance(sub, ast.Call) and (self.api_function(sub.func) in SEQUENCE
-                                              or _called_name(sub) in effectful
-                                              or self.drones.as2_call(sub) is not None):
-                return True
-        return False
+    def _effects(self) -> tuple[set[str], set[int]]:
+        """The names of the program's functions that run or inhibit behaviors, directly or through each other,
+        and every node that holds such a call (in one pass over the program, then up the parents)."""
+        calls = [n for n in self.nodes if isinstance(n, ast.Call)]
+        direct = [c for c in calls if self.api_function(c.func) in SEQUENCE or self.drones.as2_call(c) is not None]
+        within: dict[int, list[str]] = {}  # id(call) -> the names of the functions around it
 
-    def _effectful_functions(self) -> set[str]:
-        """Names of the program's functions that run or inhibit behaviors, directly or through each other."""
-        effectful: set[str] = set()
-        changed = True
-        while changed:
-            changed = False
-            for name, defs in self.functions.items():
-                if name not in effectful and any(self._calls_behaviors(d, effectful) for d in defs):
-                    effectful.add(name)
-                    changed = True
-        return effectful
+        def functions_around(call: ast.Call) -> list[str]:
+            if id(call) not in within:
+                names, node = [], self.parents.get(id(call))
+                while node is not None:
+                    if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                        names.append(node.name)
+                    node = self.parents.get(id(node))
+                within[id(call)] = names
+            return within[id(call)]
+
+        effectful = {name for call in direct for name in functions_around(call)}
+        callers: dict[str, set[str]] = {}  # called name -> the functions whose bodies call it
+        for call in calls:
+            name = _called_name(call)
+            if name is not None:
+                callers.setdefault(name, set()).update(functions_around(call))
+        waiting = list(effectful)
+        while waiting:
+            for caller in callers.get(waiting.pop(), ()):
+                if caller not in effectful:
+                    effectful.add(caller)
+                    waiting.append(caller)
+        marked: set[int] = set()
+        for call in [*direct, *(c for c in calls if _called_name(c) in effectful)]:
+            node: ast.AST | None = call
+            while node is not None and id(node) not in marked:
+                marked.add(id(node))
+                node = self.parents.get(id(node))
+        return effectful, marked
 
     def effectful(self, node: ast.AST) -> bool:
-        key = id(node)
-        if key not in self._effect_cache:
-            self._effect_cache[key] = self._calls_behaviors(node, self.effectful_functions)
-        return self._effect_cache[key]
+        """True when ``node`` holds a call that runs or inhibits behaviors."""
+        return id(node) in self._effectful
 
     def sequence_checkable(self) -> bool:
         """False when behaviors may run through a reference the checker cannot follow (stored, passed, getattr),
         or on several drones (each has its own flight)."""
         if self.drones.several:
             return False
-        followed = {id(n.func) for n in ast.walk(self.tree) if isinstance(n, ast.Call)}
-        followed |= {id(n.value) for n in ast.walk(self.tree) if isinstance(n, ast.Attribute)}
-        for node in ast.walk(self.tree):
+        followed = {id(n.func) for n in self.nodes if isinstance(n, ast.Call)}
+        followed |= {id(n.value) for n in self.nodes if isinstance(n, ast.Attribute)}
+        for node in self.nodes:
             if isinstance(node, ast.Name | ast.Attribute) and id(node) not in followed:
                 function = self.api_function(node)
                 if function in SEQUENCE or self.dotted(node) in API_MODULES:
@@ -383,12 +398,12 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     for statement, module in missing_imports(tree, filename):
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
                        WRONG_FORMAT)
-    for node, severity, message in ros_problems(tree, checker.dotted):
+    for node, severity, message in ros_problems(checker.nodes, checker.dotted):
         checker.report(node, message, WRONG_FORMAT if severity == "error" else "", severity)
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)
-    if entry is None and is_script(tree):  # an Aerostack2 script: it runs whole, from its first line
+    if entry is None and is_script(tree, checker.nodes):  # an Aerostack2 script: it runs whole, from its start
         if checker.sequence_checkable():
             SequenceWalker(checker).check_body(tree.body)
     elif entry is None:

@@ -26,6 +26,8 @@ class Constants:
     """The constants of one parsed program; :meth:`value` of any expression in it."""
 
     def __init__(self, tree: ast.Module) -> None:
+        self.nodes: list[ast.AST] = []  # every node of the program, each before its children (one walk for all)
+        self.parents: dict[int, ast.AST] = {}  # id(node) -> the node it is in
         self.scope_of: dict[int, ast.AST] = {}  # id(node) -> its innermost function (or the module)
         self._bindings: dict[tuple[int, str], int] = {}  # (scope, name) -> how many times it is bound
         self._assigned: dict[tuple[int, str], ast.expr] = {}  # (scope, name) -> value, top-level Assign only
@@ -39,6 +41,7 @@ class Constants:
         stack = [(node, scope)]
         while stack:
             current, scope = stack.pop()
+            self.nodes.append(current)
             self.scope_of[id(current)] = scope
             inner = current if isinstance(current, _SCOPES) and current is not scope else scope
             if inner is not scope:
@@ -54,7 +57,9 @@ class Constants:
             if isinstance(current, ast.Module | ast.FunctionDef | ast.AsyncFunctionDef):
                 for statement in current.body:
                     self._top_level(statement, current)
-            stack.extend((child, inner) for child in ast.iter_child_nodes(current))
+            for child in ast.iter_child_nodes(current):
+                self.parents[id(child)] = current
+                stack.append((child, inner))
 
     def _bind(self, scope: ast.AST, name: str) -> None:
         key = (id(scope), name)

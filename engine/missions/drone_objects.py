@@ -27,6 +27,8 @@ class MissionChecker(Protocol):
     """What this module uses of the mission's checker (:class:`~aeroexec.engine.missions.check.MissionChecker`)."""
 
     tree: ast.Module
+    nodes: list[ast.AST]
+    parents: dict[int, ast.AST]
     constants: Constants
     specialist: BehaviorSpecialist
 
@@ -88,11 +90,10 @@ class DroneObjects:
         self.annotated: dict[int, dict[str, DroneClass]] = {}  # id(function) -> parameter -> class
         self.methods_of: dict[int, DroneClass] = {}  # id(function) -> the class whose method it is
         self._found: dict[int, As2Call | None] = {}
-        tree = checker.tree
-        for node in ast.walk(tree):
+        for node in checker.nodes:
             if isinstance(node, ast.ClassDef):
                 self._class(node)
-        for node in ast.walk(tree):
+        for node in checker.nodes:
             if isinstance(node, ast.Call):
                 made = self.constructed(node)
                 if made is not None:
@@ -179,10 +180,13 @@ class DroneObjects:
         """True when the script may drive more than one drone (two constructions, or one in a loop)."""
         if len(self.constructions) > 1:
             return True
-        made = {id(c) for c in self.constructions}
         loops = (ast.For, ast.AsyncFor, ast.While, ast.ListComp, ast.DictComp, ast.GeneratorExp, ast.SetComp)
-        return any(isinstance(node, loops) and any(id(c) in made for c in ast.walk(node))
-                   for node in ast.walk(self.checker.tree))
+        node = self.checker.parents.get(id(self.constructions[0])) if self.constructions else None
+        while node is not None:
+            if isinstance(node, loops):
+                return True
+            node = self.checker.parents.get(id(node))
+        return False
 
     # -- calls --------------------------------------------------------------------------------------------
     def as2_call(self, call: ast.Call, report: bool = False) -> As2Call | None:

@@ -150,28 +150,30 @@ def install() -> None:
 
 
 
-def ros_problems(tree: Any, dotted: Any) -> list[tuple[Any, str, str]]:
+def ros_problems(nodes: list[Any], dotted: Any) -> list[tuple[Any, str, str]]:
     """``(node, severity, message)`` for the ROS a program uses beyond what aeroexec provides: an error at each
-    line that uses it, a warning at an import nothing uses. ``dotted(node)`` is the checker's dotted path of an
-    expression (``rospy.init_node``), through the program's imports."""
+    line that uses it, a warning at an import nothing uses. ``nodes`` are the program's AST nodes,
+    ``dotted(node)`` the checker's dotted path of an expression (``rospy.init_node``) through its imports."""
     import ast
 
     imports: list[tuple[ast.stmt, str]] = []  # (statement, imported path)
-    for node in ast.walk(tree):
+    modules: set[str] = set()
+    for node in nodes:
         if isinstance(node, ast.Import):
             imports += [(node, a.name) for a in node.names if is_ros(a.name)]
-        elif isinstance(node, ast.ImportFrom) and node.module and not node.level and is_ros(node.module):
-            imports += [(node, f"{node.module}.{a.name}") for a in node.names if a.name != "*"]
+            modules |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            modules.add(node.module.split(".")[0])
+            if is_ros(node.module):
+                imports += [(node, f"{node.module}.{a.name}") for a in node.names if a.name != "*"]
     if not imports:
         return []
-    modules = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
-    modules |= {n.module.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
     ros1 = bool(modules & ROS1_PACKAGES) or bool(modules & set(AEROSTACK_APIS))
     problems: list[tuple[Any, str, str]] = []
     used: set[str] = set()  # imported paths something uses
     seen: set[tuple[int, str]] = set()
-    outermost = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
-    for node in ast.walk(tree):
+    outermost = {id(n.value) for n in nodes if isinstance(n, ast.Attribute)}
+    for node in nodes:
         if not isinstance(node, ast.Name | ast.Attribute) or id(node) in outermost:
             continue
         if isinstance(node, ast.Name) and not isinstance(node.ctx, ast.Load):

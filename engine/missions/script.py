@@ -23,7 +23,7 @@ import threading
 import time
 import types
 import weakref
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -48,11 +48,12 @@ class DroneNotFound(LookupError):
     """A drone interface names a drone this run does not fly."""
 
 
-def is_script(tree: ast.Module) -> bool:
-    """True for an Aerostack2 script: no ``mission()``/``runMission()`` at top level, and an import of its API."""
+def is_script(tree: ast.Module, nodes: Iterable[ast.AST] | None = None) -> bool:
+    """True for an Aerostack2 script: no ``mission()``/``runMission()`` at top level, and an import of its API
+    (among ``nodes``, the program's when already walked)."""
     if any(isinstance(n, ast.FunctionDef) and n.name in ("mission", "runMission") for n in tree.body):
         return False
-    for node in ast.walk(tree):
+    for node in ast.walk(tree) if nodes is None else nodes:
         names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                  [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level else [])
         if any(name.split(".")[0] in SCRIPT_APIS for name in names):

@@ -183,10 +183,10 @@ FORMATS = {f.name: f for f in [
            _mission),
     Format("YAML trees", ".yaml", _files("missions/square_patrol.yaml", "missions/iarc7.yaml",
                                          "tests/trees/data/inspection.yaml",  # and Aerostack2's interpreter plans
-                                         "tests/aerostack/data/aerostack2_plans/*.yaml"), _mission),
+                                         "tests/aerostack/data/aerostack2_plans/*.yaml"),  # (.json: the same reader)
+           _mission),
     Format("Aerostack nodes: YAML", ".yaml", _files("tests/trees/data/inspection_aerostack.yaml",
                                                     "tests/trees/data/aerostack_tower_inspection.yaml"), _mission),
-    Format("Aerostack2 interpreter JSON", ".json", _files("tests/aerostack/data/aerostack2_plans/*.json"), _mission),
     Format("catalogs", ".yaml", _files("catalogs/aerial.yaml"), _catalog_file),
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
