@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(answer, indent=2))
     elif answer.get("ok"):
         print(f"{run_name(answer)}{answer.get('message', 'ok')}")
-        if "status" in answer:
+        if "position" in answer.get("status", {}):
             print(describe_status(answer["status"]))
         for unification in answer.get("answers", []):
             print("  " + (", ".join(f"{k} = {v}" for k, v in unification.items()) or "true"))

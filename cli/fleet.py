@@ -19,6 +19,7 @@ import threading
 from pathlib import Path
 
 from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_arguments, add_surface_arguments, say
+from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.engine.supervision.supervisor import is_flying
@@ -45,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the missions' questions from FILE (YAML: question -> answer, or a list)")
+    add_home_argument(parser)
     add_plugin_arguments(parser)
     add_surface_arguments(parser)
 
@@ -102,7 +104,8 @@ def fly_fleet(args: argparse.Namespace) -> int:
     watched = live or args.web is not None  # in a browser too; questions then wait for an answer
     base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
                       catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
-                      updaters=tuple(args.updater), max_time=args.max_time, answers=args.answers)
+                      updaters=tuple(args.updater), max_time=args.max_time, home=args.home,
+                      answers=args.answers)
     with ending_signals():
         try:
             folder = prepare_output(args.output)

@@ -130,7 +130,7 @@ class ConsoleFeed:
         if self.tree is None:  # a tree mission attaches itself to the supervisor when it starts
             self.tree = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
         if self.tree is not None:
-            from aeroexec.trees.runtime.control import status_name
+            from aeroexec.trees.runtime.ticking import status_name
 
             return {"kind": "tree", "name": self.tree.name,
                     "nodes": [{"uid": uid, "depth": depth, "name": node.name, "status": status_name(node)}

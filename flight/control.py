@@ -69,8 +69,9 @@ class ControlServer:
         self._thread = threading.Thread(target=self._accept, name="aeroexec-control", daemon=True)
 
     def start(self) -> ControlServer:
-        """Write ``control.json`` (mode 0600) in the folder, then accept connections in a daemon thread."""
-        if self._folder is not None:
+        """List the run in the runtime directory, accept connections in a daemon thread, and with the engine
+        there, write ``control.json`` (mode 0600) in the folder (:meth:`attach` does it for a run that starts)."""
+        if self._folder is not None and self.engine is not None:
             self.file = write_control_file(self._folder, self.port, self.token)
         if self._register:
             try:
@@ -80,6 +81,12 @@ class ControlServer:
         self._thread.start()
         logger.info("control socket on %s:%d", HOST, self.port)
         return self
+
+    def attach(self, engine: Any) -> None:
+        """The run's engine is built: commands go to it, and ``control.json`` says where the run flies."""
+        self.engine = engine
+        if self._folder is not None and self.file is None and not self._closed.is_set():
+            self.file = write_control_file(self._folder, self.port, self.token)
 
     def close(self) -> None:
         """Stop accepting and remove ``control.json``; returns promptly."""

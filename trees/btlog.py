@@ -41,9 +41,9 @@ from typing import Any
 
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.trees.groot import tree_nodes_model
-from aeroexec.trees.node_types import CONTROL_TYPES, DECORATOR_TYPES
 from aeroexec.trees.runtime.builder import model_of
-from aeroexec.trees.runtime.control import status_name
+from aeroexec.trees.runtime.registry import CONTROLS, DECORATORS
+from aeroexec.trees.runtime.ticking import status_name
 from py_trees.behaviour import Behaviour
 
 from aeroexec.limits import InputError, read_bytes
@@ -258,10 +258,10 @@ class TransitionTracker:
     def _tick(self, node: Behaviour, seen: set[int]) -> None:
         kind = self.kinds[id(node)]
         uid = self.uids[id(node)]
-        every_tick = kind in CONTROL_TYPES or (kind in DECORATOR_TYPES and kind not in RUNNING_FROM_IDLE)
+        every_tick = kind in CONTROLS or (kind in DECORATORS and kind not in RUNNING_FROM_IDLE)
         if every_tick or (kind in RUNNING_FROM_IDLE and self.status[uid] == "IDLE"):
             self._set(node, "RUNNING")
-        decorator = kind in DECORATOR_TYPES or kind == "SubTree"
+        decorator = kind in DECORATORS or kind == "SubTree"
         children = self.children[id(node)]
         for index, child in enumerate(children):
             if id(child) not in seen:

@@ -15,30 +15,24 @@ import xml.etree.ElementTree as ElementTree
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE
+from aeroexec.trees.runtime.belief_leaves import CheckBelief
+from aeroexec.trees.runtime.ports import ANY, BOOL, DOUBLE, INT, STRING
+from aeroexec.trees.runtime.registry import BUILT_IN
 
-ANY = "BT::AnyTypeAllowed"
+ANY_TYPE = "BT::AnyTypeAllowed"
 _TYPES = {"NUMBER": "double", "INTEGER": "int", "BOOLEAN": "bool", "TEXT": "std::string", "BELIEF": "std::string"}
 
-#: The engine's leaves that are not catalog behaviors: (kind, ID, [(direction, port, type, description)]).
-ENGINE_LEAVES = [
-    ("Condition", "CheckBelief", [("input", "belief", "std::string", "a belief expression; SUCCESS when it holds")]),
-    ("Action", "QueryBelief", [("input", "belief", "std::string",
-                                "a belief expression; its variables go to the blackboard")]),
-    ("Action", "AddBelief", [("input", "belief", "std::string", "a ground belief to add"),
-                             ("input", "multivalued", "bool", "a predicate the catalog does not declare may hold "
-                                                              "several values at once (default false)")]),
-    ("Action", "RemoveBelief", [("input", "belief", "std::string", "a belief pattern; matching beliefs are removed")]),
-    ("Action", "AskBehavior", [("input", "behavior", "std::string", "a deliberative behavior of the catalog"),
-                               ("output", "result", ANY, "the blackboard key that receives its result"),
-                               ("input", "timeout", "double", "seconds before the behavior times out")]),
-]
+#: The engine's leaves that are not catalog behaviors, as the palette lists them (their ports are their classes').
+ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AskBehavior")
+#: C++ types of the runtime's port types.
+_CPP_TYPES = {STRING: "std::string", BOOL: "bool", INT: "int", DOUBLE: "double", ANY: ANY_TYPE}
 
 
 def port_type(argument: ArgumentDescriptor) -> str:
     """The C++ type BehaviorTree.CPP would give the argument's port (AnyTypeAllowed for points, paths, lists)."""
     if argument.choices or argument.dimensions > 1:
-        return "std::string" if argument.choices else ANY
-    return _TYPES.get(argument.value_type or "", ANY if argument.value_type else "double")
+        return "std::string" if argument.choices else ANY_TYPE
+    return _TYPES.get(argument.value_type or "", ANY_TYPE if argument.value_type else "double")
 
 
 def _argument_port(parent: ElementTree.Element, argument: ArgumentDescriptor) -> None:
@@ -69,10 +63,12 @@ def tree_nodes_model(catalog: BehaviorCatalog) -> str:
         if "timeout" not in behavior.arguments:
             ElementTree.SubElement(action, "input_port", name="timeout", type="double").text = (
                 "seconds before the behavior times out (overrides the catalog's)")
-    for kind, identifier, ports in ENGINE_LEAVES:
-        leaf = ElementTree.SubElement(model, kind, ID=identifier)
-        for direction, name, kind_of, text in ports:
-            ElementTree.SubElement(leaf, f"{direction}_port", name=name, type=kind_of).text = text
+    for identifier in ENGINE_LEAVES:
+        cls = BUILT_IN[identifier]
+        leaf = ElementTree.SubElement(model, "Condition" if issubclass(cls, CheckBelief) else "Action", ID=identifier)
+        for port in cls.ports:
+            ElementTree.SubElement(leaf, f"{port.direction}_port", name=port.name,
+                                   type=_CPP_TYPES[port.type]).text = port.description
         if identifier == "AskBehavior":
             for argument in asked.values():
                 if argument.name not in ("behavior", "result", "timeout"):

@@ -10,6 +10,16 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
+#: Attributes every node may have besides its ports: BehaviorTree.CPP's pre-conditions (scripts).
+PRECONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")
+#: Scripts run when a node completes: BehaviorTree.CPP's post-conditions.
+POSTCONDITIONS = ("_onSuccess", "_onFailure", "_onHalted", "_post")
+#: Aerostack's dialect: "false" lets the node of a recurrent behavior succeed once the behavior is active.
+WAIT_FOR_COMPLETION = "_wait_for_completion"
+#: Attributes that are never ports (nor arguments of a behavior).
+COMMON_ATTRIBUTES = ("name", "ID", "_description", "_uid", "_fullpath", "_autoremap", WAIT_FOR_COMPLETION,
+                     *PRECONDITIONS, *POSTCONDITIONS)
+
 
 @dataclass
 class TreeNode:

@@ -16,9 +16,8 @@ from __future__ import annotations
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.trees.groot import palette_ports
-from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, bare_key
-from aeroexec.trees.ports import template_keys
+from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
+from aeroexec.trees.ports import bare_key, template_keys
 from aeroexec.trees.script import ScriptError, compile_script
 
 KIND = "NOT_PORTABLE"

@@ -16,9 +16,9 @@ from collections.abc import Callable, MutableMapping
 from importlib import resources
 from typing import Any
 
-__all__ = ["Script", "ScriptError", "compile_script", "text_of", "truth"]
+__all__ = ["Script", "ScriptCompiler", "ScriptError", "compile_script", "text_of", "truth"]
 
-from lark import Lark, Token, Tree
+from lark import Lark, Transformer, Tree
 from lark.exceptions import LarkError
 
 from aeroexec.limits import MAX_NESTING
@@ -107,11 +107,29 @@ def _scope(board: MutableMapping[str, Any], name: str) -> tuple[MutableMapping[s
     return board, name[1:]
 
 
-def _compile(node: Tree | Token) -> Evaluator:
-    kind = node.data if isinstance(node, Tree) else ""
-    kids = node.children if isinstance(node, Tree) else []
-    if kind == "assignment":
-        written, op, value = str(kids[0]), str(kids[1]), _compile(kids[2])
+def _read(written: str) -> Evaluator:
+    def read(board, beliefs):
+        board, name = _scope(board, written)
+        if name not in board:
+            raise ScriptError(f"Variable not found: {name}")
+        return board[name]
+
+    return read
+
+
+def _constant(value: Value) -> Evaluator:
+    return lambda board, beliefs: value
+
+
+class ScriptCompiler(Transformer):
+    """The parse tree of a script as evaluators (``(blackboard, beliefs) -> value``), one method per rule it
+    builds; ``start`` gives the list of statements."""
+
+    def start(self, statements: list[Evaluator | None]) -> list[Evaluator]:
+        return [s for s in statements if s is not None]
+
+    def assignment(self, children: list) -> Evaluator:
+        written, op, value = str(children[0]), str(children[1]), children[2]
 
         def assign(board, beliefs):
             board, name = _scope(board, written)
@@ -131,15 +149,17 @@ def _compile(node: Tree | Token) -> Evaluator:
             return result
 
         return assign
-    if kind == "choice":
-        test, then, otherwise = (_compile(k) for k in kids)
+
+    def choice(self, children: list) -> Evaluator:
+        test, then, otherwise = children
         return lambda board, beliefs: (then if truth(test(board, beliefs)) else otherwise)(board, beliefs)
-    if kind == "binary":
-        left, op, right = _compile(kids[0]), str(kids[1]), _compile(kids[2])
+
+    def binary(self, children: list) -> Evaluator:
+        left, op, right = children[0], str(children[1]), children[2]
         return lambda board, beliefs: _binary(op, left(board, beliefs), right(board, beliefs))
-    if kind == "compare":
-        operands = [_compile(k) for k in kids[0::2]]
-        ops = [str(k) for k in kids[1::2]]
+
+    def compare(self, children: list) -> Evaluator:
+        operands, ops = children[0::2], [str(op) for op in children[1::2]]
 
         def compare(board, beliefs):
             left = operands[0](board, beliefs)
@@ -151,26 +171,21 @@ def _compile(node: Tree | Token) -> Evaluator:
             return 1.0
 
         return compare
-    if kind == "unary":
-        op, operand = str(kids[0]), _compile(kids[1])
+
+    def unary(self, children: list) -> Evaluator:
+        op, operand = str(children[0]), children[1]
 
         def unary(board, beliefs):
             value = _number(operand(board, beliefs), op)
             return float(-value) if op == "-" else float(not value) if op == "!" else float(~int(value))
 
         return unary
-    if kind == "name":
-        named = str(kids[0])
 
-        def read(board, beliefs):
-            board, name = _scope(board, named)
-            if name not in board:
-                raise ScriptError(f"Variable not found: {name}")
-            return board[name]
+    def name(self, children: list) -> Evaluator:
+        return _read(str(children[0]))
 
-        return read
-    if kind == "belief":
-        expression = str(kids[0])[1:-1]
+    def belief(self, children: list) -> Evaluator:
+        expression = str(children[0])[1:-1]
 
         def belief(board, beliefs):
             if beliefs is None:
@@ -178,10 +193,24 @@ def _compile(node: Tree | Token) -> Evaluator:
             return float(beliefs(expression))
 
         return belief
-    constant = {"true": lambda: 1, "false": lambda: 0, "string": lambda: str(kids[0])[1:-1],
-                "real": lambda: float(kids[0]), "hex": lambda: int(str(kids[0]), 16),
-                "integer": lambda: int(kids[0])}[kind]()
-    return lambda board, beliefs: constant
+
+    def true(self, children: list) -> Evaluator:
+        return _constant(1)
+
+    def false(self, children: list) -> Evaluator:
+        return _constant(0)
+
+    def string(self, children: list) -> Evaluator:
+        return _constant(str(children[0])[1:-1])
+
+    def real(self, children: list) -> Evaluator:
+        return _constant(float(children[0]))
+
+    def hex(self, children: list) -> Evaluator:
+        return _constant(int(str(children[0]), 16))
+
+    def integer(self, children: list) -> Evaluator:
+        return _constant(int(children[0]))
 
 
 class Script:
@@ -199,7 +228,7 @@ class Script:
                               f"{MAX_NESTING} levels deep")
         if not statements:
             raise ScriptError(f"Empty Script [{text}]")
-        self.statements = [_compile(s) for s in statements]
+        self.statements: list[Evaluator] = ScriptCompiler().transform(tree)
         self.portable = "belief" not in {t.data for t in tree.iter_subtrees()}
         #: the blackboard keys the script assigns
         self.writes = [str(t.children[0]) for t in tree.iter_subtrees() if t.data == "assignment"]

@@ -26,9 +26,9 @@ from collections.abc import Callable
 
 from aeroexec.engine.catalog.specialist import BehaviorSpecialist, PhenomenonState, Request
 from aeroexec.engine.errors import WRONG_SEQUENCE
-from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import BUILT_IN, LOOPING, PRECONDITIONS
+from aeroexec.trees.model import PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import parse_number, request_from_ports, template_keys
+from aeroexec.trees.runtime.registry import BUILT_IN, LOOPING
 
 State = dict[str, PhenomenonState | None]  # None: unknown
 Exits = tuple[State | None, State | None]  # after SUCCESS, after FAILURE; None when it cannot end that way

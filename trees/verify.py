@@ -25,17 +25,9 @@ from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.engine.yaml_nodes import suggestion
-from aeroexec.trees.model import TreeDocument, TreeNode
-from aeroexec.trees.node_types import (
-    BUILT_IN,
-    COMMON_ATTRIBUTES,
-    LOOPING,
-    POSTCONDITIONS,
-    PRECONDITIONS,
-    bare_key,
-    output_key,
-)
-from aeroexec.trees.ports import parse_number, port_errors, template_keys
+from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
+from aeroexec.trees.ports import bare_key, output_key, parse_number, port_errors, template_keys
+from aeroexec.trees.runtime.registry import BUILT_IN, LOOPING, children_text, ports_of
 from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 from aeroexec.trees.subtrees import check_expansion, check_subtree_paths
@@ -120,7 +112,7 @@ class TreeVerifier:
             self.report(node, f"The behavior {kind} does not exist{suggestion(kind, self._node_types)}")
         else:
             self.check_children(node, spec.min_children if spec else 0, spec.max_children if spec else 0,
-                                spec.children_text() if spec else "no children")
+                                children_text(kind) if spec else "no children")
         for attribute in PRECONDITIONS:
             if attribute in node.ports:
                 self.check_condition(node, attribute, node.ports[attribute])
@@ -130,7 +122,7 @@ class TreeVerifier:
             if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
                 self.check_script(node, attribute, node.ports[attribute])
         if spec is not None:
-            self.check_built_in(node, spec)
+            self.check_built_in(node)
         elif behavior is not None:
             self.request_problems(node, port_errors(self.specialist, kind, node.ports))
 
@@ -139,24 +131,25 @@ class TreeVerifier:
         if count < low or (high is not None and count > high):
             self.report(node, f"The node {node.type} must have {text}, not {count}")
 
-    def check_built_in(self, node: TreeNode, spec) -> None:
+    def check_built_in(self, node: TreeNode) -> None:
         kind = node.type
+        declared = ports_of(kind)
         extra = () if kind != "AskBehavior" else tuple(self._ask_arguments(node))
         for port in node.ports:
-            if port in COMMON_ATTRIBUTES or port in spec.ports or port in extra or kind == "SubTree":
+            if port in COMMON_ATTRIBUTES or port in declared or port in extra or kind == "SubTree":
                 continue
             self.report(node, f"The port {port} of node {kind} does not exist"
-                              f"{suggestion(port, spec.ports) if spec.ports else ' (it has no ports)'}")
-        for port in spec.required:
-            if not node.ports.get(port, "").strip():
-                self.report(node, f"The node {kind} needs the port {port}")
+                              f"{suggestion(port, declared) if declared else ' (it has no ports)'}")
+        for port in declared.values():
+            if port.required and not node.ports.get(port.name, "").strip():
+                self.report(node, f"The node {kind} needs the port {port.name}")
         for port, minimum in _INTEGER_PORTS.items():
-            if port in spec.ports and node.ports.get(port, "").strip():
+            if port in declared and node.ports.get(port, "").strip():
                 self.check_integer(node, port, minimum)
         if kind == "Parallel":
             self.check_parallel(node)
         for port, allowed in _STATUS_PORTS.items():
-            if port in spec.ports and node.ports.get(port, "").strip() not in ("", *allowed):
+            if port in declared and node.ports.get(port, "").strip() not in ("", *allowed):
                 self.report(node, f"The value {node.ports[port]} of port {port} of node {kind} is not correct "
                                   f"({', '.join(allowed)} is expected)", WRONG_VALUE)
         if kind == "RunOnce" and node.ports.get("then_skip", "true").strip().lower() not in ("true", "false"):

@@ -126,7 +126,7 @@ class LiveView:
         if self.tree is None:  # a tree mission attaches itself to the supervisor when it starts
             self.tree = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
         if self.tree is not None:
-            from aeroexec.trees.runtime.control import status_name
+            from aeroexec.trees.runtime.ticking import status_name
 
             return [(depth, status_name(node), node.name) for depth, node in self.tree.nodes]
         line = mission_line(self.mission_file) if self.mission_file else None

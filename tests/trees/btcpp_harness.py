@@ -43,9 +43,8 @@ from aeroexec.engine.catalog import default_catalog
 from aeroexec.trees.loaders.xml_loader import read_xml
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree, describe, model_of
-from aeroexec.trees.runtime.control import result_of
-from aeroexec.trees.runtime.nodes import TreeContext
-from aeroexec.trees.runtime.ticking import TickState, attach, tick_tree
+from aeroexec.trees.runtime.context import TreeContext
+from aeroexec.trees.runtime.ticking import TickState, attach, result_of, tick_tree
 from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status

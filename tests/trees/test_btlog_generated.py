@@ -20,8 +20,7 @@ from aeroexec.trees.loaders.xml_writer import write_xml
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import TreeBuilder, describe
-from aeroexec.trees.runtime.control import status_name
-from aeroexec.trees.runtime.ticking import TickState, attach, result_name, tick_tree
+from aeroexec.trees.runtime.ticking import TickState, attach, result_name, status_name, tick_tree
 from btcpp_files import settle
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -48,15 +47,12 @@ class Scripted(Behaviour):
 
 
 class ScriptedBuilder(TreeBuilder):
+    """The scripted leaves registered as a leaf type of the caller's."""
+
     def __init__(self, document: TreeDocument, clock: list[int]) -> None:
         context = SimpleNamespace(engine=SimpleNamespace(catalog=default_catalog()), now=lambda: 0.0)
-        super().__init__(document, context)  # type: ignore[arg-type]
-        self.clock = clock
-
-    def _make(self, model, board, stack):  # type: ignore[no-untyped-def]
-        if model.type == "Scripted":
-            return Scripted(model.name, model.ports["_script"], self.clock)
-        return super()._make(model, board, stack)
+        leaves = {"Scripted": lambda model, board: Scripted(model.name, model.ports["_script"], clock)}
+        super().__init__(document, context, leaves)  # type: ignore[arg-type]
 
 
 def _subtree(child: TreeNode) -> TreeNode:

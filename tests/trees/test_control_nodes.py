@@ -2,28 +2,28 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import py_trees
 import pytest
-from aeroexec.trees.runtime.control import (
-    FallbackNode,
-    IfThenElseNode,
-    ParallelNode,
-    ReactiveNode,
-    SequenceNode,
-    SequenceWithMemory,
-    WhileDoElseNode,
-    status_name,
-)
+from aeroexec.trees.runtime.branches import IfThenElse, WhileDoElse
+from aeroexec.trees.runtime.controls import Fallback, ReactiveFallback, ReactiveSequence, Sequence, SequenceWithMemory
 from aeroexec.trees.runtime.decorators import (
     Delay,
-    Force,
+    ForceFailure,
+    ForceSuccess,
     Inverter,
     KeepRunningUntilFailure,
-    Loop,
-    Preconditions,
+    Repeat,
+    RetryUntilSuccessful,
     RunOnce,
     Timeout,
 )
+from aeroexec.trees.runtime.node_conditions import NodeConditions
+from aeroexec.trees.runtime.parallels import Parallel
+from aeroexec.trees.runtime.ports import NodeConfig
+from aeroexec.trees.runtime.registry import BUILT_IN
+from aeroexec.trees.runtime.ticking import status_name
 from py_trees.common import Status
 
 S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
@@ -63,10 +63,15 @@ class Clock:
         return self.now
 
 
+def config(kind: str, clock: Clock | None = None, **ports: str) -> NodeConfig:
+    """A node of type ``kind`` with these ports, its context's clock ``clock``."""
+    return NodeConfig.of(kind, ports, context=SimpleNamespace(now=clock))
+
+
 # -- sequences ---------------------------------------------------------------------------------
 def test_sequence_ticks_the_running_child_again_without_the_ones_before():
     a, b, c = Scripted("a", S), Scripted("b", R, R, S), Scripted("c", S)
-    sequence = SequenceNode("seq", [a, b, c])
+    sequence = Sequence("seq", [a, b, c])
     assert tick(sequence) == "RUNNING"
     assert tick(sequence) == "RUNNING"
     assert tick(sequence) == "SUCCESS"
@@ -75,7 +80,7 @@ def test_sequence_ticks_the_running_child_again_without_the_ones_before():
 
 def test_sequence_restarts_from_the_first_child_after_a_failure():
     a, b = Scripted("a", S), Scripted("b", F, S)
-    sequence = SequenceNode("seq", [a, b])
+    sequence = Sequence("seq", [a, b])
     assert tick(sequence) == "FAILURE"
     assert tick(sequence) == "SUCCESS"
     assert a.ticks == 2 and b.ticks == 2
@@ -92,7 +97,7 @@ def test_sequence_with_memory_ticks_the_failed_child_again_not_the_ones_before()
 
 def test_reactive_sequence_ticks_every_child_each_time_and_halts_the_running_one_when_a_condition_fails():
     condition, action = Scripted("battery_ok", S, S, F), Scripted("fly", R)
-    sequence = ReactiveNode("reactive", [condition, action])
+    sequence = ReactiveSequence("reactive", [condition, action])
     assert tick(sequence, 2) == "RUNNING"
     assert condition.ticks == 2 and action.ticks == 2 and action.starts == 1
     assert tick(sequence) == "FAILURE"
@@ -102,16 +107,16 @@ def test_reactive_sequence_ticks_every_child_each_time_and_halts_the_running_one
 # -- fallbacks ---------------------------------------------------------------------------------
 def test_fallback_ticks_the_running_child_again_and_stops_at_the_first_success():
     a, b, c = Scripted("a", F), Scripted("b", R, S), Scripted("c", S)
-    fallback = FallbackNode("fb", [a, b, c])
+    fallback = Fallback("fb", [a, b, c])
     assert tick(fallback) == "RUNNING"
     assert tick(fallback) == "SUCCESS"
     assert (a.ticks, b.ticks, c.ticks) == (1, 2, 0)
-    assert tick(FallbackNode("all fail", [Scripted("x", F), Scripted("y", F)])) == "FAILURE"
+    assert tick(Fallback("all fail", [Scripted("x", F), Scripted("y", F)])) == "FAILURE"
 
 
 def test_reactive_fallback_lets_a_higher_priority_child_take_over_and_halts_the_running_one():
     urgent, routine = Scripted("urgent", F, F, S), Scripted("routine", R)
-    fallback = ReactiveNode("rf", [urgent, routine], fallback=True)
+    fallback = ReactiveFallback("rf", [urgent, routine])
     assert tick(fallback, 2) == "RUNNING"
     assert tick(fallback) == "SUCCESS"
     assert routine.halts == 1 and urgent.ticks == 3
@@ -120,47 +125,47 @@ def test_reactive_fallback_lets_a_higher_priority_child_take_over_and_halts_the_
 # -- parallel ----------------------------------------------------------------------------------
 def test_parallel_by_default_needs_every_child_and_fails_at_the_first_failure_halting_the_others():
     a, b = Scripted("a", S), Scripted("b", R, R, S)
-    parallel = ParallelNode("par", [a, b])
+    parallel = Parallel("par", [a, b])
     assert tick(parallel) == "RUNNING"
     assert tick(parallel) == "RUNNING"
     assert tick(parallel) == "SUCCESS"
     assert a.ticks == 1  # a completed child is not ticked again
     c, d = Scripted("c", R), Scripted("d", F)
-    assert tick(ParallelNode("par", [c, d])) == "FAILURE"
+    assert tick(Parallel("par", [c, d])) == "FAILURE"
     assert c.halts == 1
 
 
 def test_parallel_thresholds():
     a, b, c = Scripted("a", R, S), Scripted("b", R), Scripted("c", R)
-    parallel = ParallelNode("one", [a, b, c], success_count=1, failure_count=3)
+    parallel = Parallel("one", [a, b, c], config("Parallel", success_count="1", failure_count="3"))
     assert tick(parallel) == "RUNNING"
     assert tick(parallel) == "SUCCESS"
     assert b.halts == 1 and c.halts == 1
     x, y, z = Scripted("x", F), Scripted("y", R, F), Scripted("z", R)
-    parallel = ParallelNode("two failures", [x, y, z], success_count=1, failure_count=2)
+    parallel = Parallel("two failures", [x, y, z], config("Parallel", success_count="1", failure_count="2"))
     assert tick(parallel) == "RUNNING"  # one failure of the two allowed
     assert tick(parallel) == "FAILURE"
     assert z.halts == 1
-    impossible = ParallelNode("cannot succeed", [Scripted("p", F), Scripted("q", R)], success_count=2,
-                              failure_count=2)
+    impossible = Parallel("cannot succeed", [Scripted("p", F), Scripted("q", R)],
+                          config("Parallel", success_count="2", failure_count="2"))
     assert tick(impossible) == "FAILURE"  # two successes are no longer possible
 
 
 # -- conditional nodes ------------------------------------------------------------------------------
 def test_if_then_else_ticks_its_condition_once_then_the_branch():
     condition, then, other = Scripted("if", S), Scripted("then", R, S), Scripted("else", S)
-    node = IfThenElseNode("ite", [condition, then, other])
+    node = IfThenElse("ite", [condition, then, other])
     assert tick(node) == "RUNNING"
     assert tick(node) == "SUCCESS"
     assert condition.ticks == 1 and then.ticks == 2 and other.ticks == 0
-    assert tick(IfThenElseNode("no else", [Scripted("if", F), Scripted("then", S)])) == "FAILURE"
+    assert tick(IfThenElse("no else", [Scripted("if", F), Scripted("then", S)])) == "FAILURE"
     condition, then, other = Scripted("if", F), Scripted("then", S), Scripted("else", F)
-    assert tick(IfThenElseNode("ite", [condition, then, other])) == "FAILURE" and then.ticks == 0
+    assert tick(IfThenElse("ite", [condition, then, other])) == "FAILURE" and then.ticks == 0
 
 
 def test_while_do_else_checks_its_condition_every_tick_and_halts_the_branch_it_leaves():
     condition, body, other = Scripted("while", S, S, F), Scripted("do", R), Scripted("else", R)
-    node = WhileDoElseNode("wde", [condition, body, other])
+    node = WhileDoElse("wde", [condition, body, other])
     assert tick(node, 2) == "RUNNING"
     assert tick(node) == "RUNNING"
     assert body.halts == 1 and other.ticks == 1 and condition.ticks == 3
@@ -169,20 +174,20 @@ def test_while_do_else_checks_its_condition_every_tick_and_halts_the_branch_it_l
 # -- decorators ---------------------------------------------------------------------------------
 def test_timeout_on_the_engine_clock_halts_its_child_and_fails():
     clock, child = Clock(), Scripted("slow", R)
-    timeout = Timeout("timeout", child, 1.5, clock)
+    timeout = Timeout("timeout", child, config("Timeout", clock, msec="1500"))
     assert tick(timeout) == "RUNNING"
     clock.now = 1.0
     assert tick(timeout) == "RUNNING"
     clock.now = 1.5
     assert tick(timeout) == "FAILURE"
     assert child.halts == 1 and child.ticks == 2
-    fast = Timeout("timeout", Scripted("fast", R, S), 1.5, clock)
+    fast = Timeout("timeout", Scripted("fast", R, S), config("Timeout", clock, msec="1500"))
     assert tick(fast, 2) == "SUCCESS"
 
 
 def test_delay_ticks_its_child_only_after_the_delay():
     clock, child = Clock(), Scripted("late", S)
-    delay = Delay("delay", child, 2.0, clock)
+    delay = Delay("delay", child, config("Delay", clock, delay_msec="2000"))
     assert tick(delay) == "RUNNING"
     clock.now = 1.9
     assert tick(delay) == "RUNNING" and child.ticks == 0
@@ -192,21 +197,22 @@ def test_delay_ticks_its_child_only_after_the_delay():
 
 def test_retry_until_successful_ticks_a_failing_child_again_up_to_num_attempts():
     child = Scripted("flaky", R, F, R, F, R, S)  # a failure starts the child again within the same tick
-    retry = Loop("retry", child, 3, retry=True)
+    retry = RetryUntilSuccessful("retry", child, config("RetryUntilSuccessful", num_attempts="3"))
     assert [tick(retry) for _ in range(4)] == ["RUNNING"] * 3 + ["SUCCESS"]
     assert child.starts == 3
-    stubborn = Loop("retry", Scripted("never", R, F, R, F, R), 2, retry=True)
+    stubborn = RetryUntilSuccessful("retry", Scripted("never", R, F, R, F, R),
+                                    config("RetryUntilSuccessful", num_attempts="2"))
     assert [tick(stubborn) for _ in range(3)] == ["RUNNING", "RUNNING", "FAILURE"]
 
 
 def test_repeat_runs_its_child_num_cycles_times_and_stops_at_a_failure():
     child = Scripted("lap", R, S, R, S, R, S, R)  # a success starts the child again within the same tick
-    repeat = Loop("repeat", child, 3, retry=False)
+    repeat = Repeat("repeat", child, config("Repeat", num_cycles="3"))
     assert [tick(repeat) for _ in range(4)] == ["RUNNING"] * 3 + ["SUCCESS"]
     assert child.starts == 3
-    failing = Loop("repeat", Scripted("bad", F), 3, retry=False)
+    failing = Repeat("repeat", Scripted("bad", F), config("Repeat", num_cycles="3"))
     assert tick(failing) == "FAILURE"
-    instantaneous = Loop("forever", Scripted("quick", S), -1, retry=False)
+    instantaneous = Repeat("forever", Scripted("quick", S), config("Repeat", num_cycles="-1"))
     assert tick(instantaneous, 5) == "RUNNING"  # one cycle per tick, never spinning inside one
 
 
@@ -221,7 +227,7 @@ def test_run_once_then_skips():
     once = RunOnce("once", child)
     assert tick(once) == "SUCCESS"
     assert tick(once) == "SKIPPED" and child.ticks == 1
-    again = RunOnce("remembers", Scripted("bad", F), then_skip=False)
+    again = RunOnce("remembers", Scripted("bad", F), config("RunOnce", then_skip="false"))
     assert tick(again, 3) == "FAILURE"
 
 
@@ -229,34 +235,34 @@ def test_inverter_and_forced_results():
     assert tick(Inverter("not", Scripted("a", S))) == "FAILURE"
     assert tick(Inverter("not", Scripted("a", F))) == "SUCCESS"
     assert tick(Inverter("not", Scripted("a", R))) == "RUNNING"
-    assert tick(Force("ok", Scripted("a", F), Status.SUCCESS)) == "SUCCESS"
-    assert tick(Force("ko", Scripted("a", S), Status.FAILURE)) == "FAILURE"
+    assert tick(ForceSuccess("ok", Scripted("a", F))) == "SUCCESS"
+    assert tick(ForceFailure("ko", Scripted("a", S))) == "FAILURE"
 
 
 # -- pre-conditions and SKIPPED -------------------------------------------------------------------
 def test_skip_if_passes_a_node_over_in_a_sequence_and_in_a_fallback():
     skipped, after = Scripted("skipped", F), Scripted("after", S)
-    sequence = SequenceNode("seq", [Preconditions("skipped", skipped, {"_skipIf": lambda: True}), after])
+    sequence = Sequence("seq", [NodeConditions("skipped", skipped, {"_skipIf": lambda: True}), after])
     assert tick(sequence) == "SUCCESS" and skipped.ticks == 0
     alternative = Scripted("alternative", S)
-    fallback = FallbackNode("fb", [Preconditions("s", Scripted("x", S), {"_skipIf": lambda: True}), alternative])
+    fallback = Fallback("fb", [NodeConditions("s", Scripted("x", S), {"_skipIf": lambda: True}), alternative])
     assert tick(fallback) == "SUCCESS" and alternative.ticks == 1  # skipped is not success for a fallback
-    everything = SequenceNode("all", [Preconditions("s", Scripted("x", S), {"_skipIf": lambda: True})])
+    everything = Sequence("all", [NodeConditions("s", Scripted("x", S), {"_skipIf": lambda: True})])
     assert tick(everything) == "SKIPPED"
 
 
 def test_success_if_and_failure_if_decide_without_ticking_the_node():
     child = Scripted("x", R)
-    assert tick(Preconditions("x", child, {"_successIf": lambda: True})) == "SUCCESS"
-    assert tick(Preconditions("x", child, {"_failureIf": lambda: True, "_successIf": lambda: True})) == "FAILURE"
+    assert tick(NodeConditions("x", child, {"_successIf": lambda: True})) == "SUCCESS"
+    assert tick(NodeConditions("x", child, {"_failureIf": lambda: True, "_successIf": lambda: True})) == "FAILURE"
     assert child.ticks == 0
-    assert tick(Preconditions("x", child, {"_failureIf": lambda: False})) == "RUNNING"
+    assert tick(NodeConditions("x", child, {"_failureIf": lambda: False})) == "RUNNING"
 
 
 def test_while_halts_the_running_node_when_it_becomes_false():
     holds = [True]
     child = Scripted("fly", R)
-    node = Preconditions("fly", child, {"_while": lambda: holds[0]})
+    node = NodeConditions("fly", child, {"_while": lambda: holds[0]})
     assert tick(node, 2) == "RUNNING"
     holds[0] = False
     assert tick(node) == "SKIPPED"
@@ -265,11 +271,9 @@ def test_while_halts_the_running_node_when_it_becomes_false():
 
 @pytest.mark.parametrize("kind", ["Sequence", "Fallback", "ReactiveSequence"])
 def test_halting_a_composite_halts_its_running_child(kind):
-    from aeroexec.trees.runtime.control import make_control
-
     child = Scripted("busy", R)
     children = [Scripted("ok", S if kind != "Fallback" else F), child]
-    node = make_control(kind, kind, children, {})
+    node = BUILT_IN[kind]("node", children)
     assert tick(node) == "RUNNING"
     node.stop(Status.INVALID)
     assert child.halts == 1 and status_name(node) == "IDLE"

@@ -10,7 +10,8 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, MutableMapping
 from typing import Any
 
-from aeroexec.trees.node_types import COMMON_ATTRIBUTES, bare_key
+from aeroexec.trees.model import COMMON_ATTRIBUTES
+from aeroexec.trees.ports import bare_key
 
 
 class Blackboard(MutableMapping[str, Any]):

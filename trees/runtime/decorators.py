@@ -1,20 +1,38 @@
-"""BehaviorTree.CPP v4's decorators as ``py_trees`` decorators, and the pre-conditions wrapper.
+"""BehaviorTree.CPP v4's decorators, one class per node name, as ``py_trees`` decorators with BT.CPP's semantics.
 
 Inverter, ForceSuccess, ForceFailure; Repeat (``num_cycles``, -1 forever: repeat while the child succeeds);
 RetryUntilSuccessful (``num_attempts``, -1 forever: tick again while the child fails); KeepRunningUntilFailure;
 Timeout (``msec`` on the engine clock: when it runs out the child is halted and the node fails); Delay
 (``delay_msec`` before the child is first ticked); RunOnce (the child completes once; then SKIPPED, or its
-first result with ``then_skip="false"``). A child that completes on the very tick it started returns control
-to the tree before a loop ticks it again, as BehaviorTree.CPP does with its wake-up signal, so a loop of
-instantaneous nodes never spins inside one tick. SubTree passes its child's status through.
+first result with ``then_skip="false"``); Precondition (the ``if`` script, else ``else``); LoopInt, LoopDouble,
+LoopString, LoopBool (the child once per item of ``queue``); SkipUnlessUpdated and WaitValueUpdate (the child only
+when ``entry`` was written); SubTree (its child is the referenced tree). A child that completes on the very tick it
+started returns control to the tree before a loop ticks it again, as BehaviorTree.CPP does with its wake-up
+signal, so a loop of instantaneous nodes never spins inside one tick.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from typing import Any
 
 import py_trees
-from aeroexec.trees.runtime.ticking import INVALID, RUNNING, SKIPPED, Node, Result, halt
+from aeroexec.trees.runtime.ports import (
+    ANY,
+    BOOL,
+    DOUBLE,
+    INT,
+    STATUS,
+    STRING,
+    UNSIGNED,
+    BidirectionalPort,
+    InputPort,
+    NodeConfig,
+    OutputPort,
+    Port,
+    queue_items,
+)
+from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SKIPPED, SUCCESS, Node, Result, halt, reset
+from aeroexec.trees.script import ScriptError, compile_script
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -22,9 +40,16 @@ from py_trees.common import Status
 class Decorator(Node, py_trees.decorators.Decorator):
     """A decorator whose ``run()`` decides when and whether to tick its child."""
 
-    def __init__(self, name: str, child: Behaviour) -> None:
+    min_children = max_children = 1
+
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name=name, child=child)
         self.skipped = False
+        self.config = config if config is not None else NodeConfig.of(type(self).__name__)
+
+    @classmethod
+    def build(cls, config: NodeConfig, children: list[Behaviour]) -> Behaviour:
+        return cls(config.model.name, children[0], config)
 
     def run(self) -> Result:
         return self.decorated.step()  # type: ignore[attr-defined]
@@ -35,7 +60,7 @@ class Decorator(Node, py_trees.decorators.Decorator):
             self.initialise()
         result = self.run()
         if result is not RUNNING:
-            self.terminate(Status.SUCCESS if result is SKIPPED else result)
+            self.terminate(SUCCESS if result is SKIPPED else result)
             if self.decorated.status is RUNNING:  # py_trees: a decorator that completes stops its running child
                 self.decorated.stop(INVALID)
         return self.settle(old, old_skipped, result)
@@ -54,86 +79,103 @@ class Decorator(Node, py_trees.decorators.Decorator):
 class Inverter(Decorator):
     def run(self) -> Result:
         result = self.decorated.step()
-        return Status.FAILURE if result is Status.SUCCESS else Status.SUCCESS if result is Status.FAILURE else result
+        return FAILURE if result is SUCCESS else SUCCESS if result is FAILURE else result
 
 
-class Force(Decorator):
-    """ForceSuccess / ForceFailure: a completed child becomes ``status``; RUNNING and SKIPPED pass through."""
+class ForceSuccess(Decorator):
+    """A completed child becomes SUCCESS; RUNNING and SKIPPED pass through."""
 
-    def __init__(self, name: str, child: Behaviour, status: Status) -> None:
-        super().__init__(name, child)
-        self.forced = status
+    forced = SUCCESS
 
     def run(self) -> Result:
         result = self.decorated.step()
-        return self.forced if result is Status.SUCCESS or result is Status.FAILURE else result
+        return self.forced if result is SUCCESS or result is FAILURE else result
 
 
-class Loop(Decorator):
-    """Repeat (``until`` FAILURE ends it, SUCCESS counts) and RetryUntilSuccessful (SUCCESS ends it, FAILURE counts)."""
+class ForceFailure(ForceSuccess):
+    forced = FAILURE
 
-    def __init__(self, name: str, child: Behaviour, cycles: int | Callable[[], int], *, retry: bool) -> None:
-        super().__init__(name, child)
-        self.count_of, self.retry = cycles, retry
-        self.cycles = cycles if isinstance(cycles, int) else 0
+
+class Repeat(Decorator):
+    """The child again while it succeeds, ``num_cycles`` times (-1: forever); its first FAILURE ends the node."""
+
+    ports = (InputPort("num_cycles", INT, required=True, description="successful runs of the child (-1: forever)"),)
+    loops = True
+    counted = SUCCESS  # the result that counts a cycle; the other one ends the node with it
+    port = "num_cycles"
+
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
+        super().__init__(name, child, config)
+        self.cycles_port = self.config.input(self.port, self.ports)
         self.count = 0
-        self.counted = Status.FAILURE if retry else Status.SUCCESS
 
     def run(self) -> Result:
-        if not isinstance(self.count_of, int):  # a ``{key}`` port, read on every tick as BT.CPP does
-            self.cycles = self.count_of()
-        while self.cycles < 0 or self.count < self.cycles:
+        cycles = self.cycles_port.get()  # a ``{key}`` port is read on every tick, as BT.CPP does
+        while cycles < 0 or self.count < cycles:
             before = self.decorated.status
             result = self.decorated.step()
-            if result is Status.RUNNING:
-                return Status.RUNNING
+            if result is RUNNING:
+                return RUNNING
             if result is SKIPPED:
                 halt(self.decorated)
                 return SKIPPED
-            if result != self.counted:
+            if result is not self.counted:
                 self.count = 0
                 halt(self.decorated)
                 return result
             self.count += 1
             halt(self.decorated)
-            if before is not Status.RUNNING and (self.cycles < 0 or self.count < self.cycles):
-                return Status.RUNNING  # completed on its first tick: go on at the next tick
+            if before is not RUNNING and (cycles < 0 or self.count < cycles):
+                return RUNNING  # completed on its first tick: go on at the next tick
         self.count = 0
-        return Status.FAILURE if self.retry else Status.SUCCESS
+        return self.counted
 
     def halted(self) -> None:
         self.count = 0
 
 
+class RetryUntilSuccessful(Repeat):
+    """The child again while it fails, ``num_attempts`` times (-1: forever); its first SUCCESS ends the node."""
+
+    ports = (InputPort("num_attempts", INT, required=True, description="runs of a failing child (-1: forever)"),)
+    counted = FAILURE
+    port = "num_attempts"
+
+
 class KeepRunningUntilFailure(Decorator):
+    loops = True
+
     def run(self) -> Result:
         result = self.decorated.step()
-        if result is Status.FAILURE:
+        if result is FAILURE:
             halt(self.decorated)
-            return Status.FAILURE
-        if result is Status.SUCCESS:
+            return FAILURE
+        if result is SUCCESS:
             halt(self.decorated)
-        return Status.RUNNING
+        return RUNNING
 
 
 class Timed(Decorator):
-    """A decorator measuring ``seconds`` of engine time from the tick that starts it."""
+    """A decorator measuring the milliseconds of its port (read when it starts) on the engine clock."""
 
-    def __init__(self, name: str, child: Behaviour, seconds: float, clock: Callable[[], float]) -> None:
-        super().__init__(name, child)
-        self.seconds, self.clock = seconds, clock
+    port = ""
+
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
+        super().__init__(name, child, config)
+        self.msec = self.config.input(self.port, self.ports)
+        self.seconds = 0.0
         self.started_at: float | None = None
 
     def elapsed(self) -> bool:
-        """True once ``seconds`` have passed since the node started (starting it now if it was not)."""
-        now = self.clock()
+        """True once the time has passed since the node started (starting it now if it was not)."""
+        now = self.config.context.now()
         if self.started_at is None:
-            self.started_at = now
+            self.started_at, self.seconds = now, self.msec.get() / 1000.0
         return now - self.started_at >= self.seconds - 1e-9
 
     def tick_decorated(self) -> Result:
         result = self.decorated.step()
-        if result is not Status.RUNNING:
+        if result is not RUNNING:
             self.started_at = None
         return result
 
@@ -142,89 +184,180 @@ class Timed(Decorator):
 
 
 class Timeout(Timed):
-    """Fails when ``seconds`` of engine time pass before the child completes, halting the child."""
+    """Fails when ``msec`` of engine time pass before the child completes, halting the child."""
+
+    ports = (InputPort("msec", UNSIGNED, required=True, description="milliseconds before the child is halted"),)
+    port = "msec"
 
     def run(self) -> Result:
-        if self.seconds > 0 and self.elapsed():
+        if self.elapsed() and self.seconds > 0:
             self.started_at = None
             self.feedback_message = f"timed out after {self.seconds:g} s"
             halt(self.decorated)
-            return Status.FAILURE
+            return FAILURE
         return self.tick_decorated()
 
 
 class Delay(Timed):
-    """Ticks the child only once ``seconds`` of engine time have passed since the node started."""
+    """Ticks the child only once ``delay_msec`` of engine time have passed since the node started."""
+
+    ports = (InputPort("delay_msec", UNSIGNED, required=True, description="milliseconds before the child is ticked"),)
+    port = "delay_msec"
 
     def run(self) -> Result:
         if not self.elapsed():
-            return Status.RUNNING
+            return RUNNING
         return self.tick_decorated()
 
 
 class RunOnce(Decorator):
     """The child runs to completion once; afterwards SKIPPED (``then_skip``) or its first result again."""
 
-    def __init__(self, name: str, child: Behaviour, then_skip: bool = True) -> None:
-        super().__init__(name, child)
-        self.then_skip = then_skip
+    ports = (InputPort("then_skip", BOOL, "true", "after the first run: SKIPPED, else its result again"),)
+
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
+        super().__init__(name, child, config)
+        self.then_skip = self.config.input("then_skip", self.ports)
         self.first: Result | None = None
 
     def run(self) -> Result:
         if self.first is not None:
-            return SKIPPED if self.then_skip else self.first
+            return SKIPPED if self.then_skip.get() else self.first
         result = self.decorated.step()
-        if result in (Status.SUCCESS, Status.FAILURE):
+        if result is SUCCESS or result is FAILURE:
             self.first = result
         return result
 
 
-class PassThrough(Decorator):
-    """A SubTree: its child is the referenced tree, on a blackboard of its own."""
+class Precondition(Decorator):
+    """Ticks its child once the ``if`` script holds, until the child completes; otherwise answers ``else``."""
 
+    ports = (InputPort("if", STRING, required=True, description="a script"),
+             InputPort("else", STATUS, "FAILURE", "the result when the script does not hold"))
 
-class Preconditions(Decorator):
-    """BehaviorTree.CPP's ``_failureIf``, ``_successIf``, ``_skipIf`` and ``_while`` around a node.
-
-    ``conditions`` maps each attribute to a function telling whether its belief expression holds. The first three
-    and a false ``_while`` are checked when the node starts (FAILURE, SUCCESS, SKIPPED without ticking it); a
-    ``_while`` that becomes false while the node runs halts it and the node is SKIPPED.
-    """
-
-    ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
-
-    def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]],
-                 actions: dict[str, Callable[[], None]] | None = None) -> None:
-        super().__init__(name, child)
-        self.conditions = conditions
-        self.actions = actions or {}
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
+        super().__init__(name, child, config)
+        self.script = compile_script(self.config.model.ports.get("if", ""))
+        self.otherwise = self.config.input("else", self.ports)
+        self.running = False
 
     def run(self) -> Result:
-        result = self.checked()
-        if result in (Status.SUCCESS, Status.FAILURE):  # BT.CPP's post-conditions: _onSuccess/_onFailure, _post
-            action = self.actions.get("_onSuccess" if result is Status.SUCCESS else "_onFailure")
-            if action is not None:
-                action()
-            if "_post" in self.actions:
-                self.actions["_post"]()
+        config = self.config
+        if not self.running:
+            try:
+                self.running = self.script.holds(config.blackboard, config.context.belief_holds)
+            except ScriptError as error:
+                config.context.record("tree_error", f"{config.model.where}: {error}", node=self.name)
+                return FAILURE
+        if not self.running:
+            return self.otherwise.get()
+        result = self.decorated.step()
+        if result is SUCCESS or result is FAILURE:  # as BT.CPP: a skipped child, or a halt, keeps it open
+            self.running = False
+        return result
+
+
+class Loop(Decorator):
+    """LoopX: pops the next value of ``queue`` into ``value`` and ticks the child with it, while the queue has items;
+    FAILURE when the child fails; ``if_empty`` (SUCCESS) when the queue has no items left."""
+
+    item = ANY
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.ports = (BidirectionalPort("queue", f"queue<{cls.item}>", "the items, ';' between them", required=True),
+                     InputPort("if_empty", STATUS, "SUCCESS", "the result when the queue is empty"),
+                     OutputPort("value", cls.item, "the current item"))
+
+    loops = True
+
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
+        super().__init__(name, child, config)
+        self.queue_port = self.config.input("queue", self.ports)
+        self.if_empty = self.config.input("if_empty", self.ports)
+        self.value_key = self.config.output("value")
+        self.queue: list[Any] = []
+        self.child_running = False
+
+    def run(self) -> Result:
+        popped = False
+        board = self.config.blackboard
+        if self.status is not RUNNING:
+            self.child_running = False
+            if self.queue_port.key is None:
+                self.queue = list(self.queue_port.value or ())
+        if not self.child_running:
+            key = self.queue_port.key
+            if key is not None:
+                held = board.get(key)
+                self.queue = (queue_items(held, self.item) if isinstance(held, str)
+                              else held if isinstance(held, list) else [])
+            if self.queue:
+                board[self.value_key] = self.queue.pop(0)
+                popped = True
+        if not popped and not self.child_running:
+            return self.if_empty.get()
+        result = self.decorated.step()
+        self.child_running = result is RUNNING
+        if result is SUCCESS or result is FAILURE:
+            reset(self.decorated)
+        return FAILURE if result is FAILURE else RUNNING
+
+    def halted(self) -> None:
+        self.child_running = False
+
+
+class LoopInt(Loop):
+    item = INT
+
+
+class LoopDouble(Loop):
+    item = DOUBLE
+
+
+class LoopString(Loop):
+    item = STRING
+
+
+class LoopBool(Loop):
+    item = BOOL
+
+
+class SkipUnlessUpdated(Decorator):
+    """The child runs only when ``entry`` was written since the node last looked (else SKIPPED); a child RUNNING is
+    ticked on regardless."""
+
+    ports = (InputPort("entry", ANY, required=True, description="the blackboard entry to watch"),)
+    otherwise: Result = SKIPPED
+
+    def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
+        super().__init__(name, child, config)
+        self.key = self.config.output("entry")
+        self.seen = 0
+        self.executing = False
+
+    def run(self) -> Result:
+        if not self.executing:
+            current = self.config.blackboard.version(self.key)
+            previous, self.seen = self.seen, current
+            if current == 0 or current == previous:
+                return self.otherwise
+        result = self.decorated.step()
+        self.executing = result is RUNNING
         return result
 
     def halted(self) -> None:
-        if "_onHalted" in self.actions and self.status is Status.RUNNING:
-            self.actions["_onHalted"]()
+        self.executing = False
 
-    def checked(self) -> Result:
-        starting = self.status is not Status.RUNNING
-        for attribute in self.ORDER:
-            check = self.conditions.get(attribute)
-            if check is None:
-                continue
-            holds = check()
-            if starting and holds and attribute != "_while":
-                self.feedback_message = f"{attribute} holds"
-                return {"_failureIf": Status.FAILURE, "_successIf": Status.SUCCESS}.get(attribute, SKIPPED)
-            if attribute == "_while" and not holds:
-                self.feedback_message = "_while does not hold"
-                halt(self.decorated)
-                return SKIPPED
-        return self.decorated.step()
+
+class WaitValueUpdate(SkipUnlessUpdated):
+    """As SkipUnlessUpdated, RUNNING until ``entry`` is written."""
+
+    otherwise = RUNNING
+
+
+class SubTree(Decorator):
+    """A SubTree: its child is the referenced tree, on a blackboard of its own (built by the builder)."""
+
+    ports: tuple[Port, ...] = (InputPort("ID", STRING, required=True, description="the BehaviorTree it runs"),)
+    min_children = max_children = 0  # in the XML: its child is the tree it names

@@ -20,7 +20,7 @@ from typing import Any
 from aeroexec.trees.model import TreeDocument
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree, describe, model_of
-from aeroexec.trees.runtime.nodes import TreeContext
+from aeroexec.trees.runtime.context import TreeContext
 from aeroexec.trees.runtime.ticking import TickState, attach, result_name, status_name, step
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status

@@ -63,6 +63,13 @@ class Node:
 
     #: whether the class has an ``initialise`` of its own (py_trees' does nothing: it is not called then)
     initialises = False
+    #: BehaviorTree.CPP's ``providedPorts()``: the ports the XML may write (``runtime.ports.Port``)
+    ports: tuple = ()
+    #: how many children the XML gives the node (``max_children`` None: no limit)
+    min_children: int = 0
+    max_children: int | None = 0
+    #: whether the node ticks part of its subtree again and again (verification's loops)
+    loops = False
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -29,8 +29,10 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefError, to_python
 from aeroexec.trees.ports import MissingKey, substitute
-from aeroexec.trees.runtime.control import Control, ParallelNode, Result, SequenceWithMemory, halt
+from aeroexec.trees.runtime.controls import Control, SequenceWithMemory
 from aeroexec.trees.runtime.decorators import Decorator
+from aeroexec.trees.runtime.parallels import Parallel
+from aeroexec.trees.runtime.ticking import Result, halt
 from aeroexec.trees.tml.reader import TmlEvent
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -160,7 +162,7 @@ def running_path(node: Behaviour) -> list[Behaviour]:
         path.append(node)
         if isinstance(node, SequenceWithMemory):
             node = node.children[node.index] if node.index < len(node.children) else None
-        elif isinstance(node, ParallelNode):
+        elif isinstance(node, Parallel):
             node = node.children[-1]  # the task's body (its recurrent behaviors come first)
         elif isinstance(node, Decorator):
             node = node.decorated
