@@ -213,7 +213,7 @@ class _Mapper:
             return height
         if self.home is None:
             self.problem(node, f"{node.type} takes a GPS point, and there is no home point to place it from "
-                               f"(give a world)")
+                               f"(give a world, or --home LAT,LON)")
             return height
         east, north, _ = geodetic_to_enu((lat, lon, self.home[2]), self.home)
         return f"{_number(round(east, 3))}, {_number(round(north, 3))}, {height.strip() or 0}"
@@ -224,15 +224,15 @@ class _Mapper:
             east, north, _ = geodetic_to_enu((lat, lon, self.home[2]), self.home)
             if math.hypot(east, north) > ORIGIN_TOLERANCE:
                 self.problem(node, f"SetOrigin ({lat}, {lon}) is {math.hypot(east, north):.0f} m from the home point "
-                                   f"({self.home[0]}, {self.home[1]}): the earth frame is fixed at home (give a world "
-                                   f"whose home is this origin)")
+                                   f"({self.home[0]}, {self.home[1]}): the earth frame is fixed at home (fly with "
+                                   f"--home at this origin, or a world whose home it is)")
         elif self.home is None:
-            self.problem(node, "SetOrigin needs the home point to compare with (give a world)")
+            self.problem(node, "SetOrigin needs the home point to compare with (give a world, or --home LAT,LON)")
         return self._leaf(node, "AlwaysSuccess")
 
     def get_origin(self, node: TreeNode, children: list[TreeNode]) -> TreeNode:
         if self.home is None:
-            self.problem(node, "GetOrigin needs the home point (give a world)")
+            self.problem(node, "GetOrigin needs the home point (give a world, or --home LAT,LON)")
             return self._leaf(node, "AlwaysFailure")
         writes = [TreeNode("SetBlackboard", f"{node.name}/{port}", {"output_key": bare_key(node.ports[port]) or
                                                                     node.ports[port].strip(),

@@ -122,7 +122,7 @@ def _item(reader: NodeReader, item: yaml.Node, index: int, home: tuple[float, ..
         return None
     if any(isinstance(v, aerostack2.Unplaced) for r in requests for v in r.arguments.values()):
         reader.error(item, f"{what}: {call.spelled}() takes GPS points, and there is no home point to place them "
-                           f"from (give a world)")
+                           f"from (give a world, or --home LAT,LON)")
         return None
     leaves = [_leaf(request, call.spelled, reader.file, line) for request in requests]
     if len(leaves) == 1:

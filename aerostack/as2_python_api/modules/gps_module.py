@@ -54,6 +54,6 @@ class GpsModule(ModuleBase):
             return True
         self._drone.refuse("gps.set_origin", WRONG_VALUE,
                            f"The origin ({gps_pose[0]}, {gps_pose[1]}) is {math.hypot(east, north):.0f} m from the "
-                           f"home point ({home[0]}, {home[1]}): the earth frame is fixed at home (give a world "
-                           f"whose home is this origin)")
+                           f"home point ({home[0]}, {home[1]}): the earth frame is fixed at home (fly with --home "
+                           f"at this origin, or a world whose home it is)")
         return False
