@@ -42,8 +42,8 @@ from aeroexec.engine.missions.aerostack2 import EARTH_FRAMES, FIXED_YAW, degrees
 from aeroexec.engine.missions.ros import ROS2_BEYOND
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
-from aeroexec.trees.node_types import BUILT_IN, bare_key
-from aeroexec.trees.ports import parse_number
+from aeroexec.trees.ports import bare_key, parse_number
+from aeroexec.trees.runtime.registry import BUILT_IN
 
 #: The ports of Aerostack2's nodes (``as2_behavior_tree``), besides those every action has.
 PORTS: dict[str, tuple[str, ...]] = {
