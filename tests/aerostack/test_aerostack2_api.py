@@ -75,8 +75,8 @@ def test_a_call_not_waited_for_is_polled_through_status_and_can_be_stopped(tmp_p
 def test_what_the_drone_cannot_serve_is_refused_with_the_reason_and_the_run_says_so(tmp_path, capsys):
     path = script(tmp_path, """
         uav.takeoff(2.0, 1.0)
-        height = int("150")  # computed: verify leaves it to the run
-        print("far", uav.go_to(0, 0, height, 1.0))
+        speed = float("100")  # computed: verify leaves it to the run
+        print("far", uav.go_to(0, 0, 2, speed))
         print("frame", uav.go_to(1, 0, 2, 1.0, frame_id="drone0/" + "base_link"))
         print("yaw", uav.go_to(1, 0, 2, 1.0, yaw_mode=int("4")))
         uav.land()
@@ -85,7 +85,8 @@ def test_what_the_drone_cannot_serve_is_refused_with_the_reason_and_the_run_says
     assert flight.status == 3, flight.err
     assert {"far False", "frame False", "yaw False"} <= set(flight.out.splitlines())
     reasons = [(r["behavior"], r["detail"], r["data"].get("where")) for r in flight.kinds("rejected")]
-    assert reasons[0][0] == "GO_TO_POINT" and "(0, 0, 150)" in reasons[0][1] and reasons[0][2] == "mission.py:14"
+    assert reasons[0][0] == "GO_TO_POINT" and "The value 100.0 of argument SPEED" in reasons[0][1]
+    assert reasons[0][2] == "mission.py:14"
     assert reasons[1][0] == "go_to" and "frames of ROS 2's tf tree are not available" in reasons[1][1]
     assert reasons[2][0] == "go_to" and "modes 3 to 6 follow ROS 2 topics and frames" in reasons[2][1]
 

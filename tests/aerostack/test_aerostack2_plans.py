@@ -56,12 +56,12 @@ def test_a_wrong_plan_is_refused_at_its_item(body, line, message):
 def test_verify_judges_each_item_as_a_catalog_request_at_its_line(tmp_path, capsys):
     path = tmp_path / "plan.yaml"
     path.write_text("target: drone0\nplan:\n- behavior: go_to\n  args: {x: 1, y: 1, z: 2, speed: 0}\n"
-                    "- behavior: takeoff\n  args: {height: 80}\n")
+                    "- behavior: takeoff\n  args: {height: 800}\n")
     assert main(["verify", str(path)]) == 1
     captured = capsys.readouterr()
     err = captured.out + captured.err
     assert f"{path}:3: error: WRONG_VALUE: The value 0 of argument SPEED for behavior GO_TO_POINT" in err
-    assert f"{path}:5: error: WRONG_VALUE: The value 80 of argument ALTITUDE for behavior TAKE_OFF" in err
+    assert f"{path}:5: error: WRONG_VALUE: The value 800 of argument ALTITUDE for behavior TAKE_OFF" in err
     assert f"{path}:3: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done" in err
 
 
