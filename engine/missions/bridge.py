@@ -51,14 +51,21 @@ class _Request:
 
 class _Mission:
     """Whether the mission runs, waits or is done: one for every engine a program drives (a script flying a
-    fleet is one mission whichever drone it waits on)."""
+    fleet is one mission whichever drone it waits on). It runs while one of its threads runs: the mission thread,
+    or a thread of the script's own (:meth:`MissionBridge.thread_started`) that is not waiting on an engine or
+    joining another."""
 
-    __slots__ = ("cond", "polls", "polls_at", "state")
+    __slots__ = ("cond", "done", "polls", "polls_at", "running")
 
     def __init__(self) -> None:
         self.cond = threading.Condition()
-        self.state = DONE
+        self.done = True
+        self.running = 0  # the mission's threads running Python code now
         self.polls, self.polls_at = 0, -1.0  # calls that did not wait, served at engine time polls_at
+
+    @property
+    def state(self) -> str:
+        return DONE if self.done else RUNNING if self.running > 0 else PARKED
 
 
 class MissionBridge:
@@ -88,9 +95,24 @@ class MissionBridge:
     def _state(self) -> str:
         return self._mission.state
 
-    @_state.setter
-    def _state(self, state: str) -> None:
-        self._mission.state = state
+    def _running(self, change: int) -> None:
+        """``change`` threads of the mission start or stop running Python code (call with the lock held)."""
+        self._mission.running = max(0, self._mission.running + change)
+        self._cond.notify_all()
+
+    def thread_started(self) -> None:
+        """A thread of the script's own starts: the mission runs while it does."""
+        with self._cond:
+            self._running(+1)
+
+    def thread_ended(self) -> None:
+        with self._cond:
+            self._running(-1)
+
+    def blocked(self, blocked: bool) -> None:
+        """A thread of the mission waits for another of its threads (``join``), or no longer does."""
+        with self._cond:
+            self._running(-1 if blocked else +1)
 
     def share_mission(self, others: Iterable[MissionBridge]) -> None:
         """The bridges of other engines the same program drives see this one's mission: it runs, waits or is
@@ -122,12 +144,12 @@ class MissionBridge:
 
     def mission_started(self) -> None:
         with self._cond:
-            self._state = RUNNING
+            self._mission.done, self._mission.running = False, 1
             self._closed = False
 
     def mission_finished(self) -> None:
         with self._cond:
-            self._state = DONE
+            self._mission.done = True
             self._cond.notify_all()
 
     # -- the engine's side ---------------------------------------------------------------
@@ -221,7 +243,7 @@ class MissionBridge:
             request.done.set()
             return
         with self._cond:
-            self._state = PARKED
+            self._running(-1)
             self._pending.add(request)
 
         def resolve(value: Any) -> None:
@@ -230,7 +252,7 @@ class MissionBridge:
                     return
                 self._pending.discard(request)
                 request.value = value
-                self._state = RUNNING
+                self._running(+1)
                 request.done.set()
 
         try:
@@ -239,7 +261,7 @@ class MissionBridge:
             with self._cond:
                 self._pending.discard(request)
                 request.error = exc
-                self._state = RUNNING
+                self._running(+1)
                 request.done.set()
 
     def close(self) -> None:
@@ -248,7 +270,7 @@ class MissionBridge:
             self._closed = True
             self._closed_at = time.monotonic()
             if self._pending:  # the woken mission now runs to its end: a lockstep loop waits for it (a moment)
-                self._state = RUNNING
+                self._running(len(self._pending))
             for request in self._pending:
                 request.error = MissionAborted("the engine has stopped")
                 request.done.set()

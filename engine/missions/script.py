@@ -4,8 +4,9 @@
 The script runs unchanged; what it takes from its surroundings is the engine's. ``time.sleep``, ``time.time``
 and ``time.monotonic`` (as the script imports them) wait on and read the engine's clock, so a simulated run is
 paced by simulated time and a ``while ...: sleep(0.1)`` loop sees the world move; ``sys.argv`` holds the script
-alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; ``input()`` is a
-question for the operator (:func:`ask_operator`); ``exit(0)`` ends it completed, another status fails it; ROS
+alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; its threads
+(``threading.Thread``) are the mission's (:class:`MissionThread`); ``input()`` is a question for the operator
+(:func:`ask_operator`); ``exit(0)`` ends it completed, another status fails it; ROS
 modules it imports and never uses import as stand-ins (:mod:`.ros`). Each ``DroneInterface`` binds to a drone by
 its namespace (:func:`drone_engine`); a script several drones of a fleet name flies them all
 (:func:`fly_together`).
@@ -28,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.engine import api
+from aeroexec.engine.errors import MissionAborted
 from aeroexec.engine.missions import ros
 
 #: The modules whose import makes a program without ``mission()`` an Aerostack2 script.
@@ -131,12 +133,61 @@ def ask_operator(prompt: Any = "") -> str:
     return str(answer)
 
 
+class MissionThread(threading.Thread):
+    """``threading.Thread`` as a script sees it: a thread of the mission, bound to the engine of the thread that
+    started it; the mission runs (simulated time waits for it) while one of its threads runs Python code."""
+
+    def start(self) -> None:
+        self._engine = api.current_engine()
+        self._engine.bridge.thread_started()
+        try:
+            super().start()
+        except BaseException:
+            self._engine.bridge.thread_ended()
+            raise
+
+    def run(self) -> None:
+        api.bind(self._engine)
+        try:
+            super().run()
+        except MissionAborted:
+            pass  # the flight ended while this thread waited on it
+        finally:
+            api.unbind()
+            self._engine.bridge.thread_ended()
+
+    def join(self, timeout: float | None = None) -> None:
+        bridge = getattr(getattr(self, "_engine", None), "bridge", None)
+        if bridge is None or threading.current_thread() is self:
+            return super().join(timeout)
+        bridge.blocked(True)
+        try:
+            super().join(timeout)
+        finally:
+            bridge.blocked(False)
+
+
+class _MissionThreading(types.ModuleType):
+    """``threading`` as a script sees it: its threads are the mission's (:class:`MissionThread`)."""
+
+    Thread = MissionThread
+
+    def __init__(self) -> None:
+        super().__init__("threading", threading.__doc__)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(threading, name)
+
+
 def _builtins(engine_time: types.ModuleType) -> dict[str, Any]:
     real_import = builtins.__import__
+    mission_threading = _MissionThreading()
 
     def import_(name: str, globals: Any = None, locals: Any = None, fromlist: Any = (), level: int = 0) -> Any:
         module = real_import(name, globals, locals, fromlist, level)
-        return engine_time if name == "time" and level == 0 else module
+        if level == 0 and name in ("time", "threading"):
+            return engine_time if name == "time" else mission_threading
+        return module
 
     return {**vars(builtins), "__import__": import_, "input": ask_operator}
 
@@ -197,5 +248,5 @@ def fly_together(engines: Mapping[str, Any], mission: Callable[[], Any], name: s
     return first.start_mission(run, name)
 
 
-__all__ = ["DRONE_ID_VARIABLE", "DroneNotFound", "ScriptExit", "ScriptMission", "ask_operator", "drone_engine",
-           "fly_together", "flying_fleet", "is_script", "script_mission"]
+__all__ = ["DRONE_ID_VARIABLE", "DroneNotFound", "MissionThread", "ScriptExit", "ScriptMission", "ask_operator",
+           "drone_engine", "fly_together", "flying_fleet", "is_script", "script_mission"]

@@ -130,3 +130,25 @@ def test_the_scripts_exit_status_says_how_the_mission_ended(ending, status, tmp_
     assert "not reached" not in flight.out
     if status:
         assert "the script exited with status 2" in flight.kinds("mission_failed")[0]["detail"]
+
+
+def test_threads_of_the_scripts_own_are_the_missions(tmp_path, capsys):
+    path = script(tmp_path, """
+        import threading
+
+        def fly():
+            uav.takeoff(2.0, 1.0)
+            sleep(3)  # a thread's sleep is on the engine's clock too
+            uav.go_to(2, 0, 2, 1.0)
+
+        worker = threading.Thread(target=fly)
+        started = time.time()
+        worker.start()
+        worker.join()  # simulated time moves while the mission only waits for its thread
+        print("joined after", round(time.time() - started))
+        uav.land()
+        """)
+    flight = fly(path, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == ["TAKE_OFF", "GO_TO_POINT", "LAND"]
+    assert any(line.startswith("joined after ") and 5 <= int(line.split()[-1]) <= 8 for line in flight.out.splitlines())
