@@ -85,7 +85,9 @@ def aerostack2_tree(document: TreeDocument, home: Geodetic | None = None) -> Tre
     trees = {tree_id: mapper.node(root) for tree_id, root in document.trees.items()}
     if mapper.problems:
         raise TreeFormatError(mapper.problems)
-    return TreeDocument(trees, document.main, document.file, document.lines, DIALECT)
+    dialect = (document.file, document.lines.get(document.main, 0),
+               f"written for {DIALECT}: BehaviorTree.CPP 4 reads what aeroexec makes of it (aeroexec convert)")
+    return replace(document, trees=trees, not_portable=[dialect, *document.not_portable])
 
 
 class _Mapper:
