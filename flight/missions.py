@@ -18,10 +18,6 @@ from typing import TYPE_CHECKING, Any
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.missions import ros
-from aeroexec.engine.missions.check import check_mission_source
-from aeroexec.engine.missions.script import is_script, script_mission
-from aeroexec.engine.missions.source import parse_source
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
@@ -109,6 +105,9 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
         raise MissionFileError(str(exc)) from None
+    # here, not at the top: a tree mission needs none of the Python mission's checks
+    from aeroexec.engine.missions.check import check_mission_source
+
     checked.problems = check_mission_source(checked.source, str(path), catalog, world)
     return checked
 
@@ -133,6 +132,10 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
 def mission_function(path: Path) -> Callable[[], Any]:
     """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
     script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
+    from aeroexec.engine.missions import ros
+    from aeroexec.engine.missions.script import is_script, script_mission
+    from aeroexec.engine.missions.source import parse_source
+
     source = read_text(path, what="the mission")
     if is_script(parse_source(source, str(path))):
         return script_mission(path, source)

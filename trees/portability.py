@@ -16,7 +16,7 @@
 from __future__ import annotations
 
 from aeroexec.engine.catalog import BehaviorCatalog
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import MissionProblem
 from aeroexec.trees.groot import palette_ports
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, template_keys

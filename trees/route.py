@@ -18,8 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.drones.geodesy import geo_to_enu, is_geo, parse_geo
-from aeroexec.engine.errors import WRONG_VALUE
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import WRONG_VALUE, MissionProblem
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.ports import parse_value
 

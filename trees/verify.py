@@ -20,8 +20,7 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.catalog.vocabulary import check_rules
 from aeroexec.engine.catalog.world_check import WorldMap
-from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, MissionProblem, SpecificationError
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.blackboard_check import BlackboardChecker
 from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING, UNSIGNED, ConversionError, convert, queue_items
