@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.missions import ros
+from aeroexec.engine.missions import ros, standins
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.engine.missions.script import is_script, script_mission
 from aeroexec.engine.missions.source import parse_source
@@ -139,6 +139,7 @@ def mission_function(path: Path) -> Callable[[], Any]:
     ros.install()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
+    module.__builtins__ = standins.mission_builtins()  # its imports of Aerostack's APIs get aeroexec's
     try:
         with warnings.catch_warnings():  # SyntaxWarnings of the mission's source are not the project's messages
             warnings.simplefilter("ignore", SyntaxWarning)
