@@ -139,8 +139,8 @@ class RosStandIns(importlib.abc.MetaPathFinder):
 
     def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
         name = fullname.removeprefix(f"{standins.PACKAGE}.")
-        if not is_ros(name):
-            return None
+        if not is_ros(name) or name == fullname and standins.stands_in(name):
+            return None  # rclpy, as2_msgs...: a mission's are aeroexec's (standins), nobody else's are stand-ins
         return importlib.machinery.ModuleSpec(fullname, _StandInLoader(name), is_package=True)
 
 
