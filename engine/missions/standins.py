@@ -46,9 +46,9 @@ def mission_import(real_import: Callable[..., Any] | None = None) -> Callable[..
     return import_
 
 
-def mission_builtins(**names: Any) -> dict[str, Any]:
-    """The builtins of a mission's module: :func:`mission_import` as its ``__import__``, and ``names``."""
-    return {**vars(builtins), "__import__": mission_import(), **names}
+def mission_builtins() -> dict[str, Any]:
+    """The builtins of a mission's module: :func:`mission_import` as its ``__import__``."""
+    return {**vars(builtins), "__import__": mission_import()}
 
 
 __all__ = ["NAMES", "PACKAGE", "mission_builtins", "mission_import", "stands_in"]
