@@ -132,7 +132,7 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
 def mission_function(path: Path) -> Callable[[], Any]:
     """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
     script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
-    from aeroexec.engine.missions import ros
+    from aeroexec.engine.missions import ros, standins
     from aeroexec.engine.missions.script import is_script, script_mission
     from aeroexec.engine.missions.source import parse_source
 
@@ -142,6 +142,7 @@ def mission_function(path: Path) -> Callable[[], Any]:
     ros.install()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
+    module.__builtins__ = standins.mission_builtins()  # its imports of Aerostack's APIs get aeroexec's
     try:
         with warnings.catch_warnings():  # SyntaxWarnings of the mission's source are not the project's messages
             warnings.simplefilter("ignore", SyntaxWarning)
