@@ -111,6 +111,11 @@ class BeliefMemory(Reasoning):
         self._computed[(name, arity)] = (function, inputs)
         self._queries.clear()
 
+    def function(self, name: str, arity: int) -> tuple[Callable, int] | None:
+        """The function registered for ``name/arity`` and how many input arguments it takes (None: stored beliefs
+        or a built-in answer it)."""
+        return self._computed.get((name, arity))
+
     def lifetime(self, name: str) -> float | None:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
         return self._persistence.get(name)

@@ -123,12 +123,17 @@ class VehicleModel:
         settle = SETTLE * self.drain(math.hypot(*wind))  # braking at home and the landing's start
         return climb + travel + descend + settle
 
-    def home_rate(self, horizontal: float, vertical: float) -> float:
-        """A bound on how fast :meth:`to_home` changes (percent per second) while the vehicle moves at most
-        ``horizontal`` and ``vertical`` m/s: the cost of a meter farther (at half the cruise speed, into wind)
-        and of a meter higher (descending it at the landing speed)."""
-        worst = self.drain(self.max_speed, self.max_climb_rate)
-        return worst / (0.5 * self.cruise_speed) * horizontal + worst / self.land_speed * vertical
+    def home_costs(self, wind: float = 0.0) -> tuple[float, float, float]:
+        """How :meth:`to_home` (against a wind of ``wind`` m/s) changes as the vehicle moves: percent per meter
+        flown horizontally (the leg home, into the wind), per meter up or down (the climb to the return altitude
+        or the descent, at its slowest), and the step it takes crossing the circle of a meter around home (inside
+        it there is no climb to the return altitude)."""
+        _, horizontal = self.leg((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (-wind, 0.0))
+        vertical = max(self.drain(wind, self.max_climb_rate) / self.max_climb_rate, self.drain(wind) / self.land_speed)
+        height = self.return_altitude
+        step = (height / self.max_climb_rate * self.drain(wind, self.max_climb_rate)
+                + self.descent_seconds(height) * self.drain(wind))
+        return horizontal, vertical, step
 
 
 class SafetyPredicates:
@@ -149,6 +154,24 @@ class SafetyPredicates:
         memory.register("rally_distance", 2, self._rally_distance)
         memory.register("mission_time", 1, self._mission_time)
         memory.register("stopping_point", 2, self._stopping_point)
+
+    # -- how fast what they compute can move (the monitors' schedule) ------------------------------------
+    def home_cost_horizontal(self) -> float:
+        """Percent of ``battery_to_home`` per meter flown horizontally, in the wind believed now."""
+        return self.model.home_costs(math.hypot(*self.wind()))[0]
+
+    def home_cost_vertical(self) -> float:
+        """Percent of ``battery_to_home`` per meter up or down, in the wind believed now."""
+        return self.model.home_costs(math.hypot(*self.wind()))[1]
+
+    def home_cost(self) -> float:
+        """Percent of ``battery_to_home`` per meter in any direction, in the wind believed now."""
+        horizontal, vertical, _ = self.model.home_costs(math.hypot(*self.wind()))
+        return max(horizontal, vertical)
+
+    def home_step(self) -> float:
+        """The step ``battery_to_home`` may take at once (rounding, the circle around home), in the wind now."""
+        return 0.1 + self.model.home_costs(math.hypot(*self.wind()))[2]
 
     # -- what the rules read ---------------------------------------------------------------------------
     def wind(self) -> tuple[float, float]:

@@ -1,0 +1,101 @@
+"""The odometers the safety monitors schedule by: for each drone whose position is believed (``position(self,
+P)``, a fleet mate's ``position(dN, P)``), the path its believed position has travelled along each axis,
+horizontally and in 3-D, and the rules waiting for a reading of one of them.
+
+A value computed from a position cannot move farther than the position did, so a rule whose comparison is ``b``
+away from flipping, at ``k`` per meter, need not be checked before the odometer has run ``b / k`` more meters
+(:mod:`aeroexec.engine.safety.schedule`). The readings follow the beliefs themselves, as the rules read them.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Callable
+from typing import Any
+
+from aeroexec.engine.safety.schedule import AXES
+
+_INDEX = {axis: i for i, axis in enumerate(AXES)}
+Point = tuple[float, float, float]
+
+
+class Odometers:
+    """Follows drones' believed positions; ``wake(rule, generation)`` is called when a reading a rule waits for is
+    reached, ``live(rule, generation)`` says whether such a wait still stands (a later check replaces it)."""
+
+    def __init__(self, wake: Callable[[int, int], None], live: Callable[[int, int], bool]) -> None:
+        self._wake, self._live = wake, live
+        self._last: dict[Any, Point] = {}
+        self._readings: dict[Any, list[float]] = {}  # who -> the five readings, in AXES' order
+        self._heaps: dict[tuple, list[tuple[float, int, int]]] = {}  # (who, axis) -> (reading, generation, rule)
+        self._watched: dict[Any, list[tuple[int, list]]] = {}  # who -> (axis index, heap) of the waits on it
+
+    def moved(self, who: Any, point: Any) -> bool:
+        """Follow ``who`` to ``point``; False when it was not followed before (it appears, or was no point)."""
+        last = self._last.get(who)
+        if not _is_point(point):
+            self._last.pop(who, None)
+            return False
+        self._last[who] = point
+        readings = self._readings.get(who)
+        if readings is None:
+            self._readings[who] = [0.0, 0.0, 0.0, 0.0, 0.0]
+            return False
+        if last is None:
+            return False
+        dx, dy, dz = point[0] - last[0], point[1] - last[1], point[2] - last[2]
+        h = math.sqrt(dx * dx + dy * dy)
+        readings[0] += abs(dx)
+        readings[1] += abs(dy)
+        readings[2] += abs(dz)
+        readings[3] += h
+        readings[4] += math.sqrt(h * h + dz * dz)
+        watched = self._watched.get(who)
+        if watched:
+            wake = self._wake
+            for axis, heap in watched:
+                reading = readings[axis]
+                while heap and heap[0][0] <= reading:
+                    _, generation, index = heapq.heappop(heap)
+                    wake(index, generation)
+        return True
+
+    def forget(self, who: Any) -> None:
+        """``who``'s position is no longer believed (its readings stay: they only grow)."""
+        self._last.pop(who, None)
+
+    def where(self, who: Any) -> Point | None:
+        """``who``'s believed position, as floats."""
+        point = self._last.get(who)
+        return None if point is None else (float(point[0]), float(point[1]), float(point[2]))
+
+    def reading(self, key: tuple) -> float:
+        """The reading of odometer ``key`` = (who, axis) now."""
+        readings = self._readings.get(key[0])
+        return 0.0 if readings is None else readings[_INDEX[key[1]]]
+
+    def wake_at(self, key: tuple, reading: float, generation: int, index: int) -> None:
+        """Wake rule ``index`` (its check ``generation``) when odometer ``key`` reaches ``reading``."""
+        heap = self._heaps.get(key)
+        if heap is None:
+            heap = self._heaps[key] = []
+            self._watched.setdefault(key[0], []).append((_INDEX[key[1]], heap))
+        elif len(heap) > 64:  # stale waits pile up while a drone stands still: keep those still standing
+            live = self._live
+            heap[:] = [e for e in heap if live(e[2], e[1])]
+            heapq.heapify(heap)
+        heapq.heappush(heap, (reading, generation, index))
+
+
+def _is_point(value: Any) -> bool:
+    if not isinstance(value, tuple) or len(value) != 3:
+        return False
+    for v in value:
+        kind = type(v)
+        if kind is not float and kind is not int:
+            return False
+    return True
+
+
+__all__ = ["Odometers"]
