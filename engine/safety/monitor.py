@@ -127,11 +127,15 @@ class SafetyMonitor:
         self._woken: set[int] = {w.index for w in self._watches}  # everything is checked at the first tick
         self._due: list[tuple[float, int, int]] = []  # (time, generation, rule)
         self.started = False
+        #: check every rule at every tick: the reference the schedule must agree with (tests, benches)
+        self.every_tick = False
         memory.subscribe(self._changed)
 
     # -- the tick ---------------------------------------------------------------------------------------------
     def tick(self, now: float) -> None:
         """Check the rules that are due or woken, and act on violations."""
+        if self.every_tick:
+            self._woken.update(range(len(self._watches)))
         due = self._due
         if not self._woken and not (due and due[0][0] <= now + 1e-9):
             return
@@ -174,11 +178,12 @@ class SafetyMonitor:
                     self._replacing = signature
                     return  # its new value follows
                 if signature == POSITION:
-                    self.odometers.forget(args[0])
+                    self.odometers.forget(args[0], change.time)
                 woken.update(self._followers[signature])
             else:
                 replacing, self._replacing = self._replacing == signature, None
-                appeared = not self.odometers.moved(args[0], args[1]) if signature == POSITION else not replacing
+                appeared = not self.odometers.moved(args[0], args[1], change.time) if signature == POSITION else \
+                    not replacing
                 if appeared:  # a new fleet mate, or a first value
                     woken.update(self._followers[signature])
         indexes = self._by_signature.get(signature)
@@ -199,6 +204,8 @@ class SafetyMonitor:
             broken = (not holds) if rule.form == ALWAYS else holds
             if broken and not watch.violated:
                 watch.violated = True
+                if self.contingencies.active is not rule:  # it held until the tick before (or it would have been
+                    watch.boundary = self.odometers.where("self", before=now)  # checked then): where the drone was
                 self._violated(watch, now, evidence, "")
             elif not broken and self.contingencies.active is not rule:  # during its own contingency it stays broken
                 if watch.violated:

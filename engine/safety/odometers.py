@@ -27,13 +27,16 @@ class Odometers:
     def __init__(self, wake: Callable[[int, int], None], live: Callable[[int, int], bool]) -> None:
         self._wake, self._live = wake, live
         self._last: dict[Any, Point] = {}
+        self._before: dict[Any, tuple[Any, float]] = {}  # who -> (its point before the last move, when it moved)
         self._readings: dict[Any, list[float]] = {}  # who -> the five readings, in AXES' order
         self._heaps: dict[tuple, list[tuple[float, int, int]]] = {}  # (who, axis) -> (reading, generation, rule)
         self._watched: dict[Any, list[tuple[int, list]]] = {}  # who -> (axis index, heap) of the waits on it
 
-    def moved(self, who: Any, point: Any) -> bool:
-        """Follow ``who`` to ``point``; False when it was not followed before (it appears, or was no point)."""
+    def moved(self, who: Any, point: Any, at: float) -> bool:
+        """Follow ``who`` to ``point`` (believed at time ``at``); False when it was not followed before (it appears,
+        or was no point)."""
         last = self._last.get(who)
+        self._before[who] = (last, at)
         if not _is_point(point):
             self._last.pop(who, None)
             return False
@@ -61,14 +64,19 @@ class Odometers:
                     wake(index, generation)
         return True
 
-    def forget(self, who: Any) -> None:
+    def forget(self, who: Any, at: float) -> None:
         """``who``'s position is no longer believed (its readings stay: they only grow)."""
-        self._last.pop(who, None)
+        self._before[who] = (self._last.pop(who, None), at)
 
-    def where(self, who: Any) -> Point | None:
-        """``who``'s believed position, as floats."""
+    def where(self, who: Any, before: float | None = None) -> Point | None:
+        """``who``'s believed position, as floats; with ``before``, the one believed just before that time (its
+        position at the previous tick, when it moved at this one)."""
         point = self._last.get(who)
-        return None if point is None else (float(point[0]), float(point[1]), float(point[2]))
+        if before is not None:
+            earlier = self._before.get(who)
+            if earlier is not None and earlier[1] >= before:
+                point = earlier[0]
+        return None if point is None or not _is_point(point) else (float(point[0]), float(point[1]), float(point[2]))
 
     def reading(self, key: tuple) -> float:
         """The reading of odometer ``key`` = (who, axis) now."""
