@@ -116,6 +116,10 @@ class BeliefMemory(Reasoning):
         or a built-in answer it)."""
         return self._computed.get((name, arity))
 
+    def exclusive(self, name: str) -> bool:
+        """Whether a belief of ``name`` replaces the one with the same other arguments (one value for each key)."""
+        return name not in self._multivalued
+
     def lifetime(self, name: str) -> float | None:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
         return self._persistence.get(name)

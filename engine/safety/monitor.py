@@ -16,11 +16,12 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from aeroexec.beliefs import Conjunction, format_term
+from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.safety_rules import ALWAYS, LAND, WITHIN, Contingency, SafetyRule
 from aeroexec.engine.safety.contingency import Contingencies
 from aeroexec.engine.safety.odometers import Odometers
+from aeroexec.engine.safety.predicates import SafetyPredicates
 from aeroexec.engine.safety.schedule import TIME, Entry, Plan, Rate, Source, goal_literals
-from aeroexec.engine.safety.vehicle import SafetyPredicates, VehicleModel
 
 logger = logging.getLogger(__name__)
 
@@ -122,7 +123,9 @@ class SafetyMonitor:
         for signature, source in rated.items():  # belief of it that appears or goes (a new fleet mate) wakes them
             for followed in source.follows:
                 self._followers.setdefault(followed, []).extend(self._readers.get(signature, []))
+        self._followers.setdefault(POSITION, [])
         self._replacing: tuple | None = None
+        self._position_woken = sorted({*self._by_signature.get(POSITION, []), *self._any})  # at every move
         self.odometers = Odometers(self._wake, self._live)
         self._woken: set[int] = {w.index for w in self._watches}  # everything is checked at the first tick
         self._due: list[tuple[float, int, int]] = []  # (time, generation, rule)
@@ -166,25 +169,32 @@ class SafetyMonitor:
 
     def _changed(self, change: Any) -> None:
         belief = change.belief
-        names = self._names
-        if names is not None and belief.name not in names:
+        name = belief.name
+        if name == "position":  # every update of a drone's position: the odometers schedule for it
+            if change.kind == "added":
+                args = belief.args
+                if len(args) == 2 and not self.odometers.moved(args[0], args[1], change.time):
+                    self._woken.update(self._followers[POSITION])  # a new fleet mate, or a first position
+            elif change.reason != "replaced":  # else its new value follows
+                self.odometers.forget(belief.args[0], change.time)
+                self._woken.update(self._followers[POSITION])
+            if self._position_woken:  # rules that read it and are not scheduled
+                self._woken.update(self._position_woken)
             return
-        signature = (belief.name, len(belief.args))
+        names = self._names
+        if names is not None and name not in names:
+            return
+        signature = (name, len(belief.args))
         woken = self._woken
-        if signature in self._followers:  # a rated belief: its new value is scheduled for (odometers, rates)
-            args = belief.args
+        if signature in self._followers:  # a rated belief (the charge): its new value is scheduled for
             if change.kind == "removed":
                 if change.reason == "replaced":
                     self._replacing = signature
                     return  # its new value follows
-                if signature == POSITION:
-                    self.odometers.forget(args[0], change.time)
                 woken.update(self._followers[signature])
             else:
                 replacing, self._replacing = self._replacing == signature, None
-                appeared = not self.odometers.moved(args[0], args[1], change.time) if signature == POSITION else \
-                    not replacing
-                if appeared:  # a new fleet mate, or a first value
+                if not replacing:  # a first value
                     woken.update(self._followers[signature])
         indexes = self._by_signature.get(signature)
         if indexes:

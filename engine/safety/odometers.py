@@ -27,7 +27,8 @@ class Odometers:
     def __init__(self, wake: Callable[[int, int], None], live: Callable[[int, int], bool]) -> None:
         self._wake, self._live = wake, live
         self._last: dict[Any, Point] = {}
-        self._before: dict[Any, tuple[Any, float]] = {}  # who -> (its point before the last move, when it moved)
+        self._previous: dict[Any, Any] = {}  # who -> its point before the last move
+        self._moved_at: dict[Any, float] = {}  # who -> when it last moved
         self._readings: dict[Any, list[float]] = {}  # who -> the five readings, in AXES' order
         self._heaps: dict[tuple, list[tuple[float, int, int]]] = {}  # (who, axis) -> (reading, generation, rule)
         self._watched: dict[Any, list[tuple[int, list]]] = {}  # who -> (axis index, heap) of the waits on it
@@ -36,18 +37,16 @@ class Odometers:
         """Follow ``who`` to ``point`` (believed at time ``at``); False when it was not followed before (it appears,
         or was no point)."""
         last = self._last.get(who)
-        self._before[who] = (last, at)
-        if not _is_point(point):
-            self._last.pop(who, None)
-            return False
+        self._previous[who] = last
+        self._moved_at[who] = at
+        if last is None or type(point) is not tuple or len(point) != 3:
+            return self._appeared(who, point)
+        x, y, z = point
+        if (type(x) is not float or type(y) is not float or type(z) is not float) and not _is_point(point):
+            return self._appeared(who, point)  # (the telemetry's are floats)
         self._last[who] = point
-        readings = self._readings.get(who)
-        if readings is None:
-            self._readings[who] = [0.0, 0.0, 0.0, 0.0, 0.0]
-            return False
-        if last is None:
-            return False
-        dx, dy, dz = point[0] - last[0], point[1] - last[1], point[2] - last[2]
+        dx, dy, dz = x - last[0], y - last[1], z - last[2]
+        readings = self._readings[who]
         h = math.sqrt(dx * dx + dy * dy)
         readings[0] += abs(dx)
         readings[1] += abs(dy)
@@ -56,26 +55,34 @@ class Odometers:
         readings[4] += math.sqrt(h * h + dz * dz)
         watched = self._watched.get(who)
         if watched:
-            wake = self._wake
             for axis, heap in watched:
-                reading = readings[axis]
-                while heap and heap[0][0] <= reading:
-                    _, generation, index = heapq.heappop(heap)
-                    wake(index, generation)
+                if heap and heap[0][0] <= readings[axis]:
+                    reading = readings[axis]
+                    while heap and heap[0][0] <= reading:
+                        _, generation, index = heapq.heappop(heap)
+                        self._wake(index, generation)
         return True
+
+    def _appeared(self, who: Any, point: Any) -> bool:
+        if not _is_point(point):
+            self._last.pop(who, None)
+            return False
+        self._last[who] = point
+        if who not in self._readings:
+            self._readings[who] = [0.0, 0.0, 0.0, 0.0, 0.0]
+        return False
 
     def forget(self, who: Any, at: float) -> None:
         """``who``'s position is no longer believed (its readings stay: they only grow)."""
-        self._before[who] = (self._last.pop(who, None), at)
+        self._previous[who] = self._last.pop(who, None)
+        self._moved_at[who] = at
 
     def where(self, who: Any, before: float | None = None) -> Point | None:
         """``who``'s believed position, as floats; with ``before``, the one believed just before that time (its
         position at the previous tick, when it moved at this one)."""
         point = self._last.get(who)
-        if before is not None:
-            earlier = self._before.get(who)
-            if earlier is not None and earlier[1] >= before:
-                point = earlier[0]
+        if before is not None and self._moved_at.get(who, -math.inf) >= before:
+            point = self._previous.get(who)
         return None if point is None or not _is_point(point) else (float(point[0]), float(point[1]), float(point[2]))
 
     def reading(self, key: tuple) -> float:
