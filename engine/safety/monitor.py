@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import heapq
 import logging
+import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -225,6 +226,12 @@ class SafetyMonitor:
                 watch.boundary = self.odometers.where("self")
         generation, index = watch.generation, watch.index
         odometers = self.odometers
+        if len(entries) > 1:  # any of them wakes it: the first on each odometer is enough
+            first: dict = {}
+            for key, reading in entries:
+                if reading < first.get(key, math.inf):
+                    first[key] = reading
+            entries = first.items()
         for key, reading in entries:
             if key is TIME:
                 due = self._due

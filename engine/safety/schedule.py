@@ -115,7 +115,7 @@ def _operator(op: str) -> Callable[[Any, Any], bool]:
 class _Test:
     """One comparison, ready to be checked against a solution: its sides, its operator and its rate."""
 
-    __slots__ = ("left", "right", "left_var", "right_var", "test", "rate")
+    __slots__ = ("left", "right", "left_var", "right_var", "test", "rate", "fixed")
 
     def __init__(self, comparison: Comparison, rate: Rate) -> None:
         left, right = comparison.left, comparison.right
@@ -125,6 +125,15 @@ class _Test:
         self.right = right.name if self.right_var else right
         self.test = _operator(comparison.op)
         self.rate = rate
+        dynamic = callable(rate.jump) or callable(rate.per_second) or any(callable(k) for _, _, k in rate.per_meter)
+        self.fixed = None if dynamic else _figures(rate)  # its figures, when they do not depend on the moment
+
+
+def _figures(rate: Rate) -> tuple[float, float, tuple, bool]:
+    """A rate's figures now: its jump, per second, per meter terms, and whether anything moves it."""
+    per_second = _now(rate.per_second)
+    terms = tuple((who, axis, _now(k)) for who, axis, k in rate.per_meter)
+    return _now(rate.jump), per_second, terms, per_second > 0.0 or bool(terms)
 
 
 class Plan:
@@ -232,10 +241,11 @@ class Plan:
             left = solution.get(test.left) if test.left_var else test.left
             right = solution.get(test.right) if test.right_var else test.right
             true = test.test(left, right)
+            figures = test.fixed or _figures(test.rate)
             budget = None
             if _number(left) and _number(right):
-                budget = abs(float(left) - float(right)) - _now(test.rate.jump)
-            found, score = _entries(test.rate, budget, solution, now, reading)
+                budget = abs(left - right) - figures[0]
+            found, score = _entries(figures, budget, solution, now, reading)
             if true:
                 to_false.extend(found)
                 true_score = min(true_score, score)
@@ -322,19 +332,18 @@ def _plain(value: Any) -> bool:
     return True
 
 
-def _entries(rate: Rate, budget: float | None, solution: dict, now: float,
+def _entries(figures: tuple, budget: float | None, solution: dict, now: float,
              reading: Callable[[Any], float]) -> tuple[list[Entry], float]:
     """Where a comparison with ``budget`` left before it flips may flip at the earliest: its budget shared
-    between what moves it (an entry each), and a score (budget over the total rate)."""
-    if not rate.moves:
-        if _now(rate.jump) > 0.0 and (budget is None or budget <= 0.0):
+    between what moves it (an entry each), and a score (budget over the total rate). ``figures``: its rate's."""
+    jump, per_second, terms, moves = figures
+    if not moves:
+        if jump > 0.0 and (budget is None or budget <= 0.0):
             return [(TIME, now)], 0.0  # only its rounding moves it, and it is within that of flipping
         return [], math.inf
     if budget is None or budget <= 0.0:
         return [(TIME, now)], 0.0
-    per_second = _now(rate.per_second)
-    terms = [(who, axis, _now(k)) for who, axis, k in rate.per_meter]
-    share = budget / (len(terms) + (1 if per_second > 0.0 else 0) or 1)
+    share = budget / (len(terms) + (1 if per_second > 0.0 else 0))
     found: list[Entry] = []
     total = per_second
     if per_second > 0.0:
