@@ -16,7 +16,6 @@ measured.
 
 from __future__ import annotations
 
-import logging
 import math
 import operator
 from collections.abc import Callable, Mapping
@@ -24,9 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from aeroexec.beliefs import Comparison, Conjunction, Goal, Negation, Var
-from aeroexec.beliefs.terms import Struct, from_python, to_python
-
-logger = logging.getLogger(__name__)
+from aeroexec.engine.safety.chains import compile_chain, variables
 
 Signature = tuple[str, int]
 AXES = ("x", "y", "z", "h", "p")  # the odometers of a drone: along each axis, horizontal path, 3-D path
@@ -168,45 +165,19 @@ class Plan:
                 return None  # a built-in or computed predicate whose value moves without a belief changing
             if source is not None and term.args:
                 _give(term.args[-1], _rate(source, term.args, rates), rates, source.point)
-            bound |= set(_variables(term))
+            bound |= set(variables(term))
         for comparison in comparisons:
-            if any(v not in bound for v in (*_variables(comparison.left), *_variables(comparison.right))):
+            if any(v not in bound for v in (*variables(comparison.left), *variables(comparison.right))):
                 return None
         tests = tuple(_Test(c, _rate_of(c.left, rates) + _rate_of(c.right, rates)) for c in comparisons)
         text = ", ".join(str(g) for g in goals) or "true"
         return cls(Conjunction(tuple(goals), text), tests)
 
     def compile(self, memory: Any) -> None:
-        """Solve the goals as a chain where they form one: the stored goals asked of ``memory`` (one look-up when
-        a single goal asks the value of a key, ``position(self, ?p)``, ``position(self, (?x, ?y, ?z))``), then each
-        computed goal (a registered function, its inputs bound by the goals before it, one fresh output) called
-        on every solution as the memory's solver calls it, without planning and unifying each time."""
-        stored: list[Goal] = []
-        steps: list[tuple[Callable, tuple, str]] = []
-        bound: set[Var] = set()
-        for literal in self.goals.literals:
-            if type(literal) is not Goal:
-                return
-            term = literal.term
-            found = memory.function(*term.signature)
-            if found is None:
-                if memory.is_computed(*term.signature) or steps:  # a built-in; or stored after a computed goal
-                    return
-                stored.append(literal)
-                bound |= set(_variables(term))
-                continue
-            function, inputs = found
-            output = term.args[-1] if inputs == len(term.args) - 1 else None
-            if type(output) is not Var or output in bound or output.anonymous or \
-                    any(v not in bound for a in term.args[:-1] for v in _variables(a)):
-                return
-            steps.append((function, term.args[:-1], output.name))
-            bound.add(output)
-        keyed = _keyed(stored)
-        if keyed is None and not steps:
-            return  # nothing to gain
-        goals = Conjunction(tuple(stored), ", ".join(str(g) for g in stored)) if stored else None
-        self.solve = _chain(goals, keyed, tuple(steps))
+        """Solve the goals as a chain where they form one (:mod:`aeroexec.engine.safety.chains`)."""
+        chain = compile_chain(self.goals, memory)
+        if chain is not None:
+            self.solve = chain
 
     def verdict(self, solutions: list[dict], now: float, reading: Callable[[Any], float]) -> \
             tuple[bool, list[Entry], dict]:
@@ -256,80 +227,6 @@ class Plan:
         if all_true:
             return True, to_false, true_score
         return False, to_true or [], false_score
-
-
-def _keyed(stored: list[Goal]) -> tuple[Conjunction, str, tuple[str, ...] | None] | None:
-    """A single stored goal asking the value of a ground key: the goal asking it into one variable, its predicate,
-    and the variables a flat tuple of distinct ones spreads it into (None: the value is the variable)."""
-    if len(stored) != 1:
-        return None
-    term = stored[0].term
-    if len(term.args) < 2 or any(_variables(a) for a in term.args[:-1]):
-        return None
-    value = term.args[-1]
-    if type(value) is Var:
-        return None if value.anonymous else (Conjunction(tuple(stored), str(stored[0])), term.name, None)
-    if type(value) is not tuple or not value or any(type(v) is not Var or v.anonymous for v in value) or \
-            len(set(value)) != len(value):
-        return None
-    whole = Var("?_safety_value")
-    goal = Goal(Struct(term.name, (*term.args[:-1], whole)))
-    return Conjunction((goal,), str(goal)), term.name, tuple(v.name for v in value)
-
-
-def _chain(stored: Conjunction | None, keyed: tuple | None, steps: tuple) -> Callable[[Any], list[dict]]:
-    def solve(memory: Any) -> list[dict]:
-        if stored is None:
-            solutions = [{}]
-        elif keyed is not None and memory.exclusive(keyed[1]):
-            first = memory.query(keyed[0])
-            solutions = [] if first is None else [first]
-            names = keyed[2]
-            if first is not None and names is not None:  # spread the value into its variables, as unifying does
-                value = first.pop("?_safety_value")
-                if not isinstance(value, tuple | list) or len(value) != len(names):
-                    solutions = []
-                else:
-                    first.update(zip(names, value, strict=True))
-        else:
-            solutions = memory.query_all(stored)
-        found = []
-        for solution in solutions:
-            for function, args, name in steps:
-                values = [_input(a, solution) for a in args]
-                try:
-                    value = function(*values)
-                except Exception:  # as the memory's solver: a broken computed predicate fails its goal
-                    logger.exception("computed predicate %s failed", name)
-                    value = None
-                if value is None or value is False:
-                    break
-                solution[name] = value if _plain(value) else to_python(from_python(value))
-            else:
-                found.append(solution)
-        return found
-    return solve
-
-
-def _input(arg: Any, solution: dict) -> Any:
-    """An input of a computed goal as the solver hands it: a term (a list is a ListTerm)."""
-    if type(arg) is Var:
-        arg = solution[arg.name]
-    return arg if _plain(arg) else from_python(arg)
-
-
-def _plain(value: Any) -> bool:
-    """A number, an atom, or a tuple of them: the same as a term and as a Python value."""
-    kind = type(value)
-    if kind is float or kind is int or kind is str:
-        return True
-    if kind is not tuple:
-        return False
-    for item in value:
-        kind = type(item)
-        if kind is not float and kind is not int and kind is not str:
-            return False
-    return True
 
 
 def _entries(figures: tuple, budget: float | None, solution: dict, now: float,
@@ -398,16 +295,6 @@ def _rate_of(term: Any, rates: Mapping[Var, Rate]) -> Rate:
             found = _max(found, _rate_of(item, rates))
         return found
     return STILL
-
-
-def _variables(term: Any) -> list[Var]:
-    if type(term) is Var:
-        return [term]
-    if isinstance(term, tuple):
-        return [v for item in term for v in _variables(item)]
-    if isinstance(term, Struct):
-        return [v for item in term.args for v in _variables(item)]
-    return []
 
 
 def _number(value: Any) -> bool:
