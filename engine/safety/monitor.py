@@ -19,6 +19,7 @@ from typing import Any
 from aeroexec.beliefs import Conjunction, format_term
 from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.safety_rules import ALWAYS, LAND, WITHIN, Contingency, SafetyRule
+from aeroexec.engine.safety.compliance import SafetyStatus
 from aeroexec.engine.safety.contingency import Contingencies
 from aeroexec.engine.safety.odometers import Odometers
 from aeroexec.engine.safety.predicates import SafetyPredicates
@@ -42,6 +43,7 @@ class _Watch:
     violated: bool = False
     since: float | None = None  # a within rule: when its obligation opened
     boundary: tuple | None = None  # where the drone was when the rule last held
+    violated_at: float = 0.0
     checks: int = 0
 
 
@@ -131,6 +133,7 @@ class SafetyMonitor:
         self._woken: set[int] = {w.index for w in self._watches}  # everything is checked at the first tick
         self._due: list[tuple[float, int, int]] = []  # (time, generation, rule)
         self.started = False
+        self._in_effect: tuple[str, str, str] | None = None  # the contingency taken last: rule, contingency, action
         #: check every rule at every tick: the reference the schedule must agree with (tests, benches)
         self.every_tick = False
         memory.subscribe(self._changed)
@@ -257,7 +260,7 @@ class SafetyMonitor:
             watch.since, watch.violated = now, False
             action = self._act(watch)
             self.log.record("safety_triggered", detail=f"{rule.name}: {rule.trigger.text}; {rule.condition.text} "
-                            f"due within {rule.within:g} s; {action}", rule=rule.name,
+                            f"due within {rule.within:g} s; {action}", rule=rule.name, due=round(now + rule.within, 2),
                             beliefs=_shown({**trigger_evidence, **evidence}), contingency=str(rule.contingency),
                             action=action)
         else:
@@ -289,6 +292,7 @@ class SafetyMonitor:
 
     def _violated(self, watch: _Watch, now: float, evidence: dict, why: str, escalate: bool = False) -> None:
         rule = watch.rule
+        watch.violated_at = now
         action = self._act(watch, escalate)
         what = why or (f"{rule.condition.text} no longer holds" if rule.form == ALWAYS
                        else f"{rule.condition.text} holds")
@@ -307,15 +311,25 @@ class SafetyMonitor:
         if not (escalate or contingencies.outranks(rule)):
             return f"the contingency of {contingencies.active.name} stays in effect"
         try:
-            return contingencies.take(rule, watch.boundary)
+            action = contingencies.take(rule, watch.boundary)
         except Exception as exc:
             logger.exception("the contingency of %s failed", rule.name)
-            return f"its contingency failed: {type(exc).__name__}: {exc}"
+            action = f"its contingency failed: {type(exc).__name__}: {exc}"
+        self._in_effect = (rule.name, str(rule.contingency), action)
+        return action
 
     def _rally(self, here: tuple, home: bool) -> tuple:
         return self.model.home if home else self.predicates.nearest_rally(here)
 
     # -- compliance -------------------------------------------------------------------------------------------
+    def status(self) -> SafetyStatus:
+        """The rules violated now, the contingency in effect, the obligations open (for the views)."""
+        return SafetyStatus(len(self.rules),
+                            tuple((w.rule.name, w.violated_at) for w in self._watches if w.violated),
+                            self._in_effect if self.contingencies.active is not None else None,
+                            tuple((w.rule.name, w.since + w.rule.within) for w in self._watches
+                                  if w.since is not None and not w.violated))
+
     @property
     def checks(self) -> dict[str, int]:
         """How many times each rule was checked (the monitors' work)."""
