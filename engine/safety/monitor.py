@@ -325,9 +325,9 @@ class SafetyMonitor:
     def status(self) -> SafetyStatus:
         """The rules violated now, the contingency in effect, the obligations open (for the views)."""
         return SafetyStatus(len(self.rules),
-                            tuple((w.rule.name, w.violated_at) for w in self._watches if w.violated),
+                            tuple((w.rule.name, round(w.violated_at, 2)) for w in self._watches if w.violated),
                             self._in_effect if self.contingencies.active is not None else None,
-                            tuple((w.rule.name, w.since + w.rule.within) for w in self._watches
+                            tuple((w.rule.name, round(w.since + w.rule.within, 2)) for w in self._watches
                                   if w.since is not None and not w.violated))
 
     @property
