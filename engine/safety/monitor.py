@@ -72,7 +72,8 @@ def sources(model: VehicleModel, predicates: SafetyPredicates, belief_period: fl
         ("distance_to_obstacle", 2): Source(rounded, through=(0,)),
         ("rally_distance", 2): Source(rounded, through=(0,), mover=lambda who: Rate(per_meter=((who, "h", 1.0),)),
                                       follows=(POSITION,)),
-        ("stopping_point", 2): Source(mover=braking, follows=(POSITION,)),
+        ("stopping_point", 2): Source(mover=braking, reads=(("velocity", 2),), follows=(POSITION,)),  # a mate's
+        # velocity is a belief the fleet link writes with its position
         ("battery_to_home", 2): Source(through=(0,), scale=predicates.home_cost, mover=home, reads=(("wind", 2),),
                                        follows=(POSITION,)),
         ("return_margin", 2): Source(drain, mover=home, reads=(("wind", 2),), follows=(POSITION, CHARGE)),

@@ -9,7 +9,7 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from aeroexec.beliefs import BeliefMemory
+from aeroexec.beliefs import BeliefMemory, Struct, Var
 from aeroexec.drones.vehicle import VehicleModel
 
 Point = tuple[float, float, float]
@@ -17,8 +17,8 @@ Point = tuple[float, float, float]
 
 class SafetyPredicates:
     """Registers the computed predicates of safety rules on a belief memory, reading the drone's position, charge
-    and wind from the memory (what the rules see); ``stopping_point`` also reads the velocity from ``velocity()``
-    (the telemetry's)."""
+    and wind from the memory (what the rules see); ``stopping_point`` also reads this drone's velocity from
+    ``velocity()`` (the telemetry's) and fleet mates' from ``velocity(dN, V)``."""
 
     def __init__(self, memory: BeliefMemory, model: VehicleModel, now: Callable[[], float],
                  velocity: Callable[[], Sequence[float]] = lambda: (0.0, 0.0, 0.0)) -> None:
@@ -99,11 +99,26 @@ class SafetyPredicates:
         return round(min(math.hypot(point[0] - p[0], point[1] - p[1]) for p in places), 2)
 
     def _stopping_point(self, who: Any) -> Point | None:
-        """Where the drone would stop if it braked now (its position plus v|v|/2a, horizontally)."""
-        point = self.position(who) if who == "self" else None
+        """Where a drone would stop if it braked now (its position plus v|v|/2a, horizontally, at the vehicle
+        model's acceleration): this drone's from its telemetry's velocity, a fleet mate's from the ``velocity(dN,
+        V)`` its fleet link shares (its position alone when it shares none)."""
+        if who == "self":
+            point = self.position("self")
+            velocity = self.velocity() if point is not None else None
+        elif type(who) is str:
+            found = self.memory.query(Struct("position", (who, Var("?p"))))
+            point = self.position(found["?p"]) if found else None
+            velocity = (0.0, 0.0, 0.0)
+            if point is not None and self.memory.accepts("velocity"):
+                shared = self.memory.query(Struct("velocity", (who, Var("?v"))))
+                value = shared["?v"] if shared else None
+                if isinstance(value, tuple | list) and len(value) == 3 and all(type(v) in (int, float) for v in value):
+                    velocity = value
+        else:
+            return None
         if point is None:
             return None
-        vx, vy, _ = self.velocity()
+        vx, vy, _ = velocity
         k = math.hypot(vx, vy) / (2.0 * self.model.max_acceleration)
         return (round(point[0] + vx * k, 2), round(point[1] + vy * k, 2), point[2])
 

@@ -264,8 +264,8 @@ def _rate(source: Source, args: tuple, rates: Mapping[Var, Rate]) -> Rate:
     if source.point:
         return Rate(per_meter=((first, "p", 1.0),))
     rate = source.rate
-    if source.mover is not None and type(first) is str:  # a drone, by name (self)
-        rate = rate + source.mover(first)
+    if source.mover is not None and (type(first) is str or type(first) is Var and first not in rates):
+        rate = rate + source.mover(first)  # a drone, by name (self) or a variable naming one (a point has a rate)
     moved = STILL
     for index in source.through:
         if index < len(args) - 1:
