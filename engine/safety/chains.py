@@ -37,9 +37,9 @@ def compile_chain(goals: Conjunction, memory: Any) -> Callable[[Any], list[dict]
         function, inputs = found
         output = term.args[-1] if inputs == len(term.args) - 1 else None
         if type(output) is not Var or output in bound or output.anonymous or \
-                any(v not in bound for a in term.args[:-1] for v in variables(a)):
-            return None
-        steps.append((function, term.args[:-1], output.name))
+                any(type(a) is Var and a not in bound or type(a) is not Var and variables(a) for a in term.args[:-1]):
+            return None  # an input not bound, or a compound with variables in it: the memory's solver substitutes
+        steps.append((function, tuple(_argument(a) for a in term.args[:-1]), output.name))
         bound.add(output)
     keyed = _keyed(stored)
     if keyed is None and not steps:
@@ -85,7 +85,7 @@ def _chain(stored: Conjunction | None, keyed: tuple | None, steps: tuple) -> Cal
         found = []
         for solution in solutions:
             for function, args, name in steps:
-                values = [_input(a, solution) for a in args]
+                values = [_input(solution[a]) if variable else a for variable, a in args]
                 try:
                     value = function(*values)
                 except Exception:  # as the memory's solver: a broken computed predicate fails its goal
@@ -93,18 +93,22 @@ def _chain(stored: Conjunction | None, keyed: tuple | None, steps: tuple) -> Cal
                     value = None
                 if value is None or value is False:
                     break
-                solution[name] = value if _plain(value) else to_python(from_python(value))
+                solution[name] = value if type(value) is float or _plain(value) else to_python(from_python(value))
             else:
                 found.append(solution)
         return found
     return solve
 
 
-def _input(arg: Any, solution: dict) -> Any:
+def _argument(arg: Any) -> tuple[bool, Any]:
+    """An input of a computed goal, prepared once: (True, a variable's name) or (False, the constant as the solver
+    hands it)."""
+    return (True, arg.name) if type(arg) is Var else (False, _input(arg))
+
+
+def _input(value: Any) -> Any:
     """An input of a computed goal as the solver hands it: a term (a list is a ListTerm)."""
-    if type(arg) is Var:
-        arg = solution[arg.name]
-    return arg if _plain(arg) else from_python(arg)
+    return value if _plain(value) else from_python(value)
 
 
 def _plain(value: Any) -> bool:

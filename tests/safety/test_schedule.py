@@ -20,6 +20,8 @@ from aeroexec.engine.safety.declared import vocabulary
 RULES = {  # each broken at some point of the patrol below
     "pad": "never: 'position(self, ?p), distance(?p, (11, 9, 6), ?d), ?d < 2.5', contingency: hold",
     "fence_x": "always: 'position(self, (?x, ?y, ?z)), ?x > -13, ?x < 13.5', contingency: hold",
+    "ground": "never: 'position(self, (?x, ?y, ?z)), distance((?x, ?y, 0), (11, 9, 0), ?d), ?d < 2', "
+              "contingency: hold",  # a point built of its variables: the memory's solver fills it in
     "ceiling": "always: 'position(self, (?x, ?y, ?z)), ?z < 7.5', contingency: hold",
     "braking": "never: 'stopping_point(self, ?p), distance(?p, (-12, 4, 6), ?d), ?d < 3', contingency: hold",
     "mate": "never: 'position(?o, ?q), ?o != self, position(self, ?p), distance(?p, ?q, ?d), ?d < 4', "
