@@ -1,6 +1,7 @@
 """Safety monitors' cost: the engine step (CPU per simulated period) of a drone flying a GO_TO_POINT patrol, with
 no safety rules (the baseline, same run) and with 20 rules (keep-out volumes, a fence, the return margin, wind,
-link, mission time...), as a ratio. Target (issue 31): 20 rules add at most 5 %.
+link, mission time...), as a ratio. Target (issue 31): 20 rules add at most 5 %. None of them breaks: the believed
+position drifts (dead reckoning) by up to 8 m over the four laps, the fence is wide of it.
 
 The step is measured as ``bench/engine.py`` measures it, after the start: the CPU of a patrol of four laps less
 that of one lap, over the periods between (take-off, the first lap, and the rules' first check, when their
@@ -31,8 +32,8 @@ from aeroexec.engine.safety.declared import vocabulary
 RULES = "\n".join([
     *(f"- {{rule: keep_out_{i}, never: 'position(self, ?p), distance(?p, ({-18 + 4 * i}, 19, 3), ?d), ?d < 1', "
       f"contingency: hold}}" for i in range(10)),
-    "- {rule: fence_x, always: 'position(self, (?x, ?y, ?z)), ?x > -19, ?x < 19', contingency: hold}",
-    "- {rule: fence_y, always: 'position(self, (?x, ?y, ?z)), ?y > -19, ?y < 19', contingency: hold}",
+    "- {rule: fence_x, always: 'position(self, (?x, ?y, ?z)), ?x > -30, ?x < 30', contingency: hold}",
+    "- {rule: fence_y, always: 'position(self, (?x, ?y, ?z)), ?y > -30, ?y < 30', contingency: hold}",
     "- {rule: ceiling, always: 'position(self, (?x, ?y, ?z)), ?z < 18', contingency: hold}",
     "- {rule: margin, always: 'return_margin(self, ?m), ?m >= 10', contingency: return}",
     "- {rule: low, never: 'charge(battery, ?c), ?c < 8', contingency: land}",
@@ -64,7 +65,10 @@ def flight(rules: str, laps: int) -> tuple[float, int, int]:
     cpu = time.thread_time() - began
     periods = round(engine.now() / engine.period)
     checks = sum(engine.safety.checks.values()) if engine.safety else 0
+    fired = [e.detail for e in engine.log.events() if e.kind == "safety_violated"]
     engine.stop()
+    if fired:  # its contingency changes the flight: it would not be the baseline's any more
+        sys.exit(f"a rule broke in the measured flight: {fired[0]}")
     return cpu, periods, checks
 
 

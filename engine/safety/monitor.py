@@ -121,13 +121,13 @@ class SafetyMonitor:
         for watch in self._watches:
             for signature in watch.rule.predicates:
                 self._readers.setdefault(signature, []).append(watch.index)
-        names = {name for name, _ in (*self._by_signature, *self._readers)} | {POSITION[0]}  # the odometers'
-        self._names = None if self._any else frozenset(names)  # the predicates whose changes matter here
         self._followers: dict[tuple, list[int]] = {}  # a rated belief -> the rules reading what moves with it: a
         for signature, source in rated.items():  # belief of it that appears or goes (a new fleet mate) wakes them
             for followed in source.follows:
                 self._followers.setdefault(followed, []).extend(self._readers.get(signature, []))
         self._followers.setdefault(POSITION, [])
+        # the predicates whose changes matter here (the position: the odometers')
+        names = {name for name, _ in (*self._by_signature, *self._readers, *self._followers)}
         self._replacing: tuple | None = None
         self._position_woken = sorted({*self._by_signature.get(POSITION, []), *self._any})  # at every move
         self.odometers = Odometers(self._wake, self._live)
@@ -137,7 +137,7 @@ class SafetyMonitor:
         self._in_effect: tuple[str, str, str] | None = None  # the contingency taken last: rule, contingency, action
         #: check every rule at every tick: the reference the schedule must agree with (tests, benches)
         self.every_tick = False
-        memory.subscribe(self._changed)
+        memory.subscribe(self._changed, None if self._any else names)  # not called for the rest (speed...)
 
     # -- the tick ---------------------------------------------------------------------------------------------
     def tick(self, now: float) -> None:
@@ -185,9 +185,6 @@ class SafetyMonitor:
                 self._woken.update(self._followers[POSITION])
             if self._position_woken:  # rules that read it and are not scheduled
                 self._woken.update(self._position_woken)
-            return
-        names = self._names
-        if names is not None and name not in names:
             return
         signature = (name, len(belief.args))
         woken = self._woken
