@@ -143,7 +143,9 @@ def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
     def point(value: Any) -> tuple[float, float, float] | None:  # (written out: safety rules ask it often)
         if isinstance(value, tuple) and len(value) == 3:
             x, y, z = value
-            if isinstance(x, int | float) and isinstance(y, int | float) and isinstance(z, int | float):
+            if type(x) is float and type(y) is float and type(z) is float and type(value) is tuple:
+                return value
+            if isinstance(x, (int, float)) and isinstance(y, (int, float)) and isinstance(z, (int, float)):
                 return (float(x), float(y), float(z))
         return None
 

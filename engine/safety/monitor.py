@@ -21,7 +21,7 @@ from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.safety_rules import ALWAYS, LAND, WITHIN, Contingency, SafetyRule
 from aeroexec.engine.safety.compliance import SafetyStatus
 from aeroexec.engine.safety.contingency import Contingencies
-from aeroexec.engine.safety.odometers import Odometers
+from aeroexec.engine.safety.odometers import Odometers, floats
 from aeroexec.engine.safety.predicates import SafetyPredicates
 from aeroexec.engine.safety.schedule import TIME, Entry, Plan, Rate, Source, goal_literals
 
@@ -42,7 +42,7 @@ class _Watch:
     generation: int = 0  # moves at every check: the entries an earlier check left are stale
     violated: bool = False
     since: float | None = None  # a within rule: when its obligation opened
-    boundary: tuple | None = None  # where the drone was when the rule last held
+    boundary: tuple | None = None  # where the drone was when the rule last held (as believed: floats() reads it)
     violated_at: float = 0.0
     checks: int = 0
 
@@ -224,7 +224,7 @@ class SafetyMonitor:
                     watch.violated = False
                     self.log.record("safety_restored", detail=f"{rule.name}: {rule.text} holds again",
                                     rule=rule.name)
-                watch.boundary = self.odometers.where("self")
+                watch.boundary = self.odometers.last("self")
         generation, index = watch.generation, watch.index
         odometers = self.odometers
         if len(entries) > 1:  # any of them wakes it: the first on each odometer is enough
@@ -309,7 +309,7 @@ class SafetyMonitor:
         if not (escalate or contingencies.outranks(rule)):
             return f"the contingency of {contingencies.active.name} stays in effect"
         try:
-            action = contingencies.take(rule, watch.boundary)
+            action = contingencies.take(rule, floats(watch.boundary))
         except Exception as exc:
             logger.exception("the contingency of %s failed", rule.name)
             action = f"its contingency failed: {type(exc).__name__}: {exc}"

@@ -83,7 +83,11 @@ class Odometers:
         point = self._last.get(who)
         if before is not None and self._moved_at.get(who, -math.inf) >= before:
             point = self._previous.get(who)
-        return None if point is None or not _is_point(point) else (float(point[0]), float(point[1]), float(point[2]))
+        return floats(point)
+
+    def last(self, who: Any) -> Any:
+        """``who``'s believed position as it was believed (a point, or None): :meth:`where` reads it as floats."""
+        return self._last.get(who)
 
     def reading(self, key: tuple) -> float:
         """The reading of odometer ``key`` = (who, axis) now."""
@@ -103,6 +107,11 @@ class Odometers:
         heapq.heappush(heap, (reading, generation, index))
 
 
+def floats(point: Any) -> Point | None:
+    """A believed point as floats; None when it is none."""
+    return None if point is None or not _is_point(point) else (float(point[0]), float(point[1]), float(point[2]))
+
+
 def _is_point(value: Any) -> bool:
     if not isinstance(value, tuple) or len(value) != 3:
         return False
@@ -113,4 +122,4 @@ def _is_point(value: Any) -> bool:
     return True
 
 
-__all__ = ["Odometers"]
+__all__ = ["Odometers", "floats"]

@@ -97,22 +97,15 @@ class Source:
     follows: tuple[Signature, ...] = ()  # the rated beliefs it moves with
 
 
-def _operator(op: str) -> Callable[[Any, Any], bool]:
-    if op == "=":
-        return operator.eq
-    if op == "!=":
-        return operator.ne
-    compare = {"<": operator.lt, ">": operator.gt, "<=": operator.le, ">=": operator.ge}[op]
-
-    def ordered(left: Any, right: Any) -> bool:
-        return _number(left) and _number(right) and compare(left, right)
-    return ordered
+_OPERATORS = {"=": operator.eq, "!=": operator.ne, "<": operator.lt, ">": operator.gt, "<=": operator.le,
+              ">=": operator.ge}
 
 
 class _Test:
-    """One comparison, ready to be checked against a solution: its sides, its operator and its rate."""
+    """One comparison, ready to be checked against a solution: its sides, its operator (``ordered``: it holds
+    between numbers only, as the memory compares) and its rate."""
 
-    __slots__ = ("left", "right", "left_var", "right_var", "test", "rate", "fixed")
+    __slots__ = ("left", "right", "left_var", "right_var", "test", "ordered", "rate", "fixed")
 
     def __init__(self, comparison: Comparison, rate: Rate) -> None:
         left, right = comparison.left, comparison.right
@@ -120,7 +113,8 @@ class _Test:
         self.right_var = type(right) is Var
         self.left = left.name if self.left_var else left
         self.right = right.name if self.right_var else right
-        self.test = _operator(comparison.op)
+        self.test = _OPERATORS[comparison.op]
+        self.ordered = comparison.op not in ("=", "!=")
         self.rate = rate
         dynamic = callable(rate.jump) or callable(rate.per_second) or any(callable(k) for _, _, k in rate.per_meter)
         self.fixed = None if dynamic else _figures(rate)  # its figures, when they do not depend on the moment
@@ -211,11 +205,14 @@ class Plan:
         for test in self.tests:
             left = solution.get(test.left) if test.left_var else test.left
             right = solution.get(test.right) if test.right_var else test.right
-            true = test.test(left, right)
             figures = test.fixed or _figures(test.rate)
-            budget = None
-            if _number(left) and _number(right):
+            kind, other = type(left), type(right)
+            if (kind is float or kind is int) and (other is float or other is int):
+                true = test.test(left, right)
                 budget = abs(left - right) - figures[0]
+            else:
+                true = not test.ordered and test.test(left, right)
+                budget = None
             found, score = _entries(figures, budget, solution, now, reading)
             if true:
                 to_false.extend(found)
@@ -295,11 +292,6 @@ def _rate_of(term: Any, rates: Mapping[Var, Rate]) -> Rate:
             found = _max(found, _rate_of(item, rates))
         return found
     return STILL
-
-
-def _number(value: Any) -> bool:
-    kind = type(value)
-    return kind is float or kind is int
 
 
 def goal_literals(condition: Conjunction) -> Conjunction:
