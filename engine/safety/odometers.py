@@ -32,6 +32,9 @@ class Odometers:
         self._readings: dict[Any, list[float]] = {}  # who -> the five readings, in AXES' order
         self._heaps: dict[tuple, list[tuple[float, int, int]]] = {}  # (who, axis) -> (reading, generation, rule)
         self._watched: dict[Any, list[tuple[int, list]]] = {}  # who -> (axis index, heap) of the waits on it
+        # who -> at most the path left before a wait on it is reached: no reading grows more than the 3-D path, so
+        # a move shorter than that reaches none, and its heaps are not looked at
+        self._slack: dict[Any, float] = {}
 
     def moved(self, who: Any, point: Any, at: float) -> bool:
         """Follow ``who`` to ``point`` (believed at time ``at``); False when it was not followed before (it appears,
@@ -52,16 +55,25 @@ class Odometers:
         readings[1] += abs(dy)
         readings[2] += abs(dz)
         readings[3] += h
-        readings[4] += math.sqrt(h * h + dz * dz)
-        watched = self._watched.get(who)
-        if watched:
-            for axis, heap in watched:
-                if heap and heap[0][0] <= readings[axis]:
-                    reading = readings[axis]
-                    while heap and heap[0][0] <= reading:
-                        _, generation, index = heapq.heappop(heap)
-                        self._wake(index, generation)
+        step = math.sqrt(h * h + dz * dz)
+        readings[4] += step
+        slack = self._slack.get(who)
+        if slack is not None:
+            slack -= step
+            self._slack[who] = slack if slack > 0.0 else self._reached(who, readings)
         return True
+
+    def _reached(self, who: Any, readings: list[float]) -> float:
+        """Wake the rules whose readings on ``who``'s odometers are reached; the path left before the next."""
+        left = math.inf
+        for axis, heap in self._watched.get(who, ()):
+            reading = readings[axis]
+            while heap and heap[0][0] <= reading:
+                _, generation, index = heapq.heappop(heap)
+                self._wake(index, generation)
+            if heap:
+                left = min(left, heap[0][0] - reading)
+        return left
 
     def _appeared(self, who: Any, point: Any) -> bool:
         if not _is_point(point):
@@ -105,6 +117,9 @@ class Odometers:
             heap[:] = [e for e in heap if live(e[2], e[1])]
             heapq.heapify(heap)
         heapq.heappush(heap, (reading, generation, index))
+        left = reading - self.reading(key)
+        if left < self._slack.get(key[0], math.inf):
+            self._slack[key[0]] = left
 
 
 def floats(point: Any) -> Point | None:
