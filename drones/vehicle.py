@@ -100,7 +100,7 @@ class VehicleModel:
         cruise, air = 0.0, math.hypot(*wind)
         if horizontal > 1e-6:
             ground, air = self._track(dx / horizontal, dy / horizontal, speed, wind)
-            if ground <= 0.1:
+            if ground <= 1e-6:  # (a speed asked is at least 0.1 m/s: only the wind stops it)
                 return math.inf, math.inf
             cruise = horizontal / ground + (ground / c.max_acceleration if horizontal > BRAKING_ABOVE else 0.0)
             air = air * (horizontal / ground) / cruise  # the mean airspeed, braking included
