@@ -60,7 +60,9 @@ class BeliefMemory(Reasoning):
         self._spellings: dict[str, dict[str, str | tuple[str, ...]]] = {}
         self._computed: dict[tuple[str, int], tuple[Callable, int]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
-        self._listeners: list[Callable[[BeliefChange], None]] = []
+        self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
+        self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
+        self._listening = False  # whether anyone listens
         self._expiry: dict[tuple, float] = {}
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
@@ -111,6 +113,15 @@ class BeliefMemory(Reasoning):
         self._computed[(name, arity)] = (function, inputs)
         self._queries.clear()
 
+    def function(self, name: str, arity: int) -> tuple[Callable, int] | None:
+        """The function registered for ``name/arity`` and how many input arguments it takes (None: stored beliefs
+        or a built-in answer it)."""
+        return self._computed.get((name, arity))
+
+    def exclusive(self, name: str) -> bool:
+        """Whether a belief of ``name`` replaces the one with the same other arguments (one value for each key)."""
+        return name not in self._multivalued
+
     def lifetime(self, name: str) -> float | None:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
         return self._persistence.get(name)
@@ -129,10 +140,21 @@ class BeliefMemory(Reasoning):
         """How many changes (a belief added or removed) the memory has had: a version that moves with every one."""
         return self._changes
 
-    def subscribe(self, listener: Callable[[BeliefChange], None]) -> Callable[[], None]:
-        """Call ``listener`` with every :class:`BeliefChange`; returns an unsubscribe function."""
-        self._listeners.append(listener)
-        return lambda: self._listeners.remove(listener) if listener in self._listeners else None
+    def subscribe(self, listener: Callable[[BeliefChange], None],
+                  names: Iterable[str] | None = None) -> Callable[[], None]:
+        """Call ``listener`` with every :class:`BeliefChange` (only of the predicates ``names``, if given: a
+        listener in the engine's tick need not be called for the rest); returns an unsubscribe function."""
+        lists = [self._listeners] if names is None else [self._named.setdefault(n, []) for n in set(names)]
+        for found in lists:
+            found.append(listener)
+        self._listening = True
+
+        def unsubscribe() -> None:
+            for found in lists:
+                if listener in found:
+                    found.remove(listener)
+            self._listening = bool(self._listeners) or any(self._named.values())
+        return unsubscribe
 
     # -- changes ------------------------------------------------------------------
     def add(self, belief: str | Struct) -> bool:
@@ -163,9 +185,9 @@ class BeliefMemory(Reasoning):
             self._changes += 2
             if self._expiry:
                 self._expiry.pop((signature, displaced), None)
-            if self._listeners:
+            if self._listening:
                 self._notify("removed", Struct(signature[0], displaced), "replaced")
-        if self._listeners:
+        if self._listening:
             self._notify("added", belief, "add")
         return True
 
@@ -377,12 +399,15 @@ class BeliefMemory(Reasoning):
         self._changes += 1
         self._relations.resized(rel)
         self._expiry.pop((signature, args), None)
-        if self._listeners:
+        if self._listening:
             self._notify("removed", Struct(signature[0], args), reason)
 
     def _notify(self, kind: str, belief: Struct, reason: str) -> None:
+        named = self._named.get(belief.name) if self._named else None
+        if not named and not self._listeners:
+            return
         change = BeliefChange(kind, belief, reason, self._now())
-        for listener in list(self._listeners):
+        for listener in [*self._listeners, *named] if named else list(self._listeners):
             try:
                 listener(change)
             except Exception:  # a faulty listener must not corrupt the memory

@@ -5,7 +5,8 @@ battery, flight state, mission, active behaviors; also the drone's heartbeat), t
 a tick together, in one message), and the beliefs of the ``share`` predicates (``self`` as written) once a second
 and when they change.
 
-Heard (queued by the :class:`~aeroexec.fleet.node.FleetNode`, applied here): ``position(dN, (x, y, z))`` from
+Heard (queued by the :class:`~aeroexec.fleet.node.FleetNode`, applied here): ``position(dN, (x, y, z))`` and
+``velocity(dN, (vx, vy, vz))`` (to 0.1 m/s; what a separation rule's ``stopping_point(dN, P)`` reads) from
 telemetry; BROADCAST_MESSAGE as ``message(dN, Text)`` while this drone's SOCIAL_COMMUNICATION capability runs;
 and shared beliefs, with ``self`` replaced by the sender, accepted only when
 
@@ -38,13 +39,14 @@ logger = logging.getLogger(__name__)
 
 SOCIAL = "SOCIAL_COMMUNICATION"
 SAID = "said"
+VELOCITY = "velocity"  # a mate's, from its telemetry
 PERSISTENCE = 5.0  # wall seconds a belief heard from another drone lasts unless said again
 BELIEFS_PERIOD = 1.0  # engine seconds between two snapshots of the shared beliefs
 CHECK_PERIOD = 0.2  # wall seconds between two looks for silent drones and expired beliefs
 MAX_BELIEFS = 500  # per snapshot
 MAX_QUEUED_MESSAGES = 16  # broadcasts of one sender waiting for the next tick
 MAX_MESSAGES = 100  # message(dN, Text) beliefs held per sender
-OWN_STATE = frozenset(TELEMETRY_PREDICATES) | {"localization", "carry"}  # what a drone knows of itself
+OWN_STATE = frozenset(TELEMETRY_PREDICATES) | {"localization", "carry", VELOCITY}  # what a drone knows of itself
 
 
 def _named(value: Any, sender: str) -> Any:
@@ -94,6 +96,7 @@ class FleetLink(BeliefUpdater):
         self._heard: dict[Struct, tuple[str, float]] = {}  # belief -> (sender, time.monotonic() last said)
         self._messages: dict[Struct, tuple[str, float]] = {}  # message(dN, Text) -> (sender, when received)
         self._where: dict[str, tuple[Struct, float]] = {}  # drone -> (its position belief, when received)
+        self._moving: dict[str, Struct] = {}  # drone -> its velocity belief (it goes with its position)
         self._next_check = 0.0
         self._events: list[dict[str, Any]] = []
         self._silent: set[str] = set()
@@ -108,6 +111,8 @@ class FleetLink(BeliefUpdater):
         memory = self.engine.memory
         if not memory.accepts(SAID):
             memory.declare(SAID, 2, multivalued=True)
+        if not memory.accepts(VELOCITY):
+            memory.declare(VELOCITY, 2)
         self.node.attach(self)
         self.engine.updaters.append(self)
         self.engine.context.bus = self
@@ -229,6 +234,12 @@ class FleetLink(BeliefUpdater):
         self._heard_from(sender)
         self.engine.memory.add(belief)
         self._where[sender] = (belief, wall)
+        try:  # its velocity too, when its telemetry has one
+            moving = Struct(VELOCITY, (sender, tuple(round(v, 1) for v in vector(message.get("velocity")))))
+        except PayloadError:
+            return
+        self.engine.memory.add(moving)
+        self._moving[sender] = moving
 
     def _hear_beliefs(self, sender: str, message: dict[str, Any], wall: float) -> None:
         texts = message.get("beliefs")
@@ -337,6 +348,9 @@ class FleetLink(BeliefUpdater):
             if wall - said >= self.persistence:
                 del self._where[sender]
                 self.engine.memory.remove(belief)
+                moving = self._moving.pop(sender, None)
+                if moving is not None:
+                    self.engine.memory.remove(moving)
         if self._messages:
             heard = self.node.heard()
             for belief, (sender, received) in list(self._messages.items()):
@@ -359,7 +373,8 @@ class FleetLink(BeliefUpdater):
                           status=self.state, active=active)
 
     def _publish_beliefs(self) -> None:
-        heard = set(self._heard) | set(self._messages) | {belief for belief, _ in self._where.values()}
+        heard = set(self._heard) | set(self._messages) | {belief for belief, _ in self._where.values()} | \
+            set(self._moving.values())
         shared = []
         for predicate in self.share:
             if predicate == SAID:
