@@ -11,6 +11,7 @@ regard to case: ``coordinates=`` is ``COORDINATES``. Reserved keywords:
 
 from __future__ import annotations
 
+import functools
 import itertools
 import os
 import threading
@@ -82,6 +83,19 @@ def _engine() -> Any:
                                "call the mission API from the mission's own thread")
         raise RuntimeError("no engine is running this mission: run it with `aeroexec run MISSION.py`")
     return engine
+
+
+def journaled(function: Any) -> Any:
+    """A public call of the API: it goes through the engine's mission recorder when there is one (a journaled
+    run records it, a resumed run replays it: ``engine/missions/replay.py``)."""
+    @functools.wraps(function)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        recorder = _engine().bridge.recorder
+        if recorder is None:
+            return function(*args, **kwargs)
+        return recorder.call(function, args, kwargs)
+
+    return call
 
 
 def _request(name: str, arguments: dict[str, Any]) -> tuple[str, dict[str, Any], dict[str, Any]]:
@@ -164,18 +178,21 @@ def _run_behavior(name: str, arguments: dict[str, Any], started: list[bool] | No
     return engine.bridge.wait_for(register)
 
 
+@journaled
 def execute_behavior(name: str, **arguments: Any) -> Outcome:
     """Execute a goal-based behavior and wait until it ends: GOAL_ACHIEVED, TIME_OUT, WRONG_PROGRESS,
     FAILED_PRECONDITIONS or INTERRUPTED."""
     return _run_behavior(name, arguments)[0]
 
 
+@journaled
 def ask_behavior(name: str, **arguments: Any) -> Any:
     """Execute a deliberative behavior and return its result (None when it did not reach its goal)."""
     outcome, value = _run_behavior(name, arguments)
     return value if outcome is Outcome.GOAL_ACHIEVED else None
 
 
+@journaled
 def activate_behavior(name: str, **arguments: Any) -> str:
     """Activate a behavior and return at once: OK or FAILED_PRECONDITIONS."""
     name, args, options = _request(name, arguments)
@@ -190,6 +207,7 @@ def activate_behavior(name: str, **arguments: Any) -> str:
     return engine.bridge.call(activate)
 
 
+@journaled
 def inhibit_behavior(name: str) -> bool:
     """Stop a behavior (INTERRUPTED) and keep reactions from restarting it; always succeeds."""
     engine = _engine()
@@ -197,6 +215,7 @@ def inhibit_behavior(name: str) -> bool:
     return True
 
 
+@journaled
 def run_behavior(name: str, **arguments: Any) -> tuple[bool, Outcome]:
     """Execute a behavior and wait until it ends: ``(True, outcome)``, or ``(False, why)`` when the activation
     itself was refused (Aerostack's ``executeTask`` convention)."""
@@ -205,6 +224,7 @@ def run_behavior(name: str, **arguments: Any) -> tuple[bool, Outcome]:
     return bool(started and started[0]), outcome
 
 
+@journaled
 def start_behavior(name: str, **arguments: Any) -> tuple[bool, int]:
     """Activate a behavior and return at once: ``(accepted, uid)``; ``uid`` names this activation for
     :func:`stop_activation` (0 when refused)."""
@@ -231,6 +251,7 @@ def _uid(activation: Any) -> int:
         return uid
 
 
+@journaled
 def stop_activation(uid: int) -> bool:
     """Stop the activation ``uid`` (from :func:`start_behavior`) as inhibit does; False when it is not active."""
     engine = _engine()
@@ -247,6 +268,7 @@ def stop_activation(uid: int) -> bool:
     return engine.bridge.call(stop)
 
 
+@journaled
 def stop_behavior(name: str) -> bool:
     """Inhibit a behavior by name: True when it was active and is now stopped, False otherwise."""
     engine = _engine()
@@ -254,11 +276,13 @@ def stop_behavior(name: str) -> bool:
     return engine.bridge.call(lambda: engine.coordinator.inhibit(name, "inhibited by the mission"))
 
 
+@journaled
 def is_active_behavior(name: str) -> bool:
     engine = _engine()
     return engine.bridge.call(lambda: engine.coordinator.is_active(str(name).upper()))
 
 
+@journaled
 def consult_belief(expression: str) -> tuple[bool, Unification]:
     """``(success, unification)`` of the first match of a belief expression."""
     engine = _engine()
@@ -266,11 +290,13 @@ def consult_belief(expression: str) -> tuple[bool, Unification]:
     return success, Unification(unification)
 
 
+@journaled
 def true_belief(expression: str) -> bool:
     engine = _engine()
     return engine.bridge.call(lambda: engine.memory.holds(expression))
 
 
+@journaled
 def add_belief(belief: str, multivalued: bool = False) -> bool:
     """Add a belief; a predicate nobody declared is declared by the mission (``multivalued`` or exclusive)."""
     engine = _engine()
@@ -284,11 +310,13 @@ def add_belief(belief: str, multivalued: bool = False) -> bool:
     return engine.bridge.call(add)
 
 
+@journaled
 def remove_belief(pattern: str) -> int:
     engine = _engine()
     return engine.bridge.call(lambda: engine.memory.remove(pattern))
 
 
+@journaled
 def wait(seconds: float) -> None:
     """Let ``seconds`` of engine time pass (use this, not ``time.sleep``, so simulated time is respected)."""
     engine = _engine()
@@ -301,6 +329,7 @@ def wait(seconds: float) -> None:
     engine.bridge.wait_for(register)
 
 
+@journaled
 def now() -> float:
     """The engine's clock, in seconds since it started (a call like any other: polling it lets time move)."""
     engine = _engine()

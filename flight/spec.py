@@ -61,6 +61,8 @@ class FlightSpec:
     ready_timeout: float = READY_TIMEOUT
     fleet: FleetJoin | None = None
     register: bool = True  # list the run in the user's runtime folder (``aeroexec ctl`` finds it)
+    resume: bool = False  # go on with the interrupted run in ``output`` from where its journal says it stopped
+    journal: bool = True  # keep the flight journal (journal.sqlite in the output folder)
 
     @property
     def name(self) -> str:

@@ -296,7 +296,8 @@ class TransitionTracker:
 class BtlogWriter:
     """Writes ``mission``'s status transitions to ``path`` as they happen (each tick's flushed) until :meth:`close`."""
 
-    def __init__(self, mission: Any, path: str | Path, catalog: Any = None) -> None:
+    def __init__(self, mission: Any, path: str | Path, catalog: Any = None, append: bool = False) -> None:
+        """``append``: a resumed run goes on in the interrupted run's file (the same tree; its times go on)."""
         if Path(path).suffix != ".btlog":
             raise ValueError(f"{path}: a FileLogger2 file's extension must be .btlog")
         self.mission = mission
@@ -308,10 +309,14 @@ class BtlogWriter:
         self.incomplete: str | None = None  # why the file stopped short (a write error), None while whole
         self._lock = threading.Lock()
         self._pending = bytearray()
-        xml = tree_xml(mission, catalog if catalog is not None else mission.engine.catalog).encode("utf-8")
-        self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
-        self._write(MAGIC + bytes([PROTOCOL]) + struct.pack("<i", len(xml)) + xml +
-                    struct.pack("<q", self.first_timestamp_usec))
+        if append and _whole_records(self.path):  # the header is there: transitions go on after the last whole one
+            self.start = 0.0
+            self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        else:
+            xml = tree_xml(mission, catalog if catalog is not None else mission.engine.catalog).encode("utf-8")
+            self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+            self._write(MAGIC + bytes([PROTOCOL]) + struct.pack("<i", len(xml)) + xml +
+                        struct.pack("<q", self.first_timestamp_usec))
         self.tracker = TransitionTracker(mission, self._record)
         mission.observers.append(self.on_tick)
 
@@ -355,6 +360,24 @@ class BtlogWriter:
             fd, self._fd = self._fd, None
         if fd is not None:
             os.close(fd)
+
+
+def _whole_records(path: Path) -> bool:
+    """Cut a transition a killed process left half written off the end of ``path``; False when it has no whole
+    header to go on after."""
+    try:
+        with open(path, "rb+") as file:
+            head = file.read(len(MAGIC) + 5)
+            if len(head) < len(MAGIC) + 5 or not head.startswith(MAGIC):
+                return False
+            header = len(MAGIC) + 5 + struct.unpack("<i", head[len(MAGIC) + 1:])[0] + 8
+            size = file.seek(0, os.SEEK_END)
+            if size < header:
+                return False
+            file.truncate(size - (size - header) % RECORD)
+    except OSError:
+        return False
+    return True
 
 
 # -- reading -------------------------------------------------------------------------------------------------

@@ -63,6 +63,8 @@ class MissionBridge:
         self._poll_since: float | None = None
         self._poll_version: int | None = None
         self._poll_reported = False
+        #: Journals the mission's API calls and replays them on a resume (``missions/replay.py``); None: neither.
+        self.recorder: Any = None
 
     # -- the mission's side ------------------------------------------------------------
     def call(self, function: Callable[[], Any]) -> Any:

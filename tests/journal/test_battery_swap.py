@@ -1,0 +1,83 @@
+"""Battery swaps as a first-class stop: the low-battery landing (or ``ctl suspend``) ends the run ``suspended`` with
+the journal saying where; resumed with a full battery, the drone takes off again, flies back to where the survey
+stopped, and finishes it without flying its done legs again."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
+from aeroexec.flight.journal import Journal, JournalError, resume_point
+from aeroexec.flight.run_status import SUSPENDED
+from journeys import MISSIONS, achieved, active, final_state, fly, fly_until, photos, resume, same_goals, spec
+
+SURVEY = MISSIONS / "survey.plan"
+
+
+@pytest.fixture(scope="module")
+def whole(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("whole")
+    _, outcome = fly(spec(SURVEY, folder))
+    assert outcome.exit_status == 0
+    return folder
+
+
+def test_a_low_battery_landing_mid_survey_is_resumed_after_the_swap(whole, tmp_path):
+    folder = tmp_path / "run"
+    weak = SimulatedDrone(default_world(), config=SimConfig(initial_battery_percent=40.0, battery_hover_minutes=3.0))
+    first, outcome = fly(spec(SURVEY, folder), robot=weak)
+    assert outcome.exit_status == 5 and outcome.status.word == SUSPENDED
+    assert "LAND on low battery" in outcome.status.reasons[0]
+    done_first = achieved(folder)
+    legs_first = [args["COORDINATES"] for behavior, args in done_first if behavior == "GO_TO_POINT"]
+    assert 2 <= len(legs_first) < 10  # it stopped mid-survey
+    point = resume_point(folder)
+    assert point.stop["kind"] == "reactive" and "LAND on low battery" in point.stop["reason"]
+    assert point.was_flying and point.place[2] > 10  # the survey's altitude, where it stopped
+    assert point.suspended
+
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    events = session.engine.log.events()
+    rejoin = [e for e in events if e.kind == "activated" and e.data.get("source") == "resume"]
+    assert [e.behavior for e in rejoin] == ["TAKE_OFF", "GO_TO_POINT"]  # off the ground, back to the stop
+    assert math.dist(rejoin[1].data["arguments"]["COORDINATES"], point.place) < 0.01
+    legs_again = [e.data["arguments"]["COORDINATES"] for e in events
+                  if e.kind == "activated" and e.behavior == "GO_TO_POINT" and e.data.get("source") == "mission"]
+    assert not set(map(tuple, legs_first)) & set(map(tuple, legs_again))  # no done leg flown again
+    difference = same_goals(achieved(folder), achieved(whole))
+    assert difference is None, difference
+    assert photos(folder) == photos(whole)
+    assert session.engine.drone.telemetry().battery_percent > 80  # the swapped battery
+    end = final_state(folder)
+    assert end["landed_state"] == "on_ground" and math.dist(end["position"], final_state(whole)["position"]) < 1.0
+
+
+def test_ctl_suspend_ends_the_run_suspended_and_the_resume_goes_on(whole, tmp_path):
+    folder = tmp_path / "run"
+    run = fly_until(spec(SURVEY, folder), active("GO_TO_POINT", 2.0))
+    ticket = run.engine.supervisor.submit("suspend", origin="ctl")
+    outcome = run.fly() if False else _finish(run)
+    assert ticket.result.ok and "suspended" in ticket.result.message
+    assert outcome.exit_status == 5 and outcome.status.word == SUSPENDED
+    with Journal(folder) as journal:
+        segment = journal.segments()[0]
+        stop = journal.progress(1, "stop")[2]
+    assert segment.status == SUSPENDED and segment.exit_status == 5
+    assert stop["kind"] == "mission_suspended" and stop["drone"]["landed_state"] == "in_air"
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    assert same_goals(achieved(folder), achieved(whole)) is None
+    with pytest.raises(JournalError, match="completed"):
+        resume_point(folder)
+
+
+def _finish(run):
+    """Fly a started session to its end as ``fly()`` does after its start."""
+    from aeroexec.flight.ending import end_flight
+
+    engine = run.engine
+    if not engine.run_until(lambda: run.mission_done, 600):
+        run.time_limit()
+    return run.finish(end_flight(engine, link_grace=run.spec.link_grace))

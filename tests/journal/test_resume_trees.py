@@ -1,0 +1,75 @@
+"""Tree missions (BehaviorTree.CPP XML with subtrees, scripts and a switch; a QGroundControl plan; TML) crashed
+mid-mission at several points and resumed: every goal is achieved exactly once over the two parts of the run, as
+in an uninterrupted run, photos included, and the drone ends landed where the uninterrupted run ends."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from journeys import (
+    MISSIONS,
+    achieved,
+    active,
+    crash,
+    final_state,
+    fly,
+    fly_until,
+    goals_after,
+    photos,
+    resume,
+    same_goals,
+    spec,
+)
+
+
+@pytest.fixture(scope="module")
+def whole(tmp_path_factory):
+    """The uninterrupted runs, each mission once."""
+    runs = {}
+    for name in ("survey_legs.xml", "survey.plan", "search_for_object.tml.xml"):
+        folder = tmp_path_factory.mktemp("whole") / name
+        _, outcome = fly(spec(MISSIONS / name, folder))
+        assert outcome.exit_status == 0, outcome.status
+        runs[name] = folder
+    return runs
+
+
+def check_resumed(folder, whole_folder):
+    difference = same_goals(achieved(folder), achieved(whole_folder))
+    assert difference is None, difference
+    end, expected = final_state(folder), final_state(whole_folder)
+    assert end["landed_state"] == "on_ground" and not end["armed"]
+    assert math.dist(end["position"], expected["position"]) < 1.0, (end["position"], expected["position"])
+
+
+@pytest.mark.parametrize(("mission", "point"), [
+    ("survey_legs.xml", active("GO_TO_POINT", 1.0)),  # in the first leg's subtree
+    ("survey_legs.xml", goals_after(3)),  # after the second leg, before the detour is skipped
+    ("survey.plan", goals_after(7)),  # mid-survey, between a waypoint and its photo
+    ("survey.plan", active("GO_TO_POINT", 2.0)),  # flying the first leg
+    ("search_for_object.tml.xml", goals_after(1)),
+], ids=["xml-first-leg", "xml-after-second-leg", "plan-after-7-goals", "plan-first-leg", "tml"])
+def test_a_tree_crashed_mid_mission_resumes_and_achieves_every_goal_once(whole, tmp_path, mission, point):
+    folder = tmp_path / "run"
+    crash(fly_until(spec(MISSIONS / mission, folder), point))
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    check_resumed(folder, whole[mission])
+    if mission.endswith(".plan"):
+        assert photos(folder) == photos(whole[mission]) == 12  # no photo retaken, none missing
+    assert session.journal is None or session.journal.segment == 2
+
+
+def test_the_resumed_tree_goes_on_from_its_blackboard_and_memory(whole, tmp_path):
+    """survey_legs.xml counts its legs in a Script (legs += 1) and checks the count at the end: resumed after the
+    first leg, the count goes on from 1, and the done leg is not flown again."""
+    folder = tmp_path / "run"
+    crash(fly_until(spec(MISSIONS / "survey_legs.xml", folder), goals_after(2)))
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    flown = [activation["arguments"]["COORDINATES"] for activation in
+             (event.data for event in session.engine.log.events("activated", "GO_TO_POINT"))
+             if activation.get("source") == "mission"]
+    assert flown == [(3, 3, 2), (0, 0, 2)]  # the second leg and the way home; not the first leg again
+    assert session.tree.blackboard["legs"] == 2
