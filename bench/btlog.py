@@ -15,7 +15,7 @@ from pathlib import Path
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.trees.btlog import BtlogWriter
-from aeroexec.trees.loaders.plan_loader import load_plan
+from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.runtime.runner import TreeMission
 
 SURVEY = Path(__file__).parents[1] / "missions" / "survey.plan"
@@ -26,7 +26,7 @@ def fly(with_btlog: bool, folder: Path) -> tuple[float, int, int]:
     world = default_world()
     engine = Engine(SimulatedDrone(world), obstacles=world, output_dir=folder)
     try:
-        mission = TreeMission(load_plan(SURVEY, world.home), engine)
+        mission = TreeMission(load_mission_tree(SURVEY, world.home), engine)
         ticks = [0]
         mission.observers.append(lambda visited: ticks.__setitem__(0, ticks[0] + 1))
         writer = BtlogWriter(mission, folder / "survey.btlog", engine.catalog) if with_btlog else None

@@ -19,6 +19,7 @@ import threading
 from pathlib import Path
 
 from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_arguments, add_surface_arguments, say
+from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.engine.supervision.supervisor import is_flying
@@ -43,6 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "with --router: another machine's router to link to")
     add_pacing_arguments(parser)
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
+    add_home_argument(parser)
     add_plugin_arguments(parser)
     add_surface_arguments(parser)
 
@@ -100,7 +102,7 @@ def fly_fleet(args: argparse.Namespace) -> int:
     watched = live or args.web is not None  # in a browser too; questions then wait for an answer
     base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
                       catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
-                      updaters=tuple(args.updater), max_time=args.max_time)
+                      updaters=tuple(args.updater), max_time=args.max_time, home=args.home)
     with ending_signals():
         try:
             folder = prepare_output(args.output)

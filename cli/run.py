@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
+from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import LiveConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
@@ -86,8 +87,9 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"when the link to the drone is down at the end of the mission, keep trying to reach it "
                              f"this long to land it (default {LINK_GRACE:g} s; its own failsafe acts meanwhile)")
     parser.add_argument("--world", metavar="FILE", help="the simulated world; literal destinations are checked "
-                                                        "against it (default: the robot kind's, else the "
-                                                        "built-in one)")
+                                                        "against it (default: the robot kind's, an open field "
+                                                        "around a plan or waypoint file, else the built-in one)")
+    add_home_argument(parser)
     add_pacing_arguments(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--log", metavar="FILE",
@@ -139,7 +141,8 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
         fleet = FleetJoin(args.fleet, args.name, tuple(args.connect or ()), args.token, tuple(args.share))
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
-                      catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
+                      home=args.home, catalog=args.catalog, library=tuple(args.library),
+                      processes=tuple(args.processes),
                       updaters=tuple(args.updater), speed=args.speed or paced, seed=args.seed, max_time=args.max_time,
                       output=args.output, log=args.log, answers=args.answers,
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),

@@ -2,12 +2,14 @@
 ardupilot``, as an ArduCopter), until Ctrl-C or SIGTERM.
 
 MAVSDK scripts (``python -m aeroexec.drones.mavsdk.demo``), ``aeroexec run --drone udpin://...`` or
-QGroundControl can then fly it.
+QGroundControl can then fly it. ``--home LAT,LON[,ALT]`` puts it where a plan was made for: a mission uploaded
+through MAVSDK or QGroundControl then flies its own latitudes and longitudes.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import logging
 import math
 import signal
@@ -15,12 +17,15 @@ import sys
 import threading
 from pathlib import Path
 
-from aeroexec.drones.sim import SimulatedDrone, WorldError, default_world, load_world
+from aeroexec.drones.geodesy import parse_home
+from aeroexec.drones.sim import SimulatedDrone, World, WorldError, default_world, load_world
 from aeroexec.drones.sim.mavlink.vehicle import AUTOPILOTS, MavlinkVehicle, MavlinkVehicleError, normalize_url
+from aeroexec.drones.sim.open_field import field_at
 
 logger = logging.getLogger("aeroexec.sim")
 
 DEFAULT_URL = "udpout://127.0.0.1:14540"
+SIM_REACH, SIM_CEILING = 5000.0, 500.0  # m: the open field of --home (the aerial catalog's vehicle limits)
 
 
 def _speed(text: str) -> float:
@@ -35,7 +40,11 @@ def _speed(text: str) -> float:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``aeroexec sim``."""
-    parser.add_argument("--world", type=Path, help="world file (YAML); the packaged default world if omitted")
+    parser.add_argument("--world", type=Path, help="world file (YAML); the packaged default world if omitted (with "
+                                                   "--home: an open field of 5 km around it, 500 m high)")
+    parser.add_argument("--home", type=_home, metavar="LAT,LON[,ALT]",
+                        help="where the vehicle stands: latitude, longitude and altitude AMSL (default 0); a mission "
+                             "uploaded to it flies to its own latitudes and longitudes from there")
     parser.add_argument(
         "--connect",
         default=DEFAULT_URL,
@@ -64,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         logging.basicConfig(level=logging.INFO, stream=sys.stderr, format="%(asctime)s %(levelname)s %(message)s")
     try:
         normalize_url(args.connect)
-        world = load_world(args.world) if args.world is not None else default_world()
+        world = sim_world(args.world, args.home)
     except (MavlinkVehicleError, WorldError) as exc:
         print(f"aeroexec sim: {exc}", file=sys.stderr)
         return 2
@@ -94,6 +103,26 @@ def run(args: argparse.Namespace) -> int:
         vehicle.stop()
     logger.info("simulated drone stopped")
     return 0
+
+
+def _home(text: str) -> tuple:
+    try:
+        return parse_home(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def sim_world(world: Path | None, home: tuple | None) -> World:
+    """The vehicle's world: the world file (moved to ``home`` when given), else an open field at ``home``, else the
+    packaged default world."""
+    if world is not None:
+        loaded = load_world(world)
+        if home is None:
+            return loaded
+        return dataclasses.replace(loaded, home=(home[0], home[1], loaded.home[2] if home[2] is None else home[2]))
+    if home is None:
+        return default_world()
+    return field_at((home[0], home[1], 0.0 if home[2] is None else home[2]), SIM_REACH, SIM_CEILING)
 
 
 def _on_signals(stop: threading.Event) -> dict:

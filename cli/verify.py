@@ -1,7 +1,10 @@
 """``aeroexec verify MISSION``: every problem of a mission found without flying, with file:line; exit 1 on errors.
 
-Literal destinations and paths are checked against a world too (its bounds and the obstacle clearance the
-catalog's preconditions ask): ``--world FILE``, else the simulator's built-in world; ``--no-world`` skips it.
+Literal destinations and paths are checked against a world too (its bounds, geofence and the obstacle clearance the
+catalog's preconditions ask): ``--world FILE``; else a mission planned on a map (a plan, a waypoint file) gets an
+open field around it, a mission in local meters the simulator's built-in world (``trees.mission_world``);
+``--home LAT,LON[,ALT]`` puts that world's home there; ``--no-world`` skips it. The whole route is estimated too
+(length, duration, battery at landing: ``trees.route``).
 ``--library module:attribute`` adds behavior implementations, so a catalog behavior with no implementation
 is reported before flight.
 """
@@ -13,6 +16,7 @@ import re
 from pathlib import Path
 from typing import Any
 
+from aeroexec.drones import geodesy
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.flight.missions import MissionFileError, check_mission
@@ -26,18 +30,34 @@ from aeroexec.limits import InputError, read_text
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("missions", nargs="+", metavar="MISSION",
                         help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
-                             "QGroundControl plans (.plan)")
+                             "QGroundControl plans (.plan, .mission), waypoint files (.waypoints, .txt)")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     parser.add_argument("--robot", default="drone", metavar="KIND",
                         help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")
     world = parser.add_mutually_exclusive_group()
     world.add_argument("--world", metavar="FILE",
-                       help="check destinations and paths against this world, and place QGroundControl plans at "
-                            "its home (default: the simulator's)")
+                       help="check destinations and paths against this world, and place plans and waypoint files "
+                            "at its home (default: an open field around a plan, else the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
+    add_home_argument(parser)
     add_library_arguments(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
                         help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
+
+
+def parse_home(text: str) -> tuple[float, float, float | None]:
+    """``--home LAT,LON[,ALT]`` (degrees, meters AMSL); the altitude is None when not given."""
+    try:
+        return geodesy.parse_home(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def add_home_argument(parser: argparse.ArgumentParser) -> None:
+    """``--home LAT,LON[,ALT]``: where the world's home (the take-off point) is (run, verify, fleet, convert)."""
+    parser.add_argument("--home", type=parse_home, metavar="LAT,LON[,ALT]",
+                        help="the world's home (the take-off point): latitude, longitude and altitude AMSL "
+                             "(default: the mission's home for a plan or waypoint file, else the world's)")
 
 
 def add_library_arguments(parser: argparse.ArgumentParser) -> None:
@@ -58,17 +78,19 @@ def run(args: argparse.Namespace) -> int:
     except FlightError as error:
         print(error)
         return 2
-    try:  # the robot kind's world unless one is given
-        world = None if args.no_world else load_world(choice.world_file(args.world))
+    try:  # the robot kind's world unless one is given (a world file that cannot be read is said once)
+        world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
         library = choice.library() if choice.kind is not None else default_library(args.library)
     except (FlightError, LibraryError) as error:
         print(error)
         return 1
     failed = False
     for name in args.missions:
-        try:
+        try:  # each mission in its own world: a plan's open field, at --home when given
+            world = None if args.no_world else load_world(choice.world_file(args.world), mission=Path(name),
+                                                           home=args.home)
             checked = check_mission(Path(name), catalog, world)
-        except MissionFileError as error:
+        except (MissionFileError, FlightError) as error:
             print(error)
             failed = True
             continue
@@ -77,6 +99,8 @@ def run(args: argparse.Namespace) -> int:
             checked.problems += portability_problems(checked.tree, catalog)
         for problem in checked.problems:
             print(problem)
+        if checked.route is not None and checked.route.length > 0:
+            print(f"{name}: {checked.route.summary()}")
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
         verdict = "ready to fly" if not errors else "will not fly"
         against = f" (checked against the world {world.name})" if world is not None and not errors else ""

@@ -57,6 +57,7 @@ class Telemetry:
     flight_mode: str = "UNKNOWN"  # e.g. HOLD, TAKEOFF, LAND, OFFBOARD, RETURN, MANUAL
     link_ok: bool = True  # False once the link has been silent for too long
     home: tuple[float, float, float] | None = None  # latitude, longitude, altitude (m AMSL)
+    position_accuracy: float | None = None  # m, horizontal, of the vehicle's own estimate (None: unknown or exact)
 
     @property
     def altitude(self) -> float:
@@ -199,6 +200,11 @@ class Robot(abc.ABC):
 
 class Drone(Robot):
     """What the engine's flight behaviors need from a drone, besides what every robot gives."""
+
+    #: The telemetry's position is the vehicle's own estimate (a real autopilot's, from GPS and its EKF): the
+    #: engine's odometry then follows it. False for a simulator, whose position is the truth: the engine's odometry
+    #: estimator simulates dead reckoning's drift on top of it.
+    estimates_position: bool = True
 
     @abc.abstractmethod
     def arm(self) -> CommandHandle: ...

@@ -93,7 +93,8 @@ class Engine:
             for name, arity in TELEMETRY_PREDICATES.items():
                 if name not in self.catalog.predicates:
                     self.memory.declare(name, arity)
-        register_computed(self.memory, drone, self.settings.cruise_speed, obstacles)
+        register_computed(self.memory, drone, self.settings.cruise_speed, obstacles,
+                          self.catalog.vehicle_limits.get("max_flight_time"))
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
                                        obstacles=obstacles, operator=operator, bus=bus,
@@ -106,7 +107,7 @@ class Engine:
         if processes is None:
             processes = default_processes()
         self.library = library
-        self.specialist = BehaviorSpecialist(self.catalog)
+        self.specialist = BehaviorSpecialist(self.catalog, home=lambda: drone.telemetry().home)  # geo: places
         self.resources = ResourceManager(self.catalog, processes, self.log, self.context, capability_grace)
         self.coordinator = BehaviorCoordinator(self.context, library, self.resources, self.specialist)
         if telemetry is None:

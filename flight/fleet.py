@@ -95,7 +95,7 @@ class FleetFlight:
         base = self.base
         choice = robot_choice(base.robot)
         if self.world is None:
-            self.world = load_world(choice.world_file(base.world))
+            self.world = load_world(choice.world_file(base.world), home=base.home)
         airspace = Airspace()
         for drone in self.drones:
             robot = self._robot(choice, drone)

@@ -21,7 +21,8 @@ from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.loaders.plan_loader import PlanDocument
+from aeroexec.trees.items import PlanDocument, is_item_file
+from aeroexec.trees.route import RouteEstimate, estimate_route
 from aeroexec.trees.tml.verify import verify_mission_document
 from aeroexec.trees.verify import verify_leaves
 
@@ -40,6 +41,7 @@ class CheckedMission:
     problems: list[Problem] = field(default_factory=list)
     tree: TreeDocument | None = None
     source: str | None = None
+    route: RouteEstimate | None = None  # a tree's route in the world: length, duration, battery at landing
 
     @property
     def errors(self) -> list[Problem]:
@@ -51,7 +53,8 @@ def is_tree(path: Path) -> bool:
 
 
 def is_plan(path: Path) -> bool:
-    return path.suffix.lower() == ".plan"
+    """A mission-item file (QGroundControl plan or .mission, waypoint file), placed from a world's home."""
+    return is_item_file(path)
 
 
 def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
@@ -70,9 +73,16 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
+        if isinstance(checked.tree, PlanDocument) and not checked.tree.root.children:
+            checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
+            return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
-        if isinstance(checked.tree, PlanDocument):  # items without a behavior, waypoints outside the geofence
-            checked.problems = sorted([*checked.tree.problems, *checked.problems], key=lambda p: (p.file, p.line))
+        checked.route = estimate_route(checked.tree, world) if world is not None else None
+        if checked.route is not None:
+            checked.problems += checked.route.problems
+        if isinstance(checked.tree, PlanDocument):  # items without a behavior, each message with its item number
+            checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
+        checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked
     if path.suffix.lower() != ".py":
         raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
@@ -114,12 +124,3 @@ def mission_function(path: Path) -> Callable[[], Any]:
         raise MissionFileError(f"{path}: no mission() or runMission() function")
     return function
 
-
-def world_home(world: str | None) -> Geodetic:
-    """The home point of the simulated world in ``world`` (a file; None: the built-in world)."""
-    from aeroexec.drones.sim import WorldError, default_world, load_world
-
-    try:
-        return (load_world(world) if world else default_world()).home
-    except WorldError as error:
-        raise MissionFileError(str(error)) from None

@@ -8,6 +8,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
@@ -70,17 +71,18 @@ def robot_choice(name: str = DRONE) -> RobotChoice:
         raise FlightError(str(error), usage=True) from None
 
 
-def load_world(path: str | None, default: bool = True) -> Any:
-    """The world of ``path``; without one, the built-in field when ``default`` (else None)."""
-    from aeroexec.drones.sim import WorldError, default_world
-    from aeroexec.drones.sim import load_world as read_world
+def load_world(path: str | None, default: bool = True, mission: Path | None = None,
+               home: tuple | None = None) -> Any:
+    """The world ``mission`` flies in (``trees.mission_world``): the world of ``path`` (at ``home`` when given);
+    without one, an open field around a mission planned on a map, else the built-in field when ``default`` (else
+    None)."""
+    from aeroexec.drones.sim import WorldError
+    from aeroexec.trees.mission_world import mission_world
 
     try:
-        if path:
-            return read_world(path)
+        return mission_world(mission, path, home, default)
     except WorldError as error:
         raise FlightError(str(error)) from None
-    return default_world() if default else None
 
 
 def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callable[[str], None] = logger.info,

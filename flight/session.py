@@ -129,7 +129,8 @@ class FlightSession:
             raise FlightError("\n".join(str(p) for p in error.problems)) from None
         world_path = choice.world_file(spec.world)
         if self.world is None:
-            self.world = load_world(world_path, default=spec.simulated or choice.kind is not None)
+            self.world = load_world(world_path, default=spec.simulated or choice.kind is not None,
+                                    mission=Path(spec.mission), home=spec.home)  # a plan's open field, --home
         if self.control is not None:
             self.control.starting = "checking its mission"
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report)

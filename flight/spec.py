@@ -42,6 +42,7 @@ class FlightSpec:
     robot: str = "drone"  # a robot kind (``aeroexec.robots`` entry points add kinds)
     drone: str = "sim"  # sim | mavsdk:URL | NAME:ADDRESS (an ``aeroexec.drones`` adapter)
     world: str | None = None  # the world file (None: the robot kind's, else the built-in field)
+    home: tuple[float, float, float | None] | None = None  # --home LAT,LON[,ALT]: the world's home (take-off point)
     catalog: str | None = None  # the behavior catalog file (None: the robot kind's)
     library: tuple[str, ...] = ()  # behavior providers ``module:attribute``
     processes: tuple[str, ...] = ()  # capability process providers ``module:attribute``

@@ -1,6 +1,7 @@
 """Port text to typed argument values (numbers, points, paths, enumerations, booleans, text); ``{key}`` read late.
 
-Ports hold text as the operator wrote it (``"1, 2, 1.5"``, ``"1;2;1.5"``, ``"[1, 2, 1.5]"``, ``"{P}"``). A value
+Ports hold text as the operator wrote it (``"1, 2, 1.5"``, ``"1;2;1.5"``, ``"[1, 2, 1.5]"``, ``"{P}"``, a geographic
+point ``"geo:47.3977,8.5456,10"``; a path of them separated by ``;``). A value
 that cannot be read as the catalog's argument expects stays the text it was, so the specialist reports it in the
 paper's words (Table 1: "The value x of argument y for behavior z is not correct (... is expected)").
 """
@@ -14,6 +15,7 @@ from typing import Any
 
 from aeroexec.beliefs import format_term
 from aeroexec.beliefs.terms import from_python
+from aeroexec.drones.geodesy import is_geo
 from aeroexec.engine.catalog import BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
@@ -86,6 +88,8 @@ def parse_number(text: str) -> int | float | None:
 def parse_value(text: str) -> Any:
     """A number, a tuple (``[1, 2]``, ``(1, 2)``, ``1, 2``, ``1;2``; nested brackets, ``;`` between points) or text."""
     text = text.strip()
+    if is_geo(text) and ";" not in text:  # a geographic point, geo:LAT,LON,ALT: one value
+        return text
     if text[:1] in "[(" and text[-1:] in "])":
         parsed = _parse_brackets(text)
         if parsed is not None:
@@ -144,8 +148,8 @@ def convert(text: str, argument: ArgumentDescriptor | None) -> Any:
         inner = raw[1:-1] if raw[:1] in "[(" and raw[-1:] in "])" else raw
         return tuple(part.strip() for part in re.split(r"[,;]", inner) if part.strip())
     value = parse_value(raw)
-    if kind == "PATH":
-        return value if isinstance(value, tuple) and all(isinstance(p, tuple) for p in value) else text
+    if kind == "PATH":  # points, or geographic points separated by ";"
+        return value if isinstance(value, tuple) and all(isinstance(p, tuple) or is_geo(p) for p in value) else text
     if kind == "POINT" or argument.dimensions > 1:
         return value if isinstance(value, tuple) and not any(isinstance(v, tuple) for v in value) else text
     if kind in ("NUMBER", "INTEGER") or argument.is_range:

@@ -271,6 +271,10 @@ class MavsdkSession:
             volts = b.voltage_v if math.isfinite(b.voltage_v) else cache.battery[1]
             cache.set(battery=(percent, volts))
 
+        def accuracy(g):  # GPS_RAW_INT's h_acc: how far the vehicle's own position may be off
+            h = g.horizontal_uncertainty_m
+            cache.set(position_accuracy=round(float(h), 2) if math.isfinite(h) and 0 < h < 1e4 else None)
+
         def health(h):
             cache.set(
                 armable=h.is_armable, global_position_ok=h.is_global_position_ok, home_position_ok=h.is_home_position_ok
@@ -292,6 +296,7 @@ class MavsdkSession:
             (telemetry.subscribe_landed_state(), lambda s: cache.set(landed_state=landed_state(s))),
             (telemetry.subscribe_flight_mode(), lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))),
             (telemetry.subscribe_health(), health),
+            (telemetry.subscribe_raw_gps(), accuracy),
             # MAVSDK publishes its health flags even when no SYS_STATUS ever came; the message itself tells.
             (self.direct.subscribe_message("SYS_STATUS"), lambda m: cache.set(health_seen=True)),
             (telemetry.subscribe_status_text(), lambda t: cache.set_status_text(t.type.name, t.text)),

@@ -33,6 +33,7 @@ class TelemetryCache:
         self.landed_state = LandedState.UNKNOWN
         self.flight_mode = "UNKNOWN"
         self.home: tuple[float, float, float] | None = None
+        self.position_accuracy: float | None = None  # m, horizontal (GPS_RAW_INT h_acc)
         self.armable = False
         self.global_position_ok = False
         self.home_position_ok = False
@@ -181,4 +182,5 @@ class TelemetryCache:
                 flight_mode=self.flight_mode,
                 link_ok=self.link_ok,
                 home=self.home,
+                position_accuracy=self.position_accuracy,
             )

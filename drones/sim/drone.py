@@ -59,6 +59,8 @@ def _fmt(point: Vector) -> str:
 class SimulatedDrone(Drone):
     """A simulated multicopter starting disarmed on the ground at home; thread-safe (one lock)."""
 
+    estimates_position = False  # its position is the truth: odometry drift is simulated on top of it
+
     def __init__(self, world: World | None = None, *, config: SimConfig | None = None, seed: int = 0,
                  start_time: float = 0.0) -> None:
         self.world = world if world is not None else default_world()

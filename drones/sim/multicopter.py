@@ -74,6 +74,7 @@ class Multicopter:
         self._outside = False
         self.contacts = Contacts(world, config.touch_distance)  # the platform's deck, touched objects
         self._bounds = (world.bounds.lower, world.bounds.upper)
+        self._fences = bool(getattr(world, "fences", ()))
         self._battery_watch = max(config.failsafe_battery_percent, 0.0)  # at or below it, the battery is checked
         # above this height, a substep can reach neither the ground nor the platform's deck (at its highest)
         self._contact_height = max(self.contacts.deck_top() or 0.0, 0.0) + _GROUND_CONTACT + 1e-6
@@ -212,8 +213,8 @@ class Multicopter:
                       position=where)
         low, high = self._bounds
         if (low[0] <= position[0] <= high[0] and low[1] <= position[1] <= high[1]
-                and low[2] <= z <= high[2]):  # inside the geofence (``World.inside``)
-            self._outside = False
+                and low[2] <= z <= high[2]) and not (self._fences and not self.world.inside(position)):
+            self._outside = False  # inside the geofence (``World.inside``)
         else:
             self._check_bounds()
         self._progress()

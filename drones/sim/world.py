@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
+from aeroexec.drones.sim.geofence import Fence, breach
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
 
 Vector = tuple[float, float, float]
@@ -164,6 +165,7 @@ class World:
     payload: tuple[str, ...] = ()  # names of the items the drone carries at the start
     name: str = "world"
     source: str | None = None  # the file it was loaded from
+    fences: tuple[Fence, ...] = ()  # inclusion and exclusion zones inside the bounds (a plan's geofence)
 
     # --- frames ----------------------------------------------------------------------------------
     def to_geodetic(self, enu: Vector) -> Geodetic:
@@ -176,8 +178,17 @@ class World:
 
     # --- geometry --------------------------------------------------------------------------------
     def inside(self, point: Vector) -> bool:
-        """Whether ``point`` is within the bounds (the geofence)."""
-        return self.bounds.contains(point)
+        """Whether ``point`` is within the bounds and the fences (the geofence)."""
+        return self.bounds.contains(point) and (not self.fences or breach(self.fences, point[:2]) is None)
+
+    def why_outside(self, point: Vector) -> str | None:
+        """Why ``point`` breaks the geofence: outside the bounds, or a fence's (None when it is inside)."""
+        if not self.bounds.contains(point):
+            lower, upper = self.bounds.lower, self.bounds.upper
+            box = ", ".join(f"{axis} {lo:g}..{hi:g}" for axis, lo, hi in zip("xyz", lower, upper, strict=True))
+            return f"outside the world's bounds ({box}; geofence)"
+        why = breach(self.fences, point[:2]) if self.fences else None
+        return f"{why} (geofence)" if why else None
 
     def collides(self, point: Vector, radius: float = 0.0) -> Obstacle | None:
         """The first obstacle a sphere of ``radius`` at ``point`` touches, or None."""

@@ -1,9 +1,10 @@
 """Motion behaviors that fly through points or patterns: GO_TO_POINT, FOLLOW_PATH, KEEP_LOITERING and FLIP.
 
-Points are local ENU meters from home. GO_TO_POINT flies the route of the path planner around the obstacles
-it knows (straight when there is no obstacle map); the other flights are straight lines (SPLINE is not
-implemented: a straight line into an obstacle ends in WRONG_PROGRESS when the drone hits it).
-"""
+Points are local ENU meters from home (the specialist has placed ``geo:`` points already). GO_TO_POINT flies the
+route of the path planner around the obstacles it knows (straight when there is no obstacle map); the other flights
+are straight lines (SPLINE is not implemented: a straight line into an obstacle ends in WRONG_PROGRESS when the
+drone hits it). GO_TO_POINT and FOLLOW_PATH expect their flight to take its distance at its speed: their timeouts
+grow with it."""
 
 from __future__ import annotations
 
@@ -41,10 +42,16 @@ LOITER_YAW_GAIN = 2.0  # 1/s: how briskly it turns to face its travel
 LOITER_LEAD = 0.1  # m: KEEP_LOITERING flies along the pattern's direction this far ahead of its nearest point
 LOITER_MAX_DEVIATION = 2.0  # m: once on its pattern, farther than this from it is WRONG_PROGRESS
 LOITER_ON_PATTERN = 0.5  # m: this close, the drone has joined its pattern
+LOITER_JOIN_BRAKING = 1.0  # m/s^2: KEEP_LOITERING flies to its pattern no faster than it stops at this deceleration
 DEFAULT_RADIUS = 2.0  # m: a CIRCLE without RADIUS
 DEFAULT_SIDE = 4.0  # m: a SQUARE without SIDE
 FLIP_JOG = 1.5  # m: the length of FLIP's jog
 FLIP_SPEED = 8.0  # m/s: the speed FLIP asks for (the vehicle's acceleration limits it)
+
+
+def flight_time(distance: float, speed: float, stops: int = 1) -> float:
+    """Seconds to fly ``distance`` meters at ``speed`` m/s, with a few seconds to speed up and stop each time."""
+    return distance / max(speed, 0.1) + 3.0 * stops
 
 
 class PointFlight(MotionBehavior):
@@ -91,6 +98,10 @@ class GoToPoint(PointFlight):
         if yaw is None and look is not None:
             yaw = heading_to(self.destination, as_point(look))
         self.final_yaw = None if yaw is None else wrap180(float(yaw))
+
+    def expected_duration(self) -> float | None:
+        speed = self.arguments.get("SPEED") or self.settings.cruise_speed
+        return flight_time(math.dist(self.telemetry().position, self.destination), float(speed))
 
     def check_situation(self) -> Situation | None:
         trouble = super().check_situation()
@@ -183,9 +194,16 @@ class GoToPoint(PointFlight):
                 self._fly_leg(telemetry)
                 return None
             return self.approach(telemetry)
-        if self.reached(telemetry) and (self.final_yaw is None or self.yaw == self.final_yaw):
-            return Outcome.GOAL_ACHIEVED
+        if self.final_yaw is None or self.yaw == self.final_yaw:
+            accept = self.arguments.get("ACCEPTANCE_RADIUS")
+            if self.reached(telemetry) or (accept is not None and self._within(telemetry, float(accept))):
+                return Outcome.GOAL_ACHIEVED
         return self.approach(telemetry)
+
+    def _within(self, telemetry: Telemetry, radius: float) -> bool:
+        """Within the acceptance radius of the destination (facing its yaw): passed without stopping."""
+        return math.dist(telemetry.position, self.destination) <= radius and (
+            self.final_yaw is None or yaw_error(telemetry.yaw, self.final_yaw) <= self.settings.yaw_tolerance)
 
     def on_stop(self, outcome: Outcome) -> None:
         self.request.cancel()  # a search still under way is no longer wanted
@@ -218,6 +236,11 @@ class FollowPath(PointFlight):
     def _speed(self) -> float | None:
         speed = self.arguments.get("SPEED")
         return None if speed is None else float(speed)
+
+    def expected_duration(self) -> float | None:
+        points = [self.telemetry().position, *self.points]
+        length = sum(math.dist(a, b) for a, b in zip(points, points[1:], strict=False))
+        return flight_time(length, self._speed() or self.settings.cruise_speed, stops=len(self.points))
 
     def step(self, telemetry: Telemetry) -> Outcome | None:
         last = self.index == len(self.points) - 1
@@ -340,8 +363,10 @@ class KeepLoitering(MotionBehavior):
             return self.fail(f"the drone left its {self.arguments.get('SHAPE', 'CIRCLE').lower()} by {off:.1f} m")
         if self.now() - self.sent_at >= LOITER_COMMAND_PERIOD - 1e-9:
             self.sent_at = self.now()
-            vx = tx * self.speed + LOITER_GAIN * (px - x)
-            vy = ty * self.speed + LOITER_GAIN * (py - y)
+            # toward the pattern no faster than the drone can stop on it (a wide circle is joined from its center)
+            reach = min(LOITER_GAIN * off, math.sqrt(2.0 * LOITER_JOIN_BRAKING * off))
+            vx = tx * self.speed + (reach * (px - x) / off if off > 1e-9 else 0.0)
+            vy = ty * self.speed + (reach * (py - y) / off if off > 1e-9 else 0.0)
             vz = min(max(LOITER_GAIN * (self.center[2] - z), -0.5), 0.5)
             facing = wrap180(math.degrees(math.atan2(vy, vx)) - telemetry.yaw)
             self.command(self.drone.set_velocity((vx, vy, vz), max(-30.0, min(30.0, LOITER_YAW_GAIN * facing))))

@@ -6,7 +6,8 @@ While a mode is set, ``position(self, (x, y, z))`` holds the estimate of these c
 the telemetry (the engine's :class:`~aeroexec.engine.execution.updaters.PositionSource` says who writes it):
 
 - ``odometry_state_estimator`` integrates the telemetry velocity with a seeded drift (a bias plus a random walk,
-  a few cm per meter travelled), so the belief drifts from the truth as the drone flies;
+  a few cm per meter travelled), so the belief drifts from the truth as the drone flies; on a real vehicle
+  (``Drone.estimates_position``: MAVSDK) it believes the autopilot's own estimate, whose drift is real;
 - ``marker_localizer`` pulls the estimate toward the fixes given by the markers in view whose position is
   known: the world's markers (``context.obstacles.markers``) or else the believed ``position(marker_N, P)``;
   under SLAM, the map the SLAM built;
@@ -95,9 +96,16 @@ def _platform_markers(context: BehaviorContext) -> set[str]:
 
 
 class OdometryEstimator(Process):
-    """odometry_state_estimator: dead reckoning on the telemetry velocity, with a seeded bias and random walk."""
+    """odometry_state_estimator: dead reckoning on the telemetry velocity, with a seeded bias and random walk; on a
+    vehicle that estimates its own position (a real autopilot: ``Drone.estimates_position``), that estimate, as it
+    is: the drift is the simulator's."""
 
     def on_start(self) -> None:
+        self.follows = bool(getattr(self.context.drone, "estimates_position", True))
+        if self.follows:
+            localization_state(self.context).estimate = tuple(float(v) for v in self.context.drone.telemetry().position)
+            self._published: float | None = None
+            return
         settings = self.context.settings
         self._rng = random.Random(int(settings.extra.get("odometry_seed", 0)))
         drift = _setting(settings, "odometry_drift", 0.03)
@@ -113,6 +121,14 @@ class OdometryEstimator(Process):
 
     def step(self, now: float) -> None:
         state = localization_state(self.context)
+        if self.follows:  # the autopilot's own estimate (GPS and its EKF), not dead reckoning on it
+            telemetry = self.context.drone.telemetry()
+            state.travelled += math.dist(telemetry.position, state.estimate) if state.estimate else 0.0
+            state.estimate = tuple(float(v) for v in telemetry.position)
+            if self._published is None or now - self._published >= PUBLISH_PERIOD - 1e-9:
+                self._published = now
+                publish(self.context)
+            return
         vx, vy, vz = self.context.drone.telemetry().velocity
         velocity = (float(vx), float(vy), float(vz))
         last = self._last

@@ -51,6 +51,10 @@ class TakeOff(MotionBehavior):
     def resume_from(self, paused: BehaviorProcess) -> None:
         self.target = getattr(paused, "target", None)
 
+    def expected_duration(self) -> float | None:
+        altitude = float(self.arguments.get("ALTITUDE", self.settings.default_altitude))
+        return altitude / self.settings.climb_rate
+
     def begin(self, telemetry: Telemetry) -> None:
         if self.target is not None and telemetry.landed_state is not LandedState.ON_GROUND:
             x, y, _ = telemetry.position  # resumed in the air: climb on to the altitude it was taking off to
@@ -83,6 +87,9 @@ class Land(MotionBehavior):
 
     behavior = "LAND"
     needs_flight = False
+
+    def expected_duration(self) -> float | None:
+        return max(self.telemetry().altitude, 0.0) / self.settings.descent_rate
 
     def begin(self, telemetry: Telemetry) -> None:
         self.command(self.drone.land())

@@ -1,4 +1,5 @@
-"""Data recording (paper Table A.3): TAKE_PHOTO, RECORD_VIDEO and BUILD_MAP, with the ``video_recorder`` and
+"""Data recording (paper Table A.3): TAKE_PHOTO, TRIGGER_CAMERA (photos every N meters or seconds), RECORD_VIDEO and
+BUILD_MAP, with the ``video_recorder`` and
 ``map_builder`` capability processes that capture frames and scan the camera's view each period.
 
 Files go to the run's output folder (``context.output_dir``; without one, ``aeroexec_output/<date-time>`` in the
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import io
 import logging
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -71,23 +73,66 @@ def _extra(context: BehaviorContext, key: str, default: float) -> float:
     return float(context.settings.extra.get(key, default))
 
 
+def take_photo(process: BehaviorProcess) -> str:
+    """The camera's image now saved as ``photo_N.png`` (``photo(self, File)``, a ``photo_taken`` event): why not,
+    or "" when it was taken."""
+    image, error = capture(process.context)
+    if image is None:
+        return error
+    path = next_path(output_folder(process.context), "photo", ".png")
+    path.write_bytes(image)
+    process.result = str(path)
+    process.memory.add(Struct("photo", ("self", str(path))))
+    process.context.log.record("photo_taken", process.name, str(path), bytes=len(image))
+    return ""
+
+
 class TakePhoto(BehaviorProcess):
     """TAKE_PHOTO: the camera's image now, as ``photo_N.png``; result and ``photo(self, File)`` name the file."""
 
     behavior = "TAKE_PHOTO"
 
     def on_start(self) -> None:
-        image, self._error = capture(self.context)
-        if image is None:
-            return
-        path = next_path(output_folder(self.context), "photo", ".png")
-        path.write_bytes(image)
-        self.result = str(path)
-        self.memory.add(Struct("photo", ("self", str(path))))
-        self.context.log.record("photo_taken", self.name, str(path), bytes=len(image))
+        self._error = take_photo(self)
 
     def on_run(self) -> Outcome | None:
         return self.fail(self._error) if self._error else Outcome.GOAL_ACHIEVED
+
+
+class TriggerCamera(BehaviorProcess):
+    """TRIGGER_CAMERA: a photo every DISTANCE meters the drone flies (or every INTERVAL seconds) until stopped, at
+    most COUNT of them; the first when it starts counting. A photo the camera cannot take fails it."""
+
+    behavior = "TRIGGER_CAMERA"
+
+    def on_start(self) -> None:
+        self.distance = self.arguments.get("DISTANCE")
+        self.interval = self.arguments.get("INTERVAL")
+        self.count = self.arguments.get("COUNT")
+        self.taken = 0
+        self.last = self.drone.telemetry().position
+        self.travelled = 0.0
+        self.shot_at = self.now()
+
+    def on_run(self) -> Outcome | None:
+        if self.count is not None and self.taken >= self.count:
+            return None
+        due = False
+        if self.distance is not None:
+            position = self.drone.telemetry().position
+            self.travelled += math.dist(position, self.last)
+            self.last = position
+            due = self.travelled >= float(self.distance)
+        elif self.now() - self.shot_at >= float(self.interval) - 1e-9:
+            due = True
+        if not due:
+            return None
+        self.travelled, self.shot_at = 0.0, self.now()
+        error = take_photo(self)
+        if error:
+            return self.fail(error)
+        self.taken += 1
+        return None
 
 
 # --- video -------------------------------------------------------------------------------------------------
@@ -288,7 +333,8 @@ class MapBuilder(Process):
             save_map(self.context, store, now)
 
 
-RECORDING_BEHAVIORS: list[type[BehaviorProcess]] = [TakePhoto, RecordVideo, BuildMap, *MANIPULATION_BEHAVIORS]
+RECORDING_BEHAVIORS: list[type[BehaviorProcess]] = [TakePhoto, TriggerCamera, RecordVideo, BuildMap,
+                                                     *MANIPULATION_BEHAVIORS]
 RECORDING_PROCESSES: dict[str, Callable[[str], Process]] = {"video_recorder": VideoRecorder,
                                                             "map_builder": MapBuilder, **MANIPULATION_PROCESSES}
 

@@ -1,4 +1,11 @@
-"""Behavior arguments: what values an argument allows (range, enumeration or type) and checking a value against it."""
+"""Behavior arguments: what values an argument allows (range, enumeration, type, a place in the world) and checking a
+value against it.
+
+A point argument whose catalog entry says ``allowed_values: WORLD`` is a place to fly to: local ENU meters
+``(x, y, z)`` or a geographic point ``geo:LAT,LON,ALT`` (:mod:`aeroexec.drones.geodesy`). Against a world it must
+be inside the world's bounds and geofence (:mod:`.world_check`); without one, within the vehicle's documented
+reach (``vehicle_limits``: ``max_distance`` from home horizontally, ``max_altitude`` up or down).
+"""
 
 from __future__ import annotations
 
@@ -9,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, parse_expression
+from aeroexec.drones.geodesy import is_geo, parse_geo
 
 #: Value types a catalog may name in ``allowed_values`` or ``type``.
 VALUE_TYPES = {
@@ -55,16 +63,34 @@ class ArgumentDescriptor:
     description: str = ""
     aliases: tuple[str, ...] = ()  # other names a request may use (the paper's Table 8 writes point=)
     line: int = 0
+    #: ``allowed_values: WORLD``: a place in the world (see the module's docstring); ``reach`` is the vehicle's
+    #: (horizontal, vertical) meters from home a point may be without a world
+    in_world: bool = False
+    reach: tuple[float, float] | None = None
 
     @property
     def is_range(self) -> bool:
         return self.minimum is not None
+
+    @property
+    def is_place(self) -> bool:
+        """Whether its values are places (points or paths of points) that may be written ``geo:LAT,LON,ALT``."""
+        return self.in_world
+
+    def _reach_text(self) -> str:
+        if self.reach is None:
+            return ""
+        return f" (x and y within {_fmt(self.reach[0])} m of home, z within {_fmt(self.reach[1])} m)"
 
     def expected(self) -> str:
         """What a correct value looks like, for the paper's "(... is expected)"."""
         within = f" between {_fmt(self.minimum)} and {_fmt(self.maximum)}" if self.is_range else ""
         if self.choices:
             return "one of " + ", ".join(self.choices)
+        if self.in_world and self.value_type == "PATH":
+            return f"a list of points (x, y, z) or geo:LAT,LON,ALT in the world{self._reach_text()}"
+        if self.in_world:
+            return f"a point (x, y, z) or geo:LAT,LON,ALT in the world{self._reach_text()}"
         if self.value_type == "PATH":
             return "a list of points (x, y, z)" + (f" with coordinates{within}" if within else "")
         if self.value_type == "POINT" or (self.dimensions == 3 and self.value_type is None and self.is_range):
@@ -80,6 +106,9 @@ class ArgumentDescriptor:
         if self.choices:
             return "{" + ", ".join(self.choices) + "}"
         text = self.value_type or ""
+        if self.in_world:
+            reach = f" (<= {_fmt(self.reach[0])} m from home, |z| <= {_fmt(self.reach[1])} m)" if self.reach else ""
+            return f"{text or 'POINT'} in the world{reach}"
         if self.is_range:
             text = f"{text} [{_fmt(self.minimum)}, {_fmt(self.maximum)}]".strip()
         if self.dimensions > 1 and self.value_type not in ("POINT", "PATH"):
@@ -99,6 +128,10 @@ class ArgumentDescriptor:
             return isinstance(value, str) and _is_belief(value)
         if kind == "TEXT_LIST":
             return _is_sequence(value) and all(isinstance(v, str) for v in value)
+        if self.in_world:
+            if kind == "PATH":
+                return _is_sequence(value) and len(value) > 0 and all(self._place(p) for p in value)
+            return self._place(value)
         if kind == "PATH":
             return _is_sequence(value) and len(value) > 0 and all(self._numbers(p, 3) for p in value)
         if kind == "POINT":
@@ -120,6 +153,20 @@ class ArgumentDescriptor:
 
     def _in_range(self, number: float) -> bool:
         return not self.is_range or self.minimum <= number <= self.maximum
+
+    def _place(self, value: Any) -> bool:
+        """A point in the vehicle's reach: three numbers, or a well formed ``geo:`` point."""
+        if is_geo(value):
+            try:
+                height = parse_geo(value)[2]
+            except ValueError:
+                return False
+            return self.reach is None or abs(height) <= self.reach[1]
+        if not (_is_sequence(value) and len(value) == 3 and all(_is_number(v) for v in value)):
+            return False
+        if self.reach is None:
+            return True
+        return math.hypot(value[0], value[1]) <= self.reach[0] and abs(value[2]) <= self.reach[1]
 
 
 def _is_sequence(value: Any) -> bool:

@@ -44,6 +44,8 @@ class BehaviorCatalog:
         self.transitions: tuple[Transition, ...] = tuple(content.transitions)
         self.predicates: dict[str, PredicateDeclaration] = dict(content.predicates)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
+        #: the vehicle's documented limits (``vehicle_limits:``, an extension of Appendix B): name -> value
+        self.vehicle_limits: dict[str, float] = dict(content.vehicle_limits)
         self.warnings: list[Problem] = list(warnings)
         #: behaviors the catalog describes that no registered implementation serves (see :meth:`served_by`)
         self.unsupported: frozenset[str] = frozenset()

@@ -26,7 +26,11 @@ from aeroexec.engine.catalog.dialects import catalog_dialect
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
-            "capability_descriptors", "behavior_transitions", "phenomena", "predicates")
+            "capability_descriptors", "behavior_transitions", "phenomena", "predicates", "vehicle_limits")
+#: The vehicle's documented limits a catalog may give (``vehicle_limits:``) and name in its ranges.
+VEHICLE_LIMITS = {"max_altitude": "m above (or below) home", "max_distance": "m from home, horizontally",
+                  "max_speed": "m/s horizontally", "max_flight_time": "s a full battery keeps the vehicle flying"}
+WORLD = "WORLD"  # allowed_values of a place: in the world's bounds (the vehicle's reach without a world)
 BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "required_capabilities",
                  "incompatibilities", "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
 ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
@@ -48,6 +52,7 @@ class CatalogContent:
     transitions: list[Transition] = field(default_factory=list)
     phenomena: dict[str, Phenomenon] = field(default_factory=dict)
     predicates: dict[str, PredicateDeclaration] = field(default_factory=dict)
+    vehicle_limits: dict[str, float] = field(default_factory=dict)
     # where each name was written, for the cross-reference checks
     references: list[tuple[str, str, str, yaml.Node]] = field(default_factory=list)
 
@@ -81,7 +86,7 @@ class CatalogReader:
             return self.content
         sections = self.r.mapping(root, "the catalog", SECTIONS) or {}
         # predicates first: preconditions and conditions are checked against them
-        order = ("default_behavior_values", "predicates", "behavior_lists", "capability_descriptors",
+        order = ("vehicle_limits", "default_behavior_values", "predicates", "behavior_lists", "capability_descriptors",
                  "behavior_descriptors", "phenomena", "reactive_activation", "behavior_transitions")
         for name in order:
             if name in sections:
@@ -96,6 +101,26 @@ class CatalogReader:
             self.content.default_timeout = timeout if timeout is not None else self.content.default_timeout
         if "category" in entries:
             self.content.default_category = self._category(entries["category"][1]) or GOAL_BASED
+
+    def _vehicle_limits(self, node: yaml.Node) -> None:
+        entries = self.r.mapping(node, "vehicle_limits", tuple(VEHICLE_LIMITS)) or {}
+        for name, (_, value) in entries.items():
+            limit = self.r.number(value, f"the vehicle limit {name} ({VEHICLE_LIMITS[name]})", positive=True)
+            if limit is not None:
+                self.content.vehicle_limits[name] = limit
+
+    def _bound(self, node: yaml.Node, what: str) -> float | None:
+        """A bound of a range: a number, or the name of a vehicle limit (``-max_distance`` for its negative)."""
+        if self.r.is_number(node):
+            return self.r.number(node, what)
+        name = self.r.text(node, what) or ""
+        sign, key = (-1.0, name[1:]) if name.startswith("-") else (1.0, name)
+        if key in self.content.vehicle_limits:
+            return sign * self.content.vehicle_limits[key]
+        known = ", ".join(sorted(self.content.vehicle_limits)) or "none: the catalog has no vehicle_limits"
+        self.r.error(node, f"{what} is {name!r}: a number or a vehicle limit ({known})"
+                           f"{suggestion(key, self.content.vehicle_limits)}")
+        return None
 
     def _predicates(self, node: yaml.Node) -> None:
         keys = ("predicate", "arity", "multivalued", "persistence", "computed", "values", "aliases", "description")
@@ -325,9 +350,11 @@ class CatalogReader:
                 self.r.error(e["type"][1], f"the type {value_type} of {what} is not one of {', '.join(VALUE_TYPES)}")
             else:
                 spec["value_type"] = value_type
+        if spec.get("in_world"):
+            spec.setdefault("value_type", "POINT")
         if "dimensions" in e:
             spec["dimensions"] = self.r.integer(e["dimensions"][1], f"the dimensions of {what}", minimum=1) or 1
-        elif spec.get("value_type") == "POINT":
+        elif spec.get("value_type") == "POINT" or (spec.get("in_world") and spec.get("value_type") != "PATH"):
             spec["dimensions"] = 3
         if "required" in e:
             spec["required"] = bool(self.r.flag(e["required"][1], f"required of {what}"))
@@ -352,16 +379,23 @@ class CatalogReader:
             name = self.r.text(node, f"allowed_values of {what}")
             if name in VALUE_TYPES:
                 return {"value_type": name}
-            self.r.error(node, f"allowed_values of {what} must be a range [min, max], a list of values or a type "
-                               f"({', '.join(VALUE_TYPES)}), not {name}{suggestion(name or '', VALUE_TYPES)}")
+            if name == WORLD:
+                limits = self.content.vehicle_limits
+                reach = (limits["max_distance"], limits["max_altitude"]) if {"max_distance", "max_altitude"} <= \
+                    limits.keys() else None
+                return {"in_world": True, "reach": reach}
+            self.r.error(node, f"allowed_values of {what} must be a range [min, max], a list of values, {WORLD} or a "
+                               f"type ({', '.join(VALUE_TYPES)}), not {name}{suggestion(name or '', VALUE_TYPES)}")
             return {}
         items = self.r.sequence(node, f"allowed_values of {what}")
         if not items:
             if items is not None:
                 self.r.error(node, f"allowed_values of {what} is empty")
             return {}
-        if len(items) == 2 and all(self.r.is_number(i) for i in items):
-            low, high = (self.r.number(i, f"a bound of the range of {what}") for i in items)
+        limits = self.content.vehicle_limits
+        named = [isinstance(i, yaml.ScalarNode) and str(i.value).lstrip("-") in limits for i in items]
+        if len(items) == 2 and (any(self.r.is_number(i) for i in items) or all(named)):  # a range: its bounds
+            low, high = (self._bound(i, f"a bound of the range of {what}") for i in items)
             if low is None or high is None:
                 return {}
             if low > high:

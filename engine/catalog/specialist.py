@@ -7,16 +7,18 @@ state machines of the physical phenomena do not allow.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
 from aeroexec.beliefs.expression import Goal, Negation
 from aeroexec.beliefs.terms import Struct, format_term
+from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.behavior_catalog import BehaviorCatalog, default_catalog
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
+from aeroexec.engine.catalog.places import localize
 from aeroexec.engine.catalog.world_check import WorldMap, world_problems
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_SEQUENCE, WRONG_VALUE, SpecificationError
 from aeroexec.engine.yaml_nodes import suggestion
@@ -70,10 +72,21 @@ def canonical_arguments(descriptor: BehaviorDescriptor, arguments: Mapping[str, 
 class BehaviorSpecialist:
     """Knows how each behavior must be requested and which behaviors and sequences are possible."""
 
-    def __init__(self, catalog: BehaviorCatalog | None = None, world: WorldMap | None = None) -> None:
+    def __init__(self, catalog: BehaviorCatalog | None = None, world: WorldMap | None = None,
+                 home: Callable[[], Geodetic | None] | None = None) -> None:
         self.catalog = catalog if catalog is not None else default_catalog()
         #: When given (verification with a world), literal destinations and paths are checked against it.
         self.world = world
+        #: Where ``geo:`` places are placed from: the flying drone's home (in flight), else the world's home.
+        self.home = home if home is not None else (lambda: getattr(world, "home", None))
+
+    def placed(self, descriptor: BehaviorDescriptor, arguments: Mapping[str, Any] | None) -> dict[str, Any]:
+        """The arguments under the catalog's names, their ``geo:`` places in ENU meters when a home is known."""
+        arguments = canonical_arguments(descriptor, arguments)
+        if any(isinstance(v, str) for v in arguments.values()) or any(
+                isinstance(v, list | tuple) and any(isinstance(p, str) for p in v) for v in arguments.values()):
+            return localize(descriptor, arguments, self.home())
+        return arguments
 
     # -- requests ---------------------------------------------------------------
     def check_request(self, name: str, arguments: Mapping[str, Any] | None = None) -> BehaviorDescriptor:
@@ -90,7 +103,7 @@ class BehaviorSpecialist:
         if descriptor is None:
             return [SpecificationError(WRONG_FORMAT, f"The behavior {name} does not exist"
                                                      f"{self.catalog.suggest(str(name))}", behavior=str(name))]
-        arguments = canonical_arguments(descriptor, arguments)
+        arguments = self.placed(descriptor, arguments)
         errors = []
 
         def error(kind: str, message: str) -> None:
@@ -129,7 +142,7 @@ class BehaviorSpecialist:
         """A checked request's arguments with the catalog's defaults filled in."""
         descriptor = self.check_request(name, arguments)
         resolved = {a.name: a.default for a in descriptor.arguments.values() if a.default is not None}
-        resolved.update(canonical_arguments(descriptor, arguments))
+        resolved.update(self.placed(descriptor, arguments))
         return resolved
 
     def check_expression(self, text: str | Conjunction) -> Conjunction:

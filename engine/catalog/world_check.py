@@ -18,6 +18,7 @@ from typing import Any, Protocol
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
 
 POINT_ARGUMENTS = ("COORDINATES", "DESTINATION")
+LOOKED_AT = ("LOOK_AT_A_POINT",)  # behaviors whose COORDINATES are looked at, not flown to: never checked
 PATH_ARGUMENTS = ("PATH",)
 _CLEARANCE = re.compile(r"minimum_distance_to_obstacle\(\s*\?(\w+)\s*,\s*\?(\w+)\s*\)")
 
@@ -88,6 +89,8 @@ def world_problems(descriptor: BehaviorDescriptor, arguments: Mapping[str, Any],
     name = descriptor.name
     problems = []
     points: list[tuple[str, tuple[float, float, float]]] = []
+    if name in LOOKED_AT:
+        return problems
     for key in POINT_ARGUMENTS:
         if (point := _point(arguments.get(key))) is not None:
             points.append((key, point))
@@ -97,7 +100,9 @@ def world_problems(descriptor: BehaviorDescriptor, arguments: Mapping[str, Any],
             points += [(key, p) for p in (_point(v) for v in value) if p is not None]
     for key, point in points:
         if not world.inside(point):
-            problems.append((key, f"{_fmt(point)} is outside the world's bounds ({_bounds(world)}; geofence)"))
+            why = getattr(world, "why_outside", None)
+            problems.append((key, f"{_fmt(point)} is " + (why(point) if why is not None else
+                                                          f"outside the world's bounds ({_bounds(world)}; geofence)")))
     rule = clearance(descriptor)
     if rule is not None:
         variable, meters, strict = rule

@@ -38,6 +38,7 @@ logger = logging.getLogger(__name__)
 
 #: Priority of an activation request: reactive-higher > deliberative > reactive-lower.
 PRIORITY = {HIGHER: 2, "deliberative": 1, LOWER: 0}
+TIMEOUT_MARGIN = 1.5  # a behavior's timeout is its catalog timeout plus this many times its expected duration
 DELIBERATION = PRIORITY["deliberative"]
 _ORDER = operator.attrgetter("order")  # activations in the order they were activated
 
@@ -163,7 +164,11 @@ class BehaviorCoordinator:
                 message = f"{failed_preconditions_message(name)} Its resources cannot be activated: {error}"
                 self.log.record("failed_preconditions", name, message, source=source)
                 return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
-        timeout = timeout if timeout is not None else process.descriptor.timeout
+        if timeout is None and process.descriptor.timeout is not None:
+            timeout = process.descriptor.timeout
+            needed = process.expected_duration()  # the catalog's timeout, on top of what the work asked takes
+            if needed is not None and needed > 0:
+                timeout = round(timeout + TIMEOUT_MARGIN * needed, 1)
         if resume is not None:  # the same request again: whoever waits on it hears how this one ends
             activation = resume
             activation.process, activation.priority, activation.order = process, level, self._next_order()

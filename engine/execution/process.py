@@ -34,6 +34,8 @@ class EngineSettings:
     stall_time: float = 8.0  # s without progress toward a goal -> WRONG_PROGRESS
     command_timeout: float = 10.0  # s for a drone command to be accepted
     cruise_speed: float = 5.0  # m/s the travel-time estimate assumes
+    climb_rate: float = 1.5  # m/s a take-off climbs at (PX4's MPC_TKO_SPEED): its timeout grows with the altitude
+    descent_rate: float = 0.7  # m/s the slowest landing descends at (MPC_LAND_SPEED): LAND's timeout grows with it
     hold_behavior: str = "KEEP_HOVERING"  # what holds the robot where it is while the operator pauses
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -123,6 +125,12 @@ class BehaviorProcess:
 
     def telemetry(self) -> Telemetry:
         return self.context.drone.telemetry()
+
+    def expected_duration(self) -> float | None:
+        """Seconds the work asked should take (a flight's distance at its speed), asked once its situation was
+        checked (after :meth:`prepare`): the catalog's timeout grows by 1.5 times it. None: the catalog's timeout
+        as it is (a request's own timeout is never changed)."""
+        return None
 
     def fail(self, reason: str) -> Outcome:
         """Finish with WRONG_PROGRESS, saying why."""

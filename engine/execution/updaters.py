@@ -1,10 +1,11 @@
 """The engine's belief updaters: the drone's own state from telemetry, and the predicates computed when consulted.
 
-:class:`TelemetryUpdater` writes ``position(self, (x, y, z))``, ``flight_state``,
+:class:`TelemetryUpdater` writes ``position(self, (x, y, z))`` (and ``position_accuracy(self, M)`` when the vehicle
+says how good its own estimate is), ``flight_state``,
 ``charge(battery, N)``, ``battery_level``, ``armed``, ``orientation``, ``speed``,
 ``flight_mode``, ``communication(wireless, ok|lost)`` and ``carry(self, X)`` for
 each item the drone says it carries; :func:`register_computed`
-answers ``distance``, ``distance_to``, ``approximate_travel_time`` and the
+answers ``distance``, ``distance_to``, ``approximate_travel_time``, ``flight_time_left`` and the
 obstacle distances from functions. A :class:`PositionSource` says whether the
 telemetry or a self-localization estimator writes ``position(self, ...)``.
 """
@@ -51,7 +52,7 @@ def battery_level(percent: float) -> str:
 
 #: The predicates the telemetry updater writes, declared by the engine when a catalog does not.
 TELEMETRY_PREDICATES = {"position": 2, "flight_state": 2, "charge": 2, "battery_level": 2, "armed": 2,
-                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2}
+                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2, "position_accuracy": 2}
 
 
 class PositionSource:
@@ -107,6 +108,8 @@ class TelemetryUpdater(BeliefUpdater):
         if self.position_source.from_telemetry:
             x, y, z = t.position
             facts.append(("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
+        if t.position_accuracy is not None:  # the vehicle's own estimate says how far off it may be
+            facts.append(("position_accuracy", ("self", round(t.position_accuracy, 1))))
         written, lifetimes = self._written, memory.lifetimes
         for name, args in facts:  # only what changed (a belief with a lifetime is renewed every time)
             if written.get(name) != args or name in lifetimes:
@@ -130,8 +133,9 @@ class TelemetryUpdater(BeliefUpdater):
 
 
 def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
-                      obstacles: ObstacleMap | None = None) -> None:
-    """Register the predicates answered by functions (Table 7)."""
+                      obstacles: ObstacleMap | None = None, flight_time: float | None = None) -> None:
+    """Register the predicates answered by functions (Table 7); ``flight_time``: seconds a full battery keeps the
+    drone in the air (the catalog's ``vehicle_limits.max_flight_time``; None: unknown, never the limit)."""
 
     def point(value: Any) -> tuple[float, float, float] | None:
         if isinstance(value, tuple) and len(value) == 3 and all(isinstance(v, int | float) for v in value):
@@ -154,5 +158,14 @@ def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
     memory.register("distance", 3, guarded(lambda a, b: round(math.dist(a, b), 2)))
     memory.register("distance_to", 2, guarded(lambda p: round(math.dist(drone.telemetry().position, p), 2)))
     memory.register("approximate_travel_time", 3, guarded(travel_time))
+
+    def time_left(who: Any) -> float | None:
+        if who != "self":
+            return None
+        if flight_time is None:
+            return math.inf
+        return round(max(drone.telemetry().battery_percent, 0.0) / 100.0 * flight_time, 1)
+
+    memory.register("flight_time_left", 2, time_left)
     memory.register("minimum_distance_to_obstacle", 2, guarded(to_obstacle))
     memory.register("distance_to_obstacle", 2, guarded(to_obstacle))

@@ -28,7 +28,7 @@ def test_catalog_lists_behaviors_with_categories_and_arguments():
     assert "GO_TO_POINT  (goal_based, timeout 120 s)" in result.stdout
     assert "KEEP_HOVERING  (recurrent)" in result.stdout
     assert "{FORWARD, BACKWARD, LEFT, RIGHT, UPWARD, DOWNWARD}" in result.stdout
-    assert "COORDINATES" in result.stdout and "[-100, 100] x3" in result.stdout
+    assert "COORDINATES" in result.stdout and "POINT in the world (<= 5000 m from home, |z| <= 500 m)" in result.stdout
 
 
 def test_catalog_shows_chosen_behaviors_and_rejects_unknown_ones():

@@ -54,7 +54,7 @@ def test_default_catalog_categories_timeouts_and_arguments():
     assert aerial.behaviors["GO_TO_POINT"].timeout == 120
     assert aerial.behaviors["TAKE_OFF"].timeout == aerial.default_timeout
     coordinates = aerial.behaviors["GO_TO_POINT"].arguments["COORDINATES"]
-    assert (coordinates.minimum, coordinates.maximum, coordinates.dimensions) == (-100, 100, 3)
+    assert (coordinates.in_world, coordinates.reach, coordinates.dimensions) == (True, (5000, 500), 3)  # limits
     assert aerial.behaviors["KEEP_MOVING"].arguments["DIRECTION"].choices == (
         "FORWARD", "BACKWARD", "LEFT", "RIGHT", "UPWARD", "DOWNWARD")
     # YAML 1.1 would read ON/OFF as booleans; enumerations keep the text as written

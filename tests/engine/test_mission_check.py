@@ -47,10 +47,11 @@ def test_misspelt_behavior_file():
 def test_wrong_argument_file():
     found = check_mission_file(DATA / "wrong_argument.py")
     assert [(p.line, p.kind, p.message) for p in found] == [
-        (7, "WRONG_VALUE", "The value 80 of argument ALTITUDE for behavior TAKE_OFF is not correct "
-                           "(a number between 0.5 and 50 is expected)"),
+        (7, "WRONG_VALUE", "The value 800 of argument ALTITUDE for behavior TAKE_OFF is not correct "
+                           "(a number between 0.5 and 500 is expected)"),
         (8, "WRONG_VALUE", "The value (4, 2) of argument COORDINATES for behavior GO_TO_POINT is not correct "
-                           "(a point (x, y, z) with coordinates between -100 and 100 is expected)"),
+                           "(a point (x, y, z) or geo:LAT,LON,ALT in the world (x and y within 5000 m of home, z "
+                           "within 500 m) is expected)"),
     ]
 
 
@@ -121,9 +122,10 @@ def test_unknown_argument_name_out_of_range_value_and_a_point_with_two_numbers()
     """) == [
         (5, "The argument ALTITUD of behavior TAKE_OFF does not exist (did you mean ALTITUDE?)"),
         (6, "The value -2 of argument SPEED for behavior GO_TO_POINT is not correct "
-            "(a number between 0.1 and 30 is expected)"),
+            "(a number between 0.1 and 12 is expected)"),
         (7, "The value (1, 2) of argument COORDINATES for behavior GO_TO_POINT is not correct "
-            "(a point (x, y, z) with coordinates between -100 and 100 is expected)"),
+            "(a point (x, y, z) or geo:LAT,LON,ALT in the world (x and y within 5000 m of home, z within 500 m) "
+            "is expected)"),
     ]
 
 
@@ -136,7 +138,7 @@ def test_argument_errors_name_the_line_of_the_argument():
             speed=99,
         )
     """) == [(9, "The value 99 of argument SPEED for behavior GO_TO_POINT is not correct "
-                 "(a number between 0.1 and 30 is expected)")]
+                 "(a number between 0.1 and 12 is expected)")]
 
 
 def test_missing_arguments_and_enumerations():

@@ -25,10 +25,10 @@ COMPUTED = {
     "value out of range": ('''
         def mission():
             api.execute_behavior("TAKE_OFF", altitude=3)
-            x = 50 * 3
+            x = 3000 * 3
             api.execute_behavior("GO_TO_POINT", coordinates=(x, 0, 3))  # HERE
             api.execute_behavior("LAND")
-        ''', "WRONG_VALUE", "(150, 0, 3)"),
+        ''', "WRONG_VALUE", "(9000, 0, 3)"),
     "no implementation": ('''
         def mission():
             api.execute_behavior("TAKE_OFF", altitude=3)

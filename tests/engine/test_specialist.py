@@ -38,17 +38,18 @@ def test_unknown_argument(specialist):
 
 
 def test_out_of_range_value(specialist):
-    error = error_of(specialist, "TAKE_OFF", {"ALTITUDE": 80})
+    error = error_of(specialist, "TAKE_OFF", {"ALTITUDE": 800})
     assert error.kind == "WRONG_VALUE"
-    assert error.message == ("The value 80 of argument ALTITUDE for behavior TAKE_OFF is not correct "
-                             "(a number between 0.5 and 50 is expected)")
+    assert error.message == ("The value 800 of argument ALTITUDE for behavior TAKE_OFF is not correct "
+                             "(a number between 0.5 and 500 is expected)")
 
 
 def test_wrong_dimensions(specialist):
     error = error_of(specialist, "GO_TO_POINT", {"COORDINATES": (1, 2)})
     assert error.kind == "WRONG_VALUE"
     assert error.message == ("The value (1, 2) of argument COORDINATES for behavior GO_TO_POINT is not correct "
-                             "(a point (x, y, z) with coordinates between -100 and 100 is expected)")
+                             "(a point (x, y, z) or geo:LAT,LON,ALT in the world (x and y within 5000 m of "
+                             "home, z within 500 m) is expected)")
     assert error_of(specialist, "GO_TO_POINT", {"COORDINATES": 5}).kind == "WRONG_VALUE"
     assert error_of(specialist, "GO_TO_POINT", {"COORDINATES": (1, 2, "up")}).kind == "WRONG_VALUE"
 
@@ -65,7 +66,7 @@ def test_value_of_the_wrong_type(specialist):
     assert error_of(specialist, "TAKE_OFF", {"ALTITUDE": True}).kind == "WRONG_VALUE"  # a bool is not a number
     assert error_of(specialist, "TAKE_OFF", {"ALTITUDE": float("nan")}).kind == "WRONG_VALUE"
     path_error = error_of(specialist, "FOLLOW_PATH", {"PATH": [(0, 0, 2), (5, 0)]})
-    assert "a list of points (x, y, z) with coordinates between -100 and 100 is expected" in path_error.message
+    assert "a list of points (x, y, z) or geo:LAT,LON,ALT in the world (x and y within 5000 m" in path_error.message
 
 
 def test_missing_required_arguments(specialist):
@@ -157,5 +158,5 @@ def test_sequences_from_another_initial_state(specialist):
 
 
 def test_check_plan_reports_request_and_sequence_errors_in_step_order(specialist):
-    errors = specialist.check_plan(["TAKE_OFF", ("TAKE_OFF", {"ALTITUDE": 99}), "LANDD"])
+    errors = specialist.check_plan(["TAKE_OFF", ("TAKE_OFF", {"ALTITUDE": 999}), "LANDD"])
     assert [(e.step, e.kind) for e in errors] == [(1, "WRONG_VALUE"), (1, "WRONG_SEQUENCE"), (2, "WRONG_FORMAT")]

@@ -25,6 +25,8 @@ from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
 from aeroexec.engine.errors import CatalogError
 from aeroexec.flight.missions import MissionFileError, check_mission
+from aeroexec.trees.items import is_item_file
+from aeroexec.trees.mission_world import mission_world
 
 ROOT = Path(__file__).parents[2]
 DATA = Path(__file__).with_name("data")  # failing examples found by the fuzz tests, replayed by test_fuzz.py
@@ -101,8 +103,8 @@ _catalog = None
 def _mission(path: Path) -> list[str]:
     global _catalog
     _catalog = _catalog or default_catalog()
-    try:
-        checked = check_mission(path, _catalog)
+    try:  # a mission planned on a map is checked in the world generated around it, as verify does
+        checked = check_mission(path, _catalog, mission_world(path) if is_item_file(path) else None)
     except MissionFileError as error:
         return [str(error)]
     return [str(p) for p in checked.errors]
@@ -166,6 +168,9 @@ def _control(path: Path) -> list[str]:
     return []
 
 
+REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
+
+
 def _files(*patterns: str) -> tuple[Path, ...]:
     return tuple(sorted(p for pattern in patterns for p in ROOT.glob(pattern)))
 
@@ -174,6 +179,14 @@ FORMATS = {f.name: f for f in [
     Format("BT.CPP XML", ".xml", _files("missions/figure10.xml", "missions/iarc7.xml",
                                         "tests/trees/data/inspection.xml"), _mission),
     Format("TML", ".tml.xml", _files("missions/*.tml.xml"), _mission),
+    Format("QGroundControl plans", ".plan",
+           _files("missions/*.plan", f"{REAL}/sky_mission/*.plan", f"{REAL}/qgroundcontrol/SectionTest.plan"),
+           _mission),
+    Format("QGroundControl legacy missions", ".mission",
+           _files(f"{REAL}/qgroundcontrol/OldFileFormat.mission"), _mission),
+    Format("QGC WPL 110 waypoint files", ".waypoints",
+           _files(f"{REAL}/ardupilot/copter_mission.txt", f"{REAL}/qgroundcontrol/MissionPlanner.waypoints"),
+           _mission),
     Format("Python missions", ".py", _files("missions/inspection.py", "missions/square_patrol.py",
                                             "missions/marker_search.py"), _mission),
     Format("YAML trees", ".yaml", _files("missions/square_patrol.yaml", "missions/iarc7.yaml",

@@ -14,7 +14,7 @@ def test_every_behavior_is_an_action_with_its_arguments_as_ports():
     ports = {p.get("name"): p for p in actions["GO_TO_POINT"].findall("input_port")}
     assert set(ports) == {*catalog.behaviors["GO_TO_POINT"].arguments, "timeout"}
     assert ports["COORDINATES"].get("type") == "BT::AnyTypeAllowed" and ports["timeout"].get("type") == "double"
-    assert ports["COORDINATES"].text.startswith("[-100, 100] x3")
+    assert ports["COORDINATES"].text.startswith("POINT in the world")
     assert ports["SPLINE"].get("default") == "no"
     assert actions["TURN_LIGHTS"].find("input_port").text == "{ON, OFF}; required"
 

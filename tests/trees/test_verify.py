@@ -12,7 +12,7 @@ BAD = """<root BTCPP_format="4" main_tree_to_execute="Main">
     <Sequence>
       <LAND/>
       <TAKE_OF/>
-      <TAKE_OFF ALTITUDE="80"/>
+      <TAKE_OFF ALTITUDE="800"/>
       <GO_TO_POINT COORDINATE="1, 2, 3"/>
       <GO_TO_POINT COORDINATES="1, 2"/>
       <Condition belief="flight_state(self, "/>
@@ -42,11 +42,12 @@ EXPECTED = [
     (4, "WRONG_SEQUENCE", "The execution of behavior LAND cannot be done at the start of the mission (flight is "
                           "landed; LAND needs hovering or moving)"),
     (5, "WRONG_FORMAT", "The behavior TAKE_OF does not exist (did you mean TAKE_OFF?)"),
-    (6, "WRONG_VALUE", "The value 80 of argument ALTITUDE for behavior TAKE_OFF is not correct (a number between "
-                       "0.5 and 50 is expected)"),
+    (6, "WRONG_VALUE", "The value 800 of argument ALTITUDE for behavior TAKE_OFF is not correct (a number between "
+                       "0.5 and 500 is expected)"),
     (7, "WRONG_FORMAT", "The argument COORDINATE of behavior GO_TO_POINT does not exist (did you mean COORDINATES?)"),
     (8, "WRONG_VALUE", "The value (1, 2) of argument COORDINATES for behavior GO_TO_POINT is not correct (a point "
-                       "(x, y, z) with coordinates between -100 and 100 is expected)"),
+                       "(x, y, z) or geo:LAT,LON,ALT in the world (x and y within 5000 m of home, z within 500 m) is "
+                       "expected)"),
     (10, "WRONG_FORMAT", "The predicate colour of the belief expression colour(box, red) does not exist"),
     (11, "WRONG_FORMAT", "The blackboard key target is read before any node writes it"),
     (12, "WRONG_FORMAT", "The node Inverter must have exactly one child, not 0"),

@@ -1,7 +1,8 @@
 """The MAVLink mission protocol of the simulated vehicle and a small AUTO.MISSION executor.
 
 Upload (MISSION_COUNT, MISSION_REQUEST_INT, MISSION_ITEM_INT, MISSION_ACK), download, clear and
-set-current for the mission, geofence and rally lists, with retries on wall time. A mission runs
+set-current for the mission, geofence and rally lists, with retries on wall time (as ArduCopter, item 0 is home
+and a mission starts at item 1). A mission runs
 NAV_TAKEOFF, NAV_WAYPOINT, NAV_LAND, NAV_RETURN_TO_LAUNCH and DO_CHANGE_SPEED items on the simulated
 drone; other items are skipped.
 """
@@ -73,8 +74,9 @@ class _Upload:
 class MissionManager:
     """Stores the uploaded lists and runs the mission when the vehicle is put in AUTO.MISSION."""
 
-    def __init__(self, mav: mavlink.MAVLink, statustext: Callable[[int, str], None]) -> None:
+    def __init__(self, mav: mavlink.MAVLink, statustext: Callable[[int, str], None], first: int = 0) -> None:
         self._mav = mav
+        self.first = first  # the first item flown: ArduPilot's item 0 is home, never flown
         self._statustext = statustext
         self._lists: dict[int, list[MissionItem]] = {0: [], 1: [], 2: []}
         self._upload: _Upload | None = None
@@ -221,8 +223,8 @@ class MissionManager:
             return CommandHandle.failed("mission", Failure.DENIED, "mission denied: no mission uploaded")
         if first is not None and not self.set_current(first):
             return CommandHandle.failed("mission", Failure.DENIED, f"mission denied: no item {first}")
-        if self.current >= len(self.items):
-            self.current = 0
+        if self.current >= len(self.items) or self.current < self.first:
+            self.current = min(self.first, len(self.items) - 1)
         self.active = True
         self._started = False
         return CommandHandle.succeeded("mission")

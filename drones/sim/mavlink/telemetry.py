@@ -32,6 +32,7 @@ _MODE_TO_PX4: dict[str, tuple[int, int]] = {
 _PX4_TO_MODE = {value: name for name, value in _MODE_TO_PX4.items()}
 PX4_MAIN_AUTO = 4
 
+GPS_ACCURACY_MM = 800  # mm: the simulated receiver's horizontal accuracy (1 sigma), reported in GPS_RAW_INT
 _LANDED_TO_MAV = {
     LandedState.UNKNOWN: mavlink.MAV_LANDED_STATE_UNDEFINED,
     LandedState.ON_GROUND: mavlink.MAV_LANDED_STATE_ON_GROUND,
@@ -225,6 +226,7 @@ class TelemetryEncoder:
         self._mav.extended_sys_state_send(mavlink.MAV_VTOL_STATE_UNDEFINED, landed)
 
     def _gps_raw_int(self, state: VehicleState) -> None:
+        """GPS_RAW_INT with the fix's horizontal and vertical accuracy (an RTK-less GNSS receiver's)."""
         lat, lon, alt = state.geodetic
         vx, vy, _ = state.telemetry.velocity
         ground = math.hypot(vx, vy)
@@ -240,6 +242,9 @@ class TelemetryEncoder:
             int(ground * 100),
             cog,
             14 if state.position_ok else 0,
+            int(alt * 1000),  # above the ellipsoid: the simulated geoid is the ellipsoid
+            GPS_ACCURACY_MM if state.position_ok else 0xFFFFFFFF,  # h_acc: what the adapter believes of it
+            2 * GPS_ACCURACY_MM if state.position_ok else 0xFFFFFFFF,  # v_acc
         )
 
     def _global_position_int(self, state: VehicleState) -> None:

@@ -126,7 +126,7 @@ class MavlinkVehicle:
             defaults = dict.fromkeys([*DEFAULT_RATES_HZ, EKF_STATUS_REPORT], 0.0)
         self.streams = StreamScheduler(defaults)
         self.offboard = OffboardControl()
-        self.mission = MissionManager(self.mav, self.statustext)
+        self.mission = MissionManager(self.mav, self.statustext, first=1 if self.copter is not None else 0)
         self.commands = CommandHandler(self)
         self.speed_override: float | None = None  # DO_CHANGE_SPEED / DO_REPOSITION speed
         self.last_goto: tuple[tuple[float, float, float], float | None] | None = None

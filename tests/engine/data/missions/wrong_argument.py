@@ -4,6 +4,6 @@ from aeroexec.engine import api as drone
 
 
 def mission():
-    drone.executeBehavior("TAKE_OFF", altitude=80)
+    drone.executeBehavior("TAKE_OFF", altitude=800)
     drone.executeBehavior("GO_TO_POINT", coordinates=(4, 2))
     drone.executeBehavior("LAND")

@@ -1,4 +1,4 @@
-"""The geofence of a QGroundControl plan in the world's frame: inclusion and exclusion polygons and circles.
+"""A geofence in the world's frame: inclusion and exclusion polygons and circles (a plan's geofence, a world's).
 
 A point is allowed when it is inside at least one inclusion fence (when there is any) and inside no exclusion
 fence, as PX4 reads a plan's fence; positions are ENU meters from the world's home, fences are checked in the

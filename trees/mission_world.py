@@ -1,0 +1,110 @@
+"""The world a mission is verified and flown in: where it is planned, at real scale.
+
+- A world file (``--world``) is used as it is; ``--home`` moves it to that home.
+- A mission that says where it is (a plan's ``plannedHomePosition``, a waypoint file's home line, or its first
+  item's place) flies in an open field generated around it (:func:`aeroexec.drones.sim.open_field.open_field`):
+  the mission's places plus a margin, its geofence as the world's fences; ``--home`` places the field's home (the
+  take-off point) elsewhere, the items keep their latitudes and longitudes.
+- A mission in local meters (Python, behavior trees, TML) keeps the default world (moved to ``--home`` if given).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+from typing import Any
+
+from aeroexec.drones.geodesy import Geodetic, geo_to_enu
+from aeroexec.drones.sim.geofence import Fence
+from aeroexec.trees.items.behaviors import mission_home
+from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, MISSION_FRAME, POSITIONAL, ItemMission
+from aeroexec.trees.items.readers import is_item_file, load_item_mission
+from aeroexec.trees.model import TreeFormatError
+
+_HEIGHTS = {*POSITIONAL, 22, 113}  # items whose altitude is flown at (a take-off's, a change of altitude's)
+GRIPPER_LOAD = "gripper_load"  # what the drone of a mission that opens its gripper carries
+
+
+def _fences(mission: ItemMission, home: Geodetic) -> list[Fence]:
+    found = []
+    for fence in mission.fences:
+        if fence.center is not None:
+            center = geo_to_enu((*fence.center, 0.0), home)[:2]
+            found.append(Fence(fence.inclusion, center=center, radius=fence.radius, line=fence.line))
+        else:
+            vertices = tuple(geo_to_enu((lat, lon, 0.0), home)[:2] for lat, lon in fence.vertices)
+            found.append(Fence(fence.inclusion, vertices, line=fence.line))
+    return found
+
+
+def mission_places(mission: ItemMission, home: Geodetic) -> list[tuple[float, float, float]]:
+    """Every place the mission flies to or names, ENU meters from ``home`` (altitudes above home)."""
+    places = []
+    top = 0.0
+    for item in mission.items:
+        if item.command in _HEIGHTS and item.frame in (*GLOBAL_FRAMES, MISSION_FRAME) and \
+                not math.isnan(item.altitude):
+            alt = item.altitude - (home[2] if item.frame in ABSOLUTE_FRAMES else 0.0)
+            top = max(top, alt)
+        else:
+            alt = 0.0
+        if item.command in POSITIONAL and item.has_position() and -90 <= item.latitude <= 90 and \
+                -180 <= item.longitude <= 180:
+            places.append(geo_to_enu((item.latitude, item.longitude, max(alt, 0.0)), home))
+    places += [geo_to_enu(point, home) for point, _ in mission.rally]
+    places.append((0.0, 0.0, top))
+    return places
+
+
+def world_for(mission: ItemMission, home: Geodetic | None = None) -> Any:
+    """The open field around ``mission`` at ``home`` (default: the mission's own home); None when the mission
+    names no place on Earth."""
+    from aeroexec.drones.sim.open_field import open_field
+
+    own = mission_home(mission)
+    if home is None:
+        home = own
+    elif len(home) == 2 or home[2] is None:
+        home = (home[0], home[1], own[2] if own is not None else 0.0)
+    if home is None:
+        return None
+    payload = (GRIPPER_LOAD,) if any(i.command == 211 and i.params[1] == 0 for i in mission.items) else ()
+    return open_field(home, mission_places(mission, home), _fences(mission, home), payload)
+
+
+def mission_world(mission: Path | None, world_file: str | None = None, home: Geodetic | None = None,
+                  default: bool = True) -> Any:
+    """The world ``mission`` is verified and flown in (see the module's docstring); None when there is none
+    (``default`` False, no world file and a mission in local meters)."""
+    from aeroexec.drones.sim import default_world, load_world
+
+    if world_file:
+        world = load_world(world_file)  # a WorldError says why it cannot be read
+        if home is not None:
+            world = dataclasses.replace(world, home=(home[0], home[1], home[2] if home[2] is not None
+                                                     else world.home[2]))
+        if mission is not None and is_item_file(mission):
+            try:
+                fences = _fences(load_item_mission(mission), world.home)
+            except TreeFormatError:
+                fences = []  # the mission's check says why it cannot be read
+            if fences:
+                world = dataclasses.replace(world, fences=(*world.fences, *fences))
+        return world
+    if mission is not None and is_item_file(mission):
+        try:
+            generated = world_for(load_item_mission(mission), home)
+        except TreeFormatError:
+            generated = None  # the mission's check says why it cannot be read
+        if generated is not None:
+            return generated
+    if not default and home is None:
+        return None
+    world = default_world()
+    if home is not None:
+        world = dataclasses.replace(world, home=(home[0], home[1], home[2] if home[2] is not None else 0.0))
+    return world
+
+
+__all__ = ["mission_places", "mission_world", "world_for"]

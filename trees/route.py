@@ -1,0 +1,230 @@
+"""The whole route of a mission before flight: every leg against the world (bounds, geofence, obstacles), the
+route's length, its duration at the planned speeds, and the battery left at landing from the vehicle's model.
+
+A mission whose tree is a flight through known places (Sequences, Repeats, Parallels of behaviors that fly to
+literal points, take off, land, wait, turn, take photos: every plan and waypoint file, most hand-written
+sequences) has a route; others (fallbacks, conditions, points read from the blackboard) have none, and nothing
+is said of them. The vehicle's model is the simulated multicopter's (:class:`aeroexec.drones.sim.SimConfig`:
+accelerations, climb and descent rates, cruise and top speeds, and its battery's drain with speed and climb). A
+route the battery cannot finish above the failsafe threshold is an error at the item where the charge runs out,
+saying how much is missing.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+from aeroexec.drones.geodesy import geo_to_enu, is_geo, parse_geo
+from aeroexec.engine.errors import WRONG_VALUE
+from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.ports import parse_value
+
+Vector = tuple[float, float, float]
+QUICK = {"TAKE_PHOTO": 1.0, "LOOK_AT_A_POINT": 3.0, "ROTATE": 4.0, "DROP_ITEM": 1.0, "TURN_LIGHTS": 0.0,
+         "NOTIFY_OPERATOR": 0.0, "BROADCAST_MESSAGE": 0.0}  # s of hovering the behaviors that do not fly take
+BESIDE = {"TRIGGER_CAMERA", "RECORD_VIDEO", "KEEP_LOITERING", "PAY_ATTENTION_TO_VISUAL_MARKERS",
+          "PAY_ATTENTION_TO_COLORS", "PAY_ATTENTION_TO_SHAPES", "DISPLAY_CAMERA_IMAGE", "SPEAK_UP"}
+_ITEM = re.compile(r"item (\d+) ")
+FENCE_STEP = 2.0  # m between the points of a leg checked against the geofence
+RESERVE = 20.0  # %: landing with less than this is a warning
+
+
+class NoRoute(Exception):
+    """The tree is not a flight through known places."""
+
+
+@dataclass
+class RouteEstimate:
+    """A mission's route: length (m), duration (s), battery at landing (%), and the problems found on the way."""
+
+    length: float = 0.0
+    duration: float = 0.0
+    battery: float = 100.0
+    failsafe: float = 0.0
+    hover_minutes: float = 0.0
+    problems: list[MissionProblem] = field(default_factory=list)
+
+    def summary(self) -> str:
+        minutes, seconds = divmod(round(self.duration), 60)
+        return (f"route {self.length / 1000:.2f} km, {minutes} min {seconds:02d} s at the planned speeds; battery "
+                f"{max(self.battery, 0.0):.0f}% at landing (the simulated multicopter's: {self.hover_minutes:g} "
+                f"min of hover on a full battery)")
+
+
+class _Flight:
+    """Flies the tree on paper with the vehicle's model."""
+
+    def __init__(self, document: TreeDocument, world: Any, config: Any) -> None:
+        from aeroexec.drones.sim.battery import Battery
+
+        self.document, self.world, self.config = document, world, config
+        self.battery = Battery(config)
+        self.estimate = RouteEstimate(battery=config.initial_battery_percent,
+                                      failsafe=config.failsafe_battery_percent,
+                                      hover_minutes=config.battery_hover_minutes)
+        self.position: Vector = (0.0, 0.0, 0.0)
+        self.flying = False
+        self.empty_at: TreeNode | None = None
+        self.said: set[tuple[int, str]] = set()
+
+    def problem(self, node: TreeNode, message: str, severity: str = "error") -> None:
+        item = _ITEM.match(node.name)  # a mission item's behavior: its number (several items may share a line)
+        message = f"item {item.group(1)}: {message}" if item else message
+        if (node.line, message) not in self.said:
+            self.said.add((node.line, message))
+            self.estimate.problems.append(MissionProblem(severity, message, node.file or self.document.file,
+                                                         node.line, WRONG_VALUE))
+
+    # -- the vehicle's model ---------------------------------------------------------------------------------
+    def spend(self, node: TreeNode, seconds: float, speed: float = 0.0, climb: float = 0.0) -> None:
+        rate = self.battery.drain_rate(True, self.flying, speed, climb)
+        self.estimate.duration += seconds
+        self.estimate.battery -= rate * seconds
+        if self.empty_at is None and self.estimate.battery < self.estimate.failsafe:
+            self.empty_at = node
+
+    def point(self, node: TreeNode, key: str) -> Vector:
+        text = node.ports.get(key, "")
+        if "{" in text:
+            raise NoRoute(f"{node.type} reads {key} from the blackboard")
+        if is_geo(text):
+            if self.world is None:
+                raise NoRoute("geographic points and no world to place them")
+            return geo_to_enu(parse_geo(text), self.world.home)
+        value = parse_value(text)
+        if not (isinstance(value, tuple) and len(value) == 3 and all(isinstance(v, int | float) for v in value)):
+            raise NoRoute(f"{node.type} {key}={text!r}")
+        return (float(value[0]), float(value[1]), float(value[2]))
+
+    def number(self, node: TreeNode, key: str, default: float) -> float:
+        value = parse_value(node.ports[key]) if key in node.ports else default
+        if not isinstance(value, int | float):
+            raise NoRoute(f"{node.type} {key}={node.ports.get(key)!r}")
+        return float(value)
+
+    def fly(self, node: TreeNode, target: Vector, speed: float) -> None:
+        c = self.config
+        start = self.position
+        horizontal = math.dist(start[:2], target[:2])
+        rise = target[2] - start[2]
+        speed = min(max(speed, 0.1), c.max_speed)
+        cruise = horizontal / speed + (speed / c.max_acceleration if horizontal > 0.5 else 0.0)
+        vertical = abs(rise) / (c.max_climb_rate if rise > 0 else c.descent_rate)
+        seconds = max(cruise, vertical)
+        self.check_leg(node, start, target)
+        self.estimate.length += math.dist(start, target)
+        self.spend(node, seconds, horizontal / seconds if seconds else 0.0, rise / seconds if seconds else 0.0)
+        self.position = target
+
+    def check_leg(self, node: TreeNode, a: Vector, b: Vector) -> None:
+        world = self.world
+        if world is None:
+            return
+        fences = getattr(world, "fences", ())
+        if fences:
+            from aeroexec.drones.sim.geofence import breach
+
+            steps = max(1, math.ceil(math.dist(a[:2], b[:2]) / FENCE_STEP))
+            for i in range(1, steps):
+                f = i / steps
+                why = breach(fences, (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f))
+                if why:
+                    self.problem(node, f"the flight from ({_fmt(a)}) to ({_fmt(b)}) goes {why} on its way "
+                                       f"(geofence)")
+                    break
+        if getattr(world, "obstacles", ()) and not world.segment_clear(a, b):
+            self.problem(node, f"the straight flight from ({_fmt(a)}) to ({_fmt(b)}) crosses an obstacle: "
+                               f"GO_TO_POINT flies around it, longer than estimated", severity="warning")
+
+    # -- the tree ----------------------------------------------------------------------------------------------
+    def run(self, node: TreeNode) -> None:
+        kind = node.type
+        if kind in ("Sequence", "SequenceWithMemory"):
+            for child in node.children:
+                self.run(child)
+        elif kind == "Repeat":
+            cycles = self.number(node, "num_cycles", 1)
+            if cycles < 0:
+                raise NoRoute("a Repeat without end")
+            for _ in range(int(min(cycles, 1000))):
+                self.run(node.children[0])
+        elif kind == "Parallel":
+            flights = [c for c in node.children if c.type not in BESIDE]
+            if len(flights) != 1:
+                raise NoRoute("a Parallel of several flights")
+            self.run(flights[0])
+        elif kind == "TAKE_OFF":
+            altitude = self.number(node, "ALTITUDE", 2.0)
+            self.flying = True
+            self.spend(node, altitude / self.config.climb_rate, 0.0, self.config.climb_rate)
+            self.estimate.length += altitude
+            self.position = (self.position[0], self.position[1], self.position[2] + altitude)
+            why = self.world.why_outside(self.position) if hasattr(self.world, "why_outside") else None
+            if why:  # the points flown to are the specialist's to check; a take-off's height is this one's
+                self.problem(node, f"TAKE_OFF to {altitude:g} m climbs to ({_fmt(self.position)}), {why}")
+        elif kind == "GO_TO_POINT":
+            if "COORDINATES" in node.ports:
+                target = self.point(node, "COORDINATES")
+            else:
+                delta = self.point(node, "RELATIVE_COORDINATES")
+                target = tuple(p + d for p, d in zip(self.position, delta, strict=True))
+            self.fly(node, target, self.number(node, "SPEED", self.config.cruise_speed))
+        elif kind == "FOLLOW_PATH":
+            raise NoRoute("FOLLOW_PATH")  # its points' form varies: not estimated
+        elif kind == "LAND":
+            self.land(node)
+        elif kind == "WAIT":
+            if "DURATION" not in node.ports:
+                raise NoRoute("a WAIT for a marker")
+            self.spend(node, self.number(node, "DURATION", 0.0))
+        elif kind in QUICK:
+            self.spend(node, QUICK[kind])
+        else:
+            raise NoRoute(kind)
+
+    def land(self, node: TreeNode) -> None:
+        c = self.config
+        height = max(self.position[2], 0.0)
+        slow = min(height, c.land_slow_altitude)
+        seconds = (height - slow) / c.descent_rate + slow / c.land_speed
+        self.spend(node, seconds, 0.0, -height / seconds if seconds else 0.0)
+        self.estimate.length += height
+        self.position = (self.position[0], self.position[1], 0.0)
+        self.flying = False
+
+
+def _fmt(point: Vector) -> str:
+    return ", ".join(f"{round(v, 1):g}" for v in point)
+
+
+def estimate_route(document: TreeDocument, world: Any = None, config: Any = None) -> RouteEstimate | None:
+    """The route of ``document`` in ``world`` flown by the vehicle of ``config`` (default: the simulated
+    multicopter's); None when the tree is not a flight through known places."""
+    from aeroexec.drones.sim import SimConfig
+
+    flight = _Flight(document, world, config or SimConfig())
+    try:
+        flight.run(document.root)
+    except (NoRoute, ValueError, KeyError, IndexError):
+        return None
+    if flight.flying:  # a mission that ends in the air: the flight's end lands the drone where it is
+        flight.land(document.root)
+    estimate = flight.estimate
+    if flight.empty_at is not None:
+        need = flight.estimate.failsafe - estimate.battery
+        minutes = estimate.duration / 60.0
+        flight.problem(flight.empty_at, f"the battery runs down to its {estimate.failsafe:g}% failsafe here: the "
+                                        f"route ({estimate.length / 1000:.1f} km, {minutes:.0f} min) needs "
+                                        f"{100 - estimate.battery + estimate.failsafe:.0f}% of a full battery, "
+                                        f"{need:.0f}% more than the drone has")
+    elif estimate.battery < RESERVE:
+        flight.problem(document.root, f"the drone lands with {estimate.battery:.0f}% of its battery, below the "
+                                      f"{RESERVE:g}% reserve pilots keep", severity="warning")
+    return estimate
+
+
+__all__ = ["RouteEstimate", "estimate_route"]
