@@ -34,8 +34,9 @@ from aeroexec.flight.journal.reader import Journal
 from aeroexec.flight.journal.rejoin import LAND, TAKE_OFF
 from aeroexec.flight.journal.schema import JournalError, is_flying
 
-#: Events that say a behavior's work is done though its GOAL_ACHIEVED may not have been kept.
-EFFECTS = frozenset({"photo_taken", "message_sent", "item_dropped"})
+#: Events that say a behavior's work is done though its GOAL_ACHIEVED may not have been kept (event -> behavior:
+#: a photo taken by TRIGGER_CAMERA, which goes on, says nothing of its end).
+EFFECTS = {"photo_taken": "TAKE_PHOTO", "message_sent": "BROADCAST_MESSAGE", "item_dropped": "DROP_ITEM"}
 ACHIEVED = Outcome.GOAL_ACHIEVED.value
 UP = ("in_air", "taking_off")  # landed states of a drone flying as the mission meant it (landing is coming down)
 SUSPENDED = "suspended"
@@ -135,6 +136,8 @@ def _effects(journal: Journal, segment: int, stop_seq: int) -> list[tuple[int, s
     for r in rows:
         record = json.loads(r["record"])
         if r["kind"] == ACHIEVED and (record.get("data") or {}).get("source") not in ("mission", None):
+            continue
+        if r["kind"] != ACHIEVED and EFFECTS[r["kind"]] != r["behavior"]:
             continue
         result = record.get("result", r["detail"] if r["kind"] == "photo_taken" else None)
         found.append((r["seq"], r["behavior"], (f"{r['kind']} at t={record.get('time', 0.0):.1f} s", result)))
@@ -240,6 +243,7 @@ def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone:
                       drone=drone or asked["drone"], world=asked.get("world"), catalog=asked.get("catalog"),
                       library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),
                       updaters=tuple(asked.get("updaters") or ()), seed=int(asked.get("seed", 0)), output=str(folder),
+                      home=tuple(asked["home"]) if asked.get("home") else None,  # type: ignore[arg-type]
                       log=asked.get("log"), fleet=join, resume=True, **flight)
 
 

@@ -57,7 +57,7 @@ def test_a_tree_crashed_mid_mission_resumes_and_achieves_every_goal_once(whole, 
     assert outcome.exit_status == 0, outcome.status
     check_resumed(folder, whole[mission])
     if mission.endswith(".plan"):
-        assert photos(folder) == photos(whole[mission]) == 12  # no photo retaken, none missing
+        assert photos(folder) == photos(whole[mission]) > 0  # no photo retaken, none missing
     assert session.journal is None or session.journal.segment == 2
 
 
