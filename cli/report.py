@@ -10,12 +10,13 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.journal import read_records
 from aeroexec.flight.summary import summarize
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("log", help="an event log (events.jsonl in a run's output folder)")
+    parser.add_argument("log", help="an event log (events.jsonl in a run's output folder), or a run's journal "
+                                    "(journal.sqlite)")
     parser.add_argument("--world", metavar="FILE",
                         help="the world flown in (default: the one the log names, else the built-in one)")
     parser.add_argument("--output", metavar="DIR", help="where the report goes (default: the log's folder)")
@@ -27,7 +28,7 @@ def run(args: argparse.Namespace) -> int:
 
     log = Path(args.log)
     try:
-        records = read_flight_log(log)
+        records = read_records(log)
     except (OSError, UnicodeDecodeError, ValueError) as error:
         print(f"{log}: cannot read the event log: {error}", file=sys.stderr)
         return 1

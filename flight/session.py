@@ -317,7 +317,7 @@ class FlightSession:
                          "completed" if status.exit_status in (0, 3) else "stopped")
         record_run_status(engine.log, status)
         if self.journal is not None:
-            self.journal.close(status)
+            self.journal.ended(status)
         self.close()
         incomplete = self.flight_log.incomplete if self.flight_log is not None else None
         if incomplete is None and self.journal is not None and self.journal.incomplete is not None:
@@ -353,7 +353,7 @@ class FlightSession:
             _quietly(self._joined.close)
         elif self.link is not None:
             _quietly(self.link.leave)
-        for part in (self.journal, self.flight_log, self.btlog, self.operator):
+        for part in (self.flight_log, self.journal, self.btlog, self.operator):
             if part is not None:
                 _quietly(part.close)
         if self.robot is not None:

@@ -13,6 +13,7 @@ from typing import Any
 from aeroexec.beliefs import BeliefError, parse_belief, parse_term
 from aeroexec.beliefs.terms import match
 from aeroexec.flight.flight_log import FORMAT as LOG_FORMAT
+from aeroexec.flight.flight_log import read_flight_log
 from aeroexec.flight.journal.schema import JournalError, connect, journal_path
 
 
@@ -151,23 +152,29 @@ class Journal:
     def records(self) -> list[dict[str, Any]]:
         """The run as the records of its event log (``events.jsonl``): ``log_started`` with what the run was given,
         the events, the belief changes (but the drone's own motion) and the state samples, in order."""
-        meta = self.meta()
-        first = self.segments()[0] if self.segments() else None
-        header = {"time": first.started_at if first else 0.0, "kind": "log_started", "format": LOG_FORMAT,
-                  **dict(meta.get("log") or {})}
-        merged: list[tuple[int, dict[str, Any]]] = []
-        for r in self.rows("SELECT seq, record FROM events"):
-            merged.append((r["seq"], json.loads(r["record"])))
-        for r in self.rows("SELECT seq, time, change, belief, reason FROM beliefs"):
-            merged.append((r["seq"], {"time": r["time"], "kind": f"belief_{r['change']}", "belief": r["belief"],
-                                      "reason": r["reason"]}))
+        meta = dict(self.meta().get("log") or {})
+        merged: list[tuple[int, int, dict[str, Any]]] = []
+        for r in self.rows("SELECT seq, segment, record FROM events"):
+            merged.append((r["seq"], r["segment"], json.loads(r["record"])))
+        for r in self.rows("SELECT seq, segment, time, change, belief, reason FROM beliefs"):
+            merged.append((r["seq"], r["segment"], {"time": r["time"], "kind": f"belief_{r['change']}",
+                                                    "belief": r["belief"], "reason": r["reason"]}))
         for r in self.rows("SELECT * FROM telemetry"):
-            merged.append((r["seq"], {"time": r["time"], "kind": "state", "position": [r["x"], r["y"], r["z"]],
-                                      "velocity": [r["vx"], r["vy"], r["vz"]], "yaw": r["yaw"],
-                                      "battery": r["battery"], "armed": bool(r["armed"]),
-                                      "landed_state": r["landed_state"]}))
+            merged.append((r["seq"], r["segment"], {
+                "time": r["time"], "kind": "state", "position": [r["x"], r["y"], r["z"]],
+                "velocity": [r["vx"], r["vy"], r["vz"]], "yaw": r["yaw"], "battery": r["battery"],
+                "armed": bool(r["armed"]), "landed_state": r["landed_state"]}))
         merged.sort(key=lambda item: item[0])
-        return [header, *(record for _, record in merged)]
+        records: list[dict[str, Any]] = []
+        parts = {part.segment: part for part in self.segments()}
+        for segment, part in parts.items():  # each part as its own stretch of the log, as events.jsonl has it
+            kind = "log_started" if segment == 1 else "log_resumed"
+            records.append({"time": part.started_at, "kind": kind, "format": LOG_FORMAT, **meta,
+                            **({"segment": segment} if segment > 1 else {})})
+            records.extend(record for _, of, record in merged if of == segment)
+            if part.status is not None:
+                records.append({"time": part.ended_at, "kind": "log_closed"})
+        return records
 
 
 def is_journal(path: str | Path) -> bool:
@@ -182,13 +189,17 @@ def is_journal(path: str | Path) -> bool:
 
 
 def read_records(path: str | Path) -> list[dict[str, Any]]:
-    """The records of a run's event log, read from its journal (``path``: the journal, or the run's folder);
-    ValueError naming the file when it cannot be read."""
-    try:
-        with Journal(path) as journal:
-            return journal.records()
-    except JournalError as error:
-        raise ValueError(str(error)) from None
+    """The records of a run's event log (``path``: an event log, a journal, or a run's folder: its events.jsonl,
+    else its journal), the journal's rebuilt as the log has them; ValueError naming the file when unreadable."""
+    path = Path(path)
+    log = path / "events.jsonl" if path.is_dir() else path
+    if not log.is_file() and path.is_dir() and is_journal(path) or is_journal(log):
+        try:
+            with Journal(path) as journal:
+                return journal.records()
+        except JournalError as error:
+            raise ValueError(str(error)) from None
+    return read_flight_log(log)
 
 
 __all__ = ["Journal", "Segment", "is_journal", "read_records"]

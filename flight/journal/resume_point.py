@@ -93,7 +93,7 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
         raise JournalError(f"{folder}: the run's mission never started: nothing to resume (run it again)")
     segment = live[-1]
     if journal.rows("SELECT 1 FROM events WHERE segment = ? AND kind = 'mission_completed'", (segment.segment,)):
-        raise JournalError(f"{folder}: the run completed ({segment.status or 'completed'}): nothing is left to do")
+        raise JournalError(f"{folder}: the run completed: nothing is left to do")
     stopped = journal.progress(segment.segment, "stop")
     if stopped is None and segment.status is not None:
         reasons = "; ".join(segment.reasons[:2]) or segment.status

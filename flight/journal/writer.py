@@ -105,6 +105,7 @@ class JournalWriter:
         self._thread = threading.Thread(target=self._serve, name="aeroexec-journal", daemon=True)
         self._thread.start()
         self._closed = False
+        self._status: Any = None
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
 
@@ -344,10 +345,16 @@ class JournalWriter:
                 many(statement, params)
 
     # -- the end ----------------------------------------------------------------------------------------------
+    def ended(self, status: Any) -> None:
+        """How the run ended (a RunStatus), written when the journal closes (after the engine's last events)."""
+        self._status = status
+
     def close(self, status: Any = None) -> None:
-        """End the segment (``status``: how the run ended, a RunStatus), write everything, close (idempotent)."""
+        """End the segment (``status``, else the one :meth:`ended` gave: how the run ended), write everything,
+        close (idempotent)."""
         if self._closed:
             return
+        status = status if status is not None else self._status
         self._stop_listening()
         self.sample()
         if status is not None:
