@@ -113,5 +113,9 @@ def final_state(folder: Path) -> dict[str, Any]:
         return journal.last_state()
 
 
-def photos(folder: Path) -> int:
-    return len(list(folder.glob("photo_*.png")))
+def photos(folder: Path, behavior: str = "TAKE_PHOTO") -> int:
+    """Photos taken by ``behavior`` over every part of the run (as the journal says), checked against the files."""
+    with Journal(folder) as journal:
+        taken = journal.rows("SELECT detail FROM events WHERE kind = 'photo_taken' AND behavior = ?", (behavior,))
+    assert all(Path(r["detail"]).is_file() for r in taken)
+    return len(taken)
