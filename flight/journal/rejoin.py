@@ -28,6 +28,7 @@ from aeroexec.engine.events import Outcome
 logger = logging.getLogger(__name__)
 
 NEAR = 1.0  # m: a drone this close to where the mission left it is there
+KNOWN = 15.0  # s of engine time a vehicle may take to say where it is (landed state; armed when in the air)
 TAKE_OFF, LAND, GO_TO_POINT = "TAKE_OFF", "LAND", "GO_TO_POINT"
 LOWEST, HIGHEST = 0.5, 50.0  # m: the take-off heights the catalog allows
 #: Landed states of a drone in the air (landing too: it is still up there).
@@ -47,6 +48,7 @@ class Rejoin:
     settled: list[tuple[str, str]] = field(default_factory=list)  # (behavior, why its goal is reached)
     _steps: list[tuple[str, dict[str, Any]]] = field(default_factory=list)
     _done: Callable[[str | None], None] | None = None
+    _until: float = 0.0
 
     def plan(self) -> list[tuple[str, dict[str, Any]]]:
         """The behaviors to run, with their arguments (also the under-way goals reached: :attr:`settled`)."""
@@ -71,8 +73,30 @@ class Rejoin:
         return [(name, arguments) for name, arguments in steps if name in catalog]
 
     def start(self, done: Callable[[str | None], None]) -> None:
-        """Run the steps (on the engine's thread); ``done`` hears how it went."""
+        """Run the steps (on the engine's thread) once the vehicle has said where it is (a MAVSDK vehicle just
+        reconnected tells its landed state and arming a moment later); ``done`` hears how it went."""
         self._done = done
+        self._until = self.engine.now() + KNOWN
+        if self._known():
+            self._go()
+        else:
+            self.engine.tick_callbacks.append(self._wait)
+
+    def _known(self) -> bool:
+        telemetry = self.engine.drone.telemetry()
+        return telemetry.landed_state is not LandedState.UNKNOWN and (
+            telemetry.landed_state is LandedState.ON_GROUND or telemetry.armed)
+
+    def _wait(self) -> None:
+        if not self._known() and self.engine.now() < self._until:
+            return
+        self.engine.tick_callbacks.remove(self._wait)
+        if self._known():
+            self._go()
+        else:
+            self._finish(f"the vehicle did not say where it is (landed or flying, armed) within {KNOWN:g} s")
+
+    def _go(self) -> None:
         self._steps = self.plan()
         if self._steps:
             where = ", ".join(f"{name} {tuple(args.values())[0]}" for name, args in self._steps)

@@ -148,6 +148,8 @@ class JournalWriter:
         self._add(rows, urgent=True)
         if kind == "node_status" or kind in OUTCOMES:
             self._tree_dirty = True
+        if (kind == "activated" or kind in OUTCOMES) and self._last_sample != self.engine.now():
+            self.sample()  # where the drone was at each behavior event: where a resume puts it back
         self._watch(seq, event, source)
 
     def on_belief(self, change: BeliefChange) -> None:

@@ -38,7 +38,9 @@ def fly_until(flight: FlightSpec, condition: Callable[[FlightSession], bool], **
     engine = run.engine
     if not engine.run_until(lambda: condition(run) or run.mission_done, LIMIT):
         raise AssertionError("the condition never held")
-    assert not run.mission_done, "the mission ended before the crash"
+    if run.mission_done:
+        events = "\n".join(str(e) for e in run.engine.log.events() if not e.kind.startswith("capability"))
+        raise AssertionError(f"the mission ended before the crash:\n{events}")
     return run
 
 
