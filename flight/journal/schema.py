@@ -28,6 +28,8 @@ clock goes on from where the interrupted one stopped, so times never go back. Th
   where and why the mission stopped (a safety reaction, ``ctl suspend``, an abort, the time limit), with the
   drone's state then.
 - views ``node_transitions`` (a tree's node status changes) and ``operator_commands``.
+
+No table has an index but its ``seq``: each would cost every commit more than it saves a journal of a few MB.
 """
 
 from __future__ import annotations
@@ -49,11 +51,9 @@ CREATE TABLE IF NOT EXISTS segments (
 CREATE TABLE IF NOT EXISTS events (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, time REAL NOT NULL, kind TEXT NOT NULL,
     behavior TEXT NOT NULL, detail TEXT NOT NULL, record TEXT NOT NULL);
-CREATE INDEX IF NOT EXISTS events_kind ON events (kind, behavior);
 CREATE TABLE IF NOT EXISTS beliefs (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, time REAL NOT NULL, change TEXT NOT NULL,
     belief TEXT NOT NULL, predicate TEXT NOT NULL, reason TEXT NOT NULL, expires_at REAL);
-CREATE INDEX IF NOT EXISTS beliefs_predicate ON beliefs (predicate);
 CREATE TABLE IF NOT EXISTS telemetry (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, time REAL NOT NULL, x REAL, y REAL, z REAL,
     vx REAL, vy REAL, vz REAL, yaw REAL, battery REAL, armed INTEGER, landed_state TEXT);
@@ -61,7 +61,6 @@ CREATE TABLE IF NOT EXISTS behaviors (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, behavior TEXT NOT NULL, arguments TEXT NOT NULL,
     source TEXT NOT NULL, priority TEXT, activated_at REAL NOT NULL, ended_seq INTEGER, ended_at REAL,
     outcome TEXT, message TEXT, result TEXT);
-CREATE INDEX IF NOT EXISTS behaviors_behavior ON behaviors (behavior);
 CREATE TABLE IF NOT EXISTS calls (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, number INTEGER NOT NULL, repeat INTEGER NOT NULL DEFAULT 1,
     function TEXT NOT NULL, arguments TEXT NOT NULL, location TEXT NOT NULL, requested_at REAL NOT NULL,

@@ -38,7 +38,7 @@ from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 
 logger = logging.getLogger(__name__)
 
-FLUSH_PERIOD = 2.0  # s of engine time between two hand-overs when nothing urgent happened
+FLUSH_PERIOD = 5.0  # s of engine time between two hand-overs when nothing urgent happened
 TREE_PERIOD = 5.0  # s of engine time between two tree states when nothing visible changed (counters, timers)
 #: The robot's own motion beliefs, changing every belief period: kept as telemetry samples instead.
 MOTION = frozenset({"position", "speed", "orientation"})
@@ -90,7 +90,8 @@ class JournalWriter:
         self._rows_lock = threading.Lock()
         self._urgent = False
         self._next_flush = engine.now() + FLUSH_PERIOD
-        self._last_sample: float | None = None
+        self._last_sample: float | None = None  # the last sample's time, and the last periodic one's
+        self._last_periodic: float | None = None
         self._active: dict[str, int] = {}  # behavior -> its open activation row
         self._waiting: dict[int, int] = {}  # call number -> its row, while under way
         self._last_call: tuple[Any, ...] | None = None  # (number, row, key) of the last call that did not wait
@@ -148,8 +149,8 @@ class JournalWriter:
         self._add(rows, urgent=True)
         if kind == "node_status" or kind in OUTCOMES:
             self._tree_dirty = True
-        if (kind == "activated" or kind in OUTCOMES) and self._last_sample != self.engine.now():
-            self.sample()  # where the drone was at each behavior event: where a resume puts it back
+        if (kind == "activated" or kind in OUTCOMES) and source == "mission" and self._last_sample != time:
+            self.sample()  # where the drone was at each event of the mission's behaviors: where a resume puts it
         self._watch(seq, event, source)
 
     def on_belief(self, change: BeliefChange) -> None:
@@ -163,7 +164,8 @@ class JournalWriter:
 
     def on_tick(self) -> None:
         now = self.engine.now()
-        if self._last_sample is None or now - self._last_sample >= self.sample_period - 1e-9:
+        if self._last_periodic is None or now - self._last_periodic >= self.sample_period - 1e-9:
+            self._last_periodic = now  # as events.jsonl samples: at the same times
             self.sample(now)
         if self._urgent or now >= self._next_flush:
             self.flush()
@@ -171,7 +173,7 @@ class JournalWriter:
     def sample(self, now: float | None = None) -> dict[str, Any] | None:
         """Write the drone's state now; the state written (None when the drone cannot say)."""
         now = self.engine.now() if now is None else now
-        self._last_sample = now
+        self._last_sample = round(now, 3)
         try:
             state = drone_state(now, self.engine.drone.telemetry())
         except Exception:  # a drone that cannot answer: no sample, the journal goes on
