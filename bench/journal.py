@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 from engine import line, logging_quiet, spread  # noqa: E402  (bench/engine.py, beside this script)
 
-CORNERS = [(-10.0, -10.0, 3.0), (10.0, -10.0, 3.0), (10.0, -15.0, 3.0), (-10.0, -15.0, 3.0)]
+CORNERS = [(0.0, -12.0, 3.0), (15.0, -12.0, 3.0), (15.0, -17.0, 3.0), (0.0, -17.0, 3.0)]
 PATROL = f"""<root BTCPP_format="4" main_tree_to_execute="Patrol"><BehaviorTree ID="Patrol"><Sequence>
   <TAKE_OFF ALTITUDE="3"/>
   <Repeat num_cycles="{{cycles}}"><Sequence>
@@ -149,12 +149,13 @@ def size(minutes: float) -> None:
     print(f"The journal of a {minutes:g}-minute mission (a flight session: the journal beside events.jsonl)")
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
-        for name, text in (("patrol.xml", PATROL.format(cycles=1000)),
-                           ("polling.py", POLLING.format(corners=CORNERS * 100))):
+        rounds = round(minutes * 60.0 / 18.0)  # a round of the patrol takes ~18 s
+        for name, text in (("patrol.xml", PATROL.format(cycles=rounds)),
+                           ("polling.py", POLLING.format(corners=CORNERS * rounds))):
             mission = folder / name
             mission.write_text(text)
             output = folder / f"out-{name}"
-            spec = FlightSpec(mission=mission, output=str(output), register=False, max_time=minutes * 60.0)
+            spec = FlightSpec(mission=mission, output=str(output), register=False, max_time=minutes * 90.0)
             with FlightSession(spec, notify=lambda text: None) as session:
                 outcome = session.fly()
             journal = (output / "journal.sqlite").stat().st_size

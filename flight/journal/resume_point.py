@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import os
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,7 +30,7 @@ from typing import Any
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES
 from aeroexec.engine.missions.replay import RecordedCall
-from aeroexec.engine.missions.values import encode
+from aeroexec.engine.missions.values import canonical, encode
 from aeroexec.flight.journal.reader import Journal
 from aeroexec.flight.journal.rejoin import LAND, TAKE_OFF
 from aeroexec.flight.journal.schema import JournalError, is_flying
@@ -166,21 +167,31 @@ def _active(journal: Journal, segment: int, stop_seq: int) -> list[dict[str, Any
 
 
 def _calls(journal: Journal, stop_seq: int) -> tuple[list[RecordedCall], RecordedCall | None]:
-    """The mission's completed calls before the stop, numbered 1, 2... (a row of ``repeat`` calls is that many),
-    and the first call that has no kept result (under way, or returned after the stop)."""
+    """The mission's completed calls before the stop, numbered 1, 2... (the calls that act or wait, and the runs
+    of looking calls), and the first call that has no kept result (under way, or returned after the stop)."""
+    found: list[tuple[int, int, RecordedCall]] = []
+    for r in journal.rows("SELECT * FROM calls WHERE superseded = 0"):
+        kept = r["returned_at"] is not None and not r["after_stop"] and r["seq"] < stop_seq
+        found.append((r["number"], r["seq"], RecordedCall(
+            r["number"], r["function"], r["arguments"], r["location"], r["requested_at"], kept,
+            json.loads(r["result"]) if r["result"] is not None else None,
+            json.loads(r["error"]) if r["error"] else None)))
+    for r in journal.rows("SELECT * FROM looks WHERE superseded = 0"):
+        calls = json.loads(r["calls"])
+        kept = not r["after_stop"] and r["seq"] < stop_seq
+        for n, index in enumerate(zlib.decompress(r["sequence"])[:r["count"]]):
+            function, arguments, location, result = calls[index]
+            found.append((r["first"] + n, r["seq"], RecordedCall(
+                r["first"] + n, function, canonical(arguments), location, r["returned_at"], kept, result)))
     done: list[RecordedCall] = []
-    for r in journal.rows("SELECT * FROM calls WHERE superseded = 0 ORDER BY number, seq"):
-        call = RecordedCall(r["number"], r["function"], r["arguments"], r["location"], r["requested_at"],
-                            r["returned_at"] is not None and not r["after_stop"] and r["seq"] < stop_seq,
-                            json.loads(r["result"]) if r["result"] is not None else None,
-                            json.loads(r["error"]) if r["error"] else None)
-        if call.number != len(done) + 1:
+    for number, _, call in sorted(found, key=lambda item: item[:2]):
+        if number <= len(done):
+            continue  # kept twice: the first is taken
+        if number != len(done) + 1:
             break  # a gap: what follows was not kept whole
         if not call.returned:
             return done, call
-        for n in range(r["repeat"]):
-            done.append(RecordedCall(call.number + n, call.function, call.arguments, call.location,
-                                     call.requested_at, True, call.result, call.error))
+        done.append(call)
     return done, None
 
 

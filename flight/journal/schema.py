@@ -20,10 +20,14 @@ clock goes on from where the interrupted one stopped, so times never go back. Th
 - ``behaviors``: one row per activation request: ``behavior``, ``arguments`` (JSON), ``source`` (mission,
   reactive, operator, resume), ``priority``, ``activated_at``, and how it ended: ``ended_at``, ``outcome``
   (GOAL_ACHIEVED, TIME_OUT, WRONG_PROGRESS, INTERRUPTED, FAILED_PRECONDITIONS), ``message``, ``result`` (JSON).
-- ``calls``: a Python mission's API calls in order: ``number`` (from 1; ``repeat`` identical calls in a row are
-  one row), ``function``, ``arguments`` and ``result`` (JSON, as ``engine/missions/values.py`` keeps values),
-  ``error``, ``location`` (file:line), ``requested_at``, ``returned_at`` (NULL: under way), ``after_stop`` (it
-  returned after the mission was stopped), ``superseded`` (a resume made it again).
+- ``calls``: a Python mission's API calls that act or wait, in order: ``number`` (from 1), ``function``,
+  ``arguments`` and ``result`` (JSON, as ``engine/missions/values.py`` keeps values), ``error``, ``location``
+  (file:line), ``requested_at``, ``returned_at`` (NULL: under way), ``after_stop`` (it returned after the mission
+  was stopped), ``superseded`` (a resume made it again).
+- ``looks``: the calls that only look (``consult_belief``, ``true_belief``, ``is_active_behavior``, ``now``) in
+  runs, one row a run: its ``first`` call's number and ``count``, ``calls`` (JSON: each distinct call as
+  ``[function, arguments, location, result]``) and ``sequence`` (zlib: a byte per call, the index of the distinct
+  call it was), so a polling loop costs a few bytes, not a row per call; ``after_stop``, ``superseded``.
 - ``progress`` (segment, key): ``tree``: the tree's last state (``trees/runtime/tree_state.py``, JSON); ``stop``:
   where and why the mission stopped (a safety reaction, ``ctl suspend``, an abort, the time limit), with the
   drone's state then.
@@ -62,9 +66,12 @@ CREATE TABLE IF NOT EXISTS behaviors (
     source TEXT NOT NULL, priority TEXT, activated_at REAL NOT NULL, ended_seq INTEGER, ended_at REAL,
     outcome TEXT, message TEXT, result TEXT);
 CREATE TABLE IF NOT EXISTS calls (
-    seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, number INTEGER NOT NULL, repeat INTEGER NOT NULL DEFAULT 1,
-    function TEXT NOT NULL, arguments TEXT NOT NULL, location TEXT NOT NULL, requested_at REAL NOT NULL,
-    returned_at REAL, result TEXT, error TEXT, after_stop INTEGER NOT NULL DEFAULT 0,
+    seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, number INTEGER NOT NULL, function TEXT NOT NULL,
+    arguments TEXT NOT NULL, location TEXT NOT NULL, requested_at REAL NOT NULL, returned_at REAL, result TEXT,
+    error TEXT, after_stop INTEGER NOT NULL DEFAULT 0, superseded INTEGER NOT NULL DEFAULT 0);
+CREATE TABLE IF NOT EXISTS looks (
+    seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, first INTEGER NOT NULL, count INTEGER NOT NULL,
+    calls TEXT NOT NULL, sequence BLOB NOT NULL, returned_at REAL, after_stop INTEGER NOT NULL DEFAULT 0,
     superseded INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE IF NOT EXISTS progress (
     segment INTEGER NOT NULL, key TEXT NOT NULL, seq INTEGER NOT NULL, time REAL NOT NULL, value TEXT NOT NULL,

@@ -3,10 +3,10 @@
 The engine's thread (and a Python mission's, for its calls) only appends rows to a list; at the end of a tick the
 list goes to the journal's own thread (``aeroexec-journal``), which writes it in one transaction. The list is
 handed over at the end of every tick in which a behavior event, a node transition, an operator command, a
-mission call that acts or a tree state happened (so a ``kill -9`` loses at most that tick), and otherwise every
-``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls). Nothing waits for the disk on the
-engine's thread. A journal that cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set
-and the flight goes on.
+mission call that acts or a tree state happened, and the loop waits for that transaction (at most ``SYNC_WAIT`` s
+of wall time: a slow disk never holds the loop longer), so a ``kill -9`` loses at most that tick; otherwise every
+``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls), without waiting. A journal that
+cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set and the flight goes on.
 
 Where the mission stopped is kept as it happens (``progress`` ``stop``): a reaction of the higher priority that
 takes the drone from the mission (LAND on low battery), ``ctl suspend`` or ``ctl abort`` (``mission_stopped``),
@@ -26,6 +26,7 @@ import queue
 import re
 import sqlite3
 import threading
+import zlib
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +40,7 @@ from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 logger = logging.getLogger(__name__)
 
 FLUSH_PERIOD = 5.0  # s of engine time between two hand-overs when nothing urgent happened
+SYNC_WAIT = 0.05  # s of wall time the loop waits at most for an urgent hand-over to be written
 TREE_PERIOD = 5.0  # s of engine time between two tree states when nothing visible changed (counters, timers)
 #: The robot's own motion beliefs, changing every belief period: kept as telemetry samples instead.
 MOTION = frozenset({"position", "speed", "orientation"})
@@ -55,9 +57,9 @@ _TELEMETRY = "INSERT INTO telemetry VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 
 _ACTIVATED = "INSERT INTO behaviors VALUES (?, ?, ?, ?, ?, ?, ?, NULL, NULL, NULL, NULL, NULL)"
 _REFUSED = "INSERT INTO behaviors VALUES (?, ?, ?, '{}', ?, NULL, ?, ?, ?, ?, ?, ?)"
 _ENDED = "UPDATE behaviors SET ended_seq = ?, ended_at = ?, outcome = ?, message = ?, result = ? WHERE seq = ?"
-_CALL = "INSERT INTO calls VALUES (?, ?, ?, 1, ?, ?, ?, ?, ?, ?, ?, ?, 0)"
+_CALL = "INSERT INTO calls VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 0)"
 _RETURNED = "UPDATE calls SET returned_at = ?, result = ?, error = ?, after_stop = ? WHERE seq = ?"
-_REPEATED = "UPDATE calls SET repeat = repeat + 1, returned_at = ? WHERE seq = ?"
+_LOOKS = "INSERT OR REPLACE INTO looks VALUES (?, ?, ?, ?, ?, ?, ?, ?, 0)"
 _PROGRESS = "INSERT OR REPLACE INTO progress VALUES (?, ?, ?, ?, ?)"
 _NO_PROGRESS = "DELETE FROM progress WHERE segment = ? AND key = ?"
 
@@ -94,7 +96,7 @@ class JournalWriter:
         self._last_periodic: float | None = None
         self._active: dict[str, int] = {}  # behavior -> its open activation row
         self._waiting: dict[int, int] = {}  # call number -> its row, while under way
-        self._last_call: tuple[Any, ...] | None = None  # (number, row, key) of the last call that did not wait
+        self._looks: _Looks | None = None  # the run of looking calls going on
         self._mission_running = False
         self._reaction: str | None = None  # the reaction that stopped the mission
         self._tree: Any = None
@@ -121,7 +123,7 @@ class JournalWriter:
                        (segment, datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
                         round(self.engine.now(), 3)))
             last = max(db.execute(f"SELECT max(seq) FROM {table}").fetchone()[0] or 0
-                       for table in ("events", "beliefs", "telemetry", "behaviors", "calls", "progress"))
+                       for table in ("events", "beliefs", "telemetry", "behaviors", "calls", "looks", "progress"))
         return segment, last + 1
 
     # -- the engine's side ------------------------------------------------------------------------------------
@@ -218,9 +220,8 @@ class JournalWriter:
     def call_requested(self, number: int, function: str, arguments: str, location: str, time: float) -> None:
         seq = self._seq()
         self._waiting[number] = seq
-        self._last_call = None
         self._add([(_CALL, (seq, self.segment, number, function, arguments, location, round(time, 3), None, None,
-                            None, 0))], urgent=True)
+                            None, 0))], urgent=True, looks_end=True)
 
     def call_returned(self, number: int, function: str, arguments: str, location: str, time: float,
                       result: Any, error: dict[str, Any] | None) -> None:
@@ -232,16 +233,18 @@ class JournalWriter:
         if row is not None:
             self._add([(_RETURNED, (time, answer, failure, after, row))], urgent=True)
             return
-        key = (function, arguments, location, answer, failure, after)
-        last = self._last_call
-        if last is not None and last[0] == number - 1 and last[2] == key:
-            self._last_call = (number, last[1], key)
-            self._add([(_REPEATED, (time, last[1]))])
+        if function in LOOKS and failure is None:
+            with self._rows_lock:
+                looks = self._looks
+                if looks is None or looks.next != number or looks.after != after or looks.full((function, arguments,
+                                                                                               location, answer)):
+                    if looks is not None and looks.dirty:
+                        self._rows.append((_LOOKS, looks.row(self.segment)))
+                    looks = self._looks = _Looks(self._seq(), number, after)
+                looks.add((function, arguments, location, answer), time)
             return
-        seq = self._seq()
-        self._last_call = (number, seq, key)
-        self._add([(_CALL, (seq, self.segment, number, function, arguments, location, time, time, answer, failure,
-                            after))], urgent=function not in LOOKS)
+        self._add([(_CALL, (self._seq(), self.segment, number, function, arguments, location, time, time, answer,
+                            failure, after))], urgent=True, looks_end=True)
 
     # -- the mission's course ---------------------------------------------------------------------------------
     def went_live(self) -> None:
@@ -252,8 +255,11 @@ class JournalWriter:
         now = round(self.engine.now(), 3)
         rows: list[tuple[str, tuple]] = [("UPDATE segments SET live_at = ? WHERE segment = ?", (now, self.segment))]
         if self.supersede_from is not None:
-            rows.append(("UPDATE calls SET superseded = 1 WHERE segment < ? AND number >= ? AND superseded = 0",
-                         (self.segment, self.supersede_from)))
+            later = (self.segment, self.supersede_from)
+            rows += [("UPDATE calls SET superseded = 1 WHERE segment < ? AND number >= ? AND superseded = 0", later),
+                     ("UPDATE looks SET superseded = 1 WHERE segment < ? AND first >= ? AND superseded = 0", later),
+                     ("UPDATE looks SET count = ? - first WHERE segment < ? AND first < ? AND first + count > ? AND "
+                      "superseded = 0", (self.supersede_from, *later, self.supersede_from))]
         self._add(rows, urgent=True)
         if self._tree is not None:
             self.keep_tree()
@@ -295,24 +301,38 @@ class JournalWriter:
     def _unfreeze(self) -> None:
         stopped, self.frozen, self._reaction = self.frozen, None, None
         self._add([(_NO_PROGRESS, (self.segment, "stop")),
-                   ("UPDATE calls SET after_stop = 0 WHERE segment = ? AND seq > ?", (self.segment, stopped["seq"]))],
+                   ("UPDATE calls SET after_stop = 0 WHERE segment = ? AND seq > ?", (self.segment, stopped["seq"])),
+                   ("UPDATE looks SET after_stop = 0 WHERE segment = ? AND seq > ?", (self.segment, stopped["seq"]))],
                   urgent=True)
         self._tree_dirty = True
 
     # -- handing rows to the journal's thread ----------------------------------------------------------------
-    def _add(self, rows: list[tuple[str, tuple]], urgent: bool = False) -> None:
+    def _add(self, rows: list[tuple[str, tuple]], urgent: bool = False, looks_end: bool = False) -> None:
         with self._rows_lock:
+            if looks_end and self._looks is not None:  # a call that acts or waits ends a run of looks
+                if self._looks.dirty:
+                    self._rows.append((_LOOKS, self._looks.row(self.segment)))
+                self._looks = None
             self._rows.extend(rows)
             if urgent:
                 self._urgent = True
 
     def flush(self) -> None:
-        """Hand what was recorded to the journal's thread (written in one transaction)."""
+        """Hand what was recorded to the journal's thread (written in one transaction); an urgent hand-over is
+        waited for (at most ``SYNC_WAIT`` s)."""
         with self._rows_lock:
-            rows, self._rows, self._urgent = self._rows, [], False
+            if self._looks is not None and self._looks.dirty:
+                self._rows.append((_LOOKS, self._looks.row(self.segment)))
+            rows, self._rows, urgent, self._urgent = self._rows, [], self._urgent, False
         self._next_flush = self.engine.now() + FLUSH_PERIOD
-        if rows:
+        if not rows:
+            return
+        if not urgent or self._closed:
             self._queue.put(rows)
+            return
+        written = threading.Event()
+        self._queue.put((rows, written))
+        written.wait(SYNC_WAIT)
 
     def sync(self, timeout: float = 10.0) -> bool:
         """Flush and wait until everything is written (False when it was not within ``timeout`` wall seconds)."""
@@ -329,15 +349,17 @@ class JournalWriter:
             if callable(item):
                 item()
                 continue
-            if self.incomplete is not None:
-                continue
-            try:
-                with self._db:
-                    self._write(item)
-            except sqlite3.Error as error:
-                self.incomplete = str(error)
-                logger.error("the journal %s cannot be written (%s): it stops here; the flight goes on",
-                             self.path, error)
+            rows, written = item if isinstance(item, tuple) else (item, None)
+            if self.incomplete is None:
+                try:
+                    with self._db:
+                        self._write(rows)
+                except sqlite3.Error as error:
+                    self.incomplete = str(error)
+                    logger.error("the journal %s cannot be written (%s): it stops here; the flight goes on",
+                                 self.path, error)
+            if written is not None:
+                written.set()
 
     def _write(self, rows: list[tuple[str, tuple]]) -> None:
         execute, many = self._db.execute, self._db.executemany
@@ -392,6 +414,35 @@ class JournalWriter:
         with contextlib.suppress(sqlite3.Error):
             self._db.close()
         release_lock(self._lock_file, self.path)
+
+
+class _Looks:
+    """A run of calls that only look (a polling loop), kept as one row: the distinct calls with their answers, and
+    which one each call was (a byte each, compressed: a loop of two calls asked 10,000 times is a few bytes)."""
+
+    def __init__(self, seq: int, first: int, after: int) -> None:
+        self.seq, self.first, self.after = seq, first, after
+        self.calls: dict[tuple, int] = {}
+        self.sequence = bytearray()
+        self.returned_at = 0.0
+        self.dirty = False
+
+    @property
+    def next(self) -> int:
+        return self.first + len(self.sequence)
+
+    def full(self, key: tuple) -> bool:
+        return key not in self.calls and len(self.calls) >= 256
+
+    def add(self, key: tuple, time: float) -> None:
+        self.sequence.append(self.calls.setdefault(key, len(self.calls)))
+        self.returned_at, self.dirty = time, True
+
+    def row(self, segment: int) -> tuple:
+        self.dirty = False
+        calls = [[f, json.loads(a), loc, json.loads(r)] for f, a, loc, r in self.calls]
+        return (self.seq, segment, self.first, len(self.sequence), json.dumps(calls, separators=(",", ":")),
+                zlib.compress(bytes(self.sequence)), self.returned_at, self.after)
 
 
 def drone_state(now: float, telemetry: Any) -> dict[str, Any]:

@@ -74,10 +74,12 @@ def test_the_journal_tables(flown):
         take_off = journal.behavior("take_off")
         assert [(r["source"], r["outcome"]) for r in take_off] == [("mission", "GOAL_ACHIEVED")]
         calls = journal.rows("SELECT number, function, location FROM calls WHERE superseded = 0 ORDER BY number")
-        assert [c["function"] for c in calls] == ["execute_behavior", "activate_behavior", "consult_belief",
-                                                  "execute_behavior", "execute_behavior", "inhibit_behavior",
-                                                  "execute_behavior"]
+        assert [(c["number"], c["function"]) for c in calls] == [
+            (1, "execute_behavior"), (2, "activate_behavior"), (4, "execute_behavior"), (5, "execute_behavior"),
+            (6, "inhibit_behavior"), (7, "execute_behavior")]
         assert calls[0]["location"] == "figure10.py:11"
+        looks = journal.rows("SELECT first, count, calls FROM looks WHERE superseded = 0")
+        assert [(r["first"], r["count"], json.loads(r["calls"])[0][0]) for r in looks] == [(3, 1, "consult_belief")]
         assert journal.rows("SELECT count(*) FROM node_transitions")[0][0] == 0  # a Python mission
         assert not journal.rows("SELECT * FROM beliefs WHERE belief LIKE 'position(self,%'")  # in telemetry
     with pytest.raises(JournalError, match="completed"):

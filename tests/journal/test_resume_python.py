@@ -38,7 +38,8 @@ def test_a_python_mission_crashed_mid_mission_resumes_by_replay(whole, tmp_path,
     recorder = session.engine.bridge.recorder
     assert recorder.count == 7 and len(recorder.replay) >= before  # every call kept was replayed, not made again
     with Journal(folder) as journal:  # one kept result per call of the mission, over both parts
-        numbers = [r[0] for r in journal.rows("SELECT number FROM calls WHERE superseded = 0 ORDER BY number")]
+        numbers = [r[0] for r in journal.rows("SELECT number FROM calls WHERE superseded = 0 UNION ALL "
+                                              "SELECT first FROM looks WHERE superseded = 0 ORDER BY 1")]
     assert numbers == list(range(1, 8))
 
 
@@ -93,3 +94,40 @@ def test_a_mission_that_ends_before_its_journaled_calls_is_refused(tmp_path):
     _, outcome = resume(folder)
     assert outcome.exit_status == 1
     assert "the mission ended after 5 calls" in outcome.status.reasons[0], outcome.status.reasons
+
+
+POLLING = """import aeroexec.engine.api as api
+
+def mission():
+    api.execute_behavior("TAKE_OFF", altitude=3)
+    for corner in [(0, -12, 3), (8, -12, 3), (8, -16, 3)]:
+        api.activate_behavior("GO_TO_POINT", coordinates=corner)
+        while api.is_active_behavior("GO_TO_POINT"):
+            api.true_belief("charge(battery, ?C), ?C > 20")
+        api.execute_behavior("TAKE_PHOTO")
+    api.execute_behavior("LAND")
+"""
+
+
+def test_a_polling_mission_replays_its_looks_and_goes_on(tmp_path):
+    """Thousands of polling calls are kept as runs of looks (a few bytes) and replayed in order: the loop ends
+    where it ended, the flown corners are not flown again."""
+    mission = tmp_path / "polling.py"
+    mission.write_text(POLLING)
+    whole = tmp_path / "whole"
+    _, outcome = fly(spec(mission, whole))
+    assert outcome.exit_status == 0
+    folder = tmp_path / "run"
+    crash(fly_until(spec(mission, folder), goals_after(3)))  # TAKE_OFF, a corner, its photo: polling the next
+    with Journal(folder) as journal:
+        (looked,) = journal.rows("SELECT sum(count) FROM looks")[0]
+        (rows,) = journal.rows("SELECT count(*) FROM looks")[0]
+    assert looked > 100 and rows <= 3
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    assert session.engine.bridge.recorder.count > looked
+    difference = same_goals(achieved(folder), achieved(whole))
+    assert difference is None, difference
+    corners = [e.data["arguments"]["COORDINATES"] for e in session.engine.log.events("activated", "GO_TO_POINT")
+               if e.data.get("source") == "mission"]
+    assert (0, -12, 3) not in corners
