@@ -88,11 +88,10 @@ class FlightLogWriter:
 
     # -- listeners ---------------------------------------------------------------------------------
     def on_event(self, event: EngineEvent) -> None:
-        self._write(event_record(event))
+        self._write_line(event_line(event))
 
     def on_belief(self, change: BeliefChange) -> None:
-        self._write({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
-                     "belief": format_term(change.belief), "reason": change.reason})
+        self._write_line(belief_line(change))
 
     def on_tick(self) -> None:
         now = self.engine.now()
@@ -108,11 +107,14 @@ class FlightLogWriter:
         except Exception:  # a drone that cannot answer: no sample, the log goes on
             logger.exception("no drone state for the event log")
             return
-        self._write(state_record(now, telemetry))
+        self._write_line(state_line(now, telemetry))
 
     # -- the file ----------------------------------------------------------------------------------
     def _write(self, record: dict[str, Any]) -> None:
-        data = (json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n").encode("utf-8")
+        self._write_line(_json(record))
+
+    def _write_line(self, line: str) -> None:
+        data = (line + "\n").encode("utf-8")
         with self._lock:
             if self._fd is None:
                 return
@@ -180,6 +182,51 @@ def _cut_torn_line(path: Path) -> None:
             file.truncate(tail + end + 1 if end >= 0 else tail)
     except FileNotFoundError:
         pass
+
+
+class _Lines:
+    """The last line made of each kind of record, so the event log and the flight journal, hearing the same event,
+    belief change or sample one after the other, make it once."""
+
+    def __init__(self) -> None:
+        self.event: tuple[Any, str] = (None, "")
+        self.belief: tuple[Any, str] = (None, "")
+        self.state: tuple[Any, str] = (None, "")
+
+
+_LINES = _Lines()
+
+
+def event_line(event: EngineEvent) -> str:
+    """An event's line in the log (JSON, without its end)."""
+    last, line = _LINES.event
+    if last is not event:
+        line = _json(event_record(event))
+        _LINES.event = (event, line)
+    return line
+
+
+def belief_line(change: BeliefChange) -> str:
+    """A belief change's line in the log (``belief_added`` / ``belief_removed``: the belief's text, the reason)."""
+    last, line = _LINES.belief
+    if last is not change:
+        line = _json({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
+                      "belief": format_term(change.belief), "reason": change.reason})
+        _LINES.belief = (change, line)
+    return line
+
+
+def state_line(now: float, telemetry: Any) -> str:
+    """A drone state sample's line in the log."""
+    last, line = _LINES.state
+    if last != (now, id(telemetry)):
+        line = _json(state_record(now, telemetry))
+        _LINES.state = ((now, id(telemetry)), line)
+    return line
+
+
+def _json(record: dict[str, Any]) -> str:
+    return json.dumps(record, allow_nan=False, separators=(",", ":"))
 
 
 def event_record(event: EngineEvent) -> dict[str, Any]:

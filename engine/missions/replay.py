@@ -27,7 +27,7 @@ from typing import Any, Protocol
 
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted, RequestRejected
-from aeroexec.engine.missions.values import canonical, decode, encode
+from aeroexec.engine.missions.values import call_text, decode, text
 
 #: The calls that wait for the engine (a behavior to end, time to pass).
 WAITING = frozenset({"execute_behavior", "ask_behavior", "run_behavior", "wait"})
@@ -75,7 +75,8 @@ class CallJournal(Protocol):
     def call_requested(self, number: int, function: str, arguments: str, location: str, time: float) -> None: ...
 
     def call_returned(self, number: int, function: str, arguments: str, location: str, time: float,
-                      result: Any, error: dict[str, Any] | None) -> None: ...
+                      result: str | None, error: dict[str, Any] | None) -> None:
+        """``result``: the value returned, as text (``values.text``); None with ``error``."""
 
 
 class MissionRecorder:
@@ -109,7 +110,7 @@ class MissionRecorder:
         with self._lock:
             self.count += 1
             number = self.count
-        arguments = canonical(encode([list(args), kwargs]))
+        arguments = call_text(args, kwargs)
         if not self.live:
             recorded = self.replay[number - 1] if number <= len(self.replay) else self.pending
             if recorded is not None and recorded.number == number:
@@ -121,7 +122,7 @@ class MissionRecorder:
             answer = self._go_live()
             if answer is not None:  # the call under way reached its goal while the mission went live
                 if self.journal is not None:
-                    self.journal.call_returned(number, name, arguments, location(), self.now(), encode(answer[0]), None)
+                    self.journal.call_returned(number, name, arguments, location(), self.now(), text(answer[0]), None)
                 return answer[0]
         return self._live(function, name, args, kwargs, number, arguments)
 
@@ -182,7 +183,7 @@ class MissionRecorder:
         except Exception as error:
             journal.call_returned(number, name, arguments, where, self.now(), None, _error(error))
             raise
-        journal.call_returned(number, name, arguments, where, self.now(), encode(result), None)
+        journal.call_returned(number, name, arguments, where, self.now(), text(result), None)
         return result
 
 
@@ -190,16 +191,19 @@ def location() -> str:
     """``FILE:LINE`` of the innermost frame of the mission's own code (not aeroexec's) on this thread's stack."""
     frame = sys._getframe(1)
     while frame is not None:
-        filename = frame.f_code.co_filename
-        if not _in_library(filename):
-            return f"{Path(filename).name}:{frame.f_lineno}"
+        name = _mission_file(frame.f_code.co_filename)
+        if name is not None:
+            return f"{name}:{frame.f_lineno}"
         frame = frame.f_back
     return ""
 
 
 @functools.lru_cache(maxsize=256)
-def _in_library(filename: str) -> bool:
-    return filename.startswith(api._LIBRARY) or str(Path(filename).resolve()).startswith(api._LIBRARY)
+def _mission_file(filename: str) -> str | None:
+    """The file's name when it is the mission's (not aeroexec's own code), else None."""
+    if filename.startswith(api._LIBRARY) or str(Path(filename).resolve()).startswith(api._LIBRARY):
+        return None
+    return Path(filename).name
 
 
 def shown(function: str, arguments: Any) -> str:

@@ -87,4 +87,35 @@ def canonical(data: Any) -> str:
     return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
-__all__ = ["canonical", "decode", "dumps", "encode", "loads"]
+_SCALARS = (str, int, float, bool, type(None))
+_TEXTS: dict[Any, str] = {}
+
+
+def text(value: Any) -> str:
+    """``canonical(encode(value))``, remembered for the scalars a mission gets again and again (a polling loop's
+    answers)."""
+    if type(value) in _SCALARS:
+        key = (type(value), value)
+        found = _TEXTS.get(key)
+        if found is None:
+            found = canonical(encode(value))
+            if len(_TEXTS) < 4096:
+                _TEXTS[key] = found
+        return found
+    return canonical(encode(value))
+
+
+def call_text(args: tuple, kwargs: dict[str, Any]) -> str:
+    """The one text of a call's arguments (``[args, kwargs]`` encoded), remembered when they are all scalars."""
+    if not kwargs and all(type(a) in _SCALARS for a in args):
+        key = tuple((type(a), a) for a in args)
+        found = _TEXTS.get(key)
+        if found is None:
+            found = canonical(encode([list(args), kwargs]))
+            if len(_TEXTS) < 4096:
+                _TEXTS[key] = found
+        return found
+    return canonical(encode([list(args), kwargs]))
+
+
+__all__ = ["call_text", "canonical", "decode", "dumps", "encode", "loads", "text"]

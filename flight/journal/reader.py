@@ -81,8 +81,7 @@ class Journal:
     def last_time(self) -> float:
         """The latest engine time anything was journaled at."""
         times = [self.rows(f"SELECT max({column}) FROM {table}")[0][0]
-                 for table, column in (("events", "time"), ("beliefs", "time"), ("telemetry", "time"),
-                                       ("calls", "returned_at"), ("segments", "started_at"))]
+                 for table, column in (("events", "time"), ("calls", "returned_at"), ("segments", "started_at"))]
         return max((t for t in times if t is not None), default=0.0)
 
     def last_state(self, segment: int | None = None, before: int | None = None) -> dict[str, Any] | None:
@@ -153,18 +152,8 @@ class Journal:
         """The run as the records of its event log (``events.jsonl``): ``log_started`` with what the run was given,
         the events, the belief changes (but the drone's own motion) and the state samples, in order."""
         meta = dict(self.meta().get("log") or {})
-        merged: list[tuple[int, int, dict[str, Any]]] = []
-        for r in self.rows("SELECT seq, segment, record FROM events"):
-            merged.append((r["seq"], r["segment"], json.loads(r["record"])))
-        for r in self.rows("SELECT seq, segment, time, change, belief, reason FROM beliefs"):
-            merged.append((r["seq"], r["segment"], {"time": r["time"], "kind": f"belief_{r['change']}",
-                                                    "belief": r["belief"], "reason": r["reason"]}))
-        for r in self.rows("SELECT * FROM telemetry"):
-            merged.append((r["seq"], r["segment"], {
-                "time": r["time"], "kind": "state", "position": [r["x"], r["y"], r["z"]],
-                "velocity": [r["vx"], r["vy"], r["vz"]], "yaw": r["yaw"], "battery": r["battery"],
-                "armed": bool(r["armed"]), "landed_state": r["landed_state"]}))
-        merged.sort(key=lambda item: item[0])
+        merged = [(r["seq"], r["segment"], json.loads(r["record"]))
+                  for r in self.rows("SELECT seq, segment, record FROM events ORDER BY seq")]
         records: list[dict[str, Any]] = []
         parts = {part.segment: part for part in self.segments()}
         for segment, part in parts.items():  # each part as its own stretch of the log, as events.jsonl has it

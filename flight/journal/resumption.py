@@ -20,6 +20,7 @@ from aeroexec.engine.api import list_to_tuple
 from aeroexec.engine.errors import RequestRejected
 from aeroexec.engine.events import Outcome, achieved_goal_message
 from aeroexec.engine.missions.replay import MissionRecorder, location
+from aeroexec.engine.missions.values import canonical
 from aeroexec.flight.flight_log import plain
 from aeroexec.flight.journal.rejoin import FLYING, Rejoin
 from aeroexec.flight.journal.resume_point import ResumePoint, behavior_of
@@ -97,7 +98,7 @@ class Resumption:
 
         self.tree = tree
         try:
-            restore_mission(tree, TreeState.from_json(self.point.tree or ""))
+            restore_mission(tree, TreeState.from_json(self.point.tree or "", self.point.meta.get("tree_shape")))
         except (TreeStateError, ValueError) as error:
             raise FlightError(f"{mission}: it is not the tree the interrupted run flew ({error}); run it from the "
                               f"start, or resume with the mission as it was") from None
@@ -140,7 +141,7 @@ class Resumption:
             settled = self.point.settled_call
             if settled is not None:  # its result is kept again, in this part of the run
                 journal.call_returned(settled.number, settled.function, settled.arguments, settled.location,
-                                      engine.now(), settled.result, None)
+                                      engine.now(), canonical(settled.result), None)
             for name, why in rejoin.settled:
                 self._settle(name, why)
             then(None)

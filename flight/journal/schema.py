@@ -9,14 +9,15 @@ clock goes on from where the interrupted one stopped, so times never go back. Th
 - ``segments``: one row per process that flew the run: ``started_wall``, ``started_at``, ``live_at`` (when its
   mission went live, after the replay and the rejoin; NULL: never), and, once it ended, ``ended_at``, ``status``
   (completed, suspended, failed...), ``exit_status``, ``reasons`` (JSON). A crash leaves them NULL.
-- ``events``: every engine event, ``record`` being its line of ``events.jsonl`` (JSON), with ``time``, ``kind``,
-  ``behavior`` and ``detail`` as columns.
-- ``beliefs``: every belief change (``change`` added/removed, ``belief`` as text, ``predicate``, ``reason``: add,
-  remove, replaced, expired, clear, restored) and ``expires_at`` (engine time a belief of a persistent predicate
-  lapses). The robot's own motion (``position``, ``speed``, ``orientation`` of ``self``, ten times a second) is
-  not here: ``telemetry`` has it at a reduced rate.
-- ``telemetry``: the drone's state twice a second and at every stop: position and velocity (ENU m, m/s), ``yaw``
-  (degrees), ``battery`` (percent), ``armed``, ``landed_state``.
+- ``events``: the run's records as ``events.jsonl`` has them, ``record`` being the very line (JSON), with
+  ``time``, ``kind``, ``behavior`` and ``detail`` as columns: every engine event; every belief change
+  (``belief_added`` / ``belief_removed``, with ``expires_at``: the engine time a belief of a persistent predicate
+  lapses) but the robot's own motion (``position``, ``speed``, ``orientation`` of ``self``, ten times a second),
+  which the state samples carry; the drone's state samples (``state``: twice a second, as events.jsonl, and when a
+  behavior of the mission ends or the mission stops).
+- views over it: ``beliefs`` (``change`` added/removed, ``belief`` as text, ``predicate``, ``reason``: add,
+  remove, replaced, expired, clear; ``expires_at``) and ``telemetry`` (position and velocity, ENU m and m/s,
+  ``yaw`` degrees, ``battery`` percent, ``armed``, ``landed_state``).
 - ``behaviors``: one row per activation request: ``behavior``, ``arguments`` (JSON), ``source`` (mission,
   reactive, operator, resume), ``priority``, ``activated_at``, and how it ended: ``ended_at``, ``outcome``
   (GOAL_ACHIEVED, TIME_OUT, WRONG_PROGRESS, INTERRUPTED, FAILED_PRECONDITIONS), ``message``, ``result`` (JSON).
@@ -33,7 +34,8 @@ clock goes on from where the interrupted one stopped, so times never go back. Th
   drone's state then.
 - views ``node_transitions`` (a tree's node status changes) and ``operator_commands``.
 
-No table has an index but its ``seq``: each would cost every commit more than it saves a journal of a few MB.
+No table has an index but its ``seq``, and what a tick adds goes to as few tables as can hold it: every table or
+index a commit touches costs it a page more, for a journal of a few MB that reads fast whole.
 """
 
 from __future__ import annotations
@@ -54,13 +56,7 @@ CREATE TABLE IF NOT EXISTS segments (
     ended_at REAL, status TEXT, exit_status INTEGER, reasons TEXT);
 CREATE TABLE IF NOT EXISTS events (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, time REAL NOT NULL, kind TEXT NOT NULL,
-    behavior TEXT NOT NULL, detail TEXT NOT NULL, record TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS beliefs (
-    seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, time REAL NOT NULL, change TEXT NOT NULL,
-    belief TEXT NOT NULL, predicate TEXT NOT NULL, reason TEXT NOT NULL, expires_at REAL);
-CREATE TABLE IF NOT EXISTS telemetry (
-    seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, time REAL NOT NULL, x REAL, y REAL, z REAL,
-    vx REAL, vy REAL, vz REAL, yaw REAL, battery REAL, armed INTEGER, landed_state TEXT);
+    behavior TEXT NOT NULL, detail TEXT NOT NULL, record TEXT NOT NULL, expires_at REAL);
 CREATE TABLE IF NOT EXISTS behaviors (
     seq INTEGER PRIMARY KEY, segment INTEGER NOT NULL, behavior TEXT NOT NULL, arguments TEXT NOT NULL,
     source TEXT NOT NULL, priority TEXT, activated_at REAL NOT NULL, ended_seq INTEGER, ended_at REAL,
@@ -76,6 +72,19 @@ CREATE TABLE IF NOT EXISTS looks (
 CREATE TABLE IF NOT EXISTS progress (
     segment INTEGER NOT NULL, key TEXT NOT NULL, seq INTEGER NOT NULL, time REAL NOT NULL, value TEXT NOT NULL,
     PRIMARY KEY (segment, key));
+CREATE VIEW IF NOT EXISTS beliefs AS
+    SELECT seq, segment, time, substr(kind, 8) AS change, json_extract(record, '$.belief') AS belief,
+           rtrim(substr(json_extract(record, '$.belief'), 1, instr(json_extract(record, '$.belief') || '(', '(') - 1))
+               AS predicate,
+           json_extract(record, '$.reason') AS reason, expires_at
+    FROM events WHERE kind IN ('belief_added', 'belief_removed');
+CREATE VIEW IF NOT EXISTS telemetry AS
+    SELECT seq, segment, time, json_extract(record, '$.position[0]') AS x, json_extract(record, '$.position[1]') AS y,
+           json_extract(record, '$.position[2]') AS z, json_extract(record, '$.velocity[0]') AS vx,
+           json_extract(record, '$.velocity[1]') AS vy, json_extract(record, '$.velocity[2]') AS vz,
+           json_extract(record, '$.yaw') AS yaw, json_extract(record, '$.battery') AS battery,
+           json_extract(record, '$.armed') AS armed, json_extract(record, '$.landed_state') AS landed_state
+    FROM events WHERE kind = 'state';
 CREATE VIEW IF NOT EXISTS node_transitions AS
     SELECT seq, segment, time, json_extract(record, '$.data.uid') AS uid, json_extract(record, '$.data.node') AS node,
            json_extract(record, '$.data.type') AS type, json_extract(record, '$.data.line') AS line,

@@ -26,14 +26,22 @@ import queue
 import re
 import sqlite3
 import threading
+import time
 import zlib
 from pathlib import Path
 from typing import Any
 
-from aeroexec.beliefs import BeliefChange, format_term
+from aeroexec.beliefs import BeliefChange
 from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.engine.missions.values import canonical
-from aeroexec.flight.flight_log import SAMPLE_PERIOD, event_record, plain, state_record
+from aeroexec.flight.flight_log import (
+    SAMPLE_PERIOD,
+    belief_line,
+    event_line,
+    event_record,
+    plain,
+    state_line,
+    state_record,
+)
 from aeroexec.flight.journal.schema import connect, hold_lock, journal_path, release_lock
 from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 
@@ -49,11 +57,11 @@ STOPS = frozenset({"mission_stopped", "mission_suspended", "operator_interrupt",
 #: Calls that only look: not worth a hand-over of their own.
 LOOKS = frozenset({"consult_belief", "true_belief", "is_active_behavior", "now"})
 OUTCOMES = frozenset(o.value for o in Outcome)
+#: Events that need no hand-over of their own (the next one takes them): capabilities, the drone's own reports.
+BACKGROUND = ("capability_", "drone_")
 _TAKEN_OVER = re.compile(r"^stopped for (\S+) \(reactive\)$")
 
-_EVENT = "INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?)"
-_BELIEF = "INSERT INTO beliefs VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
-_TELEMETRY = "INSERT INTO telemetry VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"
+_EVENT = "INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
 _ACTIVATED = "INSERT INTO behaviors VALUES (?, ?, ?, ?, ?, ?, ?, NULL, NULL, NULL, NULL, NULL)"
 _REFUSED = "INSERT INTO behaviors VALUES (?, ?, ?, '{}', ?, NULL, ?, ?, ?, ?, ?, ?)"
 _ENDED = "UPDATE behaviors SET ended_seq = ?, ended_at = ?, outcome = ?, message = ?, result = ? WHERE seq = ?"
@@ -78,6 +86,7 @@ class JournalWriter:
         self.sample_period = sample_period
         self.supersede_from = supersede_from
         self.incomplete: str | None = None  # why the journal stopped short, None while whole
+        self.cpu = 0.0  # s of CPU its thread spent writing
         self.live = False
         self.frozen: dict[str, Any] | None = None  # where the mission stopped, once it did
         self._lock_file = hold_lock(self.path)
@@ -94,7 +103,7 @@ class JournalWriter:
         self._next_flush = engine.now() + FLUSH_PERIOD
         self._last_sample: float | None = None  # the last sample's time, and the last periodic one's
         self._last_periodic: float | None = None
-        self._active: dict[str, int] = {}  # behavior -> its open activation row
+        self._active: dict[str, tuple[int, bool]] = {}  # behavior -> its open activation row, and whether urgent
         self._waiting: dict[int, int] = {}  # call number -> its row, while under way
         self._looks: _Looks | None = None  # the run of looking calls going on
         self._mission_running = False
@@ -102,8 +111,9 @@ class JournalWriter:
         self._tree: Any = None
         self._boards: list[Any] = []
         self._tree_dirty = True
+        self._shape_kept = False
         self._tree_writes = -1
-        self._next_tree = 0.0
+        self._next_tree = self._next_look = 0.0
         self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
         self._thread = threading.Thread(target=self._serve, name="aeroexec-journal", daemon=True)
         self._thread.start()
@@ -123,36 +133,38 @@ class JournalWriter:
                        (segment, datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
                         round(self.engine.now(), 3)))
             last = max(db.execute(f"SELECT max(seq) FROM {table}").fetchone()[0] or 0
-                       for table in ("events", "beliefs", "telemetry", "behaviors", "calls", "looks", "progress"))
+                       for table in ("events", "behaviors", "calls", "looks", "progress"))
         return segment, last + 1
 
     # -- the engine's side ------------------------------------------------------------------------------------
     def on_event(self, event: EngineEvent) -> None:
-        record = event_record(event)
         seq = self._seq()
         time = round(event.time, 3)
-        kind, name = event.kind, event.behavior
-        rows = [(_EVENT, (seq, self.segment, time, kind, name, event.detail,
-                          json.dumps(record, separators=(",", ":"), allow_nan=False)))]
-        source = event.data.get("source", "")
+        kind, name, data = event.kind, event.behavior, event.data
+        rows = [(_EVENT, (seq, self.segment, time, kind, name, event.detail, event_line(event), None))]
+        source = data.get("source", "")
+        urgent = not kind.startswith(BACKGROUND)
         if kind == "activated":
-            self._active[name] = seq
-            rows.append((_ACTIVATED, (seq, self.segment, name, json.dumps(record.get("arguments", {})), source,
-                                      event.data.get("priority"), time)))
+            urgent = source != "reactive" or data.get("priority") != "lower"  # a background reaction waits
+            self._active[name] = (seq, urgent)
+            rows.append((_ACTIVATED, (seq, self.segment, name, json.dumps(plain(data.get("arguments", {}))), source,
+                                      data.get("priority"), time)))
         elif kind in OUTCOMES or kind in ("failed_preconditions", "rejected"):
             outcome = kind if kind in OUTCOMES else Outcome.FAILED_PRECONDITIONS.value
-            result = json.dumps(record["result"]) if "result" in record else None
-            opened = self._active.pop(name, None) if kind in OUTCOMES else None
+            result = json.dumps(plain(data["result"])) if data.get("result") is not None else None
+            opened, urgent = self._active.pop(name, (None, True)) if kind in OUTCOMES else (None, True)
             if opened is not None:
                 rows.append((_ENDED, (seq, time, outcome, event.detail, result, opened)))
             else:  # refused, or its goal already achieved: a request that never ran
                 rows.append((_REFUSED, (seq, self.segment, name, source, time, seq, time, outcome, event.detail,
                                         result)))
-        self._add(rows, urgent=True)
+        elif kind == REACTION:
+            urgent = HIGHER in event.detail
+        self._add(rows, urgent=urgent)
         if kind == "node_status" or kind in OUTCOMES:
             self._tree_dirty = True
-        if (kind == "activated" or kind in OUTCOMES) and source == "mission" and self._last_sample != time:
-            self.sample()  # where the drone was at each event of the mission's behaviors: where a resume puts it
+        if kind in OUTCOMES and source == "mission" and self._last_sample != time:
+            self.sample()  # where the drone was when a behavior of the mission ended: where a resume puts it
         self._watch(seq, event, source)
 
     def on_belief(self, change: BeliefChange) -> None:
@@ -161,8 +173,8 @@ class JournalWriter:
             return
         lifetime = self.engine.memory.lifetime(belief.name) if change.kind == "added" else None
         time = round(float(change.time), 3)
-        self._add([(_BELIEF, (self._seq(), self.segment, time, change.kind, format_term(belief), belief.name,
-                              change.reason, None if lifetime is None else round(time + lifetime, 3)))])
+        self._add([(_EVENT, (self._seq(), self.segment, time, f"belief_{change.kind}", "", "", belief_line(change),
+                             None if lifetime is None else round(time + lifetime, 3)))])
 
     def on_tick(self) -> None:
         now = self.engine.now()
@@ -177,15 +189,13 @@ class JournalWriter:
         now = self.engine.now() if now is None else now
         self._last_sample = round(now, 3)
         try:
-            state = drone_state(now, self.engine.drone.telemetry())
+            telemetry = self.engine.drone.telemetry()
+            line = state_line(now, telemetry)
         except Exception:  # a drone that cannot answer: no sample, the journal goes on
             logger.exception("no drone state for the journal")
             return None
-        x, y, z = state["position"]
-        vx, vy, vz = state["velocity"]
-        self._add([(_TELEMETRY, (self._seq(), self.segment, round(now, 3), x, y, z, vx, vy, vz, state["yaw"],
-                                 state["battery"], int(state["armed"]), state["landed_state"]))])
-        return state
+        self._add([(_EVENT, (self._seq(), self.segment, self._last_sample, "state", "", "", line, None))])
+        return drone_state(now, telemetry)
 
     # -- a tree mission ---------------------------------------------------------------------------------------
     def attach_tree(self, mission: Any) -> None:
@@ -200,9 +210,11 @@ class JournalWriter:
         if visited is None or not self.live or self.frozen is not None:
             return  # halted (the ending), not live yet, or stopped: the state kept is the one to resume
         now = self.engine.now()
-        writes = sum(sum(board._versions.values()) for board in self._boards)
-        if self._tree_dirty or writes != self._tree_writes or now >= self._next_tree:
-            self._tree_writes = writes
+        if not self._tree_dirty and now >= self._next_look:  # the blackboard alone changed? looked at twice a second
+            self._next_look = now + self.sample_period
+            writes = sum(sum(board._versions.values()) for board in self._boards)
+            self._tree_dirty, self._tree_writes = writes != self._tree_writes, writes
+        if self._tree_dirty or now >= self._next_tree:
             self.keep_tree(now)
 
     def keep_tree(self, now: float | None = None) -> None:
@@ -212,9 +224,12 @@ class JournalWriter:
         now = self.engine.now() if now is None else now
         self._tree_dirty = False
         self._next_tree = now + TREE_PERIOD
-        state = capture(self._tree.root, self._tree.blackboard).to_json()
-        seq = self._seq()
-        self._add([(_PROGRESS, (self.segment, "tree", seq, round(now, 3), state))], urgent=True)
+        state = capture(self._tree.root, self._tree.blackboard)
+        rows = [(_PROGRESS, (self.segment, "tree", self._seq(), round(now, 3), state.to_json(shape=False)))]
+        if not self._shape_kept:  # the tree's shape once (resume_point reads its states with it)
+            self._shape_kept = True
+            rows.append(("INSERT OR REPLACE INTO meta VALUES ('tree_shape', ?)", (json.dumps(state.shape()),)))
+        self._add(rows, urgent=True)
 
     # -- a Python mission's calls (on its thread) --------------------------------------------------------------
     def call_requested(self, number: int, function: str, arguments: str, location: str, time: float) -> None:
@@ -224,10 +239,10 @@ class JournalWriter:
                             None, 0))], urgent=True, looks_end=True)
 
     def call_returned(self, number: int, function: str, arguments: str, location: str, time: float,
-                      result: Any, error: dict[str, Any] | None) -> None:
+                      result: str | None, error: dict[str, Any] | None) -> None:
         time = round(time, 3)
         after = int(self.frozen is not None)
-        answer = None if error is not None else canonical(result)
+        answer = None if error is not None else result
         failure = None if error is None else json.dumps(error)
         row = self._waiting.pop(number, None)
         if row is not None:
@@ -350,6 +365,7 @@ class JournalWriter:
                 item()
                 continue
             rows, written = item if isinstance(item, tuple) else (item, None)
+            began = time.thread_time()
             if self.incomplete is None:
                 try:
                     with self._db:
@@ -358,6 +374,7 @@ class JournalWriter:
                     self.incomplete = str(error)
                     logger.error("the journal %s cannot be written (%s): it stops here; the flight goes on",
                                  self.path, error)
+            self.cpu += time.thread_time() - began
             if written is not None:
                 written.set()
 

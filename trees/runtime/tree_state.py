@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.engine.missions.values import decode, encode
@@ -51,6 +51,7 @@ MEMORY: dict[str, tuple[str, ...]] = {
     "Sleep": ("seconds", "started_at"),
     "WasEntryUpdated": ("seen",),
 }
+_PLAIN = frozenset({int, float, bool, type(None)})
 _STATUS = {"IDLE": Status.INVALID, "RUNNING": Status.RUNNING, "SUCCESS": Status.SUCCESS,
            "FAILURE": Status.FAILURE, "SKIPPED": Status.SUCCESS}
 FORMAT = 1
@@ -86,16 +87,31 @@ class TreeState:
         """The nodes that were RUNNING, in walk order (a running leaf last on its branch)."""
         return [n for n in self.nodes if n.status == "RUNNING"]
 
-    def to_json(self) -> str:
-        return json.dumps({"format": FORMAT, "nodes": [asdict(n) for n in self.nodes],
-                           "blackboards": self.blackboards}, separators=(",", ":"))
+    def shape(self) -> list[list[str]]:
+        """``[path, type, name]`` of every node: what the state must be put back into."""
+        return [[n.path, n.type, n.name] for n in self.nodes]
+
+    def to_json(self, shape: bool = True) -> str:
+        """The state as text; without ``shape``, only each node's status and memory, in walk order (a journal keeps
+        the tree's shape once and its states many times)."""
+        nodes = [[n.status, n.memory] if n.memory else n.status for n in self.nodes]
+        data: dict[str, Any] = {"format": FORMAT, "nodes": nodes, "blackboards": self.blackboards}
+        if shape:
+            data["shape"] = self.shape()
+        return json.dumps(data, separators=(",", ":"))
 
     @classmethod
-    def from_json(cls, text: str) -> TreeState:
+    def from_json(cls, text: str, shape: list[list[str]] | None = None) -> TreeState:
+        """The state :meth:`to_json` wrote (``shape``: the tree's, when it was written without)."""
         data = json.loads(text)
         if not isinstance(data, dict) or data.get("format") != FORMAT:
             raise TreeStateError("not a tree state this version of aeroexec can read")
-        return cls([NodeState(**n) for n in data["nodes"]], list(data.get("blackboards", [])))
+        shape = data.get("shape", shape)
+        if not isinstance(shape, list) or len(shape) != len(data["nodes"]):
+            raise TreeStateError("a tree state without the shape of its tree")
+        nodes = [NodeState(path, kind, name, *(node if isinstance(node, list) else (node, {})))
+                 for (path, kind, name), node in zip(shape, data["nodes"], strict=True)]
+        return cls(nodes, list(data.get("blackboards", [])))
 
 
 # -- finding nodes -----------------------------------------------------------------------------------------
@@ -122,13 +138,17 @@ def node_at(root: Behaviour, path: str) -> Behaviour:
 
 def memory_of(node: Behaviour) -> tuple[str, ...]:
     """The attributes ``node`` remembers between ticks (:data:`MEMORY`, or its class's ``memory``)."""
-    own = getattr(type(node), "memory", None)
-    if own is not None:
-        return tuple(own)
-    for cls in type(node).__mro__:
-        if cls.__name__ in MEMORY:
-            return MEMORY[cls.__name__]
-    return ()
+    cls = type(node)
+    found = _MEMORY_OF.get(cls)
+    if found is None:
+        own = getattr(cls, "memory", None)
+        found = tuple(own) if own is not None else next(
+            (MEMORY[c.__name__] for c in cls.__mro__ if c.__name__ in MEMORY), ())
+        _MEMORY_OF[cls] = found
+    return found
+
+
+_MEMORY_OF: dict[type, tuple[str, ...]] = {}
 
 
 def scopes(root: Behaviour, blackboard: Blackboard | None = None) -> list[Blackboard]:
@@ -146,9 +166,10 @@ def scopes(root: Behaviour, blackboard: Blackboard | None = None) -> list[Blackb
 # -- capture and restore -------------------------------------------------------------------------------------
 def capture(root: Behaviour, blackboard: Blackboard | None = None) -> TreeState:
     """The state of the tree under ``root`` now (``blackboard``: the mission's scope, first of the scopes)."""
-    paths = {id(node): path for path, node in walk(root)}
+    walked = list(walk(root))
+    paths = {id(node): path for path, node in walked}
     nodes = []
-    for path, node in walk(root):
+    for path, node in walked:
         memory = {name: _out(getattr(node, name), node, paths) for name in memory_of(node) if hasattr(node, name)}
         current = getattr(node, "current_child", None)
         if current is not None and node.children:
@@ -224,6 +245,8 @@ def _node(root: Behaviour, path: str) -> Behaviour | None:
 
 
 def _out(value: Any, owner: Behaviour, paths: dict[int, str]) -> Any:
+    if type(value) in _PLAIN:
+        return value
     if isinstance(value, Status) or value is SKIPPED:
         return {"status": "SKIPPED" if value is SKIPPED else value.value}
     if isinstance(value, Behaviour):
