@@ -13,8 +13,8 @@ clock goes on from where the interrupted one stopped, so times never go back. Th
   ``time``, ``kind``, ``behavior`` and ``detail`` as columns: every engine event; every belief change
   (``belief_added`` / ``belief_removed``, with ``expires_at``: the engine time a belief of a persistent predicate
   lapses) but the robot's own motion (``position``, ``speed``, ``orientation`` of ``self``, ten times a second),
-  which the state samples carry; the drone's state samples (``state``: twice a second, as events.jsonl, and when a
-  behavior of the mission ends or the mission stops).
+  which the state samples carry; the drone's state samples (``state``: once a second, every other one of
+  events.jsonl's, and when a behavior of the mission ends or the mission stops).
 - views over it: ``beliefs`` (``change`` added/removed, ``belief`` as text, ``predicate``, ``reason``: add,
   remove, replaced, expired, clear; ``expires_at``) and ``telemetry`` (position and velocity, ENU m and m/s,
   ``yaw`` degrees, ``battery`` percent, ``armed``, ``landed_state``).

@@ -3,9 +3,10 @@
 The engine's thread (and a Python mission's, for its calls) only appends rows to a list; at the end of a tick the
 list goes to the journal's own thread (``aeroexec-journal``), which writes it in one transaction. The list is
 handed over at the end of every tick in which a behavior event, a node transition, an operator command, a
-mission call that acts or a tree state happened, and the loop waits for that transaction (at most ``SYNC_WAIT`` s
-of wall time: a slow disk never holds the loop longer), so a ``kill -9`` loses at most that tick; otherwise every
-``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls), without waiting. A journal that
+mission call that acts or a tree state happened, once the batch handed over before it is written (the loop waits
+for it, at most ``SYNC_WAIT`` s of wall time: a slow disk never holds the loop longer): a ``kill -9`` loses at most
+the tick under way and the last batch handed over, which the journal's thread writes within a moment; otherwise
+every ``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls). A journal that
 cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set and the flight goes on.
 
 Where the mission stopped is kept as it happens (``progress`` ``stop``): a reaction of the higher priority that
@@ -80,7 +81,7 @@ class JournalWriter:
     mission goes live)."""
 
     def __init__(self, engine: Any, folder: str | Path, *, meta: dict[str, Any] | None = None,
-                 supersede_from: int | None = None, sample_period: float = SAMPLE_PERIOD) -> None:
+                 supersede_from: int | None = None, sample_period: float = 2 * SAMPLE_PERIOD) -> None:
         self.engine = engine
         self.path = journal_path(folder)
         self.sample_period = sample_period
@@ -115,6 +116,7 @@ class JournalWriter:
         self._tree_writes = -1
         self._next_tree = self._next_look = 0.0
         self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
+        self._last_batch: threading.Event | None = None  # set once the last batch handed over is written
         self._thread = threading.Thread(target=self._serve, name="aeroexec-journal", daemon=True)
         self._thread.start()
         self._closed = False
@@ -333,8 +335,8 @@ class JournalWriter:
                 self._urgent = True
 
     def flush(self) -> None:
-        """Hand what was recorded to the journal's thread (written in one transaction); an urgent hand-over is
-        waited for (at most ``SYNC_WAIT`` s)."""
+        """Hand what was recorded to the journal's thread (written in one transaction); an urgent hand-over waits
+        for the one before it to be written (at most ``SYNC_WAIT`` s)."""
         with self._rows_lock:
             if self._looks is not None and self._looks.dirty:
                 self._rows.append((_LOOKS, self._looks.row(self.segment)))
@@ -342,12 +344,11 @@ class JournalWriter:
         self._next_flush = self.engine.now() + FLUSH_PERIOD
         if not rows:
             return
-        if not urgent or self._closed:
-            self._queue.put(rows)
-            return
-        written = threading.Event()
-        self._queue.put((rows, written))
-        written.wait(SYNC_WAIT)
+        last = self._last_batch
+        if urgent and last is not None and not last.is_set():
+            last.wait(SYNC_WAIT)  # the one before is written first: a kill -9 loses at most this tick's
+        self._last_batch = threading.Event()
+        self._queue.put((rows, self._last_batch))
 
     def sync(self, timeout: float = 10.0) -> bool:
         """Flush and wait until everything is written (False when it was not within ``timeout`` wall seconds)."""
@@ -379,13 +380,15 @@ class JournalWriter:
                 written.set()
 
     def _write(self, rows: list[tuple[str, tuple]]) -> None:
-        execute, many = self._db.execute, self._db.executemany
-        for statement, group in itertools.groupby(rows, key=lambda row: row[0]):
-            params = [p for _, p in group]
-            if len(params) == 1:
-                execute(statement, params[0])
-            else:
+        """The rows, each run of rows of one statement in one call."""
+        many = self._db.executemany
+        statement, params = rows[0][0], []
+        for row in rows:
+            if row[0] is not statement:
                 many(statement, params)
+                statement, params = row[0], []
+            params.append(row[1])
+        many(statement, params)
 
     # -- the end ----------------------------------------------------------------------------------------------
     def ended(self, status: Any) -> None:

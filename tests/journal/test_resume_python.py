@@ -9,7 +9,19 @@ import shutil
 
 import pytest
 from aeroexec.flight.journal import Journal
-from journeys import MISSIONS, achieved, active, crash, final_state, fly, fly_until, goals_after, resume, same_goals, spec
+from journeys import (
+    MISSIONS,
+    achieved,
+    active,
+    crash,
+    final_state,
+    fly,
+    fly_until,
+    goals_after,
+    resume,
+    same_goals,
+    spec,
+)
 
 FIGURE10 = MISSIONS / "figure10.py"
 
