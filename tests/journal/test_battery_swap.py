@@ -81,3 +81,37 @@ def _finish(run):
     if not engine.run_until(lambda: run.mission_done, 600):
         run.time_limit()
     return run.finish(end_flight(engine, link_grace=run.spec.link_grace))
+
+
+def test_the_console_suspends_as_ctl_does(tmp_path):
+    """The console's suspend button sends ``suspend`` over its socket: the run ends suspended, the journal says
+    where, and the resume finishes the mission."""
+    import json
+    import threading
+
+    from aeroexec.flight.session import FlightSession
+    from websockets.sync.client import connect
+
+    heard: list[str] = []
+    folder = tmp_path / "run"
+    session = FlightSession(spec(MISSIONS / "survey_legs.xml", folder, web=0, speed=4.0), notify=heard.append)
+    outcome: list = []
+    flying = threading.Thread(target=lambda: outcome.append(session.fly()), daemon=True)
+    session.open()
+    flying.start()
+    url = next(line.split()[-1] for line in heard if "http://" in line)
+    base, token = url.split("?")
+    with connect(base.replace("http", "ws") + "ws?" + token, open_timeout=10) as ws:
+        assert json.loads(ws.recv(timeout=10))["type"] == "hello"
+        while not session.engine.coordinator.is_active("GO_TO_POINT"):
+            ws.recv(timeout=10)
+        ws.send(json.dumps({"id": 1, "drone": "drone", "command": "suspend", "argument": ""}))
+        while (reply := json.loads(ws.recv(timeout=10)))["type"] != "result":
+            pass
+    assert reply["ok"], reply
+    flying.join(timeout=60)
+    assert outcome and outcome[0].exit_status == 5, outcome
+    stop = resume_point(folder).stop
+    assert stop["kind"] == "mission_suspended" and "web console" not in stop["reason"]
+    _, finished = resume(folder)
+    assert finished.exit_status == 0, finished.status
