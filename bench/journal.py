@@ -4,7 +4,8 @@ journal's own thread counts, and each measure waits for what it handed over to b
 
 Run ``python bench/journal.py`` (``--repeat N``, ``--quick`` for shorter runs). Three steps are measured in turn,
 short runs alternated many times and the ratios of each pair's medians printed: the bare engine (``bench/engine.py``'s
-step), the engine as a flight runs it (its event log, events.jsonl, written), and that flight with the journal.
+step), the engine as a flight runs it (its event log, events.jsonl, written; a tree's .btlog too), and that flight
+with the journal.
 Cases: a GO_TO_POINT patrol, a tree mission (a patrol with photos and broadcasts: node transitions and tree states
 kept), a Python mission polling a belief between its behaviors (every call journaled). Target (issue 30): the
 journal costs under 10 % of the step; a 10-minute mission's journal stays under a few MB.
@@ -104,10 +105,13 @@ def patrol_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
 
 def tree_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
     from aeroexec.trees import read_mission_tree
+    from aeroexec.trees.btlog import BtlogWriter
     from aeroexec.trees.runtime.runner import TreeMission
 
     made = engine(kind, folder)
     mission = TreeMission(read_mission_tree(PATROL.format(cycles=1000), "patrol.xml"), made)
+    if kind != BARE:  # a flight keeps the tree's .btlog beside its events.jsonl
+        BtlogWriter(mission, folder / "mission.btlog")
     if made.journal is not None:
         made.journal.attach_tree(mission)
     mission.start()
@@ -165,7 +169,7 @@ def size(minutes: float) -> None:
     print(f"The journal of a {minutes:g}-minute mission (a flight session: the journal beside events.jsonl)")
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
-        rounds = round(minutes * 60.0 / 18.0)  # a round of the patrol takes ~18 s
+        rounds = round(minutes * 60.0 / 14.5)  # a round of the patrol takes ~14.5 s
         for name, text in (("patrol.xml", PATROL.format(cycles=rounds)),
                            ("polling.py", POLLING.format(corners=CORNERS * rounds))):
             mission = folder / name

@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         with Journal(args.run_dir) as journal:
             if args.behavior:
-                rows = [_request(r) for r in journal.behavior(args.behavior)]
+                rows = [_request(r, journal) for r in journal.behavior(args.behavior)]
                 return _print(rows, args.json, f"no request of {args.behavior.upper()} in the journal")
             if args.belief:
                 rows = [{"time": r["time"], "change": "+" if r["change"] == "added" else "-", "belief": r["belief"],
@@ -49,8 +49,8 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def _request(row: Any) -> dict[str, Any]:
-    return {"time": row["activated_at"], "source": row["source"], "arguments": json.loads(row["arguments"]),
+def _request(row: Any, journal: Journal) -> dict[str, Any]:
+    return {"time": row["activated_at"], "source": row["source"], "arguments": journal.json(row["arguments"]),
             "outcome": row["outcome"] or "RUNNING", "ended": row["ended_at"], "message": row["message"] or "",
             "segment": row["segment"]}
 
@@ -69,12 +69,12 @@ def _summary(journal: Journal, run_dir: str) -> int:
     print(f"  steps done: {len(done)}" + (f" (the last: {done[-1]['step']} at t={done[-1]['time']:.1f} s)"
                                           if done else ""))
     try:
-        point = resume_point(journal.path.parent)
+        point = resume_point(journal.path)
     except JournalError as error:
         print(f"  resume: {str(error).split(': ', 1)[-1]}")
         return 0
     print(f"  stopped at {point.where()}")
-    print(f"  to go on: aeroexec run --resume {run_dir}")
+    print(f"  to go on: aeroexec run --resume {journal.path.parent}")
     return 0
 
 

@@ -4,8 +4,10 @@ rebuilt from it (the report and the console's replay read a journal as they read
 
 from __future__ import annotations
 
+import functools
 import json
 import sqlite3
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -31,6 +33,18 @@ class Segment:
     reasons: list[str]
 
 
+def _damage_said(method: Callable[..., Any]) -> Callable[..., Any]:
+    """A question over the journal whose answer a damaged journal breaks: JournalError naming the file."""
+    @functools.wraps(method)
+    def asked(self: Journal, *args: Any, **kwargs: Any) -> Any:
+        try:
+            return method(self, *args, **kwargs)
+        except (ValueError, TypeError, KeyError, IndexError, AttributeError) as error:
+            raise JournalError(f"{self.path}: the journal is damaged: {type(error).__name__}: {error}") from None
+
+    return asked
+
+
 class Journal:
     """A run's journal (``folder``: the run's output folder, or the journal file)."""
 
@@ -52,10 +66,11 @@ class Journal:
         """The rows of a query (the journal is opened read-only: a query cannot change it)."""
         try:
             return self.db.execute(sql, params).fetchall()
-        except sqlite3.Error as error:
-            raise JournalError(f"{self.path}: {error}") from None
+        except (sqlite3.Error, UnicodeDecodeError) as error:  # a damaged journal, or a query it cannot answer
+            raise JournalError(f"{self.path}: the journal cannot be read so: {error}") from None
 
     # -- the run -----------------------------------------------------------------------------------------------
+    @_damage_said
     def meta(self) -> dict[str, Any]:
         found: dict[str, Any] = {}
         for row in self.rows("SELECT key, value FROM meta"):
@@ -65,10 +80,18 @@ class Journal:
                 found[row["key"]] = row["value"]
         return found
 
+    @_damage_said
     def segments(self) -> list[Segment]:
         return [Segment(r["segment"], r["started_wall"], r["started_at"], r["live_at"], r["ended_at"], r["status"],
-                        r["exit_status"], json.loads(r["reasons"]) if r["reasons"] else [])
+                        r["exit_status"], self.json(r["reasons"]) if r["reasons"] else [])
                 for r in self.rows("SELECT * FROM segments ORDER BY segment")]
+
+    def json(self, text: Any) -> Any:
+        """A JSON value of the journal; JournalError when it is not one (a damaged journal)."""
+        try:
+            return json.loads(text)
+        except (TypeError, ValueError) as error:
+            raise JournalError(f"{self.path}: the journal is damaged: {error}") from None
 
     def progress(self, segment: int, key: str) -> tuple[int, float, Any] | None:
         """``(seq, time, value)`` of a segment's ``tree`` or ``stop`` (the value read from its JSON), or None."""
@@ -76,7 +99,7 @@ class Journal:
         if not row:
             return None
         value = row[0]["value"]
-        return row[0]["seq"], row[0]["time"], json.loads(value) if key == "stop" else value
+        return row[0]["seq"], row[0]["time"], self.json(value) if key == "stop" else value
 
     def last_time(self) -> float:
         """The latest engine time anything was journaled at."""
@@ -84,6 +107,7 @@ class Journal:
                  for table, column in (("events", "time"), ("calls", "returned_at"), ("segments", "started_at"))]
         return max((t for t in times if t is not None), default=0.0)
 
+    @_damage_said
     def last_state(self, segment: int | None = None, before: int | None = None) -> dict[str, Any] | None:
         """The drone's last journaled state (of ``segment``; before ``seq`` ``before``), or None."""
         clauses, params = [], []
@@ -106,6 +130,7 @@ class Journal:
         """Every request of behavior ``name`` (case does not matter), in order: when, from whom, how it ended."""
         return self.rows("SELECT * FROM behaviors WHERE behavior = ? ORDER BY seq", (name.upper(),))
 
+    @_damage_said
     def belief_changes(self, text: str) -> list[sqlite3.Row]:
         """Every change of the beliefs of a predicate (``charge``) or matching a belief pattern (``charge(battery,
         ?X)``: variables match anything), in order."""
@@ -119,6 +144,7 @@ class Journal:
             raise JournalError(f"{text}: not a belief pattern ({error})") from None
         return [r for r in rows if match(pattern, parse_belief(r["belief"]), {})]
 
+    @_damage_said
     def done(self) -> list[dict[str, Any]]:
         """The mission's steps that are done, in the order they were done: a tree's behavior leaves (a plan's
         items) that ended SUCCESS, a Python mission's behaviors whose goal was achieved; the latest run of each."""
@@ -135,8 +161,9 @@ class Journal:
         rows = self.rows("SELECT * FROM behaviors WHERE source = 'mission' AND outcome = 'GOAL_ACHIEVED' "
                          "ORDER BY ended_seq")
         return [{"time": r["ended_at"], "segment": r["segment"], "step": r["behavior"], "behavior": r["behavior"],
-                 "arguments": json.loads(r["arguments"])} for r in rows]
+                 "arguments": self.json(r["arguments"])} for r in rows]
 
+    @_damage_said
     def goals(self) -> dict[str, int]:
         """How many times each goal of the mission was achieved over every segment: ``BEHAVIOR(arguments)`` ->
         count (GOAL_ACHIEVED of the mission's own requests)."""
@@ -148,11 +175,12 @@ class Journal:
         return counts
 
     # -- as an event log -------------------------------------------------------------------------------------
+    @_damage_said
     def records(self) -> list[dict[str, Any]]:
         """The run as the records of its event log (``events.jsonl``): ``log_started`` with what the run was given,
         the events, the belief changes (but the drone's own motion) and the state samples, in order."""
         meta = dict(self.meta().get("log") or {})
-        merged = [(r["seq"], r["segment"], json.loads(r["record"]))
+        merged = [(r["seq"], r["segment"], self.json(r["record"]))
                   for r in self.rows("SELECT seq, segment, record FROM events ORDER BY seq")]
         records: list[dict[str, Any]] = []
         parts = {part.segment: part for part in self.segments()}

@@ -83,7 +83,10 @@ def resume_point(folder: str | Path, period: float = 0.05) -> ResumePoint:
         raise JournalError(f"{folder}: the run is still flying (another aeroexec writes its journal); "
                            f"stop it first (aeroexec ctl suspend --run {folder})")
     with Journal(folder) as journal:
-        return _read(journal, folder, period)
+        try:
+            return _read(journal, folder, period)
+        except (ValueError, KeyError, TypeError, IndexError, AttributeError, zlib.error) as error:
+            raise JournalError(f"{journal.path}: the journal is damaged: {type(error).__name__}: {error}") from None
 
 
 def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:

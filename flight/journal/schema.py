@@ -123,7 +123,7 @@ def connect(path: Path, *, readonly: bool = False) -> sqlite3.Connection:
             connection.execute("PRAGMA synchronous=NORMAL")
             connection.executescript(SCHEMA)
         found = connection.execute("SELECT value FROM meta WHERE key = 'format'").fetchone()
-    except sqlite3.DatabaseError as error:
+    except (sqlite3.DatabaseError, UnicodeDecodeError) as error:
         raise JournalError(f"{path}: not a flight journal ({error})") from None
     if found is None and not readonly:
         connection.execute("INSERT INTO meta VALUES ('format', ?)", (FORMAT,))

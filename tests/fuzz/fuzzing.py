@@ -168,6 +168,21 @@ def _control(path: Path) -> list[str]:
     return []
 
 
+def _journal(path: Path) -> list[str]:
+    """A run's flight journal read as ``aeroexec journal`` and ``run --resume`` read it: answered, or refused
+    naming the file (a damaged one too)."""
+    from aeroexec.flight.journal import Journal, JournalError, resume_point
+
+    try:
+        with Journal(path) as journal:
+            journal.records()
+            journal.done()
+        resume_point(path)
+    except JournalError as error:
+        return [str(error)]
+    return []
+
+
 REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
 
 
@@ -197,11 +212,15 @@ FORMATS = {f.name: f for f in [
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
+    Format("flight journals", ".sqlite", _files("tests/fuzz/seeds/*.sqlite"), _journal),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.
 WHOLE_FILE = re.compile(r"(not a regular file|the file is [\d,]+ bytes|the file is more than|cannot read (the|an)"
-                        r"|has no mission\(\) or runMission\(\)|is empty|not XML: the file has no element)")
+                        r"|has no mission\(\) or runMission\(\)|is empty|not XML: the file has no element"
+                        r"|not a flight journal|the journal is damaged|the journal cannot be read"
+                        r"|a journal of another format|nothing to resume|no state of the tree|nothing is left to do"
+                        r"|by itself)")
 
 
 def placed(message: str, path: Path, fmt: Format) -> bool:

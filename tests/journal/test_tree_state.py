@@ -12,11 +12,25 @@ from aeroexec.engine.engine import Engine
 from aeroexec.trees import read_mission_tree
 from aeroexec.trees.runtime.registry import BUILT_IN
 from aeroexec.trees.runtime.runner import TreeMission
-from aeroexec.trees.runtime.tree_state import TreeState, TreeStateError, capture, restore_mission
 from aeroexec.trees.runtime.ticking import status_name
+from aeroexec.trees.runtime.tree_state import TreeState, TreeStateError, capture, restore_mission
 
 COUNT = '<Script code="n := n + 1"/>'
 SLEEP = '<Sleep msec="150"/>'
+
+
+def switches() -> str:
+    """Switch2..Switch6, each choosing its second case (v is 2) or, with no case matching, its last child."""
+    made = []
+    for cases in range(2, 7):
+        ports = " ".join(f'case_{i}="{i}"' for i in range(1, cases + 1))
+        chosen = 1 if cases < 4 else cases
+        children = "".join(SLEEP if i == chosen else "<AlwaysFailure/>" for i in range(cases + 1))
+        made.append(f'<Switch{cases} variable="{{v}}" {ports}>{children}</Switch{cases}>' if cases < 4 else
+                    f'<Switch{cases} variable="x" {ports}>{children}</Switch{cases}>')
+    return "".join(made)
+
+
 TREES = {
     "sequences": f"""<Sequence><Script code="n := 0; q := '1;2;3'"/>
         <SequenceWithMemory>{COUNT}{SLEEP}<Inverter><AlwaysFailure/></Inverter>{SLEEP}</SequenceWithMemory>
@@ -31,11 +45,7 @@ TREES = {
     "branches": f"""<Sequence><Script code="n := 0; v := 2"/>
         <IfThenElse><Sleep msec="100"/>{SLEEP}<AlwaysFailure/></IfThenElse>
         <WhileDoElse><ScriptCondition code="n &lt; 3"/><Sequence>{COUNT}{SLEEP}</Sequence>{SLEEP}</WhileDoElse>
-        <Switch2 variable="{{v}}" case_1="1" case_2="2"><AlwaysFailure/>{SLEEP}<AlwaysFailure/></Switch2>
-        <Switch3 variable="{{v}}" case_1="1" case_2="2" case_3="3"><AlwaysFailure/>{SLEEP}<AlwaysFailure/><AlwaysFailure/></Switch3>
-        <Switch4 variable="x" case_1="1" case_2="2" case_3="3" case_4="4"><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/>{SLEEP}</Switch4>
-        <Switch5 variable="x" case_1="1" case_2="2" case_3="3" case_4="4" case_5="5"><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/>{SLEEP}</Switch5>
-        <Switch6 variable="x" case_1="1" case_2="2" case_3="3" case_4="4" case_5="5" case_6="6"><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/><AlwaysFailure/>{SLEEP}</Switch6>
+        {switches()}
         <ForceSuccess><TryCatch>{SLEEP}<AlwaysFailure/>{SLEEP}</TryCatch></ForceSuccess></Sequence>""",
     "decorators": f"""<Sequence><Script code="n := 0; q := '1;2;3'; f := 0"/>
         <Repeat num_cycles="3"><Sequence>{COUNT}{SLEEP}</Sequence></Repeat>
