@@ -5,7 +5,7 @@ Every row carries ``seq``, one sequence over the whole journal (the order things
 clock goes on from where the interrupted one stopped, so times never go back. The tables:
 
 - ``meta`` (key, value): ``format``, ``mission`` (the file), ``kind`` (python or tree), ``spec`` (the flight as
-  asked, JSON), ``tree_shape`` (a tree's nodes, JSON), ``created`` (wall time).
+  asked, JSON), ``log`` (what the event log's first line says), ``tree_shape`` (a tree's nodes, JSON).
 - ``segments``: one row per process that flew the run: ``started_wall``, ``started_at``, ``live_at`` (when its
   mission went live, after the replay and the rejoin; NULL: never), and, once it ended, ``ended_at``, ``status``
   (completed, suspended, failed...), ``exit_status``, ``reasons`` (JSON). A crash leaves them NULL.
