@@ -145,8 +145,6 @@ class FlightSession:
         if self._cancel.is_set():
             raise FlightError(f"{spec.name}: the start was aborted (aeroexec ctl abort)")
         self.engine = self._engine(choice, simulated, start)
-        if self.resumption is not None:
-            self.resumption.restore_beliefs(self.engine)
         if spec.fleet is not None or self.fleet_node is not None:
             self._join_fleet()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
@@ -164,6 +162,8 @@ class FlightSession:
             raise FlightError(f"the event log {log_path} cannot be written: {error.strerror or error}",
                               usage=True) from None
         self.notify(f"event log: {log_path}")
+        if self.resumption is not None:  # once the logs listen: the resumed part says what it holds
+            self.resumption.restore_beliefs(self.engine)
         self.engine.log.subscribe(self._warn_of_early_link_loss)
         if self.control is not None:
             self.control.attach(self.engine)

@@ -11,16 +11,18 @@ drone moves.
 from __future__ import annotations
 
 import dataclasses
+import json
 import logging
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from aeroexec.beliefs import parse_belief
 from aeroexec.engine.api import list_to_tuple
 from aeroexec.engine.errors import RequestRejected
 from aeroexec.engine.events import Outcome, achieved_goal_message
 from aeroexec.engine.missions.replay import MissionRecorder, location
-from aeroexec.engine.missions.values import canonical
+from aeroexec.engine.missions.values import canonical, decode
 from aeroexec.flight.flight_log import plain
 from aeroexec.flight.journal.rejoin import FLYING, Rejoin
 from aeroexec.flight.journal.resume_point import ResumePoint, behavior_of
@@ -77,18 +79,34 @@ class Resumption:
               flying=crashed and drone.get("landed_state") in FLYING, battery_percent=battery)
 
     def restore_beliefs(self, engine: Any) -> None:
-        """The beliefs held when the mission stopped, each persistent one with what was left of its lifetime."""
+        """The beliefs held when the mission stopped, each persistent one with what was left of its lifetime; a
+        predicate the mission declared by adding it (``add_belief``) is declared again as it was."""
         self.engine = engine
         now = engine.now()
         memory = engine.memory
+        multivalued = self._declared()
         for text, expires_at in self.point.beliefs:
             remaining = None if expires_at is None else expires_at - now
             if remaining is not None and remaining <= 0:
                 continue
             try:
-                memory.restore(text, remaining)
-            except Exception as error:  # a predicate this flight does not declare: said, the rest goes on
+                belief = parse_belief(text)
+                if not memory.accepts(belief.name):
+                    memory.declare(belief.name, len(belief.args), multivalued=multivalued.get(belief.name, False))
+                memory.restore(belief, remaining)
+            except Exception as error:  # a belief this flight cannot hold: said, the rest goes on
                 logger.warning("the belief %s is not restored: %s", text, error)
+
+    def _declared(self) -> dict[str, bool]:
+        """The predicates the Python mission declared by adding beliefs of them: name -> multivalued."""
+        found: dict[str, bool] = {}
+        for call in self.point.calls:
+            if call.function == "add_belief":
+                args, kwargs = decode(json.loads(call.arguments))
+                text = str(args[0] if args else kwargs.get("belief", ""))
+                found[text.split("(", 1)[0].strip()] = bool(kwargs.get("multivalued", args[1] if len(args) > 1
+                                                                        else False))
+        return found
 
     def restore_tree(self, tree: Any, mission: Any = "the mission") -> None:
         """Put the tree's kept state back (FlightError when ``mission``'s tree is not the one interrupted); the

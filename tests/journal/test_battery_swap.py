@@ -115,3 +115,37 @@ def test_the_console_suspends_as_ctl_does(tmp_path):
     assert stop["kind"] == "mission_suspended" and "web console" not in stop["reason"]
     _, finished = resume(folder)
     assert finished.exit_status == 0, finished.status
+
+
+def test_a_resumed_run_stopped_again_resumes_again_with_what_it_held(tmp_path):
+    """Suspended twice (ctl suspend), resumed twice: the beliefs and the background behaviors the first part had
+    come back in the third, and the survey ends with every goal once."""
+    folder = tmp_path / "run"
+    mission = tmp_path / "survey.py"
+    mission.write_text("import aeroexec.engine.api as api\n\ndef mission():\n"
+                       "    api.execute_behavior('TAKE_OFF', altitude=3)\n"
+                       "    api.add_belief('surveyed(north)')\n"
+                       "    api.activate_behavior('PAY_ATTENTION_TO_VISUAL_MARKERS')\n"
+                       "    for corner in [(0, -12, 3), (8, -12, 3), (8, -16, 3), (0, -16, 3)]:\n"
+                       "        api.execute_behavior('GO_TO_POINT', coordinates=corner)\n"
+                       "    assert api.true_belief('surveyed(north)')\n"
+                       "    api.execute_behavior('LAND')\n")
+    for leg in (1, 2):
+        run = fly_until(spec(mission, folder) if leg == 1 else _resumed(folder), active("GO_TO_POINT", 1.0))
+        run.engine.supervisor.submit("suspend", origin="ctl")
+        assert _finish(run).exit_status == 5
+        if leg == 2:
+            assert run.engine.memory.holds("surveyed(north)")
+            assert "PAY_ATTENTION_TO_VISUAL_MARKERS" in [e.behavior for e in run.engine.log.events("activated")]
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    assert [b for b, _ in achieved(folder)] == ["TAKE_OFF", "GO_TO_POINT", "GO_TO_POINT", "GO_TO_POINT", "GO_TO_POINT",
+                                                "LAND"]
+
+
+def _resumed(folder):
+    from dataclasses import replace
+
+    from aeroexec.flight.journal import resume_spec
+
+    return replace(resume_spec(folder), register=False)
