@@ -180,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
                   file=sys.stderr)
             return 130
-        say(f"commands: aeroexec ctl pause|resume|abort|inhibit|answer|add|remove|status (this run: "
+        say(f"commands: aeroexec ctl pause|resume|abort|suspend|inhibit|answer|add|remove|status (this run: "
             f"--run {session.folder})")
         with contextlib.ExitStack() as output:
             if live:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -311,7 +311,10 @@ class FlightSession:
         engine = self.engine
         status = RunStatus(FAILED, faults) if faults else run_status(engine.log.events())
         if status.word == SUSPENDED and self.tree is not None:
-            left, total = goals_left(self.tree, self.catalog)
+            reached = {e.data.get("uid") for e in engine.log.events("node_status") if e.data.get("new") == "SUCCESS"}
+            if self.resumption is not None:
+                reached |= self.resumption.reached
+            left, total = goals_left(self.tree, self.catalog, reached)
             status = RunStatus(SUSPENDED, [f"{status.reasons[0]}; {left} of {total} goals not reached"])
         self._tell_fleet("failed" if status.word == FAILED else
                          "completed" if status.exit_status in (0, 3) else "stopped")
@@ -360,10 +363,11 @@ class FlightSession:
             _quietly(self.robot.close)
 
 
-def goals_left(tree: Any, catalog: Any) -> tuple[int, int]:
-    """How many of a tree's behavior leaves did not reach their goal, of how many."""
-    leaves = [node for _, node in tree.nodes if _behavior_of(node) in catalog]
-    done = sum(node.status.name == "SUCCESS" for node in leaves)
+def goals_left(tree: Any, catalog: Any, reached: Collection[int] = ()) -> tuple[int, int]:
+    """How many of a tree's behavior leaves did not reach their goal, of how many (``reached``: the places, from 1,
+    of the nodes that succeeded before, though a halt has reset them since)."""
+    leaves = [(uid, node) for uid, (_, node) in enumerate(tree.nodes, 1) if _behavior_of(node) in catalog]
+    done = sum(node.status.name == "SUCCESS" or uid in reached for uid, node in leaves)
     return len(leaves) - done, len(leaves)
 
 

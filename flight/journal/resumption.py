@@ -57,6 +57,7 @@ class Resumption:
         self.under_way: dict[str, dict[str, Any]] = {}
         self.settled: dict[str, tuple[str, Any]] = dict(point.settled)
         self._answer: Any = None  # what the Python mission's call under way is answered with, when settled
+        self.reached: set[int] = set()  # the tree's nodes (places from 1) that had succeeded before the resume
 
     @property
     def supersede_from(self) -> int | None:
@@ -117,6 +118,7 @@ class Resumption:
         self.tree = tree
         try:
             restore_mission(tree, TreeState.from_json(self.point.tree or "", self.point.meta.get("tree_shape")))
+            self.reached = {uid for uid, (_, node) in enumerate(tree.nodes, 1) if node.status.name == "SUCCESS"}
         except (TreeStateError, ValueError) as error:
             raise FlightError(f"{mission}: it is not the tree the interrupted run flew ({error}); run it from the "
                               f"start, or resume with the mission as it was") from None
