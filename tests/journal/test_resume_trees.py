@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from aeroexec.flight.journal import Journal
 from journeys import (
     MISSIONS,
     achieved,
@@ -73,3 +74,33 @@ def test_the_resumed_tree_goes_on_from_its_blackboard_and_memory(whole, tmp_path
              if activation.get("source") == "mission"]
     assert flown == [(3, 3, 2), (0, 0, 2)]  # the second leg and the way home; not the first leg again
     assert session.tree.blackboard["legs"] == 2
+
+
+ROUNDS = """<root BTCPP_format="4" main_tree_to_execute="Rounds"><BehaviorTree ID="Rounds"><Sequence>
+  <TAKE_OFF ALTITUDE="3"/>
+  <Repeat num_cycles="2"><Sequence>
+    <GO_TO_POINT COORDINATES="0, -12, 3"/><TAKE_PHOTO/><BROADCAST_MESSAGE MESSAGE="corner 1"/>
+    <GO_TO_POINT COORDINATES="8, -12, 3"/><TAKE_PHOTO/><BROADCAST_MESSAGE MESSAGE="corner 2"/>
+  </Sequence></Repeat>
+  <GO_TO_POINT COORDINATES="0, 0, 3"/><LAND/>
+</Sequence></BehaviorTree></root>"""
+
+
+@pytest.mark.parametrize("point", [goals_after(3, "TAKE_PHOTO"), goals_after(2, "BROADCAST_MESSAGE"),
+                                   goals_after(7)], ids=["after-a-photo", "after-a-broadcast", "second-round"])
+def test_photos_and_broadcasts_are_not_done_twice(tmp_path, point):
+    mission = tmp_path / "rounds.xml"
+    mission.write_text(ROUNDS)
+    whole = tmp_path / "whole"
+    _, outcome = fly(spec(mission, whole))
+    assert outcome.exit_status == 0
+    folder = tmp_path / "run"
+    crash(fly_until(spec(mission, folder), point))
+    _, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    check_resumed(folder, whole)
+    assert photos(folder) == photos(whole) == 4
+    with Journal(folder) as journal, Journal(whole) as once:
+        sent = [r["detail"] for r in journal.rows("SELECT detail FROM events WHERE kind = 'message_sent'")]
+        expected = [r["detail"] for r in once.rows("SELECT detail FROM events WHERE kind = 'message_sent'")]
+    assert sent == expected and len(sent) == 4  # the Repeat's count came back: two rounds, not three
