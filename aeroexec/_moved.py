@@ -9,7 +9,6 @@ naming it. Nothing here imports the new modules until an old name is used.
 from __future__ import annotations
 
 import importlib
-import importlib.abc
 import importlib.machinery
 import sys
 import types
@@ -47,7 +46,7 @@ MOVED = {
 }
 
 
-class _Forward(importlib.abc.Loader):
+class _Forward:  # an importlib.abc.Loader by its methods: importlib.abc costs every command ~5 ms to import
     def __init__(self, new: str) -> None:
         self.new = new
 
@@ -68,7 +67,7 @@ class _Forward(importlib.abc.Loader):
         """Nothing to run: every name is read from the new module."""
 
 
-class _MovedFinder(importlib.abc.MetaPathFinder):
+class _MovedFinder:  # an importlib.abc.MetaPathFinder by its method
     def find_spec(self, name: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
         new = MOVED.get(name)
         return importlib.machinery.ModuleSpec(name, _Forward(new)) if new else None

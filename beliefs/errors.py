@@ -36,3 +36,31 @@ class UnknownPredicateError(BeliefError):
             message += f" ({detail})"
         super().__init__(message, expression)
         self.predicate = predicate
+
+
+class RuleProblem:
+    """One mistake in a rule, with where it was written (``file:line``, or the column in a one-line text)."""
+
+    __slots__ = ("column", "file", "line", "message")
+
+    def __init__(self, message: str, file: str = "", line: int = 0, column: int | None = None) -> None:
+        self.message, self.file, self.line, self.column = message, file, line, column
+
+    def __str__(self) -> str:
+        where = self.file or "<rules>"
+        if self.line:
+            where += f":{self.line}"
+            if self.column:
+                where += f":{self.column}"
+        return f"{where}: {self.message}"
+
+    def __repr__(self) -> str:
+        return f"RuleProblem({self})"
+
+
+class RuleError(BeliefError):
+    """Rules the memory cannot take; ``problems`` lists each one with its file and line."""
+
+    def __init__(self, problems: list[RuleProblem]) -> None:
+        self.problems = list(problems)
+        super().__init__("\n".join(str(p) for p in self.problems))

@@ -81,6 +81,28 @@ class Conjunction:
         return tuple(seen)
 
 
+@dataclass(frozen=True, slots=True)
+class Rule:
+    """A Horn clause ``head :- body.``: the head holds for every unification of the body; without a body, a
+    fact. ``file`` and ``line`` say where it was written."""
+
+    head: Struct
+    body: Conjunction
+    file: str = field(default="", compare=False)
+    line: int = field(default=0, compare=False)
+
+    def __str__(self) -> str:
+        if not self.body.literals:
+            return f"{format_term(self.head)}."
+        return f"{format_term(self.head)} :- {self.body}."
+
+    @property
+    def where(self) -> str:
+        """``file:line`` (or what is known of it)."""
+        where = self.file or "<rules>"
+        return f"{where}:{self.line}" if self.line else where
+
+
 def literal_variables(lit: Literal) -> list[Var]:
     """Every variable a literal mentions, negated bodies included."""
     if type(lit) is Goal:

@@ -1,10 +1,11 @@
-"""The belief memory (paper section 5.1): add, remove and consult symbolic beliefs.
+"""The belief memory (paper section 5.1): add, remove and consult symbolic beliefs, and derive them by rules.
 
 Beliefs are ground terms such as ``charge(battery, 80)``. The memory keeps them
 consistent (adding a value of a mutually exclusive predicate retracts the old
 one), forgets beliefs whose persistence has run out, answers belief expressions
-by unification through its indexes, and tells listeners of every change. It is
-not thread-safe: the engine serializes access to it on its own loop.
+by unification through its indexes, derives beliefs by rules (``beliefs/derivation.py``),
+and tells listeners of every change. It is not thread-safe: the engine serializes
+access to it on its own loop.
 """
 
 from __future__ import annotations
@@ -13,13 +14,15 @@ import heapq
 import logging
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from dataclasses import dataclass
 from typing import Any
 
+from aeroexec.beliefs.changes import BeliefChange
+from aeroexec.beliefs.derivation import RuleBook
 from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
 from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
+from aeroexec.beliefs.reasoning import Reasoning
 from aeroexec.beliefs.relation import Relation, Relations
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
@@ -28,27 +31,9 @@ from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
 log = logging.getLogger(__name__)
 
 Expression = str | Conjunction | Struct
+__all__ = ["BeliefChange", "BeliefMemory"]
 
-
-@dataclass(frozen=True, slots=True)
-class BeliefChange:
-    """One change of the memory: ``kind`` is "added" or "removed".
-
-    ``reason`` says why: "add", "remove", "replaced" (retracted by an exclusive
-    value), "expired" (its persistence ran out) or "clear".
-    """
-
-    kind: str
-    belief: Struct
-    reason: str
-    time: float
-
-    def __str__(self) -> str:
-        sign = "+" if self.kind == "added" else "-"
-        return f"{sign}{format_term(self.belief)} ({self.reason})"
-
-
-class BeliefMemory:
+class BeliefMemory(Reasoning):
     """An indexed memory of beliefs answering belief expressions by unification.
 
     ``multivalued`` names predicates whose values are not mutually exclusive;
@@ -80,6 +65,10 @@ class BeliefMemory:
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
         self._changes = 0
+        self._rulebook: RuleBook | None = None
+        #: answer a repeated question from its last answer while the relations it reads stand (off: solve it
+        #: every time, as benchmarks do to measure solving)
+        self.standing_answers = True
 
     # -- configuration ------------------------------------------------------------
     def declare(
@@ -106,7 +95,8 @@ class BeliefMemory:
 
     def accepts(self, name: str) -> bool:
         """True when beliefs of predicate ``name`` may be stored without declaring it (declared, or no vocabulary)."""
-        return not self._vocabulary or name in self._vocabulary
+        return not self._vocabulary or name in self._vocabulary or (
+            self._rulebook is not None and any(n == name for n, _ in self._rulebook.derived))
 
     def register(self, name: str, arity: int, function: Callable, inputs: int | None = None) -> None:
         """Answer ``name/arity`` with ``function`` instead of stored beliefs.
@@ -214,6 +204,9 @@ class BeliefMemory:
 
         ``bindings`` gives values to variables before solving (``{"?Y": (1, 2, 3)}``).
         """
+        compiled = self._queries.get(expression)
+        if compiled is not None and compiled.probe is not None and not bindings and not self._heap:
+            return compiled.probe(self._relations)  # one look-up: cheaper than the standing answer's check
         answer = self._answer(expression, bindings)
         return None if answer is None else dict(answer)
 
@@ -224,7 +217,8 @@ class BeliefMemory:
         compiled = self._queries.get(expression)
         if compiled is None:
             compiled = self._compile(expression)
-        return compiled.all(self._relations, self._bind(bindings) if bindings else None)
+        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
+        return compiled.all(relations, self._bind(bindings) if bindings else None)
 
     def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
         """True when the expression has at least one unification."""
@@ -273,8 +267,16 @@ class BeliefMemory:
         return [Struct(goal.name, args) for args in rows]
 
     def beliefs(self, predicate: str | None = None) -> list[Struct]:
-        """The stored beliefs (of one predicate, if named), in a stable order."""
-        return [b for b in self if predicate is None or b.name == predicate]
+        """The beliefs (of one predicate, if named), in a stable order: those stored, and for a predicate rules
+        derive, every belief they derive (its stored ones included)."""
+        book = self._rulebook
+        derived = {s for s in book.derived if predicate in (None, s[0])} if book else set()
+        found = [b for b in self if (predicate is None or b.name == predicate)
+                 and (b.name, len(b.args)) not in derived]
+        for name, arity in sorted(derived):
+            rows = book.rows((name, arity)).rows
+            found.extend(Struct(name, args) for args in sorted(rows, key=format_term))
+        return found
 
     # -- internals ----------------------------------------------------------------
     def _answer(self, expression: Expression, bindings: Mapping[str, Any] | None) -> dict | None:
@@ -289,12 +291,12 @@ class BeliefMemory:
         compiled = self._queries.get(expression)
         if compiled is None:
             compiled = self._compile(expression)
+        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
         if bindings:
-            return compiled.first(self._relations, self._bind(bindings))
+            return compiled.first(relations, self._bind(bindings))
         reads = compiled.reads
-        if reads is None:  # a computed predicate: asked every time
-            return compiled.first(self._relations)
-        relations = self._relations
+        if reads is None or not self.standing_answers:  # a computed predicate: asked every time
+            return compiled.first(relations)
         stamp = relations.epoch
         for signature in reads:
             rel = relations.get(signature)
@@ -316,7 +318,12 @@ class BeliefMemory:
         self._check_vocabulary(conjunction)
         compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._computed)
         predicates = conjunction.predicates
-        compiled.reads = (None if any(p in self._computed for p in predicates)
+        book = self._rulebook
+        derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
+        compiled.derived = derived or None
+        if derived:
+            compiled.probe = None
+        compiled.reads = (None if any(p in self._computed or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
             self._queries.clear()
@@ -333,8 +340,11 @@ class BeliefMemory:
     def _check_vocabulary(self, conjunction: Conjunction) -> None:
         if not self._vocabulary:
             return
+        book = self._rulebook
         for name, arity in conjunction.predicates:
             if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
+                continue
+            if book is not None and book.is_derived((name, arity)):
                 continue
             declared = self._vocabulary.get(name)
             if declared is None:

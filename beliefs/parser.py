@@ -6,16 +6,25 @@ import re
 import threading
 from functools import lru_cache
 from importlib import resources
+from pathlib import Path
 
-from aeroexec.beliefs.errors import BeliefSyntaxError
-from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation
+from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem
+from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation, Rule
 from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground, unquote
-from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
+from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, v_args
 from lark.exceptions import UnexpectedToken, VisitError
 
-from aeroexec.limits import MAX_LITERALS, MAX_NUMBER_LENGTH, MAX_TERM_DEPTH, nesting_beyond
+from aeroexec.limits import (
+    MAX_LITERALS,
+    MAX_NUMBER_LENGTH,
+    MAX_TERM_DEPTH,
+    InputError,
+    line_of_offset,
+    nesting_beyond,
+    read_text,
+)
 
-__all__ = ["parse_belief", "parse_expression", "parse_term"]
+__all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term", "read_rules"]
 
 #: Longest expression accepted; longer text is refused before parsing.
 MAX_EXPRESSION_LENGTH = 200_000
@@ -31,6 +40,9 @@ _TERMINAL_NAMES = {
     "LSQB": "'['",
     "RSQB": "']'",
     "COMMA": "','",
+    "DOT": "'.'",
+    "__ANON_0": "':-'",
+    "IF": "':-'",
     "$END": "the end of the expression",
 }
 
@@ -94,6 +106,96 @@ def _as_literal(item):
     if type(item) is str:  # a proposition such as `hovering`
         return Goal(Struct(item, ()))
     raise _Invalid(f"{format_term(item)} is not a predicate")
+
+
+class _BuildRules(_Build):
+    """Turns a rules text's parse tree into :class:`Rule` records with their lines (facts: rules without a body)."""
+
+    def __init__(self, file: str, first_line: int) -> None:
+        super().__init__()
+        self.file, self.offset = file, first_line - 1
+
+    def program(self, items):
+        return items
+
+    @v_args(meta=True)
+    def rule(self, meta, items):
+        head, *body = items
+        literals = tuple(_as_literal(b) for b in body)
+        if len(literals) > MAX_LITERALS:
+            raise _Invalid(f"{len(literals)} literals is more than the limit of {MAX_LITERALS} in one rule")
+        return Rule(_head(head), Conjunction(literals), self.file, meta.line + self.offset)
+
+    @v_args(meta=True)
+    def fact(self, meta, items):
+        return Rule(_head(items[0]), Conjunction(()), self.file, meta.line + self.offset)
+
+
+def _head(item) -> Struct:
+    if type(item) is str:
+        return Struct(item, ())
+    if type(item) is not Struct:
+        raise _Invalid(f"the head of a rule is a predicate such as safe_zone(?Z), not {item}")
+    return item
+
+
+@lru_cache(maxsize=1)
+def _rules_parser() -> Lark:
+    grammar = resources.files("aeroexec.grammar").joinpath("beliefs.lark").read_text()
+    return Lark(grammar, parser="lalr", start="program", propagate_positions=True, maybe_placeholders=True)
+
+
+def parse_rules(text: str, file: str = "", first_line: int = 1) -> list[Rule]:
+    """Parse rules and facts (``head :- body.``, ``fact.``); raises :class:`RuleError` with the line of a mistake.
+
+    ``first_line`` is the line ``text`` starts at in ``file`` (rules inside a catalog).
+    """
+    def refused(message: str, line: int = 0, column: int | None = None) -> RuleError:
+        return RuleError([RuleProblem(message, file, line + first_line - 1 if line else 0, column)])
+
+    if not isinstance(text, str):
+        raise refused("rules are text")
+    if len(text) > MAX_EXPRESSION_LENGTH * 10:
+        raise refused(f"{len(text)} characters is longer than {MAX_EXPRESSION_LENGTH * 10}")
+    deep = nesting_beyond(text, MAX_TERM_DEPTH)
+    if deep is not None:
+        line = line_of_offset(text, deep)
+        raise refused(f"the rule is nested more than {MAX_TERM_DEPTH} levels deep", line,
+                      deep - text.rfind("\n", 0, deep))
+    try:
+        tree = _rules_parser().parse(text)
+        return _BuildRules(file, first_line).transform(tree)
+    except UnexpectedInput as exc:
+        detail = _syntax_error(text, exc).detail.replace("the expression ends", "the rules end")
+        clause = _clause_at(text, getattr(exc, "pos_in_stream", None))
+        raise refused(f"The format of the rule {clause} is not correct ({detail})", exc.line, exc.column) from None
+    except VisitError as exc:
+        detail = str(exc.orig_exc) if isinstance(exc.orig_exc, _Invalid) else "not a term"
+        meta = getattr(exc.obj, "meta", None)
+        line = getattr(meta, "line", 0) if meta is not None and not getattr(meta, "empty", True) else 0
+        raise refused(f"The format of the rule is not correct ({detail})", line) from None
+    except RecursionError:
+        raise refused("the rules are nested too deeply") from None
+
+
+def read_rules(path: str | Path) -> list[Rule]:
+    """The rules and facts of a rules file (``--rules FILE``); raises :class:`RuleError` naming the file and line
+    of a mistake (a file that cannot be read, too large, not UTF-8 included)."""
+    try:
+        text = read_text(path, what="the rules file")
+    except InputError as error:
+        raise RuleError([RuleProblem(error.message, str(path), error.line)]) from None
+    return parse_rules(text, str(path))
+
+
+def _clause_at(text: str, offset: int | None) -> str:
+    """The clause around ``offset`` (from the previous full stop to the next), shortened for a message."""
+    if offset is None:
+        offset = len(text)
+    start = max(text.rfind(".\n", 0, offset), text.rfind(". ", 0, offset)) + 1
+    end = text.find(".", offset)
+    clause = " ".join(text[start: end + 1 if end >= 0 else len(text)].split())
+    return clause if len(clause) <= 120 else clause[:117] + "..."
 
 
 @lru_cache(maxsize=1)

@@ -4,7 +4,8 @@ The planner orders goals so that each step touches as few beliefs as the indexes
 predict (not left to right): filters run as soon as their variables are bound,
 and the stored goal with the smallest expected answer comes next. Plans are cached
 until some relation of the memory doubles or halves in size (the memory's epoch). Asking for every
-solution joins goals that share a single variable by intersecting cached sets.
+solution joins goals that share a single variable by intersecting cached sets at C speed, then puts
+the answers in insertion order.
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ class CompiledQuery:
         #: the stored predicates it reads (None: it reads a computed one); its last answer, and the sum of the
         #: relations' versions it was found at (the memory answers from it while that stands: ``BeliefMemory``)
         self.reads: tuple[tuple[str, int], ...] | None = None
+        self.derived: tuple[tuple[str, int], ...] | None = None  # the derived predicates it reads
         self.answer: dict | None = None
         self.stamp = -1
         self._plans: dict = {}
@@ -63,6 +65,42 @@ class CompiledQuery:
             position, var = only.simple[0]
             if position == len(only.pattern) - 1:
                 self._keyed = (only.pattern[:-1], "" if var.anonymous else var.name)
+        #: the first answer of a single stored goal, ground or asking for its value, in one look-up
+        self.probe: Callable[[dict], dict | None] | None = self._probe()
+
+    def _probe(self) -> Callable[[dict], dict | None] | None:
+        single = self._single
+        if single is None:
+            return None
+        signature = single.signature
+        if not single.simple:
+            pattern = single.pattern
+
+            def holds(relations: dict) -> dict | None:
+                rel = relations.get(signature)
+                return {} if rel is not None and pattern in rel.rows else None
+            return holds
+        if self._keyed is None:
+            return None
+        key, name = self._keyed
+        solve = self.first
+
+        def value(relations: dict) -> dict | None:
+            rel = relations.get(signature)
+            if rel is None:
+                return None
+            by_key = rel.by_key
+            if by_key is None:  # declared multivalued since
+                return solve(relations)
+            row = by_key.get(key)
+            if row is None:
+                return None
+            if not name:
+                return {}
+            found = row[-1]
+            kind = type(found)
+            return {name: found if kind is str or kind is int or kind is float else to_python(found)}
+        return value
 
     # -- planning ---------------------------------------------------------------
     def plan(self, relations: dict, bindings: dict) -> list:
@@ -111,16 +149,7 @@ class CompiledQuery:
 
     def _star(self, order: list, length: int, relations: dict, bindings: dict) -> Iterator[dict]:
         var = order[0].simple[0][1]
-        sets = []
-        for step in order[:length]:
-            rel = relations.get(step.signature)
-            if rel is None:
-                return
-            sets.append(rel.projection(step.constants, step.simple[0][0]))
-        sets.sort(key=len)
-        smallest, others = sets[0], sets[1:]
-        values = [v for v in smallest if all(v in other for other in others)]  # in insertion order
-        for value in values:
+        for value in _star_values(order, length, relations):
             extended = dict(bindings)
             extended[var] = value
             yield from _dfs(order, length, relations, extended, self.ranges)
@@ -146,7 +175,14 @@ class CompiledQuery:
 
     def all(self, relations: dict, bindings: dict | None = None) -> list[dict]:
         """Every unification, as ``{"?X": value}`` dictionaries."""
-        return [self.result(s) for s in self.solutions(relations, bindings or {})]
+        bindings = bindings or {}
+        order = self.plan(relations, bindings)
+        var = order[0].simple[0][1] if order and type(order[0]) is FactStep and order[0].simple else None
+        if var is not None and not var.anonymous and _star_length(order, bindings) == len(order) > 1 \
+                and self.names == (var,):  # goals on one variable and nothing else: the values are the answers
+            name = var.name
+            return [{name: to_python(value)} for value in _star_values(order, len(order), relations)]
+        return [self.result(s) for s in self.solutions(relations, bindings)]
 
     def result(self, solution: dict) -> dict:
         return {v.name: to_python(solution[v]) for v in self.names if v in solution}
@@ -167,6 +203,22 @@ def _dfs(order: list, i: int, relations: dict, bindings: dict, ranges: dict) -> 
         return
     for extended in step.solve(relations, bindings, ranges):
         yield from _dfs(order, i + 1, relations, extended, ranges)
+
+
+def _star_values(order: list, length: int, relations: dict) -> list:
+    """The values of the one variable the first ``length`` goals share, in insertion order: their cached value
+    sets intersected at C speed (the smallest walked), then only the answers sorted."""
+    sets = []
+    for step in order[:length]:
+        rel = relations.get(step.signature)
+        if rel is None:
+            return []
+        sets.append(rel.projection(step.constants, step.simple[0][0]))
+    sets.sort(key=len)
+    found = sets[0].keys() & sets[1].keys()
+    for other in sets[2:]:
+        found = found & other.keys()
+    return sorted(found, key=sets[0].__getitem__)
 
 
 def _star_length(order: list, bindings: dict) -> int:

@@ -9,12 +9,15 @@ A :class:`Relation` holds the argument tuples of every belief ``name(a1, ..., an
 - ``by_key``: for mutually exclusive predicates of two or more arguments, the key
   (all arguments but the last) -> the one row holding it (section 5.1);
 - ``ordered[p]``: built the first time a range is asked of position ``p``, the
-  distinct numeric values there, sorted, and kept up to date afterwards.
+  distinct numeric values there, sorted, and kept up to date afterwards;
+- ``journal``: for a relation rules read, the rows added and removed since the rules last looked
+  (:class:`Journal`), so derived beliefs follow by their differences.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
+from itertools import count
 from typing import Any
 
 from sortedcontainers import SortedList
@@ -28,16 +31,18 @@ def is_number(value: Any) -> bool:
 class Relation:
     """Indexed storage of one predicate's beliefs (a name and an arity)."""
 
-    __slots__ = ("_projections", "arity", "by_key", "by_pos", "name", "ordered", "rows", "version")
+    __slots__ = ("_projections", "arity", "by_key", "by_pos", "journal", "name", "ordered", "rows", "version")
 
-    def __init__(self, name: str, arity: int, exclusive: bool) -> None:
+    def __init__(self, name: str, arity: int, exclusive: bool, lazy: bool = False) -> None:
         self.name = name
         self.arity = arity
         self.rows: dict[tuple, None] = {}
-        self.by_pos: list[dict[Any, Any]] = [{} for _ in range(arity)]
+        # a derived relation indexes a position the first time it is asked of it (_Indexes)
+        self.by_pos: list[dict[Any, Any]] = _Indexes(self, arity) if lazy else [{} for _ in range(arity)]
         self.by_key: dict[tuple, tuple] | None = {} if exclusive and arity >= 2 else None
         self.ordered: dict[int, SortedList] = {}
         self.version = 0
+        self.journal: Journal | None = None
         self._projections: dict[tuple, tuple[int, dict]] = {}
 
     def __len__(self) -> int:
@@ -55,25 +60,43 @@ class Relation:
             by_key[key] = args
         self.rows[args] = None
         for index, value in zip(self.by_pos, args):  # noqa: B905 (a row has the arity of its relation)
-            bucket = index.get(value)
-            if bucket is None:
-                index[value] = args
-            elif type(bucket) is dict:
-                bucket[args] = None
-            else:
-                index[value] = {bucket: None, args: None}
+            _index(index, value, args)
         if self.ordered:
             for p, values in self.ordered.items():
                 value = args[p]
                 if is_number(value) and self.by_pos[p][value] is args:  # a value new here
                     values.add(value)
         self.version += 1
+        if self.journal is not None:
+            self.journal.inserted(args)
         return displaced
+
+    def insert_new(self, rows: Iterable[tuple]) -> None:
+        """Store rows known not to be stored yet, in bulk (a derived relation: neither exclusive nor journaled)."""
+        stored = self.rows
+        by_pos = self.by_pos
+        built = [(p, index) for p, index in enumerate(by_pos) if index is not None]
+        if not built and not self.ordered:
+            stored.update(dict.fromkeys(rows))
+            self.version += 1
+            return
+        for args in rows:
+            stored[args] = None
+            for p, index in built:
+                _index(index, args[p], args)
+            if self.ordered:
+                for p, values in self.ordered.items():
+                    value = args[p]
+                    if is_number(value) and by_pos[p][value] is args:
+                        values.add(value)
+        self.version += 1
 
     def delete(self, args: tuple) -> None:
         """Forget a stored row."""
         self.rows.pop(args, None)
         for p, (index, value) in enumerate(zip(self.by_pos, args)):  # noqa: B905
+            if index is None:  # not built yet (a derived relation)
+                continue
             bucket = index[value]
             if type(bucket) is dict:
                 bucket.pop(args, None)
@@ -86,6 +109,8 @@ class Relation:
         if self.by_key is not None and self.by_key.get(args[:-1]) == args:
             del self.by_key[args[:-1]]
         self.version += 1
+        if self.journal is not None:
+            self.journal.deleted(args)
 
     def bucket(self, position: int, value: Any) -> Any:
         """Rows whose argument at ``position`` equals ``value`` (may be empty)."""
@@ -124,10 +149,10 @@ class Relation:
             yield from list(self.bucket(position, value))
 
     def projection(self, constants: tuple, position: int) -> dict:
-        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs), as dict keys in
-        insertion order.
+        """The values at ``position`` of rows matching ``constants`` ((pos, value) pairs): a dict from each value
+        to its rank in insertion order.
 
-        Cached until the relation changes, so repeated joins test membership at C speed.
+        Cached until the relation changes, so repeated joins intersect at C speed and sort only the answers.
         """
         key = (constants, position)
         cached = self._projections.get(key)
@@ -138,11 +163,70 @@ class Relation:
             rows = min((self.bucket(p, v) for p, v in constants), key=len)
             if len(constants) > 1:
                 rows = [r for r in rows if all(r[p] == v for p, v in constants)]
-        values = dict.fromkeys(r[position] for r in rows)
+        values = dict(zip(dict.fromkeys(r[position] for r in rows), count()))
         if len(self._projections) > 256:
             self._projections.clear()
         self._projections[key] = (self.version, values)
         return values
+
+
+class _Indexes(list):
+    """The per-position indexes of a derived relation, each built from the rows the first time it is asked."""
+
+    __slots__ = ("relation",)
+
+    def __init__(self, relation: Relation, arity: int) -> None:
+        super().__init__([None] * arity)
+        self.relation = relation
+
+    def __getitem__(self, position):  # type: ignore[override]
+        index = list.__getitem__(self, position)
+        if index is None:
+            index = {}
+            for args in self.relation.rows:
+                _index(index, args[position], args)
+            list.__setitem__(self, position, index)
+        return index
+
+
+def _index(index: dict, value: Any, args: tuple) -> None:
+    """File ``args`` under ``value`` in a position's index (the row alone, then a dict of rows from the second)."""
+    bucket = index.get(value)
+    if bucket is None:
+        index[value] = args
+    elif type(bucket) is dict:
+        bucket[args] = None
+    else:
+        index[value] = {bucket: None, args: None}
+
+
+class Journal:
+    """The net change of a relation since it was last read: rows added and rows removed (an add then a remove
+    of one row cancel), so its size stays bounded by the relation's, however long nobody reads it."""
+
+    __slots__ = ("added", "removed")
+
+    def __init__(self) -> None:
+        self.added: dict[tuple, None] = {}
+        self.removed: dict[tuple, None] = {}
+
+    def inserted(self, args: tuple) -> None:
+        if args in self.removed:
+            del self.removed[args]
+        else:
+            self.added[args] = None
+
+    def deleted(self, args: tuple) -> None:
+        if args in self.added:
+            del self.added[args]
+        else:
+            self.removed[args] = None
+
+    def take(self) -> tuple[dict, dict]:
+        """The rows added and removed since the last ``take``."""
+        added, removed = self.added, self.removed
+        self.added, self.removed = {}, {}
+        return added, removed
 
 
 class Relations(dict):

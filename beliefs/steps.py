@@ -28,7 +28,11 @@ _NUMERIC_OPS: dict[str, Callable[[Any, Any], bool]] = {
 
 
 class FactStep:
-    """A goal answered from stored beliefs through the relation's indexes."""
+    """A goal answered from stored beliefs through the relation's indexes.
+
+    Solutions walk the index buckets themselves, not copies: the memory never changes while it answers
+    (a computed predicate that changed it would end the query with Python's "changed size during iteration").
+    """
 
     __slots__ = (
         "constants",
@@ -117,8 +121,6 @@ class FactStep:
         if rel is None:
             return
         rows = self.candidates(rel, bindings, ranges)
-        if type(rows) is dict:
-            rows = list(rows)  # the caller may change beliefs while iterating
         pattern = self.pattern
         for row in rows:
             extended = dict(bindings)
@@ -161,8 +163,6 @@ class FactStep:
                     rows = bucket
         else:
             rows = self.candidates(rel, bindings, ranges)
-        if type(rows) is dict:
-            rows = list(rows)  # the caller may change beliefs while iterating
         if len(free) == 1:
             position, var = free[0]
             for row in rows:

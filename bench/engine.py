@@ -1,13 +1,13 @@
-"""Engine speed: CLI start-up, engine step CPU, the longest engine step of every mission, planning off the loop, and
-tree ticks, each as a ratio to a baseline measured in the same run, with min/median over repeats.
+"""Engine speed: engine step CPU, the longest engine step of every mission, planning off the loop, and tree ticks,
+each as a ratio to a baseline measured in the same run, with min/median over repeats (the command's start-up:
+``bench/startup.py``).
 
-Run ``python bench/engine.py`` (``--repeat N``, ``--quick`` for fewer and shorter runs). Baselines: ``python -c pass``
-for the commands, a bare simulated drone's integration for the engine step, a blocking plan for the longest step of
+Run ``python bench/engine.py`` (``--repeat N``, ``--quick`` for fewer and shorter runs). Baselines: a bare simulated
+drone's integration for the engine step, a blocking plan for the longest step of
 a GO_TO_POINT to an enclosed goal, and for trees a bare py_trees tree of the same shape and plain recursion over the
 same nodes making the same belief queries. Targets (issue 19) are printed next to the figures, with ``met`` or
 ``MISSED``; the targets are absolute times on the reference machine (2 cores), so a loaded machine misses them
-where the ratios would not. Commands run with bytecode caching on (``PYTHONDONTWRITEBYTECODE`` is removed for them,
-after one warm-up run), as an installed package runs.
+where the ratios would not.
 """
 
 from __future__ import annotations
@@ -16,11 +16,7 @@ import argparse
 import contextlib
 import dataclasses
 import io
-import os
-import resource
 import statistics
-import subprocess
-import sys
 import tempfile
 import time
 from collections.abc import Callable
@@ -42,42 +38,6 @@ def line(name: str, value: str, ratio: str = "", target: str = "") -> None:
 
 def verdict(value: float, target: float) -> str:
     return f"target <= {target:g}: " + ("met" if value <= target else f"MISSED by {value / target:.1f}x")
-
-
-# -- commands ------------------------------------------------------------------------------------------------
-def timed(command: list[str], repeat: int, cwd: str) -> tuple[list[float], list[float]]:
-    """Wall times and CPU times (user + system of the process) of ``repeat`` runs after a warm-up."""
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
-    subprocess.run(command, cwd=cwd, env=env, capture_output=True)  # warm-up: bytecode written
-    walls, cpus = [], []
-    for _ in range(repeat):
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        began = time.perf_counter()
-        subprocess.run(command, cwd=cwd, env=env, capture_output=True)
-        walls.append(time.perf_counter() - began)
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpus.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
-    return walls, cpus
-
-
-def commands(repeat: int) -> None:
-    print("Commands (CPU time of the process, then wall time; ratio to `python -c pass`; on a loaded machine the "
-          "CPU time is what the command costs, the wall time what it took)")
-    aeroexec = [sys.executable, "-m", "aeroexec.cli.main"]
-    with tempfile.TemporaryDirectory() as cwd:
-        walls, cpus = timed([sys.executable, "-c", "pass"], repeat, cwd)
-        base, base_wall = spread(cpus), spread(walls)
-        line("python -c pass (baseline)", f"{base[0]:.3f} / {base[1]:.3f} s", f"wall {base_wall[1]:.3f} s")
-        cases = [("aeroexec --help", ["--help"], 0.15),
-                 ("aeroexec verify missions/figure10.xml", ["verify", str(ROOT / "missions/figure10.xml")], 0.35),
-                 ("aeroexec run missions/figure10.py --plain: start-up",
-                  ["run", str(ROOT / "missions/figure10.py"), "--plain", "--max-time", "0", "--output", "out"], 0.6)]
-        for name, args, target in cases:
-            walls, cpus = timed(aeroexec + args, repeat, cwd)
-            low, mid = spread(cpus)
-            line(name, f"{low:.3f} / {mid:.3f} s", f"{low / base[0]:.1f}x / {mid / base[1]:.1f}x",
-                 f"wall {statistics.median(walls):.3f} s; {verdict(mid, target)}")
-    print("  (start-up: `run --max-time 0` flies nothing: imports, the catalog, the check, the engine, the log)")
 
 
 # -- engine step ---------------------------------------------------------------------------------------------
@@ -249,11 +209,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="fewer missions and shorter runs")
-    parser.add_argument("--only", choices=["commands", "step", "missions", "planning", "trees"])
+    parser.add_argument("--only", choices=["step", "missions", "planning", "trees"])
     options = parser.parse_args()
     logging_quiet()
-    parts = {"commands": lambda: commands(options.repeat),
-             "step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),
+    parts = {"step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),
              "missions": lambda: longest_steps(options.quick),
              "planning": enclosed_goal,
              "trees": lambda: tree_ticks().trees(options.repeat, options.quick)}

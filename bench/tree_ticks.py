@@ -1,6 +1,7 @@
 """Tree ticks for ``bench/engine.py --only trees``: aeroexec's tree runtime against a bare py_trees tree of the same
 shape and plain recursion over the same nodes, all three asking the belief memory the same questions.
 
+The three are measured in turn within each repeat (interleaved), so a load that comes and goes weighs on all alike.
 Two cases per size. *Standing beliefs*: every condition asks the same question and nothing changes between ticks,
 so the memory answers from its last answer (for all three alike). *Changing beliefs*: every condition asks a
 question of its own and the battery's charge changes before every tick, so every question is solved again: the
@@ -97,8 +98,11 @@ def trees(repeat: int, quick: bool) -> None:
                     tick()
                 return ticks
 
-            ours_t, py_t, plain_t = (spread(cpu_per_call(lambda f=f: run(f), repeat))
-                                     for f in (mission.tick, bare.tick_once, plain.tick))
+            times: list[list[float]] = [[], [], []]
+            for _ in range(repeat):  # interleaved: a load that comes and goes weighs on all three alike
+                for measured, f in zip(times, (mission.tick, bare.tick_once, plain.tick), strict=True):
+                    measured += cpu_per_call(lambda f=f: run(f), 1)
+            ours_t, py_t, plain_t = (spread(measured) for measured in times)
             nodes = len(mission.nodes)
             case = "changing beliefs" if changing else "standing beliefs"
             line(f"{nodes} nodes, {case}: bare py_trees", f"{py_t[1] * 1000:.2f} ms")

@@ -61,9 +61,9 @@ def predicates_listing(catalog: BehaviorCatalog) -> str:
     width = max((len(f"{p.name}/{p.arity}") for p in predicates), default=0)
     lines = [f"{catalog.source or default_catalog_path()}: {len(predicates)} predicates", ""]
     for p in predicates:
-        kind = "computed" if p.computed else "stored" + (f", forgotten after {p.persistence:g} s"
-                                                         if p.persistence is not None else "")
-        kind += ", several values" if p.multivalued else ""
+        kind = "computed" if p.computed else "derived" if p.derived else "stored" + (
+            f", forgotten after {p.persistence:g} s" if p.persistence is not None else "")
+        kind += ", several values" if p.multivalued and not p.derived else ""
         lines.append(f"{p.name + '/' + str(p.arity):<{width}}  ({kind})" + (f"  {p.description}"
                                                                              if p.description else ""))
     return "\n".join(lines)

@@ -17,20 +17,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from aeroexec.cli.report import world_of_run
     from aeroexec.console.server import ConsoleError, ConsoleServer
     from aeroexec.console.world_map import world_map
-    from aeroexec.drones.sim import WorldError, default_world, load_world
     from aeroexec.flight.replay import ReplayError, replay_of
     from aeroexec.flight.surfaces import WEB_HOST_WARNING
 
     try:
         replay = replay_of(args.run_dir)
-        world_file = args.world or replay.get("world")
-        world = load_world(world_file) if world_file else default_world()
+        world = world_of_run(replay, args.world)
+        if isinstance(world, str):
+            raise ReplayError(world)
         if args.web_host != "127.0.0.1":
             print(WEB_HOST_WARNING.format(host=args.web_host), file=sys.stderr)
         server = ConsoleServer(world=world_map(world), host=args.web_host, port=args.port, replay=replay).start()
-    except (ReplayError, WorldError, ConsoleError) as error:
+    except (ReplayError, ConsoleError) as error:
         print(error, file=sys.stderr)
         return 1
     print(f"web console: {server.url}", flush=True)

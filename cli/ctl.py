@@ -46,6 +46,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--drone", metavar="D", help="only drone D of the fleet (default: every drone)")
     parser.add_argument("--connect", action="append", metavar="ENDPOINT",
                         help="the fleet's endpoint (default: from the fleet's fleet.json)")
+    parser.add_argument("--credentials", metavar="DIR|CERT",
+                        help="the operator's identity for --fleet: a folder holding operator.pem, operator.key and "
+                             "the fleet's ca.pem, or the certificate file (default: from the fleet's fleet.json)")
     parser.add_argument("command", choices=list(COMMANDS), metavar="COMMAND",
                         help="; ".join(f"{name} {text}" for name, text in COMMANDS.items()))
     parser.add_argument("argument", nargs="*", help="the command's argument (NAME, TEXT, BELIEF or PATTERN)")
@@ -173,13 +176,18 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
 
     from aeroexec.fleet.control import FleetCommandError, command_fleet
     from aeroexec.fleet.fleet_json import TOKEN_VARIABLE, read_fleet_file
+    from aeroexec.fleet.members import operator_identity
 
     try:
-        known = {} if args.connect and (args.token or os.environ.get(TOKEN_VARIABLE)) else \
+        known = {} if args.connect and args.credentials and (args.token or os.environ.get(TOKEN_VARIABLE)) else \
             read_fleet_file(args.fleet, args.run_dir)
         token = args.token or os.environ.get(TOKEN_VARIABLE) or known.get("token", "")
+        credentials = args.credentials or known.get("credentials")
+        if not credentials:
+            raise ValueError(f"no operator credentials for fleet {args.fleet}: give --credentials DIR (the folder of "
+                             f"operator.pem, operator.key and ca.pem)")
         answers = command_fleet(args.connect or known.get("endpoints") or [], args.fleet, token, args.command,
-                                argument, drone=args.drone or "*")
+                                argument, drone=args.drone or "*", identity=operator_identity(credentials))
     except (ValueError, FleetCommandError) as error:
         print(error, file=sys.stderr)
         return 1

@@ -1,8 +1,11 @@
 """``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one process, one world, linked over Zenoh
-(a :class:`~aeroexec.flight.FleetFlight`: one flight session per drone); ``aeroexec fleet --router``: a Zenoh
-router for fleets that span processes and machines.
+(a :class:`~aeroexec.flight.FleetFlight`: one flight session per drone); ``aeroexec fleet FLEET.yaml --router``: the
+fleet's Zenoh router, for fleets that span processes and machines; ``aeroexec fleet FLEET.yaml --make-credentials
+DIR``: the fleet's CA and every identity, for several machines.
 
-The fleet's endpoint and token go to ``fleet.json`` in the output folder (``aeroexec ctl --fleet`` reads it).
+Sessions are mutual TLS with the fleet's credentials (made in the output folder when the file names none) and the
+router enforces the fleet's access rules (:mod:`aeroexec.fleet.members`). The fleet's endpoint, token and operator
+certificate go to ``fleet.json`` in the output folder (``aeroexec ctl --fleet`` reads it).
 Events print one line each, prefixed by the drone; every drone's files go to ``<output>/<drone>/``, the fleet's
 status to ``<output>/fleet_status.json``. Ctrl-C, SIGTERM, SIGHUP and the time limit land every drone. The run
 ends with one summary line per drone; exit 0 only when every drone's flight completed, else 1.
@@ -17,6 +20,7 @@ import signal
 import sys
 import threading
 from pathlib import Path
+from typing import Any
 
 from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_arguments, add_surface_arguments, say
 from aeroexec.cli.verify import add_home_argument
@@ -32,16 +36,20 @@ from aeroexec.flight.spec import FlightError, FlightSpec
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("fleet_file", nargs="?", metavar="FLEET.yaml", help="the fleet file (not with --router)")
+    parser.add_argument("fleet_file", metavar="FLEET.yaml", help="the fleet file")
     parser.epilog = "exit status: 0 when every drone's flight completed, else 1 (each drone's status is in its " \
                     "summary line and fleet_status.json: " + EXIT_HELP.removeprefix("exit status: ") + ")"
-    parser.add_argument("--router", action="store_true", help="run a Zenoh router until Ctrl-C")
+    parser.add_argument("--router", action="store_true", help="run the fleet's Zenoh router until Ctrl-C")
+    parser.add_argument("--make-credentials", metavar="DIR",
+                        help="make the fleet's CA and every identity its file names in DIR (the router's for the "
+                             "hosts of --listen), then exit")
     parser.add_argument("--listen", action="append", metavar="ENDPOINT",
                         help="where to listen (default: a free port on 127.0.0.1 for a fleet, "
-                             "tcp/127.0.0.1:7447 for --router); repeatable")
+                             "tls/127.0.0.1:7447 for --router); repeatable")
     parser.add_argument("--connect", action="append", metavar="ENDPOINT",
-                        help="join the fleet through this router instead of listening (e.g. tcp/127.0.0.1:7447); "
-                             "with --router: another machine's router to link to")
+                        help="join the fleet through its router instead of listening (e.g. tls/127.0.0.1:7447), "
+                             "with the identities the fleet file names; with --router: the fleet's router on "
+                             "another machine, to link to")
     add_pacing_arguments(parser)
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
     add_home_argument(parser)
@@ -50,45 +58,71 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from aeroexec.fleet.credentials import CredentialsError
+    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
     from aeroexec.fleet.transport import TransportError
 
     try:
-        if args.router:
-            return serve_router(args.listen or ["tcp/127.0.0.1:7447"], args.connect or [])
-        if not args.fleet_file:
-            print("aeroexec fleet: give a fleet file, or --router", file=sys.stderr)
-            return 2
+        if args.router or args.make_credentials:
+            spec = load_fleet(args.fleet_file)
+            if args.make_credentials:
+                return make_credentials(spec, args.make_credentials, args.listen or [])
+            return serve_router(spec, args.listen or ["tls/127.0.0.1:7447"], args.output, args.connect or [])
         return fly_fleet(args)
-    except TransportError as error:
+    except FleetFileError as error:
+        for problem in error.problems:
+            print(problem, file=sys.stderr)
+        return 1
+    except (TransportError, CredentialsError) as error:
         print(error, file=sys.stderr)
         return 1
 
 
-def serve_router(listen: list[str], connect: list[str]) -> int:
-    """A Zenoh router on ``listen``, linked to the routers at ``connect`` (other machines), until Ctrl-C."""
-    from aeroexec.fleet.transport import open_session
+def make_credentials(spec: Any, folder: str, listen: list[str]) -> int:
+    """The fleet's credentials in ``folder``; one line per identity."""
+    from aeroexec.fleet.credentials import LOCAL_HOSTS
+    from aeroexec.fleet.members import make_credentials as make
+    from aeroexec.fleet.transport import endpoint_host
+
+    made = make(spec, Path(folder), (*LOCAL_HOSTS, *map(endpoint_host, listen)))
+    for name, identity in made.items():
+        print(f"{name}: {identity.certificate} (key {identity.key})")
+    print(f"the fleet's CA: {Path(folder) / 'ca.pem'}; keep {Path(folder) / 'ca.key'} off the drones",
+          file=sys.stderr)
+    return 0
+
+
+def serve_router(spec: Any, listen: list[str], output: str | None, connect: list[str]) -> int:
+    """The fleet's Zenoh router on ``listen`` (its access rules from ``spec``), linked to its routers at ``connect``
+    (other machines), until Ctrl-C."""
+    from aeroexec.fleet.members import listen as open_router
 
     stop = threading.Event()
     previous = signal.signal(signal.SIGTERM, lambda *_: stop.set())
-    session = open_session("router", listen=listen, connect=connect)
+    try:
+        folder = prepare_output(output)
+    except FlightError as error:
+        print(error, file=sys.stderr)
+        return 2
+    membership = open_router(spec, listen, folder, connect)
     try:
         linked = f", linked to {', '.join(connect)}" if connect else ""
-        print(f"zenoh router listening on {', '.join(listen)}{linked} (Ctrl-C to stop)", file=sys.stderr,
-              flush=True)
+        print(f"zenoh router of fleet {spec.name} listening on {', '.join(listen)}{linked} (Ctrl-C to stop)",
+              file=sys.stderr, flush=True)
         while not stop.wait(0.5):
             pass
     except KeyboardInterrupt:
         pass
     finally:
-        session.close()
+        membership.close()
         signal.signal(signal.SIGTERM, previous)
     return 0
 
 
 def fly_fleet(args: argparse.Namespace) -> int:
+    from aeroexec.fleet import members
     from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
-    from aeroexec.fleet.node import FleetNode
-    from aeroexec.fleet.transport import free_endpoint, open_session
+    from aeroexec.fleet.transport import free_endpoint
 
     try:
         spec = load_fleet(args.fleet_file)
@@ -98,10 +132,15 @@ def fly_fleet(args: argparse.Namespace) -> int:
         return 1
     for problem in spec.problems:
         print(problem, file=sys.stderr)
+    if not spec.flown:
+        print(f"{spec.file}: no drone has a mission: nothing flies here (run --router for a fleet flown elsewhere)",
+              file=sys.stderr)
+        return 1
     live = live_view_wanted(args)  # a person at a terminal: paced at real time unless --speed says
     watched = live or args.web is not None  # in a browser too; questions then wait for an answer
     base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
-                      catalog=args.catalog, library=tuple(args.library), processes=tuple(args.processes),
+                      catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
+                      processes=tuple(args.processes),
                       updaters=tuple(args.updater), max_time=args.max_time, home=args.home)
     with ending_signals():
         try:
@@ -111,15 +150,15 @@ def fly_fleet(args: argparse.Namespace) -> int:
             return 2
         token = spec.token or os.environ.get(TOKEN_VARIABLE) or secrets.token_hex(16)
         if args.connect:
-            session, endpoints = open_session("client", connect=args.connect), list(args.connect)
+            membership = members.connect(spec, list(args.connect))
         else:
-            endpoints = args.listen or [free_endpoint()]
-            session = open_session("router", listen=endpoints)
+            membership = members.listen(spec, args.listen or [free_endpoint("tls")], folder)
+        endpoints = membership.endpoints
         node = fleet = None
         try:
-            write_fleet_file(folder, spec.name, endpoints, token)
-            node = FleetNode(session, spec.name, token)
-            fleet = FleetFlight(node, list(spec.drones), base, output=folder, speed=args.speed or (1.0 if watched
+            write_fleet_file(folder, spec.name, endpoints, token, membership.operator)
+            node = membership.node(token)
+            fleet = FleetFlight(node, list(spec.flown), base, output=folder, speed=args.speed or (1.0 if watched
                                                                                                  else None),
                                 telemetry_rate=spec.telemetry_rate, remote_questions=args.web is not None,
                                 notify=say, report=lambda problem: print(problem, file=sys.stderr))
@@ -134,15 +173,18 @@ def fly_fleet(args: argparse.Namespace) -> int:
                 print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
                       file=sys.stderr)
                 return 130
-            say(f"fleet {spec.name}: {len(spec.drones)} drones, link on {', '.join(endpoints)}; "
-                f"token and endpoint in {folder / FLEET_FILE}")
+            elsewhere = [d.name for d in spec.drones if d.mission is None]
+            say(f"fleet {spec.name}: {len(spec.flown)} drones here"
+                + (f", {', '.join(elsewhere)} elsewhere" if elsewhere else "")
+                + f", link on {', '.join(endpoints)}; token, endpoint and operator credentials in "
+                  f"{folder / FLEET_FILE}")
             outcomes = _fly(fleet, spec.name, live, args.quiet)
         finally:
             if fleet is not None:
                 fleet.close()
             if node is not None:
                 node.close()
-            session.close()
+            membership.close()
             (folder / FLEET_FILE).unlink(missing_ok=True)
     for member in fleet.members:
         print(summary_line(member, outcomes[member.name]), file=sys.stderr)

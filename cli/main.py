@@ -14,6 +14,7 @@ import logging
 import os
 import sys
 import threading
+from typing import Any
 
 from aeroexec import __version__
 
@@ -25,6 +26,8 @@ REFUSED, USAGE, INTERNAL_ERROR = 1, 2, 70
 COMMANDS = {
     "run": ("run", "check a mission (Python, behavior tree or TML), then fly it on the simulator or a MAVSDK drone"),
     "verify": ("verify", "check missions without flying: every error with file:line"),
+    "rehearse": ("rehearse", "fly a mission many times in the simulator with wind, battery, noise and link "
+                             "variations, on every core or a Dask cluster; an HTML report"),
     "convert": ("convert", "write a mission tree (a QGroundControl .plan, YAML) as BehaviorTree.CPP v4 XML"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
@@ -36,24 +39,51 @@ COMMANDS = {
     "console": ("console", "replay a finished run in the web console (read-only, with a time slider)"),
     "journal": ("journal", "ask a run's flight journal: a behavior's requests, a belief's changes, the steps done"),
 }
+#: What needs an extra (aeroexec/extras.py): a sub-command, or an option given (by its dest) to any sub-command.
+#: Checked once the line is parsed, before anything runs, so a missing extra never stops a flight half-way.
+COMMAND_EXTRAS = {"fleet": "fleet", "console": "console", "report": "report", "rehearse": "report"}
+OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot"}
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The command line's parser. Given ``argv``, only the sub-command it names is imported (none for
     ``aeroexec --help``), so a command loads what it uses and nothing more; without, every sub-command is."""
-    parser = argparse.ArgumentParser(prog="aeroexec", description="An execution engine for aerial robot missions.",
-                                     epilog='shell completion: eval "$(register-python-argcomplete aeroexec)"')
+    parser = CommandLine(prog="aeroexec", description="An execution engine for aerial robot missions.",
+                         epilog='shell completion: eval "$(register-python-argcomplete aeroexec)"')
     parser.add_argument("--version", action="version", version=f"aeroexec {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     for name, (module_name, help_text) in COMMANDS.items():
         sub = commands.add_parser(name, help=help_text, description=help_text)
+        parser.commands[name] = sub
         if wanted is None or wanted == name:
             module = importlib.import_module(f"aeroexec.cli.{module_name}")
             module.add_arguments(sub)
-            sub.set_defaults(run=module.run)
+            sub.set_defaults(run=module.run, sub_command=name)  # ``command`` may be a sub-command's own argument
     return parser
+
+
+class CommandLine(argparse.ArgumentParser):
+    """The top-level parser: an option no parser knows is refused by its sub-command's parser (its usage, not
+    the top level's), with the closest option it does know: ``--sped 2`` -> ``did you mean --speed?``."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.commands: dict[str, argparse.ArgumentParser] = {}
+
+    def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:  # type: ignore[override]
+        parsed, unknown = self.parse_known_args(args, namespace)
+        if unknown:
+            import difflib
+
+            parser = self.commands.get(getattr(parsed, "sub_command", None) or "", self)
+            options = [o for action in parser._actions for o in action.option_strings]
+            guesses = [difflib.get_close_matches(u.split("=", 1)[0], options, n=1, cutoff=0.6)
+                       for u in unknown if u.startswith("-")]
+            hint = ", ".join(dict.fromkeys(g[0] for g in guesses if g))
+            parser.error(f"unrecognized arguments: {' '.join(unknown)}" + (f" (did you mean {hint}?)" if hint else ""))
+        return parsed
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -87,7 +117,7 @@ def _main(argv: list[str]) -> int:
         argcomplete.autocomplete(build_parser())  # answers and exits
     parser = build_parser(argv)
     args = parser.parse_args(argv)
-    quiet = logging.INFO if args.command == "sim" else logging.WARNING  # run prints events, not log lines
+    quiet = logging.INFO if getattr(args, "sub_command", None) == "sim" else logging.WARNING  # run prints events
     handler = logging.StreamHandler(sys.stderr)
     handler.setFormatter(OneLineFormatter("%(levelname)s %(name)s: %(message)s", tracebacks=args.verbose))
     logging.basicConfig(level=logging.DEBUG if args.verbose else quiet, handlers=[handler])
@@ -97,8 +127,14 @@ def _main(argv: list[str]) -> int:
         return 2
     from aeroexec.engine.errors import CatalogError
 
+    from aeroexec.extras import MissingExtra
+
     try:
+        check_extras(args)
         return int(args.run(args) or 0)
+    except MissingExtra as error:  # an optional part that is not installed: the pip line that adds it
+        print(f"aeroexec {args.sub_command}: {error}", file=sys.stderr)
+        return USAGE
     except CatalogError as error:  # a --catalog that cannot be loaded: every problem, file:line
         for problem in error.problems:
             print(problem, file=sys.stderr)
@@ -113,6 +149,17 @@ def _main(argv: list[str]) -> int:
         logging.getLogger("aeroexec").debug("internal error", exc_info=True)
         print(internal_error_message(error), file=sys.stderr)
         return INTERNAL_ERROR
+
+
+def check_extras(args: argparse.Namespace) -> None:
+    """Raise :class:`~aeroexec.extras.MissingExtra` for the first extra the command line needs that is missing."""
+    from aeroexec.extras import MissingExtra, missing
+
+    given = {dest for dest in OPTION_EXTRAS if getattr(args, dest, None) is not None}  # --web with no port is 0
+    wanted = [COMMAND_EXTRAS.get(args.sub_command), *(OPTION_EXTRAS[dest] for dest in sorted(given))]
+    for extra in dict.fromkeys(e for e in wanted if e):
+        if absent := missing(extra):
+            raise MissingExtra(extra, absent)
 
 
 class OneLineFormatter(logging.Formatter):

@@ -1,7 +1,9 @@
-"""``aeroexec report LOG``: a flight report from an event log: ``path.png`` (the path over the world, outbound and
-return legs, where each behavior started and ended), ``flight.png`` (altitude, speed and battery over time with
-the behaviors shaded and the flight state changes), ``timeline.png`` (behaviors and beliefs over time) and
-``report.html`` (a one-page summary with the images), next to the log unless ``--output DIR`` says otherwise."""
+"""``aeroexec report RUN_DIR|LOG``: a flight report from a run's event log: ``path.png`` (the path over the world,
+where behaviors started and ended), ``flight.png`` (altitude, speed and battery under the behaviors and flight
+states), ``timeline.png`` (behaviors and beliefs over time) and ``report.html`` (the page a pilot reads: a header
+with the outcome, date, version, mission, drone and seed, the images, outcomes and failures), next to the log
+unless ``--output DIR`` says otherwise. Each step is named on stderr as it starts (drawing takes seconds;
+matplotlib's first use builds its font cache)."""
 
 from __future__ import annotations
 
@@ -13,20 +15,27 @@ from typing import Any
 from aeroexec.flight.journal import read_records
 from aeroexec.flight.summary import summarize
 
+from aeroexec import __version__
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("log", help="an event log (events.jsonl in a run's output folder), or a run's journal "
-                                    "(journal.sqlite)")
+    parser.add_argument("run_dir", metavar="RUN_DIR|LOG",
+                        help="a run's output folder, its event log or its journal (journal.sqlite)")
     parser.add_argument("--world", metavar="FILE",
-                        help="the world flown in (default: the one the log names, else the built-in one)")
+                        help="the world flown in (default: the one the log names or describes, else the built-in "
+                             "one)")
     parser.add_argument("--output", metavar="DIR", help="where the report goes (default: the log's folder)")
 
 
 def run(args: argparse.Namespace) -> int:
-    from aeroexec.cli.reporting.html import write_html
-    from aeroexec.cli.reporting.render import draw_flight, draw_path, draw_timeline
+    from aeroexec.flight.replay import ReplayError, find_log
 
-    log = Path(args.log)
+    try:
+        log = find_log(args.run_dir)
+    except ReplayError as error:
+        print(error, file=sys.stderr)
+        return 1
+    step(f"reading {log}")
     try:
         records = read_records(log)
     except (OSError, UnicodeDecodeError, ValueError) as error:
@@ -36,28 +45,69 @@ def run(args: argparse.Namespace) -> int:
         print(f"{log}: the event log is empty", file=sys.stderr)
         return 1
     summary = summarize(records)
-    world = load_world_for(args.world or summary.meta.get("world"))
+    world = world_of_run(summary.meta, args.world)
     if isinstance(world, str):
         print(world, file=sys.stderr)
         return 1
     folder = Path(args.output) if args.output else log.parent
     folder.mkdir(parents=True, exist_ok=True)
-    images = {"Path flown": draw_path(summary, world, folder / "path.png"),
-              "Altitude, speed and battery": draw_flight(summary, folder / "flight.png"),
-              "Timeline": draw_timeline(summary, folder / "timeline.png")}
-    page = write_html(summary, images, folder / "report.html")
-    for written in (*images.values(), page):
+    step(f"{len(records):,} records; drawing with matplotlib")
+    from aeroexec.cli.reporting.flight_chart import flight_figure
+    from aeroexec.cli.reporting.html import Image, write_html
+    from aeroexec.cli.reporting.path_map import path_figure
+    from aeroexec.cli.reporting.style import save
+    from aeroexec.cli.reporting.timeline import timeline_figure
+
+    images = []
+    for title, draw, name in (("Path flown", lambda: path_figure(summary, world), "path.png"),
+                              ("Altitude, speed and battery", lambda: flight_figure(summary), "flight.png"),
+                              ("Timeline", lambda: timeline_figure(summary), "timeline.png")):
+        step(f"drawing {name}")
+        images.append(Image(title, folder / name, save(draw(), folder / name)))
+    page = write_html(summary, images, folder / "report.html", __version__, flown_at(summary.meta, log), log)
+    for written in (*(image.png for image in images), page):
         print(written)
+    failures = len(summary.failures)
     print(f"{summary.meta.get('mission', 'mission')}: {summary.outcome}, {summary.duration:.1f} s, "
-          f"{summary.distance:.1f} m flown, {len(summary.failures)} failures", file=sys.stderr)
+          f"{summary.distance:.1f} m flown, {failures} failure{'' if failures == 1 else 's'}", file=sys.stderr)
     return 0
 
 
-def load_world_for(name: str | None) -> Any:
-    """The world of the report (the built-in one without a name); a message (str) when it cannot be loaded."""
-    from aeroexec.drones.sim import WorldError, default_world, load_world
+def flown_at(meta: dict[str, Any], log: Path) -> str:
+    """When the run was flown: the log's wall-clock start, else (a simulated run's log carries no wall time, so
+    replays stay identical) when the log was last written."""
+    import datetime
 
+    if meta.get("wall_time"):
+        return str(meta["wall_time"]).replace("T", " ")
+    written = datetime.datetime.fromtimestamp(log.stat().st_mtime).astimezone()
+    return f"{written:%Y-%m-%d %H:%M:%S %Z} (end of the log)"
+
+
+def step(what: str) -> None:
+    """A step of the report, on stderr as it starts."""
+    print(f"report: {what} ...", file=sys.stderr, flush=True)
+
+
+def world_of_run(meta: dict[str, Any], world_file: str | None = None) -> Any:
+    """The world a run flew in, from its log's first record: ``world_file`` (``--world``) or the world file it
+    names; else the field its ``home`` and ``bounds`` describe (a world generated around a mission planned on a
+    map), the built-in world when they are the built-in world's; the built-in world for an older log of a
+    simulated run; None (no world to draw) for a vehicle flown without one. A message (str) when the file
+    cannot be loaded."""
+    from aeroexec.drones.sim import WorldError, default_world, load_world
+    from aeroexec.drones.sim.open_field import field_of
+
+    name = world_file or meta.get("world")
     try:
-        return load_world(name) if name else default_world()
-    except (WorldError, OSError) as error:
-        return f"--world {name}: {error}"
+        if name:
+            return load_world(name)
+        built_in = default_world()
+        home, bounds = meta.get("home"), meta.get("bounds")
+        if home and bounds:
+            same = [list(built_in.bounds.lower), list(built_in.bounds.upper)] == [list(b) for b in bounds] and \
+                all(abs(float(a) - float(b)) < 1e-6 for a, b in zip(home[:2], built_in.home[:2], strict=False))
+            return built_in if same else field_of(home, bounds)
+        return built_in if str(meta.get("drone", "sim")) == "sim" else None
+    except (WorldError, OSError, TypeError, ValueError) as error:
+        return f"{'--world ' if world_file else ''}{name or 'the log'}: {error}"

@@ -53,7 +53,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                                        "unless --speed says)")
     fleet.add_argument("--name", metavar="D", help="this drone's name in the fleet (with --fleet)")
     fleet.add_argument("--connect", action="append", metavar="ENDPOINT",
-                       help="the fleet's router (default tcp/127.0.0.1:7447)")
+                       help="the fleet's router (default tls/127.0.0.1:7447)")
+    fleet.add_argument("--credentials", metavar="DIR|CERT",
+                       help="this drone's identity: a folder holding D.pem, D.key and the fleet's ca.pem, or the "
+                            "certificate file (its .key and ca.pem beside it); see aeroexec fleet --make-credentials")
     fleet.add_argument("--share", action="append", default=[], metavar="PREDICATE",
                        help="share this drone's beliefs of PREDICATE with the fleet (repeatable)")
     fleet.add_argument("--token", metavar="T", help="the fleet's token for operator commands (default: "
@@ -62,12 +65,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_plugin_arguments(parser: argparse.ArgumentParser) -> None:
     """The robot kind, catalog and plugins (run, fleet)."""
-    from aeroexec.cli.verify import add_library_arguments
+    from aeroexec.cli.verify import add_library_arguments, add_safety_rules_argument
 
     parser.add_argument("--robot", default="drone", metavar="KIND",
                         help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     add_library_arguments(parser)
+    add_safety_rules_argument(parser)
     parser.add_argument("--updater", action="append", default=[], metavar="MODULE:ATTR",
                         help="belief updaters to add: a callable (drone) returning BeliefUpdaters (repeatable; "
                              "installed aeroexec.updaters entry points are always added)")
@@ -138,11 +142,12 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
     if getattr(args, "fleet", None):
         if not args.name:
             raise FlightError("--fleet needs --name D: this drone's name in the fleet", usage=True)
-        fleet = FleetJoin(args.fleet, args.name, tuple(args.connect or ()), args.token, tuple(args.share))
+        fleet = FleetJoin(args.fleet, args.name, tuple(args.connect or ()), args.token, tuple(args.share),
+                          credentials=args.credentials)
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
-                      home=args.home, catalog=args.catalog, library=tuple(args.library),
-                      processes=tuple(args.processes),
+                      home=args.home, catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
+                      processes=tuple(args.processes), safety_rules=tuple(args.safety_rules),
                       updaters=tuple(args.updater), speed=args.speed or paced, seed=args.seed, max_time=args.max_time,
                       output=args.output, log=args.log, answers=args.answers,
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),

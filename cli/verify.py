@@ -6,7 +6,7 @@ open field around it, a mission in local meters the simulator's built-in world (
 ``--home LAT,LON[,ALT]`` puts that world's home there; ``--no-world`` skips it. The whole route is estimated too
 (length, duration, battery at landing: ``trees.route``).
 ``--library module:attribute`` adds behavior implementations, so a catalog behavior with no implementation
-is reported before flight.
+is reported before flight; ``--rules FILE`` adds rules, so expressions over the predicates they derive verify.
 """
 
 from __future__ import annotations
@@ -19,10 +19,10 @@ from typing import Any
 from aeroexec.drones import geodesy
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
-from aeroexec.flight.missions import MissionFileError, check_mission
-from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.engine.robots import robot_kind_hint
+from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
+from aeroexec.flight.robot import load_world, robot_choice, with_rule_files
 from aeroexec.flight.spec import FlightError
-from aeroexec.trees.portability import portability_problems
 
 from aeroexec.limits import InputError, read_text
 
@@ -41,8 +41,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_home_argument(parser)
     add_library_arguments(parser)
+    add_safety_rules_argument(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
                         help="also an error: every construct BehaviorTree.CPP/Groot2 would refuse or read otherwise")
+
+
+def add_safety_rules_argument(parser: argparse.ArgumentParser) -> None:
+    """``--safety-rules FILE``: safety rules to watch besides the catalog's and the mission's (run and verify)."""
+    parser.add_argument("--safety-rules", action="append", default=[], metavar="FILE",
+                        help="safety rules (YAML) to check before flight and watch in flight, besides the catalog's "
+                             "and the mission's own (repeatable)")
 
 
 def parse_home(text: str) -> tuple[float, float, float | None]:
@@ -69,6 +77,9 @@ def add_library_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--processes", action="append", default=[], metavar="MODULE:ATTR",
                         help="capability processes to add: a ProcessRegistry or a mapping of names to factories "
                              "(repeatable)")
+    parser.add_argument("--rules", action="append", default=[], metavar="FILE",
+                        help="rules deriving beliefs (head :- body.), and facts, added to the catalog's "
+                             "(repeatable)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -81,11 +92,21 @@ def run(args: argparse.Namespace) -> int:
     try:  # the robot kind's world unless one is given (a world file that cannot be read is said once)
         world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
         library = choice.library() if choice.kind is not None else default_library(args.library)
+        catalog = with_rule_files(catalog, args.rules)
     except (FlightError, LibraryError) as error:
         print(error)
         return 1
     failed = False
     for name in args.missions:
+        fleet = fleet_safety_check(Path(name), catalog, args.safety_rules,
+                                   None if args.no_world else load_world(choice.world_file(args.world)))
+        if fleet is not None:  # a fleet file: its drones' routes flown together against the separation rules
+            for problem in fleet:
+                print(problem)
+            errors = sum(p.severity == "error" for p in fleet)
+            print(f"{name}: {errors} error{'s' if errors != 1 else ''}; {'will not fly' if errors else 'ready to fly'}")
+            failed = failed or errors > 0
+            continue
         try:  # each mission in its own world: a plan's open field, at --home when given
             world = None if args.no_world else load_world(choice.world_file(args.world), mission=Path(name),
                                                            home=args.home)
@@ -95,14 +116,24 @@ def run(args: argparse.Namespace) -> int:
             failed = True
             continue
         checked.problems += unimplemented(catalog, library, Path(name))
+        checked.problems += safety_check(checked, catalog, args.safety_rules)[1]
         if args.strict_btcpp and checked.tree is not None:
+            from aeroexec.trees.portability import portability_problems  # here: only --strict-btcpp needs it
+
             checked.problems += portability_problems(checked.tree, catalog)
+        elif args.strict_btcpp:  # said, not silently accepted: there is no tree to hold to BT.CPP's rules
+            checked.problems.append(Problem("warning", "--strict-btcpp checks behavior trees against "
+                                            "BehaviorTree.CPP and Groot2; a Python mission has no tree to check",
+                                            name, 0))
         for problem in checked.problems:
             print(problem)
+        if hint := robot_kind_hint(p.message for p in checked.problems):  # a rover's mission without --robot
+            print(f"{name}: hint: {hint}")
         if checked.route is not None and checked.route.length > 0:
             print(f"{name}: {checked.route.summary()}")
         errors, warnings = len(checked.errors), len(checked.problems) - len(checked.errors)
-        verdict = "ready to fly" if not errors else "will not fly"
+        verb = "fly" if choice.kind is None else "run"  # a rover does not fly
+        verdict = f"ready to {verb}" if not errors else f"will not {verb}"
         against = f" (checked against the world {world.name})" if world is not None and not errors else ""
         print(f"{name}: {errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}"
               f"; {verdict}{against}")

@@ -24,7 +24,9 @@ def world_map(world: Any) -> dict[str, Any] | None:
     if world.platform is not None:
         platform = {"name": world.platform.name, "path": [_r(p) for p in world.platform.path],
                     "radius": world.platform.deck_radius}
-    return {"name": world.name, "bounds": {"lower": _r(world.bounds.lower), "upper": _r(world.bounds.upper)},
+    home = getattr(world, "home", None)
+    return {"name": world.name, "home": [round(float(v), 7) for v in home] if home else None,
+            "bounds": {"lower": _r(world.bounds.lower), "upper": _r(world.bounds.upper)},
             "obstacles": obstacles,
             "markers": [{"id": m.id, "position": _r(m.position)} for m in world.markers],
             "objects": [{"name": o.name, "color": o.color, "shape": o.shape, "position": _r(o.position)}

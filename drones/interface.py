@@ -57,6 +57,8 @@ class Telemetry:
     flight_mode: str = "UNKNOWN"  # e.g. HOLD, TAKEOFF, LAND, OFFBOARD, RETURN, MANUAL
     link_ok: bool = True  # False once the link has been silent for too long
     home: tuple[float, float, float] | None = None  # latitude, longitude, altitude (m AMSL)
+    wind: tuple[float, float] | None = None  # m/s east, north: the wind the vehicle estimates (None: not known)
+    ground_link: bool | None = None  # the link to the ground station, when the engine flies on board (None: link_ok)
     position_accuracy: float | None = None  # m, horizontal, of the vehicle's own estimate (None: unknown or exact)
 
     @property

@@ -14,6 +14,7 @@ from __future__ import annotations
 import functools
 import itertools
 import os
+import sys
 import threading
 import traceback
 import weakref
@@ -316,6 +317,37 @@ def remove_belief(pattern: str) -> int:
     return engine.bridge.call(lambda: engine.memory.remove(pattern))
 
 
+def add_rules(rules: str) -> list[beliefs.Rule]:
+    """Add rules deriving beliefs (and facts): ``safe_zone(?Z) :- zone(?Z), not(occupied(?Z)).`` Derived
+    predicates are then asked like stored ones. Raises :class:`~aeroexec.beliefs.RuleError` naming the mission's
+    file and the line of each mistake. (Not journaled: a resumed mission adds its rules again as it replays.)"""
+    engine = _engine()
+    caller = sys._getframe(1)
+    where, line = Path(caller.f_code.co_filename).name, caller.f_lineno
+    return engine.bridge.call(lambda: engine.memory.add_rules(rules, where, line))
+
+
+@journaled
+def why(expression: str) -> str:
+    """Why a belief expression holds: the proof of its first answer, one line per rule or belief used (indented
+    under what it proves); empty when it does not hold."""
+    engine = _engine()
+
+    def proof() -> str:
+        found = engine.memory.why(expression)
+        return "\n".join(str(p) for p in found) if found else ""
+
+    return engine.bridge.call(proof)
+
+
+@journaled
+def why_not(expression: str) -> str:
+    """Why a belief expression does not hold: the goal that fails (through the rules of a derived one) and what
+    the memory holds for it; empty when it holds."""
+    engine = _engine()
+    return engine.bridge.call(lambda: "\n".join(engine.memory.why_not(expression)))
+
+
 @journaled
 def wait(seconds: float) -> None:
     """Let ``seconds`` of engine time pass (use this, not ``time.sleep``, so simulated time is respected)."""
@@ -363,7 +395,7 @@ startTask = activate_behavior
 stopTask = inhibit_behavior
 
 __all__ = [
-    "MissionAborted", "RequestRejected", "Unification", "activate_behavior", "add_belief", "ask_behavior",
+    "MissionAborted", "RequestRejected", "Unification", "activate_behavior", "add_belief", "add_rules", "ask_behavior",
     "consult_belief", "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief",
-    "run_behavior", "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait",
+    "run_behavior", "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait", "why", "why_not",
 ]

@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
-from aeroexec.beliefs import BeliefMemory, BeliefUpdater
+from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Rule
 from aeroexec.drones import Robot
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
 from aeroexec.engine.clock import Clock, SimulatedClock
@@ -28,8 +28,9 @@ from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, 
 from aeroexec.engine.execution.resources import ProcessRegistry, ResourceManager
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap, TelemetryUpdater, register_computed
 from aeroexec.engine.library import default_library, default_processes
-from aeroexec.engine.missions.bridge import DONE, MissionBridge
+from aeroexec.engine.missions.bridge import DONE, MissionBridge, MissionPreempted
 from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorker
+from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates, VehicleModel
 from aeroexec.engine.supervision.supervisor import Supervisor
 
 logger = logging.getLogger(__name__)
@@ -65,7 +66,9 @@ class Engine:
     ``telemetry`` is the updater of the robot's beliefs about itself; without it, a drone's telemetry beliefs
     (``position``, ``flight_state``, ``charge``...) are written. A robot of another kind passes its own, and
     ``described_in``: the catalog its behaviors' implementations are described in (a thin catalog takes their
-    arguments from it; default: the aerial catalog).
+    arguments from it; default: the aerial catalog). ``rules`` derive beliefs besides the catalog's own
+    ``rules:`` (``aeroexec.beliefs.read_rules(path)`` reads a rules file; ``catalog.with_rules(rules)`` is the same):
+    checked against the catalog, they raise :class:`~aeroexec.beliefs.RuleError` with each problem's file and line.
     """
 
     def __init__(self, drone: Robot, *, catalog: BehaviorCatalog | None = None,
@@ -74,7 +77,8 @@ class Engine:
                  updaters: Iterable[BeliefUpdater] = (), obstacles: ObstacleMap | None = None,
                  capability_grace: float = 2.0, belief_period: float = 0.1, operator: Any = None,
                  bus: Any = None, output_dir: str | Path | None = None,
-                 telemetry: BeliefUpdater | None = None, described_in: BehaviorCatalog | None = None) -> None:
+                 telemetry: BeliefUpdater | None = None, described_in: BehaviorCatalog | None = None,
+                 rules: Iterable[Rule] = ()) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = self.robot = drone
@@ -84,6 +88,8 @@ class Engine:
             library = default_library()
         # a thin catalog takes the library's own argument descriptions; behaviors nobody implements are marked
         self.catalog = (catalog or default_catalog()).served_by(library.names(), reference)
+        if rules:  # a rules file (--rules): checked against the catalog, RuleError with file:line
+            self.catalog = self.catalog.with_rules(rules)
         self.clock = clock or SimulatedClock()
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
@@ -95,6 +101,7 @@ class Engine:
                     self.memory.declare(name, arity)
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles,
                           self.catalog.vehicle_limits.get("max_flight_time"))
+        self.memory.add_rules(self.catalog.rules)  # derived predicates, asked like stored ones
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
                                        obstacles=obstacles, operator=operator, bus=bus,
@@ -120,6 +127,15 @@ class Engine:
         self.bridge = MissionBridge(self.clock.now, lambda: memory.changes,
                                     lambda message: self.log.record("mission_polling", detail=message))
         self.timers = Timers(self.clock.now)
+        #: The vehicle model and the predicates safety rules read (battery_to_home...); the rules' monitors.
+        self.vehicle_model = VehicleModel.of(drone)
+        self.safety_predicates = SafetyPredicates(self.memory, self.vehicle_model, self.clock.now,
+                                                  lambda: drone.telemetry().velocity)
+        self.safety_predicates.register()
+        self.log.subscribe(self._mission_clock)
+        self.safety: SafetyMonitor | None = None
+        if self.catalog.safety_rules:
+            self.safety = SafetyMonitor(self, self.catalog.safety_rules, self.vehicle_model, self.safety_predicates)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
         self.tick_callbacks: list[Callable[[], None]] = []
         #: The operator's commands (pause, resume, abort...), run on this loop's thread (engine/supervision.py).
@@ -148,6 +164,8 @@ class Engine:
                 updater.tick(self.memory, now)
             for capability, reason in self.resources.update(now):
                 self.coordinator.fail_users(capability, reason)
+            if self.safety is not None:  # before the behaviors are monitored: a contingency preempts in this tick
+                self.safety.tick(now)
             self.coordinator.tick()
             self.timers.run_due()
             if self.tick_callbacks:
@@ -156,6 +174,11 @@ class Engine:
                         callback()
                     except Exception:
                         logger.exception("a tick callback failed")
+
+    def _mission_clock(self, event: Any) -> None:
+        """``mission_time(T)`` counts from the mission's start."""
+        if event.kind == "mission_started" and self.safety_predicates.mission_started is None:
+            self.safety_predicates.mission_started = event.time
 
     def _begin(self) -> None:
         self._started = True
@@ -221,8 +244,15 @@ class Engine:
             api.bind(self)
             self.bridge.mission_started()
             try:
-                mission()
-                self.bridge.call(lambda: self.log.record("mission_completed", detail=name))
+                try:
+                    mission()
+                except MissionPreempted as preempted:  # a safety rule's contingency: one of the mission's functions
+                    handed = f"{name}: {preempted}; its contingency {preempted.function.__name__} ran"
+                    self.bridge.call(lambda: self.log.record("mission_preempted", detail=handed))
+                    preempted.function()
+                    self.bridge.call(lambda: self.log.record("mission_failed", detail=handed))
+                else:
+                    self.bridge.call(lambda: self.log.record("mission_completed", detail=name))
             except api.MissionAborted:
                 pass
             except Exception as exc:

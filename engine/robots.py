@@ -9,7 +9,8 @@ callable returning a :class:`RobotKind`), as ``examples/rover`` does.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+import re
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from pathlib import Path
@@ -67,3 +68,40 @@ def robot_kind(name: str) -> RobotKind | None:
     if not isinstance(kind, RobotKind):
         raise RobotKindError(f"--robot {name}: the plugin gives no RobotKind")
     return kind
+
+
+_UNKNOWN_BEHAVIOR = re.compile(r"The behavior (\S+) does not exist")
+
+
+def robot_kind_hint(messages: Iterable[str]) -> str | None:
+    """When behaviors a mission's check found unknown (``The behavior X does not exist``) belong to an installed
+    robot kind, as when ``--robot rover`` is forgotten: which kind, and the option to give; None otherwise."""
+    unknown = list(dict.fromkeys(m.group(1) for text in messages if (m := _UNKNOWN_BEHAVIOR.search(text))))
+    if not unknown:
+        return None
+    best, known = None, []
+    for name, behaviors in _kinds_behaviors().items():
+        knows = [b for b in unknown if b in behaviors]
+        if len(knows) > len(known):
+            best, known = name, knows
+    if best is None:
+        return None
+    what = "is a behavior" if len(known) == 1 else "are behaviors"
+    return f"{', '.join(known)} {what} of the robot kind {best}: give --robot {best}" + \
+        (" (the default)" if best == DRONE else "")
+
+
+def _kinds_behaviors() -> dict[str, set[str]]:
+    """The behaviors each installed robot kind's catalog describes (the drone's first); kinds that cannot be
+    loaded are left out."""
+    from aeroexec.engine.catalog import default_catalog, load_catalog
+    from aeroexec.engine.errors import CatalogError
+
+    kinds = {DRONE: set(default_catalog().behaviors)}
+    for name in robot_kinds():
+        try:
+            kind = robot_kind(name)
+            kinds[name] = set(load_catalog(kind.catalog).behaviors) if kind and kind.catalog else kinds[DRONE]
+        except (RobotKindError, CatalogError, OSError):
+            continue
+    return kinds

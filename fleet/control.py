@@ -1,11 +1,13 @@
 """The operator's side of a fleet: a command (pause, resume, abort, status, inhibit, answer...) sent as a Zenoh
-query on ``aeroexec/<fleet>/<drone>/command`` with the fleet's token; one answer per drone."""
+query on ``aeroexec/<fleet>/<drone>/command``, from a session with the operator's identity (the router lets only
+operators query) and with the fleet's token (the second factor); one answer per drone."""
 
 from __future__ import annotations
 
 import json
 from typing import Any
 
+from aeroexec.fleet.credentials import CredentialsError, Identity
 from aeroexec.fleet.payloads import VERSION, check_name, key
 from aeroexec.fleet.transport import TransportError, open_session
 
@@ -17,16 +19,19 @@ class FleetCommandError(RuntimeError):
 
 
 def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, argument: str = "",
-                  drone: str = "*", timeout: float = TIMEOUT) -> dict[str, dict[str, Any]]:
-    """Each answering drone's answer (``ok``, ``message`` or ``error``, ``status`` for status)."""
+                  drone: str = "*", timeout: float = TIMEOUT,
+                  identity: Identity | None = None) -> dict[str, dict[str, Any]]:
+    """Each answering drone's answer (``ok``, ``message`` or ``error``, ``status`` for status); ``identity``: the
+    operator's (None only for a fleet without credentials)."""
     check_name(fleet, "the fleet name")
     if drone != "*":
         check_name(drone, "the drone name")
     if not endpoints:
         raise FleetCommandError("no endpoint for the fleet: give --connect ENDPOINT")
     try:
-        session = open_session("client", connect=endpoints)
-    except TransportError as error:
+        session = open_session("client", connect=endpoints,
+                               identity=identity.read(fleet) if identity is not None else None)
+    except (TransportError, CredentialsError) as error:
         raise FleetCommandError(str(error)) from None
     answers: dict[str, dict[str, Any]] = {}
     try:
@@ -35,7 +40,7 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
             sample = reply.ok if reply.ok is not None else reply.err
             try:
                 answer = json.loads(bytes(sample.payload))
-            except (ValueError, UnicodeDecodeError):
+            except (ValueError, UnicodeDecodeError, RecursionError):
                 text = bytes(sample.payload).decode(errors="replace")
                 if text == "Timeout":
                     continue

@@ -1,14 +1,21 @@
-"""The fleet file: the fleet's name, its world, and each drone's name, mission, home, seed and shared predicates.
+"""The fleet file: the fleet's name, its world, its credentials, and each drone's name, mission, home, seed, shared
+predicates and identity.
 
 ```yaml
 fleet: survey
 world: default          # or a world file
 share: [object, code]   # shared by every drone (each drone may add its own)
+credentials: creds      # the fleet's credentials (aeroexec fleet FILE --make-credentials creds); default: made anew
+operators: [operator]   # the operators' identities (creds/operator.pem...), who may command the drones
 drones:
   - {name: d1, mission: missions/figure10.py, home: [0, 0]}
   - {name: d2, mission: missions/square_patrol.yaml, home: [3, 0], seed: 2, share: [position]}
+  - {name: d3, certificate: /etc/aeroexec/d3.pem, key: /etc/aeroexec/d3.key}   # no mission: it flies elsewhere
 ```
-Paths are read from the fleet file's folder, else from the current one. Every problem names file and line.
+A drone's identity is its certificate (default ``<credentials>/<name>.pem``, its key beside it as ``.key``); drones
+naming one certificate speak with one identity (a process hosting them all). A drone without a mission is a member
+that flies in another process or machine. Paths are read from the fleet file's folder, else from the current one
+(credentials: from the fleet file's folder). Every problem names file and line.
 """
 
 from __future__ import annotations
@@ -18,20 +25,25 @@ from pathlib import Path
 
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.yaml_nodes import NodeReader, line_of
-from aeroexec.fleet.payloads import NAME
+from aeroexec.fleet.access import Roster
+from aeroexec.fleet.credentials import CA_CERTIFICATE, OPERATOR, ROUTER, Identity, common_name
+from aeroexec.fleet.payloads import NAME_RULE, is_name
 
-TOP = ("fleet", "world", "share", "drones", "token", "telemetry_rate")
-DRONE = ("name", "mission", "home", "seed", "share")
+TOP = ("fleet", "world", "share", "drones", "token", "telemetry_rate", "credentials", "operators")
+DRONE = ("name", "mission", "home", "seed", "share", "certificate", "key")
+RESERVED = ("ca", ROUTER)  # names of the fleet's own credential files
 
 
 @dataclass(frozen=True)
 class DroneSpec:
     name: str
-    mission: Path
+    mission: Path | None  # None: the drone flies elsewhere
     home: tuple[float, float] = (0.0, 0.0)
     seed: int = 0
     share: tuple[str, ...] = ()
     line: int = 0
+    certificate: Path | None = None  # its identity's certificate; None: <credentials>/<name>.pem
+    key: Path | None = None
 
 
 @dataclass(frozen=True)
@@ -43,6 +55,35 @@ class FleetSpec:
     telemetry_rate: float = 5.0
     file: str = ""
     problems: tuple[Problem, ...] = field(default=())
+    credentials: Path | None = None  # the folder of the fleet's credentials; None: made for each run
+    operators: tuple[str, ...] = (OPERATOR,)
+
+    @property
+    def flown(self) -> tuple[DroneSpec, ...]:
+        """The drones with a mission: those a process running this file flies."""
+        return tuple(d for d in self.drones if d.mission is not None)
+
+    def identity_name(self, drone: DroneSpec) -> str:
+        """The name of the identity ``drone`` speaks with: its certificate's file name without the suffix."""
+        return drone.certificate.stem if drone.certificate is not None else drone.name
+
+    def identity(self, drone: DroneSpec, folder: Path | None = None) -> Identity | None:
+        """Where ``drone``'s identity is (in ``folder``, else the file's credentials, unless it names its
+        certificate); None if nowhere."""
+        folder = folder or self.credentials
+        if drone.certificate is None:
+            return Identity.at(folder, drone.name) if folder is not None else None
+        ca = folder / CA_CERTIFICATE if folder is not None else drone.certificate.parent / CA_CERTIFICATE
+        return Identity(drone.certificate, drone.key or drone.certificate.with_suffix(".key"), ca)
+
+    def roster(self) -> Roster:
+        """Who speaks for which drone, who may command, and what each drone shares."""
+        speakers: dict[str, list[str]] = {}
+        for drone in self.drones:
+            speakers.setdefault(common_name(self.identity_name(drone), self.name), []).append(drone.name)
+        return Roster(self.name, {k: tuple(v) for k, v in speakers.items()},
+                      tuple(common_name(o, self.name) for o in self.operators), {d.name: d.share for d in self.drones},
+                      (common_name(ROUTER, self.name),))
 
 
 class FleetFileError(ValueError):
@@ -70,6 +111,8 @@ def load_fleet(path: str | Path) -> FleetSpec:
             world = _path(r, path, text, top["world"][1], "the world file")
     common = _names(r, top["share"][1], "share") if "share" in top else ()
     token = r.text(top["token"][1], "token") if "token" in top else None
+    credentials = _place(path, r.text(top["credentials"][1], "credentials")) if "credentials" in top else None
+    operators = tuple(_checked_names(r, top["operators"][1], "operators")) if "operators" in top else (OPERATOR,)
     rate = r.number(top["telemetry_rate"][1], "telemetry_rate", positive=True) if "telemetry_rate" in top else 5.0
     drones: list[DroneSpec] = []
     if "drones" not in top:
@@ -80,9 +123,14 @@ def load_fleet(path: str | Path) -> FleetSpec:
             drones.append(drone)
     if "drones" in top and not drones and not r.failed:
         r.error(top["drones"][0], "the fleet has no drones")
+    for drone in drones:
+        if drone.name in operators:
+            r.error_at(drone.line, f"the drone {drone.name} has the name of an operator (operators:): an identity "
+                                   f"is one or the other")
     if r.failed:
         raise FleetFileError(r.problems)
-    return FleetSpec(name or "fleet", tuple(drones), world, token, rate or 5.0, str(path), tuple(r.problems))
+    return FleetSpec(name or "fleet", tuple(drones), world, token, rate or 5.0, str(path), tuple(r.problems),
+                     credentials, operators)
 
 
 def _drone(r: NodeReader, path: Path, node, common: tuple[str, ...], earlier: list[DroneSpec]) -> DroneSpec | None:
@@ -94,10 +142,8 @@ def _drone(r: NodeReader, path: Path, node, common: tuple[str, ...], earlier: li
     if name and any(d.name == name for d in earlier):
         first = next(d for d in earlier if d.name == name)
         r.error(entries["name"][1], f"two drones are called {name} (the first at line {first.line})")
-    if "mission" not in entries:
-        r.error(node, f"the drone {name or '?'} has no mission: give mission: FILE")
-        mission = None
-    else:
+    mission = None
+    if "mission" in entries:
         text = r.text(entries["mission"][1], "mission")
         mission = _path(r, path, text, entries["mission"][1], "the mission") if text else None
     home = (0.0, 0.0)
@@ -111,9 +157,18 @@ def _drone(r: NodeReader, path: Path, node, common: tuple[str, ...], earlier: li
     seed = r.integer(entries["seed"][1], "seed") if "seed" in entries else len(earlier)
     share = common + tuple(p for p in (_names(r, entries["share"][1], "share") if "share" in entries else ())
                            if p not in common)
-    if r.failed and not failed or not name or mission is None:
+    if name in RESERVED:
+        r.error(entries["name"][1], f"the drone name {name} is reserved for the fleet's credentials ({name}.pem)")
+    certificate = _place(path, r.text(entries["certificate"][1], "certificate")) if "certificate" in entries else None
+    key = _place(path, r.text(entries["key"][1], "key")) if "key" in entries else None
+    if key is not None and certificate is None:
+        r.error(entries["key"][1], f"the drone {name or '?'} names a key without its certificate: give certificate:")
+    if certificate is not None and (not is_name(certificate.stem) or certificate.stem in RESERVED):
+        r.error(entries["certificate"][1], f"the certificate's file name {certificate.stem!r} names its identity: it "
+                                           f"{NAME_RULE}, and is not {' or '.join(RESERVED)}")
+    if r.failed and not failed or not name or "mission" in entries and mission is None:
         return None
-    return DroneSpec(name, mission, home, seed or 0, share, line_of(node))
+    return DroneSpec(name, mission, home, seed or 0, share, line_of(node), certificate, key)
 
 
 def _name(r: NodeReader, entry, node, what: str) -> str | None:
@@ -121,9 +176,8 @@ def _name(r: NodeReader, entry, node, what: str) -> str | None:
         r.error(node, f"{what} is missing")
         return None
     text = r.text(entry[1], what)
-    if text is not None and (not NAME.match(text) or text == "self"):
-        r.error(entry[1], f"{what} {text!r} must start with a letter and hold only letters, digits and _, "
-                          f"and cannot be self")
+    if text is not None and not is_name(text):
+        r.error(entry[1], f"{what} {text!r} {NAME_RULE}")
         return None
     return text
 
@@ -132,9 +186,28 @@ def _names(r: NodeReader, node, what: str) -> tuple[str, ...]:
     return tuple(name for name, _ in r.names(node, what))
 
 
+def _checked_names(r: NodeReader, node, what: str) -> list[str]:
+    names = []
+    for name, item in r.names(node, what):
+        if not is_name(name) or name in RESERVED:
+            r.error(item, f"{what}: {name!r} {NAME_RULE}, and is not {' or '.join(RESERVED)}")
+        else:
+            names.append(name)
+    return names
+
+
+def _place(fleet_file: Path, text: str | None) -> Path | None:
+    """A path the fleet file names, from the fleet file's folder (it need not exist yet)."""
+    return None if not text else fleet_file.parent / text
+
+
 def _path(r: NodeReader, fleet_file: Path, text: str, node, what: str) -> Path | None:
     for candidate in (fleet_file.parent / text, Path(text)):
-        if candidate.is_file():
-            return candidate
+        try:
+            if candidate.is_file():
+                return candidate
+        except (OSError, ValueError) as error:  # a name too long, a NUL byte...
+            r.error(node, f"{what} {text[:200]} cannot be a file: {getattr(error, 'strerror', None) or error}")
+            return None
     r.error(node, f"{what} {text} is not found (next to the fleet file, nor from the current folder)")
     return None

@@ -1,4 +1,5 @@
-"""``fleet.json`` in a fleet run's output folder: the fleet's name, endpoints and token, for ``aeroexec ctl``."""
+"""``fleet.json`` in a fleet run's output folder: the fleet's name, endpoints, token and the operator's certificate,
+for ``aeroexec ctl``."""
 
 from __future__ import annotations
 
@@ -13,12 +14,17 @@ FLEET_FILE = "fleet.json"
 TOKEN_VARIABLE = "AEROEXEC_FLEET_TOKEN"
 
 
-def write_fleet_file(folder: Path, fleet: str, endpoints: list[str], token: str) -> Path:
-    """The fleet's endpoint and token for ``aeroexec ctl --fleet`` (readable by the user only)."""
+def write_fleet_file(folder: Path, fleet: str, endpoints: list[str], token: str,
+                     operator: Path | None = None) -> Path:
+    """The fleet's endpoint, token and operator certificate for ``aeroexec ctl --fleet`` (readable by the user
+    only)."""
     path = folder / FLEET_FILE
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    data = {"fleet": fleet, "endpoints": endpoints, "token": token, "pid": os.getpid()}
+    if operator is not None:
+        data["credentials"] = str(Path(operator).resolve())
     with os.fdopen(fd, "w") as file:
-        json.dump({"fleet": fleet, "endpoints": endpoints, "token": token, "pid": os.getpid()}, file)
+        json.dump(data, file)
     return path
 
 
@@ -34,4 +40,4 @@ def read_fleet_file(fleet: str, folder: str | None = None) -> dict[str, Any]:
         if isinstance(data, dict) and data.get("fleet") == fleet:
             return data
     raise ValueError(f"no running fleet {fleet} found{' in ' + folder if folder else ''}: give --connect ENDPOINT "
-                     f"and --token T (or {TOKEN_VARIABLE}), or --run DIR")
+                     f"and --token T (or {TOKEN_VARIABLE}) and --credentials, or --run DIR")

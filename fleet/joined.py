@@ -8,11 +8,11 @@ import secrets
 from pathlib import Path
 from typing import Any
 
+from aeroexec.fleet import members
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
 from aeroexec.fleet.link import FleetLink
-from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import check_name
-from aeroexec.fleet.transport import DEFAULT_ENDPOINT, TransportError, open_session
+from aeroexec.fleet.transport import DEFAULT_ENDPOINT, TransportError
 
 logger = logging.getLogger(__name__)
 
@@ -31,17 +31,21 @@ class JoinedFleet:
 
 
 def join_fleet(engine: Any, fleet: str, name: str, folder: Path, mission: str, connect: list[str] | None = None,
-               token: str | None = None, share: tuple[str, ...] = ()) -> JoinedFleet:
-    """Join ``engine`` to ``fleet`` as ``name`` through ``connect`` (a client of the router); ValueError or
-    :class:`TransportError` when it cannot."""
+               token: str | None = None, share: tuple[str, ...] = (), credentials: str | None = None) -> JoinedFleet:
+    """Join ``engine`` to ``fleet`` as ``name`` through ``connect`` (a client of the router) with the identity at
+    ``credentials``; ValueError (CredentialsError) or :class:`TransportError` when it cannot."""
     fleet, name = check_name(fleet, "--fleet"), check_name(name, "--name")
+    if not credentials:
+        raise ValueError(f"--fleet needs --credentials DIR: the folder of {name}.pem, {name}.key and the fleet's "
+                         f"ca.pem (aeroexec fleet FLEET.yaml --make-credentials DIR)")
     token = token or os.environ.get(TOKEN_VARIABLE) or secrets.token_hex(16)
     endpoints = connect or [DEFAULT_ENDPOINT]
     try:
-        session = open_session("client", connect=endpoints)
+        membership = members.join(fleet, name, credentials, endpoints)
     except TransportError as error:
-        raise TransportError(f"{error} (is `aeroexec fleet --router` running?)") from None
-    node = FleetNode(session, fleet, token)
+        raise TransportError(f"{error} (is `aeroexec fleet FLEET.yaml --router` running?)") from None
+    session = membership.session
+    node = membership.node(token)
     link = FleetLink(node, name, engine, tuple(share)).join()
     link.mission = mission
     write_fleet_file(folder, fleet, endpoints, token)

@@ -7,17 +7,28 @@ the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topi
 from __future__ import annotations
 
 import json
+import math
 import re
 from typing import Any
 
 VERSION = 1
 TOPICS = ("telemetry", "events", "beliefs", "broadcast", "command")
-NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")  # a fleet or drone name: one key chunk, a belief atom
+#: A fleet or drone name: one Zenoh key chunk that is also a portable file name (the drone's output folder, its
+#: certificate): a letter, then letters, digits, ``_``, ``-`` or ``.`` (not last). In beliefs a name that is not a
+#: bare atom is written quoted (``position('scout-1', P)``).
+NAME = re.compile(r"^[A-Za-z](?:[A-Za-z0-9_.-]{0,61}[A-Za-z0-9_-])?$")
+NAME_RULE = ("must start with a letter and hold only letters, digits, _, - and . (not last; at most 63), "
+             "and cannot be self")
 MAX_PAYLOAD = 256 * 1024
 
 
 class PayloadError(ValueError):
-    """A message that is not a fleet message of this version (the text says why)."""
+    """A message that is not a fleet message of this version: the text says why, ``reason`` is its kind (the same
+    for every message refused for it, so refusals can be counted)."""
+
+    def __init__(self, message: str, reason: str | None = None) -> None:
+        super().__init__(message)
+        self.reason = reason or message
 
 
 def key(fleet: str, drone: str, topic: str) -> str:
@@ -25,11 +36,15 @@ def key(fleet: str, drone: str, topic: str) -> str:
     return f"aeroexec/{fleet}/{drone}/{topic}"
 
 
+def is_name(name: object) -> bool:
+    """True when ``name`` can be a fleet or drone name (see :data:`NAME`)."""
+    return isinstance(name, str) and NAME.match(name) is not None and name != "self"
+
+
 def check_name(name: str, what: str) -> str:
-    """``name`` if it can be a fleet or drone name (a letter, then letters, digits or _), else ValueError."""
-    if not isinstance(name, str) or not NAME.match(name) or name == "self":
-        raise ValueError(f"{what} {name!r} must start with a letter and hold only letters, digits and _ "
-                         f"(at most 63), and cannot be self")
+    """``name`` if it can be a fleet or drone name, else ValueError."""
+    if not is_name(name):
+        raise ValueError(f"{what} {name!r} {NAME_RULE}")
     return name
 
 
@@ -41,32 +56,43 @@ def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[st
     """``(drone, topic, message)`` of a sample on ``key_expr``; :class:`PayloadError` when it is not one of ours."""
     parts = str(key_expr).split("/")
     if len(parts) != 4 or parts[0] != "aeroexec" or parts[1] != fleet or parts[3] not in TOPICS:
-        raise PayloadError(f"foreign key {key_expr}")
+        raise PayloadError(f"foreign key {key_expr}", "not a key of the fleet's")
     drone, topic = parts[2], parts[3]
-    if not NAME.match(drone) or drone == "self":
-        raise PayloadError(f"{key_expr}: {drone!r} is no drone name")
+    if not is_name(drone):
+        raise PayloadError(f"{key_expr}: {drone!r} is no drone name", "not a drone's key")
     if len(payload) > MAX_PAYLOAD:
-        raise PayloadError(f"{len(payload)} bytes on {key_expr}: more than {MAX_PAYLOAD}")
+        raise PayloadError(f"{len(payload)} bytes on {key_expr}: more than {MAX_PAYLOAD}", "too large")
     try:
         message = json.loads(payload)
     except (ValueError, UnicodeDecodeError) as exc:
-        raise PayloadError(f"not JSON on {key_expr}: {exc}") from None
+        raise PayloadError(f"not JSON on {key_expr}: {exc}", "not JSON") from None
+    except RecursionError:
+        raise PayloadError(f"JSON nested too deep on {key_expr}", "not JSON") from None
     if not isinstance(message, dict):
-        raise PayloadError(f"not a JSON object on {key_expr}")
+        raise PayloadError(f"not a JSON object on {key_expr}", "not a JSON object")
     if message.get("v") != VERSION:
-        raise PayloadError(f"version {message.get('v')!r} on {key_expr}: this engine reads version {VERSION}")
+        raise PayloadError(f"version {message.get('v')!r} on {key_expr}: this engine reads version {VERSION}",
+                           "another version of the fleet's messages")
     if message.get("drone") != drone:
-        raise PayloadError(f"a message on {key_expr} says it is from {message.get('drone')!r}")
+        raise PayloadError(f"a message on {key_expr} says it is from {message.get('drone')!r}",
+                           "says it is from another drone than its key")
     return drone, topic, message
 
 
 def vector(value: Any, size: int = 3) -> tuple[float, ...]:
     """A list of ``size`` finite numbers as a tuple; PayloadError otherwise."""
+    refusal = PayloadError(f"expected {size} finite numbers, got {str(value)[:200]}", f"not {size} numbers")
     if not isinstance(value, list) or len(value) != size:
-        raise PayloadError(f"expected {size} numbers, got {value!r}")
+        raise refusal
     out = []
     for v in value:
-        if isinstance(v, bool) or not isinstance(v, int | float) or v != v or abs(v) == float("inf"):
-            raise PayloadError(f"expected {size} numbers, got {value!r}")
-        out.append(float(v))
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            raise refusal
+        try:
+            number = float(v)
+        except OverflowError:  # an integer no float holds
+            raise refusal from None
+        if not math.isfinite(number):
+            raise refusal
+        out.append(number)
     return tuple(out)

@@ -1,18 +1,29 @@
-"""Zenoh sessions as aeroexec opens them: explicit endpoints on the loopback by default, no multicast scouting.
+"""Zenoh sessions as aeroexec opens them: explicit endpoints on the loopback by default, no multicast scouting, and
+for a fleet with credentials, mutual TLS and the router's access-control rules.
 
 Zenoh's defaults listen on every interface and scout by multicast; here nothing leaves 127.0.0.1 unless the
-user passes an endpoint. Zenoh's own logging stays off (it would write to stdout).
+user passes an endpoint. With an identity (:class:`~aeroexec.fleet.credentials.Material`) every endpoint is
+``tls/``: the session shows its certificate, checks the other side's against the fleet's CA (and a router's
+against the address it is reached at), and a listening session refuses peers without a certificate of the fleet.
+Zenoh's own logging stays off (it would write to stdout).
 """
 
 from __future__ import annotations
 
+import base64
 import json
 import logging
 import socket
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from aeroexec.fleet.credentials import Material
+
+from aeroexec.extras import require
 
 logger = logging.getLogger(__name__)
 
-DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
+DEFAULT_ENDPOINT = "tls/127.0.0.1:7447"
 LEASE_MS = 2000  # a frozen process is dropped by the router after this (liveliness); telemetry says more
 
 
@@ -20,20 +31,33 @@ class TransportError(RuntimeError):
     """A Zenoh session that cannot be opened, phrased for the operator."""
 
 
-def free_endpoint() -> str:
-    """A TCP endpoint on a port of the loopback that is free now (tests)."""
+def free_endpoint(protocol: str = "tcp") -> str:
+    """An endpoint on a port of the loopback that is free now (``tcp``, or ``tls`` for a fleet with credentials)."""
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
-        return f"tcp/127.0.0.1:{probe.getsockname()[1]}"
+        return f"{protocol}/127.0.0.1:{probe.getsockname()[1]}"
 
 
-def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = ()):
-    """A ``zenoh.Config``: ``mode`` peer, client or router; every endpoint explicit; no multicast scouting."""
-    import zenoh
+def endpoint_host(endpoint: str) -> str:
+    """The host of ``tls/HOST:PORT`` (an IPv6 address without its brackets)."""
+    address = endpoint.split("/", 1)[-1].split("#")[0]
+    host = address.rsplit(":", 1)[0]
+    return host[1:-1] if host.startswith("[") and host.endswith("]") else host
+
+
+def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = (),
+           identity: Material | None = None, access: dict[str, Any] | None = None) -> Any:
+    """A ``zenoh.Config``: ``mode`` peer, client or router; every endpoint explicit; no multicast scouting;
+    mutual TLS with ``identity``; ``access``: the access-control rules a listening session enforces."""
+    with require("fleet"):
+        import zenoh
 
     for endpoint in (*listen, *connect):
         if not isinstance(endpoint, str) or "/" not in endpoint:
             raise TransportError(f"{endpoint!r} is no Zenoh endpoint (e.g. {DEFAULT_ENDPOINT})")
+        if identity is not None and not endpoint.startswith("tls/"):
+            raise TransportError(f"{endpoint} is not authenticated: a fleet's endpoints are tls/HOST:PORT "
+                                 f"(e.g. {DEFAULT_ENDPOINT})")
     c = zenoh.Config()
     c.insert_json5("mode", json.dumps(mode))
     c.insert_json5("scouting/multicast/enabled", "false")
@@ -43,16 +67,39 @@ def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[st
     c.insert_json5("transport/link/tx/lease", str(LEASE_MS))
     if mode == "peer":
         c.insert_json5("scouting/gossip/enabled", "false")
+    if identity is not None:
+        c.insert_json5("transport/link/tls", json.dumps(_tls(identity, bool(listen), bool(connect))))
+    if access is not None:
+        c.insert_json5("access_control", json.dumps(access))
     return c
 
 
-def open_session(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = ()):
+def _tls(identity: Material, listening: bool, connecting: bool) -> dict[str, Any]:
+    def b64(data: bytes) -> str:
+        return base64.b64encode(data).decode()
+
+    tls: dict[str, Any] = {"root_ca_certificate_base64": b64(identity.ca), "enable_mtls": True,
+                           "verify_name_on_connect": True, "close_link_on_expiration": True}
+    if listening:
+        tls |= {"listen_certificate_base64": b64(identity.certificate), "listen_private_key_base64": b64(identity.key)}
+    if connecting:
+        tls |= {"connect_certificate_base64": b64(identity.certificate),
+                "connect_private_key_base64": b64(identity.key)}
+    return tls
+
+
+def open_session(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = (),
+                 identity: Material | None = None, access: dict[str, Any] | None = None) -> Any:
     """An open Zenoh session; :class:`TransportError` when it cannot listen or connect. Close it when done."""
-    import zenoh
+    with require("fleet"):  # every Zenoh session starts here: without the extra, the pip line that adds it
+        import zenoh
 
     try:
-        return zenoh.open(config(mode, listen, connect))
+        return zenoh.open(config(mode, listen, connect, identity, access))
     except zenoh.ZError as error:
         where = ", ".join([*(f"listen on {e}" for e in listen), *(f"connect to {e}" for e in connect)])
         reason = str(error).split("  at ")[0].split(" at /")[0].rstrip(". ")  # not Zenoh's source location
+        if identity is not None and connect and "connect" in reason:
+            reason += (f" (as {identity.name}: is the router running there, with a certificate of this fleet's CA "
+                       f"that names {', '.join(sorted({endpoint_host(e) for e in connect}))}?)")
         raise TransportError(f"cannot open the fleet link ({where or mode}): {reason}") from None

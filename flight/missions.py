@@ -10,23 +10,25 @@ from __future__ import annotations
 
 import importlib.util
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.check import check_mission_source
+from aeroexec.engine.robots import robot_kind_hint
+from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.items import PlanDocument, is_item_file
-from aeroexec.trees.route import RouteEstimate, estimate_route
-from aeroexec.trees.tml.verify import verify_mission_document
-from aeroexec.trees.verify import verify_leaves
 
 from aeroexec.limits import InputError, read_text
+
+if TYPE_CHECKING:
+    from aeroexec.trees.route import RouteEstimate
 
 
 class MissionFileError(FlightError):
@@ -64,8 +66,19 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     ``world``'s home, else the default simulated world's)."""
     if home is None and world is not None and is_plan(path):
         home = world.home
+    if path.is_dir():
+        inside = sorted(p.name for p in path.iterdir()
+                        if p.suffix.lower() in {".py", *MISSION_EXTENSIONS} and not p.name.startswith(("_", ".")))
+        some = f" (missions in it: {', '.join(inside[:4])}{', ...' if len(inside) > 4 else ''})" if inside else ""
+        raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
     if is_tree(path):
+        # here, not at the top: tree verification loads the tree runtime and py_trees (~30 ms), which a Python
+        # mission never needs
+        from aeroexec.trees.route import estimate_route
+        from aeroexec.trees.tml.verify import verify_mission_document
+        from aeroexec.trees.verify import verify_leaves
+
         try:
             checked.tree = load_mission_tree(path, home)
         except TreeFormatError as error:
@@ -85,8 +98,10 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked
     if path.suffix.lower() != ".py":
-        raise MissionFileError(f"{path}: a mission is a Python program (.py) or a behavior tree "
-                               f"({', '.join(sorted(MISSION_EXTENSIONS))})")
+        what = "no such file" if not path.exists() else "not a mission file"
+        raise MissionFileError(f"{path}: {what}: a mission is a Python program (.py), a behavior tree (.xml, .yaml, "
+                               f".yml), a TML mission (.tml.xml) or a mission plan (.plan, .mission, .waypoints, "
+                               f".txt)")
     try:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
@@ -96,15 +111,19 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
 
 
 def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
-                 report: Callable[[Problem], None] = lambda problem: None) -> Callable[[], Any] | TreeDocument:
+                 report: Callable[[Problem], None] = lambda problem: None, verb: str = "fly"
+                 ) -> Callable[[], Any] | TreeDocument:
     """Check a mission before flight (against ``world`` when given), each problem to ``report``; the Python
-    function or the tree to fly. Raises :class:`MissionFileError` when it has errors."""
+    function or the tree to fly. Raises :class:`MissionFileError` when it has errors. ``verb``: what the robot
+    does (a rover does not fly)."""
     checked = check_mission(path, catalog, world)
     for problem in checked.problems:
         report(problem)
+    if hint := robot_kind_hint(p.message for p in checked.problems):  # a rover's mission without --robot rover
+        report(Problem("hint", hint, str(path), 0))
     if checked.errors:
         count = len(checked.errors)
-        raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not fly")
+        raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not {verb}")
     return checked.tree if checked.tree is not None else mission_function(path)
 
 
@@ -124,3 +143,85 @@ def mission_function(path: Path) -> Callable[[], Any]:
         raise MissionFileError(f"{path}: no mission() or runMission() function")
     return function
 
+
+def safety_check(checked: CheckedMission, catalog: BehaviorCatalog, rules_files: Iterable[str] = (),
+                 model: VehicleModel | None = None) -> tuple[BehaviorCatalog, list[Problem]]:
+    """The catalog with the safety rules of the mission and of ``rules_files`` added, and the problems of those
+    rules: their own (syntax, unknown predicates or contingencies, with file:line) and, when they are sound, the
+    mission's literal destinations that break one (engine/safety/static.py)."""
+    from aeroexec.engine.safety.declared import mission_rules, rules_file
+    from aeroexec.engine.safety.static import route, route_problems
+
+    found = mission_rules(checked.path, catalog)
+    for name in rules_files:
+        found.extend(rules_file(name, catalog))
+    problems = list(found.problems)
+    if found.errors:
+        return catalog, problems
+    watched = catalog.with_safety_rules(found.rules)
+    mission = checked.tree if checked.tree is not None else checked.source
+    if watched.safety_rules and mission is not None and not checked.errors:
+        model = model or VehicleModel()
+        problems += route_problems(route(mission, str(checked.path), model), watched.safety_rules, model)
+    return watched, problems
+
+
+def fleet_safety_check(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (),
+                       world: Any = None) -> list[Problem] | None:
+    """A fleet file's routes flown together against the separation rules of its missions and ``rules_files``
+    (engine/safety/static.py); None when ``path`` is not a fleet file."""
+    from dataclasses import replace
+
+    try:
+        text = read_text(path, what="the mission")
+    except InputError:
+        return None
+    if path.suffix.lower() not in (".yaml", ".yml") or "\ndrones:" not in "\n" + text:
+        return None
+    from aeroexec.engine.safety.static import Waypoint, route, separation_problems
+    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet  # a fleet file: the fleet extra is needed
+    try:
+        fleet = load_fleet(path)
+    except FleetFileError as error:
+        return [Problem("error", str(error), str(path), 0)]
+    routes, rules, problems = {}, [], []
+    for drone in fleet.drones:
+        checked = check_mission(drone.mission, catalog, world)
+        watched, found = safety_check(checked, catalog, rules_files)
+        problems += found
+        rules += [r for r in watched.safety_rules if r not in rules]
+        model = replace(VehicleModel(), home=(drone.home[0], drone.home[1], 0.0))
+        mission = checked.tree if checked.tree is not None else checked.source
+        start = Waypoint(model.home, str(drone.mission), 0)  # where it stands at first
+        routes[drone.name] = [start, *(route(mission, str(drone.mission), model) if mission is not None else [])]
+    return problems + separation_problems(routes, rules, VehicleModel())
+
+
+def watched_catalog(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (), world: Any = None,
+                    report: Callable[[Problem], None] = lambda problem: None) -> BehaviorCatalog:
+    """The catalog a flight watches the safety rules of (:func:`safety_check`); raises :class:`MissionFileError`
+    when a rule is wrong or the mission breaks one before flight."""
+    from aeroexec.engine.safety.declared import mission_rules
+
+    declared = mission_rules(path, catalog)
+    if not (rules_files or catalog.safety_rules or declared.rules or declared.problems):
+        return catalog  # no rules: nothing to check again
+    checked = check_mission(path, catalog, world)
+    watched, problems = safety_check(checked, catalog, rules_files)
+    for problem in problems:
+        report(problem)
+    errors = [p for p in problems if p.severity == "error"]
+    if errors:
+        raise MissionFileError(f"{path}: {len(errors)} safety rule error{'s' if len(errors) != 1 else ''}; "
+                               f"the mission will not fly")
+    return watched
+
+
+def world_home(world: str | None) -> Geodetic:
+    """The home point of the simulated world in ``world`` (a file; None: the built-in world)."""
+    from aeroexec.drones.sim import WorldError, default_world, load_world
+
+    try:
+        return (load_world(world) if world else default_world()).home
+    except WorldError as error:
+        raise MissionFileError(str(error)) from None

@@ -40,4 +40,6 @@ def replay_of(path: str | Path) -> dict[str, Any]:
     kept = [r for r in records if r.get("kind") not in ("log_started", "log_resumed", "log_closed")]
     end = max((float(r.get("time", 0.0)) for r in kept), default=0.0)
     return {"mission": meta.get("mission", log.parent.name), "end": end, "world": meta.get("world"),
+            "home": meta.get("home"), "bounds": meta.get("bounds"),  # the world a run flew in, as its log says
+            "drone": meta.get("drone"),
             "drones": {str(meta.get("drone_name") or "drone"): kept}}

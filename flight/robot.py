@@ -63,6 +63,18 @@ class RobotChoice:
         return options
 
 
+def with_rule_files(catalog: BehaviorCatalog, paths: tuple[str, ...] | list[str]) -> BehaviorCatalog:
+    """``catalog`` with the rules of the files ``paths`` (``--rules FILE``) added; raises FlightError naming each
+    problem with its file and line."""
+    from aeroexec.beliefs import RuleError, read_rules
+
+    try:
+        rules = [rule for path in paths for rule in read_rules(path)]
+        return catalog.with_rules(rules) if rules else catalog
+    except RuleError as error:
+        raise FlightError(str(error)) from None
+
+
 def robot_choice(name: str = DRONE) -> RobotChoice:
     """The robot kind named ``name``; raises :class:`FlightError` (a usage error) with a sentence."""
     try:

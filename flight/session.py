@@ -13,6 +13,7 @@ faults, how the run ended).
 
 from __future__ import annotations
 
+import copy
 import logging
 import threading
 from collections.abc import Callable, Collection
@@ -25,13 +26,14 @@ from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.library import LibraryError, default_updaters
+from aeroexec.engine.missions.bridge import MissionPreempted
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter
 from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
-from aeroexec.flight.missions import load_mission
+from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
-from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice
+from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice, with_rule_files
 from aeroexec.flight.run_status import FAILED, SUSPENDED, RunStatus, exit_status, record_run_status, run_status
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
@@ -124,7 +126,7 @@ class FlightSession:
                                          on_abort=self._cancel.set).start()
         choice = robot_choice(spec.robot)
         try:
-            self.catalog = choice.catalog(spec.catalog)
+            self.catalog = with_rule_files(choice.catalog(spec.catalog), spec.rules)
         except CatalogError as error:
             raise FlightError("\n".join(str(p) for p in error.problems)) from None
         world_path = choice.world_file(spec.world)
@@ -133,7 +135,9 @@ class FlightSession:
                                     mission=Path(spec.mission), home=spec.home)  # a plan's open field, --home
         if self.control is not None:
             self.control.starting = "checking its mission"
-        self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report)
+        self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
+                                    verb="fly" if choice.kind is None else "run")  # a rover does not fly
+        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
         if self.robot is None:
             if self.control is not None:
                 self.control.starting = "waiting for its vehicle"
@@ -180,6 +184,8 @@ class FlightSession:
                 self.journal.attach_tree(self.tree)
             if spec.groot is not None:
                 self._surfaces.add(serve_groot(self.tree, self.catalog, spec.groot, self.notify))
+        if self.engine.safety is not None:
+            self._serve_contingencies(self.engine.safety.contingencies.handlers)
         if spec.web is not None:
             self._surfaces.add(serve_console({spec.robot: self.engine}, self.world,
                                              {spec.robot: None if self.tree is not None else spec.mission},
@@ -209,6 +215,29 @@ class FlightSession:
         if self.resumption is not None:
             self.notify(f"resuming {self.spec.name} from {self.resumption.point.where()}")
 
+    def _serve_contingencies(self, handlers: dict) -> None:
+        """A safety rule's ``subtree ID`` runs that tree of the mission instead; ``call FUNCTION`` that function."""
+        def subtree(tree_id: str, rule: Any) -> bool:
+            if self.tree is None or tree_id not in self.mission.trees:
+                return False
+            from aeroexec.trees.runtime.runner import TreeMission
+
+            self.tree.halt(f"safety rule {rule.name}: subtree {tree_id}")
+            document = copy.copy(self.mission)
+            document.main = tree_id
+            self.tree = TreeMission(document, self.engine, name=f"{self.spec.name} ({tree_id})")
+            self.tree.start()
+            return True
+
+        def call(name: str, rule: Any) -> bool:
+            function = getattr(self.mission, "__globals__", {}).get(name)
+            if self.tree is not None or not callable(function):
+                return False
+            self.engine.bridge.preempt(MissionPreempted(function, f"safety rule {rule.name}: call {name}"))
+            return True
+
+        handlers.update(subtree=subtree, call=call)
+
     def _join_fleet(self) -> None:
         from aeroexec.fleet.joined import join_fleet
         from aeroexec.fleet.link import FleetLink
@@ -220,7 +249,7 @@ class FlightSession:
                 self.link = FleetLink(self.fleet_node, join.name, self.engine, join.share, join.telemetry_rate).join()
             else:  # a drone in its own process: a client of the fleet's router
                 self._joined = join_fleet(self.engine, join.fleet, join.name, self.folder, self.spec.name,
-                                          list(join.connect) or None, join.token, join.share)
+                                          list(join.connect) or None, join.token, join.share, join.credentials)
                 self.link = self._joined.link
                 self.notify(f"{join.name} joined fleet {join.fleet}")
         except (TransportError, ValueError) as error:

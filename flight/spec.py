@@ -32,6 +32,7 @@ class FleetJoin:
     token: str | None = None
     share: tuple[str, ...] = ()
     telemetry_rate: float = 5.0  # Hz the drone's telemetry goes to the fleet
+    credentials: str | None = None  # its identity: a folder holding <name>.pem, <name>.key, ca.pem, or the .pem
 
 
 @dataclass
@@ -62,6 +63,8 @@ class FlightSpec:
     ready_timeout: float = READY_TIMEOUT
     fleet: FleetJoin | None = None
     register: bool = True  # list the run in the user's runtime folder (``aeroexec ctl`` finds it)
+    rules: tuple[str, ...] = ()  # rules files of the belief memory (derived beliefs)
+    safety_rules: tuple[str, ...] = ()  # safety rules files (the catalog's and the mission's rules are watched too)
     resume: bool = False  # go on with the interrupted run in ``output`` from where its journal says it stopped
     journal: bool = True  # keep the flight journal (journal.sqlite in the output folder)
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.engine.events import Outcome
+from aeroexec.engine.safety.compliance import Compliance, compliance
 from aeroexec.flight.run_status import last_part, run_status
 
 OUTCOMES = {o.value for o in Outcome}
@@ -72,6 +73,7 @@ class FlightSummary:
     outcome: str  # the run's status word (run_status), or incomplete (the log ends without log_closed: a crash)
     refusals: list[Failure] = field(default_factory=list)  # requests refused before they started
     flight_states: list[tuple[float, str]] = field(default_factory=list)  # (time, state) at each change
+    safety: list[Compliance] = field(default_factory=list)  # each safety rule watched: held or violated, when
 
     @property
     def duration(self) -> float:
@@ -168,7 +170,8 @@ def summarize(records: list[dict[str, Any]]) -> FlightSummary:
     beliefs.sort(key=lambda b: (b.start, b.belief))
     if not any(r.get("kind") == "log_closed" for r in last_part(records)):
         outcome = "incomplete"
-    summary = FlightSummary(meta, samples, spans, beliefs, failures, start, end, outcome, refusals, flight_states)
+    summary = FlightSummary(meta, samples, spans, beliefs, failures, start, end, outcome, refusals, flight_states,
+                            compliance(records))
     for span in spans:
         span.start_position, span.end_position = summary.position_at(span.start), summary.position_at(span.end)
     return summary

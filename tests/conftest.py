@@ -1,7 +1,13 @@
-"""Test-wide settings: ``--fuzz-budget SECONDS`` (the time the fuzz tests spend on each input format), and a
-per-test runtime directory where runs list themselves (never the user's)."""
+"""Test-wide settings: ``--fuzz-budget SECONDS`` (the time the fuzz tests spend on each input format),
+``--refresh-docs`` (the browser tests write docs/console.png), a
+per-test runtime directory where runs list themselves (never the user's), and the browser tests' rule: without
+Chromium and its driver they are skipped with the reason, except in CI (``CI=true``), where a skipped browser test
+fails the run."""
 
 from __future__ import annotations
+
+import os
+import shutil
 
 import pytest
 
@@ -13,6 +19,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addoption("--fuzz-budget", type=float, default=DEFAULT_FUZZ_BUDGET, metavar="SECONDS",
                      help=f"seconds of fuzzing per input format in tests/fuzz (default {DEFAULT_FUZZ_BUDGET:g}); "
                           "bench/fuzz.py runs for minutes and prints the table")
+    parser.addoption("--refresh-docs", action="store_true",
+                     help="write the pictures of the docs the browser tests take (docs/console.png)")
 
 
 @pytest.fixture
@@ -27,3 +35,39 @@ def private_runtime_dir(tmp_path_factory, monkeypatch):
     path.chmod(0o700)
     monkeypatch.setenv("XDG_RUNTIME_DIR", str(path))
     return path
+
+
+def browser_missing() -> str | None:
+    """Why the browser tests cannot run here (None: Chromium and chromedriver are installed)."""
+    absent = [name for name in ("chromium", "chromedriver") if not shutil.which(name)]
+    if not absent:
+        return None
+    return (f"{' and '.join(absent)} not installed: the browser tests need Debian's chromium and chromium-driver "
+            f"(apt-get install chromium chromium-driver); CI runs them")
+
+
+def in_ci() -> bool:
+    return os.environ.get("CI", "").lower() in ("true", "1", "yes")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    reason = browser_missing()
+    if reason is None or in_ci():  # in CI they run, and fail, rather than pass unseen
+        return
+    for item in items:
+        if item.get_closest_marker("browser"):
+            item.add_marker(pytest.mark.skip(reason=reason))
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """In CI a browser test that did not run fails the run: the console must be tested where it can be."""
+    if not in_ci():
+        return
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+    skipped = [r for r in (reporter.stats.get("skipped", []) if reporter else [])
+               if "browser" in getattr(r, "keywords", {})]
+    if skipped:
+        if reporter:
+            reporter.write_line(f"CI: {len(skipped)} browser test(s) skipped; CI must run them (install chromium "
+                                f"and chromium-driver)", red=True)
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED

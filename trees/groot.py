@@ -15,15 +15,15 @@ import xml.etree.ElementTree as ElementTree
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE
+from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING
 from aeroexec.trees.runtime.belief_leaves import CheckBelief
-from aeroexec.trees.runtime.ports import ANY, BOOL, DOUBLE, INT, STRING
 from aeroexec.trees.runtime.registry import BUILT_IN
 
 ANY_TYPE = "BT::AnyTypeAllowed"
 _TYPES = {"NUMBER": "double", "INTEGER": "int", "BOOLEAN": "bool", "TEXT": "std::string", "BELIEF": "std::string"}
 
 #: The engine's leaves that are not catalog behaviors, as the palette lists them (their ports are their classes').
-ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AskBehavior")
+ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AddRule", "AskBehavior")
 #: C++ types of the runtime's port types.
 _CPP_TYPES = {STRING: "std::string", BOOL: "bool", INT: "int", DOUBLE: "double", ANY: ANY_TYPE}
 

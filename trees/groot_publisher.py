@@ -27,8 +27,11 @@ import uuid
 from collections import deque
 from typing import Any
 
-import msgpack
-import zmq
+from aeroexec.extras import require
+
+with require("groot"):
+    import msgpack
+    import zmq
 
 logger = logging.getLogger(__name__)
 

@@ -65,6 +65,10 @@ class TreeDocument:
     main: str  # the ID of the tree to execute
     file: str = ""
     lines: dict[str, int] = field(default_factory=dict)  # BehaviorTree ID -> the line it is declared on
+    warnings: list[tuple[str, int, str]] = field(default_factory=list)  # what the loader read with a warning
+    #: what aeroexec reads and BehaviorTree.CPP 4.10 or Groot2 refuses (a raw ``<`` in an attribute, names BT.CPP
+    #: 4.10 does not allow): warnings, and errors for ``verify --strict-btcpp``
+    not_portable: list[tuple[str, int, str]] = field(default_factory=list)
 
     @property
     def root(self) -> TreeNode:

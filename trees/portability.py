@@ -8,7 +8,9 @@
   blackboard pointer only when it is all ``{key}``);
 * a pre-condition written as a belief expression, and ``belief("...")`` in a script (aeroexec's extensions);
 * a port the palette does not declare on a catalog behavior or an engine leaf (a lower-case argument name, an
-  alias): BT.CPP refuses ports a node's model does not list.
+  alias): BT.CPP refuses ports a node's model does not list;
+* what the loader read that BT.CPP 4.10 or Groot2 refuses (``TreeDocument.not_portable``: a raw ``<`` or ``&`` in
+  an attribute, names BT.CPP 4.10 does not allow), and a BehaviorTree or SubTree ID that names a registered node.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.trees.groot import palette_ports
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, template_keys
+from aeroexec.trees.runtime.registry import BUILT_IN
 from aeroexec.trees.script import ScriptError, compile_script
 
 KIND = "NOT_PORTABLE"
@@ -65,8 +68,17 @@ def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> li
     if not document.file.lower().endswith(".xml") or document.file.lower().endswith(".tml.xml"):
         return [_problem(None, document, "not a BehaviorTree.CPP file: only its v4 XML is portable")]
     palette = palette_ports(catalog)
-    problems: list[MissionProblem] = []
+    problems = [MissionProblem("error", message, file, line, KIND) for file, line, message in document.not_portable]
+    registered = {*BUILT_IN, *palette}
+    for tree_id in document.trees:
+        if tree_id in registered:  # BT.CPP 4.10
+            problems.append(MissionProblem("error", "The attribute [ID] of tag <BehaviorTree> must not use the name "
+                                                    f"of a registered Node ({tree_id})", document.file,
+                                           document.lines.get(tree_id, 0), KIND))
     for root in document.trees.values():
         for node in root.walk():
             problems.extend(_problem(node, document, message) for message in _node_problems(node, palette))
+            if node.type == "SubTree" and node.ports.get("ID", "").strip() in registered:
+                problems.append(_problem(node, document, "The attribute [ID] of tag <SubTree> must not use the name "
+                                                         f"of a registered Node ({node.ports['ID'].strip()})"))
     return problems

@@ -3,13 +3,17 @@
 ``compile_script(text)`` returns a :class:`Script`; ``script.run(blackboard, beliefs)`` runs its statements and
 returns the last one's value. Values are as in BT.CPP: numbers (integer literals stay integers, arithmetic gives
 floats), strings; ``true``/``false`` are 1/0; comparisons and ``&& || !`` give 1.0/0.0; ``==`` between numbers
-allows a float epsilon. ``:=`` creates a key, ``=`` needs an existing one. ``belief("...")`` (aeroexec's one
-extension, not portable) is 1.0 when the belief expression holds.
+allows a float epsilon. Types are BT.CPP's: arithmetic needs numbers (``'3' + 1`` is refused), a comparison reads a
+string against a number as a number, an entry keeps its type (``n := 1; n = 'abc'`` is refused), a condition is a
+double or the integers 0 and 1. ``:=`` creates a key, ``=`` needs an existing one. ``belief("...")`` (aeroexec's one
+extension, not portable) is 1.0 when the belief expression holds. What fails raises :class:`ScriptError` with
+BT.CPP's message.
 """
 
 from __future__ import annotations
 
 import functools
+import math
 import operator
 import sys
 from collections.abc import Callable, MutableMapping
@@ -18,6 +22,7 @@ from typing import Any
 
 __all__ = ["Script", "ScriptCompiler", "ScriptError", "compile_script", "text_of", "truth"]
 
+from aeroexec.trees import conversions
 from lark import Lark, Transformer, Tree
 from lark.exceptions import LarkError
 
@@ -37,65 +42,144 @@ def _parser() -> Lark:
     return Lark(resources.files("aeroexec.grammar").joinpath("script.lark").read_text(), parser="lalr")
 
 
-def _number(value: Any, what: str) -> float:
-    if isinstance(value, bool | int | float):
-        return value
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float)
+
+
+def _string_to_double(value: str) -> float:
+    """BT.CPP's ``StringToDouble``: ``true``/``false`` are 1 and 0, else the number the text starts with."""
     if value == "true":
-        return 1
+        return 1.0
     if value == "false":
-        return 0
+        return 0.0
     try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ScriptError(f"{what}: {value!r} is not a number") from None
+        return conversions.convert(value, conversions.DOUBLE)
+    except conversions.ConversionError:
+        raise ScriptError("Any failed string to number conversion") from None
 
 
 def truth(value: Any) -> bool:
-    """A script value as a condition (a non-empty string, a non-zero number)."""
+    """A script's value as a condition (BT.CPP's ``cast<bool>``): a double is true when not zero, an integer must be
+    0 or 1; a negative number and text are refused."""
+    if _is_number(value) and value < 0:
+        raise ScriptError("Value is negative and can't be converted to unsigned")
+    if isinstance(value, float):
+        return value != 0
+    if isinstance(value, int):
+        if value not in (0, 1):
+            raise ScriptError("Implicit casting to bool is not allowed")
+        return bool(value)
+    raise ScriptError(f"[Any::convert]: no known safe conversion between [{_kind(value)}] and [bool]")
+
+
+def _holds(value: Any) -> bool:
+    """The condition of ``a ? b : c``: a number not zero (text is read as a number)."""
     if isinstance(value, str):
-        return value not in ("", "false", "0")
+        try:
+            return conversions.convert(value, conversions.DOUBLE) != 0
+        except conversions.ConversionError:
+            raise ScriptError("Any failed string to number conversion") from None
     return bool(value)
 
 
+def _kind(value: Any) -> str:
+    return "std::string" if isinstance(value, str) else "double" if isinstance(value, float) else type(value).__name__
+
+
 def _compare(op: str, left: Any, right: Any) -> bool:
-    if isinstance(left, str) and isinstance(right, str):
+    if _is_number(left) and _is_number(right):
+        a, b = float(left), float(right)
+    elif isinstance(left, str) and isinstance(right, str):
         a, b = left, right
+    elif isinstance(left, str) and _is_number(right):
+        a, b = _string_to_double(left), float(right)
+    elif _is_number(left) and isinstance(right, str):
+        a, b = float(left), _string_to_double(right)
     else:
-        a, b = _number(left, op), _number(right, op)
-        if op in ("==", "!="):
-            return (abs(a - b) <= _EPSILON) == (op == "==")
+        raise ScriptError(f"Can't mix different types in Comparison. Left operand [{_kind(left)}] right operand "
+                          f"[{_kind(right)}]")
+    if op in ("==", "!=") and isinstance(a, float):
+        return (abs(a - b) <= _EPSILON) == (op == "==")  # type: ignore[operator]
     return {"==": operator.eq, "!=": operator.ne, "<": operator.lt, ">": operator.gt, "<=": operator.le,
             ">=": operator.ge}[op](a, b)
 
 
 def _binary(op: str, left: Any, right: Any) -> Any:
-    if op == "..":
-        if isinstance(left, str) or isinstance(right, str):
-            return _text(left) + _text(right)
-        raise ScriptError("Operation not permitted: .. needs a string")
-    if op == "+" and isinstance(left, str) and isinstance(right, str):
+    if _is_number(left) and _is_number(right):
+        if op in ("&&", "||"):
+            try:
+                a, b = truth(left), truth(right)
+            except ScriptError:
+                raise ScriptError("Logic operators are not allowed if one of the operands is not castable to "
+                                  "bool") from None
+            return float(a and b) if op == "&&" else float(a or b)
+        if op in ("&", "|", "^"):
+            if left != int(left) or right != int(right):
+                raise ScriptError("Binary operators are not allowed if one of the operands is not an integer")
+            return float({"&": operator.and_, "|": operator.or_, "^": operator.xor}[op](int(left), int(right)))
+        a, b = float(left), float(right)
+        if op == "/" and b == 0:
+            return math.copysign(math.inf, a) * math.copysign(1.0, b) if a else math.nan
+        if op in ("+", "-", "*", "/"):
+            return {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv}[op](a, b)
+    elif op == "+" and isinstance(left, str) and isinstance(right, str):
         return left + right
-    if op in ("&&", "||"):
-        a, b = truth(left), truth(right)
-        return float(a and b) if op == "&&" else float(a or b)
-    a, b = _number(left, op), _number(right, op)
-    if op in ("&", "|", "^"):
-        if a != int(a) or b != int(b):
-            raise ScriptError("Binary operators are not allowed if one of the operands is not an integer")
-        return float({"&": operator.and_, "|": operator.or_, "^": operator.xor}[op](int(a), int(b)))
-    if op == "/" and b == 0:
-        return float("inf") if a > 0 else float("-inf") if a < 0 else float("nan")
-    return float({"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv}[op](a, b))
+    elif op == ".." and (isinstance(left, str) or isinstance(right, str)) and all(
+            isinstance(v, str) or _is_number(v) for v in (left, right)):
+        return text_of(left) + text_of(right)
+    raise ScriptError("Operation not permitted")
 
 
-def _text(value: Any) -> str:
-    """A value as text, a float as BT.CPP prints a double (``std::to_string``: six decimals)."""
-    if isinstance(value, bool):
-        return str(int(value))
-    return f"{value:.6f}" if isinstance(value, float) else str(value)
+def _unary(op: str, value: Any) -> float:
+    if isinstance(value, str):
+        raise ScriptError("Invalid operator for std::string")
+    if not _is_number(value):
+        raise ScriptError("ExprUnaryArithmetic: undefined")
+    return float(-value) if op == "-" else float(not value) if op == "!" else float(~int(value))
 
 
-text_of = _text
+def _assigned(name: str, op: str, old: Any, value: Any, kind: str | None) -> Any:
+    """What an assignment writes to an entry holding ``old`` (None: none yet) of type ``kind`` (a port's, else None),
+    as BT.CPP's ``ExprAssignment``: an entry keeps its type."""
+    if op in (":=", "="):
+        if old is None and kind is None:
+            return value
+        if isinstance(value, str) and not isinstance(old, str):
+            if kind is not None:
+                return value  # the blackboard converts text written to a typed entry
+            if _is_number(old):
+                return _string_to_double(value)
+            raise ScriptError(f"Error assigning a value to entry [{name}]: the right operand is a string, can't "
+                              f"convert to {_kind(old)}")
+        return _copied(name, value, old)
+    if old is None:
+        raise ScriptError(f"The left operand of the operator [{op}] is not initialized")
+    if _is_number(value):
+        if not _is_number(old):
+            raise ScriptError("This Assignment operator can't be used with a non-numeric type")
+        return _copied(name, _binary(op[0], old, value), old)
+    if isinstance(value, str) and op == "+=":
+        return _copied(name, text_of(old) + value, old)
+    raise ScriptError("Operator not supported for strings")
+
+
+def _copied(name: str, value: Any, old: Any) -> Any:
+    """BT.CPP's ``Any::copyInto``: a value written over ``old`` takes its type (a number is cast when nothing is lost;
+    text stays text)."""
+    if old is None or type(value) is type(old) or (isinstance(value, str) and isinstance(old, str)):
+        return value
+    if _is_number(value) and _is_number(old):
+        if isinstance(old, float):
+            return float(value)
+        if value != int(value) or not math.isfinite(value):
+            raise ScriptError(f"Error assigning a value to entry [{name}] with type [int]: the right operand has "
+                              f"type [double] and can't be converted to [int]")
+        return int(value)
+    raise ScriptError(f"Error assigning a value to entry [{name}] with type [{_kind(old)}]: the right operand has "
+                      f"type [{_kind(value)}] and can't be converted to [{_kind(old)}]")
+
+
+text_of = conversions.text_of
 
 
 def _scope(board: MutableMapping[str, Any], name: str) -> tuple[MutableMapping[str, Any], str]:
@@ -133,26 +217,24 @@ class ScriptCompiler(Transformer):
 
         def assign(board, beliefs):
             board, name = _scope(board, written)
-            if op != ":=" and name not in board:
+            has_entry = getattr(board, "has_entry", board.__contains__)  # made by a port that uses it, or written
+            if op != ":=" and not has_entry(name):
                 raise ScriptError(f"The blackboard entry [{name}] doesn't exist, yet. If you want to create a new "
                                   "one, use the operator [:=] instead of [=]")
             result = value(board, beliefs)
-            old = board.get(name)
-            if op not in (":=", "="):
-                if old is None:
-                    raise ScriptError(f"The left operand of the operator [{op}] is not initialized")
-                result = (str(old) + result if op == "+=" and isinstance(result, str)
-                          else _binary(op[0], old, result))
-            if isinstance(old, int) and isinstance(result, float) and result.is_integer():
-                result = int(result)  # an entry keeps its type, as in BT.CPP
-            board[name] = result
-            return result
+            type_of = getattr(board, "type_of", None)
+            result = _assigned(name, op, board.get(name), result, type_of(name) if type_of is not None else None)
+            try:
+                board[name] = result
+            except conversions.ConversionError as error:
+                raise ScriptError(f"Error assigning a value to entry [{name}]: {error}") from None
+            return board[name]
 
         return assign
 
     def choice(self, children: list) -> Evaluator:
         test, then, otherwise = children
-        return lambda board, beliefs: (then if truth(test(board, beliefs)) else otherwise)(board, beliefs)
+        return lambda board, beliefs: (then if _holds(test(board, beliefs)) else otherwise)(board, beliefs)
 
     def binary(self, children: list) -> Evaluator:
         left, op, right = children[0], str(children[1]), children[2]
@@ -175,11 +257,7 @@ class ScriptCompiler(Transformer):
     def unary(self, children: list) -> Evaluator:
         op, operand = str(children[0]), children[1]
 
-        def unary(board, beliefs):
-            value = _number(operand(board, beliefs), op)
-            return float(-value) if op == "-" else float(not value) if op == "!" else float(~int(value))
-
-        return unary
+        return lambda board, beliefs: _unary(op, operand(board, beliefs))
 
     def name(self, children: list) -> Evaluator:
         return _read(str(children[0]))
@@ -230,8 +308,10 @@ class Script:
             raise ScriptError(f"Empty Script [{text}]")
         self.statements: list[Evaluator] = ScriptCompiler().transform(tree)
         self.portable = "belief" not in {t.data for t in tree.iter_subtrees()}
-        #: the blackboard keys the script assigns
+        #: the blackboard keys the script assigns, and those it reads (``x += 1`` reads x)
         self.writes = [str(t.children[0]) for t in tree.iter_subtrees() if t.data == "assignment"]
+        self.reads = [str(t.children[0]) for t in tree.iter_subtrees()
+                      if t.data == "name" or (t.data == "assignment" and str(t.children[1]) not in (":=", "="))]
 
     def run(self, blackboard: MutableMapping[str, Any], beliefs: Callable[[str], bool] | None = None) -> Any:
         try:

@@ -2,32 +2,33 @@
 
 ``verify_document(document, catalog)`` reports, in the paper's words (Table 1) where they apply: the main tree
 missing; unknown node types (with a suggestion); child counts per node type; unknown and missing ports of the
-built-in nodes and their values; behavior arguments against the catalog (WRONG_FORMAT, WRONG_VALUE); belief
-expressions' syntax and predicates; SubTree references and cycles; blackboard keys read before any node can
-write them; and WRONG_SEQUENCE along every path (see ``trees.sequence_check`` for the policy).
-
-Blackboard keys: QueryBelief writes its expression's variables, AskBehavior its ``result`` key, a SubTree's
-literal ports are written when it starts and ``{key}`` ports remap keys to the parent's. A read is accepted when
-some node writes the key earlier in tick order, or anywhere inside a loop or Parallel around the read.
+built-in nodes and their values, converted as BehaviorTree.CPP converts them as it loads a tree (the node classes'
+port declarations say which); behavior arguments against the catalog (WRONG_FORMAT, WRONG_VALUE); belief
+expressions' syntax and predicates; scripts; SubTree references and cycles; the blackboard (``trees.blackboard_check``:
+keys read before any node writes them, script variables nothing writes, entries ports give two types); what the
+loader warned of; and WRONG_SEQUENCE along every path (see ``trees.sequence_check`` for the policy).
 """
 
 from __future__ import annotations
 
-import bisect
 import contextlib
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass, field
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
+from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, parse_expression, parse_rules
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
+from aeroexec.engine.catalog.descriptors import PredicateDeclaration
+from aeroexec.engine.catalog.vocabulary import check_rules
 from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
 from aeroexec.engine.missions.check import MissionProblem
 from aeroexec.engine.yaml_nodes import suggestion
+from aeroexec.trees.blackboard_check import BlackboardChecker
+from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING, UNSIGNED, ConversionError, convert, queue_items
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
-from aeroexec.trees.ports import bare_key, output_key, parse_number, port_errors, template_keys
-from aeroexec.trees.runtime.registry import BUILT_IN, LOOPING, children_text, ports_of
+from aeroexec.trees.ports import bare_key, port_errors
+from aeroexec.trees.runtime.ports import Port
+from aeroexec.trees.runtime.registry import BUILT_IN, children_text, ports_of
 from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 from aeroexec.trees.subtrees import check_expansion, check_subtree_paths
@@ -35,30 +36,14 @@ from aeroexec.trees.subtrees import check_expansion, check_subtree_paths
 from aeroexec.limits import MAX_NESTING
 
 Problem = MissionProblem
-_INTEGER_PORTS = {"num_cycles": -1, "num_attempts": -1, "msec": 0, "delay_msec": 0, "max_failures": None}
-_FROM_BLACKBOARD = ("num_cycles", "num_attempts")  # integer ports that may read {key} in flight
-_OUTPUTS = {("AskBehavior", "result"), ("SetBlackboard", "output_key")}  # ports that write, never read
+#: aeroexec's checks beyond BT.CPP's conversion: the least count that means something, the statuses a node may
+#: answer with (BT.CPP converts IDLE too, then throws when a node returns it).
+_MINIMUM = {"num_cycles": -1, "num_attempts": -1}
 _STATUS_PORTS = {"else": ("SUCCESS", "FAILURE", "SKIPPED", "RUNNING"), "if_empty": ("SUCCESS", "FAILURE", "SKIPPED")}
+_EXPECTED = {INT: "an integer", UNSIGNED: "an integer of at least 0", DOUBLE: "a number", BOOL: "true or false"}
 _SCRIPT_PORTS = ("code", "if", *POSTCONDITIONS)
 _SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
 BELIEF_LEAF_TYPES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
-
-
-@dataclass
-class _Scope:
-    """A blackboard scope of the main tree or of one SubTree use, as verification sees it."""
-
-    parent: _Scope | None = None
-    remap: dict[str, str] = field(default_factory=dict)
-    autoremap: bool = False
-    literals: set[str] = field(default_factory=set)
-
-    def resolve(self, key: str) -> tuple[int, str]:
-        if key in self.remap and self.parent is not None:
-            return self.parent.resolve(self.remap[key])
-        if key in self.literals or not self.autoremap or self.parent is None:
-            return id(self), key
-        return self.parent.resolve(key)
 
 
 class TreeVerifier:
@@ -78,6 +63,10 @@ class TreeVerifier:
             for node in root.walk():
                 if node.type == "AddBelief":
                     self.vocabulary.update(_new_predicates(node.ports.get("belief", ""), self.vocabulary))
+                elif node.type == "AddRule":  # what its rules derive, and its facts' predicates
+                    with contextlib.suppress(BeliefError):
+                        self.vocabulary.update({r.head.name: r.head.arity
+                                                for r in parse_rules(node.ports.get("rule", ""))})
 
     def report(self, node: TreeNode | None, message: str, kind: str = WRONG_FORMAT, severity: str = "error") -> None:
         file = (node.file if node is not None else "") or self.document.file
@@ -88,6 +77,8 @@ class TreeVerifier:
 
     def verify(self) -> list[Problem]:
         document = self.document
+        for file, line, message in (*document.warnings, *document.not_portable):  # counted with the others
+            self.problems.append(Problem("warning", message, file, line, WRONG_FORMAT))
         if document.main not in document.trees:
             self.problems.append(Problem("error", f"The main tree {document.main} does not exist"
                                          f"{suggestion(document.main, document.trees)}", document.file,
@@ -97,7 +88,7 @@ class TreeVerifier:
                 self.check_node(node)
             self.check_cycles(tree_id)
         if document.main in document.trees and check_expansion(self.document, self.report):
-            self.check_blackboard()
+            BlackboardChecker(document, self.known_keys, self.report).check()
             check_subtree_paths(self.document, self.report)
             SequenceChecker(document, self.specialist, self.report).check()
         self.problems.sort(key=lambda p: (p.file, p.line))
@@ -118,6 +109,8 @@ class TreeVerifier:
                 self.check_condition(node, attribute, node.ports[attribute])
         if "belief" in node.ports and kind in BELIEF_LEAF_TYPES:
             self.check_expression(node, "belief", node.ports["belief"])
+        if kind == "AddRule":
+            self.check_rules(node, node.ports.get("rule", ""))
         for attribute in _SCRIPT_PORTS:
             if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
                 self.check_script(node, attribute, node.ports[attribute])
@@ -141,20 +134,9 @@ class TreeVerifier:
             self.report(node, f"The port {port} of node {kind} does not exist"
                               f"{suggestion(port, declared) if declared else ' (it has no ports)'}")
         for port in declared.values():
-            if port.required and not node.ports.get(port.name, "").strip():
-                self.report(node, f"The node {kind} needs the port {port.name}")
-        for port, minimum in _INTEGER_PORTS.items():
-            if port in declared and node.ports.get(port, "").strip():
-                self.check_integer(node, port, minimum)
+            self.check_port(node, port)
         if kind == "Parallel":
             self.check_parallel(node)
-        for port, allowed in _STATUS_PORTS.items():
-            if port in declared and node.ports.get(port, "").strip() not in ("", *allowed):
-                self.report(node, f"The value {node.ports[port]} of port {port} of node {kind} is not correct "
-                                  f"({', '.join(allowed)} is expected)", WRONG_VALUE)
-        if kind == "RunOnce" and node.ports.get("then_skip", "true").strip().lower() not in ("true", "false"):
-            self.report(node, f"The value {node.ports['then_skip']} of port then_skip of node RunOnce is not "
-                              f"correct (true or false is expected)", WRONG_VALUE)
         if kind == "SubTree":
             tree = node.ports.get("ID", "").strip()
             if tree and tree not in self.document.trees:
@@ -167,30 +149,54 @@ class TreeVerifier:
     def _ask_arguments(self, node: TreeNode) -> list[str]:
         return [p for p in node.ports if p not in ("behavior", "result")]
 
-    def check_integer(self, node: TreeNode, port: str, minimum: int | None) -> int | None:
-        text = node.ports[port]
-        if bare_key(text) is not None and port in _FROM_BLACKBOARD:  # read from the blackboard in flight
-            return None
-        value = parse_number(text)
-        if not isinstance(value, int) or (minimum is not None and value < minimum):
-            expected = ("" if minimum is None else f"of at least {minimum} " if minimum >= 0 else "(-1: forever) ")
-            self.report(node, f"The value {text} of port {port} of node {node.type} is not correct (an integer "
-                              f"{expected}is expected)", WRONG_VALUE)
-            return None
-        return value
+    def check_port(self, node: TreeNode, port: Port) -> None:
+        """A built-in node's port: written when it must be, its text of the port's type (as BT.CPP converts it when
+        it loads the tree); a ``{key}`` is read in flight."""
+        text = node.ports.get(port.name)
+        if text is None or (port.required and not text.strip() and port.type in (STRING, ANY) and not port.empty):
+            if port.required:
+                self.report(node, f"The node {node.type} needs the port {port.name}")
+            return
+        if bare_key(text) is not None or port.type in (STRING, ANY):
+            if port.name == "queue" and bare_key(text) is None:
+                self.check_queue(node, text)
+            return
+        allowed = _STATUS_PORTS.get(port.name, ())
+        try:
+            value = convert(text, port.type)
+        except ConversionError:
+            value = None
+        wrong = (value is None or bool(allowed and text not in allowed)
+                 or (port.name in _MINIMUM and value < _MINIMUM[port.name]))
+        if wrong:
+            expected = ", ".join(allowed) if allowed else _EXPECTED.get(port.type, port.type)
+            if port.name in _MINIMUM:
+                expected += " (-1: forever)"
+            self.report(node, f"The value {text} of port {port.name} of node {node.type} is not correct ({expected} "
+                              f"is expected)", WRONG_VALUE)
+        elif port.type in (INT, UNSIGNED) and not re.fullmatch(r"-?\d+", text):
+            self.report(node, f"The value {text} of port {port.name} of node {node.type} is read as {value} "
+                              f"(BehaviorTree.CPP reads the integer the text starts with)", WRONG_VALUE, "warning")
+
+    def check_queue(self, node: TreeNode, text: str) -> None:
+        item = node.type[4:].lower() if node.type != "LoopString" else "string"
+        try:
+            queue_items(text, {"int": INT, "double": DOUBLE, "bool": BOOL}.get(item, STRING))
+        except ConversionError as error:
+            self.report(node, f"The value {text} of port queue of node {node.type} is not correct ({item} items "
+                              f"separated by ; are expected: {error})", WRONG_VALUE)
 
     def check_parallel(self, node: TreeNode) -> None:
         count = len(node.children)
-        for port, default in (("success_count", -1), ("failure_count", 1)):
-            text = node.ports.get(port, "").strip()
-            value = parse_number(text) if text else default
-            if not isinstance(value, int):
-                self.report(node, f"The value {text} of port {port} of node Parallel is not correct "
-                                  f"(an integer is expected)", WRONG_VALUE)
-                continue
+        for port, default in (("success_count", "-1"), ("failure_count", "1")):
+            text = node.ports.get(port, default)
+            try:
+                value = convert(text, INT)
+            except ConversionError:
+                continue  # reported by check_port
             needed = max(count + value + 1, 0) if value < 0 else value
             if needed > count or needed == 0:
-                self.report(node, f"The value {text or default} of port {port} of node Parallel is not correct "
+                self.report(node, f"The value {text} of port {port} of node Parallel is not correct "
                                   f"(it has {count} children)", WRONG_VALUE)
 
     def check_expression(self, node: TreeNode, attribute: str, text: str) -> None:
@@ -206,11 +212,27 @@ class TreeVerifier:
             for message in self.specialist.unwritten_values(expression):
                 self.report(node, message, WRONG_VALUE, "warning")
 
+    def check_rules(self, node: TreeNode, text: str) -> None:
+        """AddRule's rules: read and checked against the catalog's vocabulary (each problem at the node's line)."""
+        try:
+            rules = parse_rules(text, node.file or self.document.file, node.line or 1)
+            derived = {r.head.name for r in rules if r.body.literals}
+            known = {name: PredicateDeclaration(name, arity) for name, arity in self.vocabulary.items()
+                     if name not in derived}  # the mission's own (AddBelief, facts) as stored ones
+            problems = check_rules({**known, **self.catalog.predicates}, [*self.catalog.rules, *rules])
+        except RuleError as error:
+            problems = error.problems
+        for problem in problems:
+            self.report(node, f"AddRule: {problem.message}")
+
     def check_condition(self, node: TreeNode, attribute: str, text: str) -> None:
         """A pre-condition: a script, or else the belief expression aeroexec took there before."""
         try:
             compile_script(text)
         except ScriptError:
+            self.report(node, f"The {attribute} of node {node.type} is a belief expression, aeroexec's old reading "
+                              f"(BehaviorTree.CPP reads a script there): write {attribute}='belief(\"{text}\")'",
+                        WRONG_FORMAT, "warning")
             self.check_expression(node, attribute, text)
 
     def check_script(self, node: TreeNode, attribute: str, text: str) -> None:
@@ -240,94 +262,6 @@ class TreeVerifier:
                     visit(target, (*path, target))
 
         visit(tree_id, (tree_id,))
-
-    def check_blackboard(self) -> None:
-        writes: list[tuple[int, tuple[int, str]]] = []  # (position, resolved key)
-        reads: list[tuple[int, tuple[int, str], str, TreeNode, list[tuple[int, int]]]] = []
-        root_scope = _Scope()
-        known = {root_scope.resolve(k) for k in self.known_keys}
-        position = [0]
-
-        def walk(node: TreeNode, scope: _Scope, loops: list[tuple[int, int]], stack: tuple[str, ...]) -> None:
-            position[0] += 1
-            here = position[0]
-            for key in self._reads(node):
-                reads.append((here, scope.resolve(key), key, node, loops))
-            for key in self._writes(node):
-                writes.append((here, scope.resolve(key)))
-            span: list[tuple[int, int]] = loops
-            if node.type in LOOPING or node.type == "Parallel":
-                region = [here, 0]
-                span = [*loops, region]  # type: ignore[list-item]
-            if node.type == "SubTree":
-                target = node.ports.get("ID", "").strip()
-                if target in self.document.trees and target not in stack:
-                    inner = self._subtree_scope(node, scope)
-                    writes.extend((here, inner.resolve(port)) for port in inner.literals)
-                    walk(self.document.trees[target], inner, span, (*stack, target))
-            for child in node.children:
-                walk(child, scope, span, stack)
-            if span is not loops:
-                span[-1][1] = position[0]  # type: ignore[index]
-
-        walk(self.document.root, root_scope, [], (self.document.main,))
-        written: dict[tuple[int, str], list[int]] = {}  # key -> the positions writing it, in order (walk order)
-        for at, key in writes:
-            written.setdefault(key, []).append(at)
-        for here, key, text, node, loops in reads:
-            if key in known:
-                continue
-            places = written.get(key, [])
-            if places and places[0] < here:
-                continue
-            if any(bisect.bisect_left(places, start) < bisect.bisect_right(places, end) for start, end in loops):
-                continue
-            mapped = f" (mapped to {key[1]})" if key[1] != text else ""
-            self.report(node, f"The blackboard key {text}{mapped} is read before any node writes it")
-
-    def _subtree_scope(self, node: TreeNode, parent: _Scope) -> _Scope:
-        scope = _Scope(parent, autoremap=node.ports.get("_autoremap", "").strip().lower() in ("true", "1", "yes"))
-        for port, text in node.ports.items():
-            if port in COMMON_ATTRIBUTES:
-                continue
-            key = bare_key(text)
-            if key is None:
-                scope.literals.add(port)
-            else:
-                scope.remap[port] = port if key == "=" else key
-        return scope
-
-    @staticmethod
-    def _reads(node: TreeNode) -> list[str]:
-        keys: list[str] = []
-        for port, text in node.ports.items():
-            if node.type == "SubTree" and port not in PRECONDITIONS:
-                continue
-            if (node.type, port) in _OUTPUTS or (node.type.startswith("Loop") and port == "value"):
-                continue
-            keys += template_keys(text)
-        return keys
-
-    @staticmethod
-    def _writes(node: TreeNode) -> list[str]:
-        keys: list[str] = []
-        for port in ("code", *PRECONDITIONS, *POSTCONDITIONS):
-            if port in node.ports:
-                with contextlib.suppress(ScriptError):  # reported by check_script
-                    keys += compile_script(node.ports[port]).writes
-        if node.type == "SetBlackboard":
-            keys.append(output_key(node.ports.get("output_key", "")))
-        if node.type in ("LoopInt", "LoopDouble", "LoopString", "LoopBool") and node.ports.get("value"):
-            keys.append(output_key(node.ports["value"]))
-        return keys + TreeVerifier._leaf_writes(node)
-
-    @staticmethod
-    def _leaf_writes(node: TreeNode) -> list[str]:
-        if node.type == "QueryBelief":
-            return [v.lstrip("?") for v in re.findall(r"\?[A-Za-z_][A-Za-z0-9_]*", node.ports.get("belief", ""))]
-        if node.type == "AskBehavior" and node.ports.get("result", "").strip():
-            return [output_key(node.ports["result"])]
-        return []
 
 
 def _placeholders(text: str) -> str:

@@ -24,18 +24,17 @@ import time
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
-from aeroexec.cli.views.live_layout import behavior_table, newest, rows, share, window
 from aeroexec.console.feed import mission_line
 from aeroexec.engine.events import EngineEvent
 from aeroexec.engine.supervision.operator import operator_of
 from aeroexec.flight.run_status import ABORTED, COMPLETED, FAILED, REFUSED, RUN_ENDED
-from rich.console import Console, Group, RenderableType
-from rich.live import Live
-from rich.panel import Panel
-from rich.table import Table
-from rich.text import Text
+
+if TYPE_CHECKING:  # rich is imported when a view is drawn: a run with --plain never loads it
+    from rich.console import Console, RenderableType
+    from rich.live import Live
+    from rich.text import Text
 
 SNAPSHOT_PERIOD = 0.2  # wall seconds between two snapshots
 RECENT = 2.0  # engine seconds a changed belief stays highlighted
@@ -72,7 +71,11 @@ class LiveView:
                  console: Console | None = None) -> None:
         self.engine, self.name, self.tree = engine, name, tree
         self.mission_file = str(Path(mission_file).resolve()) if mission_file is not None else None
-        self.console = console or Console()
+        if console is None:
+            from rich.console import Console
+
+            console = Console()
+        self.console = console
         self.prompt = ""  # the key reader's prompt line, shown at the bottom
         self.message = ""  # the last command's answer
         self._events: deque[EngineEvent] = deque(maxlen=EVENTS_SHOWN)
@@ -155,6 +158,12 @@ class LiveView:
 
     def draw(self, size: tuple[int, int] | None = None) -> RenderableType:
         """The view for a ``(width, height)`` terminal, or everything when ``size`` is None."""
+        from aeroexec.cli.views.live_layout import behavior_table, newest, rows, share, window
+        from rich.console import Group
+        from rich.panel import Panel
+        from rich.table import Table
+        from rich.text import Text
+
         s = self._snapshot
         width = size[0] if size else 10_000
         state_style = FINAL_STYLE.get(s.state) or {"paused": "bold yellow", "aborted": "bold red",
@@ -199,6 +208,8 @@ class LiveView:
 
     @staticmethod
     def _drone_text(d: dict[str, Any]) -> Text:
+        from rich.text import Text
+
         drone = Text()
         if d:
             x, y, z = d["position"]
@@ -211,6 +222,8 @@ class LiveView:
         return drone
 
     def start(self) -> LiveView:
+        from rich.live import Live
+
         self.refresh()
         self._live = Live(get_renderable=self.render, console=self.console, refresh_per_second=4,
                           redirect_stdout=True, redirect_stderr=True)

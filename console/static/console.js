@@ -38,63 +38,6 @@ function update(name, snapshot, events) {
   if (d.events.length > MAX_EVENTS) d.events.splice(0, d.events.length - MAX_EVENTS);
 }
 
-// -- the map --------------------------------------------------------------------------------------------
-const SVG = "http://www.w3.org/2000/svg";
-function el(tag, attrs, parent) {
-  const node = document.createElementNS(SVG, tag);
-  for (const [k, v] of Object.entries(attrs)) node.setAttribute(k, v);
-  if (parent) parent.appendChild(node);
-  return node;
-}
-
-function drawMap() {
-  const svg = $("map");
-  svg.replaceChildren();
-  const w = model.world;
-  let lo = [-20, -20], hi = [20, 20];
-  if (w) { lo = w.bounds.lower; hi = w.bounds.upper; }
-  svg.setAttribute("viewBox", `${lo[0] - 1} ${-hi[1] - 1} ${hi[0] - lo[0] + 2} ${hi[1] - lo[1] + 2}`);
-  el("rect", { class: "bounds", x: lo[0], y: -hi[1], width: hi[0] - lo[0], height: hi[1] - lo[1] }, svg);
-  if (w) {
-    for (const o of w.obstacles) {
-      if (o.shape === "cylinder") el("circle", { class: "obstacle", cx: o.center[0], cy: -o.center[1], r: o.radius }, svg);
-      else el("rect", { class: "obstacle", x: o.lower[0], y: -o.upper[1], width: o.upper[0] - o.lower[0],
-                        height: o.upper[1] - o.lower[1] }, svg);
-      const t = el("text", { class: "object-label", x: o.center ? o.center[0] : o.lower[0], y: -(o.center ? o.center[1] : o.upper[1]) }, svg);
-      t.textContent = o.name;
-    }
-    if (w.platform && w.platform.path.length > 1) {
-      el("polyline", { class: "platform-path", points: w.platform.path.map((p) => `${p[0]},${-p[1]}`).join(" ") }, svg);
-    }
-    for (const m of w.markers) {
-      el("rect", { class: "marker", x: m.position[0] - 0.3, y: -m.position[1] - 0.3, width: 0.6, height: 0.6 }, svg);
-      el("text", { class: "marker-label", x: m.position[0] + 0.4, y: -m.position[1] }, svg).textContent = `#${m.id}`;
-    }
-    for (const o of w.objects) {
-      el("circle", { cx: o.position[0], cy: -o.position[1], r: 0.35, fill: o.color, stroke: "#333", "stroke-width": 0.08 }, svg);
-      el("text", { class: "object-label", x: o.position[0] + 0.45, y: -o.position[1] }, svg).textContent = o.name;
-    }
-  }
-  for (const name of model.order) {
-    const d = model.drones[name], s = d.snapshot;
-    if (d.trail.length > 1) {
-      el("polyline", { class: "trail", stroke: d.color, points: d.trail.map((p) => `${p[0]},${-p[1]}`).join(" ") }, svg);
-    }
-    if (!s || !s.telemetry || !s.telemetry.position) continue;
-    for (const a of s.active || []) {
-      if (a.path && a.path.length) {
-        const pts = [s.telemetry.position, ...a.path].map((p) => `${p[0]},${-p[1]}`).join(" ");
-        el("polyline", { class: "planned", stroke: d.color, points: pts }, svg);
-      }
-    }
-    const [x, y] = s.telemetry.position;
-    const g = el("g", { id: `drone-${name}`, class: "drone-marker", "data-x": x, "data-y": y,
-                        transform: `translate(${x} ${-y}) rotate(${-(90 - (s.telemetry.yaw || 0))})` }, svg);
-    el("polygon", { class: "drone", fill: d.color, points: "1.1,0 -0.7,0.65 -0.35,0 -0.7,-0.65" }, g);
-    el("text", { class: "drone-label", x: x + 0.9, y: -y - 0.6 }, svg).textContent = name;
-  }
-}
-
 // -- the side panels ---------------------------------------------------------------------------------------
 function text(id, value) { $(id).textContent = value; }
 
@@ -103,12 +46,15 @@ function drawPanels() {
   const s = d && d.snapshot;
   if (!s) return;
   const state = $("state");
-  state.textContent = s.state;
-  state.className = `state ${s.state}`;
+  state.textContent = model.replay ? "replay" : s.state;
+  state.className = `state ${model.replay ? "replay" : s.state}`;
+  state.title = model.replay ? `the run, at this time: ${s.state}` : "";
   text("time", s.time.toFixed(1));
   const t = s.telemetry || {};
-  text("flight", `${t.landed || ""} ${t.mode || ""}${t.armed ? " armed" : ""}`);
-  text("battery", t.battery !== undefined ? `battery ${Math.round(t.battery)} %` : "");
+  text("altitude", t.position ? `${t.position[2].toFixed(1)} m` : "-");
+  text("speed", t.speed !== undefined && t.speed !== null ? `${t.speed.toFixed(1)} m/s` : "-");
+  text("battery", t.battery !== undefined && t.battery !== null ? `${Math.round(t.battery)} %` : "-");
+  text("flight", [t.landed, t.mode, t.armed ? "armed" : ""].filter(Boolean).join(" "));
   const mission = $("mission");
   mission.replaceChildren();
   if (s.mission && s.mission.kind === "tree") {
@@ -231,7 +177,9 @@ function replayAt(time) {
     for (const rec of records) {
       if (rec.time > time) break;
       if (rec.kind === "state") {
-        telemetry = { position: rec.position, yaw: rec.yaw, battery: rec.battery, landed: rec.landed_state, armed: rec.armed, mode: "" };
+        const v = rec.velocity || [0, 0, 0];
+        telemetry = { position: rec.position, yaw: rec.yaw, battery: rec.battery, landed: rec.landed_state, armed: rec.armed, mode: "",
+                      speed: Math.hypot(v[0], v[1], v[2] || 0) };
         d.trail.push(rec.position);
       } else if (rec.kind === "belief_added") beliefs.add(rec.belief);
       else if (rec.kind === "belief_removed") beliefs.delete(rec.belief);
@@ -262,6 +210,9 @@ function startReplay() {
   const r = model.replay;
   $("replay-bar").hidden = false;
   $("controls-panel").hidden = true;
+  text("replay-mission", r.mission || "a finished run");
+  text("link", "finished run: read-only");
+  $("link").className = "link replay";
   const slider = $("slider");
   slider.max = r.end;
   slider.value = r.end;
@@ -285,8 +236,8 @@ function startReplay() {
 function connect() {
   const scheme = location.protocol === "https:" ? "wss" : "ws";
   socket = new WebSocket(`${scheme}://${location.host}/ws?token=${encodeURIComponent(token)}`);
-  socket.onopen = () => { text("link", "online"); $("link").className = "link online"; };
-  socket.onclose = () => { text("link", "offline"); $("link").className = "link"; };
+  socket.onopen = () => { if (!model.replay) { text("link", "online"); $("link").className = "link online"; } };
+  socket.onclose = () => { if (!model.replay) { text("link", "offline"); $("link").className = "link"; } };
   socket.onmessage = (event) => {
     const message = JSON.parse(event.data);
     if (message.type === "hello") {
@@ -309,3 +260,4 @@ function connect() {
 
 wire();
 connect();
+window.addEventListener("resize", () => drawMap());

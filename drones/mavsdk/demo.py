@@ -13,6 +13,7 @@ import asyncio
 import math
 import sys
 
+from mavsdk import LogLevel, log_subscribe
 from mavsdk.asyncio import ComponentType, Configuration, Mavsdk, MavsdkError
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
@@ -42,6 +43,18 @@ async def first(stream, predicate, timeout: float, what: str):
         raise TimeoutError(f"timed out after {timeout:g} s waiting for {what}") from None
     finally:
         await stream.aclose()  # unsubscribes now rather than when garbage collected
+
+
+def plain_native_log(verbose: bool = False) -> None:
+    """MAVSDK's own log as plain lines on stderr (it colours them, even into a file or a pipe), its debug lines
+    (every MAVLink status text) only with ``--verbose``."""
+
+    def show(level: LogLevel, message: str, file: str, line: int) -> bool:
+        if verbose or level != LogLevel.DEBUG:
+            print(f"mavsdk {level.name.lower()}: {message}", file=sys.stderr, flush=True)
+        return True  # handled: MAVSDK prints nothing itself
+
+    log_subscribe(show)
 
 
 async def fly(url: str, altitude: float, side: float, timeout: float) -> None:
@@ -106,7 +119,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--altitude", type=float, default=5.0, help="flight altitude above home (m)")
     parser.add_argument("--side", type=float, default=10.0, help="side of the square (m)")
     parser.add_argument("--timeout", type=float, default=60.0, help="longest wait for any step (s)")
+    parser.add_argument("--verbose", "-v", action="store_true", help="also MAVSDK's debug lines")
     args = parser.parse_args(argv)
+    plain_native_log(args.verbose)
     try:
         asyncio.run(fly(args.url, args.altitude, args.side, args.timeout))
     except (MavsdkError, TimeoutError) as exc:

@@ -5,6 +5,7 @@ The PX4 parameter each default follows is named in its comment; times in seconds
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -51,6 +52,12 @@ class SimConfig:
     start: tuple[float, float] = (0.0, 0.0)  # m east, north: where the drone stands at first and returns to
     substep: float = 0.02  # s: fixed integration step
     position_noise_std: float = 0.0  # m: reported position noise (0 = exact), seeded
+    detection_probability: float = 1.0  # chance that a camera reports an object in view, each update, seeded
+
+    # Weather and link
+    wind: tuple[float, float] = (0.0, 0.0)  # m/s east, north: the mean wind (blows the drone; airspeed drains)
+    wind_gust: float = 0.0  # m/s: standard deviation of the gusts about the mean (a 5 s correlation), seeded
+    link_loss: tuple[float, float] | None = None  # (at, for) s of simulated time: the ground station's link drops
 
     def __post_init__(self) -> None:
         for name in ("max_speed", "cruise_speed", "max_acceleration", "vertical_acceleration", "climb_rate",
@@ -62,5 +69,11 @@ class SimConfig:
             raise ValueError("SimConfig.position_gain * substep must stay below 1 for a stable approach")
         if not 0.0 <= self.initial_battery_percent <= 100.0:
             raise ValueError(f"SimConfig.initial_battery_percent must be in 0..100, not {self.initial_battery_percent}")
+        if not 0.0 <= self.detection_probability <= 1.0:
+            raise ValueError(f"SimConfig.detection_probability must be in 0..1, not {self.detection_probability}")
+        if self.wind_gust < 0.0 or not all(math.isfinite(w) for w in self.wind):
+            raise ValueError("SimConfig.wind must be finite and wind_gust not negative")
+        if self.link_loss is not None and not (self.link_loss[0] >= 0.0 and self.link_loss[1] > 0.0):
+            raise ValueError(f"SimConfig.link_loss must be (at >= 0, for > 0) seconds, not {self.link_loss}")
         if self.position_noise_std < 0.0:
             raise ValueError("SimConfig.position_noise_std cannot be negative")

@@ -81,6 +81,10 @@ class SimulatedDrone(Drone):
         self._telemetry: Telemetry | None = None  # the last answer, until an update or a command changes the state
         self.airspace: Airspace | None = None  # the other drones of the world, seen by the cameras
         self.call_sign = ""
+        self._gust: tuple[float, float] = (0.0, 0.0)  # m/s: the gusts' part of the wind now
+        self._blown = start_time  # when the gusts were last drawn
+        self._link_up = True
+        self._weather = random.Random(seed + 7919)  # the gusts and dropped detections (apart from the noise)
 
     @_locked
     def place(self, position: Vector, yaw: float = 0.0, *, flying: bool = False,
@@ -129,11 +133,38 @@ class SimulatedDrone(Drone):
                 self._steps = target
                 v.time = self._start + target * dt
         v.ride_deck()  # landed on the moving platform (even disarmed): carried along
+        if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0:
+            self._blow(now)
+        if self.config.link_loss is not None and self.link_ok(now) != self._link_up:
+            self._link_up = not self._link_up
+            if self._link_up:
+                v.emit("ground_link_restored")
+            else:
+                v.emit("ground_link_lost", "the simulated ground link dropped", altitude=round(v.position[2], 2),
+                       in_air=v.airborne)
         if self.config.position_noise_std > 0.0:
             s = self.config.position_noise_std
             self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
         self._observations = None
         self._settle_payload()
+
+    def _blow(self, now: float) -> None:
+        """The wind at ``now``: the mean plus gusts that wander about it (an Ornstein-Uhlenbeck process, 5 s)."""
+        c = self.config
+        if c.wind_gust > 0.0:
+            dt = max(now - self._blown, 0.0)
+            keep = math.exp(-dt / 5.0)
+            spread = c.wind_gust * math.sqrt(max(1.0 - keep * keep, 0.0))
+            gx, gy = self._gust
+            self._gust = (gx * keep + self._weather.gauss(0.0, spread), gy * keep + self._weather.gauss(0.0, spread))
+        self._blown = now
+        self._vehicle.wind = (c.wind[0] + self._gust[0], c.wind[1] + self._gust[1])
+
+    def link_ok(self, now: float) -> bool:
+        """Whether the link to the ground station is up at ``now`` (the configured drop, if any); the engine flies
+        on board, so its commands still reach the vehicle."""
+        loss = self.config.link_loss
+        return loss is None or not (self._start + loss[0] <= now < self._start + loss[0] + loss[1])
 
     # --- state -------------------------------------------------------------------------------------
     def telemetry(self) -> Telemetry:
@@ -166,8 +197,9 @@ class SimulatedDrone(Drone):
             armed=v.armed,
             landed_state=v.landed_state,
             flight_mode=v.mode,
-            link_ok=True,
+            ground_link=self.link_ok(self._now) if self.config.link_loss is not None else None,
             home=self.world.home,
+            wind=v.wind if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0 else None,
         )
 
     @property
@@ -184,6 +216,9 @@ class SimulatedDrone(Drone):
                 self.camera.observe(self.world, v.position, v.yaw, self._now),
                 self.bottom_camera.observe(self.world, v.position, v.yaw, self._now),
                 self._traffic(v.position, v.yaw))
+            chance = self.config.detection_probability
+            if chance < 1.0:  # a detector that misses: each object in view reported with this chance
+                self._observations = [o for o in self._observations if self._weather.random() < chance]
         return list(self._observations)
 
     def _traffic(self, position: Vector, yaw: float) -> list[Observation]:

@@ -61,6 +61,7 @@ class Multicopter:
         self.crashed: str | None = None  # why, once crashed
         self.failsafe = False  # latched by low battery
         self.battery = Battery(config)
+        self.wind: tuple[float, float] = (0.0, 0.0)  # m/s east, north, now (the drone sets the gusts)
         self.events: list[DroneEvent] = []
         self._target: Vector = self.position
         self._speed = config.cruise_speed
@@ -188,6 +189,10 @@ class Multicopter:
         self.yaw_rate = wrap180(self.yaw - yaw_before) / dt
         velocity = accelerate(self.velocity, desired, limits, dt)
         vx, vy, vz = velocity
+        airspeed = None
+        if self.wind != (0.0, 0.0) and self.airborne:  # the air moves: the motors fly the airspeed
+            velocity, airspeed = self._in_wind(velocity)
+            vx, vy, vz = velocity
         if not self.airborne and vz <= 0.0:
             self.velocity = (0.0, 0.0, 0.0)
             self.ride_deck()
@@ -200,7 +205,7 @@ class Multicopter:
         if not self.airborne and z > 0.0:
             self.airborne = True
             self.contacts.leave()
-        self.battery.drain_flying(dt, math.hypot(vx, vy), vz)
+        self.battery.drain_flying(dt, math.hypot(vx, vy) if airspeed is None else airspeed, vz)
         if vz <= 0.0 and z <= self._contact_height:  # higher, neither the ground nor the deck is reached
             deck = self.contacts.deck_below(position, self.time, previous_z)
             if z <= (deck or 0.0) + _GROUND_CONTACT:
@@ -218,6 +223,19 @@ class Multicopter:
         else:
             self._check_bounds()
         self._progress()
+
+    def _in_wind(self, velocity: Vector) -> tuple[Vector, float]:
+        """The ground velocity the controller gets in the wind (its airspeed at most ``max_speed``: upwind it is
+        slowed, in a wind stronger than that it drifts), and the horizontal airspeed it flies."""
+        vx, vy, vz = velocity
+        wx, wy = self.wind
+        ax, ay = vx - wx, vy - wy
+        air = math.hypot(ax, ay)
+        top = self.config.max_speed
+        if air > top:
+            k = top / air
+            return (wx + ax * k, wy + ay * k, vz), top
+        return velocity, air
 
     def _desired(self, dt: float) -> tuple[Vector, Limits]:
         c = self.config

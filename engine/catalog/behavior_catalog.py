@@ -15,7 +15,7 @@ from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
-from aeroexec.beliefs import BeliefMemory
+from aeroexec.beliefs import BeliefMemory, Rule, RuleError
 from aeroexec.engine.catalog.descriptors import (
     BehaviorDescriptor,
     CapabilityDescriptor,
@@ -25,6 +25,8 @@ from aeroexec.engine.catalog.descriptors import (
     Transition,
 )
 from aeroexec.engine.catalog.loader import CatalogContent, CatalogReader
+from aeroexec.engine.catalog.safety_rules import SafetyRule
+from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
@@ -41,8 +43,12 @@ class BehaviorCatalog:
         self.lists: dict[str, tuple[str, ...]] = dict(content.lists)
         self.capabilities: dict[str, CapabilityDescriptor] = dict(content.capabilities)
         self.reactive_rules: tuple[ReactiveRule, ...] = tuple(content.reactive)
+        #: the operator's safety rules for every mission (a mission's own are added by :meth:`with_safety_rules`)
+        self.safety_rules: tuple[SafetyRule, ...] = tuple(content.safety_rules)
         self.transitions: tuple[Transition, ...] = tuple(content.transitions)
         self.predicates: dict[str, PredicateDeclaration] = dict(content.predicates)
+        #: the rules that derive beliefs (the catalog's ``rules:``, and those added by :meth:`with_rules`)
+        self.rules: tuple[Rule, ...] = tuple(content.rules)
         self.phenomena: dict[str, Phenomenon] = _phenomena(content)
         #: the vehicle's documented limits (``vehicle_limits:``, an extension of Appendix B): name -> value
         self.vehicle_limits: dict[str, float] = dict(content.vehicle_limits)
@@ -109,10 +115,34 @@ class BehaviorCatalog:
         fitted.behaviors, fitted.unsupported, fitted.predicates = behaviors, unsupported, predicates
         return fitted
 
+    def with_safety_rules(self, rules: Iterable[SafetyRule]) -> BehaviorCatalog:
+        """This catalog with ``rules`` watched too (a mission's, a rules file's); ``self`` when there are none."""
+        rules = tuple(rules)
+        if not rules:
+            return self
+        watched = copy.copy(self)
+        watched.safety_rules = self.safety_rules + rules
+        return watched
+
+    def with_rules(self, rules: Iterable[Rule]) -> BehaviorCatalog:
+        """This catalog with ``rules`` added (a rules file, ``--rules``): the predicates they derive join the
+        vocabulary that missions are checked against, and an engine built on it derives them. Raises
+        :class:`~aeroexec.beliefs.RuleError` (each problem with its file and line) when they cannot be taken."""
+        rules = [*self.rules, *rules]
+        own = {n: p for n, p in self.predicates.items() if not p.derived}
+        problems = check_rules(own, rules)
+        if problems:
+            raise RuleError(problems)
+        fitted = copy.copy(self)
+        fitted.rules = tuple(rules)
+        fitted.predicates = {**own, **derived_declarations(rules, own)}
+        return fitted
+
     def declare_vocabulary(self, memory: BeliefMemory) -> None:
-        """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory."""
+        """Declare the catalog's predicates (arity, exclusivity, persistence) in a belief memory; its rules are
+        added once the computed predicates they may read are registered (``memory.add_rules(catalog.rules)``)."""
         for p in self.predicates.values():
-            if not p.computed:
+            if not p.computed and not p.derived:
                 memory.declare(p.name, p.arity, multivalued=p.multivalued, persistence=p.persistence, values=p.values,
                                aliases=p.aliases)
 

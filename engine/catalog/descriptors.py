@@ -98,13 +98,14 @@ class Phenomenon:
 
 @dataclass(frozen=True, slots=True)
 class PredicateDeclaration:
-    """A predicate of the belief vocabulary: arity, exclusivity, persistence, computed or stored."""
+    """A predicate of the belief vocabulary: arity, exclusivity, persistence, computed, derived or stored."""
 
     name: str
     arity: int
     multivalued: bool = False
     persistence: float | None = None  # seconds; None = permanent
     computed: bool = False  # answered by a function the engine registers, never stored
+    derived: bool = False  # derived by the catalog's rules (or a rules file), never stored
     values: tuple[str, ...] = ()  # the atoms its last argument takes (matched without regard to case); () = any
     aliases: dict[str, tuple[str, ...]] = field(default_factory=dict)  # a name for several values in expressions
     description: str = ""

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import yaml
-from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
+from aeroexec.beliefs import BeliefMemory, Rule
 from aeroexec.engine.catalog.arguments import VALUE_TYPES, ArgumentDescriptor, format_value
 from aeroexec.engine.catalog.descriptors import (
     CATEGORIES,
@@ -23,10 +23,13 @@ from aeroexec.engine.catalog.descriptors import (
     Transition,
 )
 from aeroexec.engine.catalog.dialects import catalog_dialect
+from aeroexec.engine.catalog.safety_rules import SafetyRule, read_safety_rules
+from aeroexec.engine.catalog.vocabulary import VocabularySections
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
-            "capability_descriptors", "behavior_transitions", "phenomena", "predicates", "vehicle_limits")
+            "capability_descriptors", "behavior_transitions", "phenomena", "predicates", "vehicle_limits", "rules",
+            "safety_rules")
 #: The vehicle's documented limits a catalog may give (``vehicle_limits:``) and name in its ranges.
 VEHICLE_LIMITS = {"max_altitude": "m above (or below) home", "max_distance": "m from home, horizontally",
                   "max_speed": "m/s horizontally", "max_flight_time": "s a full battery keeps the vehicle flying"}
@@ -48,10 +51,12 @@ class CatalogContent:
     behaviors: dict[str, BehaviorDescriptor] = field(default_factory=dict)
     lists: dict[str, tuple[str, ...]] = field(default_factory=dict)
     reactive: list[ReactiveRule] = field(default_factory=list)
+    safety_rules: list[SafetyRule] = field(default_factory=list)
     capabilities: dict[str, CapabilityDescriptor] = field(default_factory=dict)
     transitions: list[Transition] = field(default_factory=list)
     phenomena: dict[str, Phenomenon] = field(default_factory=dict)
     predicates: dict[str, PredicateDeclaration] = field(default_factory=dict)
+    rules: list[Rule] = field(default_factory=list)
     vehicle_limits: dict[str, float] = field(default_factory=dict)
     # where each name was written, for the cross-reference checks
     references: list[tuple[str, str, str, yaml.Node]] = field(default_factory=list)
@@ -66,7 +71,7 @@ def _peek(node: yaml.Node, key: str) -> str:
     return "?"
 
 
-class CatalogReader:
+class CatalogReader(VocabularySections):
     """Reads one catalog document section by section into a :class:`CatalogContent`."""
 
     def __init__(self, reader: NodeReader) -> None:
@@ -85,9 +90,10 @@ class CatalogReader:
             self.r.error(root, dialect)
             return self.content
         sections = self.r.mapping(root, "the catalog", SECTIONS) or {}
-        # predicates first: preconditions and conditions are checked against them
-        order = ("vehicle_limits", "default_behavior_values", "predicates", "behavior_lists", "capability_descriptors",
-                 "behavior_descriptors", "phenomena", "reactive_activation", "behavior_transitions")
+        # predicates and rules first: preconditions and conditions are checked against them
+        order = ("vehicle_limits", "default_behavior_values", "predicates", "rules", "behavior_lists",
+                 "capability_descriptors", "behavior_descriptors", "phenomena", "reactive_activation",
+                 "behavior_transitions", "safety_rules")
         for name in order:
             if name in sections:
                 getattr(self, "_" + name)(sections[name][1])
@@ -121,41 +127,6 @@ class CatalogReader:
         self.r.error(node, f"{what} is {name!r}: a number or a vehicle limit ({known})"
                            f"{suggestion(key, self.content.vehicle_limits)}")
         return None
-
-    def _predicates(self, node: yaml.Node) -> None:
-        keys = ("predicate", "arity", "multivalued", "persistence", "computed", "values", "aliases", "description")
-        for item in self.r.sequence(node, "predicates") or ():
-            e = self.r.mapping(item, "a predicate", keys)
-            if e is None or not self._required(e, item, "predicate", "a predicate"):
-                continue
-            name = self.r.text(e["predicate"][1], "predicate")
-            arity = self.r.integer(e["arity"][1], f"the arity of {name}") if "arity" in e else None
-            if "arity" not in e:
-                self.r.error(item, f"predicate {name}: arity is missing")
-            if name is None or arity is None:
-                continue
-            if name in self.content.predicates:
-                self.r.error(item, f"predicate {name} is declared twice (first at line "
-                                   f"{self.content.predicates[name].line})")
-                continue
-            persistence = None
-            if "persistence" in e and self.r.text(e["persistence"][1], "persistence") != "permanent":
-                persistence = self.r.number(e["persistence"][1], f"the persistence of {name} (seconds or permanent)",
-                                            positive=True)
-            self.content.predicates[name] = PredicateDeclaration(
-                name, arity,
-                multivalued=bool("multivalued" in e and self.r.flag(e["multivalued"][1], "multivalued")),
-                persistence=persistence,
-                computed=bool("computed" in e and self.r.flag(e["computed"][1], "computed")),
-                values=tuple(v for v, _ in self.r.names(e["values"][1], f"the values of {name}")) if "values" in e
-                else (), aliases=self._aliases(e["aliases"][1], name) if "aliases" in e else {},
-                description=self._description(e), line=item.start_mark.line + 1)
-
-    def _aliases(self, node: yaml.Node, predicate: str) -> dict[str, tuple[str, ...]]:
-        """``aliases: {flying: [hovering, moving]}``: names for several values of a predicate."""
-        entries = self.r.mapping(node, f"the aliases of {predicate}") or {}
-        return {alias: tuple(v for v, _ in self.r.names(value, f"the alias {alias} of {predicate}"))
-                for alias, (_, value) in entries.items()}
 
     def _behavior_lists(self, node: yaml.Node) -> None:
         for item in self.r.sequence(node, "behavior_lists") or ():
@@ -255,6 +226,11 @@ class CatalogReader:
             if name is not None:
                 self.content.reactive.append(ReactiveRule(name, condition, priority, arguments,
                                                           item.start_mark.line + 1))
+
+    def _safety_rules(self, node: yaml.Node) -> None:
+        found = read_safety_rules(self.r, node, self._memory())
+        self.r.problems += found.problems
+        self.content.safety_rules = found.rules
 
     def _behavior_transitions(self, node: yaml.Node) -> None:
         aliases = {"phenomenon": "physical_phenomenon"}  # Figure 8 writes both
@@ -419,25 +395,6 @@ class CatalogReader:
                                f"{suggestion(category, CATEGORIES)}")
             return None
         return category
-
-    def _expression(self, node: yaml.Node, what: str) -> Conjunction | None:
-        if node.tag == "tag:yaml.org,2002:seq":  # a list of expressions is their conjunction
-            parts = [self.r.text(item, what) for item in node.value]
-            text = ", ".join(p for p in parts if p)
-        else:
-            text = self.r.text(node, what)
-        if not text:
-            return None
-        try:
-            return self._memory().check(text)
-        except BeliefError as exc:
-            self.r.error(node, f"{what}: {exc.message}")
-            return None
-
-    def _memory(self) -> BeliefMemory:
-        if self._vocabulary is None:
-            self._vocabulary = BeliefMemory(predicates={p.name: p.arity for p in self.content.predicates.values()})
-        return self._vocabulary
 
     def _description(self, entries: dict) -> str:
         if "description" not in entries:

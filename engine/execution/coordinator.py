@@ -91,6 +91,8 @@ class BehaviorCoordinator:
         self._react = False  # Algorithm 5 is due
         self._inhibited: set[str] = set()
         self._rules = RuleWatch(self.catalog.reactive_rules, context.memory)  # which rules to evaluate, and when
+        #: set by a safety contingency in effect (engine/safety): the mission's requests are refused, saying why
+        self.preempted_by: str | None = None
 
     # -- queries --------------------------------------------------------------------------
     def is_active(self, name: str) -> bool:
@@ -118,6 +120,10 @@ class BehaviorCoordinator:
         cls = self.library.get(name)
         if cls is None:
             return self._refuse(name, UNSUPPORTED, unsupported_message(name), source)
+        if self.preempted_by is not None and source == "mission":
+            message = f"{failed_preconditions_message(name)} The {self.preempted_by} has taken over the drone."
+            self.log.record("failed_preconditions", name, message, source=source)
+            return ActivationResult(False, Outcome.FAILED_PRECONDITIONS, message)
         level = PRIORITY[priority]
         if source != "reactive":
             self._inhibited.discard(name)  # asking for it again lifts an inhibition

@@ -1,4 +1,5 @@
-"""Explaining a belief expression that does not hold: which part fails and what the memory holds instead."""
+"""Explaining a belief expression that does not hold: which part fails and what the memory holds instead (for a
+derived goal, which part of each rule deriving it fails)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, Conjunction, Goal, Struct, Var, format_term
+from aeroexec.beliefs.terms import from_python, substitute
 
 _SHOWN = 3  # beliefs shown as "what the memory holds"
 
@@ -32,7 +34,12 @@ def _sentence(memory: BeliefMemory, expression: Conjunction, literal: Any, solut
     known = {name: value for name, value in solution.items() if name in str(literal)}
     if known:
         sentence += " with " + ", ".join(f"{name} = {format_term(value)}" for name, value in sorted(known.items()))
-    if isinstance(literal, Goal) and not memory.is_computed(literal.term.name, len(literal.term.args)):
+    if isinstance(literal, Goal) and memory.is_derived(literal.term.name, len(literal.term.args)):
+        values = {Var(name): from_python(value) for name, value in solution.items()}
+        reasons = memory.why_not(substitute(literal.term, values))[1:]  # through the rules that derive it
+        if reasons:
+            sentence += "; " + "; ".join(reasons)
+    elif isinstance(literal, Goal) and not memory.is_computed(literal.term.name, len(literal.term.args)):
         pattern = _pattern(literal.term)
         holds = memory.matching(pattern) if pattern is not None else []
         if holds:

@@ -61,18 +61,17 @@ class RuleWatch:
         if rule.condition is None:
             return False
         inputs = self._inputs.get(index)
-        if inputs is None:
-            predicates = rule.condition.predicates
-            computed = any(self.memory.is_computed(name, arity) for name, arity in predicates)
-            inputs = self._inputs[index] = (predicates, computed)
+        if inputs is None:  # the stored predicates it reads, through the rules of derived ones
+            inputs = self._inputs[index] = self.memory.reads(rule.condition.predicates)
         return inputs[1] or not inputs[0].isdisjoint(changed)
 
     def _rules_read(self) -> frozenset[Signature] | None:
         """The predicates the rules' conditions read; None when one reads a computed predicate."""
         read: set[Signature] = set()
         for rule in self.rules:
-            predicates = rule.condition.predicates if rule.condition is not None else frozenset()
-            if any(self.memory.is_computed(name, arity) for name, arity in predicates):
+            predicates, computed = self.memory.reads(rule.condition.predicates if rule.condition is not None
+                                                     else frozenset())
+            if computed:
                 return None
             read |= predicates
         return frozenset(read)

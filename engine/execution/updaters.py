@@ -52,7 +52,8 @@ def battery_level(percent: float) -> str:
 
 #: The predicates the telemetry updater writes, declared by the engine when a catalog does not.
 TELEMETRY_PREDICATES = {"position": 2, "flight_state": 2, "charge": 2, "battery_level": 2, "armed": 2,
-                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2, "position_accuracy": 2}
+                        "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2, "position_accuracy": 2,
+                        "wind": 2}
 
 
 class PositionSource:
@@ -103,8 +104,10 @@ class TelemetryUpdater(BeliefUpdater):
             ("orientation", ("self", round(t.yaw))),
             ("speed", ("self", round(t.speed, 1))),
             ("flight_mode", ("self", t.flight_mode)),
-            ("communication", ("wireless", "ok" if t.link_ok else "lost")),
+            ("communication", ("wireless", "ok" if t.link_ok and t.ground_link is not False else "lost")),
         ]
+        if t.wind is not None:  # to half a meter per second: gusts do not rewrite it every update
+            facts.append(("wind", ("self", round(2.0 * math.hypot(*t.wind)) / 2.0)))
         if self.position_source.from_telemetry:
             x, y, z = t.position
             facts.append(("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))

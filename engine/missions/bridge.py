@@ -33,6 +33,14 @@ CALLS_PER_TICK = 10
 POLLING_REPORT = 30.0
 
 
+class MissionPreempted(Exception):
+    """Raised in a Python mission's thread when a safety rule hands the mission over to ``function``."""
+
+    def __init__(self, function: Callable[[], Any], message: str) -> None:
+        super().__init__(message)
+        self.function = function
+
+
 class _Request:
     __slots__ = ("function", "waits", "done", "value", "error")
 
@@ -63,6 +71,7 @@ class MissionBridge:
         self._poll_since: float | None = None
         self._poll_version: int | None = None
         self._poll_reported = False
+        self.preempted: BaseException | None = None
         #: Journals the mission's API calls and replays them on a resume (``missions/replay.py``); None: neither.
         self.recorder: Any = None
 
@@ -78,6 +87,9 @@ class MissionBridge:
     def _submit(self, request: _Request) -> Any:
         if self._closed:
             raise MissionAborted("the engine has stopped")
+        if self.preempted is not None:  # a safety rule handed the mission over to one of its functions
+            preempted, self.preempted = self.preempted, None
+            raise preempted
         with self._cond:
             self._queue.put(request)
             self._cond.notify_all()
@@ -87,6 +99,19 @@ class MissionBridge:
         if request.error is not None:
             raise request.error
         return request.value
+
+    def preempt(self, preempted: BaseException) -> None:
+        """The mission thread raises ``preempted`` from the call it waits in, or its next call (a safety rule's
+        contingency ``call FUNCTION``, engine/safety)."""
+        with self._cond:
+            self.preempted = preempted
+            if self._pending:  # the woken mission runs on: a lockstep loop waits for it, as after close()
+                self._state = RUNNING
+            for request in self._pending:
+                request.error, self.preempted = preempted, None
+                request.done.set()
+            self._pending.clear()
+            self._cond.notify_all()
 
     def mission_started(self) -> None:
         with self._cond:
@@ -173,6 +198,10 @@ class MissionBridge:
         if not request.waits:
             try:
                 request.value = request.function()
+            except KeyboardInterrupt:  # Ctrl-C or SIGTERM reached the loop's thread: it is the loop's to handle
+                request.error = MissionAborted("interrupted by the operator")
+                request.done.set()
+                raise
             except BaseException as exc:  # handed to the mission thread, which raises it
                 request.error = exc
             request.done.set()
@@ -193,11 +222,14 @@ class MissionBridge:
         try:
             request.function(resolve)
         except BaseException as exc:
+            interrupted = isinstance(exc, KeyboardInterrupt)  # the loop's to handle: the mission is aborted
             with self._cond:
                 self._pending.discard(request)
-                request.error = exc
+                request.error = MissionAborted("interrupted by the operator") if interrupted else exc
                 self._state = RUNNING
                 request.done.set()
+            if interrupted:
+                raise
 
     def close(self) -> None:
         """Abort every waiting call: the mission thread raises :class:`MissionAborted`."""

@@ -13,12 +13,13 @@ function or a local function running behaviors is used other than by calling it 
 from __future__ import annotations
 
 import ast
+import contextlib
 import logging
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, Goal, UnknownPredicateError, parse_belief
+from aeroexec.beliefs import BeliefError, BeliefMemory, Goal, UnknownPredicateError, parse_belief, parse_rules
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
 from aeroexec.engine import api
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
@@ -107,6 +108,12 @@ class MissionChecker:
         vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
         computed = False
         for node in ast.walk(self.tree):
+            if isinstance(node, ast.Call) and (self.api_member(node.func) or ("", ""))[1] == "add_rules":
+                text = literal(node.args[0]) if node.args else _NOT_LITERAL  # the predicates its rules derive
+                computed = computed or not isinstance(text, str)
+                with contextlib.suppress(BeliefError):
+                    vocabulary.update({r.head.name: r.head.arity for r in parse_rules(text)} if isinstance(
+                        text, str) else {})
             if isinstance(node, ast.Call) and self.api_function(node.func) == "add_belief":
                 argument = self.belief_argument(node)
                 text = literal(argument) if argument is not None else _NOT_LITERAL

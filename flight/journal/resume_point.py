@@ -256,7 +256,9 @@ def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone:
     return FlightSpec(mission=Path(mission or meta.get("mission") or asked["mission"]), robot=asked["robot"],
                       drone=drone or asked["drone"], world=asked.get("world"), catalog=asked.get("catalog"),
                       library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),
-                      updaters=tuple(asked.get("updaters") or ()), seed=int(asked.get("seed", 0)), output=str(folder),
+                      updaters=tuple(asked.get("updaters") or ()), rules=tuple(asked.get("rules") or ()),
+                      safety_rules=tuple(asked.get("safety_rules") or ()), seed=int(asked.get("seed", 0)),
+                      output=str(folder),
                       home=tuple(asked["home"]) if asked.get("home") else None,  # type: ignore[arg-type]
                       log=asked.get("log"), fleet=join, resume=True, **flight)
 

@@ -56,7 +56,7 @@ MOTION = frozenset({"position", "speed", "orientation"})
 #: Events where the mission stops (besides a reaction of the higher priority).
 STOPS = frozenset({"mission_stopped", "mission_suspended", "operator_interrupt", "engine_time_limit"})
 #: Calls that only look: not worth a hand-over of their own.
-LOOKS = frozenset({"consult_belief", "true_belief", "is_active_behavior", "now"})
+LOOKS = frozenset({"consult_belief", "true_belief", "is_active_behavior", "now", "why", "why_not"})
 OUTCOMES = frozenset(o.value for o in Outcome)
 #: Events that need no hand-over of their own (the next one takes them): capabilities, the drone's own reports.
 BACKGROUND = ("capability_", "drone_")

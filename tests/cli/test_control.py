@@ -160,6 +160,7 @@ def test_aeroexec_ctl_commands_a_run(tmp_path):
         def ctl(*args: str) -> subprocess.CompletedProcess:
             return subprocess.run([*command, "ctl", *args], cwd=ROOT, capture_output=True, text=True, timeout=60)
 
+        until(lambda: "running at t=" in ctl("--run", str(out), "status").stdout)  # listed while it starts
         status = ctl("--run", str(out), "status")
         assert status.returncode == 0 and "running at t=" in status.stdout, status.stderr
         wrong = ctl("--port", str(read_control_file(out)[0]), "--token", "nope", "pause")

@@ -1,6 +1,9 @@
-"""Helpers of the console and Groot2 tests: free loopback ports and a small tree mission."""
+"""Helpers of the console and Groot2 tests: free loopback ports, a small tree mission, and what a browser shows."""
 
 import socket
+from pathlib import Path
+
+GEOMETRY = (Path(__file__).with_name("page_geometry.js")).read_text()
 
 TREE = """<root BTCPP_format="4" main_tree_to_execute="Main">
   <BehaviorTree ID="Main">
@@ -43,3 +46,14 @@ def free_port(pairs: int = 1) -> int:
     raise RuntimeError("no free loopback ports")
 
 
+
+
+def viewport(driver, width: int, height: int) -> None:
+    """The page's viewport exactly ``width`` x ``height`` CSS pixels (not the window's outer size)."""
+    driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                           {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
+
+
+def geometry(driver, panel: str | None = None) -> dict:
+    """The page's texts as shown: how many, the pairs that overlap, where ``panel`` (an element id) lies."""
+    return driver.execute_script(GEOMETRY, panel)

@@ -4,7 +4,6 @@ holds the mission, answering ASK_OPERATOR from the page lets it go on, and a wro
 
 import json
 import os
-import shutil
 import subprocess
 import sys
 import time
@@ -13,8 +12,6 @@ import urllib.request
 from pathlib import Path
 
 import pytest
-from selenium import webdriver
-from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
 from websockets.exceptions import InvalidStatus
@@ -22,7 +19,6 @@ from websockets.sync.client import connect
 
 ROOT = Path(__file__).parents[2]
 DATA = Path(__file__).with_name("data")
-CHROMIUM, CHROMEDRIVER = shutil.which("chromium") or "/usr/bin/chromium", shutil.which("chromedriver")
 
 pytestmark = pytest.mark.browser
 
@@ -58,20 +54,6 @@ class Run:
         if self.process.poll() is None:
             self.process.terminate()
             self.process.wait(timeout=30)
-
-
-@pytest.fixture
-def browser(tmp_path):
-    assert CHROMEDRIVER, "chromedriver is not installed (.ci/run installs Debian's chromium and chromium-driver)"
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-quic",
-                 "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                 "--window-size=1400,900", f"--user-data-dir={tmp_path / 'chromium'}"):
-        options.add_argument(flag)
-    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
-    yield driver
-    driver.quit()
 
 
 def wait_for(driver, condition, timeout=30, what="the page"):

@@ -42,7 +42,7 @@ def test_a_wrong_sequence_is_refused_before_the_rover_moves(tmp_path):
     assert "wrong_sequence.xml:7: error: WRONG_SEQUENCE: The execution of behavior DOCK cannot be done" in run.stderr
     assert not (tmp_path / "out" / "events.jsonl").exists()  # nothing ran
     verify = aeroexec("verify", str(MISSIONS / "wrong_sequence.xml"), "--robot", "rover", cwd=tmp_path)
-    assert verify.returncode == 1 and "will not fly" in verify.stdout
+    assert verify.returncode == 1 and "will not run" in verify.stdout  # a rover does not fly
 
 
 def test_an_unknown_robot_kind_is_named_with_the_installed_ones(tmp_path):

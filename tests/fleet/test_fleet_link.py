@@ -2,6 +2,7 @@
 shared beliefs arrive under the sender's name and expire when it falls silent."""
 
 import json
+import logging
 import time
 
 import pytest
@@ -11,6 +12,7 @@ from aeroexec.fleet.control import FleetCommandError, command_fleet
 from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import encode
+from aeroexec.fleet.refusals import Refusals
 from aeroexec.fleet.transport import free_endpoint, open_session
 
 
@@ -52,7 +54,7 @@ def test_malformed_and_foreign_messages_are_dropped_and_the_engine_goes_on(fleet
                                                              "object(self, drone)"]))
     assert settle(engine, lambda: engine.memory.holds("object(d2, drone)"))
     assert engine.memory.holds("object(marker_3, aruco)")
-    assert "The predicate seen" in caplog.text
+    assert "a predicate the sender does not share (seen(d2, marker_3))" in caplog.text
     assert not engine.memory.holds("object(box, thing)")
     assert not engine.memory.holds("position(self, (9.0, 9.0, 9.0))")
     assert "not JSON" in caplog.text and "version 99" in caplog.text and "says it is from 'd3'" in caplog.text
@@ -120,3 +122,71 @@ def test_a_drone_shares_what_it_knows_itself_never_what_others_told_it(fleet):
     last = said[-1]["beliefs"]
     assert "object(red_box, box)" in last and any(b.startswith("position(self, (") for b in last)
     assert not any("marker_5" in b or "d2" in b for b in last)
+
+
+def test_a_peers_beliefs_keep_their_source_and_never_replace_what_the_drone_knows_itself(fleet):
+    endpoint, engine, link, other = fleet
+    link.share = ("object", "code", "position", "charge")  # what this drone accepts from peers (no roster here)
+    engine.memory.add("code(marker_3, 3)")  # seen by this drone's own camera
+    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=[
+        "code(marker_3, 4)", "object(marker_5, aruco)", "position(self, (1, 2, 3))", "charge(battery, 5)",
+        "position(d1, (9, 9, 9))", "object(d1, enemy)", "said(d3, object(x, y))", "color(marker_5, red)"]))
+    assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)"))
+    memory = engine.memory
+    assert memory.holds("said(d2, object(marker_5, aruco))") and memory.holds("position(d2, (1.0, 2.0, 3.0))")
+    assert memory.query_all("said(?D, object(marker_5, ?C))") == [{"?D": "d2", "?C": "aruco"}]
+    assert memory.holds("code(marker_3, 3)") and not memory.holds("code(marker_3, 4)")  # its own stays
+    assert memory.holds("said(d2, code(marker_3, 4))")  # the claim is kept apart, with its source
+    assert not memory.holds("charge(battery, 5)") and not memory.holds("position(d1, (9.0, 9.0, 9.0))")
+    assert not memory.holds("object(d1, enemy)") and not memory.holds("said(d3, ?X)")
+    refused = {e.data["reason"]: e.detail for e in engine.log.events(kind="fleet_refused")}
+    assert set(refused) == {"contradicts what this drone believes itself (kept as said)",
+                            "about this drone's own state", "about this drone",
+                            "reports what others said (only a drone's own claims are heard)",
+                            "a predicate the sender does not share"}
+    assert refused["about this drone's own state"] == "from d2: about this drone's own state (charge(battery, 5))"
+    for _ in range(3):  # said again and again: refused again, but each reason is one event
+        other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["charge(battery, 5)"]))
+        settle(engine, lambda: False, wall=0.2)
+    assert len(engine.log.events(kind="fleet_refused")) == 5
+
+
+def test_refusals_are_counted_not_repeated(fleet, caplog):
+    endpoint, engine, link, other = fleet
+    for _ in range(5000):
+        other.put("aeroexec/f/d9/beliefs", b"{not json")
+    assert settle(engine, lambda: link.node.dropped >= 1000)
+    time.sleep(0.5)
+    link.node.close()
+    lines = [r.getMessage() for r in caplog.records if "refused" in r.getMessage()]
+    assert len(lines) == 2, lines
+    assert lines[0].startswith("fleet f: refused a message from d9: not JSON (not JSON on aeroexec/f/d9/beliefs")
+    counted = int(lines[1].split("refused ")[1].split(" more")[0].replace(",", ""))
+    assert lines[1].startswith(f"fleet f: refused {counted:,} more messages from d9 in the last ")
+    assert counted + 1 == link.node.dropped >= 1000
+    assert [e.detail.split(" (")[0] for e in engine.log.events(kind="fleet_refused")] == ["from d9: not JSON"]
+
+
+def test_a_count_is_logged_once_per_interval():
+    clock = [0.0]
+    refusals = Refusals("f", interval=10.0, clock=lambda: clock[0])
+    lines = []
+    handler = logging.Handler()
+    handler.emit = lambda record: lines.append(record.getMessage())
+    logging.getLogger("aeroexec.fleet.refusals").addHandler(handler)
+    try:
+        assert refusals.refuse("ghost", "not a fleet member")
+        for t in (1.0, 2.0, 3.0):
+            clock[0] = t
+            assert not refusals.refuse("ghost", "not a fleet member")
+            refusals.flush()
+        clock[0] = 10.5
+        refusals.flush()
+        refusals.flush()
+        clock[0] = 30.0
+        refusals.flush(final=True)
+    finally:
+        logging.getLogger("aeroexec.fleet.refusals").removeHandler(handler)
+    assert lines == ["fleet f: refused a message from ghost: not a fleet member; more of the same are counted, one "
+                     "line every 10 s",
+                     "fleet f: refused 3 more messages from ghost in the last 10 s: not a fleet member"]

@@ -1,65 +1,42 @@
-"""Drones in separate processes joined through a Zenoh router on a free loopback port."""
+"""Drones in separate processes joined through the fleet's Zenoh router (mutual TLS, its access rules) on a free
+loopback port, with the credentials the router made in its output folder."""
 
 import os
 import signal
 import subprocess
 import sys
-import threading
-import time
 from pathlib import Path
 
 import pytest
 from aeroexec.fleet.transport import free_endpoint
-
-MISSIONS = Path(__file__).resolve().parents[2] / "missions"
-TOKEN = "t0k3n"
-
-
-def aeroexec(*args: str, cwd: Path) -> subprocess.Popen:
-    env = {**os.environ, "AEROEXEC_FLEET_TOKEN": TOKEN}
-    return subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", *args], cwd=cwd, env=env, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+from processes import MISSIONS, aeroexec, stop, wait_for_line
 
 
 @pytest.fixture
 def router(tmp_path):
-    endpoint = free_endpoint()
-    process = aeroexec("fleet", "--router", "--listen", endpoint, cwd=tmp_path)
-    time.sleep(1.0)
-    assert process.poll() is None, process.stdout.read()
-    yield endpoint
-    process.send_signal(signal.SIGTERM)
-    process.wait(10)
+    """Start the router of a fleet of members flown elsewhere: ``router(fleet, *drones)`` -> (endpoint, the folder of
+    the credentials it made)."""
+    started = []
 
+    def start(fleet: str, *drones: str) -> tuple[str, Path]:
+        file = tmp_path / f"{fleet}.yaml"
+        file.write_text(f"fleet: {fleet}\ndrones:\n" + "".join(f"  - {{name: {d}}}\n" for d in drones))
+        endpoint = free_endpoint("tls")
+        process = aeroexec("fleet", str(file), "--router", "--listen", endpoint, "--output", str(tmp_path / "router"),
+                           cwd=tmp_path)
+        started.append(process)
+        wait_for_line(process, "listening on", 30)
+        return endpoint, tmp_path / "router" / "credentials"
 
-def stop(*processes: subprocess.Popen) -> None:
-    for process in processes:
-        if process.poll() is None:
-            process.kill()
-            process.wait(10)
-
-
-def wait_for_line(process: subprocess.Popen, text: str, timeout: float) -> list[str]:
-    """The process's output lines up to the first holding ``text``; kills it when none comes in time."""
-    lines: list[str] = []
-    found = threading.Event()
-
-    def read() -> None:
-        for line in process.stdout:
-            lines.append(line)
-            if text in line:
-                found.set()
-                return
-
-    threading.Thread(target=read, daemon=True).start()
-    if not found.wait(timeout):
-        process.kill()
-        raise AssertionError(f"{text!r} not seen in {timeout:g} s: {''.join(lines)[-3000:]}")
-    return lines
+    yield start
+    for process in started:
+        process.send_signal(signal.SIGTERM)
+        process.wait(10)
 
 
 def test_a_broadcast_from_one_process_reaches_the_mission_waiting_for_it_in_another(router, tmp_path):
-    common = ("--fleet", "relay", "--connect", router, "--speed", "4", "--plain")
+    endpoint, credentials = router("relay", "carrier", "scout")
+    common = ("--fleet", "relay", "--connect", endpoint, "--credentials", str(credentials), "--speed", "4", "--plain")
     carrier = aeroexec("run", str(MISSIONS / "relay_carrier.py"), "--name", "carrier", "--output",
                        str(tmp_path / "carrier"), *common, cwd=tmp_path)
     try:
@@ -78,7 +55,8 @@ def test_a_broadcast_from_one_process_reaches_the_mission_waiting_for_it_in_anot
 
 
 def test_a_drone_killed_mid_flight_is_reported_silent_and_the_other_finishes(router, tmp_path):
-    common = ("--fleet", "patrol", "--connect", router, "--plain")
+    endpoint, credentials = router("patrol", "victim", "survivor")
+    common = ("--fleet", "patrol", "--connect", endpoint, "--credentials", str(credentials), "--plain")
     victim = aeroexec("run", str(MISSIONS / "square_patrol.py"), "--name", "victim", "--speed", "1",
                       "--output", str(tmp_path / "victim"), *common, cwd=tmp_path)
     survivor = None
@@ -100,7 +78,7 @@ def test_a_drone_killed_mid_flight_is_reported_silent_and_the_other_finishes(rou
     assert out.index("fleet_drone_silent") < out.index("mission_completed")
 
 
-def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_token(tmp_path):
+def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_identity_and_token(tmp_path):
     fleet = tmp_path / "wait.yaml"
     fleet.write_text(f"fleet: waiting\ndrones:\n  - {{name: w1, mission: {MISSIONS / 'relay_carrier.py'}}}\n"
                      f"  - {{name: w2, mission: {MISSIONS / 'relay_carrier.py'}, home: [3, 0]}}\n")
@@ -120,6 +98,9 @@ def test_the_operator_commands_a_running_fleet_over_zenoh_with_its_token(tmp_pat
         assert "w1: " in status.stdout and "w2: " in status.stdout and "battery" in status.stdout
         refused = ctl("abort", token="not-the-token")
         assert refused.returncode == 1 and "wrong token" in refused.stderr
+        as_drone = ctl("abort", "--credentials", str(out / "credentials" / "w1.pem"))  # the token, not the identity
+        assert as_drone.returncode == 1 and "no drone of fleet waiting answered" in as_drone.stderr, as_drone.stderr
+        assert process.poll() is None  # nobody aborted
         aborted = ctl("abort", "--drone", "w2")
         assert aborted.returncode == 0 and "w2: " in aborted.stdout and "w1" not in aborted.stdout
         ctl("abort", "--drone", "w1")

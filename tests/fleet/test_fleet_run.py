@@ -45,23 +45,28 @@ def test_the_relay_carrier_takes_off_only_after_the_scouts_message(tmp_path, cap
     assert take_off["time"] >= received["time"]
 
 
-def test_drones_of_one_world_see_each_other_and_know_where_the_others_are(tmp_path):
+def test_drones_of_one_world_see_each_other_and_know_where_the_others_are_whatever_their_names(tmp_path):
+    """Names hold -, . and _ as Zenoh key chunks and file names do; in beliefs they are quoted atoms."""
     fleet = tmp_path / "pair.yaml"
     mission = tmp_path / "look.py"
     mission.write_text("import aeroexec.engine.api as api\n\n\ndef mission():\n"
+                       "    _, me = api.consult_belief('position(self, (?X, ?Y, ?Z))')\n"
+                       "    other = 'b.2' if me['?X'] < 2 else 'a-1'\n"
                        "    api.execute_behavior('TAKE_OFF', altitude=2)\n"
                        "    api.activate_behavior('PAY_ATTENTION_TO_SHAPES')\n"
                        "    api.wait(3)\n"
-                       "    if api.true_belief('position(b, ?P)') and not api.true_belief('object(b, drone)'):\n"
-                       "        raise RuntimeError('a does not see b, 4 m ahead of it')\n"
+                       "    if not api.true_belief(f'position(\"{other}\", ?P)'):\n"
+                       "        raise RuntimeError(f'where is {other}?')\n"
+                       "    if other == 'b.2' and not api.true_belief('object(\"b.2\", drone)'):\n"
+                       "        raise RuntimeError('a-1 does not see b.2, 4 m ahead of it')\n"
                        "    api.execute_behavior('LAND')\n")
-    fleet.write_text("fleet: pair\ndrones:\n  - {name: a, mission: look.py, home: [0, 0]}\n"
-                     "  - {name: b, mission: look.py, home: [4, 0]}\n")
+    fleet.write_text("fleet: pair-team\ndrones:\n  - {name: a-1, mission: look.py, home: [0, 0]}\n"
+                     "  - {name: b.2, mission: look.py, home: [4, 0]}\n")
     assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "out")]) == 0
-    for drone, other in (("a", "b"), ("b", "a")):
+    for drone, other in (("a-1", '"b.2"'), ("b.2", '"a-1"')):
         log = events(tmp_path / "out", drone)
         assert any(e["kind"] == "belief_added" and e.get("belief", "").startswith(f"position({other}, (")
-                   for e in log)
+                   for e in log), drone
 
 
 @pytest.mark.parametrize(("text", "expected"), [
@@ -73,6 +78,18 @@ def test_drones_of_one_world_see_each_other_and_know_where_the_others_are(tmp_pa
      "f.yaml:3: error: the home of d1 must be [east, north] in meters"),
     ("fleet: 'my fleet'\ndrones:\n  - {name: d1, mission: m.py}\n", "f.yaml:1: error: the fleet's name"),
     ("fleet: f\ndrones:\n  - {name: d1, mision: m.py}\n", "f.yaml:3: error: a drone: unknown key mision"),
+    ("fleet: f\ndrones:\n  - {name: d1., mission: m.py}\n", "f.yaml:3: error: a drone's name (name:) 'd1.' must "
+                                                             "start with a letter and hold only letters, digits, _, -"),
+    ("fleet: f\ndrones:\n  - {name: router, mission: m.py}\n",
+     "f.yaml:3: error: the drone name router is reserved for the fleet's credentials (router.pem)"),
+    ("fleet: f\ndrones:\n  - {name: operator, mission: m.py}\n",
+     "f.yaml:3: error: the drone operator has the name of an operator (operators:)"),
+    ("fleet: f\ndrones:\n  - {name: d1, mission: m.py, key: d1.key}\n",
+     "f.yaml:3: error: the drone d1 names a key without its certificate: give certificate:"),
+    ("fleet: f\ndrones:\n  - {name: d1}\n", "f.yaml: no drone has a mission: nothing flies here"),
+    ("fleet: f\ncredentials: nowhere\ndrones:\n  - {name: d1, mission: m.py}\n",
+     "f.yaml: the credentials folder nowhere is not there: make it with aeroexec fleet f.yaml --make-credentials "
+     "nowhere"),
 ])
 def test_fleet_file_errors_name_file_and_line(tmp_path, capsys, text, expected):
     (tmp_path / "m.py").write_text("def mission():\n    pass\n")

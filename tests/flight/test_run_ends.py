@@ -148,3 +148,39 @@ def test_a_closed_stdout_mid_flight_lets_the_flight_land(tmp_path):
     assert process.returncode == 0, err
     assert "Traceback" not in err and "internal error" not in err
     assert ended(read_log(tmp_path / "out" / "events.jsonl"))["detail"] == "completed"
+
+
+def test_an_interrupt_while_the_loop_serves_the_mission_is_the_loops_not_the_missions():
+    """Ctrl-C or SIGTERM may land while the loop's thread runs a request of the mission: it stays the loop's (the
+    run aborts and lands), and the mission's call ends as aborted, not as a failure of the mission."""
+    from aeroexec.drones.sim import SimulatedDrone, default_world
+    from aeroexec.engine import api
+    from aeroexec.engine.engine import Engine
+
+    engine = Engine(SimulatedDrone(default_world()), obstacles=default_world())
+    calls = []
+    real = engine.memory.consult
+
+    def consult(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt  # as the signal handler does, on the loop's thread
+        return real(*args, **kwargs)
+
+    engine.memory.consult = consult
+
+    def mission() -> None:
+        while True:
+            api.consult_belief("flight_state(self, ?S)")
+            api.wait(0.1)
+
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            engine.run(mission, max_time=10)
+        engine.bridge.close()
+        thread = engine._missions[0]
+        thread.join(timeout=5)
+        assert not thread.is_alive()
+        assert not engine.log.events(kind="mission_failed")
+    finally:
+        engine.stop()

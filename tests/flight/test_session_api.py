@@ -27,3 +27,26 @@ def test_a_session_that_cannot_fly_says_why_and_leaves_nothing_running(tmp_path)
     with pytest.raises(FlightError, match="missing.py"):
         session.open()
     assert session.engine is None
+
+
+RULES = "airborne(?D) :- flight_state(?D, flying).\nairborne(?D) :- flight_state(?D, hovering).\n"
+TREE = """<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>
+  <TAKE_OFF/>
+  <CheckBelief belief="airborne(self)"/>
+  <LAND/>
+</Sequence></BehaviorTree></root>
+"""
+
+
+def test_a_rules_file_given_to_run_and_fleet_reaches_every_flight(tmp_path):
+    from aeroexec.cli.main import main
+
+    (tmp_path / "air.rules").write_text(RULES)
+    (tmp_path / "m.xml").write_text(TREE)
+    (tmp_path / "pair.yaml").write_text(f"fleet: pair\ndrones:\n  - {{name: a, mission: {tmp_path / 'm.xml'}}}\n"
+                                        f"  - {{name: b, mission: {tmp_path / 'm.xml'}, home: [4, 0]}}\n")
+    assert main(["run", str(tmp_path / "m.xml"), "--quiet", "--output", str(tmp_path / "without")]) == 1  # unknown
+    assert main(["run", str(tmp_path / "m.xml"), "--quiet", "--rules", str(tmp_path / "air.rules"),
+                 "--output", str(tmp_path / "run")]) == 0
+    assert main(["fleet", str(tmp_path / "pair.yaml"), "--quiet", "--rules", str(tmp_path / "air.rules"),
+                 "--output", str(tmp_path / "fleet")]) == 0

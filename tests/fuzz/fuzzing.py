@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import os
 import re
 import signal
 import tempfile
@@ -20,7 +21,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, parse_expression
+from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, parse_expression, read_rules
 from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
 from aeroexec.engine.errors import CatalogError
@@ -126,6 +127,14 @@ def _world(path: Path) -> list[str]:
     return []
 
 
+def _safety_rules(path: Path) -> list[str]:
+    global _catalog
+    _catalog = _catalog or default_catalog()
+    from aeroexec.engine.safety.declared import rules_file
+
+    return [str(p) for p in rules_file(path, _catalog).errors]
+
+
 _memory: BeliefMemory | None = None
 
 
@@ -144,6 +153,21 @@ def _belief(path: Path) -> list[str]:
             with contextlib.suppress(BeliefError):
                 _memory.add(text)
                 _memory.remove(text)
+    except BeliefError as error:
+        return [str(error)]
+    return []
+
+
+def _rules(path: Path) -> list[str]:
+    """A rules file (``--rules``): read, taken by a memory, and every predicate it derives asked."""
+    memory = BeliefMemory()
+    try:
+        rules = read_rules(path)
+        memory.add_rules(rules)
+        for name, arity in {r.head.signature for r in rules if r.body.literals}:
+            memory.query_all(f"{name}({', '.join(f'?A{i}' for i in range(arity))})" if arity else name)
+    except RuleError as error:
+        return [str(p) for p in error.problems]
     except BeliefError as error:
         return [str(error)]
     return []
@@ -183,6 +207,72 @@ def _journal(path: Path) -> list[str]:
     return []
 
 
+def _fleet_file(path: Path) -> list[str]:
+    from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
+
+    try:
+        load_fleet(path)
+    except FleetFileError as error:
+        return [str(p) for p in error.problems]
+    return []
+
+
+class _Sample:
+    def __init__(self, key_expr: str, payload: bytes) -> None:
+        self.key_expr, self.payload = key_expr, payload
+
+
+class _Session:
+    """Enough of a Zenoh session for a fleet node that is handed its samples."""
+
+    class _Entity:
+        def put(self, payload: bytes) -> None:
+            pass
+
+        def undeclare(self) -> None:
+            pass
+
+    def declare_subscriber(self, *args, **kwargs) -> _Entity:  # noqa: ANN002, ANN003
+        return self._Entity()
+
+    declare_queryable = declare_publisher = declare_subscriber
+
+
+_fleet = None
+
+
+def _fleet_message(path: Path) -> list[str]:
+    """A message of a fleet member (its first line the topic, then the payload) as drone d1's node and link take it:
+    refused or believed, never an exception (refusals are logged by sender and reason, not errors of a file)."""
+    global _fleet
+    if _fleet is None:
+        from aeroexec.drones.sim import SimulatedDrone
+        from aeroexec.engine.engine import Engine
+        from aeroexec.fleet.link import FleetLink
+        from aeroexec.fleet.node import FleetNode
+
+        engine = Engine(SimulatedDrone())
+        node = FleetNode(_Session(), "f", "token")
+        _fleet = FleetLink(node, "d1", engine, share=("object", "code", "position")).join()
+    topic, _, payload = path.read_bytes().partition(b"\n")
+    _fleet.node._on_sample(_Sample(f"aeroexec/f/d2/{topic.decode('utf-8', 'replace')}", payload))
+    _fleet.update(_fleet.engine.memory, _fleet.engine.now())
+    return []
+
+
+def _fleet_certificate(path: Path) -> list[str]:
+    """A member's certificate file, checked as before a session opens (against a CA and a key made here)."""
+    from aeroexec.fleet.credentials import Authority, CredentialsError, Identity
+
+    folder = Path(tempfile.gettempdir()) / f"aeroexec-fuzz-ca-{os.getpid()}"
+    made = Authority(folder, "f").issue("d1")
+    try:
+        Identity(path, made.key, made.ca).read("f")
+    except CredentialsError as error:
+        return [str(error)]
+    return []
+
+
 REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
 
 
@@ -212,12 +302,19 @@ FORMATS = {f.name: f for f in [
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
     Format("control messages", ".json", _files("tests/fuzz/seeds/*.json"), _control),
+    Format("safety rules", ".rules.yaml", _files("tests/fuzz/seeds/*.rules.yaml"), _safety_rules),
+    Format("fleet files", ".yaml", _files("missions/fleet_search.yaml", "missions/relay.yaml"), _fleet_file),
+    Format("fleet messages", ".msg", _files("tests/fuzz/seeds/*.msg"), _fleet_message),
+    Format("fleet certificates", ".pem", _files("tests/fuzz/seeds/*.pem"), _fleet_certificate),
+    Format("rules files", ".rules", _files("tests/fuzz/seeds/*.rules"), _rules),
     Format("flight journals", ".sqlite", _files("tests/fuzz/seeds/*.sqlite"), _journal),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.
 WHOLE_FILE = re.compile(r"(not a regular file|the file is [\d,]+ bytes|the file is more than|cannot read (the|an)"
                         r"|has no mission\(\) or runMission\(\)|is empty|not XML: the file has no element"
+                        r"|not a certificate \(PEM\)|not made by the fleet's CA|not the key of|valid from .* not now"
+                        r"|is not of fleet|a CA's certificate is no member's"
                         r"|not a flight journal|the journal is damaged|the journal cannot be read"
                         r"|a journal of another format|nothing to resume|no state of the tree|nothing is left to do"
                         r"|by itself)")

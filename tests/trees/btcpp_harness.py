@@ -40,11 +40,14 @@ from typing import Any
 import behaviortreepy as bt
 from aeroexec.beliefs import BeliefMemory
 from aeroexec.engine.catalog import default_catalog
+from aeroexec.trees.conversions import DOUBLE, INT
 from aeroexec.trees.loaders.xml_loader import read_xml
+from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.runtime.blackboard import Blackboard
-from aeroexec.trees.runtime.builder import build_tree, describe, model_of
+from aeroexec.trees.runtime.builder import TreeBuildError, build_tree, describe, model_of
 from aeroexec.trees.runtime.context import TreeContext
-from aeroexec.trees.runtime.ticking import TickState, attach, result_of, tick_tree
+from aeroexec.trees.runtime.node_conditions import NodeConditions
+from aeroexec.trees.runtime.ticking import TickError, TickState, attach, result_of, tick_tree
 from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -63,10 +66,18 @@ class Run:
     ticks: list[list[str]] = field(default_factory=list)
     halts: list[list[str]] = field(default_factory=list)
     blackboard: dict[str, Any] = field(default_factory=dict)
+    #: where the run stopped on an error: -1 when the tree was refused as it loaded, else the tick that threw
+    error_at: int | None = None
+    error: str = ""
+    #: keys BT.CPP cannot show as text (never written, or holding a queue): left out of the comparison
+    unreadable: set[str] = field(default_factory=set)
 
     def table(self) -> str:
-        return "\n".join(f"tick {i}: root {r:8s} {' '.join(f'{s:8s}' for s in t)} halts {h}"
-                         for i, (r, t, h) in enumerate(zip(self.roots, self.ticks, self.halts, strict=True)))
+        rows = [f"tick {i}: root {r:8s} {' '.join(f'{s:8s}' for s in t)} halts {h}"
+                for i, (r, t, h) in enumerate(zip(self.roots, self.ticks, self.halts, strict=True))]
+        if self.error_at is not None:
+            rows.append(f"{'load' if self.error_at < 0 else f'tick {self.error_at}'}: error {self.error}")
+        return "\n".join(rows)
 
 
 class Clock:
@@ -169,7 +180,7 @@ def run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path,
     """
     for _ in range(3):
         run = _run_btcpp(xml, scripts, ticks, folder, between, blackboard)
-        if run.ticks and any(seen != "-" for seen in run.ticks[0]):
+        if run.error_at in (-1, 0) or (run.ticks and any(seen != "-" for seen in run.ticks[0])):
             return run
     return run
 
@@ -193,16 +204,23 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
     board = bt.Blackboard.create()
     for key, value in (blackboard or {}).items():
         {int: board.set_int, float: board.set_double, str: board.set_string}[type(value)](key, value)
-    tree = factory.create_tree_from_text(xml, board)
+    try:
+        tree = factory.create_tree_from_text(xml, board)
+    except (RuntimeError, ValueError) as error:  # refused as it loads
+        return Run(error_at=-1, error=str(error))
     path = folder / f"parity{next(_RUNS)}.btlog"
     logger = bt.FileLogger(tree, str(path))
     run = Run()
     bounds: list[tuple[int, int]] = []
     paced = time.monotonic()
     before = 0
-    for _ in range(ticks):
+    for tick in range(ticks):
         start = time.time_ns() // 1000
-        run.roots.append(NAMES[int(tree.tick_exactly_once())])
+        try:
+            run.roots.append(NAMES[int(tree.tick_exactly_once())])
+        except (RuntimeError, ValueError) as error:  # thrown out of the tick (std::invalid_argument: ValueError)
+            run.error_at, run.error = tick, str(error)
+            break
         end = time.time_ns() // 1000
         while time.time_ns() // 1000 <= end + _GAP:  # ticks far enough apart for microsecond stamps
             pass
@@ -229,8 +247,11 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
             seen, state[uid] = _observe(state[uid], [NAMES[code] for code in by_node.get(uid, [])])
             row.append(seen)
         run.ticks.append(row)
-    keys = tree.root_blackboard().get_keys()
-    run.blackboard = {k: tree.root_blackboard().get_string(k) for k in keys}
+    for key in tree.root_blackboard().get_keys():
+        try:
+            run.blackboard[key] = tree.root_blackboard().get_string(key)
+        except RuntimeError:
+            run.unreadable.add(key)
     return run
 
 
@@ -273,14 +294,23 @@ def _resets_children(node: Behaviour, status: Status, result: Any) -> bool:
 def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: float = 0.0,
                  blackboard: dict[str, Any] | None = None) -> Run:
     """The same tree on aeroexec's tree runtime, its clock moved ``between`` seconds between ticks."""
-    document = read_xml(xml, "parity.xml")
+    try:
+        document = read_xml(xml, "parity.xml")
+    except TreeFormatError as error:  # refused as it loads
+        return Run(error_at=-1, error=str(error))
     clock = Clock()
     halts: list[str] = []
     engine = SimpleNamespace(catalog=_CATALOG, now=clock, memory=BeliefMemory(),
                              log=SimpleNamespace(record=lambda *a, **k: None))
     leaves = {kind: (lambda model, board, kind=kind: ScriptedLeaf(kind, scripts[kind], halts)) for kind in scripts}
     board = Blackboard(values=blackboard)
-    root = build_tree(document, TreeContext(engine), board, leaves)
+    for key, value in (blackboard or {}).items():  # BT.CPP's set<int>/set<double> type the entry
+        if not isinstance(value, str):
+            board.declare(key, INT if isinstance(value, int) else DOUBLE)
+    try:
+        root = build_tree(document, TreeContext(engine), board, leaves)
+    except TreeBuildError as error:  # refused as it loads
+        return Run(error_at=-1, error=str(error))
     ticking = attach(root, TickState())
     nodes = [node for _, node in describe(root)]
     events: list[tuple[int, str]] = []
@@ -300,12 +330,16 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
         node.stop = stop  # type: ignore[method-assign]
     state = {id(node): "IDLE" for node in nodes}
     run = Run()
-    for _ in range(ticks):
+    for tick in range(ticks):
         before = len(halts)
         events.clear()
         stops.clear()
         returned: dict[int, int] = {}  # node -> the place it last returned at in this tick
-        visits = tick_tree(root)  # each node as it returned, as the runner sees them; the halts in between
+        try:
+            visits = tick_tree(root)  # each node as it returned, as the runner sees them; the halts in between
+        except TickError as error:  # as BT.CPP throws out of the tick: the run stops there
+            run.error_at, run.error = tick, str(error)
+            break
         for place, (ticked, result) in enumerate([*visits, (None, None)]):
             if ticked is None:  # after the root returned: the runtime shows IDLE the children a node that
                 events.extend((key, what) for at, key, what in stops if at == place and what != "RESET")
@@ -316,7 +350,9 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
             child_ticked = bool(ticked.children) and (returned.get(id(ticked.children[0]), -1)
                                                       > returned.get(id(ticked), -1))  # since it last returned
             returned[id(ticked)] = place
-            remembered = kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD and not child_ticked)
+            remembered = (kind in _NO_RUNNING_ON_ENTRY or (kind in _ANSWER_WITHOUT_CHILD and not child_ticked)
+                          or (isinstance(ticked, NodeConditions) and not child_ticked))  # a pre-condition decided:
+            # BT.CPP does not call the node's tick()
             if not _is_leaf(ticked) and not remembered:
                 events.append((id(ticked), "RUNNING"))  # BT.CPP's control nodes and decorators set RUNNING first
             if result != "SKIPPED":  # BT.CPP keeps a skipped node's status
@@ -342,14 +378,19 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
     return run
 
 
+def _shown(run: Run, unreadable: set[str]) -> tuple:
+    board = {k: v for k, v in run.blackboard.items() if k not in unreadable}
+    return run.roots, run.ticks, run.halts, run.error_at, board
+
+
 def compare(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path, between: float = 0.0,
             blackboard: dict[str, Any] | None = None) -> tuple[Run, Run]:
     """Both runs; an AssertionError showing both tables when they differ."""
     theirs = run_btcpp(xml, scripts, ticks, folder, between, blackboard)
     ours = run_aeroexec(xml, scripts, ticks, between, blackboard)
-    if (theirs.roots, theirs.ticks, theirs.halts, theirs.blackboard) != (ours.roots, ours.ticks, ours.halts,
-                                                                         ours.blackboard):
+    if _shown(theirs, theirs.unreadable) != _shown(ours, theirs.unreadable):
         raise AssertionError(f"BehaviorTree.CPP and aeroexec differ on\n{xml}\nscripts {scripts}\n"
-                             f"BehaviorTree.CPP:\n{theirs.table()}\nblackboard {theirs.blackboard}\n"
+                             f"BehaviorTree.CPP:\n{theirs.table()}\nblackboard {theirs.blackboard} (unreadable: "
+                             f"{sorted(theirs.unreadable)})\n"
                              f"aeroexec:\n{ours.table()}\nblackboard {ours.blackboard}")
     return theirs, ours

@@ -21,6 +21,7 @@ import pytest
 from aeroexec.cli.main import main
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.trees.groot import palette_ports
+from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.portability import portability_problems
@@ -44,7 +45,8 @@ def accepted(path: Path) -> bool:
 
 def for_btcpp(path: Path, folder: Path, variables: set[str]) -> Path:
     """The file with the palette nodes' ports checked against the palette and removed (and its includes so)."""
-    tree = ElementTree.parse(path)
+    text, _ = escape_attributes(path.read_bytes(), str(path))  # ElementTree reads strict XML: tinyxml2 reads more
+    tree = ElementTree.ElementTree(ElementTree.fromstring(text))
     for element in tree.iter():
         if element.tag == "include":
             target = path.parent / element.get("path", "")
@@ -60,8 +62,11 @@ def for_btcpp(path: Path, folder: Path, variables: set[str]) -> Path:
                 continue
             assert port in PALETTE[kind], f"{path}: the port {port} of {kind} is not in the palette"
             del element.attrib[port]
-    for model in tree.getroot().findall("TreeNodesModel"):
-        tree.getroot().remove(model)  # our own palette is what is registered
+    for model in tree.getroot().findall("TreeNodesModel"):  # our own palette is what is registered, with the
+        for node in [n for n in model if n.tag != "SubTree"]:  # file's SubTree models (their ports' defaults)
+            model.remove(node)
+        if not len(model):
+            tree.getroot().remove(model)
     out = folder / f"{path.parent.name}_{path.name}"
     tree.write(out)
     return out
@@ -128,3 +133,49 @@ def test_strict_btcpp_flags_every_non_portable_construct(tmp_path, capsys):
     assert f"{mission}:6: error: NOT_PORTABLE: code=" in out and "uses belief(" in out
     assert f"{mission}:7: error: NOT_PORTABLE: the port coordinates of GO_TO_POINT is not in the palette" in out
     assert out.count("NOT_PORTABLE") == 5
+
+
+NAMES = ROOT / "tests" / "trees" / "data" / "btcpp_tests" / "name_validation"  # BT.CPP 4.10's tests (SOURCES.md)
+
+
+@pytest.mark.parametrize("path", sorted(NAMES.glob("*.xml")), ids=lambda p: p.stem)
+def test_strict_btcpp_refuses_the_names_btcpp_4_10_refuses_with_its_reason(path):
+    document = load_mission_tree(path)
+    assert not [p for p in verify_document(document, CATALOG) if p.severity == "error"]  # aeroexec reads it
+    problems = portability_problems(document, CATALOG)
+    if path.stem.startswith("Invalid"):  # BT.CPP 4.10's test expects createTreeFromText to throw
+        reason = {"Root": "'Root' is a reserved name and cannot be used as a node type",
+                  "root_lowercase": "'Root' is a reserved name", "WithSpace": "contains forbidden character ' '",
+                  "WithPeriod": "contains forbidden character '.'", "Reserved": "is a reserved attribute name",
+                  "StartsWithDigit": "cannot start with a digit"}[path.stem.split("_", 1)[1]]
+        assert problems and all(reason in p.message and p.line > 0 for p in problems)
+    else:
+        assert problems == []
+
+
+def test_strict_btcpp_refuses_a_tree_named_after_a_node_type(tmp_path):
+    mission = tmp_path / "named.xml"
+    mission.write_text('<root BTCPP_format="4" main_tree_to_execute="TAKE_OFF">\n<BehaviorTree ID="TAKE_OFF">'
+                       '<SubTree ID="Sequence"/></BehaviorTree>\n<BehaviorTree ID="Sequence"><AlwaysSuccess/>'
+                       '</BehaviorTree></root>')
+    problems = [(p.line, p.message) for p in portability_problems(load_mission_tree(mission), CATALOG)]
+    assert problems == [
+        (2, "The attribute [ID] of tag <BehaviorTree> must not use the name of a registered Node (TAKE_OFF)"),
+        (3, "The attribute [ID] of tag <BehaviorTree> must not use the name of a registered Node (Sequence)"),
+        (2, "The attribute [ID] of tag <SubTree> must not use the name of a registered Node (Sequence)")]
+
+
+def test_raw_lt_and_ampersands_in_attributes_are_read_with_a_warning_and_flagged_by_strict_btcpp(tmp_path, capsys):
+    mission = tmp_path / "raw.xml"
+    mission.write_text('<root BTCPP_format="4">\n<BehaviorTree ID="M"><Sequence><Script code="value := 10"/>\n'
+                       '<AlwaysSuccess _skipIf="value < 25 &amp;&amp; value > 5"/>\n'
+                       '<ScriptCondition code="value >= 10 && value != 3"/></Sequence></BehaviorTree></root>')
+    assert main(["verify", str(mission)]) == 0
+    out = capsys.readouterr().out
+    assert f"{mission}:3: warning: WRONG_FORMAT: an attribute holds a raw '<', which is not well-formed XML" in out
+    assert f"{mission}:4: warning: WRONG_FORMAT: an attribute holds a raw '&'" in out and "&amp;&amp; for &&" in out
+    assert out.count(": warning: ") == 2 and out.rstrip().endswith("0 errors, 2 warnings; ready to fly (checked "
+                                                                     "against the world default field)")
+    assert main(["verify", "--strict-btcpp", str(mission)]) == 1
+    out = capsys.readouterr().out
+    assert out.count("error: NOT_PORTABLE: an attribute holds a raw") == 2

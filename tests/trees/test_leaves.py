@@ -174,11 +174,31 @@ def test_check_belief_and_scripts_consult_the_belief_memory(engine):
     assert not engine.log.events(kind="activated", behavior="TAKE_OFF")  # skipped: the belief holds
 
 
-def test_a_script_failing_in_flight_fails_its_node_with_its_place(engine):
-    mission = run(engine, N("Fallback", N("Script", code="y := missing + 1", line=3),
-                            N("Precondition", N("AlwaysSuccess"), line=4, **{"if": "nothing > 1"}),
+def test_a_script_failing_in_flight_fails_the_mission_naming_its_node_and_line(engine):
+    mission = run(engine, N("Fallback", N("Script", code="y := missing + 1", line=3), N("Script", code="handled := 1")))
+    assert mission.status != Status.SUCCESS and "handled" not in mission.blackboard  # BT.CPP throws: no fallback
+    assert [e.detail for e in engine.log.events(kind="tree_error")] == [
+        "mission.xml:3: Script: Error in script [y := missing + 1]: Variable not found: missing"]
+    [failed] = engine.log.events(kind="mission_failed")
+    assert "Script failed at mission.xml:3" in failed.detail and "Variable not found: missing" in failed.detail
+
+
+def test_a_try_catch_catches_a_script_failing_in_its_try_block(engine):
+    mission = run(engine, N("Fallback", N("TryCatch", N("Precondition", N("AlwaysSuccess"), line=4,
+                                                        **{"if": "nothing > 1"}),
+                                          N("Script", code="caught := 1")),
                             N("Script", code="handled := 1")))
-    assert mission.status == Status.SUCCESS and mission.blackboard["handled"] == 1
-    errors = [e.detail for e in engine.log.events(kind="tree_error")]
-    assert errors == ["mission.xml:3: Error in script [y := missing + 1]: Variable not found: missing",
-                      "mission.xml:4: Error in script [nothing > 1]: Variable not found: nothing"]
+    assert mission.status == Status.SUCCESS
+    assert mission.blackboard["caught"] == 1 and mission.blackboard["handled"] == 1
+    assert [e.detail for e in engine.log.events(kind="tree_error")] == [
+        "mission.xml:4: Precondition: Error in script [nothing > 1]: Variable not found: nothing (caught by TryCatch "
+        "TryCatch)"]
+
+
+def test_a_script_failing_while_a_node_is_halted_is_recorded_and_the_halt_goes_on(engine):
+    mission = run(engine, N("Sequence", N("Script", code="n := 0"),
+                            N("ReactiveSequence", N("ScriptCondition", code="n := n + 1; n < 3"),
+                              N("Sleep", msec="10000", line=7, _onHalted="x := missing"))))
+    assert mission.status == Status.FAILURE  # the condition failed on the third tick: the tree ended there
+    [error] = [e.detail for e in engine.log.events(kind="tree_error")]
+    assert error.startswith("mission.xml:7: Sleep: _onHalted: Error in script [x := missing]")

@@ -275,15 +275,19 @@ def test_any_truncation_is_a_format_error_or_a_mission(name):
             assert exc.problems and all(isinstance(line, int) for _, line, _ in exc.problems)
 
 
-def test_check_belief_is_the_portable_belief_condition_and_the_old_spelling_is_read_with_a_warning(caplog):
+def test_check_belief_is_the_portable_belief_condition_and_the_old_spelling_is_read_with_a_warning():
     from aeroexec.trees.loaders.xml_loader import read_xml
+    from aeroexec.trees.verify import verify_document
 
     new = read_xml('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><CheckBelief belief="p(a)"/>'
                    '<Condition ID="CheckBelief" belief="q(b)"/></Sequence></BehaviorTree></root>', "new.xml")
     assert [n.type for n in new.root.children] == ["CheckBelief", "CheckBelief"]
-    assert not caplog.records
+    assert not new.warnings
     old = read_xml('<root BTCPP_format="4"><BehaviorTree ID="M">\n<Condition belief="p(a)"/>'
                    '</BehaviorTree></root>', "old.xml")
     assert old.root.type == "Condition"
-    assert "old.xml:2: <Condition belief=...> is aeroexec's old spelling" in caplog.text
-    assert "<CheckBelief" in caplog.text
+    [(file, line, message)] = old.warnings
+    assert (file, line) == ("old.xml", 2) and "<Condition belief=...> is aeroexec's old spelling" in message
+    assert "<CheckBelief" in message
+    warnings = [p for p in verify_document(old) if p.severity == "warning"]  # verify counts it with the others
+    assert [(p.line, p.message) for p in warnings] == [(2, message)]

@@ -29,6 +29,7 @@ from __future__ import annotations
 import io
 import logging
 import os
+import re
 import xml.sax
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,7 +37,9 @@ from xml.sax.xmlreader import InputSource
 
 import defusedxml.sax
 from aeroexec.engine.yaml_nodes import suggestion
-from aeroexec.trees.loaders.common import resolve_type
+from aeroexec.trees.loaders.btcpp_names import model_name_problem, port_name_problem, refused
+from aeroexec.trees.loaders.common import EXPLICIT_TAGS, resolve_type
+from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
 
@@ -44,7 +47,7 @@ from aeroexec.limits import MAX_NESTING, InputError, read_bytes
 
 logger = logging.getLogger(__name__)
 
-_ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel")
+_ROOT_CHILDREN = ("BehaviorTree", "include", "TreeNodesModel", "SafetyRules")  # the rules: engine/safety
 
 
 @dataclass
@@ -100,8 +103,30 @@ def _refusal(exc: DefusedXmlException) -> str:
     return f"refused XML construct: {exc}"
 
 
-def parse_xml(data: bytes, file: str) -> _Element:
-    """The element tree of an XML text, or a TreeFormatError naming the line where it stops being XML."""
+def _unclosed(exc: xml.sax.SAXParseException, open_elements: list[_Element], data: bytes) -> str | None:
+    """For an end tag that does not match, or a file that ends too soon: the element still open and its line,
+    which is where the mistake usually is (a ``<TAKE_OFF>`` written without its ``/``); None otherwise."""
+    if not open_elements or exc.getMessage() not in ("mismatched tag", "no element found"):
+        return None
+    element = open_elements[-1]
+    still_open = (f"<{element.tag}> opened at line {element.line} is still open (close it: <{element.tag} .../> "
+                  f"or </{element.tag}>)")
+    lines = data.split(b"\n")
+    text = lines[exc.getLineNumber() - 1] if 0 < exc.getLineNumber() <= len(lines) else b""
+    column = exc.getColumnNumber()  # expat points into the end tag's name
+    closing = next((m for m in re.finditer(rb"</\s*([^\s>]+)", text) if m.start() <= column <= m.end()), None)
+    if exc.getMessage() == "mismatched tag" and closing:
+        return f"mismatched tag </{closing.group(1).decode('utf-8', 'replace')}>: {still_open}"
+    return f"the file ends while {still_open}"
+
+
+def parse_xml(data: bytes, file: str, lenient: list[tuple[str, int, str]] | None = None) -> _Element:
+    """The element tree of an XML text, or a TreeFormatError naming the line where it stops being XML. With a
+    ``lenient`` list, raw ``<`` and ``&`` in attribute values are read as BehaviorTree.CPP reads them, each place
+    added to the list (``loaders.lenient_xml``)."""
+    if lenient is not None:
+        data, found = escape_attributes(data, file)
+        lenient += found
     collector = _Collector()
     parser = defusedxml.sax.make_parser()
     parser.forbid_dtd = True
@@ -119,7 +144,8 @@ def parse_xml(data: bytes, file: str) -> _Element:
     except _TooDeep as exc:
         raise TreeFormatError([(file, collector.line, str(exc))]) from None
     except xml.sax.SAXParseException as exc:
-        raise TreeFormatError([(file, exc.getLineNumber(), f"not well-formed XML: {exc.getMessage()}")]) from None
+        message = f"not well-formed XML: {_unclosed(exc, collector.stack, data) or exc.getMessage()}"
+        raise TreeFormatError([(file, exc.getLineNumber(), message)]) from None
     except (xml.sax.SAXException, ValueError, LookupError) as exc:  # e.g. an unknown encoding
         raise TreeFormatError([(file, collector.line, f"not readable as XML: {exc}")]) from None
     if collector.root is None:
@@ -132,6 +158,8 @@ class _XmlReader:
 
     def __init__(self) -> None:
         self.problems: list[tuple[str, int, str]] = []
+        self.warnings: list[tuple[str, int, str]] = []  # (file, line, message): read all the same
+        self.not_portable: list[tuple[str, int, str]] = []  # read here, refused by BT.CPP 4.10 or Groot2
         self.trees: dict[str, TreeNode] = {}
         self.places: dict[str, tuple[str, int]] = {}  # tree ID -> (file, line)
         self.seen: set[str] = set()  # resolved paths already read
@@ -156,7 +184,7 @@ class _XmlReader:
                        else f"cannot read the included file {path}: {exc.message}")
             return
         try:
-            self.read_document(parse_xml(data, path), path, (*stack, key))
+            self.read_document(parse_xml(data, path, self.not_portable), path, (*stack, key))
         except TreeFormatError as exc:
             self.problems.extend(exc.problems)
 
@@ -180,7 +208,9 @@ class _XmlReader:
             elif element.tag == "include":
                 self.read_include(element, file, stack)
             elif element.tag == "TreeNodesModel":
-                self.read_models(element)
+                self.read_models(element, file)
+            elif element.tag == "SafetyRules":
+                pass  # the operator's safety rules, read by engine/safety/declared.py (BT.CPP ignores it)
             else:
                 self.error(file, element.line, f"unexpected <{element.tag}> in <root>: expected "
                                                f"<BehaviorTree>, <include> or <TreeNodesModel>"
@@ -201,10 +231,14 @@ class _XmlReader:
             return
         self.read_file(path, stack, (file, element.line))
 
-    def read_models(self, element: _Element) -> None:
+    def read_models(self, element: _Element, file: str) -> None:
         """The ports of the SubTrees the palette declares, with their defaults (BehaviorTree.CPP applies them)."""
         for model in element.children:
             if model.tag == "SubTree" and model.attrs.get("ID", "").strip():
+                for port in model.children:
+                    problem = port_name_problem(port.attrs.get("name", "")) if port.tag.endswith("_port") else None
+                    if problem is not None:
+                        self.not_portable.append((file, port.line, refused(problem)))
                 self.subtree_models[model.attrs["ID"].strip()] = {
                     port.attrs["name"]: port.attrs.get("default") for port in model.children
                     if port.tag in ("input_port", "output_port", "inout_port") and port.attrs.get("name")}
@@ -217,6 +251,9 @@ class _XmlReader:
             self.error(file, element.line, "a <BehaviorTree> needs ID=\"...\" (only a file's one tree may go "
                                            "without)")
             return None
+        problem = model_name_problem(tree_id) if element.attrs.get("ID", "").strip() else None
+        if problem is not None:
+            self.not_portable.append((file, element.line, refused(problem)))
         nodes = [self.node(child, file) for child in element.children]
         if len(element.children) != 1:
             count = len(element.children)
@@ -240,13 +277,18 @@ class _XmlReader:
         node_type, problem = resolve_type(element.tag, ports)
         if problem:
             self.error(file, element.line, problem)
+        named = ports.get("ID", "").strip() if node_type == "SubTree" else element.tag
+        problem = model_name_problem(named) if named and element.tag not in EXPLICIT_TAGS else None
+        if problem is not None:
+            self.not_portable.append((file, element.line, refused(problem)))
         if node_type == "SubTree":
             if not ports.get("ID", "").strip():
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
             name = name or ports.get("ID", "")
         if node_type == "Condition" and element.tag == "Condition":
-            logger.warning("%s:%d: <Condition belief=...> is aeroexec's old spelling, refused by BehaviorTree.CPP and "
-                           "Groot2: write <CheckBelief belief=\"...\"/>", file, element.line)
+            self.warnings.append((file, element.line, "<Condition belief=...> is aeroexec's old spelling, refused "
+                                                      "by BehaviorTree.CPP and Groot2: write <CheckBelief "
+                                                      "belief=\"...\"/>"))
         children = [self.node(child, file) for child in element.children]
         return TreeNode(node_type, name, ports, [c for c in children if c is not None], file, element.line,
                         tag=element.tag, named="name" in element.attrs)
@@ -294,8 +336,8 @@ def _main_tree(reader: _XmlReader, root: _Element, file: str, declared: list[str
 def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     """A mission from XML text; ``file`` names it in problems and anchors relative includes."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    root = parse_xml(raw, file)
     reader = _XmlReader()
+    root = parse_xml(raw, file, reader.not_portable)
     declared = reader.read_document(root, file, (os.path.realpath(file),))
     main = _main_tree(reader, root, file, declared)
     _apply_subtree_models(reader)
@@ -303,7 +345,7 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
         raise TreeFormatError(reader.problems)
     lines = {tree_id: line for tree_id, (_, line) in reader.places.items()}
     logger.debug("read %d behavior trees from %s (main %s)", len(reader.trees), file, main)
-    return TreeDocument(reader.trees, main, file, lines)
+    return TreeDocument(reader.trees, main, file, lines, reader.warnings, reader.not_portable)
 
 
 def load_xml(path: str | Path) -> TreeDocument:

@@ -180,11 +180,9 @@ def read_yaml(text: str, file: str = "<yaml>") -> TreeDocument:
         document = _read_document(reader, leaves)
     elif not reader.failed:
         reader.error_at(0, "the file is empty: expected tree:, trees: or Aerostack's nodes:")
-    for problem in reader.problems:
-        if problem.severity == "warning":
-            logger.warning("%s", problem)
     if reader.failed or document is None:
         raise TreeFormatError(errors_of(reader) or [(file, 0, "not a behavior-tree mission")], leaves)
+    document.warnings += [(p.file, p.line, p.message) for p in reader.problems if p.severity == "warning"]
     logger.debug("read %d behavior trees from %s (main %s)", len(document.trees), file, document.main)
     return document
 
@@ -203,7 +201,7 @@ def _read_document(reader: NodeReader, leaves: list[TreeNode]) -> TreeDocument |
         reader.error(root, "not a behavior-tree mission: expected tree: (one tree), trees: (trees by ID) "
                            "or Aerostack's nodes: list")
         return None
-    entries = reader.mapping(root, "the mission", known=("main_tree_to_execute", "trees", "tree"))
+    entries = reader.mapping(root, "the mission", known=("main_tree_to_execute", "trees", "tree", "safety_rules"))
     return _read_nested(reader, entries) if entries is not None else None
 
 

@@ -2,14 +2,15 @@
 AlwaysFailure, Script, ScriptCondition, SetBlackboard, UnsetBlackboard, Sleep and WasEntryUpdated; and
 :class:`Leaf`, the base of every leaf, the engine's included.
 
-A script that fails while it runs (a key not written, a type mismatch) makes its node FAILURE and records a
-``tree_error`` with the node's place (BT.CPP throws out of the tick instead).
+A script that fails while it runs (a variable nothing wrote, a type mismatch) raises :class:`TickError` out of
+the tick, naming the node, as BT.CPP throws: the run fails unless a TryCatch around it catches it.
 """
 
 from __future__ import annotations
 
-from aeroexec.trees.runtime.ports import ANY, STRING, UNSIGNED, BidirectionalPort, InputPort, NodeConfig
-from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SUCCESS, Node, kept
+from aeroexec.trees.conversions import ANY, STRING, UNSIGNED, ConversionError
+from aeroexec.trees.runtime.ports import BidirectionalPort, InputPort, NodeConfig
+from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SUCCESS, Node, TickError, kept
 from aeroexec.trees.script import ScriptError, compile_script, truth
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -49,12 +50,24 @@ class Leaf(Node, Behaviour):
 
 class AlwaysSuccess(Leaf):
     result = SUCCESS
+    __slots__ = ("_result",)  # read at every tick: in a slot
+
+    def __init__(self, name: str, config: NodeConfig) -> None:
+        super().__init__(name, config)
+        self._result = self.result
 
     def update(self) -> Status:
         return self.result
 
-    def step(self) -> Status:
-        return kept(self, self.result)
+    def step(self) -> Status:  # ticking.kept, inlined: constants are ticked often
+        status, tree = self._result, self.tree
+        if status is not self.status:
+            tree.changed.append(self)
+            self.status = status
+        self.ticked = tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, status))
+        return status
 
 
 class AlwaysFailure(AlwaysSuccess):
@@ -74,9 +87,9 @@ class Script(Leaf):
     def update(self) -> Status:
         try:
             value = self.script.run(self.blackboard, self.context.belief_holds)
+            return SUCCESS if not self.condition or truth(value) else FAILURE
         except ScriptError as error:
-            return self.error(str(error))
-        return SUCCESS if not self.condition or truth(value) else FAILURE
+            raise TickError(self.source, str(error)) from None
 
 
 class ScriptCondition(Script):
@@ -86,9 +99,10 @@ class ScriptCondition(Script):
 
 
 class SetBlackboard(Leaf):
-    """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value)."""
+    """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value; FAILURE when it holds none, as in
+    BT.CPP); text written to a typed entry is converted to its type."""
 
-    ports = (InputPort("value", ANY, required=True, description="the value to write"),
+    ports = (InputPort("value", ANY, required=True, description="the value to write", empty=True),
              BidirectionalPort("output_key", ANY, "the blackboard entry it writes", required=True))
 
     def __init__(self, name: str, config: NodeConfig) -> None:
@@ -99,11 +113,17 @@ class SetBlackboard(Leaf):
     def update(self) -> Status:
         source = self.value.key
         if source is not None:
-            if source not in self.blackboard:
-                return self.error(f"Can't find the port referred by [value]: {{{source}}}")
-            self.blackboard[self.key] = self.blackboard[source]
+            if source not in self.blackboard:  # BT.CPP: the entry holds no value yet
+                self.feedback_message = f"{{{source}}} holds no value"
+                return FAILURE
+            value = self.blackboard[source]
         else:
-            self.blackboard[self.key] = self.value.value if self.value.value is not None else ""
+            value = self.value.value if self.value.value is not None else ""
+        try:
+            self.blackboard[self.key] = value
+        except ConversionError as error:
+            raise TickError(self.source, f"Can't convert string [{value}] to type "
+                                         f"[{self.blackboard.type_of(self.key)}]: {error}") from None
         return SUCCESS
 
 

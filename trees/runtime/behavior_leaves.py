@@ -15,10 +15,11 @@ from typing import Any
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
+from aeroexec.trees.conversions import ANY, DOUBLE, STRING
 from aeroexec.trees.model import WAIT_FOR_COMPLETION
 from aeroexec.trees.ports import MissingKey, request_from_ports
 from aeroexec.trees.runtime.actions import Leaf
-from aeroexec.trees.runtime.ports import ANY, DOUBLE, STRING, InputPort, NodeConfig, OutputPort
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig, OutputPort
 from py_trees.common import Status
 
 

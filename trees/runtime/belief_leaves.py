@@ -1,5 +1,5 @@
-"""The engine's belief leaves: CheckBelief (and its old spelling ``<Condition belief>``), QueryBelief, AddBelief and
-RemoveBelief on the engine's belief memory.
+"""The engine's belief leaves: CheckBelief (and its old spelling ``<Condition belief>``), QueryBelief, AddBelief,
+RemoveBelief and AddRule on the engine's belief memory.
 
 Belief expressions may read the blackboard with ``{key}``; QueryBelief writes each variable it unifies (``?P`` ->
 key ``P``). An expression that cannot be read makes the node FAILURE, with a ``tree_error`` naming its place.
@@ -10,10 +10,11 @@ from __future__ import annotations
 import abc
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
+from aeroexec.trees.conversions import BOOL, STRING
 from aeroexec.trees.ports import MissingKey, substitute
 from aeroexec.trees.runtime.actions import Leaf
-from aeroexec.trees.runtime.ports import BOOL, STRING, InputPort, NodeConfig, Port
-from aeroexec.trees.runtime.ticking import kept
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig, Port
+from aeroexec.trees.runtime.ticking import FAILURE, SUCCESS
 from py_trees.common import Status
 
 
@@ -44,16 +45,29 @@ class BeliefLeaf(Leaf):
 class CheckBelief(BeliefLeaf):
     """SUCCESS when the belief expression holds, else FAILURE."""
 
+    __slots__ = ("belief", "fixed", "holds")  # read at every tick: in slots
     ports = (_belief("a belief expression; SUCCESS when it holds"),)
+
+    def __init__(self, name: str, config: NodeConfig) -> None:
+        super().__init__(name, config)
+        memory = getattr(getattr(config.context, "engine", None), "memory", None)
+        self.holds = memory.holds if memory is not None else None  # the engine keeps its memory for a run
 
     def step(self) -> Status:
         if not self.fixed:
             return super().step()
-        try:  # a condition without blackboard keys, ticked in one call (Leaf.step and update)
-            status = Status.SUCCESS if self.context.engine.memory.holds(self.belief) else Status.FAILURE
+        try:  # a condition without blackboard keys, ticked in one call (Leaf.step, update and kept)
+            status = SUCCESS if self.holds(self.belief) else FAILURE
         except BeliefError as error:
             status = self.error(f"{type(self).__name__} {self.belief}: {error}")
-        return kept(self, status)
+        tree = self.tree
+        if status is not self.status:
+            tree.changed.append(self)
+            self.status = status
+        self.ticked = tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, status))
+        return status
 
     def apply(self, text: str) -> Status:
         return Status.SUCCESS if self.context.engine.memory.holds(text) else Status.FAILURE
@@ -104,4 +118,25 @@ class RemoveBelief(BeliefLeaf):
 
     def apply(self, text: str) -> Status:
         self.context.engine.memory.remove(text)
+        return Status.SUCCESS
+
+
+class AddRule(Leaf):
+    """Adds the rules (and facts) of its ``rule`` port the first time it is ticked; FAILURE when they cannot be
+    taken (each problem named with the node's file and line)."""
+
+    ports = (InputPort("rule", STRING, required=True, description="rules deriving beliefs (head :- body.) and facts"),)
+
+    def __init__(self, name: str, config: NodeConfig) -> None:
+        super().__init__(name, config)
+        self.rule, self.added = config.model.ports.get("rule", ""), False
+        self.file, self.line = config.model.file, config.model.line or 1
+
+    def update(self) -> Status:
+        if not self.added:
+            try:
+                self.context.engine.memory.add_rules(self.rule, self.file or self.name, self.line)
+            except BeliefError as error:
+                return self.error(f"AddRule: {error}")
+            self.added = True
         return Status.SUCCESS

@@ -3,6 +3,10 @@
 A SubTree has a blackboard of its own. ``<SubTree ID="X" goal="{target}"/>`` maps the subtree's ``goal`` to the
 parent's ``target`` (reads and writes go through); ``speed="1.5"`` sets a literal in the subtree;
 ``_autoremap="true"`` shares every other key with the parent under the same name.
+
+An entry may have a type, given by the port of a built-in node that reads or writes it (``declare``), as BT.CPP
+types an entry when it loads a tree: text written to it is converted to that type (``"3"`` to the integer 3 for a
+``num_cycles``), and two ports of different types on one entry are refused.
 """
 
 from __future__ import annotations
@@ -10,8 +14,10 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, MutableMapping
 from typing import Any
 
+from aeroexec.trees.conversions import ANY, compatible, from_blackboard, type_conflict
 from aeroexec.trees.model import COMMON_ATTRIBUTES
 from aeroexec.trees.ports import bare_key
+from aeroexec.trees.runtime.ports import PortError
 
 
 class Blackboard(MutableMapping[str, Any]):
@@ -24,6 +30,7 @@ class Blackboard(MutableMapping[str, Any]):
         self.autoremap = autoremap and parent is not None
         self._local: dict[str, Any] = dict(values or {})
         self._versions: dict[str, int] = dict.fromkeys(self._local, 1)
+        self._types: dict[str, str] = {}
 
     @classmethod
     def for_subtree(cls, parent: Blackboard, ports: Mapping[str, str]) -> Blackboard:
@@ -43,6 +50,11 @@ class Blackboard(MutableMapping[str, Any]):
         return cls(parent, remap, autoremap, values)
 
     def _route(self, key: str) -> tuple[Blackboard, str]:
+        if key[:1] == "@":  # the root blackboard's key, as in BT.CPP
+            board = self
+            while board.parent is not None:
+                board = board.parent
+            return board, key[1:]
         if key in self.remap and self.parent is not None:
             return self.parent._route(self.remap[key])
         if key in self._local or not self.autoremap:
@@ -54,9 +66,33 @@ class Blackboard(MutableMapping[str, Any]):
         return board._local[name]
 
     def __setitem__(self, key: str, value: Any) -> None:
+        """Write ``value``; text written to a typed entry is converted (raises ``PortError``)."""
         board, name = self._route(key)
+        if type(value) is str and name in board._types:
+            value = from_blackboard(value, board._types[name])
         board._local[name] = value
         board._versions[name] = board._versions.get(name, 0) + 1
+
+    def declare(self, key: str, kind: str) -> None:
+        """Make the entry ``key`` for a port of type ``kind`` that uses it, as BT.CPP does when it loads a tree: the
+        first port gives it its type (``any``: none); a second of another type is refused unless either is untyped
+        or the first was a string's."""
+        board, name = self._route(key)
+        known = board._types.get(name)
+        if not compatible(known, kind):
+            raise PortError(type_conflict(key, known, kind))  # type: ignore[arg-type]
+        board._types.setdefault(name, kind)  # the first port makes the entry (``any``: untyped)
+
+    def has_entry(self, key: str) -> bool:
+        """Whether the entry exists: written, or made by a port that uses it (a script may assign it with ``=``)."""
+        board, name = self._route(key)
+        return name in board._local or name in board._types
+
+    def type_of(self, key: str) -> str | None:
+        """The type a port gave the entry, None when none did (or an untyped one)."""
+        board, name = self._route(key)
+        kind = board._types.get(name)
+        return None if kind == ANY else kind
 
     def version(self, key: str) -> int:
         """How many times ``key`` was written (0: never), as BehaviorTree.CPP's entry sequence id."""

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from aeroexec.trees.conversions import BOOL, STRING
 from aeroexec.trees.runtime.controls import Control
-from aeroexec.trees.runtime.ports import BOOL, STRING, InputPort, NodeConfig, PortError
-from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, halt, reset
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig, PortError
+from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt, reset
 from py_trees.behaviour import Behaviour
 
 
@@ -147,7 +148,10 @@ class Switch6(Switch):
 
 class TryCatch(Control):
     """BT.CPP 4.10's TryCatch: children 1..N-1 as a Sequence; when one fails the last child runs (its result is
-    ignored) and the node fails. ``catch_on_halt``: a halt during the try-block runs the catch child too."""
+    ignored) and the node fails. ``catch_on_halt``: a halt during the try-block runs the catch child too.
+
+    aeroexec's addition: a node of the try-block that cannot tick (a script error, a port it cannot read), which
+    BT.CPP throws out of the whole tree, fails the try-block instead; the error is recorded (``tree_error``)."""
 
     min_children = 2
     ports = (InputPort("catch_on_halt", BOOL, "false", "a halt during the try-block runs the catch child"),)
@@ -162,7 +166,11 @@ class TryCatch(Control):
         if self.status is not RUNNING:
             self.skipped_count, self.catching = 0, False
         while not self.catching and self.index < tries:
-            result = self.tick_index(self.index)
+            try:
+                result = self.tick_index(self.index)
+            except TickError as error:  # aeroexec's: a node of the try-block that cannot tick fails it
+                self.caught(error)
+                result = FAILURE
             if result is RUNNING:
                 return RUNNING
             if result is FAILURE:
@@ -187,10 +195,19 @@ class TryCatch(Control):
             for child in self.children[:-1]:
                 halt(child)
             catch = self.children[-1]
-            catch.step()
+            try:
+                catch.step()
+            except TickError as error:  # a halt goes on: the error is recorded
+                self.caught(error)
             halt(catch)
         self.index = self.skipped_count = 0
         self.catching = False
+
+    def caught(self, error: TickError) -> None:
+        context = self.config.context
+        if context is not None:
+            context.record("tree_error", f"{error} (caught by TryCatch {self.name})",
+                           node=getattr(error.node, "name", ""), line=getattr(error.node, "line", 0))
 
     def _catches_on_halt(self) -> bool:
         try:  # as BT.CPP's halt(): a port it cannot read is false

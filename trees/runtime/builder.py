@@ -46,14 +46,13 @@ class TreeBuilder:
     def node(self, model: TreeNode, board: Blackboard, stack: tuple[str, ...]) -> Behaviour:
         behaviour = self._make(model, board, stack)
         behaviour.source = model  # type: ignore[attr-defined]
-        conditions = {a: self.context.condition(model.ports[a], board, f"{model.where} {a}")
-                      for a in PRECONDITIONS if model.ports.get(a, "").strip()}
-        actions = {a: self.context.action(model.ports[a], board, f"{model.where} {a}")
-                   for a in POSTCONDITIONS if model.ports.get(a, "").strip()}
+        written = [a for a in (*PRECONDITIONS, *POSTCONDITIONS) if model.ports.get(a, "").strip()]
+        conditions = {a: self.context.condition(model, a, board) for a in written if a in PRECONDITIONS}
+        actions = {a: self.context.action(model, a, board) for a in written if a in POSTCONDITIONS}
         if not conditions and not actions:
             return behaviour
         behaviour.hidden = True  # type: ignore[attr-defined]
-        wrapper = NodeConditions(model.name, behaviour, conditions, actions)
+        wrapper = NodeConditions(model.name, behaviour, conditions, actions, self.context)
         wrapper.source = model  # type: ignore[attr-defined]
         return wrapper
 

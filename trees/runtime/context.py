@@ -9,7 +9,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.beliefs import BeliefError
+from aeroexec.trees.model import TreeNode
 from aeroexec.trees.ports import MissingKey, substitute
+from aeroexec.trees.runtime.ticking import TickError
 from aeroexec.trees.script import ScriptError, compile_script
 
 logger = logging.getLogger(__name__)
@@ -49,9 +51,11 @@ class TreeContext:
         """Whether a belief expression holds now (scripts' ``belief("...")``)."""
         return self.engine.memory.holds(text)
 
-    def condition(self, text: str, blackboard: Any, where: str) -> Callable[[], bool]:
-        """A pre-condition attribute as a function: a script (BT.CPP's meaning), or else, read with a warning, the
-        belief expression aeroexec took there before (``<CheckBelief>`` or ``belief("...")`` is the portable way)."""
+    def condition(self, model: TreeNode, attribute: str, blackboard: Any) -> Callable[[], bool]:
+        """A pre-condition attribute of ``model`` as a function: a script (BT.CPP's meaning), or else, read with a
+        warning, the belief expression aeroexec took there before (``<CheckBelief>`` or ``belief("...")`` is the
+        portable way). A script that fails raises :class:`TickError`, as BT.CPP throws."""
+        text, where = model.ports[attribute], f"{model.where} {attribute}"
         try:
             script = compile_script(text)
         except ScriptError:
@@ -63,20 +67,20 @@ class TreeContext:
             try:
                 return script.holds(blackboard, self.belief_holds)
             except (ScriptError, BeliefError) as error:
-                self.record("tree_error", f"{where}: {error}", once=True)
-                return False
+                raise TickError(model, f"{attribute}: {error}") from None
 
         return holds
 
-    def action(self, text: str, blackboard: Any, where: str) -> Callable[[], None]:
-        """A post-condition attribute (``_onSuccess``...) as a function running its script."""
-        script = compile_script(text)
+    def action(self, model: TreeNode, attribute: str, blackboard: Any) -> Callable[[], None]:
+        """A post-condition attribute of ``model`` (``_onSuccess``...) as a function running its script (raises
+        :class:`TickError`)."""
+        script = compile_script(model.ports[attribute])
 
         def run() -> None:
             try:
                 script.run(blackboard, self.belief_holds)
             except (ScriptError, BeliefError) as error:
-                self.record("tree_error", f"{where}: {error}", once=True)
+                raise TickError(model, f"{attribute}: {error}") from None
 
         return run
 

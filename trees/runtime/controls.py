@@ -20,6 +20,7 @@ as BehaviorTree.CPP does (passed over; all children skipped -> the composite is 
 from __future__ import annotations
 
 import abc
+from typing import Any
 
 import py_trees
 from aeroexec.trees.runtime.ports import NodeConfig
@@ -41,6 +42,11 @@ class Control(Node, py_trees.composites.Composite):
     """A composite whose ``run()`` decides its result from its children, BehaviorTree.CPP style."""
 
     min_children, max_children = 1, None
+    #: whether it ticks its children in order from ``restart_from()`` (then reaching the last one means every one
+    #: was ticked: none is left to show IDLE)
+    in_order = False
+    terminates = False
+    fused = False  # Sequence.step: run() inlined
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, list(children or []))
@@ -57,25 +63,35 @@ class Control(Node, py_trees.composites.Composite):
 
     def step(self) -> Result:
         old, old_skipped = self.status, self.skipped
-        if old is not RUNNING:
-            # starting again: the children it does not tick again are shown IDLE once the tick ends (those it
-            # ticks show their new status)
-            self.tree.stale.append((self, self.restart_from()))
+        tree = self.tree
+        started = old is not RUNNING
+        if started:
+            start = self.restart_from()
             if self.initialises:
                 self.initialise()
         result = self.run()
+        if started and not (self.in_order and self.children and tree.number == self.children[-1].ticked):
+            # started again: the children it did not tick again are shown IDLE once the tick ends (those it
+            # ticked show their new status); a node ticking its children in order that reached its last one
+            # ticked them all
+            tree.stale.append((self, start))
         if result is RUNNING:
             status, skipped = result, False
         else:
             status, skipped = (SUCCESS, True) if result is SKIPPED else (result, False)
-            self.terminate(status)
-        tree = self.tree  # Node.settle, inlined: every tick goes through control nodes
-        if status is not old or skipped is not old_skipped:
+            if self.terminates:
+                self.terminate(status)
+        if status is not old or skipped is not old_skipped:  # Node.settle, inlined: every tick goes through here
             tree.changed.append(self)
         self.status, self.skipped, self.ticked = status, skipped, tree.number
         if tree.visits is not None:
             tree.visits.append((self, result))
         return result
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.terminates = cls.terminate is not Control.terminate  # Control's does nothing when a node completes
+        cls.fused = not getattr(cls, "asynchronous", True) and not cls.initialises
 
     def restart_from(self) -> int:
         """The first child reset when the node starts again (the rest keep their status for display)."""
@@ -112,11 +128,16 @@ class Sequence(Control):
     stop_on = FAILURE
     restart_on_stop = True
     asynchronous = False
+    in_order = True
+    # what the fused step reads at every tick, in slots: a tree of thousands of nodes is read from less memory
+    __slots__ = ("index", "skipped_count", "_stop_on", "_fused", "_terminates", "_completed")
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
         self.index = 0
         self.skipped_count = 0
+        self._stop_on, self._fused, self._terminates = self.stop_on, self.fused, self.terminates
+        self._completed = SUCCESS if self.stop_on is FAILURE else FAILURE  # when every child was ticked
 
     def run(self) -> Result:
         children = self.children
@@ -126,7 +147,7 @@ class Sequence(Control):
         index, stop_on, asynchronous = self.index, self.stop_on, self.asynchronous
         while index < count:
             child = children[index]
-            before = child.status
+            before = child.status if asynchronous else None
             result = child.step()
             if result is RUNNING:
                 self.index, self.current_child = index, child
@@ -149,6 +170,53 @@ class Sequence(Control):
         all_skipped = self.skipped_count == count
         self.index = self.skipped_count = 0
         return SKIPPED if all_skipped else SUCCESS if stop_on is FAILURE else FAILURE
+
+    def step(self) -> Result:
+        """Control.step and run() in one call for the sequences and fallbacks that are not asynchronous: they are
+        most of a tree's control nodes."""
+        if not self._fused:
+            return Control.step(self)
+        old, old_skipped, tree = self.status, self.skipped, self.tree
+        children = self.children
+        count = len(children)
+        start, stop_on = self.index, self._stop_on  # start: where it starts again (restart_from)
+        skipped = self.skipped_count if old is RUNNING else 0
+        stale = old is not RUNNING
+        for index in range(start, count):
+            child = children[index]
+            result = child.step()
+            if result is RUNNING or result is stop_on:
+                self.index, self.current_child, self.skipped_count = index, child, skipped
+                if result is stop_on:
+                    if self.restart_on_stop:
+                        self.reset_children()
+                        self.index = 0
+                    else:
+                        self.reset_children(index + 1)
+                break
+            if result is SKIPPED:
+                skipped += 1
+        else:  # every child from ``start`` on ticked: none is left to show IDLE
+            self.current_child = children[-1] if count else None
+            if start or skipped:
+                self.index = self.skipped_count = 0
+            result = SKIPPED if skipped == count else self._completed
+            stale = False
+        number = tree.number
+        if stale and not (count and number == children[-1].ticked):
+            tree.stale.append((self, start))
+        if result is SKIPPED:
+            status, skipped_now = SUCCESS, True
+        else:
+            status, skipped_now = result, False
+            if result is not RUNNING and self._terminates:
+                self.terminate(status)
+        if status is not old or skipped_now is not old_skipped:
+            tree.changed.append(self)
+        self.status, self.skipped, self.ticked = status, skipped_now, number
+        if tree.visits is not None:
+            tree.visits.append((self, result))
+        return result
 
     def halted(self) -> None:
         if self.restart_on_stop:
@@ -188,6 +256,7 @@ class ReactiveSequence(Control):
 
     stop_on, otherwise = FAILURE, SUCCESS
     loops = True
+    in_order = True
 
     def run(self) -> Result:
         all_skipped = True

@@ -16,7 +16,7 @@ from __future__ import annotations
 from typing import Any
 
 import py_trees
-from aeroexec.trees.runtime.ports import (
+from aeroexec.trees.conversions import (
     ANY,
     BOOL,
     DOUBLE,
@@ -24,14 +24,23 @@ from aeroexec.trees.runtime.ports import (
     STATUS,
     STRING,
     UNSIGNED,
-    BidirectionalPort,
-    InputPort,
-    NodeConfig,
-    OutputPort,
-    Port,
+    ConversionError,
+    from_blackboard,
     queue_items,
 )
-from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SKIPPED, SUCCESS, Node, Result, halt, reset
+from aeroexec.trees.runtime.ports import BidirectionalPort, InputPort, NodeConfig, OutputPort, Port, PortError
+from aeroexec.trees.runtime.ticking import (
+    FAILURE,
+    INVALID,
+    RUNNING,
+    SKIPPED,
+    SUCCESS,
+    Node,
+    Result,
+    TickError,
+    halt,
+    reset,
+)
 from aeroexec.trees.script import ScriptError, compile_script
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -80,6 +89,23 @@ class Inverter(Decorator):
     def run(self) -> Result:
         result = self.decorated.step()
         return FAILURE if result is SUCCESS else SUCCESS if result is FAILURE else result
+
+    def step(self) -> Result:  # Decorator.step and Node.settle for a node with nothing to start or stop
+        result = self.decorated.step()
+        tree = self.tree
+        if result is SUCCESS:
+            result = status = FAILURE
+        elif result is FAILURE:
+            result = status = SUCCESS
+        else:
+            status = SUCCESS if result is SKIPPED else result
+        skipped = result is SKIPPED
+        if status is not self.status or skipped is not self.skipped:
+            tree.changed.append(self)
+        self.status, self.skipped, self.ticked = status, skipped, tree.number
+        if tree.visits is not None:
+            tree.visits.append((self, result))
+        return result
 
 
 class ForceSuccess(Decorator):
@@ -247,8 +273,7 @@ class Precondition(Decorator):
             try:
                 self.running = self.script.holds(config.blackboard, config.context.belief_holds)
             except ScriptError as error:
-                config.context.record("tree_error", f"{config.model.where}: {error}", node=self.name)
-                return FAILURE
+                raise TickError(config.model, str(error)) from None
         if not self.running:
             return self.otherwise.get()
         result = self.decorated.step()
@@ -258,14 +283,19 @@ class Precondition(Decorator):
 
 
 class Loop(Decorator):
-    """LoopX: pops the next value of ``queue`` into ``value`` and ticks the child with it, while the queue has items;
-    FAILURE when the child fails; ``if_empty`` (SUCCESS) when the queue has no items left."""
+    """LoopX: pops the next item of ``queue`` into ``value`` and ticks the child with it, while the queue has items;
+    FAILURE when the child fails; ``if_empty`` (SUCCESS) when no item is left.
+
+    As BT.CPP 4.10 reads ``queue``: its text (``1;2;3``; ``""`` is empty) is the queue of each run; a ``{key}``
+    holding text (written by SetBlackboard or a script) is converted once when the node starts and the copy is
+    popped; a list there is popped in place (BT.CPP's shared queue); a tuple is copied once.
+    """
 
     item = ANY
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        cls.ports = (BidirectionalPort("queue", f"queue<{cls.item}>", "the items, ';' between them", required=True),
+        cls.ports = (BidirectionalPort("queue", ANY, "the items, ';' between them", required=True, empty=True),
                      InputPort("if_empty", STATUS, "SUCCESS", "the result when the queue is empty"),
                      OutputPort("value", cls.item, "the current item"))
 
@@ -274,26 +304,33 @@ class Loop(Decorator):
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name, child, config)
         self.queue_port = self.config.input("queue", self.ports)
+        self.static: list[Any] | None = None
+        if self.queue_port.key is None:
+            text = self.queue_port.value if self.queue_port.value is not None else ""
+            try:
+                self.static = queue_items(text, self.item)
+            except ConversionError as error:
+                raise PortError(f"{self.config.model.where}: the queue of {self.config.model.type} cannot be read: "
+                                f"{error}") from None
         self.if_empty = self.config.input("if_empty", self.ports)
-        self.value_key = self.config.output("value")
-        self.queue: list[Any] = []
+        self.value_key = self.config.output("value", self.ports)
+        self.queue: list[Any] | None = None
         self.child_running = False
 
     def run(self) -> Result:
         popped = False
-        board = self.config.blackboard
         if self.status is not RUNNING:
             self.child_running = False
-            if self.queue_port.key is None:
-                self.queue = list(self.queue_port.value or ())
+            self.queue = list(self.static) if self.static is not None else None
         if not self.child_running:
-            key = self.queue_port.key
-            if key is not None:
-                held = board.get(key)
-                self.queue = (queue_items(held, self.item) if isinstance(held, str)
-                              else held if isinstance(held, list) else [])
+            if self.static is None:
+                self.read_queue()
             if self.queue:
-                board[self.value_key] = self.queue.pop(0)
+                value = self.queue.pop(0)
+                try:
+                    self.config.blackboard[self.value_key] = from_blackboard(value, self.item)
+                except ConversionError as error:
+                    raise TickError(self.config.model, f"the item {value!r} of its queue: {error}") from None
                 popped = True
         if not popped and not self.child_running:
             return self.if_empty.get()
@@ -302,6 +339,25 @@ class Loop(Decorator):
         if result is SUCCESS or result is FAILURE:
             reset(self.decorated)
         return FAILURE if result is FAILURE else RUNNING
+
+    def read_queue(self) -> None:
+        """The queue a ``{key}`` holds (BT.CPP throws when the entry holds nothing)."""
+        key, board = self.queue_port.key, self.config.blackboard
+        if key not in board:
+            raise TickError(self.config.model, f"cannot read the port queue: the blackboard has no value for {{{key}}}")
+        held = board[key]
+        if isinstance(held, list):
+            self.queue = held
+        elif self.queue is None:
+            if isinstance(held, str):
+                try:
+                    self.queue = queue_items(held, self.item)
+                except ConversionError as error:
+                    raise TickError(self.config.model, f"the queue {{{key}}} ({held!r}): {error}") from None
+            elif isinstance(held, tuple):
+                self.queue = list(held)
+            else:
+                raise TickError(self.config.model, f"the port queue must hold a queue or a string, not {held!r}")
 
     def halted(self) -> None:
         self.child_running = False

@@ -8,9 +8,10 @@ wrapped node is marked ``hidden``: the wrapper shows its status and carries its 
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from aeroexec.trees.runtime.decorators import Decorator
-from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, halt
+from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -24,10 +25,11 @@ class NodeConditions(Decorator):
     ORDER = ("_failureIf", "_successIf", "_skipIf", "_while")
 
     def __init__(self, name: str, child: Behaviour, conditions: dict[str, Callable[[], bool]],
-                 actions: dict[str, Callable[[], None]] | None = None) -> None:
+                 actions: dict[str, Callable[[], None]] | None = None, context: Any = None) -> None:
         super().__init__(name, child)
         self.conditions = conditions
         self.actions = actions or {}
+        self.context = context
 
     def run(self) -> Result:
         result = self.checked()
@@ -41,7 +43,11 @@ class NodeConditions(Decorator):
 
     def halted(self) -> None:
         if "_onHalted" in self.actions and self.status is RUNNING:
-            self.actions["_onHalted"]()
+            try:
+                self.actions["_onHalted"]()
+            except TickError as error:  # a halt goes on: the error is recorded
+                if self.context is not None:
+                    self.context.record("tree_error", str(error), node=self.name)
 
     def checked(self) -> Result:
         starting = self.status is not RUNNING

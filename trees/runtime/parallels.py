@@ -5,9 +5,10 @@ became impossible; completing halts the running children. ParallelAll ticks ever
 
 from __future__ import annotations
 
+from aeroexec.trees.conversions import INT
 from aeroexec.trees.runtime.controls import Control
-from aeroexec.trees.runtime.ports import INT, InputPort, NodeConfig
-from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, halt
+from aeroexec.trees.runtime.ports import InputPort, NodeConfig
+from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -20,6 +21,7 @@ class Parallel(Control):
     """Succeeds once ``success_count`` children succeed (default -1: all), fails once ``failure_count`` failed
     (default 1) or success became impossible."""
 
+    in_order = True
     ports = (InputPort("success_count", INT, "-1", "children that must succeed (negative: all but -1 - n)"),
              InputPort("failure_count", INT, "1", "children whose failure fails the node"))
 
@@ -35,6 +37,9 @@ class Parallel(Control):
         success_count = self.success_count.get()
         needed = _threshold(success_count, count)
         failing = _threshold(self.failure_count.get(), count)
+        if count < needed or count < failing:
+            raise TickError(self.config.model, "Number of children is less than threshold. Can never "
+                                               f"{'succeed' if count < needed else 'fail'}.")
         skipped = 0
         for index in range(count):
             if index not in self.completed:
@@ -70,6 +75,7 @@ class ParallelAll(Control):
 
     ports = (InputPort("max_failures", INT, "1", "children whose failure fails the node"),)
     loops = True
+    in_order = True
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
@@ -80,6 +86,9 @@ class ParallelAll(Control):
     def run(self) -> Result:
         skipped = 0
         count = len(self.children)
+        threshold = _threshold(self.max_failures.get(), count)
+        if count < threshold:
+            raise TickError(self.config.model, "Number of children is less than threshold. Can never fail.")
         for index in range(count):
             if index in self.completed:
                 continue
@@ -92,7 +101,7 @@ class ParallelAll(Control):
         if skipped == count:
             return SKIPPED
         if skipped + len(self.completed) >= count:
-            failed = self.failures >= _threshold(self.max_failures.get(), count)
+            failed = self.failures >= threshold
             for child in self.children:
                 halt(child)
             self.halted()

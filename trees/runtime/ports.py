@@ -13,20 +13,13 @@ read from the blackboard each time the node reads it. A value that cannot be rea
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from aeroexec.trees.conversions import ANY, STRING, ConversionError, convert, from_blackboard, text_of
 from aeroexec.trees.model import TreeNode
-from aeroexec.trees.ports import bare_key, parse_number
-from py_trees.common import Status
-
-#: Port types (BT.CPP's C++ types): how text becomes a value of each.
-INT, UNSIGNED, DOUBLE, BOOL, STRING, STATUS, ANY = "int", "unsigned", "double", "bool", "string", "NodeStatus", "any"
-#: NodeStatus as text, with BT.CPP's fourth status.
-SKIPPED = "SKIPPED"
-STATUSES = {"SUCCESS": Status.SUCCESS, "FAILURE": Status.FAILURE, "RUNNING": Status.RUNNING, "SKIPPED": SKIPPED,
-            "IDLE": Status.INVALID}
+from aeroexec.trees.ports import bare_key
+from aeroexec.trees.runtime.ticking import TickError
 
 
 class PortError(ValueError):
@@ -35,8 +28,9 @@ class PortError(ValueError):
 
 @dataclass(frozen=True, slots=True)
 class Port:
-    """One port of a node type (BT.CPP's ``PortInfo``): its name, type, direction, default text and whether the
-    XML must write it (BT.CPP then fails at the first read of a port left out without a default)."""
+    """One port of a node type (BT.CPP's ``PortInfo``): its name, type (``trees.conversions``), direction, default
+    text, whether the XML must write it (BT.CPP then fails at the first read of a port left out without a default)
+    and whether an empty value means something there."""
 
     name: str
     type: str = STRING
@@ -44,6 +38,7 @@ class Port:
     default: str | None = None
     required: bool = False
     description: str = ""
+    empty: bool = False  # an empty value means something (an empty queue, an empty text)
 
     @property
     def reads(self) -> bool:
@@ -55,9 +50,9 @@ class Port:
 
 
 def InputPort(name: str, type: str = STRING, default: str | None = None, description: str = "",  # noqa: N802
-              required: bool = False) -> Port:
+              required: bool = False, empty: bool = False) -> Port:
     """BT.CPP's ``InputPort<T>(name, default, description)``."""
-    return Port(name, type, "input", default, required, description)
+    return Port(name, type, "input", default, required, description, empty)
 
 
 def OutputPort(name: str, type: str = ANY, description: str = "", required: bool = False) -> Port:  # noqa: N802
@@ -66,81 +61,9 @@ def OutputPort(name: str, type: str = ANY, description: str = "", required: bool
 
 
 def BidirectionalPort(name: str, type: str = ANY, description: str = "",  # noqa: N802
-                      required: bool = False) -> Port:
+                      required: bool = False, empty: bool = False) -> Port:
     """BT.CPP's ``BidirectionalPort<T>(name, description)``."""
-    return Port(name, type, "inout", None, required, description)
-
-
-def _integer(text: str) -> int:
-    value = parse_number(text)
-    if not isinstance(value, int):
-        raise PortError(f"Can't convert string [{text}] to integer")
-    return value
-
-
-def _unsigned(text: str) -> int:
-    value = _integer(text)
-    if value < 0:
-        raise PortError(f"Value out of bound when converting [{text}] to integer")
-    return value
-
-
-def _double(text: str) -> float:
-    value = parse_number(text)
-    if value is None:
-        raise PortError(f"Can't convert string [{text}] to double")
-    return float(value)
-
-
-def _bool(text: str) -> bool:
-    if text in ("1", "true", "TRUE", "True"):
-        return True
-    if text in ("0", "false", "FALSE", "False"):
-        return False
-    raise PortError(f"Can't convert string [{text}] to bool")
-
-
-def _status(text: str) -> Status | str:
-    if text.strip() not in STATUSES:
-        raise PortError(f"Cannot convert this to NodeStatus: {text}")
-    return STATUSES[text.strip()]
-
-
-#: BT.CPP's ``convertFromString<T>``, per port type.
-CONVERSIONS: dict[str, Callable[[str], Any]] = {INT: _integer, UNSIGNED: _unsigned, DOUBLE: _double, BOOL: _bool,
-                                                STATUS: _status, STRING: str, ANY: str}
-
-
-def queue_items(text: str, item: str) -> list[Any]:
-    """BT.CPP's ``convertFromString<SharedQueue<T>>``: the items between ``;``, each converted (none in "")."""
-    parts = text.split(";")
-    if parts and not parts[-1]:
-        parts.pop()  # "1;2;" has two items, as in BT.CPP's splitString
-    return [convert(part, item) for part in parts]
-
-
-def convert(text: str, kind: str) -> Any:
-    """A port's text as a value of type ``kind`` (raises :class:`PortError`); ``queue<T>``: a list of T."""
-    if kind.startswith("queue<"):
-        return queue_items(text, kind[6:-1])
-    return CONVERSIONS[kind](text if kind in (STRING, ANY) else text.strip())
-
-
-def from_blackboard(value: Any, kind: str) -> Any:
-    """A blackboard value read by a port of type ``kind``: text is converted, numbers cast, others kept."""
-    if isinstance(value, str):
-        return convert(value, kind)
-    if kind in (INT, UNSIGNED) and isinstance(value, int | float) and not isinstance(value, bool):
-        if value != int(value) or (kind == UNSIGNED and value < 0):
-            raise PortError(f"{value!r} is no {'unsigned ' if kind == UNSIGNED else ''}integer")
-        return int(value)
-    if kind == DOUBLE and isinstance(value, int | float):
-        return float(value)
-    if kind == BOOL and isinstance(value, int | float):
-        return bool(value)
-    if kind == STRING:
-        return str(value)
-    return value
+    return Port(name, type, "inout", None, required, description, empty)
 
 
 class Input:
@@ -155,8 +78,9 @@ class Input:
         if text is not None and self.key is None:
             try:
                 self.value = convert(text, port.type)
-            except PortError as error:
-                raise PortError(f"{node.where}: the port {port.name} of {node.type}: {error}") from None
+            except ConversionError as error:
+                raise PortError(f"{node.where}: the port {port.name} of {node.type}: the value \"{text}\" can not "
+                                f"be converted to {port.type} ({error})") from None
 
     @property
     def given(self) -> bool:
@@ -164,25 +88,31 @@ class Input:
         return self.key is not None or self.value is not None
 
     def get(self) -> Any:
-        """The port's value now (raises :class:`PortError` when the key it reads holds none, or a wrong one)."""
+        """The port's value now; raises :class:`TickError` when the key it reads holds none, or a wrong one."""
         key = self.key
         if key is None:
+            if self.value is None:
+                raise TickError(self.node, f"the port {self.port.name} has no value")
             return self.value
         board = self.board
         if key not in board:
-            raise PortError(f"{self.node.where}: {self.node.type} cannot read its port {self.port.name}: the "
-                            f"blackboard has no value for {{{key}}}")
+            raise TickError(self.node, f"cannot read the port {self.port.name}: the blackboard has no value for "
+                                       f"{{{key}}}")
         try:
             return from_blackboard(board[key], self.kind)
-        except PortError as error:
-            raise PortError(f"{self.node.where}: {self.node.type} cannot read its port {self.port.name} from "
-                            f"{{{key}}}: {error}") from None
+        except ConversionError as error:
+            raise TickError(self.node, f"cannot read the port {self.port.name} from {{{key}}} "
+                                       f"({text_of(board[key])!r}): {error}") from None
 
 
 @dataclass(slots=True)
 class NodeConfig:
     """What a node is built with (BT.CPP's ``NodeConfig``): its model node (type, name, ports as written, file and
-    line), the blackboard of its scope and the tree's context (``runtime.context.TreeContext``)."""
+    line), the blackboard of its scope and the tree's context (``runtime.context.TreeContext``).
+
+    A port written ``{key}`` with a type of its own gives the blackboard's entry that type, as BT.CPP does when it
+    loads a tree: text written there later (SetBlackboard, a script) is converted to it.
+    """
 
     model: TreeNode
     blackboard: Any
@@ -196,16 +126,27 @@ class NodeConfig:
 
     def input(self, name: str, ports: tuple[Port, ...]) -> Input:
         """The reader of the input port ``name`` of ``ports`` (the node's declarations): its text, else its
-        default."""
+        default (only when the port is not written at all, as in BT.CPP)."""
+        port = self._declared(name, ports)
+        text = self.model.ports.get(name, port.default)
+        return Input(self.model, port, text, self.blackboard)
+
+    def output(self, name: str, ports: tuple[Port, ...] = ()) -> str:
+        """The blackboard key an output port writes (``{key}`` or a plain key)."""
+        if ports:
+            self._declared(name, ports)
+        text = self.model.ports.get(name, "")
+        return bare_key(text) or text.strip()
+
+    def _declared(self, name: str, ports: tuple[Port, ...]) -> Port:
         port = next((p for p in ports if p.name == name), None)
         if port is None:
             raise KeyError(f"{self.model.type} declares no port {name}")
-        text = self.model.ports.get(name)
-        if text is None or (not text.strip() and port.default is not None):
-            text = port.default
-        return Input(self.model, port, text, self.blackboard)
-
-    def output(self, name: str) -> str:
-        """The blackboard key an output port writes (``{key}`` or a plain key)."""
-        text = self.model.ports.get(name, "")
-        return bare_key(text) or text.strip()
+        key = bare_key(self.model.ports.get(name) or "")
+        declare = getattr(self.blackboard, "declare", None)
+        if key is not None and declare is not None:
+            try:
+                declare(key, port.type)
+            except PortError as error:
+                raise PortError(f"{self.model.where}: {error}") from None
+        return port

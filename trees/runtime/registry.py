@@ -74,6 +74,7 @@ BUILT_IN: dict[str, type[Node]] = {
     "QueryBelief": belief_leaves.QueryBelief,
     "AddBelief": belief_leaves.AddBelief,
     "RemoveBelief": belief_leaves.RemoveBelief,
+    "AddRule": belief_leaves.AddRule,
 }
 
 #: The built-ins by kind, as BehaviorTree.CPP's manifests say it (Groot2's palette, the .btlog's tree).

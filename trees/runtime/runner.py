@@ -4,10 +4,11 @@
 engine's ``tick_callbacks``) until its root completes, and records events the terminal can show:
 ``mission_started``, ``node_status`` for every change of a node's status (``node``, ``old``, ``new``, ``line``,
 ``depth``, ``uid``: the node's 1-based place in ``nodes``, as in the Groot2 log), then ``mission_completed``
-(root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit). ``observers`` are called after each tick
-with ``(node, status it returned)`` for every node it ticked (children before their parent, as py_trees' ``tick()``
-yields them), and with None when the tree is halted. The tree is ticked one call per node (``trees.runtime.ticking``):
-the nodes record their status changes as they happen, and only those are reported.
+(root SUCCESS) or ``mission_failed`` (root FAILURE, halted, time limit, or a node that cannot tick: a script error,
+a port it cannot read, recorded first as a ``tree_error`` naming the node and its line). ``observers`` are called
+after each tick with ``(node, status it returned)`` for every node it ticked (children before their parent, as
+py_trees' ``tick()`` yields them), and with None when the tree is halted. The tree is ticked one call per node
+(``trees.runtime.ticking``): the nodes record their status changes as they happen, and only those are reported.
 Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
 """
 
@@ -21,7 +22,7 @@ from aeroexec.trees.model import TreeDocument
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import build_tree, describe, model_of
 from aeroexec.trees.runtime.context import TreeContext
-from aeroexec.trees.runtime.ticking import TickState, attach, result_name, status_name, step
+from aeroexec.trees.runtime.ticking import TickError, TickState, attach, result_name, status_name, step
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -67,6 +68,12 @@ class TreeMission:
         state.visits = [] if self.observers else None
         try:
             step(self.root, state)
+        except TickError as error:  # BT.CPP throws out of the tick: the mission fails, naming the node
+            self.engine.log.record("tree_error", detail=str(error), node=getattr(error.node, "name", ""),
+                                   line=getattr(error.node, "line", 0))
+            self._report(scan=True)
+            self.halt(f"{error.what} failed at {error.where or 'its node'}: {error.message}")
+            return
         except Exception as exc:  # a bug in a node: the mission stops, the engine goes on
             logger.exception("the behavior tree %s failed", self.name)
             self._report(scan=True)

@@ -20,13 +20,34 @@ from collections.abc import Iterator
 from types import MethodType
 from typing import Any
 
+from aeroexec.trees import conversions
+from py_trees import logging as py_trees_logging
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
 #: The fourth status of BehaviorTree.CPP; a node ends SUCCESS and ``skipped`` is set.
-SKIPPED = "SKIPPED"
+SKIPPED = conversions.SKIPPED
 Result = Status | str
 RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAILURE, Status.INVALID
+
+
+class TickError(RuntimeError):
+    """A node that cannot go on ticking: a script that fails (a variable nothing wrote, a type mismatch), a port it
+    cannot read. BT.CPP throws out of the tick; the run fails naming the node (``where``: file:line), unless a
+    TryCatch around it catches it."""
+
+    def __init__(self, node: Any, message: str) -> None:
+        self.node, self.message = node, message
+        kind, name = getattr(node, "type", ""), getattr(node, "name", "")
+        self.what = kind if name in ("", kind) else f"{kind} {name!r}"
+        super().__init__(f"{self.where}: {self.what}: {message}" if self.where else f"{self.what}: {message}")
+
+    @property
+    def where(self) -> str:
+        return getattr(self.node, "where", "")
+
+
+_MAKING = object()  # Node.__init__: the node is being made
 
 
 class _Discard(list):
@@ -79,7 +100,32 @@ class Node:
         self.tree = _DETACHED
         self.skipped = False
         self.ticked = -1  # the tick number it was last ticked in
+        self.__dict__["_logger"] = _MAKING
         super().__init__(*args, **kwargs)
+        if self.__dict__.get("_logger") is _MAKING:
+            del self.__dict__["_logger"]
+
+    # py_trees gives every behaviour a logger and a tick generator of its own as it makes it; a tree of thousands of
+    # nodes uses neither, and they spread its nodes over far more memory: both are made when first asked for
+    @property
+    def logger(self) -> py_trees_logging.Logger:
+        made = self.__dict__.get("_logger")
+        if made is None or made is _MAKING:
+            made = self.__dict__["_logger"] = py_trees_logging.Logger(self.name)
+        return made
+
+    @logger.setter
+    def logger(self, value: py_trees_logging.Logger) -> None:
+        if self.__dict__.get("_logger") is not _MAKING:  # the one py_trees makes in __init__ is dropped
+            self.__dict__["_logger"] = value
+
+    @property
+    def iterator(self) -> Iterator[Behaviour]:
+        return self.tick()
+
+    @iterator.setter
+    def iterator(self, value: Any) -> None:
+        value.close()  # py_trees' generator: ``tick()`` makes one when asked
 
     def step(self) -> Result:
         """Tick the node once and return its result (the status it is left with; SKIPPED)."""

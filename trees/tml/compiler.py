@@ -28,7 +28,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
 from aeroexec.trees.loaders.xml_loader import parse_xml, read_xml
@@ -46,7 +46,9 @@ from aeroexec.trees.tml.reader import (
     read_tml,
     read_tml_root,
 )
-from py_trees.behaviour import Behaviour
+
+if TYPE_CHECKING:  # py_trees is loaded when a tree is built to run, not to read or verify one (~15 ms)
+    from py_trees.behaviour import Behaviour
 
 VARIABLE_USE = re.compile(r"\+([A-Za-z_]\w*)")
 VARIABLE_BINDING = re.compile(r"\?([A-Za-z_]\w*)")
@@ -214,8 +216,11 @@ def load_tml_document(path: str | Path) -> TmlDocument:
 def read_xml_mission(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     """An XML mission of either kind: TML when the document element is ``<mission>``, else BehaviorTree.CPP v4."""
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    root = parse_xml(raw, file)
+    lenient: list[tuple[str, int, str]] = []
+    root = parse_xml(raw, file, lenient)  # as BehaviorTree.CPP reads it (a raw < in an attribute)
     if is_tml(root):
+        if lenient:
+            root = parse_xml(raw, file)  # TML is read strictly: this says where it stops being XML
         return compile_tml(read_tml_root(root, file))
     return read_xml(raw, file)
 

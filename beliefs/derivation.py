@@ -1,0 +1,399 @@
+"""The beliefs rules derive, kept up to date: bottom-up semi-naive evaluation, maintained by differences.
+
+A :class:`RuleBook` holds a memory's rules in strata (``beliefs/program.py``) and one relation per derived
+predicate. Nothing is derived until a derived predicate is asked; then each stratum it needs is brought up
+to date from what changed since (the journals of the relations it reads): added beliefs are followed
+semi-naively from the new rows alone, removed ones by delete-and-rederive (DRed), a change under a
+negation or of a computed predicate by evaluating the stratum again. While nothing a rule reads has
+changed, asking costs a look-up of versions.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from itertools import filterfalse
+from typing import Any
+
+from aeroexec.beliefs.expression import Conjunction, Goal, Rule
+from aeroexec.beliefs.joins import evaluate
+from aeroexec.beliefs.program import Signature, Stratum
+from aeroexec.beliefs.query import CompiledQuery
+from aeroexec.beliefs.relation import Journal, Relation, Relations
+from aeroexec.beliefs.terms import Struct, Var, match
+
+STORED = "#stored"  # the stored beliefs of a derived predicate, read by its rules as a rule of their own
+DELTA = "#delta"  # the rows a round added (or removed), read by one goal of a rule
+
+
+class Delta:
+    """Rows added and removed, netted (an add then a remove cancel)."""
+
+    __slots__ = ("added", "removed")
+
+    def __init__(self) -> None:
+        self.added: dict[tuple, None] = {}
+        self.removed: dict[tuple, None] = {}
+
+    def merge(self, added: Iterable[tuple], removed: Iterable[tuple]) -> None:
+        for row in added:
+            if row in self.removed:
+                del self.removed[row]
+            else:
+                self.added[row] = None
+        for row in removed:
+            if row in self.added:
+                del self.added[row]
+            else:
+                self.removed[row] = None
+
+    def __bool__(self) -> bool:
+        return bool(self.added or self.removed)
+
+
+class _Layer:
+    """A stratum as evaluated: its compiled rules, the changes of its inputs not yet followed."""
+
+    def __init__(self, stratum: Stratum, rules: list[Rule]) -> None:
+        self.stratum = stratum
+        self.rules = rules  # the stratum's rules, and "p(?1..) :- p#stored(?1..)" for each of its predicates
+        self.predicates = set(stratum.predicates)
+        self.pending: dict[Signature, Delta] = {}
+        self.valid = False
+        self.below: set[int] = set()  # the strata it needs, itself included
+
+
+class RuleBook:
+    """The rules of one belief memory and the relations of the predicates they derive."""
+
+    def __init__(self, stored: Relations, exclusive: Callable[[str], bool], computed: dict,
+                 prepare: Callable[[Conjunction], Conjunction]) -> None:
+        self.stored = stored
+        self.rules: list[Rule] = []
+        self.derived: dict[Signature, Relation] = {}
+        self.view = Relations()
+        self._exclusive = exclusive
+        self._computed = computed
+        self._prepare = prepare
+        self._layers: list[_Layer] = []
+        self._layer_of: dict[Signature, _Layer] = {}
+        self._readers: dict[Signature, list[tuple[_Layer, Signature]]] = {}  # stored relation -> who reads it
+        self._variants: dict[tuple, CompiledQuery] = {}
+        self._stamp: Any = None
+        self._epoch = 0
+        self._seen_epoch = -1
+        self._names: set[str] = set()
+        self._read: list[Relation] = []  # the stored relations the rules read (those that exist)
+        self._needed: dict[tuple, list[_Layer]] = {}  # the derived predicates asked -> the strata they need
+
+    # -- the program ------------------------------------------------------------------------------------------------
+    def load(self, rules: list[Rule], strata: list[Stratum]) -> None:
+        """Take ``rules`` (already checked) in ``strata``; derived beliefs are found again when next asked."""
+        old = self.derived
+        self.rules = list(rules)
+        self.derived = {}
+        self._names = {name for s in strata for name, _ in s.predicates}
+        self._layers, self._layer_of, self._readers, self._variants, self._needed = [], {}, {}, {}, {}
+        for stratum in strata:
+            own = []
+            for name, arity in stratum.predicates:
+                relation = Relation(name, arity, False, lazy=True)
+                if (name, arity) in old:  # versions only grow: a cached answer is never taken for a new one
+                    relation.version = old[(name, arity)].version + 1
+                self.derived[(name, arity)] = relation
+                args = tuple(Var(f"?{i}") for i in range(arity))
+                own.append(Rule(Struct(name, args), Conjunction((Goal(Struct(name + STORED, args)),))))
+            prepared = [Rule(r.head, self._prepare(r.body), r.file, r.line) for r in stratum.rules]
+            layer = _Layer(stratum, prepared + own)
+            for signature in stratum.predicates:
+                self._layer_of[signature] = layer
+            self._layers.append(layer)
+        for layer in self._layers:
+            layer.below = {layer.stratum.index}
+            for signature in self._inputs(layer):
+                source = self._layer_of.get(signature)
+                if source is not None and source is not layer:
+                    layer.below |= source.below
+                if signature[0].endswith(STORED):
+                    self._readers.setdefault((signature[0][: -len(STORED)], signature[1]), []).append(
+                        (layer, signature))
+                elif signature not in self._layer_of:
+                    self._readers.setdefault(signature, []).append((layer, signature))
+        for rel in self.stored.values():
+            rel.journal = None  # a relation the rules read is read whole when next asked; the others kept no journal
+        self.view = Relations()
+        self._seen_epoch = -1
+        self._stamp = None
+
+    def _inputs(self, layer: _Layer) -> set[Signature]:
+        found: set[Signature] = set()
+        for rule in layer.rules:
+            found |= rule.body.predicates
+        return found - layer.predicates
+
+    def is_derived(self, signature: Signature) -> bool:
+        return signature in self.derived
+
+    def volatile(self, signature: Signature) -> bool:
+        layer = self._layer_of.get(signature)
+        return layer is not None and layer.stratum.volatile
+
+    # -- asking ------------------------------------------------------------------------------------------------------
+    def ready(self, signatures: tuple[Signature, ...]) -> Relations:
+        """The relations (stored and derived) with the strata of ``signatures`` up to date.
+
+        While no relation the rules read has changed, this is a sum of their versions and a look at the needed
+        strata: asking a derived predicate again costs a few microseconds.
+        """
+        stored = self.stored
+        if self._seen_epoch != stored.epoch:
+            self._mirror()
+        stamp = stored.epoch + sum(map(_version, self._read))
+        if stamp != self._stamp:
+            self._collect()
+            self._stamp = stamp
+        needed = self._needed.get(signatures)
+        if needed is None:
+            below: set[int] = set()
+            for signature in signatures:
+                layer = self._layer_of.get(signature)
+                if layer is not None:
+                    below |= layer.below
+            needed = self._needed[signatures] = [layer for layer in self._layers if layer.stratum.index in below]
+        for layer in needed:
+            if not layer.valid or layer.pending or layer.stratum.volatile:
+                try:
+                    self._update(layer)
+                except BaseException:  # a rule past the limits: evaluated again from scratch when next asked
+                    layer.valid = False
+                    raise
+        self.view.epoch = stored.epoch * 4096 + self._epoch
+        return self.view
+
+    def rows(self, signature: Signature) -> Relation:
+        """The derived relation of ``signature``, up to date."""
+        self.ready((signature,))
+        return self.derived[signature]
+
+    def _mirror(self) -> None:
+        self._read = [rel for signature in self._readers if (rel := self.stored.get(signature)) is not None]
+        view = self.view
+        for signature, rel in self.stored.items():
+            if signature in self.derived:
+                view[(signature[0] + STORED, signature[1])] = rel
+            else:
+                view[signature] = rel
+        view.update(self.derived)
+        self._seen_epoch = self.stored.epoch
+
+    def _collect(self) -> None:
+        """Hand the changes of the stored relations the rules read to the strata that read them."""
+        for signature, readers in self._readers.items():
+            rel = self.stored.get(signature)
+            if rel is None:
+                continue
+            if rel.journal is None:  # not read yet: all of it is new
+                rel.journal = Journal()
+                added, removed = dict(rel.rows), {}
+            else:
+                added, removed = rel.journal.take()
+            if added or removed:
+                for layer, name in readers:
+                    if layer.valid:
+                        layer.pending.setdefault(name, Delta()).merge(added, removed)
+
+    # -- evaluating ----------------------------------------------------------------------------------------------------
+    def _update(self, layer: _Layer) -> None:
+        pending, layer.pending = layer.pending, {}
+        stratum = layer.stratum
+        if not layer.valid or stratum.volatile or any(s in stratum.negated for s in pending):
+            before = {p: dict(self.derived[p].rows) for p in stratum.predicates} if layer.valid else None
+            self._compute(layer)
+            layer.valid = True
+            if before is None:
+                changes = {p: (dict(self.derived[p].rows), {}) for p in stratum.predicates}
+            else:
+                changes = {p: ({r: None for r in self.derived[p].rows if r not in before[p]},
+                               {r: None for r in before[p] if r not in self.derived[p].rows})
+                           for p in stratum.predicates}
+        elif any(delta.removed for delta in pending.values()):
+            changes = self._dred(layer, pending)
+        else:
+            changes = {p: ({}, {}) for p in stratum.predicates}
+            seeds = self._seeds(layer, {s: d.added for s, d in pending.items()})
+            self._saturate(layer, seeds, changes)
+        for signature, (added, removed) in changes.items():
+            if added or removed:
+                self._resized(signature)
+                for other in self._layers[stratum.index + 1:]:
+                    if other.valid and signature in other.stratum.reads:
+                        other.pending.setdefault(signature, Delta()).merge(added, removed)
+
+    def _compute(self, layer: _Layer) -> None:
+        for signature in layer.stratum.predicates:
+            old = self.derived[signature]
+            fresh = Relation(old.name, old.arity, False, lazy=True)
+            fresh.version = old.version + 1
+            self.derived[signature] = self.view[signature] = fresh
+        found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
+        for i, rule in enumerate(layer.rules):
+            found[rule.head.signature].update(dict.fromkeys(
+                evaluate(self._variant(layer, i, None), self.view, rule)))
+        self._saturate(layer, found, None)
+
+    def _seeds(self, layer: _Layer, inputs: dict[Signature, dict]) -> dict[Signature, dict[tuple, None]]:
+        """New rows of the stratum derived with one goal reading only the rows of ``inputs`` (rows added to a
+        relation, or a round's new rows), the other goals everything."""
+        found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
+        inputs = {s: rows for s, rows in inputs.items() if rows}
+        if not inputs:
+            return found
+        with self._deltas(inputs):
+            for i, rule in enumerate(layer.rules):
+                rows = self.derived[rule.head.signature].rows
+                new = found[rule.head.signature]
+                for j, signature in _positive_goals(rule):
+                    if signature in inputs:
+                        new.update(dict.fromkeys(filterfalse(
+                            rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule))))
+        return found
+
+    def _saturate(self, layer: _Layer, delta: dict[Signature, dict[tuple, None]],
+                  changes: dict[Signature, tuple[dict, dict]] | None) -> None:
+        """Add ``delta`` and follow it semi-naively until nothing new is derived (``changes``: what was added and
+        removed, kept up to date; None when the caller does not need it)."""
+        recursive = layer.stratum.recursive
+        while any(delta.values()):
+            for signature, rows in delta.items():
+                if rows:
+                    rel = self.derived[signature]
+                    rows = dict.fromkeys(filterfalse(rel.rows.__contains__, rows))
+                    delta[signature] = rows
+                    rel.insert_new(rows)
+                    if changes is not None:
+                        added, removed = changes[signature]
+                        for row in rows:
+                            if row in removed:
+                                del removed[row]
+                            else:
+                                added[row] = None
+            if not recursive:
+                return
+            delta = self._seeds(layer, delta)
+
+    def _dred(self, layer: _Layer, pending: dict[Signature, Delta]) -> dict[Signature, tuple[dict, dict]]:
+        """Delete and rederive: remove what the removed rows could have derived, derive again what still holds,
+        then follow the added rows."""
+        removed_inputs = {s: d.removed for s, d in pending.items() if d.removed}
+        restored = [(self.view.get(s), rows) for s, rows in removed_inputs.items() if self.view.get(s) is not None]
+        for rel, rows in restored:  # the inputs as they were, for finding what was derived from the removed rows
+            journal, rel.journal = rel.journal, None
+            rel.insert_new([r for r in rows if r not in rel.rows])
+            rel.journal = journal
+        gone: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
+        try:
+            frontier = self._matches(layer, removed_inputs, gone)
+            while layer.stratum.recursive and any(frontier.values()):
+                frontier = self._matches(layer, {s: r for s, r in frontier.items() if r}, gone)
+        finally:
+            for rel, rows in restored:
+                journal, rel.journal = rel.journal, None
+                for row in rows:
+                    if row in rel.rows:
+                        rel.delete(row)
+                rel.journal = journal
+        changes: dict[Signature, tuple[dict, dict]] = {p: ({}, dict(gone[p])) for p in layer.predicates}
+        for signature, rows in gone.items():
+            rel = self.derived[signature]
+            for row in rows:
+                rel.delete(row)
+        again: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
+        for i, rule in enumerate(layer.rules):
+            signature = rule.head.signature
+            query = self._variant(layer, i, None)
+            for row in gone[signature]:
+                bindings: dict = {}
+                if match(rule.head.args, row, bindings) and query.first(self.view, bindings) is not None:
+                    again[signature][row] = None
+        seeds = self._seeds(layer, {s: d.added for s, d in pending.items() if d.added})
+        for signature, rows in seeds.items():
+            again[signature].update(rows)
+        self._saturate(layer, again, changes)
+        return changes
+
+    def _matches(self, layer: _Layer, inputs: dict[Signature, dict], gone: dict[Signature, dict[tuple, None]]
+                 ) -> dict[Signature, dict[tuple, None]]:
+        """Rows of the stratum (still stored) that a rule derives with one goal on the rows of ``inputs``, the
+        relations as they were (rows removed put back, so no goal is answered through an exclusive key)."""
+        found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
+        with self._deltas(inputs):
+            for i, rule in enumerate(layer.rules):
+                signature = rule.head.signature
+                rel = self.derived[signature]
+                for j, goal in _positive_goals(rule):
+                    if goal in inputs:
+                        for row in evaluate(self._variant(layer, i, j, exclusive=False), self.view, rule):
+                            if row in rel.rows and row not in gone[signature]:
+                                gone[signature][row] = None
+                                found[signature][row] = None
+        return found
+
+    # -- pieces --------------------------------------------------------------------------------------------------------
+    def _variant(self, layer: _Layer, i: int, j: int | None, exclusive: bool = True) -> CompiledQuery:
+        """Rule ``i`` of a stratum compiled with its ``j``-th literal reading the delta relation."""
+        key = (layer.stratum.index, i, j, exclusive)
+        query = self._variants.get(key)
+        if query is None:
+            body = layer.rules[i].body
+            if j is not None:
+                literals = list(body.literals)
+                goal = literals[j].term
+                literals[j] = Goal(Struct(goal.name + DELTA, goal.args))
+                body = Conjunction(tuple(literals), body.text)
+            query = CompiledQuery(body, self._exclusive_of if exclusive else _never, self._computed)
+            self._variants[key] = query
+        return query
+
+    def _exclusive_of(self, name: str) -> bool:
+        if "#" in name:
+            return False if name.endswith(DELTA) else self._exclusive(name[: -len(STORED)])
+        return name not in self._names and self._exclusive(name)
+
+    def _deltas(self, inputs: dict[Signature, dict]) -> _Deltas:
+        return _Deltas(self.view, inputs)
+
+    def _resized(self, signature: Signature) -> None:
+        size = len(self.derived[signature].rows)
+        if not size & (size - 1):
+            self._epoch += 1
+
+
+def _version(rel: Relation) -> int:
+    return rel.version
+
+
+class _Deltas:
+    """Puts ``name#delta`` relations in the view for the rules' delta goals, and takes them out after."""
+
+    def __init__(self, view: Relations, inputs: dict[Signature, dict]) -> None:
+        self.view, self.inputs = view, inputs
+
+    def __enter__(self) -> None:
+        for (name, arity), rows in self.inputs.items():
+            rel = Relation(name + DELTA, arity, False, lazy=True)
+            rel.insert_new(rows)
+            self.view[(name + DELTA, arity)] = rel
+
+    def __exit__(self, *exc: object) -> None:
+        for name, arity in self.inputs:
+            self.view.pop((name + DELTA, arity), None)
+
+
+def _positive_goals(rule: Rule) -> list[tuple[int, Signature]]:
+    return [(j, lit.term.signature) for j, lit in enumerate(rule.body.literals) if type(lit) is Goal]
+
+
+def _never(name: str) -> bool:
+    return False
+
+
+__all__ = ["STORED", "RuleBook"]

@@ -1,0 +1,257 @@
+"""Set-at-a-time evaluation of a rule's body: every unification at once, as rows of values.
+
+Where a query (``beliefs/query.py``) looks for unifications one at a time, a rule's body is evaluated for
+all of them together: the partial answers are tuples of values (one per variable bound so far), grouped by
+the values a goal shares with them and joined through the relation's index, the products built by
+``itertools`` at C speed. Goals with nested terms, computed predicates, ``belong`` and ``=`` that binds are
+solved answer by answer with the query's own steps.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from itertools import product, starmap
+from operator import add, itemgetter
+from typing import Any
+
+from aeroexec.beliefs.errors import BeliefError
+from aeroexec.beliefs.expression import Rule
+from aeroexec.beliefs.query import CompiledQuery
+from aeroexec.beliefs.relation import is_number
+from aeroexec.beliefs.steps import ComparisonStep, FactStep, NegationStep
+from aeroexec.beliefs.terms import Struct, Var, is_ground, match, substitute, variables
+
+Rows = list[tuple]
+#: Most partial answers one evaluation of a rule's body may build
+MAX_ROWS = 5_000_000
+
+_ORDER: dict[str, Callable[[Any, Any], bool]] = {
+    "<": lambda a, b: a < b, ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
+}
+
+
+def evaluate(query: CompiledQuery, relations: Any, rule: Rule) -> Iterable[tuple]:
+    """The arguments of the rule's head for every unification of ``query`` (its body; duplicates possible).
+
+    Raises :class:`BeliefError` when the partial answers grow past :data:`MAX_ROWS` (a join of goals that share
+    no variable, over many beliefs): an answer that large would stall the engine.
+    """
+    schema: list[Var] = []
+    rows: Rows = [()]
+    try:
+        for step in query._order(relations, {}):
+            schema, rows = _apply(step, schema, rows, relations, query.ranges)
+            if not rows:
+                return ()
+            if len(rows) > MAX_ROWS:
+                raise _Overflow
+    except _Overflow:
+        raise BeliefError(f"{rule.where}: the rule {rule} builds more than {MAX_ROWS:,} partial answers "
+                          "(goals that share no variable?)") from None
+    return _project(rule.head, schema, rows)
+
+
+class _Overflow(Exception):
+    """The partial answers of a rule's body grew past MAX_ROWS."""
+
+
+def _apply(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict) -> tuple[list[Var], Rows]:
+    kind = type(step)
+    if kind is FactStep and step.flat:
+        return _join(step, schema, rows, relations)
+    if kind is ComparisonStep and step.op != "=":
+        test = _filter(step, schema)
+        if test is not None:
+            return schema, [row for row in rows if test(row)]
+    if kind is NegationStep:
+        absent = _anti(step, schema, relations)
+        if absent is not None:
+            return schema, [row for row in rows if absent(row)]
+    return _each(step, schema, rows, relations, ranges)
+
+
+def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tuple[list[Var], Rows]:
+    rel = relations.get(step.signature)
+    if rel is None or not rel.rows:
+        return schema, []
+    at = {v: i for i, v in enumerate(schema)}
+    shared = [(p, at[v]) for p, v in step.simple if v in at]
+    fresh = [(p, v) for p, v in step.simple if v not in at]
+    constants = step.constants
+    new_schema = schema + [v for _, v in fresh]
+    positions = [p for p, _ in fresh]
+    take = _getter(positions)
+    whole = positions == list(range(len(step.pattern)))  # the rows as they are
+    if not shared:  # no value in common: the goal's own answers, times every row so far
+        candidates = _matching(rel, constants)
+        found = list(candidates) if whole else list(map(take, candidates))
+        if rows == [()]:
+            return new_schema, found
+        if len(rows) * len(found) > MAX_ROWS:
+            raise _Overflow
+        return new_schema, list(starmap(add, product(rows, found)))
+    if not fresh:  # every argument known: a membership test per row
+        positions = sorted([*((p, None, c) for p, c in constants), *((p, i, None) for p, i in shared)])
+        stored = rel.rows
+        if len(positions) == 1:
+            i = positions[0][1]
+            return schema, [row for row in rows if (row[i],) in stored]
+        build = _builder(positions)
+        return schema, [row for row in rows if build(row) in stored]
+    groups: dict[Any, list[tuple]] = {}
+    if len(shared) == 1:
+        i = shared[0][1]
+        for row in rows:
+            value = row[i]
+            group = groups.get(value)
+            if group is None:
+                groups[value] = [row]
+            else:
+                group.append(row)
+    else:
+        key = itemgetter(*(i for _, i in shared))
+        for row in rows:
+            groups.setdefault(key(row), []).append(row)
+    out: Rows = []
+    extend = out.extend
+    p0 = shared[0][0]
+    index = rel.by_pos[p0]
+    others = [(p, j) for j, (p, _) in enumerate(shared)][1:]
+    for value, group in groups.items():
+        bucket = index.get(value if len(shared) == 1 else value[0])
+        if bucket is None:
+            continue
+        if type(bucket) is not dict:
+            bucket = (bucket,)
+        if constants or others:
+            bucket = [r for r in bucket if all(r[p] == c for p, c in constants)
+                      and all(r[p] == value[j] for p, j in others)]
+            if not bucket:
+                continue
+        found = list(bucket) if whole else list(map(take, bucket))
+        if len(group) == 1:
+            first = group[0]
+            extend([first + f for f in found])
+        else:
+            extend(starmap(add, product(group, found)))
+        if len(out) > MAX_ROWS:
+            raise _Overflow
+    return new_schema, out
+
+
+def _matching(rel: Any, constants: tuple) -> Iterable[tuple]:
+    if not constants:
+        return rel.rows
+    rows = min((rel.bucket(p, c) for p, c in constants), key=len)
+    if len(constants) == 1:
+        return rows
+    return [r for r in rows if all(r[p] == c for p, c in constants)]
+
+
+def _getter(positions: list[int]) -> Callable[[tuple], tuple]:
+    if not positions:
+        return lambda row: ()
+    if len(positions) == 1:
+        p = positions[0]
+        return lambda row: (row[p],)
+    return itemgetter(*positions)
+
+
+def _builder(positions: list[tuple[int, int | None, Any]]) -> Callable[[tuple], tuple]:
+    """A function from a row of answers to the stored row a goal asks for (positions: (place, column, constant))."""
+    if len(positions) == 1 and positions[0][1] is not None:
+        i = positions[0][1]
+        return lambda row: (row[i],)
+    if all(i is not None for _, i, _ in positions):
+        return itemgetter(*(i for _, i, _ in positions))
+    parts = [(i, c) for _, i, c in positions]
+    return lambda row: tuple(c if i is None else row[i] for i, c in parts)
+
+
+def _filter(step: ComparisonStep, schema: list[Var]) -> Callable[[tuple], bool] | None:
+    at = {v: i for i, v in enumerate(schema)}
+    sides = []
+    for side in (step.left, step.right):
+        if type(side) is Var and side in at:
+            sides.append((at[side], None))
+        elif type(side) is not Var and is_ground(side):
+            sides.append((None, side))
+        else:
+            return None
+    (li, lc), (ri, rc) = sides
+    if step.op == "!=":
+        def differ(row: tuple) -> bool:
+            left = lc if li is None else row[li]
+            right = rc if ri is None else row[ri]
+            return not match(left, right, {})
+        return differ
+    order = _ORDER[step.op]
+
+    def holds(row: tuple) -> bool:
+        left = lc if li is None else row[li]
+        right = rc if ri is None else row[ri]
+        return is_number(left) and is_number(right) and order(left, right)
+    return holds
+
+
+def _anti(step: NegationStep, schema: list[Var], relations: Any) -> Callable[[tuple], bool] | None:
+    """``not(goal)`` with every argument known: a membership test (None when the negation is not that simple)."""
+    inner = step.query.steps
+    if len(inner) != 1 or type(inner[0]) is not FactStep or not inner[0].flat:
+        return None
+    goal = inner[0]
+    at = {v: i for i, v in enumerate(schema)}
+    if any(v not in at for _, v in goal.simple):
+        return None
+    rel = relations.get(goal.signature)
+    if rel is None:
+        return lambda row: True
+    stored = rel.rows
+    positions = sorted([*((p, None, c) for p, c in goal.constants), *((p, at[v], None) for p, v in goal.simple)])
+    if len(positions) == 1 and positions[0][1] is not None:
+        i = positions[0][1]
+        return lambda row: (row[i],) not in stored
+    build = _builder(positions)
+    return lambda row: build(row) not in stored
+
+
+def _each(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict) -> tuple[list[Var], Rows]:
+    """Any step, answer by answer, through its own ``solve`` (nested terms, computed predicates, belong, =)."""
+    known = set(schema)
+    fresh = [v for v in dict.fromkeys(_step_vars(step)) if v not in known]
+    new_schema = schema + fresh
+    out: Rows = []
+    for row in rows:
+        bindings = dict(zip(schema, row, strict=True))
+        for extended in step.solve(relations, bindings, ranges):
+            if fresh:
+                out.append(row + tuple(extended[v] for v in fresh))
+            else:
+                out.append(row)
+    return new_schema, out
+
+
+def _step_vars(step: Any) -> list[Var]:
+    if type(step) is FactStep:
+        return [v for a in step.pattern for v in variables(a)]
+    if type(step) is NegationStep:
+        return []
+    return sorted(step.vars, key=str)
+
+
+def _project(head: Struct, schema: list[Var], rows: Rows) -> Iterable[tuple]:
+    at = {v: i for i, v in enumerate(schema)}
+    args = head.args
+    if all(type(a) is Var for a in args):
+        if len(args) == 1:
+            i = at[args[0]]
+            return [(row[i],) for row in rows]
+        if not args:
+            return [()] if rows else []
+        return map(itemgetter(*(at[a] for a in args)), rows)
+    if all(type(a) is Var or is_ground(a) for a in args):
+        return map(_builder([(p, at[a], None) if type(a) is Var else (p, None, a) for p, a in enumerate(args)]), rows)
+    return [tuple(substitute(a, dict(zip(schema, row, strict=True))) for a in args) for row in rows]
+
+
+__all__ = ["evaluate"]
