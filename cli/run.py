@@ -162,7 +162,8 @@ def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
     paced = 1.0 if watched else None
     try:
         return resume_spec(args.resume, mission=args.mission, drone=args.drone if args.drone != "sim" else None,
-                           token=getattr(args, "token", None), speed=args.speed or paced, max_time=args.max_time,
+                           token=getattr(args, "token", None), credentials=getattr(args, "credentials", None),
+                           speed=args.speed or paced, max_time=args.max_time,
                            answers=args.answers, remote_questions=watched,
                            interactive=sys.stdin is not None and sys.stdin.isatty(), web=args.web,
                            web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,

@@ -229,11 +229,11 @@ def _settle_pending(point: ResumePoint, journal: Journal, done: list[tuple[int, 
 
 
 def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone: str | None = None,
-                token: str | None = None, **flight: Any) -> Any:
+                token: str | None = None, credentials: str | None = None, **flight: Any) -> Any:
     """The flight that goes on with the interrupted run in ``folder``: as it was asked (mission, robot, drone,
     world, catalog, plugins, seed, fleet), with ``flight``'s pacing, time limit, answers and surfaces (this
     command line's), and when given another ``mission`` file (the same mission moved, or edited: a Python mission
-    is checked call by call) or ``drone`` address; JournalError when the journal cannot say."""
+    is checked call by call), ``drone`` address or fleet ``credentials``; JournalError when the journal cannot say."""
     from aeroexec.fleet.fleet_json import TOKEN_VARIABLE, read_fleet_file
     from aeroexec.flight.spec import FleetJoin, FlightSpec
 
@@ -252,7 +252,8 @@ def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone:
             except ValueError:
                 token = os.environ.get(TOKEN_VARIABLE)
         join = FleetJoin(fleet["fleet"], fleet["name"], tuple(fleet.get("connect") or ()), token,
-                         tuple(fleet.get("share") or ()), float(fleet.get("telemetry_rate", 5.0)))
+                         tuple(fleet.get("share") or ()), float(fleet.get("telemetry_rate", 5.0)),
+                         credentials or fleet.get("credentials"))
     return FlightSpec(mission=Path(mission or meta.get("mission") or asked["mission"]), robot=asked["robot"],
                       drone=drone or asked["drone"], world=asked.get("world"), catalog=asked.get("catalog"),
                       library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),

@@ -210,8 +210,15 @@ def open_journal(engine: Any, spec: FlightSpec, folder: Path, log: dict[str, Any
     interrupted run's going on; a Python mission's calls go through a recorder (journaled, replayed on a resume).
     JournalError when it cannot be written."""
     asked = plain(dataclasses.asdict(spec))
+    for key in ("world", "catalog", "log", "answers"):  # files as paths a resume finds from any folder
+        if asked.get(key):
+            asked[key] = str(Path(asked[key]).resolve())
+    for key in ("rules", "safety_rules"):
+        asked[key] = [str(Path(p).resolve()) for p in asked.get(key) or ()]
     if isinstance(asked.get("fleet"), dict):
         asked["fleet"].pop("token", None)  # the token stays in the fleet's own file
+        if asked["fleet"].get("credentials"):
+            asked["fleet"]["credentials"] = str(Path(asked["fleet"]["credentials"]).resolve())
     journal = JournalWriter(engine, folder, meta={"mission": str(Path(spec.mission).resolve()),
                                                   "kind": "python" if python else "tree", "spec": asked, "log": log},
                             supersede_from=resumption.supersede_from if resumption is not None else None)

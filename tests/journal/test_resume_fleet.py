@@ -5,7 +5,6 @@ and finishes its mission."""
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
@@ -17,14 +16,8 @@ import pytest
 from aeroexec.fleet.transport import free_endpoint
 from aeroexec.flight.journal import Journal
 
-MISSIONS = Path(__file__).resolve().parents[2] / "missions"
-TOKEN = "t0k3n"
-
-
-def aeroexec(*args: str, cwd: Path) -> subprocess.Popen:
-    env = {**os.environ, "AEROEXEC_FLEET_TOKEN": TOKEN}
-    return subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", *args], cwd=cwd, env=env, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fleet"))
+from processes import MISSIONS, aeroexec, stop, wait_for_line  # noqa: E402  (tests/fleet/processes.py)
 
 
 class Output:
@@ -41,8 +34,7 @@ class Output:
     def wait_for(self, text: str, timeout: float) -> None:
         deadline = time.monotonic() + timeout
         while not any(text in line for line in self.lines):
-            if time.monotonic() > deadline or self.process.poll() is not None and not any(
-                    text in line for line in self.lines):
+            if time.monotonic() > deadline:
                 raise AssertionError(f"{text!r} not seen: {''.join(self.lines)[-3000:]}")
             time.sleep(0.05)
 
@@ -53,17 +45,21 @@ class Output:
 
 @pytest.fixture
 def router(tmp_path):
-    endpoint = free_endpoint()
-    process = aeroexec("fleet", "--router", "--listen", endpoint, cwd=tmp_path)
-    time.sleep(1.0)
-    assert process.poll() is None, process.stdout.read()
-    yield endpoint
+    """The relay fleet's router (mutual TLS) on a free port: (its endpoint, the credentials it made)."""
+    file = tmp_path / "relay.yaml"
+    file.write_text("fleet: relay\ndrones:\n  - {name: carrier}\n  - {name: scout}\n")
+    endpoint = free_endpoint("tls")
+    process = aeroexec("fleet", str(file), "--router", "--listen", endpoint, "--output", str(tmp_path / "router"),
+                       cwd=tmp_path)
+    wait_for_line(process, "listening on", 30)
+    yield endpoint, tmp_path / "router" / "credentials"
     process.send_signal(signal.SIGTERM)
     process.wait(10)
 
 
 def test_a_drone_killed_in_a_fleet_resumes_into_it(router, tmp_path):
-    common = ("--fleet", "relay", "--connect", router, "--speed", "4", "--plain")
+    endpoint, credentials = router
+    common = ("--fleet", "relay", "--connect", endpoint, "--credentials", str(credentials), "--speed", "4", "--plain")
     carrier = aeroexec("run", str(MISSIONS / "relay_carrier.py"), "--name", "carrier", "--output",
                        str(tmp_path / "carrier"), *common, cwd=tmp_path)
     scout = resumed = None
@@ -82,10 +78,7 @@ def test_a_drone_killed_in_a_fleet_resumes_into_it(router, tmp_path):
         back, _ = resumed.communicate(timeout=120)
         carrier.wait(120)
     finally:
-        for process in (carrier, scout, resumed):
-            if process is not None and process.poll() is None:
-                process.kill()
-                process.wait(10)
+        stop(*(p for p in (carrier, scout, resumed) if p is not None))
     assert resumed.returncode == 0, back[-3000:]
     assert "scout joined fleet relay" in back and "message_sent BROADCAST_MESSAGE: to carrier: area clear" in back
     assert carrier.returncode == 0, heard.text[-3000:]
@@ -96,3 +89,4 @@ def test_a_drone_killed_in_a_fleet_resumes_into_it(router, tmp_path):
         sent = journal.rows("SELECT count(*) FROM events WHERE kind = 'message_sent'")[0][0]
         meta = journal.meta()
     assert sent == 1 and meta["spec"]["fleet"]["name"] == "scout" and "token" not in meta["spec"]["fleet"]
+    assert meta["spec"]["fleet"]["credentials"] == str(credentials.resolve())
