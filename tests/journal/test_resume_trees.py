@@ -104,3 +104,15 @@ def test_photos_and_broadcasts_are_not_done_twice(tmp_path, point):
         sent = [r["detail"] for r in journal.rows("SELECT detail FROM events WHERE kind = 'message_sent'")]
         expected = [r["detail"] for r in once.rows("SELECT detail FROM events WHERE kind = 'message_sent'")]
     assert sent == expected and len(sent) == 4  # the Repeat's count came back: two rounds, not three
+
+
+def test_the_rules_a_tree_added_are_the_resumed_memorys_too(tmp_path):
+    """An AddRule done before the crash is not ticked again (its sequence skips it): its rules are added again."""
+    mission = tmp_path / "rules.xml"
+    mission.write_text('<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'
+                       '<AddRule rule="charged(self) :- charge(battery, ?C), ?C &gt; 50."/><TAKE_OFF ALTITUDE="3"/>'
+                       '<GO_TO_POINT COORDINATES="0, -12, 3"/><CheckBelief belief="charged(self)"/><LAND/>'
+                       '</Sequence></BehaviorTree></root>')
+    crash(fly_until(spec(mission, tmp_path / "run"), active("GO_TO_POINT", 1.0)))
+    session, outcome = resume(tmp_path / "run")
+    assert outcome.exit_status == 0, (outcome.status, [e.detail for e in session.engine.log.events("tree_error")])

@@ -66,7 +66,7 @@ TREES = {
         <SubTree ID="Inner" m="{{n}}"/></Sequence>""",
 }
 INNER = f'<BehaviorTree ID="Inner"><Sequence><Script code="m := m + 10"/>{SLEEP}</Sequence></BehaviorTree>'
-ENGINE_LEAVES = {"AskBehavior", "CheckBelief", "Condition", "QueryBelief", "AddBelief", "RemoveBelief"}
+ENGINE_LEAVES = {"AskBehavior", "CheckBelief", "Condition", "QueryBelief", "AddBelief", "RemoveBelief", "AddRule"}
 
 
 def document(body: str):

@@ -50,6 +50,7 @@ MEMORY: dict[str, tuple[str, ...]] = {
     "SkipUnlessUpdated": ("seen", "executing"),  # and WaitValueUpdate
     "Sleep": ("seconds", "started_at"),
     "WasEntryUpdated": ("seen",),
+    "AddRule": ("added",),  # its rules are the memory's: a resume adds them again (flight/journal/resumption.py)
 }
 _PLAIN = frozenset({int, float, bool, type(None)})
 _STATUS = {"IDLE": Status.INVALID, "RUNNING": Status.RUNNING, "SUCCESS": Status.SUCCESS,
