@@ -31,6 +31,7 @@ from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter
 from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
+from aeroexec.flight.mission_changes import MissionChanges
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
 from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice, with_rule_files
@@ -80,6 +81,7 @@ class FlightSession:
         self.mission: Callable[[], Any] | TreeDocument | None = None
         self.engine: Engine | None = None
         self.tree: Any = None  # the TreeMission of a tree mission
+        self.changes: MissionChanges | None = None  # the changes of the running mission (engine.supervisor's)
         self.link: Any = None  # the fleet link
         self._joined: Any = None  # the fleet joined from this process alone (its session and node)
         self.flight_log: FlightLogWriter | None = None
@@ -149,6 +151,8 @@ class FlightSession:
         if self._cancel.is_set():
             raise FlightError(f"{spec.name}: the start was aborted (aeroexec ctl abort)")
         self.engine = self._engine(choice, simulated, start)
+        self.changes = MissionChanges(self)
+        self.engine.supervisor.changes = self.changes
         if spec.fleet is not None or self.fleet_node is not None:
             self._join_fleet()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
@@ -175,6 +179,8 @@ class FlightSession:
             from aeroexec.trees.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
+            if self.resumption is not None:  # the tree as changed in flight, then its state
+                self.resumption.change_document(self.mission, self.spec.mission)
             self.tree = TreeMission(self.mission, self.engine, name=spec.name)
             if self.resumption is not None:
                 self.resumption.restore_tree(self.tree, self.spec.mission)
@@ -287,8 +293,35 @@ class FlightSession:
         else:
             self.tree.start()
 
+    def replace_mission(self, mission: Callable[[], Any] | TreeDocument, path: Path) -> None:
+        """Fly ``mission`` (checked, from ``path``) in place of the one that ran, now (a ``load``: the running one
+        was halted); a tree's ``.btlog`` is ``mission-N.btlog``."""
+        engine, name = self.engine, Path(path).name
+        self.mission = mission
+        if isinstance(mission, TreeDocument):
+            from aeroexec.trees.btlog import BtlogWriter
+            from aeroexec.trees.runtime.runner import TreeMission
+
+            self.tree = TreeMission(mission, engine, name=name)
+            if self.btlog is not None:
+                _quietly(self.btlog.close)
+            try:
+                self.btlog = BtlogWriter(self.tree, self.folder / f"mission-{self.changes.flown}.btlog",
+                                         self.catalog)
+            except OSError as error:
+                self.btlog = None
+                self.notify(f"warning: the tree log of {name} cannot be written: {error}")
+            self.tree.start()
+        else:
+            self.tree = None
+            engine.start_mission(mission, name)
+        if self.link is not None:
+            self.link.mission = name
+
     @property
     def mission_done(self) -> bool:
+        if self.changes is not None and self.changes.busy:  # a new mission is loaded once the old one unwound
+            return False
         if self.tree is not None:
             return self.tree.done
         from aeroexec.engine.missions.bridge import DONE

@@ -61,6 +61,7 @@ class ResumePoint:
     calls: list[RecordedCall] = field(default_factory=list)
     pending: RecordedCall | None = None
     settled_call: RecordedCall | None = None  # the call under way whose goal was reached: replayed, kept again
+    edits: list[dict[str, Any]] = field(default_factory=list)  # the changes made to the tree in flight, in order
     beliefs: list[tuple[str, float | None]] = field(default_factory=list)  # (belief, expires_at)
     active: list[dict[str, Any]] = field(default_factory=list)  # behavior, arguments, source, priority: at the stop
 
@@ -119,6 +120,7 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
             raise JournalError(f"{folder}: the journal kept no state of the tree: it cannot be resumed")
         point.tree = tree[2]
         point.settled = {name: why for seq, name, why in done if tree[0] < seq}
+        point.edits = _edits(journal, [s.segment for s in live], tree[0])
     else:
         point.calls, point.pending = _calls(journal, stop_seq)
         if point.pending is not None:
@@ -129,6 +131,23 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
     elif TAKE_OFF in reached:
         point.was_flying = True
     return point
+
+
+def _edits(journal: Journal, segments: list[int], before: int) -> list[dict[str, Any]]:
+    """The edits of the changes made to the tree in flight before its state was kept (``mission_change``), in
+    order; JournalError for a mission replaced in flight (``load``): that one is flown again from its start."""
+    edits: list[dict[str, Any]] = []
+    places = ", ".join("?" * len(segments))
+    for r in journal.rows(f"SELECT time, record FROM events WHERE kind = 'mission_change' AND seq < ? AND segment IN "
+                          f"({places}) ORDER BY seq", (before, *segments)):
+        data = json.loads(r["record"]).get("data") or {}
+        if not data.get("ok"):
+            continue
+        if data.get("command") == "load":
+            raise JournalError(f"{journal.path.parent}: the mission was replaced in flight at t={r['time']:.1f} s "
+                               f"(load {data.get('argument', '')}): fly that one from its start (aeroexec run FILE)")
+        edits.extend(data.get("edits") or [])
+    return edits
 
 
 def _effects(journal: Journal, segment: int, stop_seq: int) -> list[tuple[int, str, tuple[str, Any]]]:

@@ -109,6 +109,21 @@ class Resumption:
                                                                         else False))
         return found
 
+    def change_document(self, document: Any, mission: Any = "the mission") -> None:
+        """Make on the tree's document, read again from its file, the changes made to it in flight (before its
+        state was kept), so the tree built from it is the one that flew (FlightError when they do not fit)."""
+        if not self.point.edits:
+            return
+        from aeroexec.trees import TreeFormatError
+        from aeroexec.trees.loaders.fragment import read_fragment
+        from aeroexec.trees.runtime.changes import replay_edits
+
+        try:
+            replay_edits(document, self.point.edits, read_fragment)
+        except (KeyError, ValueError, TreeFormatError) as error:
+            raise FlightError(f"{mission}: the changes made to it in flight do not fit it now ({error}); resume with "
+                              f"the mission as it was") from None
+
     def restore_tree(self, tree: Any, mission: Any = "the mission") -> None:
         """Put the tree's kept state back (FlightError when ``mission``'s tree is not the one interrupted); the
         leaves whose goal was reached meanwhile are settled."""

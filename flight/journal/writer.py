@@ -207,6 +207,12 @@ class JournalWriter:
         self._tree = mission
         self._boards = scopes(mission.root, mission.blackboard)
         mission.observers.append(self._tree_ticked)
+        getattr(mission, "restructured", []).append(self._restructured)
+
+    def _restructured(self) -> None:
+        """The tree was changed in flight: its next state is kept with its new shape."""
+        self._boards = scopes(self._tree.root, self._tree.blackboard)
+        self._shape_kept, self._tree_dirty = False, True
 
     def _tree_ticked(self, visited: Any) -> None:
         if visited is None or not self.live or self.frozen is not None:

@@ -273,6 +273,26 @@ def _fleet_certificate(path: Path) -> list[str]:
     return []
 
 
+def _fragment(path: Path) -> list[str]:
+    """A fragment of a change in flight (XML or BEHAVIOR PORT=VALUE), read and its nodes checked as a change's are."""
+    global _catalog
+    from aeroexec.trees.loaders.fragment import read_fragment
+    from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
+    from aeroexec.trees.verify import TreeVerifier
+
+    _catalog = _catalog or default_catalog()
+    try:
+        nodes = read_fragment(path.read_bytes().decode("utf-8", "replace"), str(path))
+    except TreeFormatError as error:
+        return [f"{file}:{line}: {message}" for file, line, message in error.problems]
+    verifier = TreeVerifier(TreeDocument({"m": TreeNode("Sequence", "m", {}, nodes, str(path), 1)}, "m", str(path)),
+                            _catalog)
+    for node in nodes:
+        for inner in node.walk():
+            verifier.check_node(inner)
+    return [str(p) for p in verifier.problems if p.severity == "error"]
+
+
 REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
 
 
@@ -308,6 +328,7 @@ FORMATS = {f.name: f for f in [
     Format("fleet certificates", ".pem", _files("tests/fuzz/seeds/*.pem"), _fleet_certificate),
     Format("rules files", ".rules", _files("tests/fuzz/seeds/*.rules"), _rules),
     Format("flight journals", ".sqlite", _files("tests/fuzz/seeds/*.sqlite"), _journal),
+    Format("change fragments", ".fragment", _files("tests/fuzz/seeds/*.fragment"), _fragment),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.
