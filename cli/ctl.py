@@ -41,10 +41,12 @@ COMMANDS = {
     "delete": "TARGET: take an item out of the mission",
     "replace": "TARGET FRAGMENT: put FRAGMENT (XML or BEHAVIOR PORT=VALUE) in the place of an item or subtree",
     "load": "FILE: fly a new mission (any format) in place of the running one",
+    "update": "ACTION [ITEM_ID] [FILE|FRAGMENT]: an Aerostack2 mission update (LOAD, START, PAUSE, RESUME, STOP, "
+              "NEXT_ITEM, REPEAT, INSERT, MODIFY, REMOVE...; item ids from 0) as the change it means",
     "list": "the live runs of this user, wherever they were started",
 }
 #: Changes of the mission: their argument is sent as a shell line (quoting kept), a file to load by its full path.
-CHANGES = {"skip", "jump", "insert", "modify", "delete", "replace", "load"}
+CHANGES = {"skip", "jump", "insert", "modify", "delete", "replace", "load", "update"}
 NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove", "query", *(CHANGES - {"skip"})}
 
 
@@ -116,6 +118,10 @@ def change_argument(command: str, words: list[str]) -> str:
     word), a file to load by its full path (the run may work in another folder)."""
     if command == "load" and words:
         return shlex.quote(str(Path(" ".join(words)).expanduser().resolve()))
+    if command == "update" and words and words[0].upper() in ("LOAD", "EXECUTE", "RESET") and words[1:]:
+        item = words[1:2] if words[1].isdigit() else []
+        mission = " ".join(words[1 + len(item):])
+        return shlex.join([words[0], *item, str(Path(mission).expanduser().resolve())])
     return shlex.join(words)
 
 

@@ -23,6 +23,7 @@ from typing import Any
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.bridge import RUNNING
+from aeroexec.engine.missions.script import ScriptMission, fly_together
 from aeroexec.flight.ending import FlightEnding
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.session import FlightOutcome, FlightSession
@@ -134,8 +135,7 @@ class FleetFlight:
         """Fly every mission, then end every flight; each drone's outcome. Call it from the thread that may get
         KeyboardInterrupt (Ctrl-C, or SIGTERM/SIGHUP through :mod:`aeroexec.flight.signals`)."""
         max_time = self.base.max_time if max_time is None else max_time
-        for m in self.members:
-            m.session.start_mission()
+        self._start_missions()
         try:
             try:
                 self._loop(max_time)
@@ -152,6 +152,19 @@ class FleetFlight:
         self._write_status(outcomes)
         self.close()
         return outcomes
+
+    def _start_missions(self) -> None:
+        """Start every drone's mission. Drones that name one Aerostack2 script fly it together: it runs once and
+        drives each of them by its namespace (:func:`~aeroexec.engine.missions.script.fly_together`)."""
+        scripts: dict[Path, list[Member]] = {}
+        for m in self.members:
+            if isinstance(m.session.mission, ScriptMission):
+                scripts.setdefault(m.session.mission.path.resolve(), []).append(m)
+        for group in scripts.values():
+            fly_together({m.name: m.engine for m in group}, group[0].session.mission, group[0].session.spec.name)
+        for m in self.members:
+            if not isinstance(m.session.mission, ScriptMission):
+                m.session.start_mission()
 
     def _interrupt(self, how: str) -> None:
         self.notify(f"interrupted by the operator ({how}): every drone aborts and lands "
@@ -191,7 +204,7 @@ class FleetFlight:
         warned_at = time.monotonic() + STALL_WARNING
         while waiting:
             busy = []
-            for m in waiting:
+            for m in members:  # a script flying several drones may be waiting on any of them
                 m.engine.bridge.serve(lockstep=False)  # what is queued now; returns when the queue is empty
                 if m.engine.bridge.state == RUNNING and not m.engine.supervisor.paused and not m.engine.stopped:
                     busy.append(m)

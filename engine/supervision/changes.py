@@ -192,6 +192,23 @@ AEROSTACK2_UPDATES = {
 }
 
 
+def parse_aerostack2_update(text: str) -> tuple[str, str]:
+    """The aeroexec command and argument of an Aerostack2 mission update written ``ACTION [ITEM_ID] [MORE]`` (as
+    ``aeroexec ctl update`` takes it): ``MORE`` is the mission file of LOAD/EXECUTE/RESET, the fragment of INSERT,
+    the ``PORT=VALUE`` words of MODIFY. Raises :class:`ChangeError`."""
+    try:
+        words = shlex.split(text)
+    except ValueError as error:
+        raise ChangeError(f"update {text}: {error}") from None
+    if not words:
+        raise ChangeError(f"update: give Aerostack2's action ({', '.join(AEROSTACK2_UPDATES)}), then the item id "
+                          f"and what it needs")
+    action, rest = words[0], words[1:]
+    item = int(rest.pop(0)) if rest and rest[0].isdigit() else 0
+    more = " ".join(rest)
+    return aerostack2_update(action, item, mission=more, fragment=more)
+
+
 def aerostack2_update(action: str, item_id: int = 0, mission: str = "", fragment: str = "") -> tuple[str, str]:
     """The aeroexec command and argument of one Aerostack2 mission update: ``action`` by name, ``item_id`` as
     Aerostack2 numbers items (from 0), ``mission`` a mission file for the loads, ``fragment`` what INSERT inserts
@@ -307,5 +324,5 @@ def skip_program_behavior(engine: Any) -> tuple[bool, str]:
 
 
 __all__ = ["AEROSTACK2_UPDATES", "CHANGES", "EDITS", "ChangeError", "ChangeOutcome", "MissionChange",
-           "aerostack2_update", "ground_transitions", "make_change", "not_cut_short", "program_change",
-           "skip_program_behavior"]
+           "aerostack2_update", "ground_transitions", "make_change", "not_cut_short", "parse_aerostack2_update",
+           "program_change", "skip_program_behavior"]

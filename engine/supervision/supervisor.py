@@ -43,7 +43,13 @@ from typing import Any, Protocol
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import CHANGES, ChangeError, MissionChange, make_change
+from aeroexec.engine.supervision.changes import (
+    CHANGES,
+    ChangeError,
+    MissionChange,
+    make_change,
+    parse_aerostack2_update,
+)
 from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
@@ -114,6 +120,13 @@ class Supervisor:
     def submit(self, command: str, argument: str = "", origin: str = "ctl") -> Ticket:
         """Queue a command for the engine's thread; the ticket tells its result once executed. A mission to load
         is read and checked here, on the caller's thread."""
+        if command == "update":  # Aerostack2's mission update: one of the changes below, or refused as it is
+            try:
+                command, argument = parse_aerostack2_update(argument)
+            except ChangeError as error:
+                ticket = Ticket(command, argument, origin)
+                ticket.finish(CommandResult(False, str(error)))
+                return ticket
         ticket = Ticket(command, argument, origin)
         if command == "load" and self.changes is not None:
             with contextlib.suppress(ChangeError):  # said when executed

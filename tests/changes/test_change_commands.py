@@ -154,3 +154,33 @@ def test_the_live_views_keys_skip_and_jump():
     for key in "n" + "jcorner A\r" + "j\r":
         keys.press(key)
     assert submitted == [("skip", "", "keyboard"), ("jump", "'corner A'", "keyboard")]
+
+
+def test_aerostack2_updates_reach_a_running_mission_as_the_changes_they_mean():
+    from aeroexec.engine.supervision.changes import parse_aerostack2_update
+
+    assert parse_aerostack2_update("NEXT_ITEM") == ("skip", "")
+    assert parse_aerostack2_update("INSERT 3 'GO_TO_POINT COORDINATES=\"1, 2, 3\"'") == \
+        ("insert", "before 4 'GO_TO_POINT COORDINATES=\"1, 2, 3\"'")
+    assert parse_aerostack2_update("modify 2 SPEED=2") == ("modify", "3 SPEED=2")
+    with pytest.raises(ChangeError, match="has no meaning here"):
+        parse_aerostack2_update("TELEPORT 1")
+
+
+def test_aerostack2_updates_from_ctl_change_a_live_run(tmp_path):
+    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "4", "--output", str(tmp_path / "out"))
+    try:
+        run.wait_for("corner A: IDLE -> RUNNING")
+        skipped = ctl(tmp_path, "update", "NEXT_ITEM")
+        assert skipped.returncode == 0 and "corner A" in skipped.stdout and "skipped" in skipped.stdout
+        refused = ctl(tmp_path, "update", "TELEPORT", "2")
+        assert refused.returncode == 1 and "Aerostack2's mission update 'TELEPORT' has no meaning here" in \
+            refused.stderr
+        assert ctl(tmp_path, "update", "STOP").returncode == 0
+        code, _, _ = run.finish()
+    finally:
+        run.process.kill()
+    assert code == 4
+    records = read_log(tmp_path / "out" / "events.jsonl")
+    assert [(r["data"]["command"], r["data"]["ok"]) for r in records if r["kind"] == "mission_change"] == \
+        [("skip", True)]

@@ -302,7 +302,9 @@ def _files(*patterns: str) -> tuple[Path, ...]:
 
 FORMATS = {f.name: f for f in [
     Format("BT.CPP XML", ".xml", _files("missions/figure10.xml", "missions/iarc7.xml",
-                                        "tests/trees/data/inspection.xml"), _mission),
+                                        "tests/trees/data/inspection.xml",  # and Aerostack2's, mapped at load
+                                        "tests/aerostack/data/aerostack2_trees/as2_RTL_test_2.xml",
+                                        "tests/aerostack/data/aerostack2_trees/gazebo_square.xml"), _mission),
     Format("TML", ".tml.xml", _files("missions/*.tml.xml"), _mission),
     Format("QGroundControl plans", ".plan",
            _files("missions/*.plan", f"{REAL}/sky_mission/*.plan", f"{REAL}/qgroundcontrol/SectionTest.plan"),
@@ -313,9 +315,14 @@ FORMATS = {f.name: f for f in [
            _files(f"{REAL}/ardupilot/copter_mission.txt", f"{REAL}/qgroundcontrol/MissionPlanner.waypoints"),
            _mission),
     Format("Python missions", ".py", _files("missions/inspection.py", "missions/square_patrol.py",
-                                            "missions/marker_search.py"), _mission),
+                                            "missions/marker_search.py",  # and Aerostack2's scripts
+                                            "tests/aerostack/data/aerostack2_scripts/as2_example1.py",
+                                            "tests/aerostack/data/aerostack2_scripts/gazebo_mission_swarm.py"),
+           _mission),
     Format("YAML trees", ".yaml", _files("missions/square_patrol.yaml", "missions/iarc7.yaml",
-                                         "tests/trees/data/inspection.yaml"), _mission),
+                                         "tests/trees/data/inspection.yaml",  # and Aerostack2's interpreter plans
+                                         "tests/aerostack/data/aerostack2_plans/*.yaml"),  # (.json: the same reader)
+           _mission),
     Format("Aerostack nodes: YAML", ".yaml", _files("tests/trees/data/inspection_aerostack.yaml",
                                                     "tests/trees/data/aerostack_tower_inspection.yaml"), _mission),
     Format("catalogs", ".yaml", _files("catalogs/aerial.yaml"), _catalog_file),
