@@ -2,8 +2,8 @@
 
 The page and the socket need the run's token (``?token=``); anything else gets 403. Updates are pushed: each
 :class:`~aeroexec.console.feed.ConsoleFeed` hands its snapshots to the server's event loop, which sends them to
-every page; nothing polls. A page's commands (pause, resume, abort, suspend, inhibit, answer, add, remove, query, and the
-changes of the mission: skip, jump, insert, modify, delete, replace, load) go to the
+every page; nothing polls. A page's commands (pause, resume, abort, suspend, inhibit, answer, add, remove, query,
+and the changes of the mission: skip, jump, insert, modify, delete, replace, load) go to the
 drone's supervisor with the web console as their origin, as ``aeroexec ctl`` sends them. A replay serves a
 finished run's records and refuses commands.
 """

@@ -211,6 +211,8 @@ class JournalWriter:
 
     def _restructured(self) -> None:
         """The tree was changed in flight: its next state is kept with its new shape."""
+        from aeroexec.trees.runtime.tree_state import scopes
+
         self._boards = scopes(self._tree.root, self._tree.blackboard)
         self._shape_kept, self._tree_dirty = False, True
 
