@@ -9,6 +9,7 @@ import math
 import pytest
 from aeroexec.flight.journal import Journal
 from journeys import (
+    LIMIT,
     MISSIONS,
     achieved,
     active,
@@ -116,3 +117,39 @@ def test_the_rules_a_tree_added_are_the_resumed_memorys_too(tmp_path):
     crash(fly_until(spec(mission, tmp_path / "run"), active("GO_TO_POINT", 1.0)))
     session, outcome = resume(tmp_path / "run")
     assert outcome.exit_status == 0, (outcome.status, [e.detail for e in session.engine.log.events("tree_error")])
+
+
+LEGS = """<root BTCPP_format="4" main_tree_to_execute="Legs"><BehaviorTree ID="Legs"><Sequence>
+  <TAKE_OFF ALTITUDE="3"/>
+  <GO_TO_POINT COORDINATES="0, -12, 3"/>
+  <GO_TO_POINT COORDINATES="8, -12, 3"/>
+  <GO_TO_POINT COORDINATES="0, 0, 3"/>
+  <LAND/>
+</Sequence></BehaviorTree></root>"""
+
+
+def test_a_tree_changed_in_flight_resumes_as_it_was_changed(tmp_path):
+    """A waypoint inserted (and the next one modified) while the tree flies, then a crash on the leg after the
+    inserted one: the resumed run flies the changed tree from there; the inserted waypoint is flown once, the
+    modified leg with its new value, and the .btlog goes on in the changed tree's file."""
+    mission = tmp_path / "legs.xml"
+    mission.write_text(LEGS)
+    folder = tmp_path / "run"
+    run = fly_until(spec(mission, folder), active("GO_TO_POINT", 1.0))
+    for command, argument in (("insert", "after 2 'GO_TO_POINT COORDINATES=\"4, -6, 3\" name=\"extra look\"'"),
+                              ("modify", "4 COORDINATES=\"8, -8, 3\"")):
+        ticket = run.engine.supervisor.submit(command, argument, origin="test")
+        run.engine.step(run.engine.period)
+        assert ticket.result is not None and ticket.result.ok, ticket.result
+    assert run.engine.run_until(lambda: goals_after(3, "GO_TO_POINT")(run) and active("GO_TO_POINT", 1.0)(run),
+                                LIMIT)
+    crash(run)
+    session, outcome = resume(folder)
+    assert outcome.exit_status == 0, outcome.status
+    flown = [tuple(arguments["COORDINATES"]) for behavior, arguments in achieved(folder)
+             if behavior == "GO_TO_POINT"]
+    assert flown == [(0, -12, 3), (4, -6, 3), (8, -8, 3), (0, 0, 3)]
+    end = final_state(folder)
+    assert end["landed_state"] == "on_ground" and math.dist(end["position"][:2], (0, 0)) < 1.0
+    assert (folder / "mission.change-2.btlog").is_file()  # one file per change: the resumed run went on in the last
+    assert not (folder / "mission.change-3.btlog").exists()
