@@ -6,24 +6,18 @@ first; the mission goes on and every goal is achieved once."""
 from __future__ import annotations
 
 import math
-import socket
 import threading
 
 import pytest
 from aeroexec.drones.interface import LandedState
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from free_ports import free_udp_port
 from journeys import MISSIONS, achieved, active, crash, fly_until, resume, spec
 
 pytestmark = pytest.mark.mavsdk
 
 SPEED = 6.0  # simulated seconds per wall second
-
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class Watch:
