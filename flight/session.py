@@ -139,6 +139,8 @@ class FlightSession:
             self.control.starting = "checking its mission"
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
                                     verb="fly" if choice.kind is None else "run")  # a rover does not fly
+        if self.resumption is not None and not isinstance(self.mission, TreeDocument):
+            self.resumption.check_program(Path(spec.mission))
         self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
         if self.robot is None:
             if self.control is not None:

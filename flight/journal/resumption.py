@@ -10,6 +10,7 @@ drone moves.
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import json
 import logging
@@ -108,6 +109,21 @@ class Resumption:
                 found[text.split("(", 1)[0].strip()] = bool(kwargs.get("multivalued", args[1] if len(args) > 1
                                                                         else False))
         return found
+
+    def check_program(self, path: Path) -> None:
+        """FlightError for a Python mission whose calls cannot be replayed: one that flies through Aerostack2's Python
+        API, whose behavior runs (``engine/missions/behavior_runs.py``) are not journaled calls of the mission API."""
+        from aeroexec.engine.missions.source import parse_source
+
+        from aeroexec.limits import read_text
+
+        for node in ast.walk(parse_source(read_text(path, what="the mission"), str(path))):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module] if isinstance(node, ast.ImportFrom) and node.module else [])
+            if any(name.split(".")[0] == "as2_python_api" for name in names):
+                raise FlightError(f"{path}:{node.lineno}: a mission flown through Aerostack2's Python API "
+                                  f"(as2_python_api) cannot be resumed: its calls are not journaled; fly it again "
+                                  f"from its start (aeroexec run {path.name})")
 
     def change_document(self, document: Any, mission: Any = "the mission") -> None:
         """Make on the tree's document, read again from its file, the changes made to it in flight (before its

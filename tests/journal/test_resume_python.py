@@ -9,6 +9,7 @@ import shutil
 
 import pytest
 from aeroexec.flight.journal import Journal
+from aeroexec.flight.spec import FlightError
 from journeys import (
     MISSIONS,
     achieved,
@@ -143,3 +144,30 @@ def test_a_polling_mission_replays_its_looks_and_goes_on(tmp_path):
     corners = [e.data["arguments"]["COORDINATES"] for e in session.engine.log.events("activated", "GO_TO_POINT")
                if e.data.get("source") == "mission"]
     assert (0, -12, 3) not in corners
+
+
+AEROSTACK2 = """import rclpy
+from as2_python_api.drone_interface import DroneInterface
+
+
+def mission():
+    rclpy.init()
+    uav = DroneInterface("drone0", verbose=False)
+    uav.arm()
+    uav.offboard()
+    uav.takeoff(3.0, 1.0)
+    uav.go_to(0, -12, 3, 2.0)
+    uav.go_to(8, -12, 3, 2.0)
+    uav.land(0.5)
+"""
+
+
+def test_an_aerostack2_mission_is_refused_for_resume_rather_than_flown_again(tmp_path):
+    """Aerostack2's Python API drives behaviors without the journaled calls: a resume would fly the done legs
+    again, so it is refused before anything moves, naming the file and the import."""
+    mission = tmp_path / "as2_legs.py"
+    mission.write_text(AEROSTACK2)
+    folder = tmp_path / "run"
+    crash(fly_until(spec(mission, folder), active("GO_TO_POINT", 1.0)))
+    with pytest.raises(FlightError, match=r"as2_legs.py:2: a mission flown through Aerostack2's Python API"):
+        resume(folder)
