@@ -122,6 +122,7 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
         point.settled = {name: why for seq, name, why in done if tree[0] < seq}
         point.edits = _edits(journal, [s.segment for s in live], tree[0])
     else:
+        _edits(journal, [s.segment for s in live], stop_seq)  # a program takes skip only; one loaded is refused
         point.calls, point.pending = _calls(journal, stop_seq)
         if point.pending is not None:
             _settle_pending(point, journal, done)

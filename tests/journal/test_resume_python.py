@@ -25,6 +25,7 @@ from journeys import (
 )
 
 FIGURE10 = MISSIONS / "figure10.py"
+HOME = MISSIONS.parent / "tests" / "changes" / "data" / "patrol_home.xml"  # a tree a flying drone may load
 
 
 @pytest.fixture(scope="module")
@@ -170,4 +171,18 @@ def test_an_aerostack2_mission_is_refused_for_resume_rather_than_flown_again(tmp
     folder = tmp_path / "run"
     crash(fly_until(spec(mission, folder), active("GO_TO_POINT", 1.0)))
     with pytest.raises(FlightError, match=r"as2_legs.py:2: a mission flown through Aerostack2's Python API"):
+        resume(folder)
+
+
+def test_a_program_replaced_in_flight_is_refused_for_resume(tmp_path):
+    """A mission loaded in place of the Python mission (``ctl load``) is not the program the journal's calls are
+    of: the resume is refused, saying so, rather than replaying one program's calls against another."""
+    folder = tmp_path / "run"
+    run = fly_until(spec(FIGURE10, folder), active("GO_TO_POINT", 1.0))
+    ticket = run.engine.supervisor.submit("load", str(HOME), origin="test")
+    run.engine.step(run.engine.period)
+    assert ticket.result is not None and ticket.result.ok, ticket.result
+    assert run.engine.run_until(lambda: active("GO_TO_POINT", 1.0)(run), 60.0)
+    crash(run)
+    with pytest.raises(FlightError, match=r"the mission was replaced in flight at t=.* \(load .*patrol_home.xml\)"):
         resume(folder)
