@@ -1,6 +1,6 @@
-"""``kill -9`` for real: ``aeroexec run`` killed mid-mission (a tree, a Python mission, a QGroundControl plan), then
-``aeroexec run --resume RUN_DIR``; over the two processes every goal is achieved once, as in an uninterrupted run,
-and the drone ends landed where that run ends."""
+"""``kill -9`` for real: ``aeroexec run`` killed mid-mission (a tree, a Python mission, a QGroundControl plan; at two
+points each), then ``aeroexec run --resume RUN_DIR``; over the two processes every goal is achieved once, as in an
+uninterrupted run, photos included, and the drone ends landed where that run ends."""
 
 from __future__ import annotations
 
@@ -40,15 +40,28 @@ def run_and_kill(mission, folder, kind: str, count: int) -> None:
     assert process.returncode == -signal.SIGKILL, f"the run was not killed mid-mission: {err.decode()[-2000:]}"
 
 
+@pytest.fixture(scope="module")
+def whole(tmp_path_factory):
+    """The uninterrupted run of each mission, flown once."""
+    runs = {}
+    for mission in ("survey_legs.xml", "figure10.py", "survey.plan"):
+        folder = tmp_path_factory.mktemp("whole") / mission
+        _, outcome = fly(spec(MISSIONS / mission, folder))
+        assert outcome.exit_status == 0
+        runs[mission] = folder
+    return runs
+
+
 @pytest.mark.parametrize(("mission", "kind", "count"), [
     ("survey_legs.xml", "GOAL_ACHIEVED", 2),
+    ("survey_legs.xml", "GOAL_ACHIEVED", 4),
+    ("figure10.py", "activated", 2),
     ("figure10.py", "activated", 4),
+    ("survey.plan", "photo_taken", 2),
     ("survey.plan", "photo_taken", 6),
-], ids=["tree", "python", "plan"])
-def test_kill_9_mid_mission_then_resume(tmp_path, mission, kind, count):
-    whole = tmp_path / "whole"
-    _, outcome = fly(spec(MISSIONS / mission, whole))
-    assert outcome.exit_status == 0
+], ids=["tree-early", "tree-late", "python-after-take-off", "python-way-back", "plan-early", "plan-mid-survey"])
+def test_kill_9_mid_mission_then_resume(whole, tmp_path, mission, kind, count):
+    whole = whole[mission]
     folder = tmp_path / "run"
     run_and_kill(MISSIONS / mission, folder, kind, count)
     resumed = subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "run", "--resume", str(folder), "--plain",
