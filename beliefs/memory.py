@@ -191,6 +191,17 @@ class BeliefMemory(Reasoning):
             self._notify("added", belief, "add")
         return True
 
+    def restore(self, belief: str | Struct, remaining: float | None = None) -> bool:
+        """Add a belief that was held before (a resumed run): a belief of a persistent predicate lasts only the
+        ``remaining`` seconds it had left (its whole lifetime when None)."""
+        added = self.add(belief)
+        term = belief if type(belief) is Struct else self._parse_belief(belief)
+        if remaining is not None and self._persistence.get(term.name) is not None:
+            if self._spellings and term.name in self._spellings:
+                term = respell_term(term, self._spellings)
+            self._schedule((term.name, len(term.args)), term.args, max(0.0, remaining))
+        return added
+
     def add_all(self, beliefs: Iterable[str | Struct]) -> int:
         """Add many beliefs; returns how many were new."""
         return sum(1 for b in beliefs if self.add(b))

@@ -38,6 +38,7 @@ COMMANDS = {
     "report": ("report", "a flight report from an event log: the path over the world, a timeline, an HTML page"),
     "beliefs": ("beliefs", "query the beliefs an event log ends with, at a prompt"),
     "console": ("console", "replay a finished run in the web console (read-only, with a time slider)"),
+    "journal": ("journal", "ask a run's flight journal: a behavior's requests, a belief's changes, the steps done"),
 }
 #: What needs an extra (aeroexec/extras.py): a sub-command, or an option given (by its dest) to any sub-command.
 #: Checked once the line is parsed, before anything runs, so a missing extra never stops a flight half-way.

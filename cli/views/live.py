@@ -178,8 +178,8 @@ class LiveView:
 
         s = self._snapshot
         width = size[0] if size else 10_000
-        state_style = FINAL_STYLE.get(s.state) or {"paused": "bold yellow", "aborted": "bold red"}.get(
-            s.state, "bold green")
+        state_style = FINAL_STYLE.get(s.state) or {"paused": "bold yellow", "aborted": "bold red",
+                                                    "suspended": "bold yellow"}.get(s.state, "bold green")
         title = Text.assemble(("aeroexec ", "bold"), (self.name, "bold cyan"), f"  t={s.time:.1f} s  ",
                               (s.state.upper(), state_style), no_wrap=True, overflow="ellipsis")
         footer = Text(self.prompt, style="bold") if self.prompt else Text(KEYS_HELP, style="dim")

@@ -153,6 +153,7 @@ function wire() {
   $("pause").onclick = () => send("pause");
   $("resume").onclick = () => send("resume");
   $("abort").onclick = () => { if (confirm("Abort the mission and land?")) send("abort"); };
+  $("suspend").onclick = () => { if (confirm("Suspend the mission and land? aeroexec run --resume goes on from here.")) send("suspend"); };
   $("inhibit").onclick = () => send("inhibit", $("inhibit-name").value.trim());
   $("add-belief").onclick = () => send("add", $("belief-text").value.trim());
   $("remove-belief").onclick = () => send("remove", $("belief-text").value.trim());
