@@ -110,6 +110,8 @@ class MissionRecorder:
         with self._lock:
             self.count += 1
             number = self.count
+        if self.live:
+            return self._live(function, name, args, kwargs, number)
         arguments = call_text(args, kwargs)
         if not self.live:
             recorded = self.replay[number - 1] if number <= len(self.replay) else self.pending
@@ -169,11 +171,13 @@ class MissionRecorder:
         return self.on_live() if self.on_live is not None else None
 
     def _live(self, function: Callable[..., Any], name: str, args: tuple, kwargs: dict[str, Any], number: int,
-              arguments: str) -> Any:
+              arguments: str | None = None) -> Any:
         journal = self.journal
         if journal is None:
             return function(*args, **kwargs)
-        where = location()
+        if arguments is None:
+            arguments = call_text(args, kwargs)
+        where = location(_MISSION_DEPTH)
         if name in WAITING:
             journal.call_requested(number, name, arguments, where, self.now())
         try:
@@ -187,15 +191,20 @@ class MissionRecorder:
         return result
 
 
-def location() -> str:
-    """``FILE:LINE`` of the innermost frame of the mission's own code (not aeroexec's) on this thread's stack."""
-    frame = sys._getframe(1)
+def location(skip: int = 0) -> str:
+    """``FILE:LINE`` of the innermost frame of the mission's own code (not aeroexec's) on this thread's stack, the
+    ``skip`` frames above the caller's (known to be aeroexec's) left out."""
+    frame: Any = sys._getframe(1 + skip)
     while frame is not None:
         name = _mission_file(frame.f_code.co_filename)
         if name is not None:
             return f"{name}:{frame.f_lineno}"
         frame = frame.f_back
     return ""
+
+
+#: The recorder's own frames above the API's wrapper when a live call is recorded (``_live``, ``call``).
+_MISSION_DEPTH = 2
 
 
 @functools.lru_cache(maxsize=256)

@@ -87,15 +87,16 @@ def canonical(data: Any) -> str:
     return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
-_SCALARS = (str, int, float, bool, type(None))
+_SCALARS = frozenset({str, int, float, bool, type(None)})
 _TEXTS: dict[Any, str] = {}
 
 
 def text(value: Any) -> str:
     """``canonical(encode(value))``, remembered for the scalars a mission gets again and again (a polling loop's
     answers)."""
-    if type(value) in _SCALARS:
-        key = (type(value), value)
+    kind = type(value)
+    if kind in _SCALARS:
+        key = (kind, value)
         found = _TEXTS.get(key)
         if found is None:
             found = canonical(encode(value))
@@ -107,8 +108,9 @@ def text(value: Any) -> str:
 
 def call_text(args: tuple, kwargs: dict[str, Any]) -> str:
     """The one text of a call's arguments (``[args, kwargs]`` encoded), remembered when they are all scalars."""
-    if not kwargs and all(type(a) in _SCALARS for a in args):
-        key = tuple((type(a), a) for a in args)
+    kinds = tuple(map(type, args))
+    if not kwargs and _SCALARS.issuperset(kinds):
+        key = (args, kinds)  # the kinds too: 1, 1.0 and True are equal keys but three texts
         found = _TEXTS.get(key)
         if found is None:
             found = canonical(encode([list(args), kwargs]))

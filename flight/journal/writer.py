@@ -250,23 +250,23 @@ class JournalWriter:
 
     def call_returned(self, number: int, function: str, arguments: str, location: str, time: float,
                       result: str | None, error: dict[str, Any] | None) -> None:
-        time = round(time, 3)
         after = int(self.frozen is not None)
+        if error is None and function in LOOKS:  # a polling loop's call: a byte in the run of looks
+            key = (function, arguments, location, result)
+            with self._rows_lock:
+                looks = self._looks
+                if looks is None or not looks.add(number, after, key, time):
+                    if looks is not None and looks.dirty:
+                        self._rows.append((_LOOKS, looks.row(self.segment)))
+                    looks = self._looks = _Looks(self._seq(), number, after)
+                    looks.add(number, after, key, time)
+            return
+        time = round(time, 3)
         answer = None if error is not None else result
         failure = None if error is None else json.dumps(error)
         row = self._waiting.pop(number, None)
         if row is not None:
             self._add([(_RETURNED, (time, answer, failure, after, row))], urgent=True)
-            return
-        if function in LOOKS and failure is None:
-            with self._rows_lock:
-                looks = self._looks
-                if looks is None or looks.next != number or looks.after != after or looks.full((function, arguments,
-                                                                                               location, answer)):
-                    if looks is not None and looks.dirty:
-                        self._rows.append((_LOOKS, looks.row(self.segment)))
-                    looks = self._looks = _Looks(self._seq(), number, after)
-                looks.add((function, arguments, location, answer), time)
             return
         self._add([(_CALL, (self._seq(), self.segment, number, function, arguments, location, time, time, answer,
                             failure, after))], urgent=True, looks_end=True)
@@ -450,27 +450,33 @@ class _Looks:
 
     def __init__(self, seq: int, first: int, after: int) -> None:
         self.seq, self.first, self.after = seq, first, after
+        self.next = first  # the number of the call that would go on this run
         self.calls: dict[tuple, int] = {}
         self.sequence = bytearray()
         self.returned_at = 0.0
         self.dirty = False
 
-    @property
-    def next(self) -> int:
-        return self.first + len(self.sequence)
-
-    def full(self, key: tuple) -> bool:
-        return key not in self.calls and len(self.calls) >= 256
-
-    def add(self, key: tuple, time: float) -> None:
-        self.sequence.append(self.calls.setdefault(key, len(self.calls)))
+    def add(self, number: int, after: int, key: tuple, time: float) -> bool:
+        """Add call ``number`` (``key``: function, arguments, location, result), returned at ``time``; False when it
+        cannot go on this run (it does not follow, it is on the other side of the stop, or 256 calls are known)."""
+        if number != self.next or after != self.after:
+            return False
+        calls = self.calls
+        index = calls.get(key)
+        if index is None:
+            if len(calls) >= 256:
+                return False
+            index = calls[key] = len(calls)
+        self.sequence.append(index)
+        self.next += 1
         self.returned_at, self.dirty = time, True
+        return True
 
     def row(self, segment: int) -> tuple:
         self.dirty = False
         calls = [[f, json.loads(a), loc, json.loads(r)] for f, a, loc, r in self.calls]
         return (self.seq, segment, self.first, len(self.sequence), json.dumps(calls, separators=(",", ":")),
-                zlib.compress(bytes(self.sequence)), self.returned_at, self.after)
+                zlib.compress(bytes(self.sequence)), round(self.returned_at, 3), self.after)
 
 
 def drone_state(now: float, telemetry: Any) -> dict[str, Any]:
