@@ -55,7 +55,7 @@ def whole(tmp_path_factory):
 @pytest.mark.parametrize(("mission", "kind", "count"), [
     ("survey_legs.xml", "GOAL_ACHIEVED", 2),
     ("survey_legs.xml", "GOAL_ACHIEVED", 4),
-    ("figure10.py", "activated", 2),
+    ("figure10.py", "activated", 3),  # SELF_LOCALIZE_BY_ODOMETRY, TAKE_OFF, then the first after it
     ("figure10.py", "activated", 4),
     ("survey.plan", "photo_taken", 2),
     ("survey.plan", "photo_taken", 6),
