@@ -19,7 +19,7 @@ def ctl(cwd, *args: str) -> subprocess.CompletedProcess:
 
 
 def test_with_two_live_runs_ctl_refuses_and_names_both(tmp_path):
-    runs = [Command(tmp_path, "run", PATROL, "--plain", "--speed", "1", "--output", str(tmp_path / name))
+    runs = [Command(tmp_path, "run", PATROL, "--plain", "--speed", "3", "--output", str(tmp_path / name))
             for name in ("first", "second")]
     try:
         for run in runs:
