@@ -24,6 +24,7 @@ from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.reasoning import Reasoning
 from aeroexec.beliefs.relation import Relation, Relations
+from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
 from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
@@ -59,6 +60,8 @@ class BeliefMemory(Reasoning):
         self._vocabulary: dict[str, int] = dict(predicates or {})
         self._spellings: dict[str, dict[str, str | tuple[str, ...]]] = {}
         self._computed: dict[tuple[str, int], tuple[Callable, int]] = {}
+        #: what questions are answered by besides stored beliefs: computed predicates and shared beliefs
+        self._answered: dict[tuple[str, int], tuple[Any, int | None]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
         self._listeners: list[Callable[[BeliefChange], None]] = []
         self._expiry: dict[tuple, float] = {}
@@ -109,6 +112,13 @@ class BeliefMemory(Reasoning):
         if not 0 <= inputs <= arity:
             raise ValueError(f"{name}/{arity} cannot have {inputs} input arguments")
         self._computed[(name, arity)] = (function, inputs)
+        self._answered[(name, arity)] = (function, inputs)
+        self._queries.clear()
+
+    def share(self, view: SharedView) -> None:
+        """Answer questions on ``view``'s predicate from its shared rows too, after the stored ones
+        (:mod:`aeroexec.beliefs.shared`: a fleet's positions, held once per process)."""
+        self._answered[view.signature] = (view, None)
         self._queries.clear()
 
     def lifetime(self, name: str) -> float | None:
@@ -305,14 +315,14 @@ class BeliefMemory(Reasoning):
         else:
             raise BeliefSyntaxError(repr(expression), "a belief expression is text")
         self._check_vocabulary(conjunction)
-        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._computed)
+        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._answered)
         predicates = conjunction.predicates
         book = self._rulebook
         derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
         compiled.derived = derived or None
         if derived:
             compiled.probe = None
-        compiled.reads = (None if any(p in self._computed or (book and book.volatile(p)) for p in predicates)
+        compiled.reads = (None if any(p in self._answered or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
             self._queries.clear()

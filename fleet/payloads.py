@@ -1,7 +1,15 @@
 """The fleet link's messages: versioned JSON objects, checked on arrival (a malformed or foreign one is refused).
 
 Every payload is one UTF-8 JSON object with ``"v": VERSION`` and the sender's ``"drone"`` name, which must be
-the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topic>``.
+the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topic>``:
+
+- ``tick``: what a drone said in one engine period (:func:`tick`: ``said``, its messages ``[topic, fields]`` with
+  ``topic`` one of :data:`SAID`, and the period's number when its fleet is flown in lockstep), put at the
+  period's end, on the drone's own key (the fleet's router lets only the drone's identity put there);
+- ``step``: the end of one period of the drones speaking through one session of a fleet spread over worker
+  processes (:func:`step`: the period, whether all of them have ended or the process left, when it was sent), on
+  the key of the first of them, after their ticks;
+- ``command``: the operator's queries.
 """
 
 from __future__ import annotations
@@ -11,8 +19,9 @@ import math
 import re
 from typing import Any
 
-VERSION = 1
-TOPICS = ("telemetry", "events", "beliefs", "broadcast", "command")
+VERSION = 2
+TOPICS = ("tick", "step", "command")  # the keys' last chunk
+SAID = ("telemetry", "events", "beliefs", "broadcast")  # what a drone says in a tick
 #: A fleet or drone name: one Zenoh key chunk that is also a portable file name (the drone's output folder, its
 #: certificate): a letter, then letters, digits, ``_``, ``-`` or ``.`` (not last). In beliefs a name that is not a
 #: bare atom is written quoted (``position('scout-1', P)``).
@@ -50,6 +59,33 @@ def check_name(name: str, what: str) -> str:
 
 def encode(drone: str, **fields: Any) -> bytes:
     return json.dumps({"v": VERSION, "drone": drone, **fields}, separators=(",", ":")).encode()
+
+
+def tick(drone: str, messages: list[list[Any]], period: int | None = None) -> bytes:
+    """The ``tick`` payload of ``drone``: its ``messages`` ``[topic, fields]`` of one period."""
+    return encode(drone, tick=period, said=messages)
+
+
+def step(drone: str, period: int | None, ended: bool = False, left: bool = False, sent: float | None = None) -> bytes:
+    """The ``step`` payload of the drones speaking through one session, on the key of the first (``drone``)."""
+    return encode(drone, tick=period, ended=ended, left=left, sent=sent)
+
+
+def said(message: dict[str, Any], key_expr: str) -> list[tuple[str, dict[str, Any]]]:
+    """The ``(topic, fields)`` of a ``tick`` payload; :class:`PayloadError` when it is not one."""
+    messages = message.get("said")
+    period = message.get("tick")
+    if not isinstance(messages, list) or period is not None and (isinstance(period, bool)
+                                                                 or not isinstance(period, int)):
+        raise PayloadError(f"{key_expr}: not a tick (expected said: [[topic, fields]...], tick: a number or null)",
+                           "not a tick")
+    out = []
+    for item in messages:
+        if not (isinstance(item, list) and len(item) == 2 and item[0] in SAID and isinstance(item[1], dict)):
+            raise PayloadError(f"{key_expr}: {str(item)[:200]} is not [topic, fields] (topics: {', '.join(SAID)})",
+                               "a malformed message in a tick")
+        out.append((item[0], item[1]))
+    return out
 
 
 def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[str, Any]]:

@@ -63,10 +63,10 @@ def test_drones_of_one_world_see_each_other_and_know_where_the_others_are_whatev
     fleet.write_text("fleet: pair-team\ndrones:\n  - {name: a-1, mission: look.py, home: [0, 0]}\n"
                      "  - {name: b.2, mission: look.py, home: [4, 0]}\n")
     assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "out")]) == 0
-    for drone, other in (("a-1", '"b.2"'), ("b.2", '"a-1"')):
+    for drone, other in (("a-1", "b.2"), ("b.2", "a-1")):  # each asked where the other is, and was answered
         log = events(tmp_path / "out", drone)
-        assert any(e["kind"] == "belief_added" and e.get("belief", "").startswith(f"position({other}, (")
-                   for e in log), drone
+        assert any(e["kind"] == "fleet_drone_heard" and e["data"]["drones"] == [other] for e in log), drone
+        assert any(e["kind"] == "mission_completed" for e in log), drone
 
 
 @pytest.mark.parametrize(("text", "expected"), [
