@@ -121,6 +121,13 @@ class BeliefMemory(Reasoning):
         self._answered[view.signature] = (view, None)
         self._queries.clear()
 
+    def announce(self, kind: str, belief: Struct, reason: str) -> None:
+        """Tell the listeners that a shared belief came (``kind`` "added") or went ("removed"): what watches this
+        memory's beliefs (rules, monitors, the event log) hears of a fleet mate appearing or going, though the
+        memory stores nothing."""
+        if self._listeners:
+            self._notify(kind, belief, reason)
+
     def lifetime(self, name: str) -> float | None:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
         return self._persistence.get(name)

@@ -25,6 +25,7 @@ class Reasoning:
     _rulebook: RuleBook | None
     _vocabulary: dict[str, int]
     _computed: dict
+    _answered: dict  # computed predicates and shared beliefs: what changes without this memory's writes
     _relations: Any
     _spellings: dict
     _multivalued: set[str]
@@ -80,8 +81,8 @@ class Reasoning:
 
     def reads(self, predicates: Iterable[tuple[str, int]]) -> tuple[frozenset[tuple[str, int]], bool]:
         """The stored predicates that ``predicates`` read, through the rules deriving them (their own stored
-        beliefs included), and whether any of them reads a computed predicate (which changes without a belief
-        doing so)."""
+        beliefs included), and whether any of them reads a computed predicate or shared beliefs (which change
+        without a belief of this memory doing so)."""
         found: set[tuple[str, int]] = set()
         computed = False
         book = self._rulebook
@@ -91,7 +92,7 @@ class Reasoning:
             if signature in seen:
                 continue
             seen.add(signature)
-            if signature in self._computed:
+            if signature in self._answered:
                 computed = True
             found.add(signature)
             if book is not None and book.is_derived(signature):

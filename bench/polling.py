@@ -1,8 +1,10 @@
 """A polling mission on the simulated clock: wall time per simulated minute, against a mission that waits.
 
-Run ``python bench/polling.py``. Both missions stay on the ground for ``--seconds`` of simulated time: the
-baseline waits (``api.wait``), the other polls ``trueBelief`` in a loop (each call lets the loop step after
-``CALLS_PER_TICK`` calls). Prints each one's wall time and calls, and the polling/baseline ratio.
+Run ``python bench/polling.py``. The missions stay on the ground for ``--seconds`` of simulated time: the
+baseline waits (``api.wait``), one polls ``trueBelief`` in a loop (each call lets the loop step after
+``CALLS_PER_TICK`` calls), one asks again and again for a behavior that is refused (GO_TO_POINT on the ground,
+as Aerostack's wiki missions do after a low-battery landing: each refusal lets the loop step). Prints each one's
+wall and CPU time and calls, and the ratios to the baseline.
 """
 
 from __future__ import annotations
@@ -17,15 +19,16 @@ from aeroexec.engine.engine import Engine
 from aeroexec.engine.missions.bridge import CALLS_PER_TICK
 
 
-def timed(mission, seconds: float) -> float:
+def timed(mission, seconds: float) -> tuple[float, float]:
+    """Wall and CPU seconds to fly ``mission`` for ``seconds`` of simulated time."""
     world = default_world()
     engine = Engine(SimulatedDrone(world), obstacles=world)
-    began = time.perf_counter()
+    began, cpu = time.perf_counter(), time.process_time()
     try:
         engine.run(mission, max_time=seconds)
     finally:
         engine.stop()
-    return time.perf_counter() - began
+    return time.perf_counter() - began, time.process_time() - cpu
 
 
 def main() -> None:
@@ -41,13 +44,22 @@ def main() -> None:
         while not levant.trueBelief("visible(object_1)"):
             calls[0] += 1
 
+    def refused() -> None:
+        while levant.executeBehavior("GO_TO_POINT", coordinates=[4, -4, 3]) != "GOAL_ACHIEVED":
+            calls[1] += 1
+
+    calls.append(0)
     baseline = timed(waiting, seconds)
     polled = timed(polling, seconds)
+    asked = timed(refused, seconds)
     print(f"simulated time           {seconds:g} s (calls per engine step: {CALLS_PER_TICK})")
-    print(f"waiting mission          {baseline:.3f} s wall")
-    print(f"polling mission          {polled:.3f} s wall, {calls[0]} trueBelief calls "
+    print(f"waiting mission          {baseline[0]:.3f} s wall, {baseline[1]:.3f} s CPU")
+    print(f"polling mission          {polled[0]:.3f} s wall, {polled[1]:.3f} s CPU, {calls[0]} trueBelief calls "
           f"({calls[0] / seconds:.0f} per simulated second)")
-    print(f"polling / waiting        {polled / baseline:.2f}x")
+    print(f"refused-request mission  {asked[0]:.3f} s wall, {asked[1]:.3f} s CPU, {calls[1]} refused requests "
+          f"({calls[1] / seconds:.0f} per simulated second)")
+    print(f"polling / waiting        {polled[0] / baseline[0]:.2f}x wall")
+    print(f"refused / waiting        {asked[0] / baseline[0]:.2f}x wall, {asked[1] / baseline[1]:.2f}x CPU")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@ Without options, the one live run of this user, wherever it was started (each ru
 runtime directory, ``$XDG_RUNTIME_DIR/aeroexec/``, from the moment it starts); with several live runs nothing is
 sent: they are listed and one must be named. ``aeroexec ctl list`` shows them. ``--run DIR`` names a run by its
 output folder (its ``control.json`` holds the port and token) or by its process id; ``--port P --token T``
-skips the files. Every answer names the run it comes from.
+skips the files. Every answer names the run it comes from. The changes of the running mission (skip, jump, insert,
+modify, delete, replace, load) send their words as a shell line, so a name or a fragment with spaces stays one word,
+and a file to load by its full path; a refusal's problems follow it, one a line.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shlex
 import sys
 from pathlib import Path
 
@@ -28,9 +31,21 @@ COMMANDS = {
     "remove": "PATTERN: remove the beliefs matching a pattern, e.g. visible(?x)",
     "status": "where the run is: state, active behaviors, questions, drone",
     "query": "EXPRESSION: what the drone believes, e.g. object(?X, aruco)",
+    "items": "the mission's items: number, name, done, running or to come",
+    "skip": "end the item running now (SKIPPED) and go on with the next one",
+    "jump": "TARGET: go on from an item (its number) or a node (its name)",
+    "insert": "before|after TARGET FRAGMENT: new items, e.g. insert after 5 'GO_TO_POINT COORDINATES=\"1, 2, 5\"'",
+    "modify": "TARGET PORT=VALUE...: new values for an item's ports, e.g. modify 7 SPEED=3",
+    "delete": "TARGET: take an item out of the mission",
+    "replace": "TARGET FRAGMENT: put FRAGMENT (XML or BEHAVIOR PORT=VALUE) in the place of an item or subtree",
+    "load": "FILE: fly a new mission (any format) in place of the running one",
+    "update": "ACTION [ITEM_ID] [FILE|FRAGMENT]: an Aerostack2 mission update (LOAD, START, PAUSE, RESUME, STOP, "
+              "NEXT_ITEM, REPEAT, INSERT, MODIFY, REMOVE...; item ids from 0) as the change it means",
     "list": "the live runs of this user, wherever they were started",
 }
-NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove", "query"}
+#: Changes of the mission: their argument is sent as a shell line (quoting kept), a file to load by its full path.
+CHANGES = {"skip", "jump", "insert", "modify", "delete", "replace", "load", "update"}
+NEEDS_ARGUMENT = {"inhibit", "answer", "add", "remove", "query", *(CHANGES - {"skip"})}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,11 +64,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "the fleet's ca.pem, or the certificate file (default: from the fleet's fleet.json)")
     parser.add_argument("command", choices=list(COMMANDS), metavar="COMMAND",
                         help="; ".join(f"{name} {text}" for name, text in COMMANDS.items()))
-    parser.add_argument("argument", nargs="*", help="the command's argument (NAME, TEXT, BELIEF or PATTERN)")
+    parser.add_argument("argument", nargs="*", help="the command's argument (NAME, TEXT, BELIEF, PATTERN, TARGET, "
+                                                    "FRAGMENT or FILE; quote what holds spaces)")
 
 
 def run(args: argparse.Namespace) -> int:
-    argument = " ".join(args.argument)
+    argument = change_argument(args.command, args.argument) if args.command in CHANGES else " ".join(args.argument)
     if args.command == "list":
         runs = live_runs()
         for live in runs:
@@ -87,9 +103,30 @@ def run(args: argparse.Namespace) -> int:
             print(describe_status(answer["status"]))
         for unification in answer.get("answers", []):
             print("  " + (", ".join(f"{k} = {v}" for k, v in unification.items()) or "true"))
+        print(describe_items(answer.get("items", [])), end="")
     else:
         print(f"{run_name(answer)}refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
+        for problem in answer.get("problems", [])[1:]:
+            print(f"  {problem}", file=sys.stderr)
     return 0 if answer.get("ok") else 1
+
+
+def change_argument(command: str, words: list[str]) -> str:
+    """A change's argument as the run reads it: the words as a shell line (a name or fragment with spaces stays one
+    word), a file to load by its full path (the run may work in another folder)."""
+    if command == "load" and words:
+        return shlex.quote(str(Path(" ".join(words)).expanduser().resolve()))
+    if command == "update" and words and words[0].upper() in ("LOAD", "EXECUTE", "RESET") and words[1:]:
+        item = words[1:2] if words[1].isdigit() else []
+        mission = " ".join(words[1 + len(item):])
+        return shlex.join([words[0], *item, str(Path(mission).expanduser().resolve())])
+    return shlex.join(words)
+
+
+def describe_items(items: list[dict]) -> str:
+    """One line per item: its number, status and name(s)."""
+    return "".join(f"  {item.get('item', '?'):>5}  {item.get('status', ''):<8} {item.get('name', '')}\n"
+                   for item in items)
 
 
 class AmbiguousRun(ValueError):
@@ -197,10 +234,14 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
             print(f"{drone}: {answer.get('message', 'ok')}")
             if "status" in answer:
                 print(describe_status(answer["status"]))
+            print(describe_items(answer.get("items", [])), end="")
             if answer.get("silent"):
                 print(f"  silent (nothing heard for 2 s or more): {', '.join(answer['silent'])}")
         else:
-            print(f"{drone}: refused: {answer.get('error', 'no reason given')}", file=sys.stderr)
+            print(f"{drone}: refused: {answer.get('error') or answer.get('message') or 'no reason given'}",
+                  file=sys.stderr)
+            for problem in answer.get("problems", [])[1:]:
+                print(f"  {problem}", file=sys.stderr)
     if not answers:
         print(f"no drone of fleet {args.fleet} answered", file=sys.stderr)
     return 0 if answers and all(a.get("ok") for a in answers.values()) else 1

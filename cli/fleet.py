@@ -52,6 +52,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "another machine, to link to")
     add_pacing_arguments(parser)
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
+    parser.add_argument("--answers", metavar="FILE",
+                        help="answer the missions' questions from FILE (YAML: question -> answer, or a list)")
     add_home_argument(parser)
     add_plugin_arguments(parser)
     add_surface_arguments(parser)
@@ -141,7 +143,8 @@ def fly_fleet(args: argparse.Namespace) -> int:
     base = FlightSpec(mission=Path(args.fleet_file), robot=args.robot, world=str(spec.world) if spec.world else None,
                       catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
                       processes=tuple(args.processes),
-                      updaters=tuple(args.updater), max_time=args.max_time, home=args.home)
+                      updaters=tuple(args.updater), max_time=args.max_time, home=args.home,
+                      answers=args.answers)
     with ending_signals():
         try:
             folder = prepare_output(args.output)

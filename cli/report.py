@@ -67,8 +67,11 @@ def run(args: argparse.Namespace) -> int:
     for written in (*(image.png for image in images), page):
         print(written)
     failures = len(summary.failures)
+    refused = sum(not c.taken for c in summary.changes)
+    changed = f", {len(summary.changes)} mission changes ({refused} refused)" if summary.changes else ""
     print(f"{summary.meta.get('mission', 'mission')}: {summary.outcome}, {summary.duration:.1f} s, "
-          f"{summary.distance:.1f} m flown, {failures} failure{'' if failures == 1 else 's'}", file=sys.stderr)
+          f"{summary.distance:.1f} m flown, {failures} failure{'' if failures == 1 else 's'}{changed}",
+          file=sys.stderr)
     return 0
 
 

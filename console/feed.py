@@ -127,8 +127,11 @@ class ConsoleFeed:
                 "questions": questions}
 
     def _mission(self) -> dict[str, Any]:
-        if self.tree is None:  # a tree mission attaches itself to the supervisor when it starts
-            self.tree = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
+        attached = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
+        if attached is not None:  # a tree mission attaches itself to the supervisor when it starts (a loaded one too)
+            self.tree = attached
+        elif self.tree is not None and self.tree.done and self.engine.bridge.state != "done":
+            self.tree = None  # a Python mission was loaded in its place
         if self.tree is not None:
             from aeroexec.trees.runtime.ticking import status_name
 

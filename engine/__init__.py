@@ -29,6 +29,7 @@ PUBLIC = {
     "CatalogError": "aeroexec.engine.catalog",
     "load_catalog": "aeroexec.engine.catalog",
     "RobotKind": "aeroexec.engine.robots",
+    "MissionChange": "aeroexec.engine.supervision.changes",
 }
 
 __all__ = sorted(PUBLIC)

@@ -11,12 +11,14 @@ regard to case: ``coordinates=`` is ``COORDINATES``. Reserved keywords:
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import os
 import sys
 import threading
 import traceback
 import weakref
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -71,6 +73,28 @@ def unbind() -> None:
         _everywhere.pop(threading.get_ident(), None)
 
 
+@contextlib.contextmanager
+def talking_to(engine: Any) -> Iterator[None]:
+    """Within the block, this thread's API calls go to ``engine`` (a script that drives several drones)."""
+    previous = getattr(_bound, "engine", None)
+    _bound.engine = engine
+    try:
+        yield
+    finally:
+        _bound.engine = previous
+
+
+def current_engine() -> Any:
+    """The engine this thread's API calls go to (RuntimeError when none runs a mission here)."""
+    return _engine()
+
+
+def checked_request(name: str, **arguments: Any) -> tuple[str, dict[str, Any], dict[str, Any]]:
+    """A behavior request checked as every API function checks it: the name, its catalog-cased arguments and
+    the reserved options apart; :class:`RequestRejected` at the caller's line for what verify would refuse."""
+    return _request(name, arguments)
+
+
 def _engine() -> Any:
     engine = getattr(_bound, "engine", None)
     if engine is None:
@@ -120,6 +144,15 @@ def _reject(engine: Any, name: str, kind: str, message: str) -> None:
     engine.bridge.call(lambda: engine.log.record("rejected", name, message, error=kind, source="mission",
                                                  where=where))
     raise RequestRejected(kind, message, behavior=name, where=where)
+
+
+def add_library_folder(folder: str | Path) -> None:
+    """Frames of code under ``folder`` are not the mission's own (a mission API under other names lives there,
+    such as Aerostack2's ``as2_python_api``): places in messages skip them."""
+    global _LIBRARY
+    path = str(Path(folder).resolve()) + os.sep
+    if path not in _LIBRARY:
+        _LIBRARY = (*_LIBRARY, path)
 
 
 def caller_location() -> str:

@@ -63,19 +63,73 @@ class EngineEvent:
         return f"[{self.time:8.2f}] {self.kind}{who}{what}"
 
 
+#: Refusals that repeat identically are recorded once, then counted (a mission polling a refused behavior).
+REPEATED_KINDS = ("failed_preconditions", "rejected")
+#: Engine seconds between two counts of a refusal that keeps repeating.
+REPEAT_REPORT = 60.0
+
+
+@dataclass
+class _Repeats:
+    """An identical refusal seen again: how many times since it was last recorded or counted, first and last time."""
+
+    count: int = 0
+    first: float = 0.0
+    last: float = 0.0
+    since: float = 0.0  # when it was last recorded or counted
+
+
 class EventLog:
-    """The ordered events of a run; listeners hear each one as it is recorded (on the engine's thread)."""
+    """The ordered events of a run; listeners hear each one as it is recorded (on the engine's thread).
+
+    A refusal identical to the last one of its behavior (same kind and reason) is not recorded again: it is
+    counted, and the count is recorded as one event (``repeated=N``) when something else happens to the
+    behavior, every :data:`REPEAT_REPORT` seconds, and when the mission or the engine ends."""
 
     def __init__(self, clock: Callable[[], float]) -> None:
         self._clock = clock
         self._events: list[EngineEvent] = []
         self._listeners: list[Callable[[EngineEvent], None]] = []
         self._lock = threading.Lock()
+        self._refused: dict[str, tuple[tuple[str, str], _Repeats]] = {}  # behavior -> (kind, detail), repeats
 
     def record(self, kind: str, behavior: str = "", detail: str = "", *, at: float | None = None,
                **data: Any) -> EngineEvent:
         """Record an event that happened now, or ``at`` an earlier time of the same clock (a robot's own report)."""
-        event = EngineEvent(self._clock() if at is None else at, kind, behavior, detail, data)
+        now = self._clock() if at is None else at
+        if behavior and kind in REPEATED_KINDS:
+            key = (kind, detail)
+            last = self._refused.get(behavior)
+            if last is not None and last[0] == key:
+                repeats = last[1]
+                if not repeats.count:
+                    repeats.first = now
+                repeats.count, repeats.last = repeats.count + 1, now
+                if now - repeats.since < REPEAT_REPORT:
+                    return EngineEvent(now, kind, behavior, detail, data)  # counted, not recorded again
+                self._counted(behavior)
+                return EngineEvent(now, kind, behavior, detail, data)
+            self._counted(behavior)
+            self._refused[behavior] = (key, _Repeats(since=now))
+        elif behavior and behavior in self._refused:
+            self._counted(behavior, forget=True)
+        elif kind.startswith(("mission_", "engine_", "run_")):
+            for name in list(self._refused):
+                self._counted(name, forget=True)
+        return self._append(EngineEvent(now, kind, behavior, detail, data))
+
+    def _counted(self, behavior: str, forget: bool = False) -> None:
+        """Record how many times the last refusal of ``behavior`` repeated since it was last said."""
+        last = self._refused.pop(behavior, None) if forget else self._refused.get(behavior)
+        if last is None or not last[1].count:
+            return
+        (kind, detail), repeats = last
+        self._append(EngineEvent(self._clock(), kind, behavior, f"the same refusal {repeats.count} more time"
+                                 f"{'s' if repeats.count != 1 else ''} (t={repeats.first:.2f} to {repeats.last:.2f})",
+                                 {"repeated": repeats.count, "reason": detail}))
+        repeats.count, repeats.since = 0, self._clock()
+
+    def _append(self, event: EngineEvent) -> EngineEvent:
         with self._lock:
             self._events.append(event)
             listeners = list(self._listeners)

@@ -6,8 +6,10 @@ active behaviors; also the drone's heartbeat), the engine's events of the period
 ``share`` predicates (``self`` as written) once a second and when they change.
 
 Heard (what the process's table took at the end of the last period, :mod:`aeroexec.fleet.table`):
-``position(dN, (x, y, z))`` of every other drone, answered by this drone's belief memory from the process's one
-table (:mod:`aeroexec.beliefs.shared`: never written here, so hearing N drones costs this drone nothing);
+``position(dN, (x, y, z))`` and ``velocity(dN, (vx, vy, vz))`` (to 0.1 m/s) of every other drone, answered by this
+drone's belief memory from the process's one table (:mod:`aeroexec.beliefs.shared`: never written here, so hearing
+N drones costs this drone nothing; a mate's position coming or going is told to the memory's listeners, so rules
+and safety monitors that read it look again);
 BROADCAST_MESSAGE as ``message(dN, Text)`` while this drone's SOCIAL_COMMUNICATION capability runs; and shared
 beliefs, with ``self`` replaced by the sender, accepted only when
 
@@ -40,11 +42,12 @@ logger = logging.getLogger(__name__)
 
 SOCIAL = "SOCIAL_COMMUNICATION"
 SAID = "said"
+VELOCITY = "velocity"  # a mate's, from its telemetry
 BELIEFS_PERIOD = 1.0  # engine seconds between two snapshots of the shared beliefs
 CHECK_PERIOD = 0.2  # engine seconds between two looks for expired messages
 MAX_QUEUED_MESSAGES = 16  # broadcasts of one sender taken in one period
 MAX_MESSAGES = 100  # message(dN, Text) beliefs held per sender
-OWN_STATE = frozenset(TELEMETRY_PREDICATES) | {"localization", "carry"}  # what a drone knows of itself
+OWN_STATE = frozenset(TELEMETRY_PREDICATES) | {"localization", "carry", VELOCITY}  # what a drone knows of itself
 QUIET = frozenset({"fleet_belief", "node_status", "fleet_refused", "fleet_drone_heard", "fleet_drone_silent"})
 NAMED = 3  # drones named in one fleet_drone_heard line
 
@@ -81,7 +84,11 @@ class FleetLink(BeliefUpdater):
         memory = self.engine.memory
         if not memory.accepts(SAID):
             memory.declare(SAID, 2, multivalued=True)
-        memory.share(self.node.table.positions.view(hidden=((self.name,),)))
+        if not memory.accepts(VELOCITY):
+            memory.declare(VELOCITY, 2)
+        hidden = ((self.name,),)
+        memory.share(self.node.table.positions.view(hidden=hidden))
+        memory.share(self.node.table.velocities.view(hidden=hidden))
         self.node.attach(self)
         self.engine.updaters.append(self)
         self.engine.context.bus = self
@@ -172,6 +179,13 @@ class FleetLink(BeliefUpdater):
             named = ", ".join(heard[:NAMED]) + (f" and {len(heard) - NAMED} more" if len(heard) > NAMED else "")
             log.record("fleet_drone_heard", detail=f"{named} {'is' if len(heard) == 1 else 'are'} in the fleet",
                        drones=heard)
+        memory = self.engine.memory
+        for drone, where in news.came:
+            if drone != self.name:
+                memory.announce("added", Struct("position", (drone, where)), "heard")
+        for drone, where in news.went:
+            if drone != self.name:
+                memory.announce("removed", Struct("position", (drone, where)), "expired")
         for drone, unheard in news.silent:
             if drone != self.name and drone not in self._silent:
                 self._silent.add(drone)

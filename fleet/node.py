@@ -355,7 +355,8 @@ class FleetNode:
             if result is None:
                 answer = {"ok": False, "error": f"{name} did not run the command within {COMMAND_TIMEOUT:g} s"}
             else:
-                answer = {"ok": result.ok, "message": result.message}
+                answer = {"ok": result.ok, "message": result.message,  # a mission change's items and problems
+                          **{k: result.data[k] for k in ("items", "problems") if k in result.data}}
                 if command == "status":
                     answer["status"] = result.data
                     answer["silent"] = sorted(getattr(self.links.get(name), "silent", ()))

@@ -5,8 +5,10 @@ The process's node hands it what the fleet said in one engine period, at the per
 every process (:meth:`FleetTable.take`); it returns what changed (:class:`News`), which each local link applies on
 its next tick. Per message its work does not depend on the number of drones:
 
-- telemetry: where the drone is, one row of :attr:`FleetTable.positions` (``position(dN, (x, y, z))``, answered
-  by every local drone's belief memory from this one relation: :mod:`aeroexec.beliefs.shared`);
+- telemetry: where the drone is and how it moves, one row of :attr:`FleetTable.positions` (``position(dN, (x, y,
+  z))``) and of :attr:`FleetTable.velocities` (``velocity(dN, (vx, vy, vz))``, to 0.1 m/s), answered by every local
+  drone's belief memory from these relations (:mod:`aeroexec.beliefs.shared`); a drone whose position row comes or
+  goes is news (``came``, ``went``: what watches a memory's beliefs hears of a mate appearing or going);
 - shared beliefs: parsed once, named after their sender; only what a sender says anew is news;
 - broadcasts: passed on.
 
@@ -51,6 +53,8 @@ class News:
 
     time: float
     heard: list[str] = field(default_factory=list)  # drones whose telemetry came for the first time
+    came: list[tuple[str, tuple]] = field(default_factory=list)  # position rows that appeared: (drone, where)
+    went: list[tuple[str, tuple]] = field(default_factory=list)  # position rows that expired: (drone, where)
     again: list[str] = field(default_factory=list)  # silent drones heard again
     silent: list[tuple[str, float]] = field(default_factory=list)  # drones silent now, and unheard for how long
     said: list[tuple[str, Said]] = field(default_factory=list)  # beliefs said anew
@@ -58,7 +62,8 @@ class News:
     broadcasts: list[tuple[str, str]] = field(default_factory=list)
 
     def __bool__(self) -> bool:
-        return bool(self.heard or self.again or self.silent or self.said or self.unsaid or self.broadcasts)
+        return bool(self.heard or self.came or self.went or self.again or self.silent or self.said or self.unsaid
+                    or self.broadcasts)
 
 
 def named(value: Any, sender: str) -> Any:
@@ -98,6 +103,7 @@ class FleetTable:
         self.persistence, self.silent_after = persistence, silent_after
         self.positions = SharedBeliefs("position", 2)  # every drone heard, where it last said it was
         self.where: dict[str, tuple[float, float, float]] = {}  # the same, by drone
+        self.velocities = SharedBeliefs("velocity", 2)  # every drone heard whose telemetry says how it moves
         self.telemetry: dict[str, dict[str, Any]] = {}  # each drone's newest telemetry
         # the times below are each drone's clock's: the engine's, or the wall's for a drone of the outside
         self.outside: set[str] = set()  # drones of processes of their own, not on this run's time
@@ -167,9 +173,18 @@ class FleetTable:
         if drone in self.silent:
             self.silent.discard(drone)
             news.again.append(drone)
-        if self.where.get(drone) != where:
+        was = self.where.get(drone)
+        if was != where:
             self.where[drone] = where
             self.positions.put((drone, where))
+            if was is None:
+                news.came.append((drone, where))
+        try:
+            moving = tuple(round(v, 1) for v in vector(fields.get("velocity")))
+        except PayloadError:  # telemetry without a velocity: none known
+            self.velocities.drop((drone,))
+        else:
+            self.velocities.put((drone, moving))
         self._schedule(SILENCE, drone, None, now + self.silent_after)
         self._schedule(POSITION, drone, None, now + self.persistence)
 
@@ -244,8 +259,11 @@ class FleetTable:
             elif last + self.persistence > now:
                 self._schedule(kind, drone, None, last + self.persistence)
             else:
-                self.where.pop(drone, None)
+                where = self.where.pop(drone, None)
                 self.positions.drop((drone,))
+                self.velocities.drop((drone,))
+                if where is not None:
+                    news.went.append((drone, where))
 
 
 __all__ = ["MAX_BELIEFS", "PERSISTENCE", "SILENT_AFTER", "FleetTable", "News", "Said", "atoms", "named"]

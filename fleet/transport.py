@@ -13,6 +13,7 @@ from __future__ import annotations
 import base64
 import json
 import logging
+import random
 import socket
 from typing import TYPE_CHECKING, Any
 
@@ -31,11 +32,36 @@ class TransportError(RuntimeError):
     """A Zenoh session that cannot be opened, phrased for the operator."""
 
 
+def free_port(kind: int = socket.SOCK_STREAM) -> int:
+    """A port of the loopback free now for ``kind`` (TCP, or ``socket.SOCK_DGRAM``), below the system's ephemeral
+    range: a port the system picked for us there may be handed out again as another socket's source port (a
+    Zenoh client's, a MAVLink ``udpout``'s) before we listen on it."""
+    low = _ephemeral_low()
+    generator = random.SystemRandom()
+    for _ in range(200):
+        port = generator.randrange(max(1024, low - 12000), low)
+        with socket.socket(socket.AF_INET, kind) as probe:
+            try:
+                probe.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+            return port
+    with socket.socket(socket.AF_INET, kind) as probe:  # a crowded range: the system's choice, as a last resort
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def _ephemeral_low() -> int:
+    try:
+        with open("/proc/sys/net/ipv4/ip_local_port_range", encoding="ascii") as ports:
+            return int(ports.read().split()[0])
+    except (OSError, ValueError, IndexError):
+        return 32768  # Linux's default; BSDs and Windows start at 49152, above it
+
+
 def free_endpoint(protocol: str = "tcp") -> str:
     """An endpoint on a port of the loopback that is free now (``tcp``, or ``tls`` for a fleet with credentials)."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return f"{protocol}/127.0.0.1:{probe.getsockname()[1]}"
+    return f"{protocol}/127.0.0.1:{free_port()}"
 
 
 def endpoint_host(endpoint: str) -> str:

@@ -187,6 +187,10 @@ class ControlServer:
             answer["status"] = result.data
         if command == "query":
             answer["answers"] = result.data.get("answers", [])
+        if command == "items":
+            answer["items"] = result.data.get("items", [])
+        if result.data.get("problems"):
+            answer["problems"] = result.data["problems"]
         return answer, True
 
 

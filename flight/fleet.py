@@ -27,6 +27,7 @@ from typing import Any
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.bridge import RUNNING
+from aeroexec.engine.missions.script import ScriptMission, fly_together
 from aeroexec.flight.ending import FlightEnding
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.session import FlightOutcome, FlightSession
@@ -175,9 +176,19 @@ class FleetFlight:
         self._start_missions()
 
     def _start_missions(self) -> None:
-        if not self._started:
-            self._started = True
-            for m in self.members:
+        """Start every drone's mission (once). Drones that name one Aerostack2 script fly it together: it runs once
+        and drives each of them by its namespace (:func:`~aeroexec.engine.missions.script.fly_together`)."""
+        if self._started:
+            return
+        self._started = True
+        scripts: dict[Path, list[Member]] = {}
+        for m in self.members:
+            if isinstance(m.session.mission, ScriptMission):
+                scripts.setdefault(m.session.mission.path.resolve(), []).append(m)
+        for group in scripts.values():
+            fly_together({m.name: m.engine for m in group}, group[0].session.mission, group[0].session.spec.name)
+        for m in self.members:
+            if not isinstance(m.session.mission, ScriptMission):
                 m.session.start_mission()
 
     def _interrupt(self, how: str) -> None:
@@ -219,7 +230,7 @@ class FleetFlight:
         warned_at = time.monotonic() + STALL_WARNING
         while waiting:
             busy = []
-            for m in waiting:
+            for m in members:  # a script flying several drones may be waiting on any of them
                 m.engine.bridge.serve(lockstep=False)  # what is queued now; returns when the queue is empty
                 if m.engine.bridge.state == RUNNING and not m.engine.supervisor.paused and not m.engine.stopped:
                     busy.append(m)

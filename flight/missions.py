@@ -18,7 +18,10 @@ from typing import TYPE_CHECKING, Any
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
+from aeroexec.engine.missions import ros
 from aeroexec.engine.missions.check import check_mission_source
+from aeroexec.engine.missions.script import is_script, script_mission
+from aeroexec.engine.missions.source import parse_source
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
@@ -62,9 +65,9 @@ def is_plan(path: Path) -> bool:
 def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
                   ) -> CheckedMission:
     """Read and check a mission without flying it (against ``world``'s bounds and obstacles when given);
-    raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan (default:
-    ``world``'s home, else the default simulated world's)."""
-    if home is None and world is not None and is_plan(path):
+    raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan and GPS points
+    of Aerostack2's missions (default: ``world``'s home, else the default simulated world's)."""
+    if home is None and world is not None and is_tree(path):  # plans and Aerostack2's GPS nodes are placed from it
         home = world.home
     if path.is_dir():
         inside = sorted(p.name for p in path.iterdir()
@@ -128,7 +131,12 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
 
 
 def mission_function(path: Path) -> Callable[[], Any]:
-    """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function."""
+    """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
+    script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
+    source = read_text(path, what="the mission")
+    if is_script(parse_source(source, str(path))):
+        return script_mission(path, source)
+    ros.install()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     try:

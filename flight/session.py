@@ -30,6 +30,7 @@ from aeroexec.engine.missions.bridge import MissionPreempted
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter
+from aeroexec.flight.mission_changes import MissionChanges
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
 from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice, with_rule_files
@@ -79,6 +80,7 @@ class FlightSession:
         self.mission: Callable[[], Any] | TreeDocument | None = None
         self.engine: Engine | None = None
         self.tree: Any = None  # the TreeMission of a tree mission
+        self.changes: MissionChanges | None = None  # the changes of the running mission (engine.supervisor's)
         self.link: Any = None  # the fleet link
         self._joined: Any = None  # the fleet joined from this process alone (its session and node)
         self.flight_log: FlightLogWriter | None = None
@@ -138,6 +140,8 @@ class FlightSession:
         if self._cancel.is_set():
             raise FlightError(f"{spec.name}: the start was aborted (aeroexec ctl abort)")
         self.engine = self._engine(choice, simulated)
+        self.changes = MissionChanges(self)
+        self.engine.supervisor.changes = self.changes
         if spec.fleet is not None or self.fleet_node is not None:
             self._join_fleet()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
@@ -240,8 +244,35 @@ class FlightSession:
         else:
             engine.start_mission(self.mission, self.spec.name)
 
+    def replace_mission(self, mission: Callable[[], Any] | TreeDocument, path: Path) -> None:
+        """Fly ``mission`` (checked, from ``path``) in place of the one that ran, now (a ``load``: the running one
+        was halted); a tree's ``.btlog`` is ``mission-N.btlog``."""
+        engine, name = self.engine, Path(path).name
+        self.mission = mission
+        if isinstance(mission, TreeDocument):
+            from aeroexec.trees.btlog import BtlogWriter
+            from aeroexec.trees.runtime.runner import TreeMission
+
+            self.tree = TreeMission(mission, engine, name=name)
+            if self.btlog is not None:
+                _quietly(self.btlog.close)
+            try:
+                self.btlog = BtlogWriter(self.tree, self.folder / f"mission-{self.changes.flown}.btlog",
+                                         self.catalog)
+            except OSError as error:
+                self.btlog = None
+                self.notify(f"warning: the tree log of {name} cannot be written: {error}")
+            self.tree.start()
+        else:
+            self.tree = None
+            engine.start_mission(mission, name)
+        if self.link is not None:
+            self.link.mission = name
+
     @property
     def mission_done(self) -> bool:
+        if self.changes is not None and self.changes.busy:  # a new mission is loaded once the old one unwound
+            return False
         if self.tree is not None:
             return self.tree.done
         from aeroexec.engine.missions.bridge import DONE

@@ -60,6 +60,19 @@ class Failure:
 
 
 @dataclass
+class MissionChangeRecord:
+    """A change of the running mission the operator asked for: taken (what it did) or refused (why)."""
+
+    time: float
+    command: str
+    argument: str
+    origin: str
+    taken: bool
+    said: str  # what it did, or why it was refused
+    problems: list[str] = field(default_factory=list)
+
+
+@dataclass
 class FlightSummary:
     """The report's numbers and spans, from one event log."""
 
@@ -74,6 +87,7 @@ class FlightSummary:
     refusals: list[Failure] = field(default_factory=list)  # requests refused before they started
     flight_states: list[tuple[float, str]] = field(default_factory=list)  # (time, state) at each change
     safety: list[Compliance] = field(default_factory=list)  # each safety rule watched: held or violated, when
+    changes: list[MissionChangeRecord] = field(default_factory=list)  # the mission changed while it flew
 
     @property
     def duration(self) -> float:
@@ -144,6 +158,7 @@ def summarize(records: list[dict[str, Any]]) -> FlightSummary:
     failures: list[Failure] = []
     refusals: list[Failure] = []
     flight_states: list[tuple[float, str]] = []
+    changes: list[MissionChangeRecord] = []
     for record in records:
         kind, t, behavior = record.get("kind", ""), float(record.get("time", 0.0)), record.get("behavior", "")
         if kind == "activated":
@@ -165,16 +180,27 @@ def summarize(records: list[dict[str, Any]]) -> FlightSummary:
             refusals.append(Failure(t, kind, behavior, record.get("reason", record.get("detail", ""))))
         if kind == "belief_added" and str(record.get("belief", "")).startswith("flight_state(self,"):
             flight_states.append((t, record["belief"].split(",", 1)[1].strip(" )")))
+        if kind == "mission_change":
+            changes.append(_change(record, t))
     outcome = run_status(records).word
     beliefs.extend(BeliefSpan(b, t, end) for b, t in held.items())
     beliefs.sort(key=lambda b: (b.start, b.belief))
     if not any(r.get("kind") == "log_closed" for r in records):
         outcome = "incomplete"
     summary = FlightSummary(meta, samples, spans, beliefs, failures, start, end, outcome, refusals, flight_states,
-                            compliance(records))
+                            compliance(records), changes)
     for span in spans:
         span.start_position, span.end_position = summary.position_at(span.start), summary.position_at(span.end)
     return summary
+
+
+def _change(record: dict[str, Any], t: float) -> MissionChangeRecord:
+    data = record.get("data") or {}
+    said = str(record.get("detail", "")).partition(": ")[2]
+    taken = bool(data.get("ok"))
+    return MissionChangeRecord(t, str(data.get("command", "")), str(data.get("argument", "")),
+                               str(data.get("origin", "")), taken, said.removeprefix("refused: "),
+                               [str(p) for p in data.get("problems") or []])
 
 
 def final_beliefs(records: list[dict[str, Any]]) -> list[str]:

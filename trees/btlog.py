@@ -294,26 +294,58 @@ class TransitionTracker:
 
 # -- writing -------------------------------------------------------------------------------------------------
 class BtlogWriter:
-    """Writes ``mission``'s status transitions to ``path`` as they happen (each tick's flushed) until :meth:`close`."""
+    """Writes ``mission``'s status transitions to ``path`` as they happen (each tick's flushed) until :meth:`close`.
+
+    A file holds one tree: when a change in flight gives the tree other nodes, the writer goes on in the next file,
+    ``NAME.change-K.btlog`` (K counts the changes), whose header is the changed tree."""
 
     def __init__(self, mission: Any, path: str | Path, catalog: Any = None) -> None:
         if Path(path).suffix != ".btlog":
             raise ValueError(f"{path}: a FileLogger2 file's extension must be .btlog")
         self.mission = mission
-        self.path = Path(path)
+        self.first_path = self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.start = mission.engine.now()
-        self.first_timestamp_usec = time.time_ns() // 1000
-        self.transitions = 0
+        self.catalog = catalog if catalog is not None else mission.engine.catalog
+        self.changes = 0
+        self._stale = False  # the tree changed since the file began
         self.incomplete: str | None = None  # why the file stopped short (a write error), None while whole
         self._lock = threading.Lock()
+        self._fd: int | None = None
+        self._open()
+        mission.observers.append(self.on_tick)
+        getattr(mission, "restructured", []).append(self._restructured)
+
+    def _open(self) -> None:
+        self.start = self.mission.engine.now()
+        self.first_timestamp_usec = time.time_ns() // 1000
+        self.transitions = 0
         self._pending = bytearray()
-        xml = tree_xml(mission, catalog if catalog is not None else mission.engine.catalog).encode("utf-8")
-        self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        xml = tree_xml(self.mission, self.catalog).encode("utf-8")
+        self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         self._write(MAGIC + bytes([PROTOCOL]) + struct.pack("<i", len(xml)) + xml +
                     struct.pack("<q", self.first_timestamp_usec))
-        self.tracker = TransitionTracker(mission, self._record)
-        mission.observers.append(self.on_tick)
+        self.tracker = TransitionTracker(self.mission, self._record)
+
+    def _restructured(self) -> None:
+        """The tree was changed in flight: this file ends, the changed tree's begins at the next tick (several
+        changes between two ticks make one file)."""
+        self._stale = True
+
+    def _next_file(self) -> None:
+        self._stale = False
+        with self._lock:
+            fd, self._fd = self._fd, None
+        if fd is not None:
+            os.close(fd)
+        if self.incomplete is not None:
+            return
+        self.changes += 1
+        self.path = self.first_path.with_name(f"{self.first_path.stem}.change-{self.changes}.btlog")
+        try:
+            self._open()
+        except OSError as error:
+            self.incomplete = error.strerror or str(error)
+            logger.error("the tree log %s cannot be written (%s): the flight goes on", self.path, self.incomplete)
 
     def _record(self, uid: int, status: str) -> None:
         usec = max(0, round((self.mission.engine.now() - self.start) * 1e6))
@@ -322,6 +354,8 @@ class BtlogWriter:
 
     def on_tick(self, visited: list[Behaviour] | None) -> None:
         """The mission's observer: ``visited`` after a tick, None when the tree was halted."""
+        if self._stale:
+            self._next_file()
         if visited is None:
             self.tracker.halted()
         else:
@@ -351,6 +385,8 @@ class BtlogWriter:
     def close(self) -> None:
         if self.on_tick in self.mission.observers:
             self.mission.observers.remove(self.on_tick)
+        if self._restructured in getattr(self.mission, "restructured", []):
+            self.mission.restructured.remove(self._restructured)
         with self._lock:
             fd, self._fd = self._fd, None
         if fd is not None:

@@ -63,11 +63,12 @@ class GrootPublisher:
     def __init__(self, mission: Any, port: int = DEFAULT_PORT, host: str = "127.0.0.1", catalog: Any = None) -> None:
         from aeroexec.trees.btlog import tree_xml
 
-        self.mission, self.engine = mission, mission.engine
+        self.mission, self.engine, self.catalog = mission, mission.engine, catalog
         self.xml = tree_xml(mission, catalog).encode()
         self.uuid = uuid.uuid4().bytes
         self._statuses = [0] * len(mission.nodes)  # by uid - 1, as BehaviorTree.CPP encodes them
         self._lock = threading.Lock()
+        getattr(mission, "restructured", []).append(self._restructured)
         self._recording_since: float | None = None  # engine time
         self._transitions: deque[bytes] = deque(maxlen=MAX_TRANSITIONS)
         self._blackboard: dict[str, Any] = {}
@@ -183,8 +184,19 @@ class GrootPublisher:
             return [header]
         return [b"error", b"must be start or stop"]
 
+    def _restructured(self) -> None:
+        """The tree was changed in flight: Groot2 gets the changed tree (a new uuid tells it to ask again)."""
+        from aeroexec.trees.btlog import tree_xml
+
+        xml = tree_xml(self.mission, self.catalog).encode()
+        with self._lock:
+            self.xml, self.uuid = xml, uuid.uuid4().bytes
+            self._statuses = [0] * len(self.mission.nodes)
+
     def close(self) -> None:
         """Stop serving; never hangs."""
+        if self._restructured in getattr(self.mission, "restructured", []):
+            self.mission.restructured.remove(self._restructured)
         self._stop.set()
         self._unsubscribe()
         if self._copy_blackboard in self.engine.tick_callbacks:

@@ -58,7 +58,8 @@ class RouteEstimate:
 class _Flight:
     """Flies the tree on paper with the vehicle's model."""
 
-    def __init__(self, document: TreeDocument, world: Any, config: Any) -> None:
+    def __init__(self, document: TreeDocument, world: Any, config: Any, start: tuple[Vector, bool] | None = None
+                 ) -> None:
         from aeroexec.drones.sim.battery import Battery
 
         self.document, self.world, self.config = document, world, config
@@ -66,8 +67,8 @@ class _Flight:
         self.estimate = RouteEstimate(battery=config.initial_battery_percent,
                                       failsafe=config.failsafe_battery_percent,
                                       hover_minutes=config.battery_hover_minutes)
-        self.position: Vector = (0.0, 0.0, 0.0)
-        self.flying = False
+        self.position: Vector = start[0] if start is not None else (0.0, 0.0, 0.0)
+        self.flying = start[1] if start is not None else False
         self.empty_at: TreeNode | None = None
         self.said: set[tuple[int, str]] = set()
 
@@ -201,12 +202,14 @@ def _fmt(point: Vector) -> str:
     return ", ".join(f"{round(v, 1):g}" for v in point)
 
 
-def estimate_route(document: TreeDocument, world: Any = None, config: Any = None) -> RouteEstimate | None:
+def estimate_route(document: TreeDocument, world: Any = None, config: Any = None,
+                   start: tuple[Vector, bool] | None = None) -> RouteEstimate | None:
     """The route of ``document`` in ``world`` flown by the vehicle of ``config`` (default: the simulated
-    multicopter's); None when the tree is not a flight through known places."""
+    multicopter's, its battery ``initial_battery_percent`` full), from ``start`` (where the drone is and whether it
+    flies; default: home, on the ground); None when the tree is not a flight through known places."""
     from aeroexec.drones.sim import SimConfig
 
-    flight = _Flight(document, world, config or SimConfig())
+    flight = _Flight(document, world, config or SimConfig(), start)
     try:
         flight.run(document.root)
     except (NoRoute, ValueError, KeyError, IndexError):
@@ -217,9 +220,10 @@ def estimate_route(document: TreeDocument, world: Any = None, config: Any = None
     if flight.empty_at is not None:
         need = flight.estimate.failsafe - estimate.battery
         minutes = estimate.duration / 60.0
+        used = flight.config.initial_battery_percent - estimate.battery
         flight.problem(flight.empty_at, f"the battery runs down to its {estimate.failsafe:g}% failsafe here: the "
                                         f"route ({estimate.length / 1000:.1f} km, {minutes:.0f} min) needs "
-                                        f"{100 - estimate.battery + estimate.failsafe:.0f}% of a full battery, "
+                                        f"{used + estimate.failsafe:.0f}% of a full battery, "
                                         f"{need:.0f}% more than the drone has")
     elif estimate.battery < RESERVE:
         flight.problem(document.root, f"the drone lands with {estimate.battery:.0f}% of its battery, below the "

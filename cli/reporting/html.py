@@ -1,7 +1,8 @@
 """The flight report's page: a header a pilot reads first (outcome, date, aeroexec version, mission, drone, seed,
 world and home, duration, distance, battery, highest altitude and speed), the images inline as SVG (their labels
-stay text; each links its PNG), the outcomes by behavior, the failures with their reasons, and every activation.
-The page stands alone: no script, no file it needs besides itself."""
+stay text; each links its PNG), the outcomes by behavior, the failures with their reasons, the safety rules held or
+violated, the changes of the mission in flight, and every activation. The page stands alone: no script, no file it
+needs besides itself."""
 
 from __future__ import annotations
 
@@ -110,6 +111,13 @@ def write_html(summary: FlightSummary, images: list[Image], path: Path, version:
                             [[escape(c.rule), "held" if c.held else "<b>violated</b>",
                               escape("; ".join(f"{t:.1f} s {k[7:]}: {d}" for t, k, d in c.events) or "-"),
                               escape(c.contingency), escape(f"{c.text} ({c.where})")] for c in summary.safety]))
+    if summary.changes:
+        parts.append("<h2>Mission changes</h2>")
+        parts.append(_table(["time (s)", "from", "change", "taken", "what it did, or why it was refused"],
+                            [[f"{c.time:.2f}", escape(c.origin), escape(f"{c.command} {c.argument}".strip()),
+                              "yes" if c.taken else "<b>refused</b>",
+                              escape(c.said) + "".join(f"<br>{escape(p)}" for p in c.problems[1:])]
+                             for c in summary.changes]))
     for image in images[2:]:
         parts.append(_image(image))
     parts.append(f"<h2>Activations</h2><details><summary>{len(summary.behaviors)} activations: behavior, arguments, "

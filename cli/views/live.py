@@ -9,8 +9,9 @@ header shows how (completed, completed with refused requests, failed, aborted). 
 takes a snapshot of plain data now and then (a tick
 callback, a few times a wall second); rich's own thread draws it, so the view never slows a tick.
 
-:class:`KeyReader` turns keys into the operator's commands (p pause, r resume, a/q abort, i inhibit NAME,
-t answer TEXT, Esc cancels a prompt) from a daemon thread reading the terminal in cbreak mode.
+:class:`KeyReader` turns keys into the operator's commands (p pause, r resume, n next item (skip), j jump to
+an item, a/q abort, i inhibit NAME, t answer TEXT, Esc cancels a prompt) from a daemon thread reading the terminal
+in cbreak mode.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import os
 import select
+import shlex
 import sys
 import threading
 import time
@@ -44,8 +46,9 @@ STATUS_STYLE = {"RUNNING": "bold yellow", "SUCCESS": "green", "FAILURE": "bold r
                 "INVALID": "dim", "SKIPPED": "dim cyan"}
 EVENT_STYLE = {"GOAL_ACHIEVED": "green", "TIME_OUT": "red", "WRONG_PROGRESS": "red", "INTERRUPTED": "yellow",
                "failed_preconditions": "red", "rejected": "red", "mission_failed": "bold red",
-               "mission_completed": "bold green", "operator_command": "bold magenta", "operator": "cyan"}
-KEYS_HELP = "p pause  r resume  a abort+land  i inhibit  t answer  q quit (abort+land)"
+               "mission_completed": "bold green", "operator_command": "bold magenta", "operator": "cyan",
+               "mission_change": "bold magenta", "mission_replaced": "bold magenta"}
+KEYS_HELP = "p pause  r resume  n next item  j jump  a/q abort+land  i inhibit  t answer"
 FINAL_STYLE = {COMPLETED: "bold green", REFUSED: "bold yellow", FAILED: "bold red", ABORTED: "bold red"}
 FLIGHT_CAPABILITY = "FLIGHT_CONTROL"  # the behaviors holding it command the drone's flight mode
 
@@ -126,8 +129,11 @@ class LiveView:
                         [_question(p) for p in operator_of(engine.context).pending_questions()])
 
     def _mission_lines(self) -> list[tuple[int, str, str]]:
-        if self.tree is None:  # a tree mission attaches itself to the supervisor when it starts
-            self.tree = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
+        attached = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
+        if attached is not None:  # a tree mission attaches itself to the supervisor when it starts (a loaded one too)
+            self.tree = attached
+        elif self.tree is not None and self.tree.done and self.engine.bridge.state != "done":
+            self.tree = None  # a Python mission was loaded in its place
         if self.tree is not None:
             from aeroexec.trees.runtime.ticking import status_name
 
@@ -256,8 +262,9 @@ def _question(pending: Any) -> str:
 class KeyReader:
     """Reads single keys from a terminal in a daemon thread and submits the operator's commands."""
 
-    PROMPTS = {"i": ("inhibit", "inhibit behavior: "), "t": ("answer", "answer: ")}
-    SINGLE = {"p": "pause", "r": "resume", "a": "abort", "q": "abort"}
+    PROMPTS = {"i": ("inhibit", "inhibit behavior: "), "t": ("answer", "answer: "),
+               "j": ("jump", "jump to item (number or name): ")}
+    SINGLE = {"p": "pause", "r": "resume", "a": "abort", "q": "abort", "n": "skip"}
 
     def __init__(self, supervisor: Any, view: LiveView | None = None, stream: TextIO | None = None) -> None:
         self.supervisor, self.view = supervisor, view
@@ -333,8 +340,10 @@ class KeyReader:
             self._show(self._prompt[1] + "_")
 
     def _submit(self, command: str, argument: str) -> None:
-        if command in ("inhibit", "answer") and not argument:
+        if command in ("inhibit", "answer", "jump") and not argument:
             return
+        if command == "jump":  # the target as typed: a name with spaces is one word
+            argument = shlex.quote(argument)
         ticket = self.supervisor.submit(command, argument, origin="keyboard")
 
         def report() -> None:  # the answer shows up in the footer, without blocking the reader

@@ -100,7 +100,7 @@ function drawPanels() {
   for (const e of d.events.slice(-120)) {
     const li = document.createElement("li");
     li.dataset.kind = e.kind;
-    li.className = BAD.has(e.kind) ? "bad" : GOOD.has(e.kind) ? "good" : e.kind === "operator_command" ? "operator" : "";
+    li.className = BAD.has(e.kind) ? "bad" : GOOD.has(e.kind) ? "good" : e.kind === "operator_command" || e.kind === "mission_change" ? "operator" : "";
     li.textContent = `[${e.time.toFixed(1)}] ${e.kind}${e.behavior ? " " + e.behavior : ""}${e.detail ? ": " + e.detail : ""}`;
     events.appendChild(li);
   }
@@ -154,6 +154,8 @@ function wire() {
   $("belief-filter").oninput = drawPanels;
   $("drone").onchange = (e) => { model.selected = e.target.value; draw(); };
   $("question-form").onsubmit = () => { const v = $("question-free").value.trim(); if (v) send("answer", v); };
+  $("skip").onclick = () => send("skip");
+  $("change").onclick = () => send($("change-command").value, $("change-argument").value.trim());
 }
 
 function result(message) {
@@ -162,7 +164,8 @@ function result(message) {
     $("query-result").textContent = `${message.message}${lines.length ? "\n" + lines.join("\n") : ""}`;
     return;
   }
-  text("message", `${message.command}: ${message.message}`);
+  const problems = (message.data && message.data.problems || []).slice(1);
+  text("message", `${message.command}: ${message.message}${problems.length ? " · " + problems.join(" · ") : ""}`);
 }
 
 // -- replay of a finished run ------------------------------------------------------------------------------

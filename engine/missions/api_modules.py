@@ -8,6 +8,7 @@ the API function it stands for.
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterable
 
 from aeroexec.engine import api
 
@@ -45,10 +46,10 @@ API_MODULES: dict[str, dict[str, str]] = {
 AEROSTACK_MODULES = frozenset({"executive_engine_api", "mission_execution_control"})
 
 
-def api_bindings(tree: ast.Module) -> dict[str, str]:
-    """Local name -> the dotted path it stands for, for every import in the program."""
+def api_bindings(nodes: Iterable[ast.AST]) -> dict[str, str]:
+    """Local name -> the dotted path it stands for, for every import among a program's ``nodes``."""
     bindings: dict[str, str] = {}
-    for node in ast.walk(tree):
+    for node in nodes:
         if isinstance(node, ast.Import):
             for alias in node.names:
                 top = alias.name.split(".")[0]

@@ -6,7 +6,9 @@ parks the mission until the engine resolves it. With a simulated clock the
 engine does not advance time while the mission is running Python code, so a
 mission gives the same event log on every run; but every API call counts: after
 ``CALLS_PER_TICK`` calls that do not wait, the engine takes its next step, so a
-mission polling ``trueBelief`` in a loop sees simulated time (and the world) move.
+mission polling ``trueBelief`` in a loop sees simulated time (and the world) move; a call that waits but
+ends at once (a request refused, or a goal already achieved) lets the engine take its step before the next
+call, so a mission asking again and again for a refused behavior still sees time pass, a tick per request.
 A mission that keeps polling while no belief changes is reported once per stretch.
 """
 
@@ -17,7 +19,7 @@ import logging
 import queue
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from aeroexec.engine.errors import MissionAborted
@@ -25,6 +27,9 @@ from aeroexec.engine.errors import MissionAborted
 logger = logging.getLogger(__name__)
 
 RUNNING, PARKED, DONE = "running", "parked", "done"
+#: What :attr:`MissionBridge.state` says of a running mission that has made its ``CALLS_PER_TICK`` calls of this
+#: engine period without waiting: a loop that serves several bridges without lockstep moves time on for it.
+POLLING = "polling"
 _STALL_WARNING = 30.0  # wall seconds a lockstep engine waits on a busy mission before saying so
 _CLOSED_GRACE = 2.0  # wall seconds a lockstep engine waits for an aborted mission to unwind
 #: Calls that do not wait served in one engine period before the loop steps on (lockstep, simulated clock).
@@ -52,6 +57,25 @@ class _Request:
         self.error: BaseException | None = None
 
 
+class _Mission:
+    """Whether the mission runs, waits or is done: one for every engine a program drives (a script flying a
+    fleet is one mission whichever drone it waits on). It runs while one of its threads runs: the mission thread,
+    or a thread of the script's own (:meth:`MissionBridge.thread_started`) that is not waiting on an engine or
+    joining another."""
+
+    __slots__ = ("cond", "done", "polls", "polls_at", "running")
+
+    def __init__(self) -> None:
+        self.cond = threading.Condition()
+        self.done = True
+        self.running = 0  # the mission's threads running Python code now
+        self.polls, self.polls_at = 0, -1.0  # calls that did not wait, served at engine time polls_at
+
+    @property
+    def state(self) -> str:
+        return DONE if self.done else RUNNING if self.running > 0 else PARKED
+
+
 class MissionBridge:
     """Queues the mission thread's calls for the engine thread; tracks whether the mission runs or waits."""
 
@@ -60,8 +84,7 @@ class MissionBridge:
         """``now``, ``world_version`` (changes whenever a belief does) and ``report`` let the bridge tell of a
         mission that polls a world that does not change."""
         self._queue: queue.SimpleQueue[_Request] = queue.SimpleQueue()
-        self._cond = threading.Condition()
-        self._state = DONE
+        self._mission = _Mission()
         self._pending: set[_Request] = set()
         self._closed = False
         self._closed_at = 0.0
@@ -72,6 +95,39 @@ class MissionBridge:
         self._poll_version: int | None = None
         self._poll_reported = False
         self.preempted: BaseException | None = None
+
+    @property
+    def _cond(self) -> threading.Condition:
+        return self._mission.cond
+
+    @property
+    def _state(self) -> str:
+        return self._mission.state
+
+    def _running(self, change: int) -> None:
+        """``change`` threads of the mission start or stop running Python code (call with the lock held)."""
+        self._mission.running = max(0, self._mission.running + change)
+        self._cond.notify_all()
+
+    def thread_started(self) -> None:
+        """A thread of the script's own starts: the mission runs while it does."""
+        with self._cond:
+            self._running(+1)
+
+    def thread_ended(self) -> None:
+        with self._cond:
+            self._running(-1)
+
+    def blocked(self, blocked: bool) -> None:
+        """A thread of the mission waits for another of its threads (``join``), or no longer does."""
+        with self._cond:
+            self._running(-1 if blocked else +1)
+
+    def share_mission(self, others: Iterable[MissionBridge]) -> None:
+        """The bridges of other engines the same program drives see this one's mission: it runs, waits or is
+        done once, whichever engine it calls (a lockstep loop over them waits for it as for one)."""
+        for other in others:
+            other._mission = self._mission
 
     # -- the mission's side ------------------------------------------------------------
     def call(self, function: Callable[[], Any]) -> Any:
@@ -104,7 +160,7 @@ class MissionBridge:
         with self._cond:
             self.preempted = preempted
             if self._pending:  # the woken mission runs on: a lockstep loop waits for it, as after close()
-                self._state = RUNNING
+                self._running(len(self._pending))
             for request in self._pending:
                 request.error, self.preempted = preempted, None
                 request.done.set()
@@ -113,18 +169,22 @@ class MissionBridge:
 
     def mission_started(self) -> None:
         with self._cond:
-            self._state = RUNNING
+            self._mission.done, self._mission.running = False, 1
             self._closed = False
 
     def mission_finished(self) -> None:
         with self._cond:
-            self._state = DONE
+            self._mission.done = True
             self._cond.notify_all()
 
     # -- the engine's side ---------------------------------------------------------------
     @property
     def state(self) -> str:
-        return self._state
+        mission = self._mission
+        if mission.state == RUNNING and mission.polls >= CALLS_PER_TICK and self._now is not None \
+                and mission.polls_at == self._now():
+            return POLLING
+        return mission.state
 
     @property
     def queued(self) -> int:
@@ -156,6 +216,11 @@ class MissionBridge:
                     self._polled()
                     if lockstep and served >= CALLS_PER_TICK:
                         return  # the engine steps on: polling lets time move
+                elif request.done.is_set():  # a wait that ended at once (a refused request): time moves on first
+                    if self._now is not None:
+                        self._mission.polls, self._mission.polls_at = CALLS_PER_TICK, self._now()
+                    if lockstep:
+                        return
                 continue
             with self._cond:
                 # in lockstep the mission's own code runs to its next call even while held (a wait that ended
@@ -177,6 +242,8 @@ class MissionBridge:
         if self._now is None:
             return
         now = self._now()
+        mission = self._mission
+        mission.polls, mission.polls_at = (mission.polls + 1, now) if mission.polls_at == now else (1, now)
         version = self._world_version() if self._world_version is not None else None
         if self._poll_since is None or version != self._poll_version:
             self._polls, self._poll_since, self._poll_version, self._poll_reported = 0, now, version, False
@@ -205,7 +272,7 @@ class MissionBridge:
             request.done.set()
             return
         with self._cond:
-            self._state = PARKED
+            self._running(-1)
             self._pending.add(request)
 
         def resolve(value: Any) -> None:
@@ -214,7 +281,7 @@ class MissionBridge:
                     return
                 self._pending.discard(request)
                 request.value = value
-                self._state = RUNNING
+                self._running(+1)
                 request.done.set()
 
         try:
@@ -224,7 +291,7 @@ class MissionBridge:
             with self._cond:
                 self._pending.discard(request)
                 request.error = MissionAborted("interrupted by the operator") if interrupted else exc
-                self._state = RUNNING
+                self._running(+1)
                 request.done.set()
             if interrupted:
                 raise
@@ -235,7 +302,7 @@ class MissionBridge:
             self._closed = True
             self._closed_at = time.monotonic()
             if self._pending:  # the woken mission now runs to its end: a lockstep loop waits for it (a moment)
-                self._state = RUNNING
+                self._running(len(self._pending))
             for request in self._pending:
                 request.error = MissionAborted("the engine has stopped")
                 request.done.set()

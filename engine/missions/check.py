@@ -39,7 +39,11 @@ from aeroexec.engine.missions.api_modules import (
     module_label,
     offers,
 )
+from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants
+from aeroexec.engine.missions.drone_objects import DroneObjects, Unknown
 from aeroexec.engine.missions.imports import missing_imports
+from aeroexec.engine.missions.ros import ros_problems
+from aeroexec.engine.missions.script import is_script
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.missions.source import parse_source
 from aeroexec.engine.yaml_nodes import suggestion
@@ -49,7 +53,6 @@ from aeroexec.limits import InputError, read_text
 logger = logging.getLogger(__name__)
 
 ENTRY_POINTS = ("mission", "runMission")
-_NOT_LITERAL = object()
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,41 +68,23 @@ class MissionProblem(Problem):
         return f"{where}: {self.severity}: {self.kind + ': ' if self.kind else ''}{self.message}"
 
 
-class _Opaque:
-    """A value the checker cannot know (a variable, a call): never judged."""
-
-    def __repr__(self) -> str:
-        return "<not a literal>"
-
-
-def literal(node: ast.AST) -> Any:
-    """The value of a literal (numbers, text, booleans, negative numbers, lists and tuples of them), or _NOT_LITERAL."""
-    if isinstance(node, ast.Constant) and not isinstance(node.value, bytes) and node.value is not Ellipsis:
-        return node.value
-    if (isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd)
-            and isinstance(node.operand, ast.Constant) and type(node.operand.value) in (int, float)):
-        return -node.operand.value if isinstance(node.op, ast.USub) else node.operand.value
-    if isinstance(node, ast.List | ast.Tuple):
-        items = [literal(e) for e in node.elts]
-        return _NOT_LITERAL if any(i is _NOT_LITERAL for i in items) else tuple(items)
-    return _NOT_LITERAL
-
-
 class MissionChecker:
     """Checks one parsed mission program; ``problems`` collects what it finds."""
 
     def __init__(self, tree: ast.Module, file: str, specialist: BehaviorSpecialist) -> None:
         self.tree, self.file, self.specialist = tree, file, specialist
         self.catalog = specialist.catalog
-        self.bindings = api_bindings(tree)
+        self.constants = Constants(tree)
+        self.bindings = api_bindings(self.constants.nodes)
         self.problems: list[MissionProblem] = []
         self._seen: set[tuple[int, int, str]] = set()
+        self.nodes, self.parents = self.constants.nodes, self.constants.parents  # the program is walked once
         self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
-        for node in ast.walk(tree):
+        for node in self.nodes:
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
                 self.functions.setdefault(node.name, []).append(node)
-        self.effectful_functions = self._effectful_functions()
-        self._effect_cache: dict[int, bool] = {}
+        self.drones = DroneObjects(self)
+        self.effectful_functions, self._effectful = self._effects()
         self.vocabulary, self.open_vocabulary = self._vocabulary()
 
     def _vocabulary(self) -> tuple[dict[str, int], bool]:
@@ -107,16 +92,16 @@ class MissionChecker:
         (whose predicate cannot be known)."""
         vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
         computed = False
-        for node in ast.walk(self.tree):
+        for node in self.nodes:
             if isinstance(node, ast.Call) and (self.api_member(node.func) or ("", ""))[1] == "add_rules":
-                text = literal(node.args[0]) if node.args else _NOT_LITERAL  # the predicates its rules derive
+                text = self.value(node.args[0]) if node.args else NOT_CONSTANT  # the predicates its rules derive
                 computed = computed or not isinstance(text, str)
                 with contextlib.suppress(BeliefError):
                     vocabulary.update({r.head.name: r.head.arity for r in parse_rules(text)} if isinstance(
                         text, str) else {})
             if isinstance(node, ast.Call) and self.api_function(node.func) == "add_belief":
                 argument = self.belief_argument(node)
-                text = literal(argument) if argument is not None else _NOT_LITERAL
+                text = self.value(argument) if argument is not None else NOT_CONSTANT
                 if not isinstance(text, str):
                     computed = True
                     continue
@@ -126,6 +111,10 @@ class MissionChecker:
                     continue
                 vocabulary.setdefault(belief.name, len(belief.args))
         return vocabulary, computed
+
+    def value(self, node: ast.AST) -> Any:
+        """The constant an expression stands for (literals, and names bound once to them), or NOT_CONSTANT."""
+        return self.constants.value(node)
 
     @staticmethod
     def belief_argument(call: ast.Call) -> ast.AST | None:
@@ -171,7 +160,7 @@ class MissionChecker:
 
     # -- request checks ----------------------------------------------------------------
     def check_program(self) -> None:
-        for node in ast.walk(self.tree):
+        for node in self.nodes:
             if isinstance(node, ast.Attribute):  # imported names are checked at their import
                 member = self.api_member(node)
                 if member is not None and not offers(*member):
@@ -186,13 +175,14 @@ class MissionChecker:
                                           f"{module_label(node.module)}{suggestion(alias.name, known)}", WRONG_FORMAT)
             elif isinstance(node, ast.Call):
                 function = self.api_function(node.func)
+                self.drones.check(node)
                 if function in RUN or function in NAME_ONLY:
                     self.check_behavior_call(node, function)
                 elif function in BELIEF:
                     self.check_belief_call(node, function)
                 elif function == "wait" and node.args:
-                    seconds = literal(node.args[0])
-                    if seconds is not _NOT_LITERAL and not (_is_number(seconds) and seconds >= 0):
+                    seconds = self.value(node.args[0])
+                    if seconds is not NOT_CONSTANT and not (_is_number(seconds) and seconds >= 0):
                         self.report(node.args[0], f"The value {format_value(seconds)} of wait is not correct "
                                                   f"(a number of seconds, 0 or more, is expected)", WRONG_VALUE)
 
@@ -202,7 +192,7 @@ class MissionChecker:
         function = self.api_function(call.func)
         if function == "inhibit_behavior" and self.aerostack_call(call):
             given = [*call.args, *(k.value for k in call.keywords if k.arg in ("name", "behavior", "task"))]
-            return next((n for n in given if isinstance(literal(n), str)), None)
+            return next((n for n in given if isinstance(self.value(n), str)), None)
         keywords = ("name", "behavior", "task", "planner")
         return call.args[0] if call.args else next((k.value for k in call.keywords if k.arg in keywords), None)
 
@@ -214,8 +204,8 @@ class MissionChecker:
         if node is None:
             self.report(call, f"{ast.unparse(call.func)}() needs the name of a behavior", WRONG_FORMAT)
             return None
-        value = literal(node)
-        if value is _NOT_LITERAL:
+        value = self.value(node)
+        if value is NOT_CONSTANT:
             self.report(node, f"The behavior name is computed ({ast.unparse(node)}): the behavior and its "
                               f"arguments are checked only when the mission runs", severity="warning")
             return None
@@ -234,11 +224,11 @@ class MissionChecker:
                 star = True
             elif keyword.arg not in api.RESERVED and keyword.arg not in ("name", "behavior", "task", "planner"):
                 key = known.get(keyword.arg.upper(), keyword.arg.upper())
-                value = literal(keyword.value)
+                value = self.value(keyword.value)
                 nodes[key] = keyword.value
-                if value is _NOT_LITERAL:
+                if value is NOT_CONSTANT:
                     opaque.add(key)
-                    value = _Opaque()
+                    value = Unknown()
                 arguments[key] = value
         return arguments, opaque, star, nodes
 
@@ -263,8 +253,8 @@ class MissionChecker:
                 continue
             self.report(nodes[about[0]] if about else call, error.message, error.kind)
         given = {k.arg: k.value for k in call.keywords if k.arg in api.RESERVED}
-        timeout = literal(given["timeout"]) if "timeout" in given else _NOT_LITERAL
-        if timeout is not _NOT_LITERAL and not (_is_number(timeout) and timeout > 0):
+        timeout = self.value(given["timeout"]) if "timeout" in given else NOT_CONSTANT
+        if timeout is not NOT_CONSTANT and not (_is_number(timeout) and timeout > 0):
             self.report(given["timeout"], f"The value {format_value(timeout)} of argument timeout for behavior "
                                           f"{name} is not correct (a positive number of seconds is expected)",
                         WRONG_VALUE)
@@ -275,8 +265,8 @@ class MissionChecker:
 
     def check_belief_call(self, call: ast.Call, function: str) -> None:
         node = self.belief_argument(call)
-        text = literal(node) if node is not None else _NOT_LITERAL
-        if text is _NOT_LITERAL:
+        text = self.value(node) if node is not None else NOT_CONSTANT
+        if text is NOT_CONSTANT:
             return
         if not isinstance(text, str):
             self.report(node, f"The format of the belief expression {format_value(text)} is not correct "
@@ -306,56 +296,83 @@ class MissionChecker:
             self.report(node, exc.message, WRONG_FORMAT)
 
     # -- sequences ------------------------------------------------------------------------
-    def behavior_request(self, call: ast.Call) -> tuple[str, str | None, dict[str, Any], set[str]] | None:
-        """For a call that runs or inhibits a behavior: the API function, the literal behavior name (None when
-        not literal), its catalog-cased arguments and the names of those not known (``**`` for ``**kwargs``)."""
+    def behavior_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+        """For a call that runs or inhibits behaviors (an API function, or a drone interface's module), each
+        request: the API function, the behavior name (None when not known), its catalog-cased arguments and the
+        names of those not known (``**`` for ``**kwargs``); empty for any other call."""
         function = self.api_function(call.func)
         if function not in SEQUENCE:
-            return None
+            return self.drones.sequence_requests(call)
         node = self.name_node(call)
-        name = literal(node) if node is not None else _NOT_LITERAL
+        name = self.value(node) if node is not None else NOT_CONSTANT
         if not isinstance(name, str):
-            return function, None, {}, set()
+            return [(function, None, {}, set())]
         descriptor = self.catalog.behavior(name.upper())
         if descriptor is None:
-            return function, name.upper(), {}, set()
+            return [(function, name.upper(), {}, set())]
         arguments, opaque, star, _ = self.request(call, descriptor)
-        return function, name.upper(), arguments, opaque | ({"**"} if star else set())
+        return [(function, name.upper(), arguments, opaque | ({"**"} if star else set()))]
 
     def calls_local_behaviors(self, call: ast.Call) -> bool:
         """True when ``call`` calls one of the program's functions that run or inhibit behaviors."""
         return _called_name(call) in self.effectful_functions
 
-    def _calls_behaviors(self, node: ast.AST, effectful: set[str]) -> bool:
-        for sub in ast.walk(node):
-            if isinstance(sub, ast.Call) and (self.api_function(sub.func) in SEQUENCE
-                                              or _called_name(sub) in effectful):
-                return True
-        return False
+    def local_function(self, call: ast.Call) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """The program's top-level function a plain call runs (None for a method, or a name defined twice)."""
+        if not isinstance(call.func, ast.Name) or len(self.functions.get(call.func.id, ())) != 1:
+            return None
+        function = self.functions[call.func.id][0]
+        return function if function in self.tree.body else None
 
-    def _effectful_functions(self) -> set[str]:
-        """Names of the program's functions that run or inhibit behaviors, directly or through each other."""
-        effectful: set[str] = set()
-        changed = True
-        while changed:
-            changed = False
-            for name, defs in self.functions.items():
-                if name not in effectful and any(self._calls_behaviors(d, effectful) for d in defs):
-                    effectful.add(name)
-                    changed = True
-        return effectful
+    def _effects(self) -> tuple[set[str], set[int]]:
+        """The names of the program's functions that run or inhibit behaviors, directly or through each other,
+        and every node that holds such a call (in one pass over the program, then up the parents)."""
+        calls = [n for n in self.nodes if isinstance(n, ast.Call)]
+        direct = [c for c in calls if self.api_function(c.func) in SEQUENCE or self.drones.as2_call(c) is not None]
+        within: dict[int, list[str]] = {}  # id(call) -> the names of the functions around it
+
+        def functions_around(call: ast.Call) -> list[str]:
+            if id(call) not in within:
+                names, node = [], self.parents.get(id(call))
+                while node is not None:
+                    if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                        names.append(node.name)
+                    node = self.parents.get(id(node))
+                within[id(call)] = names
+            return within[id(call)]
+
+        effectful = {name for call in direct for name in functions_around(call)}
+        callers: dict[str, set[str]] = {}  # called name -> the functions whose bodies call it
+        for call in calls:
+            name = _called_name(call)
+            if name is not None:
+                callers.setdefault(name, set()).update(functions_around(call))
+        waiting = list(effectful)
+        while waiting:
+            for caller in callers.get(waiting.pop(), ()):
+                if caller not in effectful:
+                    effectful.add(caller)
+                    waiting.append(caller)
+        marked: set[int] = set()
+        for call in [*direct, *(c for c in calls if _called_name(c) in effectful)]:
+            node: ast.AST | None = call
+            while node is not None and id(node) not in marked:
+                marked.add(id(node))
+                node = self.parents.get(id(node))
+        return effectful, marked
 
     def effectful(self, node: ast.AST) -> bool:
-        key = id(node)
-        if key not in self._effect_cache:
-            self._effect_cache[key] = self._calls_behaviors(node, self.effectful_functions)
-        return self._effect_cache[key]
+        """True when ``node`` holds a call that runs or inhibits behaviors."""
+        return id(node) in self._effectful
 
     def sequence_checkable(self) -> bool:
-        """False when behaviors may run through a reference the checker cannot follow (stored, passed, getattr)."""
-        followed = {id(n.func) for n in ast.walk(self.tree) if isinstance(n, ast.Call)}
-        followed |= {id(n.value) for n in ast.walk(self.tree) if isinstance(n, ast.Attribute)}
-        for node in ast.walk(self.tree):
+        """False when behaviors may run through a reference the checker cannot follow (stored, passed, getattr),
+        or on several drones (each has its own flight)."""
+        if self.drones.several:
+            return False
+        followed = {id(n.func) for n in self.nodes if isinstance(n, ast.Call)}
+        followed |= {id(n.value) for n in self.nodes if isinstance(n, ast.Attribute)}
+        for node in self.nodes:
             if isinstance(node, ast.Name | ast.Attribute) and id(node) not in followed:
                 function = self.api_function(node)
                 if function in SEQUENCE or self.dotted(node) in API_MODULES:
@@ -388,10 +405,15 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     for statement, module in missing_imports(tree, filename):
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
                        WRONG_FORMAT)
+    for node, severity, message in ros_problems(checker.nodes, checker.dotted):
+        checker.report(node, message, WRONG_FORMAT if severity == "error" else "", severity)
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)
-    if entry is None:
+    if entry is None and is_script(tree, checker.nodes):  # an Aerostack2 script: it runs whole, from its start
+        if checker.sequence_checkable():
+            SequenceWalker(checker).check_body(tree.body)
+    elif entry is None:
         checker.problems.append(MissionProblem("error", "The mission has no mission() or runMission() function",
                                                filename, 0, WRONG_FORMAT))
     elif entry.args.args[len(entry.args.defaults):] or entry.args.posonlyargs or [

@@ -1,7 +1,8 @@
 """The modules a Python mission imports that cannot be found: the mission would stop at its import.
 
 Only absolute imports outside ``try`` blocks are judged (a mission may guard an optional import), by their
-top-level package, without importing anything of the mission's.
+top-level package, without importing anything of the mission's. ROS modules are judged by their use
+(:func:`aeroexec.engine.missions.ros.ros_problems`).
 """
 
 from __future__ import annotations
@@ -9,6 +10,8 @@ from __future__ import annotations
 import ast
 import importlib.util
 from pathlib import Path
+
+from aeroexec.engine.missions.ros import is_ros
 
 
 def _statements(body: list[ast.stmt]):
@@ -37,6 +40,8 @@ def missing_imports(tree: ast.Module, filename: str) -> list[tuple[ast.stmt, str
             continue
         for name in names:
             top = name.split(".")[0]
+            if is_ros(name):
+                continue  # judged by what the mission uses of it (ros.ros_problems)
             if not _found(top, here):
                 missing.append((statement, top))
     return missing

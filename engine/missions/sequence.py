@@ -28,6 +28,8 @@ from aeroexec.engine.catalog.specialist import PhenomenonState, Request
 from aeroexec.engine.errors import WRONG_SEQUENCE
 
 State = dict[str, PhenomenonState | None]  # None: unknown
+#: How deep the walk follows calls of the program's own functions into their bodies.
+MAX_INLINED = 8
 
 
 class MissionChecker(Protocol):
@@ -37,8 +39,9 @@ class MissionChecker(Protocol):
     catalog: BehaviorCatalog
 
     def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None: ...
-    def behavior_request(self, call: ast.Call) -> tuple[str, str | None, dict[str, Any], set[str]] | None: ...
+    def behavior_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]: ...
     def calls_local_behaviors(self, call: ast.Call) -> bool: ...
+    def local_function(self, call: ast.Call) -> ast.FunctionDef | ast.AsyncFunctionDef | None: ...
     def effectful(self, node: ast.AST) -> bool: ...
 
 
@@ -50,10 +53,16 @@ class SequenceWalker:
         self.unknown: State = dict.fromkeys(self.specialist.initial_states())
         self.loops: list[tuple[list[State | None], list[State | None]]] = []  # breaks, continues
         self.silent = 0  # > 0 while looking for a loop's fixed point: nothing is reported
+        self.inlined: list[str] = []  # the program's functions being walked into, innermost last
+        self.returns: list[list[State | None]] = []  # the states their return statements leave
 
     def check(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Walk a function's body from the mission's initial states (landed, lights off)."""
-        self.block(function.body, self.specialist.initial_states())
+        self.check_body(function.body)
+
+    def check_body(self, statements: list[ast.stmt]) -> None:
+        """Walk statements (a function's body, or a script's) from the mission's initial states."""
+        self.block(statements, self.specialist.initial_states())
 
     def join(self, *states: State | None) -> State | None:
         reached = [s for s in states if s is not None]
@@ -108,6 +117,8 @@ class SequenceWalker:
             state = self.expression(child, state)
         if self.loops and isinstance(node, ast.Break | ast.Continue):
             self.loops[-1][0 if isinstance(node, ast.Break) else 1].append(state)
+        if self.returns and isinstance(node, ast.Return):
+            self.returns[-1].append(state)
         return None if ends else state
 
     def loop(self, node: ast.For | ast.AsyncFor | ast.While, start: State | None, test: ast.expr | None,
@@ -166,9 +177,37 @@ class SequenceWalker:
         if state is None:
             return None
         checker = self.checker
-        request = checker.behavior_request(node)
-        if request is None:
-            return self.unknown if checker.calls_local_behaviors(node) else state
+        requests = checker.behavior_requests(node)
+        if not requests:
+            if not checker.calls_local_behaviors(node):
+                return state
+            return self.inline(node, state)
+        for request in requests:
+            state = self.request(node, request, state)
+        return state
+
+    def inline(self, node: ast.Call, state: State) -> State | None:
+        """Walk into a function of the program's own that the call runs (``drone_start(uav)``), from ``state``;
+        the states its returns leave joined. Methods, recursion and functions defined twice are unknown."""
+        function = self.checker.local_function(node)
+        if function is None or function.name in self.inlined or len(self.inlined) >= MAX_INLINED:
+            return self.unknown
+        self.inlined.append(function.name)
+        self.returns.append([])
+        saved, self.loops = self.loops, []
+        try:
+            end = self.block(function.body, state)
+        finally:
+            self.loops = saved
+            returned = self.returns.pop()
+            self.inlined.pop()
+        return self.join(end, *returned)
+
+    def request(self, node: ast.Call, request: tuple[str, str | None, dict[str, Any], set[str]],
+                state: State | None) -> State | None:
+        if state is None:
+            return None
+        checker = self.checker
         function, name, arguments, uncertain = request
         if name is None:
             return self.unknown

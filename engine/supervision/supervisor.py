@@ -20,10 +20,17 @@ the loop. Every command is recorded as an ``operator_command`` event (``command`
   not end "completed". Time waited with ``wait`` or a tree's Delay/Timeout keeps running while paused.
 - abort: the mission stops (its waiting call raises MissionAborted, an attached tree is halted), every
   behavior but LAND is stopped and, when the drone is in the air, LAND is activated at the higher priority.
+- the changes of the running mission (skip, jump, insert, modify, delete, replace, load:
+  :mod:`aeroexec.engine.supervision.changes`) are checked and made by the flight's :attr:`Supervisor.changes` (a
+  bare engine takes a Python mission's skip only); each is recorded as a ``mission_change`` event (``command``,
+  ``argument``, ``origin``, ``ok``, ``problems`` when refused, ``edits`` and ``mission`` when taken: see
+  :class:`~aeroexec.engine.supervision.changes.ChangeOutcome`) instead of ``operator_command``. ``items``
+  lists the mission's items (read only).
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import threading
 from collections import deque
@@ -33,14 +40,21 @@ from typing import Any, Protocol
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
 from aeroexec.engine.events import Outcome
+from aeroexec.engine.supervision.changes import (
+    CHANGES,
+    ChangeError,
+    MissionChange,
+    make_change,
+    parse_aerostack2_update,
+)
 from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
 
 LAND_BEHAVIOR = "LAND"
 LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
-COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status", "query")
-READ_ONLY = ("status", "query")  # commands that change nothing: not logged as operator commands
+COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status", "query", "items", *CHANGES)
+READ_ONLY = ("status", "query", "items")  # commands that change nothing: not logged as operator commands
 MAX_ANSWERS = 100  # unifications a query returns at most
 RUNNING, PAUSED, ABORTED = "running", "paused", "aborted"
 
@@ -69,6 +83,7 @@ class Ticket:
 
     def __init__(self, command: str, argument: str, origin: str) -> None:
         self.command, self.argument, self.origin = command, argument, origin
+        self.prepared: Any = None  # what a change needs done before the engine's thread (a file to load, read)
         self.result: CommandResult | None = None
         self._done = threading.Event()
 
@@ -92,12 +107,26 @@ class Supervisor:
         self._missions: list[SupervisedMission] = []
         #: (activation, its on_end listeners, whether its preconditions held when paused), in order
         self._suspended: list[tuple[Any, list, bool]] = []
+        #: What checks and makes the changes of the running mission (the flight's ``MissionChanges``: ``prepare``,
+        #: ``change``, ``items``); a bare engine has none, and takes a Python mission's skip only.
+        self.changes: Any = None
         engine.tick_callbacks.append(self.run_pending)
 
     # -- from any thread ----------------------------------------------------------------------
     def submit(self, command: str, argument: str = "", origin: str = "ctl") -> Ticket:
-        """Queue a command for the engine's thread; the ticket tells its result once executed."""
+        """Queue a command for the engine's thread; the ticket tells its result once executed. A mission to load
+        is read and checked here, on the caller's thread."""
+        if command == "update":  # Aerostack2's mission update: one of the changes below, or refused as it is
+            try:
+                command, argument = parse_aerostack2_update(argument)
+            except ChangeError as error:
+                ticket = Ticket(command, argument, origin)
+                ticket.finish(CommandResult(False, str(error)))
+                return ticket
         ticket = Ticket(command, argument, origin)
+        if command == "load" and self.changes is not None:
+            with contextlib.suppress(ChangeError):  # said when executed
+                ticket.prepared = self.changes.prepare(MissionChange.parse(command, argument))
         with self._lock:
             self._queue.append(ticket)
         return ticket
@@ -131,10 +160,18 @@ class Supervisor:
                 if not self._queue:
                     return
                 ticket = self._queue.popleft()
-            ticket.finish(self.execute(ticket.command, ticket.argument, ticket.origin))
+            ticket.finish(self.execute(ticket.command, ticket.argument, ticket.origin, ticket.prepared))
 
-    def execute(self, command: str, argument: str = "", origin: str = "engine") -> CommandResult:
-        """Run one command now (call it on the engine's thread, or while the loop is not running)."""
+    def change(self, change: MissionChange, origin: str = "api") -> Ticket:
+        """Queue a change of the running mission (from any thread); the ticket tells whether it was taken."""
+        return self.submit(change.command, change.argument, origin)
+
+    def execute(self, command: str, argument: str = "", origin: str = "engine", prepared: Any = None
+                ) -> CommandResult:
+        """Run one command now (call it on the engine's thread, or while the loop is not running); ``prepared``:
+        what :meth:`submit` did for it on the caller's thread."""
+        if command in CHANGES:
+            return self._change(command, argument, origin, prepared)
         handler = getattr(self, f"_{command}", None) if command in COMMANDS else None
         if handler is None:
             result = CommandResult(False, f"unknown command {command!r}: expected one of {', '.join(COMMANDS)}")
@@ -242,6 +279,30 @@ class Supervisor:
                 coordinator.stop(name, reason)
         landing = start_landing(self.engine, reason)
         return CommandResult(True, f"mission aborted; {landing}")
+
+    # -- changes of the running mission ------------------------------------------------------------------
+    def _change(self, command: str, argument: str, origin: str, prepared: Any = None) -> CommandResult:
+        outcome = make_change(self.engine, self.changes, self.state == ABORTED, command, argument, origin, prepared)
+        return CommandResult(outcome.ok, outcome.message, {"problems": outcome.problems} if outcome.problems else {})
+
+    def suspended_requests(self) -> list[Any]:
+        """The activations a pause stopped, which resume requests again."""
+        return [activation for activation, _, _ in self._suspended]
+
+    def drop_suspended(self, activations: list[Any], outcome: Outcome = Outcome.INTERRUPTED,
+                       reason: str = "") -> None:
+        """Forget paused requests a change ended: resume does not request them again; their listeners hear
+        ``outcome`` (a halted tree leaf no longer listens)."""
+        dropped = [entry for entry in self._suspended if entry[0] in activations]
+        self._suspended = [entry for entry in self._suspended if entry[0] not in activations]
+        for _activation, listeners, _held in dropped:
+            self._tell(listeners, outcome, reason)
+
+    def _items(self, _: str) -> CommandResult:
+        items = self.changes.items() if self.changes is not None else []
+        if not items:
+            return CommandResult(False, "the mission has no items to list (a Python program, or none running)")
+        return CommandResult(True, f"{len(items)} item{'s' if len(items) != 1 else ''}", {"items": items})
 
     def _inhibit(self, name: str) -> CommandResult:
         name = name.upper()

@@ -4,7 +4,6 @@ why; a link that comes back within ``--link-grace`` lets the run land and disarm
 from __future__ import annotations
 
 import queue
-import socket
 import subprocess
 import sys
 import threading
@@ -15,6 +14,7 @@ import pytest
 from aeroexec.drones.interface import LandedState
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from free_ports import free_udp_port
 
 pytestmark = pytest.mark.mavsdk
 
@@ -22,11 +22,6 @@ ROOT = Path(__file__).parents[2]
 FIGURE10 = str(ROOT / "missions" / "figure10.py")
 RUN_S = 120.0  # s, wall: longest any run below may take
 
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class Run:

@@ -2,13 +2,13 @@
 ``aeroexec sim``; a wrong mission never flies."""
 
 import json
-import socket
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 import pytest
+from free_ports import free_udp_port
 
 ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
@@ -72,11 +72,6 @@ def test_bad_options_are_one_clear_line(tmp_path):
     assert result.returncode == 1 and "cannot read the mission" in result.stderr
     assert "Traceback" not in result.stderr
 
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 @pytest.mark.mavsdk

@@ -4,7 +4,6 @@ right exit status and the right stream; the words agree in number and with the r
 from __future__ import annotations
 
 import re
-import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -138,10 +137,9 @@ def test_the_report_counts_in_words_that_agree_and_says_what_it_draws(flown, tmp
 def test_the_plain_mavsdk_demo_prints_mavsdks_log_plain_and_without_debug_lines():
     from aeroexec.drones.sim import SimulatedDrone
     from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+    from free_ports import free_udp_port
 
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
+    port = free_udp_port()
     vehicle = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=8.0)
     vehicle.start()
     try:

@@ -178,7 +178,7 @@ def test_the_report_counts_refused_requests_and_plots_altitude_speed_battery(tmp
     mission = tmp_path / "refused.py"
     mission.write_text(
         "import aeroexec.engine.api as api\n\n\ndef mission():\n"
-        "    api.execute_behavior('TAKE_OFF', altitude=3)\n    x = 5\n"
+        "    api.execute_behavior('TAKE_OFF', altitude=3)\n    x = int('5')  # computed: verify leaves it to the run\n"
         "    api.execute_behavior('GO_TO_POINT', coordinates=(x, x, 3))\n"
         "    api.execute_behavior('GO_TO_POINT', coordinates=(-4, 0, 3))\n    api.execute_behavior('LAND')\n")
     run = aeroexec("run", str(mission), "--output", str(tmp_path / "out"), "--quiet")

@@ -91,7 +91,7 @@ def test_a_failed_clearance_precondition_in_flight_names_the_obstacle(tmp_path, 
 
         def mission():
             api.execute_behavior("TAKE_OFF", altitude=3)
-            x = 5
+            x = int("5")
             api.execute_behavior("GO_TO_POINT", coordinates=(x, x, 3))  # computed: verify cannot see it
             api.execute_behavior("LAND")
         '''))

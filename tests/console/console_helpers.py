@@ -3,6 +3,8 @@
 import socket
 from pathlib import Path
 
+from aeroexec.fleet.transport import free_port as free_tcp_port
+
 GEOMETRY = (Path(__file__).with_name("page_geometry.js")).read_text()
 
 TREE = """<root BTCPP_format="4" main_tree_to_execute="Main">
@@ -26,9 +28,7 @@ TREE = """<root BTCPP_format="4" main_tree_to_execute="Main">
 def free_port(pairs: int = 1) -> int:
     """A loopback port p free now, with p + 1 .. p + pairs - 1 free too (Groot2 uses p and p + 1)."""
     for _ in range(50):
-        with socket.socket() as s:
-            s.bind(("127.0.0.1", 0))
-            port = s.getsockname()[1]
+        port = free_tcp_port()  # below the ephemeral range, where a browser's connection cannot take it
         if port + pairs > 65535:
             continue
         try:

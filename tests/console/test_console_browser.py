@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 from selenium.webdriver.common.by import By
+from selenium.webdriver.support.select import Select
 from selenium.webdriver.support.ui import WebDriverWait
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
@@ -211,3 +212,34 @@ def test_a_fleet_shows_every_drone_on_one_map_with_a_drone_selector(browser, tmp
         if fleet.poll() is None:
             fleet.terminate()
             fleet.wait(timeout=30)
+
+
+def test_the_mission_is_changed_from_the_page_and_a_refused_change_says_why(browser, tmp_path):
+    run = Run(ROOT / "tests" / "changes" / "data" / "patrol.xml", tmp_path / "out", "--speed", "2")
+    try:
+        browser.get(run.url)
+        wait_for(browser, lambda d: node_status(d, "corner A") == "RUNNING", timeout=60, what="corner A RUNNING")
+        browser.find_element(By.ID, "pause").click()
+        wait_for(browser, lambda d: shown(d, "state") == "paused", what="PAUSED")
+        browser.find_element(By.ID, "skip").click()
+        wait_for(browser, lambda d: node_status(d, "corner A") == "SKIPPED", what="corner A SKIPPED")
+        Select(browser.find_element(By.ID, "change-command")).select_by_visible_text("insert")
+        for argument in ("after 3 TAKE_OFF", "after 3 'GO_TO_POINT COORDINATES=\"9, -3, 4\" name=detour'"):
+            field = browser.find_element(By.ID, "change-argument")
+            field.clear()
+            field.send_keys(argument)
+            browser.find_element(By.ID, "change").click()
+            if "TAKE_OFF" in argument:
+                wait_for(browser, lambda d: "TAKE_OFF needs landed" in shown(d, "message"),
+                         what="the refusal's reason")
+        wait_for(browser, lambda d: node_status(d, "detour") == "IDLE", what="the inserted item in the tree")
+        browser.find_element(By.ID, "abort").click()  # what the changes did is in the log: no need to fly on
+        browser.switch_to.alert.accept()
+        code, err = run.wait()
+        assert code == 4, err
+        changes = [(e["data"]["command"], e["data"]["ok"], e["data"]["origin"]) for e in run.events()
+                   if e["kind"] == "mission_change"]
+        assert changes == [("skip", True, "web console"), ("insert", False, "web console"),
+                           ("insert", True, "web console")]
+    finally:
+        run.stop()

@@ -12,6 +12,7 @@ from aeroexec.drones.mavsdk import MavsdkDrone, TelemetryRates
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from free_ports import free_udp_port
 from pymavlink.dialects.v20 import common as mavlink
 
 pytestmark = pytest.mark.mavsdk
@@ -23,11 +24,6 @@ AGREE_M = 0.3  # m: adapter telemetry and simulated state agree this well while 
 #: Each autopilot's name for flying on setpoints, holding position and returning home, as the adapter reports it.
 MODES = {"px4": ("OFFBOARD", "HOLD", "RETURN"), "ardupilot": ("GUIDED", "LOITER", "RTL")}
 
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 @pytest.fixture(params=["px4", "ardupilot"])

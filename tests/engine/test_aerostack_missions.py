@@ -264,7 +264,7 @@ def test_aeroexec_verify_and_run_take_a_levant_mission_as_it_is(tmp_path):
 
 
 def test_a_module_that_cannot_be_found_is_an_error_not_ready_to_fly():
-    found = problems("""import rospy
+    found = problems("""import sirocco_helpers
 import executive_engine_api as api
 try:
     import optional_helper
@@ -274,7 +274,34 @@ except ImportError:
 def runMission():
     api.executeBehavior('TAKE_OFF')
 """)
-    assert found == [(1, "error", "The module rospy cannot be found: the mission would stop at this import")]
+    assert found == [(1, "error", "The module sirocco_helpers cannot be found: the mission would stop at this "
+                                  "import")]
+
+
+def test_a_ros_module_imported_and_never_used_is_a_warning_and_its_use_an_error_at_its_line():
+    unused = problems("""import rospy
+import mission_execution_control as mxc
+
+def mission():
+    mxc.executeTask('TAKE_OFF')
+    mxc.executeTask('LAND')
+""")
+    assert unused == [(1, "warning", "rospy is imported but never used: the mission runs without it (a use would "
+                                     "be refused: this mission uses ROS beyond Aerostack's mission API)")]
+    used = problems("""import rospy
+from std_msgs.msg import String
+import mission_execution_control as mxc
+
+def mission():
+    mxc.executeTask('TAKE_OFF')
+    rospy.sleep(2)
+    mxc.executeTask('LAND')
+""")
+    assert used == [
+        (2, "warning", "std_msgs.msg.String is imported but never used: the mission runs without it (a use would "
+                       "be refused: this mission uses ROS beyond Aerostack's mission API)"),
+        (7, "error", "rospy.sleep: this mission uses ROS beyond Aerostack's mission API"),
+    ]
 
 
 def test_verify_knows_every_function_the_aerostack_modules_offer():

@@ -150,10 +150,10 @@ def test_inhibit_add_remove_and_unknown_commands(engine):
     assert "1 belief" in engine.supervisor.execute("remove", "visible(?x)").message
     assert not engine.memory.holds("visible(?x)")
     assert not engine.supervisor.execute("add", "visible(").ok
-    assert not engine.supervisor.execute("jump").ok
+    assert not engine.supervisor.execute("warp").ok
     status = engine.supervisor.execute("status")
     assert status.data["state"] == "running" and status.data["landed_state"] == "on_ground"
-    assert [c for c, _ in commands(engine)] == ["inhibit", "inhibit", "add", "remove", "add", "jump"]
+    assert [c for c, _ in commands(engine)] == ["inhibit", "inhibit", "add", "remove", "add", "warp"]
 
 
 def test_commands_submitted_from_another_thread_run_on_the_tick(engine):

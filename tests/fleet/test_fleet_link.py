@@ -72,11 +72,16 @@ def test_malformed_and_foreign_messages_are_dropped_and_the_engine_goes_on(fleet
 def test_a_silent_drones_beliefs_expire_and_it_is_reported(fleet):
     endpoint, engine, link, other = fleet
     link.node.lockstep(["d2"], wait=False)  # d2 is flown by another worker of this run: on the same (engine) time
-    say(other, "d2", ("telemetry", {"position": [1, 2, 3]}), ("beliefs", {"beliefs": ["object(marker_5, aruco)"]}),
-        ("broadcast", {"text": "on my way"}), period=0)
+    told = []  # what watches the memory (rules, safety monitors, the event log) hears of d2's position
+    engine.memory.subscribe(lambda change: told.append((change.kind, str(change.belief)))
+                            if change.belief.name == "position" else None)
+    say(other, "d2", ("telemetry", {"position": [1, 2, 3], "velocity": [0.52, -1.04, 0]}),
+        ("beliefs", {"beliefs": ["object(marker_5, aruco)"]}), ("broadcast", {"text": "on my way"}), period=0)
     assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)")
                   and engine.memory.holds("position(d2, (1.0, 2.0, 3.0))")
                   and engine.memory.holds('message(d2, "on my way")'))
+    assert engine.memory.holds("velocity(d2, (0.5, -1.0, 0.0))")
+    assert ("added", "position(d2, (1.0, 2.0, 3.0))") in told
     said = engine.now()
     while engine.now() < said + 8:  # d2 keeps talking for 8 s of engine time: its message stays (persistence: 5 s)
         say(other, "d2", ("telemetry", {"position": [1, 2, 3]}), period=0)
@@ -89,6 +94,7 @@ def test_a_silent_drones_beliefs_expire_and_it_is_reported(fleet):
     engine.step(3.0)
     assert not engine.memory.holds('message(d2, "on my way")')
     assert not engine.memory.holds("object(marker_5, aruco)") and not engine.memory.holds("position(d2, ?P)")
+    assert not engine.memory.holds("velocity(d2, ?V)") and told[-1] == ("removed", "position(d2, (1.0, 2.0, 3.0))")
     assert not engine.memory.holds("said(d2, ?B)")
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import queue
-import socket
 import subprocess
 import sys
 import threading
@@ -18,11 +17,6 @@ ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
 RUN_S = 120.0  # s, wall: longest any run below may take
 
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class Command:

@@ -7,7 +7,8 @@ import subprocess
 import sys
 
 import pytest
-from flight_runs import MISSIONS, Command, ended, free_udp_port, read_log
+from flight_runs import MISSIONS, Command, ended, read_log
+from free_ports import free_udp_port
 
 PATROL = str(MISSIONS / "square_patrol.py")
 

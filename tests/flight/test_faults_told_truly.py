@@ -12,7 +12,8 @@ from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
 from aeroexec.engine.events import EventLog
 from aeroexec.flight.run_status import SUSPENDED, run_status
-from flight_runs import MISSIONS, Command, ended, free_udp_port, read_log
+from flight_runs import MISSIONS, Command, ended, read_log
+from free_ports import free_udp_port
 from pymavlink.dialects.v20.common import MAVLINK_MSG_ID_GLOBAL_POSITION_INT
 
 FIGURE10 = str(MISSIONS / "figure10.py")

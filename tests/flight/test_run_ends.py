@@ -13,7 +13,8 @@ import pytest
 from aeroexec.drones.interface import LandedState
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
-from flight_runs import MISSIONS, Command, ended, free_udp_port, landed, read_log
+from flight_runs import MISSIONS, Command, ended, landed, read_log
+from free_ports import free_udp_port
 
 FIGURE10 = str(MISSIONS / "figure10.py")
 FIGURE10_TREE = str(MISSIONS / "figure10.xml")

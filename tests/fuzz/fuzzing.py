@@ -269,6 +269,28 @@ def _fleet_certificate(path: Path) -> list[str]:
     except CredentialsError as error:
         return [str(error)]
     return []
+
+
+def _fragment(path: Path) -> list[str]:
+    """A fragment of a change in flight (XML or BEHAVIOR PORT=VALUE), read and its nodes checked as a change's are."""
+    global _catalog
+    from aeroexec.trees.loaders.fragment import read_fragment
+    from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
+    from aeroexec.trees.verify import TreeVerifier
+
+    _catalog = _catalog or default_catalog()
+    try:
+        nodes = read_fragment(path.read_bytes().decode("utf-8", "replace"), str(path))
+    except TreeFormatError as error:
+        return [f"{file}:{line}: {message}" for file, line, message in error.problems]
+    verifier = TreeVerifier(TreeDocument({"m": TreeNode("Sequence", "m", {}, nodes, str(path), 1)}, "m", str(path)),
+                            _catalog)
+    for node in nodes:
+        for inner in node.walk():
+            verifier.check_node(inner)
+    return [str(p) for p in verifier.problems if p.severity == "error"]
+
+
 REAL = "tests/plans/data/real_missions"  # real mission files, SOURCES.md says from where
 
 
@@ -278,7 +300,9 @@ def _files(*patterns: str) -> tuple[Path, ...]:
 
 FORMATS = {f.name: f for f in [
     Format("BT.CPP XML", ".xml", _files("missions/figure10.xml", "missions/iarc7.xml",
-                                        "tests/trees/data/inspection.xml"), _mission),
+                                        "tests/trees/data/inspection.xml",  # and Aerostack2's, mapped at load
+                                        "tests/aerostack/data/aerostack2_trees/as2_RTL_test_2.xml",
+                                        "tests/aerostack/data/aerostack2_trees/gazebo_square.xml"), _mission),
     Format("TML", ".tml.xml", _files("missions/*.tml.xml"), _mission),
     Format("QGroundControl plans", ".plan",
            _files("missions/*.plan", f"{REAL}/sky_mission/*.plan", f"{REAL}/qgroundcontrol/SectionTest.plan"),
@@ -289,9 +313,14 @@ FORMATS = {f.name: f for f in [
            _files(f"{REAL}/ardupilot/copter_mission.txt", f"{REAL}/qgroundcontrol/MissionPlanner.waypoints"),
            _mission),
     Format("Python missions", ".py", _files("missions/inspection.py", "missions/square_patrol.py",
-                                            "missions/marker_search.py"), _mission),
+                                            "missions/marker_search.py",  # and Aerostack2's scripts
+                                            "tests/aerostack/data/aerostack2_scripts/as2_example1.py",
+                                            "tests/aerostack/data/aerostack2_scripts/gazebo_mission_swarm.py"),
+           _mission),
     Format("YAML trees", ".yaml", _files("missions/square_patrol.yaml", "missions/iarc7.yaml",
-                                         "tests/trees/data/inspection.yaml"), _mission),
+                                         "tests/trees/data/inspection.yaml",  # and Aerostack2's interpreter plans
+                                         "tests/aerostack/data/aerostack2_plans/*.yaml"),  # (.json: the same reader)
+           _mission),
     Format("Aerostack nodes: YAML", ".yaml", _files("tests/trees/data/inspection_aerostack.yaml",
                                                     "tests/trees/data/aerostack_tower_inspection.yaml"), _mission),
     Format("catalogs", ".yaml", _files("catalogs/aerial.yaml"), _catalog_file),
@@ -303,6 +332,7 @@ FORMATS = {f.name: f for f in [
     Format("fleet messages", ".msg", _files("tests/fuzz/seeds/*.msg"), _fleet_message),
     Format("fleet certificates", ".pem", _files("tests/fuzz/seeds/*.pem"), _fleet_certificate),
     Format("rules files", ".rules", _files("tests/fuzz/seeds/*.rules"), _rules),
+    Format("change fragments", ".fragment", _files("tests/fuzz/seeds/*.fragment"), _fragment),
 ]}
 
 #: Errors about a whole file, which rightly name the file without a line.

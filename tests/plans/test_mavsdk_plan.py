@@ -7,7 +7,6 @@ import asyncio
 import contextlib
 import json
 import math
-import socket
 import time
 
 import pytest
@@ -18,6 +17,7 @@ from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
 from aeroexec.trees.items.model import GLOBAL_FRAMES, POSITIONAL
 from aeroexec.trees.items.readers import load_item_mission
+from free_ports import free_udp_port
 from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
 from mavsdk.asyncio.plugins.action import ActionAsync
 from mavsdk.asyncio.plugins.mission_raw import MissionRawAsync
@@ -30,11 +30,6 @@ SPEED = 20.0  # simulated seconds per wall second
 WAIT_S = 60.0  # s, wall: the longest any phase may take
 PLAN = DATA / "idt_assignments" / "uas_center_autonomous_flight.plan"  # Odense, with hold times and a return
 
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 async def _until(check, what: str, timeout: float = WAIT_S) -> None:

@@ -20,11 +20,13 @@ import behaviortreepy as bt
 import pytest
 from aeroexec.cli.main import main
 from aeroexec.engine.catalog import default_catalog
+from aeroexec.trees.aerostack2_nodes import is_aerostack2
 from aeroexec.trees.groot import palette_ports
 from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.portability import portability_problems
+from aeroexec.trees.tml.compiler import load_xml_mission
 from aeroexec.trees.verify import verify_document
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -37,6 +39,8 @@ CONDITIONS = {"CheckBelief"}
 
 def accepted(path: Path) -> bool:
     try:
+        if is_aerostack2(load_xml_mission(path)):
+            return False  # BehaviorTree.CPP 3 files for Aerostack2's plugins (tests/aerostack fly them)
         document = load_mission_tree(path)
     except TreeFormatError:
         return False

@@ -230,7 +230,7 @@ MALFORMED = [
     ("Aerostack parents in a cycle", "m.yaml",
      "nodes:\n  - {node: 1, parent: 0, subtype: sequence}\n  - {node: 2, parent: 3, subtype: sequence}\n"
      "  - {node: 3, parent: 2, subtype: sequence}\n", 3, "node 2 is not under the root: its parents form a cycle"),
-    ("unknown extension", "m.json", "{}", 0, "unknown mission file type .json"),
+    ("unknown extension", "m.csv", "{}", 0, "unknown mission file type .csv"),
 ]
 
 

@@ -9,7 +9,9 @@ a port it cannot read, recorded first as a ``tree_error`` naming the node and it
 after each tick with ``(node, status it returned)`` for every node it ticked (children before their parent, as
 py_trees' ``tick()`` yields them), and with None when the tree is halted. The tree is ticked one call per node
 (``trees.runtime.ticking``): the nodes record their status changes as they happen, and only those are reported.
-Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED).
+Halting a tree halts every running node and stops every behavior the tree started (INTERRUPTED). When a change
+while it runs (``trees.runtime.changes``) gives the tree other nodes, :meth:`TreeMission.restructure` rebuilds its
+node list and places, and ``restructured`` listeners (the .btlog writer, Groot2) hear of it before the next tick.
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ class TreeMission:
         self.done = False
         self.paused = False  # by the operator (engine.supervisor): the tree is not ticked
         self.observers: list[Callable[[list[tuple[Behaviour, str]] | None], None]] = []  # e.g. the .btlog writer
+        self.restructured: list[Callable[[], None]] = []  # told when a change gave the tree other nodes
 
     # -- on the engine loop --------------------------------------------------------------------
     def start(self) -> None:
@@ -87,15 +90,16 @@ class TreeMission:
             self._finish("mission_completed" if self.status == Status.SUCCESS else "mission_failed",
                          f"{self.name}: the tree ended {status_name(self.root)}")
 
-    def halt(self, reason: str = "halted") -> None:
-        """Halt every running node and stop every behavior the tree started."""
+    def halt(self, reason: str = "halted", kind: str = "mission_failed") -> None:
+        """Halt every running node and stop every behavior the tree started; the mission ends with an event of
+        ``kind`` (``mission_replaced`` when a new mission is loaded in its place)."""
         if self.done:
             return
         if self.root.status != Status.INVALID:
             self.root.stop(Status.INVALID)
         self._report(scan=self._state.foreign)
         self._notify(None)
-        self._finish("mission_failed", f"{self.name}: halted ({reason})")
+        self._finish(kind, f"{self.name}: halted ({reason})")
 
     def pause(self) -> None:
         """Stop ticking the tree (the operator's pause); its running behaviors are the supervisor's business."""
@@ -103,6 +107,27 @@ class TreeMission:
 
     def resume(self) -> None:
         self.paused = False
+
+    # -- changes while it runs (trees.runtime.changes) --------------------------------------------------------
+    @property
+    def tick_state(self) -> TickState:
+        """What the tree's nodes share while it is ticked (new nodes are attached to it)."""
+        return self._state
+
+    def report(self) -> None:
+        """Record the status changes not reported yet (``node_status`` events), now."""
+        self._report(scan=self._state.foreign)
+
+    def restructure(self) -> None:
+        """The tree has other nodes (a change): its node list and places again, then the listeners."""
+        self.nodes = describe(self.root)
+        self._places = {id(node): (uid, depth, node) for uid, (depth, node) in enumerate(self.nodes, 1)}
+        self._statuses = {key: status for key, status in self._statuses.items() if key in self._places}
+        for listener in list(self.restructured):
+            try:
+                listener()
+            except Exception:  # a log that cannot follow never stops the mission
+                logger.exception("a listener of the behavior tree %s failed after a change", self.name)
 
     def _finish(self, kind: str, detail: str) -> None:
         self.done = True

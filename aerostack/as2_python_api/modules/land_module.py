@@ -1,0 +1,10 @@
+"""Aerostack2's ``land`` module: its methods and the catalog requests they stand for are in
+:data:`aeroexec.engine.missions.aerostack2.MODULES`."""
+
+from as2_python_api.modules.module_base import ModuleBase
+
+
+class LandModule(ModuleBase):
+    """land module."""
+
+    __alias__ = "land"

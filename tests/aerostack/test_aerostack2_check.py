@@ -1,0 +1,147 @@
+"""``aeroexec verify`` knows Aerostack2's Python API as it knows Aerostack's: wrong methods, arguments, values and
+flight order are errors at their line before take-off; values reach the calls through names bound once; ROS 2
+beyond the drone interface is refused where it is used. The missions here are ours."""
+
+from __future__ import annotations
+
+import textwrap
+
+from aeroexec.drones.sim import default_world
+from aeroexec.engine.missions.check import check_mission_source
+
+HEADER = """import rclpy
+from as2_python_api.drone_interface import DroneInterface
+"""
+
+
+def problems(body: str, world=None, header: str = HEADER, indent: str = "") -> list[tuple[int, str, str]]:
+    source = header + textwrap.indent(textwrap.dedent(body).lstrip("\n"), indent)
+    found = check_mission_source(source, "mission.py", world=world)
+    return [(p.line, p.severity, p.message) for p in found]
+
+
+def test_an_aerostack2_script_runs_whole_and_is_checked_from_its_first_line():
+    assert problems("""
+        rclpy.init()
+        uav = DroneInterface("drone0")
+        uav.takeoff(2.0, 1.0)
+        uav.go_to.go_to_point([1, 1, 2], speed=1.0)
+        uav.land()
+        """) == []
+
+
+def test_methods_and_arguments_aerostack2_does_not_have_are_errors_at_their_line():
+    assert problems("""
+        uav = DroneInterface("drone0")
+        uav.take_off(2.0)
+        uav.go_to.go_to_pont([1, 1, 2], 1.0)
+        uav.go_to(1, 2)
+        uav.land(speed=0.5, height=3)
+        uav.follow_path([[1, 1, 2]], 1.0, 0, None, None, True, 7)
+        """) == [
+        (4, "error", "The function take_off does not exist in Aerostack2's DroneInterface (did you mean takeoff?)"),
+        (5, "error", "The method go_to_pont does not exist in Aerostack2's go_to module (did you mean go_to_point?)"),
+        (6, "error", "go_to() needs argument z"),
+        (7, "error", "land() has no argument height (its arguments: speed, wait)"),
+        (8, "error", "follow_path() takes 6 arguments (path, speed, yaw_mode, yaw_angle, frame_id, wait), 7 given"),
+    ]
+
+
+def test_values_are_checked_at_the_argument_that_gave_them():
+    found = check_mission_source(HEADER + textwrap.dedent("""\
+        uav = DroneInterface("drone0")
+        uav.takeoff(height=800, speed=1.0)
+        uav.go_to(0, 0, 2, speed=0)
+        """), "mission.py")
+    assert [(p.line, p.column, p.kind, p.message.split(" (")[0]) for p in found] == [
+        (4, 20, "WRONG_VALUE", "The value 800 of argument ALTITUDE for behavior TAKE_OFF is not correct"),
+        (5, 26, "WRONG_VALUE", "The value 0 of argument SPEED for behavior GO_TO_POINT is not correct"),
+    ]
+
+
+def test_flight_order_is_checked_through_the_scripts_own_functions():
+    assert problems("""
+        def drone_start(drone_interface: DroneInterface) -> bool:
+            drone_interface.arm()
+            drone_interface.offboard()
+            return True
+
+        def drone_run(drone_interface: DroneInterface) -> None:
+            drone_interface.go_to(1, 1, 2, 1.0)
+
+        if __name__ == "__main__":
+            uav = DroneInterface(drone_id="drone0")
+            if drone_start(uav):
+                drone_run(uav)
+            uav.land()
+        """) == [
+        (9, "error", "The execution of behavior GO_TO_POINT cannot be done at the start of the mission (flight is "
+                      "landed; GO_TO_POINT needs hovering or moving)"),
+    ]
+
+
+def test_a_destination_through_a_name_bound_once_is_checked_against_the_world():
+    found = check_mission_source(HEADER + textwrap.dedent("""\
+        HEIGHT = 2.0
+        TOWER = [8, 8, HEIGHT]
+        uav = DroneInterface("drone0")
+        uav.takeoff(HEIGHT)
+        uav.go_to.go_to_point(TOWER, 1.0)
+        uav.land()
+        """), "mission.py", world=default_world())
+    assert [(p.line, p.column, p.kind, p.message) for p in found] == [
+        (7, 23, "WRONG_VALUE", "The value (8, 8, 2.0) of argument COORDINATES for behavior GO_TO_POINT is not "
+                               "correct: (8, 8, 2) is 0.0 m from tower; GO_TO_POINT needs 3 m")]
+
+
+def test_a_levant_destination_through_a_variable_is_refused_as_the_literal_is():
+    header = "import executive_engine_api as api\n\n\ndef runMission():\n"
+    through_variable = problems("""
+        endPoint = [8, 8, 0.7]
+        api.executeBehavior('TAKE_OFF')
+        api.executeBehavior('GO_TO_POINT', coordinates=endPoint)
+        """, world=default_world(), header=header, indent="    ")
+    inline = problems("""
+        api.executeBehavior('TAKE_OFF')
+        api.executeBehavior('GO_TO_POINT', coordinates=[8, 8, 0.7])
+        """, world=default_world(), header=header, indent="    ")
+    assert [m for _, _, m in through_variable] == [m for _, _, m in inline] != []
+    assert "(8, 8, 0.7) is 0.0 m from tower; GO_TO_POINT needs 3 m" in through_variable[0][2]
+
+
+def test_a_name_bound_twice_or_in_a_loop_is_left_to_the_run():
+    assert problems("""
+        uav = DroneInterface("drone0")
+        height = 2.0
+        height = 80
+        uav.takeoff(height)
+        for goal in [[1, 1, 2], [200, 0, 2]]:
+            uav.go_to.go_to_point(goal, 1.0)
+        uav.land()
+        """) == []
+
+
+def test_ros_2_beyond_the_drone_interface_is_refused_where_it_is_used():
+    found = problems("""
+        from rclpy.node import Node
+        from std_msgs.msg import String
+        from geometry_msgs.msg import PoseStamped
+
+        class Mine(DroneInterface):
+            def listen(self):
+                self.create_subscription(String, "chatter", print, 10)
+
+        rclpy.init()
+        uav = Mine("drone0")
+        rclpy.spin_once(uav)
+        rclpy.shutdown()
+        """)
+    assert found == [
+        (3, "warning", "rclpy.node.Node is imported but never used: the mission runs without it (a use would be "
+                       "refused: this mission uses ROS 2 beyond the drone interface)"),
+        (5, "warning", "geometry_msgs.msg.PoseStamped is imported but never used: the mission runs without it (a use "
+                       "would be refused: this mission uses ROS 2 beyond the drone interface)"),
+        (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface"),
+        (9, "error", "std_msgs.msg.String: this mission uses ROS 2 beyond the drone interface"),
+        (13, "error", "rclpy.spin_once: this mission uses ROS 2 beyond the drone interface"),
+    ]

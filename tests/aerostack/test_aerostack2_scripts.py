@@ -1,0 +1,103 @@
+"""Aerostack2's own Python missions (tests/aerostack/data/SOURCES.md) run unchanged with ``aeroexec run``, or are
+refused before flight with the reason; single-drone runs of multi-drone scripts say they need a fleet."""
+
+from __future__ import annotations
+
+import pytest
+from flying import SCRIPTS, fly, world
+
+T, G, F, L = "TAKE_OFF", "GO_TO_POINT", "FOLLOW_PATH", "LAND"
+
+#: Each script that flies, and the behaviors that achieve their goal, in the order the script asks for them.
+FLIES = {
+    "as2_example1.py": [T, G, G, F, L],
+    "as2_motion_reference.py": [T, G, L],  # hover, position, speed references; then the landing
+    "crazyflie_mission.py": [T, G, G, G, G, L],
+    "gazebo_mission.py": [T, *[G] * 8, L],
+    "multirotor_mission.py": [T, *[G] * 8, L],
+    "gazebo_mission_interpreter.py": [T, G, G, G, G, L],  # MissionInterpreter, start_mission(0), polling
+    "multirotor_mission_interpreter.py": [T, G, G, G, G, L],  # start_mission(0, 0), exec_thread.join()
+    "px4_vision_mission_interpreter.py": [T, G, G, G, G, L],  # MissionInterpreter(mission=...).perform_mission()
+    "minimal_sensing_mission.py": [T, G, G, G, G, G, L],
+    "rosconches24_example2.py": [T, G, G, G, G, L],
+    "f450_mission.py": [T, F, F, F, *[G] * 15, L],  # Aerostack2 1.0's drone.goto
+}
+
+
+@pytest.mark.parametrize("script", list(FLIES))
+def test_aerostack2_scripts_fly_unchanged(script, tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("AEROSTACK2_SIMULATION_DRONE_ID", "drone0")  # as Aerostack2's simulation launch sets it
+    flight = fly(SCRIPTS / script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == FLIES[script]
+    assert not flight.kinds("failed_preconditions") and not flight.kinds("rejected")
+    assert flight.kinds("run_ended")[-1]["detail"] == "completed"
+
+
+def test_the_example_prints_what_aerostack2_prints_and_lands(tmp_path, capsys):
+    flight = fly(SCRIPTS / "as2_example1.py", tmp_path, capsys)
+    assert flight.out.index("Takeoff completed") < flight.out.index("Path finished") < flight.out.index("Bye!")
+    path = [r for r in flight.kinds("activated") if r["behavior"] == F][0]["detail"]
+    assert "PATH=((5, 0, 3), (5, 5, 3), (0, 5, 3), (0, 0, 3)), SPEED=5" in path
+    states = [r for r in flight.records if r["kind"] == "state"]
+    assert states[-1]["landed_state"] == "on_ground" and not states[-1]["armed"]
+    # time.sleep(1) between the take-off and the first go_to waited on the simulated clock
+    take_off = flight.kinds("GOAL_ACHIEVED")[0]["time"]
+    first_go_to = [r for r in flight.kinds("activated") if r["behavior"] == G][0]["time"]
+    assert first_go_to - take_off == pytest.approx(1.0, abs=0.11)
+
+
+def test_gps_missions_fly_from_the_worlds_home_as_their_origin(tmp_path, capsys):
+    gazebo = fly(SCRIPTS / "gazebo_mission_gps.py", tmp_path, capsys)  # the empty world at project_gazebo's origin
+    assert gazebo.status == 0, gazebo.err
+    assert gazebo.achieved() == [T, *[G] * 12, L]
+    f450 = fly(SCRIPTS / "f450_mission_gps_2.py", tmp_path, capsys, world_file=world(tmp_path, 40.158194, -3.380795))
+    assert f450.status == 0, f450.err  # gps.set_origin(its origin) is the home point: accepted
+    assert f450.achieved() == [T, G, G, L]
+    goal = [r for r in f450.kinds("activated") if r["behavior"] == G][0]["detail"]
+    assert "COORDINATES=(-8.349, -1.221, 2.0)" in goal  # 40.158183, -3.380893 from the origin, 2 m up
+
+
+def test_the_same_gps_mission_elsewhere_is_refused_before_flight(tmp_path, capsys):
+    flight = fly(SCRIPTS / "f450_mission_gps_2.py", tmp_path, capsys)  # the origin is 60 km from this world's home
+    assert flight.status == 1 and not flight.records
+    assert "f450_mission_gps_2.py:30:9: error: WRONG_VALUE: The value (26320.436, -31306.115, 2.0) of argument " \
+           "COORDINATES for behavior GO_TO_POINT is not correct" in flight.err
+
+
+@pytest.mark.parametrize("script, line, use", [
+    ("gazebo_mission_behavior_tree.py", 46, "rclpy.node.Node"),
+    ("minimal_sensing_explore.py", 34, "DroneInterface.create_subscription"),  # class Explorer(DroneInterface)
+    ("mbzirc_mission.py", 20, "python_interface.drone_interface.DroneInterface"),
+])
+def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(script, line, use, tmp_path,
+                                                                                 capsys):
+    flight = fly(SCRIPTS / script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert f"{script}:{line}:" in flight.err and f"{use}: this mission uses ROS 2 beyond the drone interface" in \
+        flight.err
+
+
+def test_a_follow_path_from_the_ground_is_refused_as_the_catalog_orders_flight(tmp_path, capsys):
+    flight = fly(SCRIPTS / "as2_ex_fp.py", tmp_path, capsys)  # offboard, arm, then follow_path to climb
+    assert flight.status == 1 and not flight.records
+    assert "as2_ex_fp.py:43:1: error: WRONG_SEQUENCE: The execution of behavior FOLLOW_PATH cannot be done at the " \
+           "start of the mission (flight is landed; FOLLOW_PATH needs hovering or moving)" in flight.err
+
+
+def test_motion_references_on_the_ground_are_refused_and_the_run_says_so(tmp_path, capsys):
+    flight = fly(SCRIPTS / "rosconches24_example1.py", tmp_path, capsys)  # never takes off
+    assert flight.status == 3, flight.err  # completed with refused requests
+    refused = flight.kinds("failed_preconditions")
+    assert refused[0]["behavior"] == G and "?x1 = landed" in refused[0]["detail"]
+
+
+@pytest.mark.parametrize("script", ["as2_try_multiple_drone.py", "gazebo_mission_swarm.py",
+                                    "crazyflie_mission_swarm.py", "hands_on_mission.py",
+                                    "rosconches24_mission_leader.py"])
+def test_a_multi_drone_script_flown_alone_says_it_needs_a_fleet(script, tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr("builtins.input", lambda prompt="": "y")
+    flight = fly(SCRIPTS / script, tmp_path, capsys)
+    assert flight.status == 1
+    assert "and this run flies one drone: fly it as a fleet, one drone per namespace" in flight.err
+    assert not [r for r in flight.kinds("activated") if r.get("source") == "mission"]  # nothing flew
