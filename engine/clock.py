@@ -58,11 +58,6 @@ class SimulatedClock(Clock):
                     time.sleep(delay)
         self._now = deadline
 
-    def pace_from_now(self) -> None:
-        """Count the pacing from now: the time now is the wall time now (several processes starting together)."""
-        self._origin_wall = time.monotonic()
-        self._origin_sim = self._now
-
     def advance(self, seconds: float) -> None:
         """Move time forward by ``seconds`` at once (tests)."""
         if seconds < 0:

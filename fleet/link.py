@@ -20,9 +20,10 @@ beliefs, with ``self`` replaced by the sender, accepted only when
 
 Each accepted belief keeps its source: ``said(dN, Belief)`` holds while the sender keeps saying it, beside the
 belief itself; a claim that contradicts a belief this drone formed itself (an exclusive predicate's other value)
-is held only as ``said(dN, Belief)``. What a drone heard from another expires ``PERSISTENCE`` seconds of engine
-time after it was last said (a message: after its sender was last heard); a drone unheard for 2 s of engine time
-is reported silent. A refusal is counted by the node; the first of each sender and reason is an event
+is held only as ``said(dN, Belief)``. What a drone heard from another expires the table's ``persistence`` (5 s)
+after it was last said (a message: after its sender was last heard); a drone unheard for 2 s is reported silent
+(engine time for the drones of this process, wall time for those of other processes: :mod:`aeroexec.fleet.table`).
+A refusal is counted by the node; the first of each sender and reason is an event
 (``fleet_refused``).
 """
 
@@ -36,7 +37,7 @@ from aeroexec.beliefs import BeliefError, BeliefMemory, BeliefUpdater, Struct, V
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES
 from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import check_name
-from aeroexec.fleet.table import MAX_BELIEFS, PERSISTENCE, SILENT_AFTER, News, Said
+from aeroexec.fleet.table import MAX_BELIEFS, News, Said
 
 logger = logging.getLogger(__name__)
 
@@ -123,7 +124,7 @@ class FleetLink(BeliefUpdater):
         """Send ``text`` to every drone of the fleet (and the operator); returns the drones heard lately."""
         self.node.say(self.name, "broadcast", text=str(text))
         now, table = self.engine.now(), self.node.table
-        lately = [d for d in table.reported if table.since(table.reported, d, now) < SILENT_AFTER]
+        lately = [d for d in table.reported if table.since(table.reported, d, now) < table.silent_after]
         return sorted(d for d in lately if d != self.name)
 
     # -- the engine's thread -------------------------------------------------------------------
@@ -310,7 +311,7 @@ class FleetLink(BeliefUpdater):
     def _expire(self, now: float) -> None:
         table = self.node.table
         for belief, sender in list(self._messages.items()):
-            if table.since(table.heard, sender, now) >= PERSISTENCE:
+            if table.since(table.heard, sender, now) >= table.persistence:
                 del self._messages[belief]
                 self.engine.memory.remove(belief)
 

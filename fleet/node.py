@@ -4,10 +4,8 @@ of what it heard (:mod:`aeroexec.fleet.table`), one command queryable per local 
 What a local drone says in a period is kept and put at the period's end (:meth:`FleetNode.exchange`) as one
 ``tick`` message on its own key (the fleet's router lets only its identity put there); what arrived from the fleet
 waits in Zenoh's queue (never a Python callback per message) and is taken then too, local and remote messages
-together, ordered by drone, so what a drone hears at period k is what the fleet said at period k - 1, whatever the
-load and whichever process flies whom. A fleet spread over worker processes (:meth:`FleetNode.lockstep`) ends each
-period of each session with a ``step`` message; when not paced each process waits for the others' step of the
-period before taking it. A local drone's messages never leave through Zenoh and come back.
+together, ordered by drone, so what a local drone hears at period k is what the process's drones said at period
+k - 1, whatever the load. A local drone's messages never leave through Zenoh and come back.
 
 Refused here, counted (one log line per sender and reason per interval, :mod:`~aeroexec.fleet.refusals`) and told to
 the links for their event logs: malformed or foreign messages, a sender that is not in the fleet's roster, a
@@ -22,14 +20,13 @@ import hmac
 import json
 import logging
 import queue
-import statistics
 import threading
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from typing import Any
 
 from aeroexec.fleet.access import Roster
-from aeroexec.fleet.payloads import VERSION, PayloadError, check_name, decode, encode, is_name, key, said, step
+from aeroexec.fleet.payloads import VERSION, PayloadError, check_name, decode, encode, is_name, key, said
 from aeroexec.fleet.payloads import tick as tick_payload
 from aeroexec.fleet.refusals import MAX_KINDS, Refusals
 from aeroexec.fleet.table import FleetTable
@@ -37,18 +34,14 @@ from aeroexec.fleet.table import FleetTable
 logger = logging.getLogger(__name__)
 
 COMMAND_TIMEOUT = 5.0  # wall seconds a command waits for the drones' engines to run it
-PATIENCE = 60.0  # wall seconds a process in lockstep waits for another's period before going on without it
 QUEUED = 1 << 16  # samples Zenoh keeps for the next period's end (then it waits: back-pressure, nothing lost)
-_LATENCY_SAMPLES = 200_000
 
 
-def qos(lockstep: bool) -> dict[str, Any]:
-    """Zenoh QoS of a drone's messages: never block the engine (DROP when congested), unless the fleet runs in
-    lockstep, where every period must arrive (BLOCK: simulated time waits). Only for other sessions."""
+def qos() -> dict[str, Any]:
+    """Zenoh QoS of a drone's messages: never block the engine (DROP when congested); only for other sessions."""
     import zenoh
 
-    congestion = zenoh.CongestionControl.BLOCK if lockstep else zenoh.CongestionControl.DROP
-    return {"congestion_control": congestion, "priority": zenoh.Priority.DATA,
+    return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA,
             "allowed_destination": zenoh.Locality.REMOTE}
 
 
@@ -90,26 +83,17 @@ class FleetNode:
         self.driven = False
         self.refusals = Refusals(fleet)
         self.table = FleetTable(lambda sender, reason, example, what: self.refuse(sender, reason, example, what))
-        self.latencies: list[float] = []  # s, the end of a period of another process -> its step here
         self._kinds: list[tuple[str, str, str]] = []  # every local drone hears of these refusals, even drones to come
         self._said: list[tuple[str, str, dict[str, Any]]] = []  # what the local drones said this period
-        self._later: list[tuple[int, str, list]] = []  # ticks of periods to come (a process ahead in lockstep)
         self._publishers: dict[tuple[str, str], Any] = {}
         self._queryables: dict[str, Any] = {}
         self._lock = threading.Lock()
-        self._arrived = threading.Condition(self._lock)
-        self._peers: dict[str, int] = {}  # other processes, by the first drone of each session -> its last period
-        self._ended: dict[str, bool] = {}
-        self._left: set[str] = set()
-        self._wait = False
         self._answers: queue.Queue[tuple[Any, str, str, Any, float] | None] = queue.Queue()
         self._answering = threading.Thread(target=self._answer, name="aeroexec-fleet-commands", daemon=True)
         self._answering.start()
         self._closed = False
         remote = _remote()
         self._queue = session.declare_subscriber(f"aeroexec/{fleet}/**", _queued(), allowed_origin=remote)
-        self._steps = session.declare_subscriber(f"aeroexec/{fleet}/*/step", _direct(self._on_step),
-                                                 allowed_origin=remote)
 
     @property
     def dropped(self) -> int:
@@ -142,14 +126,6 @@ class FleetNode:
         with self._lock:
             self._said.append((drone, topic, fields))
 
-    def latency(self) -> tuple[float, float, int]:
-        """Median and 99th percentile (s) of a tick's put -> arrival, and how many samples."""
-        with self._lock:
-            samples = sorted(self.latencies)
-        if not samples:
-            return float("nan"), float("nan"), 0
-        return statistics.median(samples), samples[min(len(samples) - 1, int(0.99 * len(samples)))], len(samples)
-
     def refuse(self, sender: str, reason: str, example: str = "", what: str = "message", everyone: bool = True) -> None:
         """Count a refusal of ``sender``'s message (or belief); the first of a kind goes to every local drone's event
         log unless ``everyone`` is False (a link refusing on its own records its event itself)."""
@@ -162,15 +138,13 @@ class FleetNode:
                 link.refused(sender, reason, example)
 
     # -- the end of a period (the engines' thread) -------------------------------------------------------------------
-    def exchange(self, now: float, tick: int | None = None, ended: bool = False) -> None:
-        """Send what the local drones said this period, take what the fleet said (in lockstep: once every other
-        process has ended its period ``tick``), and tell the local links what changed."""
+    def exchange(self, now: float) -> None:
+        """Send what the local drones said this period, take what the fleet said, and tell the local links what
+        changed."""
         with self._lock:
             said, self._said = self._said, []
-        self._send(said, tick, ended)
-        if self._wait and tick is not None:
-            self._await(tick)
-        heard, outside = self._take(tick if self._wait else None)
+        self._send(said)
+        heard, outside = self._take()
         messages = said + heard
         messages.sort(key=_drone)  # stable: each drone's messages stay in the order it said them
         news = self.table.take(messages, now, outside)
@@ -178,51 +152,37 @@ class FleetNode:
             link.hear(news)
         self.refusals.flush()
 
-    def _send(self, said: list[tuple[str, str, dict[str, Any]]], tick: int | None, ended: bool,
-              left: bool = False) -> None:
+    def _send(self, said: list[tuple[str, str, dict[str, Any]]]) -> None:
         if self._closed:
             return
         by_drone: dict[str, list[list[Any]]] = {}
         for drone, topic, fields in said:
             by_drone.setdefault(drone, []).append([topic, fields])
         for drone, messages in by_drone.items():
-            self._put(drone, "tick", tick_payload(drone, messages, tick))
-        if self._peers:  # the other processes wait for (or look for) the end of every period of this one
-            sent = time.time()
-            for leader in self._leaders():
-                self._put(leader, "step", step(leader, tick, ended, left, sent))
+            self._put(drone, tick_payload(drone, messages, time.time()))
 
-    def _put(self, drone: str, topic: str, payload: bytes) -> None:
+    def _put(self, drone: str, payload: bytes) -> None:
         try:
-            publisher = self._publishers.get((drone, topic))
+            publisher = self._publishers.get(drone)
             if publisher is None:
                 session = self.sessions.get(drone, self.session)
-                publisher = session.declare_publisher(key(self.fleet, drone, topic), **qos(self._wait))
-                self._publishers[(drone, topic)] = publisher
+                publisher = session.declare_publisher(key(self.fleet, drone, "tick"), **qos())
+                self._publishers[drone] = publisher
             publisher.put(payload)
         except Exception as error:  # a closed session or a full queue: the drone flies on
-            logger.debug("fleet %s: %s/%s not sent: %s", self.fleet, drone, topic, error)
+            logger.debug("fleet %s: %s's tick not sent: %s", self.fleet, drone, error)
 
-    def _leaders(self) -> list[str]:
-        """The first local drone of each session (the key of its steps)."""
-        first: dict[int, str] = {}
-        for drone in sorted(self.local):
-            first.setdefault(id(self.sessions.get(drone, self.session)), drone)
-        return list(first.values())
-
-    def _take(self, upto: int | None) -> tuple[list[tuple[str, str, dict[str, Any]]], set[str]]:
-        """What arrived from the fleet (in lockstep: of the periods up to ``upto``), checked; and which of its
-        drones fly outside this run (not one of its processes)."""
-        taken: list[tuple[int, str, list]] = []
-        if upto is not None and self._later:
-            taken = [t for t in self._later if t[0] <= upto]
-            self._later = [t for t in self._later if t[0] > upto]
+    def _take(self) -> tuple[list[tuple[str, str, dict[str, Any]]], set[str]]:
+        """What arrived from the fleet, checked; and its drones (they fly outside this process, on their own
+        time)."""
+        heard: list[tuple[str, str, dict[str, Any]]] = []
+        outside: set[str] = set()
         while (sample := self._queue.try_recv()) is not None:
             key_expr = str(sample.key_expr)
             try:
                 drone, topic, message = decode(key_expr, bytes(sample.payload), self.fleet)
                 if topic != "tick":
-                    continue  # steps are taken as they come (_on_step); commands are queries
+                    continue  # commands are queries
                 messages = said(message, key_expr)
             except PayloadError as error:
                 parts = key_expr.split("/")
@@ -230,84 +190,11 @@ class FleetNode:
                 continue
             if not self._genuine(drone):
                 continue
-            period = message.get("tick")
-            entry = (period if isinstance(period, int) else -1, drone, messages)
-            (self._later if upto is not None and entry[0] > upto else taken).append(entry)
-        heard = [(drone, topic, fields) for _, drone, messages in taken for topic, fields in messages]
-        outside = {drone for period, drone, _ in taken if period < 0} if self._peers else {d for _, d, _ in taken}
+            outside.add(drone)
+            heard.extend((drone, topic, fields) for topic, fields in messages)
         return heard, outside
 
-    # -- lockstep ------------------------------------------------------------------------------------------------------
-    def lockstep(self, peers: Iterable[str], wait: bool) -> None:
-        """The other processes flying this fleet's drones, by the first drone of each (the key of its ticks):
-        their periods tell when every drone has ended; with ``wait``, each period waits for theirs."""
-        self._peers = dict.fromkeys(peers, -2)
-        self._ended = dict.fromkeys(self._peers, False)
-        self._wait = wait
-
-    def gather(self, patience: float = 600.0) -> list[str]:
-        """Say this process is ready, and wait until every other one has (or ``patience`` wall seconds passed);
-        the peers that never came (they are left out)."""
-        if not self._peers:
-            return []
-        deadline = time.monotonic() + patience
-        while True:
-            self._send([], -1, False)
-            with self._arrived:
-                self._arrived.wait_for(self._ready, 0.2)
-                ready = self._ready()
-            if ready or time.monotonic() > deadline:
-                break
-        self._send([], -1, False)  # once more, for those that began listening last
-        with self._lock:
-            missing = [p for p, t in self._peers.items() if t < -1 and p not in self._left]
-            self._left.update(missing)
-        return missing
-
-    def _ready(self) -> bool:
-        return all(t >= -1 or p in self._left for p, t in self._peers.items())
-
-    def _await(self, tick: int) -> None:
-        deadline = time.monotonic() + PATIENCE
-        with self._arrived:
-            while not all(t >= tick or p in self._left for p, t in self._peers.items()):
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    late = sorted(p for p, t in self._peers.items() if t < tick and p not in self._left)
-                    logger.warning("fleet %s: the drones of %s said nothing of period %d for %.0f s: going on without "
-                                   "them", self.fleet, ", ".join(late), tick, PATIENCE)
-                    self._left.update(late)
-                    return
-                self._arrived.wait(min(remaining, 0.5))
-
-    def peers_ended(self) -> bool:
-        """True when every other process's drones have all ended (or it left)."""
-        with self._lock:
-            return all(self._ended.get(p) or p in self._left for p in self._peers)
-
     # -- Zenoh's threads -----------------------------------------------------------------------------------------------
-    def _on_step(self, sample: Any) -> None:
-        """The end of a period of another process of this fleet run (steps of anyone else are ignored)."""
-        received = time.time()
-        try:
-            leader, _, message = decode(str(sample.key_expr), bytes(sample.payload), self.fleet)
-        except PayloadError:
-            return  # counted when taken from the queue
-        period = message.get("tick")
-        with self._arrived:
-            if leader not in self._peers:
-                return
-            if isinstance(period, int) and not isinstance(period, bool) and period > self._peers[leader]:
-                self._peers[leader] = period
-            self._ended[leader] = message.get("ended") is True
-            if message.get("left") is True:
-                self._left.add(leader)
-            sent = message.get("sent")
-            if isinstance(sent, float) and isinstance(period, int) and period >= 0 \
-                    and len(self.latencies) < _LATENCY_SAMPLES:
-                self.latencies.append(received - sent)
-            self._arrived.notify_all()
-
     def _genuine(self, drone: str) -> bool:
         """False (the message refused) when its drone is no member, or flies in this process."""
         if self.roster is not None and drone not in self.roster.drones:
@@ -367,17 +254,16 @@ class FleetNode:
                 logger.debug("fleet %s: the answer of %s was not sent: %s", self.fleet, name, error)
 
     def close(self) -> None:
-        """Stop hearing the fleet, telling the other processes of a lockstep not to wait (the sessions are the
-        caller's to close)."""
+        """Stop hearing the fleet, the local drones' last words sent (the sessions are the caller's to close)."""
         if self._closed:
             return
         with self._lock:
             said, self._said = self._said, []
-        self._send(said, None, True, left=True)  # the last words of the local drones (how their missions ended)
+        self._send(said)  # the last words of the local drones (how their missions ended)
         self._closed = True
         self._answers.put(None)
         self._answering.join(1.0)  # an answer its engine will not give any more is not waited for
-        for entity in (self._queue, self._steps, *self._queryables.values(), *self._publishers.values()):
+        for entity in (self._queue, *self._queryables.values(), *self._publishers.values()):
             _undeclare(entity, self.fleet)
         self.refusals.flush(final=True)
 

@@ -4,11 +4,8 @@ Every payload is one UTF-8 JSON object with ``"v": VERSION`` and the sender's ``
 the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topic>``:
 
 - ``tick``: what a drone said in one engine period (:func:`tick`: ``said``, its messages ``[topic, fields]`` with
-  ``topic`` one of :data:`SAID`, and the period's number when its fleet is flown in lockstep), put at the
-  period's end, on the drone's own key (the fleet's router lets only the drone's identity put there);
-- ``step``: the end of one period of the drones speaking through one session of a fleet spread over worker
-  processes (:func:`step`: the period, whether all of them have ended or the process left, when it was sent), on
-  the key of the first of them, after their ticks;
+  ``topic`` one of :data:`SAID`, and the wall time it was sent), put at the period's end, on the drone's own key
+  (the fleet's router lets only the drone's identity put there);
 - ``command``: the operator's queries.
 """
 
@@ -20,7 +17,7 @@ import re
 from typing import Any
 
 VERSION = 2
-TOPICS = ("tick", "step", "command")  # the keys' last chunk
+TOPICS = ("tick", "command")  # the keys' last chunk
 SAID = ("telemetry", "events", "beliefs", "broadcast")  # what a drone says in a tick
 #: A fleet or drone name: one Zenoh key chunk that is also a portable file name (the drone's output folder, its
 #: certificate): a letter, then letters, digits, ``_``, ``-`` or ``.`` (not last). In beliefs a name that is not a
@@ -61,24 +58,17 @@ def encode(drone: str, **fields: Any) -> bytes:
     return json.dumps({"v": VERSION, "drone": drone, **fields}, separators=(",", ":")).encode()
 
 
-def tick(drone: str, messages: list[list[Any]], period: int | None = None) -> bytes:
-    """The ``tick`` payload of ``drone``: its ``messages`` ``[topic, fields]`` of one period."""
-    return encode(drone, tick=period, said=messages)
-
-
-def step(drone: str, period: int | None, ended: bool = False, left: bool = False, sent: float | None = None) -> bytes:
-    """The ``step`` payload of the drones speaking through one session, on the key of the first (``drone``)."""
-    return encode(drone, tick=period, ended=ended, left=left, sent=sent)
+def tick(drone: str, messages: list[list[Any]], sent: float | None = None) -> bytes:
+    """The ``tick`` payload of ``drone``: its ``messages`` ``[topic, fields]`` of one period (``sent``: the wall time
+    it was put, for those who measure the link's latency)."""
+    return encode(drone, said=messages, sent=sent)
 
 
 def said(message: dict[str, Any], key_expr: str) -> list[tuple[str, dict[str, Any]]]:
     """The ``(topic, fields)`` of a ``tick`` payload; :class:`PayloadError` when it is not one."""
     messages = message.get("said")
-    period = message.get("tick")
-    if not isinstance(messages, list) or period is not None and (isinstance(period, bool)
-                                                                 or not isinstance(period, int)):
-        raise PayloadError(f"{key_expr}: not a tick (expected said: [[topic, fields]...], tick: a number or null)",
-                           "not a tick")
+    if not isinstance(messages, list):
+        raise PayloadError(f"{key_expr}: not a tick (expected said: [[topic, fields]...])", "not a tick")
     out = []
     for item in messages:
         if not (isinstance(item, list) and len(item) == 2 and item[0] in SAID and isinstance(item[1], dict)):

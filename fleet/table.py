@@ -12,11 +12,11 @@ its next tick. Per message its work does not depend on the number of drones:
 - shared beliefs: parsed once, named after their sender; only what a sender says anew is news;
 - broadcasts: passed on.
 
-Time is the engine's for the drones of this fleet run (this process's and its workers', on one simulated time):
-a drone unheard for :data:`SILENT_AFTER` seconds is silent; its position, and what it said, expire
-:data:`PERSISTENCE` seconds after it was last heard or said. A drone flown by a process of its own (``aeroexec run
---fleet``) keeps its own time, so what it says is timed on the wall clock. One heap per clock holds every
-deadline, each drone (and each belief said) in it once.
+Time is the engine's for the drones of this process (on one simulated time): a drone unheard for
+:data:`SILENT_AFTER` seconds is silent; its position, and what it said, expire :data:`PERSISTENCE` seconds after it
+was last heard or said. A drone flown by another process (``aeroexec run --fleet``, another machine's fleet) keeps
+its own time, so what it says is timed on the wall clock. One heap per clock holds every deadline, each drone (and
+each belief said) in it once.
 """
 
 from __future__ import annotations

@@ -1,16 +1,15 @@
-"""The drones of a fleet flown in one process: one :class:`~aeroexec.flight.session.FlightSession` per drone (its
-own catalog, plugins, event log, ``.btlog`` and run status), in one world and airspace, ticked in lockstep on one
-simulated clock, linked over the process's Zenoh node. A fleet spread over worker processes
-(:mod:`aeroexec.flight.workers`) is one :class:`FleetFlight` per worker, each flying its share.
+"""A fleet in one process: one :class:`~aeroexec.flight.session.FlightSession` per drone (its own catalog,
+plugins, event log, ``.btlog`` and run status), in one world and airspace, ticked in lockstep on one simulated
+clock, linked over the process's Zenoh node.
 
 Each period ticks every engine, serves every Python mission until it waits, steps the end of every flight that
 is ending, then exchanges the period's messages with the fleet (:meth:`FleetNode.exchange
-<aeroexec.fleet.node.FleetNode.exchange>`: with the other workers in lockstep when not paced, so every worker is at
-the same simulated time and a drone hears the same whoever flies it) and moves the clock one period on (paced to
-``speed`` times real time when given: the clock's own pacing, as for one drone, counted from the moment every
-worker is ready). A drone whose mission ended lands (:class:`~aeroexec.flight.ending.FlightEnding`); Ctrl-C,
-SIGTERM, SIGHUP, :meth:`FleetFlight.stop` and the time limit end every mission and land every drone; a second
-interrupt leaves them as they are. The run ends when every flight of every worker has ended.
+<aeroexec.fleet.node.FleetNode.exchange>`: what each drone said goes out, and every drone hears it at its next
+tick from the process's one table) and moves the clock one period on (paced to ``speed`` times real time when
+given: the clock's own pacing, as for one drone). A drone whose mission ended lands
+(:class:`~aeroexec.flight.ending.FlightEnding`); Ctrl-C, SIGTERM, SIGHUP, :meth:`FleetFlight.stop` and the time
+limit end every mission and land every drone; a second interrupt leaves them as they are. The run ends when every
+flight has ended.
 """
 
 from __future__ import annotations
@@ -69,11 +68,8 @@ class FleetFlight:
     def __init__(self, node: Any, drones: list[Any], base: FlightSpec, *, output: Path, speed: float | None = None,
                  world: Any = None, telemetry_rate: float = 5.0, remote_questions: bool = False,
                  notify: Callable[[str], None] = logger.warning,
-                 report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem),
-                 peers: tuple[str, ...] = (), airspace: tuple[str, ...] | None = None) -> None:
+                 report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem)) -> None:
         self.node, self.drones, self.base, self.output = node, drones, base, Path(output)
-        self.peers = peers  # the other workers of the fleet, by the first drone of each
-        self.airspace = tuple(airspace) if airspace is not None else tuple(d.name for d in drones)
         self.telemetry_rate, self.remote_questions = telemetry_rate, remote_questions
         self.notify, self.report = notify, report
         self.clock = SimulatedClock(speed=speed)  # one simulated time for every drone, paced when speed is given
@@ -81,7 +77,7 @@ class FleetFlight:
         self.members: list[Member] = []
         self.surfaces = Surfaces()
         self._stop = threading.Event()
-        self._started = self._closed = False
+        self._closed = False
 
     @property
     def engines(self) -> dict[str, Any]:
@@ -105,8 +101,7 @@ class FleetFlight:
         if self.world is None:
             self.world = load_world(choice.world_file(base.world), home=base.home)
         self.node.driven = True  # the exchange is at the end of each period
-        self.node.lockstep(self.peers, wait=self.clock.speed is None)
-        flying = frozenset(self.airspace)
+        flying = frozenset(d.name for d in self.drones)  # drones of processes of their own are not in this world
         where = self.node.table.where
         airspace = Airspace(lambda: {name: p for name, p in where.items() if name in flying})
         for drone in self.drones:
@@ -146,12 +141,11 @@ class FleetFlight:
         """Fly every mission, then end every flight; each drone's outcome. Call it from the thread that may get
         KeyboardInterrupt (Ctrl-C, or SIGTERM/SIGHUP through :mod:`aeroexec.flight.signals`)."""
         max_time = self.base.max_time if max_time is None else max_time
+        self._start_missions()
         try:
             try:
-                self._start()
                 self._loop(max_time)
             except KeyboardInterrupt as interrupt:
-                self._start_missions()
                 self._interrupt(getattr(interrupt, "signal_name", "Ctrl-C"))
                 self._loop(float("inf"))
         except KeyboardInterrupt:
@@ -161,26 +155,13 @@ class FleetFlight:
                     m.ended = True
                     m.faults = ["the operator interrupted the end of the flight: the drone was left as it was"]
         outcomes = {m.name: m.session.finish(m.faults) for m in self.members}
-        if not self.peers:  # a worker's share is written with the others' by the fleet's process
-            write_status(self.output, self.node.fleet, outcomes)
+        self._write_status(outcomes)
         self.close()
         return outcomes
 
-    def _start(self) -> None:
-        """Wait for the other workers (every drone of the fleet starts at once), then start every mission."""
-        missing = self.node.gather()
-        if missing:
-            self.notify(f"the workers of {', '.join(missing)} did not start: this one flies without them")
-        if self.clock.speed is not None:
-            self.clock.pace_from_now()
-        self._start_missions()
-
     def _start_missions(self) -> None:
-        """Start every drone's mission (once). Drones that name one Aerostack2 script fly it together: it runs once
-        and drives each of them by its namespace (:func:`~aeroexec.engine.missions.script.fly_together`)."""
-        if self._started:
-            return
-        self._started = True
+        """Start every drone's mission. Drones that name one Aerostack2 script fly it together: it runs once and
+        drives each of them by its namespace (:func:`~aeroexec.engine.missions.script.fly_together`)."""
         scripts: dict[Path, list[Member]] = {}
         for m in self.members:
             if isinstance(m.session.mission, ScriptMission):
@@ -200,7 +181,7 @@ class FleetFlight:
 
     def _loop(self, max_time: float) -> None:
         period = self.members[0].engine.period if self.members else 0.05
-        while not (all(m.ended for m in self.members) and self.node.peers_ended()):
+        while not all(m.ended for m in self.members):
             if self._stop.is_set():
                 self._stop.clear()
                 self._interrupt("stop")
@@ -210,7 +191,7 @@ class FleetFlight:
                     if m.ending is None and not m.session.mission_done:
                         m.session.time_limit()
             self._period()
-            self.node.exchange(now, round(now / period), all(m.ended for m in self.members))
+            self.node.exchange(now)
             self.clock.sleep_until(now + period, self._stop)
 
     def _period(self) -> None:
@@ -243,6 +224,18 @@ class FleetFlight:
                                    ", ".join(m.name for m in waiting), STALL_WARNING)
                     warned_at = time.monotonic() + STALL_WARNING
 
+    def _write_status(self, outcomes: dict[str, FlightOutcome]) -> None:
+        words = sorted({o.status.word for o in outcomes.values()})
+        record = {"fleet": self.node.fleet, "status": words[0] if len(words) == 1 else "mixed",
+                  "exit_status": fleet_exit_status(outcomes),
+                  "drones": {name: {"status": o.status.word, "reasons": o.status.reasons, "faults": o.faults,
+                                    "exit_status": o.exit_status, "log_incomplete": o.log_incomplete}
+                             for name, o in outcomes.items()}}
+        try:
+            (self.output / STATUS_FILE).write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
+        except OSError as error:
+            logger.error("%s cannot be written: %s", self.output / STATUS_FILE, error.strerror or error)
+
     def close(self) -> None:
         """Close every drone's session and the surfaces (idempotent, never hangs)."""
         if self._closed:
@@ -253,24 +246,10 @@ class FleetFlight:
             m.session.close()
 
 
-def write_status(folder: Path, fleet: str, outcomes: dict[str, FlightOutcome]) -> None:
-    """:data:`STATUS_FILE` in ``folder``: how the fleet and each of its drones ended."""
-    words = sorted({o.status.word for o in outcomes.values()})
-    record = {"fleet": fleet, "status": words[0] if len(words) == 1 else "mixed",
-              "exit_status": fleet_exit_status(outcomes),
-              "drones": {name: {"status": o.status.word, "reasons": o.status.reasons, "faults": o.faults,
-                                "exit_status": o.exit_status, "log_incomplete": o.log_incomplete}
-                         for name, o in outcomes.items()}}
-    try:
-        (folder / STATUS_FILE).write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    except OSError as error:
-        logger.error("%s cannot be written: %s", folder / STATUS_FILE, error.strerror or error)
-
-
 def fleet_exit_status(outcomes: dict[str, FlightOutcome]) -> int:
     """The fleet's exit status: 0 when every drone's flight completed (exit status 0), else 1; each drone's own
     status is in its log, its summary line and :data:`STATUS_FILE`."""
     return 0 if outcomes and all(o.exit_status == 0 for o in outcomes.values()) else 1
 
 
-__all__ = ["STATUS_FILE", "FleetFlight", "Member", "fleet_exit_status", "write_status"]
+__all__ = ["STATUS_FILE", "FleetFlight", "Member", "fleet_exit_status"]

@@ -97,7 +97,7 @@ def test_the_routers_rules_give_each_identity_its_own_drones_keys_and_nothing_el
     host = next(k for k, names in subject.items() if names == ["w1@f"])
     speak = next(by_id[r] for r in policy[host] if by_id[r]["messages"] == ["put"])
     assert speak["flows"] == ["ingress"] and sorted(speak["key_exprs"]) == sorted(
-        f"aeroexec/f/{d}/{t}" for d in ("d2", "d3") for t in ("tick", "step"))
+        f"aeroexec/f/{d}/tick" for d in ("d2", "d3"))
     assert [by_id[r]["key_exprs"] for r in policy["operators"]] == [["aeroexec/f/*/command"]] * 2
     with pytest.raises(ValueError, match="the drone d2 has two identities"):
         Roster("f", {"a@f": ("d2",), "b@f": ("d2",)})
