@@ -39,9 +39,21 @@ def mission():  # take off and fly a 3 m square around home until the engine sto
 
 
 def homes(n: int) -> list[tuple[float, float]]:
-    """Drones on a grid 4 m apart from the south-west corner of the field."""
+    """Drones on a grid 4 m apart around the middle of the field."""
     side = math.ceil(math.sqrt(n))
-    return [(-16 + 4 * (i % side), -16 + 4 * (i // side)) for i in range(n)]
+    corner = -2.0 * (side - 1)
+    return [(corner + 4 * (i % side), corner + 4 * (i // side)) for i in range(n)]
+
+
+def field(n: int):
+    """The default field, cleared of obstacles and grown to hold the grid of ``n`` drones."""
+    from aeroexec.drones.sim import default_world
+    from aeroexec.drones.sim.world import Bounds
+
+    world = default_world()
+    half = max(world.bounds.upper[0], 2.0 * math.ceil(math.sqrt(n)) + 4.0)
+    bounds = Bounds((-half, -half, world.bounds.lower[2]), (half, half, world.bounds.upper[2]))
+    return dataclasses.replace(world, obstacles=(), bounds=bounds)
 
 
 def percentile(samples: list[float], q: float) -> float:
@@ -80,7 +92,6 @@ def observe(endpoint: str, out: str) -> int:
 
 
 def run_size(n: int, seconds: float, speed: float) -> dict[str, float]:
-    from aeroexec.drones.sim import default_world
     from aeroexec.fleet.fleet_file import DroneSpec
     from aeroexec.fleet.node import FleetNode
     from aeroexec.fleet.transport import free_endpoint, open_session
@@ -98,7 +109,7 @@ def run_size(n: int, seconds: float, speed: float) -> dict[str, float]:
     mission = folder / "patrol.py"
     mission.write_text(PATROL)
     drones = [DroneSpec(f"d{i + 1}", mission, home, seed=i) for i, home in enumerate(homes(n))]
-    world = dataclasses.replace(default_world(), obstacles=())  # the default field, cleared for the grid of drones
+    world = field(n)
     fleet = FleetFlight(node, drones, FlightSpec(mission=mission, max_time=seconds), output=folder / "out",
                         speed=speed, world=world).open()
     cpu0, wall0 = time.process_time(), time.monotonic()

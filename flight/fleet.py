@@ -141,6 +141,8 @@ class FleetFlight:
         """Fly every mission, then end every flight; each drone's outcome. Call it from the thread that may get
         KeyboardInterrupt (Ctrl-C, or SIGTERM/SIGHUP through :mod:`aeroexec.flight.signals`)."""
         max_time = self.base.max_time if max_time is None else max_time
+        if self.clock.speed is not None:
+            self.clock.pace_from_now()  # setting many drones up takes a while: real time starts now
         self._start_missions()
         try:
             try:
