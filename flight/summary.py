@@ -126,12 +126,20 @@ class FlightSummary:
                 "speed": [math.hypot(*s["velocity"]) if s.get("velocity") else 0.0 for s in self.samples],
                 "battery": [float(s["battery"]) for s in self.samples]}
 
-    def farthest_sample(self) -> int:
-        """The index of the sample farthest from home: the outbound leg ends there, the return leg begins."""
+    def homeward_sample(self) -> int:
+        """The index of the sample where the way home begins: the last sample after which the drone only came
+        nearer home (a survey's last transect end, an out-and-back's far point). Wobbles of a hover or a noisy
+        estimate, smaller than 2 m or 0.5 % of the distance, do not end the way home."""
         if not self.samples:
             return 0
         distances = [math.hypot(p[0], p[1]) for p in self.path]
-        return max(range(len(distances)), key=distances.__getitem__)
+        turn = farthest = len(distances) - 1
+        for i in range(len(distances) - 1, -1, -1):  # backwards from the end, the distance grows along the way home
+            if distances[i] >= distances[farthest]:
+                farthest = turn = i
+            elif distances[i] < distances[farthest] - max(2.0, 0.005 * distances[farthest]):
+                break
+        return turn
 
     def position_at(self, t: float) -> Point | None:
         """The drone's position at ``t``, interpolated between the state samples."""

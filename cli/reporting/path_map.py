@@ -180,7 +180,7 @@ def _path(ax: Any, summary: FlightSummary) -> list[Any]:
     points = summary.path
     handles: list[Any] = []
     if points:
-        turn = summary.farthest_sample()
+        turn = summary.homeward_sample()
         out, back = points[:turn + 1], points[turn:]
         ax.plot([p[0] for p in out], [p[1] for p in out], color=PATH_COLOR, linewidth=2.0, zorder=4.5,
                 solid_capstyle="round")

@@ -17,7 +17,7 @@ with require("report"):
     from matplotlib.figure import Figure
 
 PATH_COLOR = "#0a64e6"  # the outbound leg; used by nothing else, so the path can be found in the image
-RETURN_COLOR = "#e6550d"  # the return leg, from the point farthest from home
+RETURN_COLOR = "#e6550d"  # the way home: from where the drone only came nearer home
 OUTCOME_COLORS = {
     "GOAL_ACHIEVED": "#2ca02c",
     "INTERRUPTED": "#9e9e9e",

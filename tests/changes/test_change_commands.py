@@ -75,7 +75,8 @@ def test_aeroexec_ctl_changes_a_live_run_from_another_folder(tmp_path):
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     (elsewhere / "home.xml").write_text((DATA / "patrol_home.xml").read_text())
-    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "4", "--output", str(tmp_path / "out"))
+    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "1", "--output", str(tmp_path / "out"))
+    # (at real time, corner A flies for ~3 s: time for a ctl process to start on a loaded machine)
     try:
         run.wait_for("corner A: IDLE -> RUNNING")
         assert ctl(elsewhere, "pause").returncode == 0
@@ -168,7 +169,7 @@ def test_aerostack2_updates_reach_a_running_mission_as_the_changes_they_mean():
 
 
 def test_aerostack2_updates_from_ctl_change_a_live_run(tmp_path):
-    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "4", "--output", str(tmp_path / "out"))
+    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "1", "--output", str(tmp_path / "out"))
     try:
         run.wait_for("corner A: IDLE -> RUNNING")
         skipped = ctl(tmp_path, "update", "NEXT_ITEM")

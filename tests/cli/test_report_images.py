@@ -124,3 +124,12 @@ def test_the_world_drawn_is_the_one_the_run_flew_in():
     assert world_of_run({"drone": "mavsdk:udpin://0.0.0.0:14540"}) is None  # a vehicle flown without a world
     assert world_of_run({"drone": "sim"}).name == built_in.name  # an older log of a simulated run
     assert world_of_run({}, "/nonexistent/world.yaml").startswith("--world /nonexistent/world.yaml: ")
+
+
+def test_the_way_home_is_drawn_from_the_last_transect_not_from_the_farthest_corner():
+    survey = flight([(0, 0, 0), (0, 0, 30), (1000, 250, 30), (0, 250, 30), (0, 125, 30), (1000, 125, 30),
+                     (1000, -125, 30), (0, -125, 30), (0, 0, 30), (0, 0, 0)], speed=12.0)
+    turn = survey.homeward_sample()
+    assert math.dist(survey.path[turn][:2], (1000, -125)) < 1  # the last transect: home is straight ahead from there
+    out_and_back = FLIGHTS["3 km out and back"]
+    assert math.dist(out_and_back.path[out_and_back.homeward_sample()][:2], (2500, -800)) < 10

@@ -192,7 +192,7 @@ def test_a_finished_run_replays_read_only_with_a_time_slider(browser, tmp_path):
 
 def test_a_fleet_shows_every_drone_on_one_map_with_a_drone_selector(browser, tmp_path):
     fleet = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "fleet", "missions/relay.yaml", "--plain",
-                              "--web", "--speed", "1", "--output", str(tmp_path / "out")], cwd=ROOT,
+                              "--web", "--speed", "3", "--output", str(tmp_path / "out")], cwd=ROOT,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                              env={**os.environ, "PYTHONUNBUFFERED": "1"})
     try:

@@ -27,6 +27,7 @@ import random
 import re
 
 from btcpp_harness import compare
+from depth import examples
 from hypothesis import HealthCheck, given, seed, settings
 from hypothesis import strategies as st
 
@@ -83,7 +84,7 @@ def conversion_trees(draw) -> str:
 
 
 @seed(SEED)
-@settings(max_examples=100, deadline=None, database=None,
+@settings(max_examples=examples(40), deadline=None, database=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(conversion_trees(), st.lists(st.sampled_from((S, F, R)), min_size=1, max_size=3))
 def test_values_written_by_scripts_and_set_blackboard_are_read_by_typed_ports_as_in_btcpp(tmp_path, xml, script):

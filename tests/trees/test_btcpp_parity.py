@@ -14,6 +14,7 @@ import random
 
 import pytest
 from btcpp_harness import compare, run_aeroexec
+from depth import examples
 from hypothesis import HealthCheck, assume, given, seed, settings
 from hypothesis import strategies as st
 
@@ -255,7 +256,7 @@ def generated_with_conditions(draw) -> tuple[str, dict[str, list[str]]]:
 
 
 @seed(SEED)
-@settings(max_examples=100, deadline=None, database=None,
+@settings(max_examples=examples(50), deadline=None, database=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(generated_with_conditions())
 def test_generated_trees_with_pre_and_post_conditions_tick_as_in_btcpp(tmp_path, case):
@@ -270,7 +271,7 @@ def test_generated_trees_with_pre_and_post_conditions_tick_as_in_btcpp(tmp_path,
 
 
 @seed(SEED)
-@settings(max_examples=200, deadline=None, database=None,
+@settings(max_examples=examples(90), deadline=None, database=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(generated())
 def test_generated_trees_tick_as_in_btcpp(tmp_path, case):

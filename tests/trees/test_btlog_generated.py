@@ -22,6 +22,7 @@ from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import TreeBuilder, describe
 from aeroexec.trees.runtime.ticking import TickState, attach, result_name, status_name, tick_tree
 from btcpp_files import settle
+from depth import examples
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from py_trees.behaviour import Behaviour
@@ -139,7 +140,7 @@ def theirs(document: TreeDocument, scripts: dict[str, str], path) -> list[tuple[
 
 
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
-@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=examples(70), deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(root=st.builds(lambda kind, children: TreeNode(kind, kind, {}, children), st.sampled_from(CONTROLS),
                       st.lists(trees(2), min_size=1, max_size=3)))  # (BT.CPP 4.8 logs nothing under a root SubTree)
 def test_generated_trees_log_btcpps_transitions(root, tmp_path):
