@@ -121,12 +121,12 @@ class BeliefMemory(Reasoning):
         self._answered[view.signature] = (view, None)
         self._queries.clear()
 
-    def announce(self, kind: str, belief: Struct, reason: str) -> None:
-        """Tell the listeners that a shared belief came (``kind`` "added") or went ("removed"): what watches this
-        memory's beliefs (rules, monitors, the event log) hears of a fleet mate appearing or going, though the
-        memory stores nothing."""
+    def announce(self, kind: str, belief: Struct) -> None:
+        """Tell the listeners that a shared belief came (``kind`` "added") or went ("removed"), reason "shared":
+        what watches this memory's beliefs (rules, safety monitors) hears of a fleet mate appearing or going,
+        though the memory stores nothing."""
         if self._listeners:
-            self._notify(kind, belief, reason)
+            self._notify(kind, belief, "shared")
 
     def lifetime(self, name: str) -> float | None:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""

@@ -183,10 +183,10 @@ class FleetLink(BeliefUpdater):
         memory = self.engine.memory
         for drone, where in news.came:
             if drone != self.name:
-                memory.announce("added", Struct("position", (drone, where)), "heard")
+                memory.announce("added", Struct("position", (drone, where)))
         for drone, where in news.went:
             if drone != self.name:
-                memory.announce("removed", Struct("position", (drone, where)), "expired")
+                memory.announce("removed", Struct("position", (drone, where)))
         for drone, unheard in news.silent:
             if drone != self.name and drone not in self._silent:
                 self._silent.add(drone)

@@ -81,6 +81,8 @@ class FlightLogWriter:
         self._write(event_record(event))
 
     def on_belief(self, change: BeliefChange) -> None:
+        if change.reason == "shared":  # a fleet mate's position came or went: its fleet_drone_heard event says so
+            return
         self._write({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
                      "belief": format_term(change.belief), "reason": change.reason})
 

@@ -72,9 +72,6 @@ def test_drones_of_one_world_see_each_other_and_know_where_the_others_are_whatev
     for drone, other in (("a-1", "b.2"), ("b.2", "a-1")):  # each asked where the other is, and was answered
         log = events(tmp_path / "out", drone)
         assert any(e["kind"] == "fleet_drone_heard" and e["data"]["drones"] == [other] for e in log), drone
-        quoted = f'"{other}"'  # the mate's position, once, as it came (answered from the process's one table)
-        assert sum(e["kind"] == "belief_added" and e.get("belief", "").startswith(f"position({quoted}, (")
-                   and e["reason"] == "heard" for e in log) == 1, drone
         assert any(e["kind"] == "mission_completed" for e in log), drone
 
 
