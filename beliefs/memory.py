@@ -119,6 +119,8 @@ class BeliefMemory(Reasoning):
         """Answer questions on ``view``'s predicate from its shared rows too, after the stored ones
         (:mod:`aeroexec.beliefs.shared`: a fleet's positions, held once per process)."""
         self._answered[view.signature] = (view, None)
+        if self._rulebook is not None:
+            self._rulebook.share({view.signature})
         self._queries.clear()
 
     def announce(self, kind: str, belief: Struct) -> None:

@@ -50,13 +50,14 @@ class Reasoning:
         if problems or unstratified:
             raise RuleError(problems + unstratified)
         if book is None:
-            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._computed,
+            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._answered,
                                              lambda body: respell(body, self._spellings))
         self._multivalued |= derived  # a derived predicate holds a set of beliefs
         for (name, _), rel in self._relations.items():
             if name in derived:
                 rel.by_key = None
         book.load(program, strata)
+        book.share({s for s, (_, inputs) in self._answered.items() if inputs is None})
         self._queries.clear()
         for fact in rules:
             if not fact.body.literals:

@@ -6,8 +6,10 @@ that shares it (:meth:`BeliefMemory.share <aeroexec.beliefs.memory.BeliefMemory.
 :class:`SharedView` that may hide some keys: a drone does not hear itself) answers a goal of that predicate from its
 own stored beliefs first, then from the shared rows whose key it does not hold itself: what a memory knows itself
 is never replaced by what it shares. A question with the key given is one look-up in each; the shared rows are
-never copied, so a change costs one write whatever the number of memories. Questions read them; rules, the
-memory's listeners, its event log and ``beliefs()`` see only what the memory stores.
+never copied, so a change costs one write whatever the number of memories. Questions and rules read them (a
+rule reading shared beliefs is evaluated again whenever asked, as one reading a computed predicate); the memory's
+listeners, its event log and ``beliefs()`` see only what the memory stores (its owner may
+:meth:`~aeroexec.beliefs.memory.BeliefMemory.announce` a row that came or went).
 """
 
 from __future__ import annotations
