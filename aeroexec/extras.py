@@ -94,10 +94,11 @@ def _installed_from() -> tuple[str | None, bool]:
     from importlib import metadata  # here: the message is rare, and metadata costs every command ~10 ms
     from urllib.parse import unquote, urlparse
 
-    try:
-        text = metadata.distribution("aeroexec").read_text("direct_url.json")
+    try:  # the installation's record, not the egg-info a build leaves in the checkout (on sys.path as the cwd)
+        text = next((t for d in metadata.distributions(name="aeroexec") if (t := d.read_text("direct_url.json"))),
+                    None)
         origin = json.loads(text) if text else {}
-    except (metadata.PackageNotFoundError, ValueError, OSError):
+    except (ValueError, OSError):
         return None, False
     url = urlparse(str(origin.get("url", "")))
     if url.scheme != "file" or "dir_info" not in origin:

@@ -10,9 +10,17 @@ from __future__ import annotations
 
 from typing import Any
 
+from aeroexec.aerostack.executive_engine_api import (
+    ERROR,
+    addBelief,
+    consultPlanner,
+    queryBelief,
+    removeBelief,
+    termination,
+    trueBelief,
+)
 from aeroexec.engine import api
 from aeroexec.engine.events import Outcome
-from executive_engine_api import ERROR, addBelief, consultPlanner, queryBelief, removeBelief, termination, trueBelief
 
 
 def startTask(task: str, **args: Any) -> bool:

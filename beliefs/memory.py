@@ -23,7 +23,7 @@ from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
 from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.reasoning import Reasoning
-from aeroexec.beliefs.relation import Relation, Relations
+from aeroexec.beliefs.relation import PRESENT, Relation, Relations
 from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
@@ -63,7 +63,9 @@ class BeliefMemory(Reasoning):
         #: what questions are answered by besides stored beliefs: computed predicates and shared beliefs
         self._answered: dict[tuple[str, int], tuple[Any, int | None]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
-        self._listeners: list[Callable[[BeliefChange], None]] = []
+        self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
+        self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
+        self._listening = False  # whether anyone listens
         self._expiry: dict[tuple, float] = {}
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
@@ -127,8 +129,16 @@ class BeliefMemory(Reasoning):
         """Tell the listeners that a shared belief came (``kind`` "added") or went ("removed"), reason "shared":
         what watches this memory's beliefs (rules, safety monitors) hears of a fleet mate appearing or going,
         though the memory stores nothing."""
-        if self._listeners:
-            self._notify(kind, belief, "shared")
+        self._notify(kind, belief, "shared")
+
+    def function(self, name: str, arity: int) -> tuple[Callable, int] | None:
+        """The function registered for ``name/arity`` and how many input arguments it takes (None: stored beliefs
+        or a built-in answer it)."""
+        return self._computed.get((name, arity))
+
+    def exclusive(self, name: str) -> bool:
+        """Whether a belief of ``name`` replaces the one with the same other arguments (one value for each key)."""
+        return name not in self._multivalued
 
     def lifetime(self, name: str) -> float | None:
         """How long a belief of predicate ``name`` lasts once added (seconds), None when it is permanent."""
@@ -148,10 +158,21 @@ class BeliefMemory(Reasoning):
         """How many changes (a belief added or removed) the memory has had: a version that moves with every one."""
         return self._changes
 
-    def subscribe(self, listener: Callable[[BeliefChange], None]) -> Callable[[], None]:
-        """Call ``listener`` with every :class:`BeliefChange`; returns an unsubscribe function."""
-        self._listeners.append(listener)
-        return lambda: self._listeners.remove(listener) if listener in self._listeners else None
+    def subscribe(self, listener: Callable[[BeliefChange], None],
+                  names: Iterable[str] | None = None) -> Callable[[], None]:
+        """Call ``listener`` with every :class:`BeliefChange` (only of the predicates ``names``, if given: a
+        listener in the engine's tick need not be called for the rest); returns an unsubscribe function."""
+        lists = [self._listeners] if names is None else [self._named.setdefault(n, []) for n in set(names)]
+        for found in lists:
+            found.append(listener)
+        self._listening = True
+
+        def unsubscribe() -> None:
+            for found in lists:
+                if listener in found:
+                    found.remove(listener)
+            self._listening = bool(self._listeners) or any(self._named.values())
+        return unsubscribe
 
     # -- changes ------------------------------------------------------------------
     def add(self, belief: str | Struct) -> bool:
@@ -170,9 +191,9 @@ class BeliefMemory(Reasoning):
         ttl = self._persistence.get(signature[0]) if self._persistence else None
         if ttl is not None:
             self._schedule(signature, args, ttl)
-        if args in rel.rows:
-            return False
         displaced = rel.insert(args)
+        if displaced is PRESENT:
+            return False
         if displaced is None:
             self._changes += 1
             size = len(rel.rows)
@@ -182,11 +203,22 @@ class BeliefMemory(Reasoning):
             self._changes += 2
             if self._expiry:
                 self._expiry.pop((signature, displaced), None)
-            if self._listeners:
+            if self._listening:
                 self._notify("removed", Struct(signature[0], displaced), "replaced")
-        if self._listeners:
+        if self._listening:
             self._notify("added", belief, "add")
         return True
+
+    def restore(self, belief: str | Struct, remaining: float | None = None) -> bool:
+        """Add a belief that was held before (a resumed run): a belief of a persistent predicate lasts only the
+        ``remaining`` seconds it had left (its whole lifetime when None)."""
+        added = self.add(belief)
+        term = belief if type(belief) is Struct else self._parse_belief(belief)
+        if remaining is not None and self._persistence.get(term.name) is not None:
+            if self._spellings and term.name in self._spellings:
+                term = respell_term(term, self._spellings)
+            self._schedule((term.name, len(term.args)), term.args, max(0.0, remaining))
+        return added
 
     def add_all(self, beliefs: Iterable[str | Struct]) -> int:
         """Add many beliefs; returns how many were new."""
@@ -214,7 +246,7 @@ class BeliefMemory(Reasoning):
         """
         compiled = self._queries.get(expression)
         if compiled is not None and compiled.probe is not None and not bindings and not self._heap:
-            return compiled.probe(self._relations)  # one look-up: cheaper than the standing answer's check
+            return compiled.probe()  # one look-up: cheaper than the standing answer's check
         answer = self._answer(expression, bindings)
         return None if answer is None else dict(answer)
 
@@ -329,8 +361,8 @@ class BeliefMemory(Reasoning):
         book = self._rulebook
         derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
         compiled.derived = derived or None
-        if derived:
-            compiled.probe = None
+        if not derived:
+            compiled.probe = compiled.probe_in(self._relations)
         compiled.reads = (None if any(p in self._answered or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
@@ -396,12 +428,15 @@ class BeliefMemory(Reasoning):
         self._changes += 1
         self._relations.resized(rel)
         self._expiry.pop((signature, args), None)
-        if self._listeners:
+        if self._listening:
             self._notify("removed", Struct(signature[0], args), reason)
 
     def _notify(self, kind: str, belief: Struct, reason: str) -> None:
+        named = self._named.get(belief.name) if self._named else None
+        if not named and not self._listeners:
+            return
         change = BeliefChange(kind, belief, reason, self._now())
-        for listener in list(self._listeners):
+        for listener in [*self._listeners, *named] if named else list(self._listeners):
             try:
                 listener(change)
             except Exception:  # a faulty listener must not corrupt the memory

@@ -5,12 +5,12 @@ from __future__ import annotations
 import re
 import threading
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
 
 from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem
 from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation, Rule
 from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, is_ground, unquote
+from aeroexec.grammar import lalr_parser
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, v_args
 from lark.exceptions import UnexpectedToken, VisitError
 
@@ -141,8 +141,7 @@ def _head(item) -> Struct:
 
 @lru_cache(maxsize=1)
 def _rules_parser() -> Lark:
-    grammar = resources.files("aeroexec.grammar").joinpath("beliefs.lark").read_text()
-    return Lark(grammar, parser="lalr", start="program", propagate_positions=True, maybe_placeholders=True)
+    return lalr_parser("beliefs.lark", start="program", propagate_positions=True, maybe_placeholders=True)
 
 
 def parse_rules(text: str, file: str = "", first_line: int = 1) -> list[Rule]:
@@ -200,8 +199,7 @@ def _clause_at(text: str, offset: int | None) -> str:
 
 @lru_cache(maxsize=1)
 def _parser() -> tuple[Lark, threading.Lock]:
-    grammar = resources.files("aeroexec.grammar").joinpath("beliefs.lark").read_text()
-    parser = Lark(grammar, parser="lalr", transformer=_Build(), maybe_placeholders=True)
+    parser = lalr_parser("beliefs.lark", transformer=_Build(), maybe_placeholders=True)
     return parser, threading.Lock()
 
 

@@ -66,41 +66,54 @@ class CompiledQuery:
             position, var = only.simple[0]
             if position == len(only.pattern) - 1:
                 self._keyed = (only.pattern[:-1], "" if var.anonymous else var.name)
-        #: the first answer of a single stored goal, ground or asking for its value, in one look-up
-        self.probe: Callable[[dict], dict | None] | None = self._probe()
+        #: the first answer of a single stored goal, ground or asking for its value, in one look-up (the memory
+        #: binds it to its relations: :meth:`probe_in`)
+        self.probe: Callable[[], dict | None] | None = None
 
-    def _probe(self) -> Callable[[dict], dict | None] | None:
+    def probe_in(self, relations: dict) -> Callable[[], dict | None] | None:
+        """The first answer of a single stored goal, ground or asking for its value, in ``relations`` (a memory's,
+        which never drops a relation it made): the relation is looked up until it exists, then kept, so an answer
+        is one look-up in its index. None for any other query."""
         single = self._single
-        if single is None:
+        if single is None or (single.simple and self._keyed is None):
             return None
         signature = single.signature
+        rel: Any = None  # the relation, once it exists
+        first: dict | None = None  # its first argument's index (a relation's indexes are never replaced)
+
         if not single.simple:
             pattern = single.pattern
 
-            def holds(relations: dict) -> dict | None:
-                rel = relations.get(signature)
-                return {} if rel is not None and pattern in rel.rows else None
+            def holds() -> dict | None:
+                nonlocal rel
+                if rel is None:
+                    rel = relations.get(signature)
+                    if rel is None:
+                        return None
+                return {} if pattern in rel.rows else None
             return holds
-        if self._keyed is None:
-            return None
         key, name = self._keyed
+        # the key of a two-argument belief is its first argument: its index holds the one row with that value
+        by_first, value_of = len(key) == 1, key[0]
         solve = self.first
 
-        def value(relations: dict) -> dict | None:
-            rel = relations.get(signature)
+        def value() -> dict | None:
+            nonlocal rel, first
             if rel is None:
-                return None
-            by_key = rel.by_key
-            if by_key is None:  # declared multivalued since
+                rel = relations.get(signature)
+                if rel is None:
+                    return None
+                first = rel.by_pos[0]
+            if rel.by_key is None:  # declared multivalued since
                 return solve(relations)
-            row = by_key.get(key)
+            row = first.get(value_of) if by_first else rel.by_key.get(key)
             if row is None:
                 return None
             if not name:
                 return {}
-            found = row[-1]
-            kind = type(found)
-            return {name: found if kind is str or kind is int or kind is float else to_python(found)}
+            answer = row[-1]
+            kind = type(answer)
+            return {name: answer if kind is str or kind is int or kind is float else to_python(answer)}
         return value
 
     # -- planning ---------------------------------------------------------------

@@ -49,18 +49,31 @@ class Relation:
         return len(self.rows)
 
     def insert(self, args: tuple) -> tuple | None:
-        """Store a row not stored yet; returns the row its key displaced, if exclusive."""
+        """Store a row; returns the row its key displaced (an exclusive relation's), else None, or :data:`PRESENT`
+        when the row was stored already (then nothing changes). A load stores every row through here: the row is
+        hashed once to be stored and found present, and filed in each position's index inline."""
+        rows = self.rows
+        size = len(rows)
+        rows[args] = None
+        if len(rows) == size:
+            return PRESENT
         displaced = None
         by_key = self.by_key
         if by_key is not None:
             key = args[:-1]
-            displaced = by_key.get(key)
-            if displaced is not None:
+            displaced = by_key.setdefault(key, args)  # a new key is filed with one look-up
+            if displaced is args:
+                displaced = None
+            else:
                 self.delete(displaced)
-            by_key[key] = args
-        self.rows[args] = None
+                by_key[key] = args
         for index, value in zip(self.by_pos, args):  # noqa: B905 (a row has the arity of its relation)
-            _index(index, value, args)
+            bucket = index.setdefault(value, args)  # _index, inlined: a new value is filed with one look-up
+            if bucket is not args:
+                if type(bucket) is dict:
+                    bucket[args] = None
+                else:
+                    index[value] = {bucket: None, args: None}
         if self.ordered:
             for p, values in self.ordered.items():
                 value = args[p]
@@ -242,3 +255,5 @@ class Relations(dict):
 
 
 _EMPTY: tuple = ()
+#: what :meth:`Relation.insert` returns for a row stored already
+PRESENT: tuple = ("(present)",)

@@ -132,7 +132,10 @@ def to_python(value: Any) -> Any:
     if kind is ListTerm:
         return [to_python(v) for v in value]
     if kind is tuple:
-        return tuple(to_python(v) for v in value)
+        for v in value:
+            if type(v) not in _SCALARS:
+                return tuple(to_python(v) for v in value)
+        return value  # a point, a pair of atoms: already the Python value
     return value
 
 

@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 from aeroexec.beliefs import BeliefMemory, Struct, parse_expression
+from provenance import load, measured_at
 
 COLORS = ("red", "green", "blue", "yellow", "white", "black", "orange")
 README = Path(__file__).resolve().parent.parent / "README.md"
@@ -271,12 +272,16 @@ def rows(sizes: list[int], table: dict, plains: dict, swis: dict) -> list[list[s
     return out
 
 
+SIZES = [1_000, 10_000, 100_000]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[1_000, 10_000, 100_000])
+    parser.add_argument("--sizes", type=int, nargs="+", default=SIZES)
     parser.add_argument("--readme", action="store_true", help="write the table into README.md")
     args = parser.parse_args()
     sizes = args.sizes
+    began = load()
     table, plains, swis = {}, {}, {}
     with tempfile.TemporaryDirectory() as folder:
         for n in sizes:
@@ -293,9 +298,14 @@ def main() -> None:
     for row in [headers, ["-" * w for w in widths], *body]:
         print("  ".join(cell.ljust(w) if i == 0 else cell.rjust(w) for i, (cell, w) in enumerate(zip(row, widths,
                                                                                                        strict=True))))
+    command = "python bench/beliefs.py --readme" + ("" if sizes == SIZES else f" --sizes {' '.join(map(str, sizes))}")
+    missing = "" if swis else "; SWI-Prolog (swipl) not installed: no ratios to it"
+    said = f"Measured by `{command}` at {measured_at(began)}{missing}."
+    print(said)
     if args.readme:
         markdown = ["| " + " | ".join(headers) + " |", "|---|" + "---:|" * (len(headers) - 1)]
         markdown += ["| " + " | ".join(r) + " |" for r in body]
+        markdown += ["", said]
         text = README.read_text()
         start, end = text.index(MARKS[0]) + len(MARKS[0]), text.index(MARKS[1])
         README.write_text(text[:start] + "\n" + "\n".join(markdown) + "\n" + text[end:])

@@ -30,6 +30,8 @@ def main() -> None:
     print(f"{args.runs} runs of {name} on {cores} cores: {simulated:.0f} simulated s in {wall:.1f} s")
     print(f"  simulated s per wall s per core   {simulated / wall / cores:8.1f}")
     print(f"  simulated s per CPU s (workers)   {simulated / max(cpu, 1e-9):8.1f}")
+    print(f"  workers' CPU s per wall s         {cpu / wall:8.2f}  ({len({r.worker for r in results})} worker "
+          f"processes flew runs)")
     print(f"  load average                      {os.getloadavg()[0]:8.2f}")
 
 

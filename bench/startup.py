@@ -21,6 +21,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from provenance import load as load_average
+from provenance import measured_at
+
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 AEROEXEC = [sys.executable, "-m", "aeroexec.cli.main"]
@@ -72,8 +75,8 @@ def table(results: dict[str, list[tuple[float, float, float]]], load: float) -> 
         label = f"`{label}`" + (" (an empty run: start-up only)" if name.startswith("an empty run") else "")
         rows.append(f"| {label} | {cpu * 1000:.0f} ms | {ratio:.1f}× | ≤ {goal:g}×: {verdict} | {memory:.0f} MB |")
     repeat = len(results["python -c pass"])
-    rows.append(f"\nMeasured by `python bench/startup.py` ({repeat} interleaved runs of each, Python "
-                f"{sys.version_info.major}.{sys.version_info.minor}, load average {load:.1f} when it began).")
+    rows.append(f"\nMeasured by `python bench/startup.py --readme` ({repeat} interleaved runs of each, Python "
+                f"{sys.version_info.major}.{sys.version_info.minor}) at {measured_at(load)}.")
     return "\n".join(rows)
 
 
@@ -90,7 +93,7 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=7, help="runs of each command (default 7)")
     parser.add_argument("--readme", action="store_true", help="rewrite the README's start-up table with the result")
     args = parser.parse_args()
-    load = os.getloadavg()[0]
+    load = load_average()
     results = measure(args.repeat)
     text = table(results, load)
     print(text)

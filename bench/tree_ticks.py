@@ -10,9 +10,16 @@ worst case for the memory, the same for all three.
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
 from typing import Any
 
+from provenance import load, measured_at
+
 from engine import cpu_per_call, line, spread, verdict
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+BEGIN, END = "<!-- tree-ticks: begin (python bench/engine.py --only trees --readme) -->", "<!-- tree-ticks: end -->"
 
 
 def tree_xml(groups: int, distinct: bool = False) -> str:
@@ -29,7 +36,8 @@ def question(index: int, distinct: bool) -> str:
     return f"charge(battery, ?C), ?C > {index % 20}.{index}" if distinct else "charge(battery, ?C), ?C > 20"
 
 
-def trees(repeat: int, quick: bool) -> None:
+def trees(repeat: int, quick: bool, readme: bool = False) -> None:
+    """Print the tick figures; ``readme``: write them as the README's tree-tick table as well."""
     import py_trees
     from aeroexec.drones.sim import SimulatedDrone
     from aeroexec.engine.engine import Engine
@@ -79,6 +87,9 @@ def trees(repeat: int, quick: bool) -> None:
             Plain("success"))) for i in range(groups)))
 
     charge = [50]
+    began = load()
+    rows = ["| tree | aeroexec tick (min / median CPU) | bare py_trees | plain recursion | aeroexec / plain recursion "
+            "| goal |", "|---|---:|---:|---:|---:|---|"]
 
     def change(changing: bool) -> None:
         if changing:  # the battery drains: every question reads it
@@ -110,7 +121,25 @@ def trees(repeat: int, quick: bool) -> None:
                  f"{plain_t[1] / py_t[1]:.2f}x py_trees")
             line(f"{nodes} nodes, {case}: aeroexec tree tick", f"{ours_t[0] * 1000:.2f} / {ours_t[1] * 1000:.2f} ms",
                  f"{ours_t[1] / py_t[1]:.1f}x py_trees", verdict(ours_t[1] * 1000, target) if not changing else "")
-            line(f"{nodes} nodes, {case}: aeroexec / plain recursion", "", f"{ours_t[1] / plain_t[1]:.1f}x",
-                 verdict(ours_t[1] / plain_t[1], 2))
+            ratio = ours_t[1] / plain_t[1]
+            line(f"{nodes} nodes, {case}: aeroexec / plain recursion", "", f"{ratio:.2f}x", verdict(ratio, 2))
+            goals = [f"≤ {target:g} ms: {'met' if ours_t[1] * 1000 <= target else 'MISSED'}"] if not changing else []
+            goals.append(f"≤ 2× plain recursion: {'met' if ratio <= 2 else 'MISSED'}")
+            ratios = sorted(o / p for o, p in zip(times[0], times[2], strict=True))
+            rows.append(f"| {nodes:,} nodes, {groups:,} belief conditions, {case} | {ours_t[0] * 1000:.2f} / "
+                        f"{ours_t[1] * 1000:.2f} ms | {py_t[1] * 1000:.2f} ms ({ours_t[1] / py_t[1]:.2f}×) | "
+                        f"{plain_t[1] * 1000:.2f} ms | {ratio:.2f}× (repeats {ratios[0]:.2f}–{ratios[-1]:.2f}×) | "
+                        f"{'; '.join(goals)} |")
             mission.halt("bench")
     engine.stop()
+    said = (f"Measured by `python bench/engine.py --only trees --repeat {repeat}{' --quick' if quick else ''} "
+            f"--readme` at {measured_at(began)}.")
+    print(said)
+    if readme:
+        text = README.read_text(encoding="utf-8")
+        pattern = re.compile(re.escape(BEGIN) + r".*?" + re.escape(END), re.S)
+        if not pattern.search(text):
+            raise SystemExit(f"{README}: no tree-tick table between {BEGIN!r} and {END!r}")
+        table = "\n".join([*rows, "", said])
+        README.write_text(pattern.sub(lambda _: f"{BEGIN}\n{table}\n{END}", text), encoding="utf-8")
+        print(f"{README}: tree-tick table rewritten")

@@ -19,7 +19,7 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, Struct, format_term, read_rules
 from aeroexec.engine.supervision.output import DEFAULT_BASE
-from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.journal import read_records
 from aeroexec.flight.summary import final_beliefs
 
 HELP = ("a belief expression, e.g. object(?X, ?Y) or charge(battery, ?C), ?C < 50 | list [PREDICATE] | "
@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
             return 1
         source = f"{log} (the newest run in {DEFAULT_BASE}/; name another: aeroexec beliefs RUN_DIR)"
     try:
-        records = read_flight_log(log)
+        records = read_records(log)
     except (OSError, UnicodeDecodeError, ValueError) as error:
         print(f"{log}: cannot read the event log: {error}", file=sys.stderr)
         return 1

@@ -25,6 +25,8 @@ COMMANDS = {
     "pause": "stop the mission where it is; the drone hovers",
     "resume": "go on with the mission",
     "abort": "stop every behavior and the mission, then land",
+    "suspend": "stop the mission as abort does, to go on later (a battery swap): the run ends suspended and "
+               "aeroexec run --resume RUN_DIR continues it",
     "inhibit": "NAME: stop a behavior and keep reactions from starting it again",
     "answer": "TEXT: answer the oldest question the drone asked (ASK_OPERATOR)",
     "add": "BELIEF: add a belief, e.g. visible(marker_3)",

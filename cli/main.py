@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import importlib
 import logging
 import os
@@ -37,6 +38,7 @@ COMMANDS = {
     "report": ("report", "a flight report from an event log: the path over the world, a timeline, an HTML page"),
     "beliefs": ("beliefs", "query the beliefs an event log ends with, at a prompt"),
     "console": ("console", "replay a finished run in the web console (read-only, with a time slider)"),
+    "journal": ("journal", "ask a run's flight journal: a behavior's requests, a belief's changes, the steps done"),
 }
 #: What needs an extra (aeroexec/extras.py): a sub-command, or an option given (by its dest) to any sub-command.
 #: Checked once the line is parsed, before anything runs, so a missing extra never stops a flight half-way.
@@ -61,6 +63,22 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
             module.add_arguments(sub)
             sub.set_defaults(run=module.run, sub_command=name)  # ``command`` may be a sub-command's own argument
     return parser
+
+
+def command_line(argv: list[str]) -> argparse.ArgumentParser:
+    """:func:`build_parser` for the process's own command line (``aeroexec ...``), the cyclic garbage collector
+    paused meanwhile: the sub-command's modules are imported then, and what an import makes lives as long as the
+    process, so collecting it is wasted work. What was made is then frozen (``gc.freeze``): later collections, the
+    engine loop's among them, never walk it again (~7 ms of verify's CPU, ``bench/startup.py``). A caller that runs
+    :func:`main` with arguments in its own process (a test, an embedding) keeps its collector as it is."""
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        return build_parser(argv)
+    finally:
+        gc.freeze()
+        if collecting:
+            gc.enable()
 
 
 class CommandLine(argparse.ArgumentParser):
@@ -89,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     """The command's exit status. Ctrl-C before a command has anything to stop is one line and 130; a reader
     that closed standard output (``| head``) ends the command quietly."""
     try:
-        status = _main(sys.argv[1:] if argv is None else argv)
+        status = _main(sys.argv[1:] if argv is None else argv, own_process=argv is None)
         sys.stdout.flush()  # here, not at exit: a reader that is gone is noticed where it is handled
         return status
     except KeyboardInterrupt:
@@ -109,12 +127,12 @@ def _stdout_gone() -> None:
         os.close(devnull)
 
 
-def _main(argv: list[str]) -> int:
+def _main(argv: list[str], own_process: bool = False) -> int:
     if "_ARGCOMPLETE" in os.environ:  # the shell asks for completions: every sub-command's options
         import argcomplete
 
         argcomplete.autocomplete(build_parser())  # answers and exits
-    parser = build_parser(argv)
+    parser = command_line(argv) if own_process else build_parser(argv)
     args = parser.parse_args(argv)
     quiet = logging.INFO if getattr(args, "sub_command", None) == "sim" else logging.WARNING  # run prints events
     handler = logging.StreamHandler(sys.stderr)

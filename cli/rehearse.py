@@ -60,7 +60,8 @@ def run(args: argparse.Namespace) -> int:
     cpu = sum(r.wall for r in results)
     report = write_report(results, mission, output / "rehearsal.html", engine)
     print(f"{mission}: {figures['successes']} of {figures['runs']} runs completed ({100 * figures['rate']:.0f} %) "
-          f"on {engine} in {wall:.1f} s ({simulated / max(cpu, 1e-9):.0f} simulated s per CPU s)")
+          f"on {engine} in {wall:.1f} s ({len({r.worker for r in results})} flew runs, {cpu / wall:.1f} CPU s per "
+          f"wall s; {simulated / max(cpu, 1e-9):.0f} simulated s per CPU s)")
     for name, count in sorted(figures["fired"].items()):
         print(f"  safety rule {name} fired in {count} run{'s' if count != 1 else ''}")
     print("  worst runs:")

@@ -12,14 +12,15 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from aeroexec.flight.flight_log import read_flight_log
+from aeroexec.flight.journal import read_records
 from aeroexec.flight.summary import summarize
 
 from aeroexec import __version__
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("run_dir", metavar="RUN_DIR|LOG", help="a run's output folder or its event log")
+    parser.add_argument("run_dir", metavar="RUN_DIR|LOG",
+                        help="a run's output folder, its event log or its journal (journal.sqlite)")
     parser.add_argument("--world", metavar="FILE",
                         help="the world flown in (default: the one the log names or describes, else the built-in "
                              "one)")
@@ -36,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
         return 1
     step(f"reading {log}")
     try:
-        records = read_flight_log(log)
+        records = read_records(log)
     except (OSError, UnicodeDecodeError, ValueError) as error:
         print(f"{log}: cannot read the event log: {error}", file=sys.stderr)
         return 1

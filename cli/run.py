@@ -5,6 +5,9 @@ on the built-in simulator or a MAVSDK drone: the arguments become a :class:`~aer
 The events are printed as they happen (or shown in the live view at a terminal). However the run ends — the
 mission, the time limit, ``aeroexec ctl abort``, Ctrl-C, SIGTERM or SIGHUP — the drone lands before the command
 returns; its last line says how the run ended and where its files are.
+
+``aeroexec run --resume RUN_DIR`` goes on with an interrupted run (killed, suspended, aborted) from where its
+journal says it stopped (``flight/journal/``).
 """
 
 from __future__ import annotations
@@ -34,9 +37,15 @@ EXIT_HELP = ("exit status: 0 completed, 3 completed with refused requests, 1 fai
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", help="the mission: a Python program with a mission() or runMission() function "
-                                         "(.py), a behavior tree (BehaviorTree.CPP XML .xml, or YAML .yaml/.yml), "
-                                         "a TML mission (.tml.xml) or a QGroundControl plan (.plan)")
+    parser.add_argument("mission", nargs="?",
+                        help="the mission: a Python program with a mission() or runMission() function "
+                             "(.py), a behavior tree (BehaviorTree.CPP XML .xml, or YAML .yaml/.yml), "
+                             "a TML mission (.tml.xml) or a QGroundControl plan (.plan); with --resume, the "
+                             "interrupted run's unless given")
+    parser.add_argument("--resume", metavar="RUN_DIR",
+                        help="go on with the interrupted run in RUN_DIR (killed, suspended, aborted) from where its "
+                             "journal says it stopped: as it was flown (mission, drone, world, catalog, plugins, "
+                             "fleet), with this command line's pacing, time limit and surfaces")
     parser.epilog = EXIT_HELP
     add_flight_arguments(parser)
     fleet = parser.add_argument_group("fleet (over Zenoh)")
@@ -125,6 +134,10 @@ def add_surface_arguments(parser: argparse.ArgumentParser) -> None:
 def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
     """The flight the arguments ask for; ``watched``: someone watches (live view, browser), so simulated time
     runs at real time unless ``--speed`` says, and questions wait for an answer."""
+    if getattr(args, "resume", None):
+        return resumed_spec(args, watched)
+    if not args.mission:
+        raise FlightError("aeroexec run: give the mission (a file), or --resume RUN_DIR", usage=True)
     fleet = None
     if getattr(args, "fleet", None):
         if not args.name:
@@ -142,6 +155,23 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                       ready_timeout=args.ready_timeout, fleet=fleet)
 
 
+def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
+    """The interrupted run's flight, as its journal says, with this command line's pacing and surfaces."""
+    from aeroexec.flight.journal import JournalError, resume_spec
+
+    paced = 1.0 if watched else None
+    try:
+        return resume_spec(args.resume, mission=args.mission, drone=args.drone if args.drone != "sim" else None,
+                           token=getattr(args, "token", None), credentials=getattr(args, "credentials", None),
+                           speed=args.speed or paced, max_time=args.max_time,
+                           answers=args.answers, remote_questions=watched,
+                           interactive=sys.stdin is not None and sys.stdin.isatty(), web=args.web,
+                           web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
+                           ready_timeout=args.ready_timeout)
+    except JournalError as error:
+        raise FlightError(str(error)) from None
+
+
 def run(args: argparse.Namespace) -> int:
     live = live_view_wanted(args)
     with ending_signals():  # SIGTERM and SIGHUP end the run as Ctrl-C does: abort, land, close the log
@@ -156,7 +186,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
                   file=sys.stderr)
             return 130
-        say(f"commands: aeroexec ctl pause|resume|abort|inhibit|answer|add|remove|status (this run: "
+        say(f"commands: aeroexec ctl pause|resume|abort|suspend|inhibit|answer|add|remove|status (this run: "
             f"--run {session.folder})")
         with contextlib.ExitStack() as output:
             if live:

@@ -124,7 +124,11 @@ class ConsoleFeed:
                               "battery": round(t.battery_percent, 1), "landed": t.landed_state.value,
                               "mode": t.flight_mode, "armed": t.armed},
                 "active": active, "beliefs": beliefs[:MAX_BELIEFS], "belief_count": len(beliefs),
-                "questions": questions}
+                "questions": questions, "safety": self._safety()}
+
+    def _safety(self) -> dict[str, Any] | None:
+        monitor = getattr(self.engine, "safety", None)
+        return monitor.status().as_dict() if monitor is not None else None
 
     def _mission(self) -> dict[str, Any]:
         attached = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)

@@ -2,8 +2,8 @@
 
 The page and the socket need the run's token (``?token=``); anything else gets 403. Updates are pushed: each
 :class:`~aeroexec.console.feed.ConsoleFeed` hands its snapshots to the server's event loop, which sends them to
-every page; nothing polls. A page's commands (pause, resume, abort, inhibit, answer, add, remove, query, and the
-changes of the mission: skip, jump, insert, modify, delete, replace, load) go to the
+every page; nothing polls. A page's commands (pause, resume, abort, suspend, inhibit, answer, add, remove, query,
+and the changes of the mission: skip, jump, insert, modify, delete, replace, load) go to the
 drone's supervisor with the web console as their origin, as ``aeroexec ctl`` sends them. A replay serves a
 finished run's records and refuses commands.
 """
@@ -37,8 +37,8 @@ with require("console"):  # without it: the pip line that installs it, not "No m
 logger = logging.getLogger(__name__)
 
 STATIC = Path(__file__).with_name("static")
-COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "query", "status", "items", "skip",
-            "jump", "insert", "modify", "delete", "replace", "load")
+COMMANDS = ("pause", "resume", "abort", "suspend", "inhibit", "answer", "add", "remove", "query", "status", "items",
+            "skip", "jump", "insert", "modify", "delete", "replace", "load")
 COMMAND_TIMEOUT = 5.0  # s: a command the engine has not served by then is answered as not done
 QUEUE_SIZE = 64  # messages waiting for a slow page; past that it skips snapshots until it catches up
 MAX_MESSAGE = 64 * 1024  # bytes of one message from a page

@@ -12,6 +12,7 @@ regard to case: ``coordinates=`` is ``COORDINATES``. Reserved keywords:
 from __future__ import annotations
 
 import contextlib
+import functools
 import itertools
 import os
 import sys
@@ -109,6 +110,19 @@ def _engine() -> Any:
     return engine
 
 
+def journaled(function: Any) -> Any:
+    """A public call of the API: it goes through the engine's mission recorder when there is one (a journaled
+    run records it, a resumed run replays it: ``engine/missions/replay.py``)."""
+    @functools.wraps(function)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        recorder = _engine().bridge.recorder
+        if recorder is None:
+            return function(*args, **kwargs)
+        return recorder.call(function, args, kwargs)
+
+    return call
+
+
 def _request(name: str, arguments: dict[str, Any]) -> tuple[str, dict[str, Any], dict[str, Any]]:
     """The behavior name and catalog-cased arguments, and the reserved options apart. Every request of a
     behavior goes through here: a request ``verify`` would have refused (unknown behavior, wrong argument or
@@ -198,18 +212,21 @@ def _run_behavior(name: str, arguments: dict[str, Any], started: list[bool] | No
     return engine.bridge.wait_for(register)
 
 
+@journaled
 def execute_behavior(name: str, **arguments: Any) -> Outcome:
     """Execute a goal-based behavior and wait until it ends: GOAL_ACHIEVED, TIME_OUT, WRONG_PROGRESS,
     FAILED_PRECONDITIONS or INTERRUPTED."""
     return _run_behavior(name, arguments)[0]
 
 
+@journaled
 def ask_behavior(name: str, **arguments: Any) -> Any:
     """Execute a deliberative behavior and return its result (None when it did not reach its goal)."""
     outcome, value = _run_behavior(name, arguments)
     return value if outcome is Outcome.GOAL_ACHIEVED else None
 
 
+@journaled
 def activate_behavior(name: str, **arguments: Any) -> str:
     """Activate a behavior and return at once: OK or FAILED_PRECONDITIONS."""
     name, args, options = _request(name, arguments)
@@ -224,6 +241,7 @@ def activate_behavior(name: str, **arguments: Any) -> str:
     return engine.bridge.call(activate)
 
 
+@journaled
 def inhibit_behavior(name: str) -> bool:
     """Stop a behavior (INTERRUPTED) and keep reactions from restarting it; always succeeds."""
     engine = _engine()
@@ -231,6 +249,7 @@ def inhibit_behavior(name: str) -> bool:
     return True
 
 
+@journaled
 def run_behavior(name: str, **arguments: Any) -> tuple[bool, Outcome]:
     """Execute a behavior and wait until it ends: ``(True, outcome)``, or ``(False, why)`` when the activation
     itself was refused (Aerostack's ``executeTask`` convention)."""
@@ -239,6 +258,7 @@ def run_behavior(name: str, **arguments: Any) -> tuple[bool, Outcome]:
     return bool(started and started[0]), outcome
 
 
+@journaled
 def start_behavior(name: str, **arguments: Any) -> tuple[bool, int]:
     """Activate a behavior and return at once: ``(accepted, uid)``; ``uid`` names this activation for
     :func:`stop_activation` (0 when refused)."""
@@ -265,6 +285,7 @@ def _uid(activation: Any) -> int:
         return uid
 
 
+@journaled
 def stop_activation(uid: int) -> bool:
     """Stop the activation ``uid`` (from :func:`start_behavior`) as inhibit does; False when it is not active."""
     engine = _engine()
@@ -281,6 +302,7 @@ def stop_activation(uid: int) -> bool:
     return engine.bridge.call(stop)
 
 
+@journaled
 def stop_behavior(name: str) -> bool:
     """Inhibit a behavior by name: True when it was active and is now stopped, False otherwise."""
     engine = _engine()
@@ -288,11 +310,13 @@ def stop_behavior(name: str) -> bool:
     return engine.bridge.call(lambda: engine.coordinator.inhibit(name, "inhibited by the mission"))
 
 
+@journaled
 def is_active_behavior(name: str) -> bool:
     engine = _engine()
     return engine.bridge.call(lambda: engine.coordinator.is_active(str(name).upper()))
 
 
+@journaled
 def consult_belief(expression: str) -> tuple[bool, Unification]:
     """``(success, unification)`` of the first match of a belief expression."""
     engine = _engine()
@@ -300,11 +324,13 @@ def consult_belief(expression: str) -> tuple[bool, Unification]:
     return success, Unification(unification)
 
 
+@journaled
 def true_belief(expression: str) -> bool:
     engine = _engine()
     return engine.bridge.call(lambda: engine.memory.holds(expression))
 
 
+@journaled
 def add_belief(belief: str, multivalued: bool = False) -> bool:
     """Add a belief; a predicate nobody declared is declared by the mission (``multivalued`` or exclusive)."""
     engine = _engine()
@@ -318,6 +344,7 @@ def add_belief(belief: str, multivalued: bool = False) -> bool:
     return engine.bridge.call(add)
 
 
+@journaled
 def remove_belief(pattern: str) -> int:
     engine = _engine()
     return engine.bridge.call(lambda: engine.memory.remove(pattern))
@@ -326,13 +353,14 @@ def remove_belief(pattern: str) -> int:
 def add_rules(rules: str) -> list[beliefs.Rule]:
     """Add rules deriving beliefs (and facts): ``safe_zone(?Z) :- zone(?Z), not(occupied(?Z)).`` Derived
     predicates are then asked like stored ones. Raises :class:`~aeroexec.beliefs.RuleError` naming the mission's
-    file and the line of each mistake."""
+    file and the line of each mistake. (Not journaled: a resumed mission adds its rules again as it replays.)"""
     engine = _engine()
     caller = sys._getframe(1)
     where, line = Path(caller.f_code.co_filename).name, caller.f_lineno
     return engine.bridge.call(lambda: engine.memory.add_rules(rules, where, line))
 
 
+@journaled
 def why(expression: str) -> str:
     """Why a belief expression holds: the proof of its first answer, one line per rule or belief used (indented
     under what it proves); empty when it does not hold."""
@@ -345,6 +373,7 @@ def why(expression: str) -> str:
     return engine.bridge.call(proof)
 
 
+@journaled
 def why_not(expression: str) -> str:
     """Why a belief expression does not hold: the goal that fails (through the rules of a derived one) and what
     the memory holds for it; empty when it holds."""
@@ -352,6 +381,7 @@ def why_not(expression: str) -> str:
     return engine.bridge.call(lambda: "\n".join(engine.memory.why_not(expression)))
 
 
+@journaled
 def wait(seconds: float) -> None:
     """Let ``seconds`` of engine time pass (use this, not ``time.sleep``, so simulated time is respected)."""
     engine = _engine()
@@ -364,6 +394,7 @@ def wait(seconds: float) -> None:
     engine.bridge.wait_for(register)
 
 
+@journaled
 def now() -> float:
     """The engine's clock, in seconds since it started (a call like any other: polling it lets time move)."""
     engine = _engine()

@@ -72,10 +72,10 @@ class SimulatedClock(Clock):
 
 
 class WallClock(Clock):
-    """Real time, from ``time.monotonic``, starting at zero."""
+    """Real time, from ``time.monotonic``, starting at ``start`` (zero; a resumed run goes on from its time)."""
 
-    def __init__(self) -> None:
-        self._origin = time.monotonic()
+    def __init__(self, start: float = 0.0) -> None:
+        self._origin = time.monotonic() - float(start)
 
     def now(self) -> float:
         return time.monotonic() - self._origin

@@ -53,6 +53,19 @@ class Problem:
         return f"{where}: {self.severity}: {self.message}"
 
 
+@dataclass(frozen=True, slots=True)
+class MissionProblem(Problem):
+    """A problem in a mission program: the paper's error type and the column as well (1-based; 0 unknown)."""
+
+    kind: str = ""
+    column: int = 0
+
+    def __str__(self) -> str:
+        where = self.file + (f":{self.line}" if self.line else "") + (f":{self.column}" if self.line and
+                                                                         self.column else "")
+        return f"{where}: {self.severity}: {self.kind + ': ' if self.kind else ''}{self.message}"
+
+
 class CatalogError(ValueError):
     """A catalog that cannot be loaded; ``problems`` lists every error and warning found."""
 

@@ -15,6 +15,9 @@ Every line has ``time`` (engine seconds) and ``kind``. The kinds:
 - ``state``: a drone state sample (``position`` and ``velocity`` ENU, ``yaw`` degrees, ``battery`` percent,
   ``armed``, ``landed_state``), every ``sample_period`` seconds of engine time (2 Hz by default).
 - ``log_closed`` (last line, only when the run ended normally and every record was written).
+- ``log_resumed``: a resumed run (``aeroexec run --resume``) goes on in the same log: this line (``segment``: 2 for
+  the first resume, then 3...) and what the run was given, then its records, their times going on from where the
+  interrupted run stopped.
 
 Each line is written with one ``write`` system call on an unbuffered file, so a killed process leaves only
 whole lines. When a line cannot be written whole (the disk is full, the file system is gone), what was written
@@ -54,19 +57,26 @@ class FlightLogWriter:
     """Writes ``engine``'s events, belief changes and drone state samples to ``path`` until :meth:`close`."""
 
     def __init__(self, engine: Any, path: str | Path, sample_period: float = SAMPLE_PERIOD,
-                 meta: dict[str, Any] | None = None) -> None:
+                 meta: dict[str, Any] | None = None, resumed: int | None = None) -> None:
+        """``resumed``: the segment of a resumed run, whose records go on after the interrupted run's (a
+        ``log_resumed`` line first) instead of starting a new log."""
         self.engine = engine
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.sample_period = sample_period
         self._lock = threading.Lock()
-        self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        if resumed is not None:
+            _cut_torn_line(self.path)
+        self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT |
+                                       (os.O_APPEND if resumed is not None else os.O_TRUNC), 0o644)
         self._last_sample: float | None = None
         self.lines = 0
         #: Why records were lost (the write error), or None while every record is in the file.
         self.incomplete: str | None = None
         self.lost = 0  # records that could not be written
         header: dict[str, Any] = {"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT}
+        if resumed is not None:
+            header.update(kind="log_resumed", segment=resumed)
         if isinstance(getattr(engine, "clock", None), SimulatedClock):
             header["clock"] = "simulated"
         else:
@@ -78,13 +88,12 @@ class FlightLogWriter:
 
     # -- listeners ---------------------------------------------------------------------------------
     def on_event(self, event: EngineEvent) -> None:
-        self._write(event_record(event))
+        self._write_line(event_line(event))
 
     def on_belief(self, change: BeliefChange) -> None:
         if change.reason == "shared":  # a fleet mate's position came or went: its fleet_drone_heard event says so
             return
-        self._write({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
-                     "belief": format_term(change.belief), "reason": change.reason})
+        self._write_line(belief_line(change))
 
     def on_tick(self) -> None:
         now = self.engine.now()
@@ -100,11 +109,14 @@ class FlightLogWriter:
         except Exception:  # a drone that cannot answer: no sample, the log goes on
             logger.exception("no drone state for the event log")
             return
-        self._write(state_record(now, telemetry))
+        self._write_line(state_line(now, telemetry))
 
     # -- the file ----------------------------------------------------------------------------------
     def _write(self, record: dict[str, Any]) -> None:
-        data = (json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n").encode("utf-8")
+        self._write_line(_json(record))
+
+    def _write_line(self, line: str) -> None:
+        data = (line + "\n").encode("utf-8")
         with self._lock:
             if self._fd is None:
                 return
@@ -154,6 +166,69 @@ class FlightLogWriter:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _cut_torn_line(path: Path) -> None:
+    """Cut a last line left without its end (a killed process) off the log, so what follows starts a line."""
+    try:
+        with open(path, "rb+") as file:
+            size = file.seek(0, os.SEEK_END)
+            if size == 0:
+                return
+            tail = max(0, size - (1 << 16))
+            file.seek(tail)
+            data = file.read()
+            if data.endswith(b"\n"):
+                return
+            end = data.rfind(b"\n")
+            file.truncate(tail + end + 1 if end >= 0 else tail)
+    except FileNotFoundError:
+        pass
+
+
+class _Lines:
+    """The last line made of each kind of record, so the event log and the flight journal, hearing the same event,
+    belief change or sample one after the other, make it once."""
+
+    def __init__(self) -> None:
+        self.event: tuple[Any, str] = (None, "")
+        self.belief: tuple[Any, str] = (None, "")
+        self.state: tuple[Any, str] = (None, "")
+
+
+_LINES = _Lines()
+
+
+def event_line(event: EngineEvent) -> str:
+    """An event's line in the log (JSON, without its end)."""
+    last, line = _LINES.event
+    if last is not event:
+        line = _json(event_record(event))
+        _LINES.event = (event, line)
+    return line
+
+
+def belief_line(change: BeliefChange) -> str:
+    """A belief change's line in the log (``belief_added`` / ``belief_removed``: the belief's text, the reason)."""
+    last, line = _LINES.belief
+    if last is not change:
+        line = _json({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
+                      "belief": format_term(change.belief), "reason": change.reason})
+        _LINES.belief = (change, line)
+    return line
+
+
+def state_line(now: float, telemetry: Any) -> str:
+    """A drone state sample's line in the log."""
+    last, line = _LINES.state
+    if last != (now, id(telemetry)):
+        line = _json(state_record(now, telemetry))
+        _LINES.state = ((now, id(telemetry)), line)
+    return line
+
+
+def _json(record: dict[str, Any]) -> str:
+    return json.dumps(record, allow_nan=False, separators=(",", ":"))
 
 
 def event_record(event: EngineEvent) -> dict[str, Any]:

@@ -16,17 +16,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic
+from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.missions import ros
-from aeroexec.engine.missions.check import check_mission_source
-from aeroexec.engine.missions.script import is_script, script_mission
-from aeroexec.engine.missions.source import parse_source
 from aeroexec.engine.robots import robot_kind_hint
-from aeroexec.engine.safety.vehicle import VehicleModel
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.items import PlanDocument, is_item_file
+from aeroexec.trees.items import is_item_file
 
 from aeroexec.limits import InputError, read_text
 
@@ -76,8 +72,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
     if is_tree(path):
-        # here, not at the top: tree verification loads the tree runtime and py_trees (~30 ms), which a Python
-        # mission never needs
+        # here, not at the top: a Python mission needs none of tree verification (its checks, the format readers)
         from aeroexec.trees.route import estimate_route
         from aeroexec.trees.tml.verify import verify_mission_document
         from aeroexec.trees.verify import verify_leaves
@@ -89,14 +84,15 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
-        if isinstance(checked.tree, PlanDocument) and not checked.tree.root.children:
+        plan = is_plan(path)  # read as a PlanDocument: its items, numbered
+        if plan and not checked.tree.root.children:
             checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
             return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
         checked.route = estimate_route(checked.tree, world) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
-        if isinstance(checked.tree, PlanDocument):  # items without a behavior, each message with its item number
+        if plan:  # items without a behavior, each message with its item number
             checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
         checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked
@@ -109,6 +105,9 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
         raise MissionFileError(str(exc)) from None
+    # here, not at the top: a tree mission needs none of the Python mission's checks
+    from aeroexec.engine.missions.check import check_mission_source
+
     checked.problems = check_mission_source(checked.source, str(path), catalog, world)
     return checked
 
@@ -133,12 +132,17 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
 def mission_function(path: Path) -> Callable[[], Any]:
     """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
     script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
+    from aeroexec.engine.missions import ros, standins
+    from aeroexec.engine.missions.script import is_script, script_mission
+    from aeroexec.engine.missions.source import parse_source
+
     source = read_text(path, what="the mission")
     if is_script(parse_source(source, str(path))):
         return script_mission(path, source)
     ros.install()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
+    module.__builtins__ = standins.mission_builtins()  # its imports of Aerostack's APIs get aeroexec's
     try:
         with warnings.catch_warnings():  # SyntaxWarnings of the mission's source are not the project's messages
             warnings.simplefilter("ignore", SyntaxWarning)

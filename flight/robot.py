@@ -98,10 +98,10 @@ def load_world(path: str | None, default: bool = True, mission: Path | None = No
 
 
 def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callable[[str], None] = logger.info,
-               cancelled: Callable[[], bool] = lambda: False) -> tuple[Any, bool]:
-    """The robot a flight drives, and whether it runs on simulated time. A MAVSDK vehicle is waited for until
-    it is ready to fly (at most ``spec.ready_timeout`` s, or until ``cancelled()``), saying so to ``notify``;
-    raises FlightError."""
+               cancelled: Callable[[], bool] = lambda: False, start_time: float = 0.0) -> tuple[Any, bool]:
+    """The robot a flight drives, and whether it runs on simulated time (from ``start_time``: a resumed run's).
+    A MAVSDK vehicle is waited for until it is ready to fly (at most ``spec.ready_timeout`` s, or until
+    ``cancelled()``), saying so to ``notify``; raises FlightError."""
     kind = choice.kind
     if kind is not None:
         if spec.drone != "sim" or kind.simulator is None:
@@ -110,7 +110,7 @@ def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callab
     if spec.drone == "sim":
         from aeroexec.drones.sim import SimulatedDrone
 
-        return SimulatedDrone(world, seed=spec.seed), True
+        return SimulatedDrone(world, seed=spec.seed, start_time=start_time), True
     if spec.drone.startswith("mavsdk:"):
         return _mavsdk_vehicle(spec, notify, cancelled), False
     scheme, _, address = spec.drone.partition(":")

@@ -9,8 +9,12 @@ log, and the exit status ``aeroexec run`` returns for it.
   fault (the link was lost in flight, the landing failed, the drone was left armed or in the air) (exit 1);
 - aborted: the operator aborted the run (``ctl abort``, the ``a`` key, Ctrl-C, SIGTERM, SIGHUP) (exit 4);
 - suspended: a safety reaction (a reactive behavior of the higher priority, such as LAND on low battery) took
-  the drone over before the mission finished, and the mission could not do all it asked (exit 5); the reasons
-  name the reaction and when (``LAND on low battery at t=95.2 s``).
+  the drone over before the mission finished, and the mission could not do all it asked, or the operator
+  suspended it (``aeroexec ctl suspend``) (exit 5); the reasons name the reaction and when (``LAND on low battery
+  at t=95.2 s``). ``aeroexec run --resume`` goes on from there.
+
+A resumed run's log goes on after the interrupted run's: its status is that of its last part (from the last
+``log_resumed`` line).
 
 Whatever the word, a run whose event log could not be written whole (a full disk) exits 6 unless it failed
 or was aborted: its record is incomplete (:data:`LOG_INCOMPLETE`).
@@ -40,6 +44,8 @@ RUN_ENDED = "run_ended"
 REFUSAL_KINDS = ("failed_preconditions", "rejected")
 #: Event kinds that make a run fail (the mission raised or its tree failed, the time limit stopped it).
 FAILURE_KINDS = ("mission_failed", "engine_time_limit")
+#: The operator suspended the mission (``ctl suspend``): the event says where (``mission_stopped``, data ``suspend``).
+SUSPENSION = "mission_suspended"
 #: A safety reaction: a reactive behavior of the higher priority, which takes the drone over (``reactive``).
 REACTION = "reactive"
 HIGHER = "higher priority"
@@ -66,12 +72,21 @@ def _record(item: dict[str, Any] | EngineEvent) -> dict[str, Any]:
     return event_record(item) if isinstance(item, EngineEvent) else item
 
 
+def last_part(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The records of a log's last part: from its last ``log_resumed`` line (a resumed run), else all."""
+    start = max((i for i, r in enumerate(records) if r.get("kind") == "log_resumed"), default=0)
+    return records[start:]
+
+
 def run_status(events: Iterable[dict[str, Any] | EngineEvent]) -> RunStatus:
     """The status of a run from its events (engine events, or the records of an event log)."""
-    records = [_record(e) for e in events]
+    records = last_part([_record(e) for e in events])
     for record in records:  # a log that already says how it ended
         if record.get("kind") == RUN_ENDED and record.get("detail") in EXIT_STATUS:
             return RunStatus(record["detail"], list((record.get("data") or {}).get("reasons", [])))
+    suspended = [r.get("detail", "") for r in records if r.get("kind") == SUSPENSION]
+    if suspended:
+        return RunStatus(SUSPENDED, suspended)
     aborted = [r.get("detail", "") for r in records if r.get("kind") == "operator_interrupt" or (
         r.get("kind") == "operator_command" and (r.get("data") or {}).get("command") == "abort"
         and (r.get("data") or {}).get("ok"))]
@@ -120,4 +135,5 @@ def record_run_status(log: Any, status: RunStatus) -> None:
 
 
 __all__ = ["ABORTED", "COMPLETED", "EXIT_STATUS", "FAILED", "FAILURE_KINDS", "LOG_INCOMPLETE", "REFUSAL_KINDS",
-           "REFUSED", "SUSPENDED", "RunStatus", "exit_status", "record_run_status", "run_status", "safety_reaction"]
+           "REFUSED", "SUSPENDED", "SUSPENSION", "RunStatus", "exit_status", "last_part", "record_run_status",
+           "run_status", "safety_reaction"]

@@ -16,7 +16,7 @@ from __future__ import annotations
 import copy
 import logging
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -30,6 +30,7 @@ from aeroexec.engine.missions.bridge import MissionPreempted
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter
+from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
 from aeroexec.flight.mission_changes import MissionChanges
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
@@ -86,6 +87,8 @@ class FlightSession:
         self.flight_log: FlightLogWriter | None = None
         self.btlog: Any = None
         self.control: ControlServer | None = None
+        self.journal: JournalWriter | None = None  # the flight journal (journal.sqlite)
+        self.resumption: Resumption | None = None  # what a resumed run goes on from
         self.outcome: FlightOutcome | None = None
         self._surfaces = Surfaces()
         self._cancel = threading.Event()  # the start is given up (``ctl abort`` while starting)
@@ -114,6 +117,12 @@ class FlightSession:
     def _open(self) -> None:
         spec = self.spec
         self.folder = prepare_output(spec.output)
+        if spec.resume:
+            try:
+                self.resumption = Resumption(resume_point(self.folder))
+            except JournalError as error:
+                raise FlightError(str(error)) from None
+        start = self.resumption.point.time if self.resumption is not None else 0.0
         if spec.register:  # ctl finds the run from now on, while it starts
             self.control = ControlServer(None, self.folder, name=spec.name, register=spec.register,
                                          on_abort=self._cancel.set).start()
@@ -130,16 +139,20 @@ class FlightSession:
             self.control.starting = "checking its mission"
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
                                     verb="fly" if choice.kind is None else "run")  # a rover does not fly
+        if self.resumption is not None and not isinstance(self.mission, TreeDocument):
+            self.resumption.check_program(Path(spec.mission))
         self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
         if self.robot is None:
             if self.control is not None:
                 self.control.starting = "waiting for its vehicle"
-            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set)
+            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set, start)
+            if self.resumption is not None:
+                self.resumption.place(self.robot)
         else:
             simulated = True
         if self._cancel.is_set():
             raise FlightError(f"{spec.name}: the start was aborted (aeroexec ctl abort)")
-        self.engine = self._engine(choice, simulated)
+        self.engine = self._engine(choice, simulated, start)
         self.changes = MissionChanges(self)
         self.engine.supervisor.changes = self.changes
         if spec.fleet is not None or self.fleet_node is not None:
@@ -149,13 +162,18 @@ class FlightSession:
                 **_world_meta(self.world)}
         if spec.fleet is not None:
             meta.update(fleet=spec.fleet.fleet, drone_name=spec.fleet.name)
+        if spec.journal:
+            self._open_journal(meta)
         log_path = Path(spec.log) if spec.log else self.folder / "events.jsonl"
         try:
-            self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta)
+            self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta,
+                                              resumed=self.journal.segment if self.resumption else None)
         except OSError as error:
             raise FlightError(f"the event log {log_path} cannot be written: {error.strerror or error}",
                               usage=True) from None
         self.notify(f"event log: {log_path}")
+        if self.resumption is not None:  # once the logs listen: the resumed part says what it holds
+            self.resumption.restore_beliefs(self.engine)
         self.engine.log.subscribe(self._warn_of_early_link_loss)
         if self.control is not None:
             self.control.attach(self.engine)
@@ -163,8 +181,15 @@ class FlightSession:
             from aeroexec.trees.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
+            if self.resumption is not None:  # the tree as changed in flight, then its state
+                self.resumption.change_document(self.mission, self.spec.mission)
             self.tree = TreeMission(self.mission, self.engine, name=spec.name)
-            self.btlog = BtlogWriter(self.tree, self.folder / "mission.btlog", self.catalog)
+            if self.resumption is not None:
+                self.resumption.restore_tree(self.tree, self.spec.mission)
+            self.btlog = BtlogWriter(self.tree, self.folder / "mission.btlog", self.catalog,
+                                     append=self.resumption is not None)
+            if self.journal is not None:
+                self.journal.attach_tree(self.tree)
             if spec.groot is not None:
                 self._surfaces.add(serve_groot(self.tree, self.catalog, spec.groot, self.notify))
         if self.engine.safety is not None:
@@ -174,10 +199,10 @@ class FlightSession:
                                              {spec.robot: None if self.tree is not None else spec.mission},
                                              port=spec.web, host=spec.web_host, notify=self.notify))
 
-    def _engine(self, choice: RobotChoice, simulated: bool) -> Engine:
+    def _engine(self, choice: RobotChoice, simulated: bool, start: float = 0.0) -> Engine:
         spec = self.spec
         if self.clock is None:
-            self.clock = SimulatedClock(speed=spec.speed) if simulated else WallClock()
+            self.clock = SimulatedClock(start, speed=spec.speed) if simulated else WallClock(start)
         if self.operator is None:
             self.operator = _operator(spec)
         try:
@@ -187,6 +212,16 @@ class FlightSession:
             raise FlightError(str(error)) from None
         return Engine(self.robot, catalog=self.catalog, clock=self.clock, rate=RATE, obstacles=self.world,
                       operator=self.operator, output_dir=self.folder, updaters=updaters, **options)
+
+    def _open_journal(self, meta: dict[str, Any]) -> None:
+        """The flight journal: a new one, or the interrupted run's going on (a resume)."""
+        try:
+            self.journal = open_journal(self.engine, self.spec, self.folder, meta,
+                                        python=not isinstance(self.mission, TreeDocument), resumption=self.resumption)
+        except JournalError as error:
+            raise FlightError(str(error)) from None
+        if self.resumption is not None:
+            self.notify(f"resuming {self.spec.name} from {self.resumption.point.where()}")
 
     def _serve_contingencies(self, handlers: dict) -> None:
         """A safety rule's ``subtree ID`` runs that tree of the mission instead; ``call FUNCTION`` that function."""
@@ -239,10 +274,25 @@ class FlightSession:
         """Start the mission (a tree is ticked by the engine, a Python mission runs in its own thread)."""
         engine = self.engine
         self._mission_started_at = engine.now()
-        if self.tree is not None:
+        if self.tree is not None and self.resumption is not None:
+            self.resumption.start(self.journal, self._tree_rejoined)
+        elif self.tree is not None:
             self.tree.start()
+            if self.journal is not None:
+                self.journal.went_live()
         else:
-            engine.start_mission(self.mission, self.spec.name)
+            recorder = engine.bridge.recorder
+            engine.start_mission(recorder.wrap(self.mission) if recorder is not None else self.mission,
+                                 self.spec.name)
+            if self.journal is not None and self.resumption is None:
+                self.journal.went_live()
+
+    def _tree_rejoined(self, reason: str | None) -> None:
+        """A resumed tree goes on once the drone is back (or fails with the reason it could not be)."""
+        if reason is not None:
+            self.tree.halt(reason)
+        else:
+            self.tree.start()
 
     def replace_mission(self, mission: Callable[[], Any] | TreeDocument, path: Path) -> None:
         """Fly ``mission`` (checked, from ``path``) in place of the one that ran, now (a ``load``: the running one
@@ -324,13 +374,20 @@ class FlightSession:
         engine = self.engine
         status = RunStatus(FAILED, faults) if faults else run_status(engine.log.events())
         if status.word == SUSPENDED and self.tree is not None:
-            left, total = goals_left(self.tree, self.catalog)
+            reached = {e.data.get("uid") for e in engine.log.events("node_status") if e.data.get("new") == "SUCCESS"}
+            if self.resumption is not None:
+                reached |= self.resumption.reached
+            left, total = goals_left(self.tree, self.catalog, reached)
             status = RunStatus(SUSPENDED, [f"{status.reasons[0]}; {left} of {total} goals not reached"])
         self._tell_fleet("failed" if status.word == FAILED else
                          "completed" if status.exit_status in (0, 3) else "stopped")
         record_run_status(engine.log, status)
+        if self.journal is not None:
+            self.journal.ended(status)
         self.close()
         incomplete = self.flight_log.incomplete if self.flight_log is not None else None
+        if incomplete is None and self.journal is not None and self.journal.incomplete is not None:
+            incomplete = f"the journal: {self.journal.incomplete}"
         self.outcome = FlightOutcome(status, list(faults), incomplete, self.folder)
         return self.outcome
 
@@ -362,17 +419,18 @@ class FlightSession:
             _quietly(self._joined.close)
         elif self.link is not None:
             _quietly(self.link.leave)
-        for part in (self.flight_log, self.btlog, self.operator):
+        for part in (self.flight_log, self.journal, self.btlog, self.operator):
             if part is not None:
                 _quietly(part.close)
         if self.robot is not None:
             _quietly(self.robot.close)
 
 
-def goals_left(tree: Any, catalog: Any) -> tuple[int, int]:
-    """How many of a tree's behavior leaves did not reach their goal, of how many."""
-    leaves = [node for _, node in tree.nodes if _behavior_of(node) in catalog]
-    done = sum(node.status.name == "SUCCESS" for node in leaves)
+def goals_left(tree: Any, catalog: Any, reached: Collection[int] = ()) -> tuple[int, int]:
+    """How many of a tree's behavior leaves did not reach their goal, of how many (``reached``: the places, from 1,
+    of the nodes that succeeded before, though a halt has reset them since)."""
+    leaves = [(uid, node) for uid, (_, node) in enumerate(tree.nodes, 1) if _behavior_of(node) in catalog]
+    done = sum(node.status.name == "SUCCESS" or uid in reached for uid, node in leaves)
     return len(leaves) - done, len(leaves)
 
 

@@ -13,7 +13,7 @@ from typing import Any
 
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.safety.compliance import Compliance, compliance
-from aeroexec.flight.run_status import run_status
+from aeroexec.flight.run_status import last_part, run_status
 
 OUTCOMES = {o.value for o in Outcome}
 #: Event kinds that are failures worth an operator's attention (INTERRUPTED is how behaviors normally make way).
@@ -193,7 +193,7 @@ def summarize(records: list[dict[str, Any]]) -> FlightSummary:
     outcome = run_status(records).word
     beliefs.extend(BeliefSpan(b, t, end) for b, t in held.items())
     beliefs.sort(key=lambda b: (b.start, b.belief))
-    if not any(r.get("kind") == "log_closed" for r in records):
+    if not any(r.get("kind") == "log_closed" for r in last_part(records)):
         outcome = "incomplete"
     summary = FlightSummary(meta, samples, spans, beliefs, failures, start, end, outcome, refusals, flight_states,
                             compliance(records), changes)

@@ -65,7 +65,8 @@ class RunResult:
     battery: float = 0.0  # percent at the end
     clearance: float = math.inf  # m: the least distance to an obstacle
     rules: list[dict] = field(default_factory=list)  # the safety events: rule, time, where
-    wall: float = 0.0  # seconds of the worker's time
+    wall: float = 0.0  # CPU seconds of the worker's process
+    worker: int = 0  # the process that flew it (its id)
 
     @property
     def success(self) -> bool:
@@ -93,7 +94,7 @@ def fly(mission: str, seed: int, rules: tuple[str, ...] = (), max_time: float = 
     from aeroexec.flight.spec import FlightError, FlightSpec
 
     variation = Variation.draw(seed)
-    result = RunResult(variation)
+    result = RunResult(variation, worker=os.getpid())
     began = time.process_time()
     with tempfile.TemporaryDirectory(prefix="aeroexec-rehearse-") as scratch:
         folder = Path(output) if output else Path(scratch) / "run"

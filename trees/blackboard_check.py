@@ -22,7 +22,7 @@ from aeroexec.engine.errors import WRONG_FORMAT
 from aeroexec.trees.conversions import ANY, compatible, type_conflict
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, output_key, template_keys
-from aeroexec.trees.runtime.registry import LOOPING, ports_of
+from aeroexec.trees.runtime.manifests import LOOPING, ports_of
 from aeroexec.trees.script import Script, ScriptError, compile_script
 
 Key = tuple[int, str]  # (scope, name) as resolved

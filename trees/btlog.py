@@ -42,7 +42,7 @@ from typing import Any
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.trees.groot import tree_nodes_model
 from aeroexec.trees.runtime.builder import model_of
-from aeroexec.trees.runtime.registry import CONTROLS, DECORATORS
+from aeroexec.trees.runtime.manifests import CONTROLS, DECORATORS
 from aeroexec.trees.runtime.ticking import status_name
 from py_trees.behaviour import Behaviour
 
@@ -299,7 +299,9 @@ class BtlogWriter:
     A file holds one tree: when a change in flight gives the tree other nodes, the writer goes on in the next file,
     ``NAME.change-K.btlog`` (K counts the changes), whose header is the changed tree."""
 
-    def __init__(self, mission: Any, path: str | Path, catalog: Any = None) -> None:
+    def __init__(self, mission: Any, path: str | Path, catalog: Any = None, append: bool = False) -> None:
+        """``append``: a resumed run goes on in the interrupted run's last file (the same tree, its changes made
+        again; its times go on)."""
         if Path(path).suffix != ".btlog":
             raise ValueError(f"{path}: a FileLogger2 file's extension must be .btlog")
         self.mission = mission
@@ -311,7 +313,10 @@ class BtlogWriter:
         self.incomplete: str | None = None  # why the file stopped short (a write error), None while whole
         self._lock = threading.Lock()
         self._fd: int | None = None
-        self._open()
+        if append:
+            self._go_on()
+        else:
+            self._open()
         mission.observers.append(self.on_tick)
         getattr(mission, "restructured", []).append(self._restructured)
 
@@ -324,6 +329,21 @@ class BtlogWriter:
         self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         self._write(MAGIC + bytes([PROTOCOL]) + struct.pack("<i", len(xml)) + xml +
                     struct.pack("<q", self.first_timestamp_usec))
+        self.tracker = TransitionTracker(self.mission, self._record)
+
+    def _go_on(self) -> None:
+        """Go on in the last file of the interrupted run (``NAME.change-K.btlog`` for the highest K, else the first),
+        after its last whole transition; a new file when there is none to go on in."""
+        later = sorted((int(p.stem.rsplit("-", 1)[1]), p) for p in self.first_path.parent.glob(
+            f"{self.first_path.stem}.change-*.btlog") if p.stem.rsplit("-", 1)[1].isdigit())
+        if later:
+            self.changes, self.path = later[-1]
+        if not _whole_records(self.path):
+            self._open()
+            return
+        self.start, self.first_timestamp_usec = 0.0, time.time_ns() // 1000
+        self.transitions, self._pending = 0, bytearray()
+        self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
         self.tracker = TransitionTracker(self.mission, self._record)
 
     def _restructured(self) -> None:
@@ -391,6 +411,24 @@ class BtlogWriter:
             fd, self._fd = self._fd, None
         if fd is not None:
             os.close(fd)
+
+
+def _whole_records(path: Path) -> bool:
+    """Cut a transition a killed process left half written off the end of ``path``; False when it has no whole
+    header to go on after."""
+    try:
+        with open(path, "rb+") as file:
+            head = file.read(len(MAGIC) + 5)
+            if len(head) < len(MAGIC) + 5 or not head.startswith(MAGIC):
+                return False
+            header = len(MAGIC) + 5 + struct.unpack("<i", head[len(MAGIC) + 1:])[0] + 8
+            size = file.seek(0, os.SEEK_END)
+            if size < header:
+                return False
+            file.truncate(size - (size - header) % RECORD)
+    except OSError:
+        return False
+    return True
 
 
 # -- reading -------------------------------------------------------------------------------------------------

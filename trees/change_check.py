@@ -22,8 +22,7 @@ from aeroexec.beliefs import format_term
 from aeroexec.drones.geodesy import enu_to_geodetic, geo_to_enu
 from aeroexec.engine.catalog import BehaviorSpecialist
 from aeroexec.engine.catalog.specialist import PhenomenonState
-from aeroexec.engine.errors import WRONG_SEQUENCE, WRONG_VALUE
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import WRONG_SEQUENCE, WRONG_VALUE, MissionProblem
 from aeroexec.trees.model import PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.route import estimate_route
 from aeroexec.trees.runtime.builder import model_of

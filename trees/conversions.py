@@ -8,22 +8,18 @@ the number at the start of the text, what follows ignored (``"3.5"`` is the inte
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Callable
 from typing import Any
 
-from py_trees.common import Status
-
 from aeroexec.limits import MAX_NUMBER_LENGTH
 
 #: Port types (BT.CPP's C++ types).
 INT, UNSIGNED, DOUBLE, BOOL, STRING, STATUS, ANY = "int", "unsigned", "double", "bool", "string", "NodeStatus", "any"
-#: NodeStatus as text, with BT.CPP's fourth status.
+#: BT.CPP's fourth status (py_trees has three and INVALID, BT.CPP's IDLE).
 SKIPPED = "SKIPPED"
-STATUSES = {"SUCCESS": Status.SUCCESS, "FAILURE": Status.FAILURE, "RUNNING": Status.RUNNING, "SKIPPED": SKIPPED,
-            "IDLE": Status.INVALID}
-
 
 
 class ConversionError(ValueError):
@@ -33,7 +29,6 @@ class ConversionError(ValueError):
 _INTEGER = re.compile(r"-?\d+")  # std::from_chars: an optional '-', digits; what follows is not read
 _DOUBLE = re.compile(r"-?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|-?(?:infinity|inf|nan)", re.IGNORECASE)
 _BOUNDS = {INT: (-(2 ** 31), 2 ** 31 - 1), UNSIGNED: (0, 2 ** 32 - 1)}  # C++ int and unsigned
-_STATUS_CODES = {0: Status.INVALID, 1: Status.RUNNING, 2: Status.SUCCESS, 3: Status.FAILURE, 4: SKIPPED}
 
 
 def integer_prefix(text: str) -> int | None:
@@ -71,10 +66,23 @@ def _bool(text: str) -> bool:
     raise ConversionError("convertFromString(): invalid bool conversion")
 
 
-def _status(text: str) -> Status | str:
-    if text not in STATUSES:
+@functools.cache
+def _node_statuses() -> tuple[type, dict[str, Any], dict[int, Any]]:
+    """py_trees' ``Status``, NodeStatus by its text and by BT.CPP's numbers. py_trees is imported here, when a status
+    is first converted: verification converts every other type without loading it."""
+    from py_trees.common import Status
+
+    by_text = {"SUCCESS": Status.SUCCESS, "FAILURE": Status.FAILURE, "RUNNING": Status.RUNNING, "SKIPPED": SKIPPED,
+               "IDLE": Status.INVALID}
+    by_code = {0: Status.INVALID, 1: Status.RUNNING, 2: Status.SUCCESS, 3: Status.FAILURE, 4: SKIPPED}
+    return Status, by_text, by_code
+
+
+def _status(text: str) -> Any:
+    _, by_text, _ = _node_statuses()
+    if text not in by_text:
         raise ConversionError(f"Cannot convert this to NodeStatus: {text}")
-    return STATUSES[text]
+    return by_text[text]
 
 
 #: BT.CPP's ``convertFromString<T>``, per port type (text as written: BT.CPP strips nothing).
@@ -122,8 +130,14 @@ def from_blackboard(value: Any, kind: str) -> Any:
     if isinstance(value, str):
         return convert(value, kind)
     number = isinstance(value, int | float)
-    if kind == STRING and (number or isinstance(value, Status)):
-        return text_of(value) if number else value.value
+    if kind == STRING and number:
+        return text_of(value)
+    if kind in (STRING, STATUS):
+        status, _, by_code = _node_statuses()
+        if isinstance(value, status):
+            return value.value if kind == STRING else value
+        if kind == STATUS and isinstance(value, int) and value in by_code:
+            return by_code[value]
     if kind in (INT, UNSIGNED) and number:
         if isinstance(value, float) and (not math.isfinite(value) or value != int(value)):
             raise ConversionError("Invalid floating point to integer conversion")
@@ -134,8 +148,4 @@ def from_blackboard(value: Any, kind: str) -> Any:
         return float(value)
     if kind == BOOL and number:
         return bool(value)
-    if kind == STATUS and (isinstance(value, Status) or value is SKIPPED):
-        return value
-    if kind == STATUS and isinstance(value, int) and value in _STATUS_CODES:
-        return _STATUS_CODES[value]
     raise ConversionError(f"no known safe conversion between [{type(value).__name__}] and [{kind}]")

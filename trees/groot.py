@@ -16,13 +16,12 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE
 from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING
-from aeroexec.trees.runtime.belief_leaves import CheckBelief
-from aeroexec.trees.runtime.registry import BUILT_IN
+from aeroexec.trees.runtime.manifests import MANIFESTS
 
 ANY_TYPE = "BT::AnyTypeAllowed"
 _TYPES = {"NUMBER": "double", "INTEGER": "int", "BOOLEAN": "bool", "TEXT": "std::string", "BELIEF": "std::string"}
 
-#: The engine's leaves that are not catalog behaviors, as the palette lists them (their ports are their classes').
+#: The engine's leaves that are not catalog behaviors, as the palette lists them (kind and ports: their manifests).
 ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AddRule", "AskBehavior")
 #: C++ types of the runtime's port types.
 _CPP_TYPES = {STRING: "std::string", BOOL: "bool", INT: "int", DOUBLE: "double", ANY: ANY_TYPE}
@@ -64,9 +63,9 @@ def tree_nodes_model(catalog: BehaviorCatalog) -> str:
             ElementTree.SubElement(action, "input_port", name="timeout", type="double").text = (
                 "seconds before the behavior times out (overrides the catalog's)")
     for identifier in ENGINE_LEAVES:
-        cls = BUILT_IN[identifier]
-        leaf = ElementTree.SubElement(model, "Condition" if issubclass(cls, CheckBelief) else "Action", ID=identifier)
-        for port in cls.ports:
+        manifest = MANIFESTS[identifier]
+        leaf = ElementTree.SubElement(model, manifest.kind, ID=identifier)
+        for port in manifest.ports:
             ElementTree.SubElement(leaf, f"{port.direction}_port", name=port.name,
                                    type=_CPP_TYPES[port.type]).text = port.description
         if identifier == "AskBehavior":

@@ -17,15 +17,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from aeroexec.drones.geodesy import Geodetic
-from aeroexec.trees.aerostack2_nodes import aerostack2_tree
-from aeroexec.trees.items import ITEM_EXTENSIONS, items_document, read_item_mission
-from aeroexec.trees.items.readers import load_item_mission
-from aeroexec.trees.loaders.aerostack2_loader import is_aerostack2_plan, read_aerostack2_plan
-from aeroexec.trees.loaders.yaml_loader import read_yaml
+from aeroexec.trees.items.readers import ITEM_EXTENSIONS
 from aeroexec.trees.model import TreeDocument, TreeFormatError
-from aeroexec.trees.tml.compiler import load_xml_mission, read_xml_mission
 
 from aeroexec.limits import InputError, read_text
+
+# Each format's reader is imported when a file of that format is read: one command reads one kind of file (the XML
+# reader alone pulls in the SAX parser and urllib; the mission items, the simulator's geofences).
 
 MISSION_EXTENSIONS = (".xml", ".yaml", ".yml", ".json", *ITEM_EXTENSIONS)
 _EXPECTED = "expected .xml, .yaml, .yml, .json, .plan, .mission, .waypoints or .txt"
@@ -35,8 +33,14 @@ def load_mission_tree(path: str | Path, home: Geodetic | None = None) -> TreeDoc
     """The behavior-tree mission in ``path`` (see the module's docstring for the extensions)."""
     suffix = Path(path).suffix.lower()
     if suffix in ITEM_EXTENSIONS:
+        from aeroexec.trees.items.behaviors import items_document
+        from aeroexec.trees.items.readers import load_item_mission
+
         return items_document(load_item_mission(path), home)
     if suffix == ".xml":
+        from aeroexec.trees.aerostack2_nodes import aerostack2_tree
+        from aeroexec.trees.tml.compiler import load_xml_mission
+
         return aerostack2_tree(load_xml_mission(path), home)
     if suffix in (".yaml", ".yml", ".json"):
         try:
@@ -51,15 +55,25 @@ def read_mission_tree(text: str | bytes, file: str, home: Geodetic | None = None
     """A mission from text; ``file`` (its extension chooses the format) names it in problems."""
     suffix = Path(file).suffix.lower()
     if suffix in ITEM_EXTENSIONS:
+        from aeroexec.trees.items.behaviors import items_document
+        from aeroexec.trees.items.readers import read_item_mission
+
         return items_document(read_item_mission(text, file), home)
     if suffix == ".xml":
+        from aeroexec.trees.aerostack2_nodes import aerostack2_tree
+        from aeroexec.trees.tml.compiler import read_xml_mission
+
         return aerostack2_tree(read_xml_mission(text, file), home)
     if suffix in (".yaml", ".yml", ".json"):
         try:
             text = text.decode("utf-8") if isinstance(text, bytes) else text
         except UnicodeDecodeError as exc:
             raise TreeFormatError([(file, 0, f"cannot read the file: {exc}")]) from None
+        from aeroexec.trees.loaders.aerostack2_loader import is_aerostack2_plan, read_aerostack2_plan
+
         if suffix == ".json" or is_aerostack2_plan(text):
             return read_aerostack2_plan(text, file, home)
+        from aeroexec.trees.loaders.yaml_loader import read_yaml
+
         return read_yaml(text, file)
     raise TreeFormatError([(file, 0, f"unknown mission file type {suffix or '(no extension)'}: {_EXPECTED}")])

@@ -17,7 +17,6 @@ from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
-from aeroexec.trees.items.behaviors import mission_home
 from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, MISSION_FRAME, POSITIONAL, ItemMission
 from aeroexec.trees.items.readers import is_item_file, load_item_mission
 from aeroexec.trees.model import TreeFormatError
@@ -61,6 +60,7 @@ def world_for(mission: ItemMission, home: Geodetic | None = None) -> Any:
     """The open field around ``mission`` at ``home`` (default: the mission's own home); None when the mission
     names no place on Earth."""
     from aeroexec.drones.sim.open_field import open_field
+    from aeroexec.trees.items.behaviors import mission_home  # here: only a mission planned on a map needs it
 
     own = mission_home(mission)
     if home is None:

@@ -16,11 +16,11 @@
 from __future__ import annotations
 
 from aeroexec.engine.catalog import BehaviorCatalog
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import MissionProblem
 from aeroexec.trees.groot import palette_ports
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, template_keys
-from aeroexec.trees.runtime.registry import BUILT_IN
+from aeroexec.trees.runtime.manifests import MANIFESTS
 from aeroexec.trees.script import ScriptError, compile_script
 
 KIND = "NOT_PORTABLE"
@@ -69,7 +69,7 @@ def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> li
         return [_problem(None, document, "not a BehaviorTree.CPP file: only its v4 XML is portable")]
     palette = palette_ports(catalog)
     problems = [MissionProblem("error", message, file, line, KIND) for file, line, message in document.not_portable]
-    registered = {*BUILT_IN, *palette}
+    registered = {*MANIFESTS, *palette}
     for tree_id in document.trees:
         if tree_id in registered:  # BT.CPP 4.10
             problems.append(MissionProblem("error", "The attribute [ID] of tag <BehaviorTree> must not use the name "

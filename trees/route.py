@@ -4,10 +4,10 @@ route's length, its duration at the planned speeds, and the battery left at land
 A mission whose tree is a flight through known places (Sequences, Repeats, Parallels of behaviors that fly to
 literal points, take off, land, wait, turn, take photos: every plan and waypoint file, most hand-written
 sequences) has a route; others (fallbacks, conditions, points read from the blackboard) have none, and nothing
-is said of them. The vehicle's model is the simulated multicopter's (:class:`aeroexec.drones.sim.SimConfig`:
-accelerations, climb and descent rates, cruise and top speeds, and its battery's drain with speed and climb). A
-route the battery cannot finish above the failsafe threshold is an error at the item where the charge runs out,
-saying how much is missing.
+is said of them. Each leg is costed by the vehicle model (:class:`aeroexec.drones.vehicle.VehicleModel`, the one
+the safety rules' return estimates use: the simulated multicopter's figures and its battery's drain). A route the
+battery cannot finish above the failsafe threshold is an error at the item where the charge runs out, saying how
+much is missing.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.drones.geodesy import geo_to_enu, is_geo, parse_geo
-from aeroexec.engine.errors import WRONG_VALUE
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.drones.vehicle import VehicleModel
+from aeroexec.engine.errors import WRONG_VALUE, MissionProblem
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.ports import parse_value
 
@@ -60,10 +60,8 @@ class _Flight:
 
     def __init__(self, document: TreeDocument, world: Any, config: Any, start: tuple[Vector, bool] | None = None
                  ) -> None:
-        from aeroexec.drones.sim.battery import Battery
-
         self.document, self.world, self.config = document, world, config
-        self.battery = Battery(config)
+        self.model = VehicleModel(config)
         self.estimate = RouteEstimate(battery=config.initial_battery_percent,
                                       failsafe=config.failsafe_battery_percent,
                                       hover_minutes=config.battery_hover_minutes)
@@ -81,10 +79,10 @@ class _Flight:
                                                          node.line, WRONG_VALUE))
 
     # -- the vehicle's model ---------------------------------------------------------------------------------
-    def spend(self, node: TreeNode, seconds: float, speed: float = 0.0, climb: float = 0.0) -> None:
-        rate = self.battery.drain_rate(True, self.flying, speed, climb)
+    def spend(self, node: TreeNode, seconds: float, percent: float | None = None) -> None:
+        """``seconds`` of the route, taking ``percent`` of the charge (default: hovering, or idle on the ground)."""
         self.estimate.duration += seconds
-        self.estimate.battery -= rate * seconds
+        self.estimate.battery -= self.model.hover(seconds, self.flying) if percent is None else percent
         if self.empty_at is None and self.estimate.battery < self.estimate.failsafe:
             self.empty_at = node
 
@@ -108,17 +106,10 @@ class _Flight:
         return float(value)
 
     def fly(self, node: TreeNode, target: Vector, speed: float) -> None:
-        c = self.config
         start = self.position
-        horizontal = math.dist(start[:2], target[:2])
-        rise = target[2] - start[2]
-        speed = min(max(speed, 0.1), c.max_speed)
-        cruise = horizontal / speed + (speed / c.max_acceleration if horizontal > 0.5 else 0.0)
-        vertical = abs(rise) / (c.max_climb_rate if rise > 0 else c.descent_rate)
-        seconds = max(cruise, vertical)
         self.check_leg(node, start, target)
         self.estimate.length += math.dist(start, target)
-        self.spend(node, seconds, horizontal / seconds if seconds else 0.0, rise / seconds if seconds else 0.0)
+        self.spend(node, *self.model.fly(start, target, speed))
         self.position = target
 
     def check_leg(self, node: TreeNode, a: Vector, b: Vector) -> None:
@@ -161,7 +152,7 @@ class _Flight:
         elif kind == "TAKE_OFF":
             altitude = self.number(node, "ALTITUDE", 2.0)
             self.flying = True
-            self.spend(node, altitude / self.config.climb_rate, 0.0, self.config.climb_rate)
+            self.spend(node, *self.model.take_off(altitude))
             self.estimate.length += altitude
             self.position = (self.position[0], self.position[1], self.position[2] + altitude)
             why = self.world.why_outside(self.position) if hasattr(self.world, "why_outside") else None
@@ -188,11 +179,8 @@ class _Flight:
             raise NoRoute(kind)
 
     def land(self, node: TreeNode) -> None:
-        c = self.config
         height = max(self.position[2], 0.0)
-        slow = min(height, c.land_slow_altitude)
-        seconds = (height - slow) / c.descent_rate + slow / c.land_speed
-        self.spend(node, seconds, 0.0, -height / seconds if seconds else 0.0)
+        self.spend(node, *self.model.land(height))
         self.estimate.length += height
         self.position = (self.position[0], self.position[1], 0.0)
         self.flying = False

@@ -17,11 +17,11 @@ import math
 import operator
 import sys
 from collections.abc import Callable, MutableMapping
-from importlib import resources
 from typing import Any
 
 __all__ = ["Script", "ScriptCompiler", "ScriptError", "compile_script", "text_of", "truth"]
 
+from aeroexec.grammar import lalr_parser
 from aeroexec.trees import conversions
 from lark import Lark, Transformer, Tree
 from lark.exceptions import LarkError
@@ -39,7 +39,7 @@ class ScriptError(ValueError):
 
 @functools.cache
 def _parser() -> Lark:
-    return Lark(resources.files("aeroexec.grammar").joinpath("script.lark").read_text(), parser="lalr")
+    return lalr_parser("script.lark")
 
 
 def _is_number(value: Any) -> bool:

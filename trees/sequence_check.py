@@ -28,7 +28,7 @@ from aeroexec.engine.catalog.specialist import BehaviorSpecialist, PhenomenonSta
 from aeroexec.engine.errors import WRONG_SEQUENCE
 from aeroexec.trees.model import PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import parse_number, request_from_ports, template_keys
-from aeroexec.trees.runtime.registry import BUILT_IN, LOOPING
+from aeroexec.trees.runtime.manifests import DECORATORS, LOOPING, MANIFESTS
 
 State = dict[str, PhenomenonState | None]  # None: unknown
 Exits = tuple[State | None, State | None]  # after SUCCESS, after FAILURE; None when it cannot end that way
@@ -87,7 +87,7 @@ class SequenceChecker:
                     found |= self.touched(self.document.trees[tree], (*seen, tree))
             name = n.ports.get("behavior", "").strip() if n.type == "AskBehavior" else n.type
             found |= {t.phenomenon for t in self.catalog.transitions if name in t.behaviors}
-            if n.type not in BUILT_IN and n.type not in self.catalog:
+            if n.type not in MANIFESTS and n.type not in self.catalog:
                 found |= set(self.unknown)
         return found
 
@@ -139,7 +139,7 @@ class SequenceChecker:
             return self.branches(children, state, looping)[0]
         if kind == "WhileDoElse" and len(children) in (2, 3):
             return self.loop(state, lambda s: self.branches(children, s, True))
-        if kind in BUILT_IN and BUILT_IN[kind].max_children == 1 and len(children) == 1:
+        if kind in DECORATORS and len(children) == 1:
             return self.decorator(node, state, looping)
         if kind == "SubTree":
             return self.subtree(node, state, looping)

@@ -20,15 +20,13 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.catalog.vocabulary import check_rules
 from aeroexec.engine.catalog.world_check import WorldMap
-from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, SpecificationError
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, MissionProblem, SpecificationError
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.blackboard_check import BlackboardChecker
 from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING, UNSIGNED, ConversionError, convert, queue_items
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, port_errors
-from aeroexec.trees.runtime.ports import Port
-from aeroexec.trees.runtime.registry import BUILT_IN, children_text, ports_of
+from aeroexec.trees.runtime.manifests import ACTION, MANIFESTS, NodeManifest, Port, ports_of
 from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 from aeroexec.trees.subtrees import check_expansion, check_subtree_paths
@@ -57,7 +55,7 @@ class TreeVerifier:
         self.known_keys = set(known_keys)
         self.problems: list[Problem] = []
         self._seen: set[tuple[str, int, str]] = set()
-        self._node_types = sorted({*BUILT_IN, *self.catalog.behaviors})
+        self._node_types = sorted({*MANIFESTS, *self.catalog.behaviors})
         self.vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
         for root in document.trees.values():  # AddBelief declares the predicates the catalog does not know
             for node in root.walk():
@@ -97,13 +95,13 @@ class TreeVerifier:
     # -- one node ------------------------------------------------------------------------------
     def check_node(self, node: TreeNode) -> None:
         kind = node.type
-        spec = BUILT_IN.get(kind)
+        manifest = MANIFESTS.get(kind)
         behavior = self.catalog.behavior(kind)
-        if spec is None and behavior is None:
+        if manifest is None and behavior is None:
             self.report(node, f"The behavior {kind} does not exist{suggestion(kind, self._node_types)}")
         else:
-            self.check_children(node, spec.min_children if spec else 0, spec.max_children if spec else 0,
-                                children_text(kind) if spec else "no children")
+            shape = manifest if manifest is not None else NodeManifest(ACTION)  # a catalog behavior is a leaf
+            self.check_children(node, shape.min_children, shape.max_children, shape.children_text())
         for attribute in PRECONDITIONS:
             if attribute in node.ports:
                 self.check_condition(node, attribute, node.ports[attribute])
@@ -114,7 +112,7 @@ class TreeVerifier:
         for attribute in _SCRIPT_PORTS:
             if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
                 self.check_script(node, attribute, node.ports[attribute])
-        if spec is not None:
+        if manifest is not None:
             self.check_built_in(node)
         elif behavior is not None:
             self.request_problems(node, port_errors(self.specialist, kind, node.ports))
@@ -162,8 +160,8 @@ class TreeVerifier:
                 self.check_queue(node, text)
             return
         allowed = _STATUS_PORTS.get(port.name, ())
-        try:
-            value = convert(text, port.type)
+        try:  # a status port's text is one it allows (statuses, as text: converting them would load py_trees)
+            value = text if allowed else convert(text, port.type)
         except ConversionError:
             value = None
         wrong = (value is None or bool(allowed and text not in allowed)

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from as2_python_api.drone_interface_base import DroneInterfaceBase
-from as2_python_api.modules.follow_path_module import FollowPathModule
-from as2_python_api.modules.go_to_module import GoToModule, GotoModule
-from as2_python_api.modules.land_module import LandModule
-from as2_python_api.modules.takeoff_module import TakeoffModule
+from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
+from aeroexec.aerostack.as2_python_api.modules.follow_path_module import FollowPathModule
+from aeroexec.aerostack.as2_python_api.modules.go_to_module import GoToModule, GotoModule
+from aeroexec.aerostack.as2_python_api.modules.land_module import LandModule
+from aeroexec.aerostack.as2_python_api.modules.takeoff_module import TakeoffModule
 
 
 class DroneInterface(DroneInterfaceBase):

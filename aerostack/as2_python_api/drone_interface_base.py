@@ -12,10 +12,10 @@ import logging
 import math
 from typing import Any
 
+from aeroexec.aerostack.as2_msgs.msg import PlatformStatus
 from aeroexec.drones.interface import LandedState, Telemetry
 from aeroexec.engine import api
 from aeroexec.engine.missions import ros, script
-from as2_msgs.msg import PlatformStatus
 
 #: Engine seconds a drone command (arm, disarm) may take before it counts as refused.
 COMMAND_TIMEOUT = 5.0
@@ -161,7 +161,7 @@ class DroneInterfaceBase:
 
     def load_module(self, pkg: str) -> None:
         """Load a behavior module (``rtl_module``, ``as2_python_api.modules.rtl_module``...), its dependencies first."""
-        from as2_python_api.modules.module_base import module_class
+        from aeroexec.aerostack.as2_python_api.modules.module_base import module_class
 
         cls = module_class(pkg)
         if cls.__alias__ in self.modules:
@@ -172,13 +172,15 @@ class DroneInterfaceBase:
 
     def send_emergency_land(self) -> None:
         """Land now (LAND)."""
-        from as2_python_api.modules.land_module import LandModule
+        from aeroexec.aerostack.as2_python_api.modules.land_module import LandModule
 
         LandModule(self, "emergency_land")()
 
     def send_emergency_hover(self) -> None:
         """Hold position now (KEEP_HOVERING)."""
-        from as2_python_api.modules.motion_reference_handler_module import MotionReferenceHandlerModule
+        from aeroexec.aerostack.as2_python_api.modules.motion_reference_handler_module import (
+            MotionReferenceHandlerModule,
+        )
 
         MotionReferenceHandlerModule(self).hover()
 

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from as2_python_api.drone_interface_base import DroneInterfaceBase
-from as2_python_api.modules.follow_path_gps_module import FollowPathGpsModule
-from as2_python_api.modules.go_to_gps_module import GoToGpsModule, GotoGpsModule
-from as2_python_api.modules.gps_module import GpsModule
-from as2_python_api.modules.land_module import LandModule
-from as2_python_api.modules.takeoff_module import TakeoffModule
+from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
+from aeroexec.aerostack.as2_python_api.modules.follow_path_gps_module import FollowPathGpsModule
+from aeroexec.aerostack.as2_python_api.modules.go_to_gps_module import GoToGpsModule, GotoGpsModule
+from aeroexec.aerostack.as2_python_api.modules.gps_module import GpsModule
+from aeroexec.aerostack.as2_python_api.modules.land_module import LandModule
+from aeroexec.aerostack.as2_python_api.modules.takeoff_module import TakeoffModule
 
 
 class DroneInterfaceGPS(DroneInterfaceBase):

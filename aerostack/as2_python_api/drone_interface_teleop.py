@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from as2_python_api.drone_interface import DroneInterface
-from as2_python_api.modules.motion_reference_handler_module import MotionReferenceHandlerModule
+from aeroexec.aerostack.as2_python_api.drone_interface import DroneInterface
+from aeroexec.aerostack.as2_python_api.modules.motion_reference_handler_module import MotionReferenceHandlerModule
 
 
 class DroneInterfaceTeleop(DroneInterface):

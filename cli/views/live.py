@@ -1,6 +1,7 @@
 """The live view of ``aeroexec run`` on a terminal: what the drone does and why, refreshed in place (rich).
 
-Sections: the mission (the tree with node statuses, or the Python mission's current line), the active
+Sections: the safety rules' line when the run has some (held; or the rule violated, the contingency in effect,
+an obligation due), the mission (the tree with node statuses, or the Python mission's current line), the active
 behaviors (priority, source, elapsed time, timeout), the drone (position, altitude, speed, battery), the
 beliefs (recently changed ones highlighted, removed ones struck through), the last events with their reasons,
 and a waiting question. On a terminal the view fits its size (80 x 24 included): the panels shrink, the
@@ -50,6 +51,7 @@ EVENT_STYLE = {"GOAL_ACHIEVED": "green", "TIME_OUT": "red", "WRONG_PROGRESS": "r
                "mission_change": "bold magenta", "mission_replaced": "bold magenta"}
 KEYS_HELP = "p pause  r resume  n next item  j jump  a/q abort+land  i inhibit  t answer"
 FINAL_STYLE = {COMPLETED: "bold green", REFUSED: "bold yellow", FAILED: "bold red", ABORTED: "bold red"}
+SAFETY_STYLE = {"held": "green", "due": "bold yellow", "violated": "bold white on red"}
 FLIGHT_CAPABILITY = "FLIGHT_CONTROL"  # the behaviors holding it command the drone's flight mode
 
 
@@ -65,6 +67,7 @@ class Snapshot:
     beliefs: list[tuple[str, str]] = field(default_factory=list)  # (text, style)
     events: list[tuple[str, str]] = field(default_factory=list)
     questions: list[str] = field(default_factory=list)
+    safety: tuple[str, str] | None = None  # the safety rules' line and its level (held, due, violated)
 
 
 class LiveView:
@@ -123,10 +126,13 @@ class LiveView:
         drone = {"position": telemetry.position, "altitude": telemetry.altitude, "speed": telemetry.speed,
                  "battery": telemetry.battery_percent, "landed": telemetry.landed_state.value,
                  "mode": telemetry.flight_mode, "by": flying[0] if flying else ""}
+        monitor = getattr(engine, "safety", None)
+        status = monitor.status() if monitor is not None else None
         return Snapshot(now, self._final or engine.supervisor.state, self._mission_lines(), active, drone,
                         self._beliefs(now),
                         [(_event_line(e), EVENT_STYLE.get(e.kind, "")) for e in self._events],
-                        [_question(p) for p in operator_of(engine.context).pending_questions()])
+                        [_question(p) for p in operator_of(engine.context).pending_questions()],
+                        (status.summary(), status.level) if status is not None else None)
 
     def _mission_lines(self) -> list[tuple[int, str, str]]:
         attached = next((m for m in self.engine.supervisor.missions if hasattr(m, "nodes")), None)
@@ -172,8 +178,8 @@ class LiveView:
 
         s = self._snapshot
         width = size[0] if size else 10_000
-        state_style = FINAL_STYLE.get(s.state) or {"paused": "bold yellow", "aborted": "bold red"}.get(
-            s.state, "bold green")
+        state_style = FINAL_STYLE.get(s.state) or {"paused": "bold yellow", "aborted": "bold red",
+                                                    "suspended": "bold yellow"}.get(s.state, "bold green")
         title = Text.assemble(("aeroexec ", "bold"), (self.name, "bold cyan"), f"  t={s.time:.1f} s  ",
                               (s.state.upper(), state_style), no_wrap=True, overflow="ellipsis")
         footer = Text(self.prompt, style="bold") if self.prompt else Text(KEYS_HELP, style="dim")
@@ -181,9 +187,10 @@ class LiveView:
             footer = Text.assemble((self.message, "magenta"), "   ", footer)
         footer.no_wrap, footer.overflow = True, "ellipsis"
         questions = [Text(f"the drone asks: {q}  (press t to answer)", style="bold cyan") for q in s.questions]
+        safety = [Text(s.safety[0], style=SAFETY_STYLE.get(s.safety[1], ""))] if s.safety else []
         drone = self._drone_text(s.drone)
-        # rows left for the panels' contents: title, footer, questions, four panels' borders, the table header
-        budget = None if size is None else size[1] - 2 - sum(rows(q, width) for q in questions) \
+        # rows left for the panels' contents: title, footer, safety, questions, four panels' borders, table header
+        budget = None if size is None else size[1] - 2 - sum(rows(q, width) for q in (*safety, *questions)) \
             - rows(drone, width - 4) - 2 - 2 - 3 - 2
         mission_rows, behavior_rows, event_rows = share(budget, len(s.mission), len(s.active))
         mission = Text(no_wrap=True, overflow="ellipsis")
@@ -208,7 +215,7 @@ class LiveView:
         top.add_row(Group(Panel(mission, title="mission", title_align="left"),
                           Panel(behaviors, title="active behaviors", title_align="left")),
                     Panel(beliefs, title="beliefs", title_align="left"))
-        parts: list[RenderableType] = [title, Panel(drone, title="drone", title_align="left"), top,
+        parts: list[RenderableType] = [title, *safety, Panel(drone, title="drone", title_align="left"), top,
                                        Panel(events, title="events", title_align="left"), *questions, footer]
         return Group(*parts)
 

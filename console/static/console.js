@@ -55,6 +55,13 @@ function drawPanels() {
   text("speed", t.speed !== undefined && t.speed !== null ? `${t.speed.toFixed(1)} m/s` : "-");
   text("battery", t.battery !== undefined && t.battery !== null ? `${Math.round(t.battery)} %` : "-");
   text("flight", [t.landed, t.mode, t.armed ? "armed" : ""].filter(Boolean).join(" "));
+  const safety = $("safety");
+  safety.hidden = !s.safety;
+  if (s.safety) {
+    safety.textContent = s.safety.summary;
+    safety.title = s.safety.summary;  // the whole line, when the header cuts it
+    safety.className = `safety ${s.safety.level}`;
+  }
   const mission = $("mission");
   mission.replaceChildren();
   if (s.mission && s.mission.kind === "tree") {
@@ -146,6 +153,7 @@ function wire() {
   $("pause").onclick = () => send("pause");
   $("resume").onclick = () => send("resume");
   $("abort").onclick = () => { if (confirm("Abort the mission and land?")) send("abort"); };
+  $("suspend").onclick = () => { if (confirm("Suspend the mission and land? aeroexec run --resume goes on from here.")) send("suspend"); };
   $("inhibit").onclick = () => send("inhibit", $("inhibit-name").value.trim());
   $("add-belief").onclick = () => send("add", $("belief-text").value.trim());
   $("remove-belief").onclick = () => send("remove", $("belief-text").value.trim());
@@ -176,6 +184,7 @@ function replayAt(time) {
     const d = drone(name);
     d.trail = []; d.events = [];
     let telemetry = null, beliefs = new Set(), nodes = new Map(), active = new Map(), state = "running";
+    const safety = { rules: null, violated: new Map(), due: new Map(), inEffect: null };
     for (const rec of records) {
       if (rec.time > time) break;
       if (rec.kind === "state") {
@@ -195,17 +204,44 @@ function replayAt(time) {
         if (rec.kind === "mission_failed") state = "failed";
         if (rec.kind === "operator_command" && rec.data && rec.data.command === "pause") state = "paused";
         if (rec.kind === "operator_command" && rec.data && rec.data.command === "resume") state = "running";
+        if (rec.kind.startsWith("safety_")) replaySafety(safety, rec);
         d.events.push({ time: rec.time, kind: rec.kind, behavior: rec.behavior || "", detail: rec.reason || rec.detail || "" });
       }
     }
     const sorted = [...nodes.values()].sort((a, b) => a.uid - b.uid);
-    d.snapshot = { time, state, telemetry: telemetry || {}, active: [...active.values()],
+    d.snapshot = { time, state, telemetry: telemetry || {}, active: [...active.values()], safety: safetyStatus(safety),
                    beliefs: [...beliefs].sort(), belief_count: beliefs.size, questions: [],
                    mission: sorted.length ? { kind: "tree", name: r.mission || "", nodes: sorted }
                                           : { kind: "python", line: r.mission || "" } };
   }
   text("replay-time", `${time.toFixed(1)} s`);
   draw();
+}
+
+// the safety rules' status at a moment of a replay, from their events (as SafetyStatus says it live)
+function replaySafety(safety, rec) {
+  const data = rec.data || {};
+  if (rec.kind === "safety_watch") safety.rules = (data.rules || []).length;
+  else if (rec.kind === "safety_violated") {
+    safety.violated.set(data.rule, rec.time);
+    safety.due.delete(data.rule);
+    if (data.action && !data.action.startsWith("the contingency of")) safety.inEffect = [data.rule, data.contingency, data.action];
+  } else if (rec.kind === "safety_restored") safety.violated.delete(data.rule);
+  else if (rec.kind === "safety_triggered") {
+    if (data.due !== undefined) safety.due.set(data.rule, data.due);
+    if (data.action && !data.action.startsWith("the contingency of")) safety.inEffect = [data.rule, data.contingency, data.action];
+  } else if (rec.kind === "safety_met") { safety.due.delete(data.rule); safety.violated.delete(data.rule); }
+}
+
+function safetyStatus(safety) {
+  if (safety.rules === null) return null;
+  const parts = [];
+  if (safety.violated.size) parts.push("violated " + [...safety.violated].map(([r, t]) => `${r} (t=${t.toFixed(1)} s)`).join(", "));
+  if (safety.inEffect) parts.push(`in effect: ${safety.inEffect[0]} ${safety.inEffect[1]}, ${safety.inEffect[2]}`);
+  if (safety.due.size) parts.push("due: " + [...safety.due].map(([r, t]) => `${r} by t=${t.toFixed(1)} s`).join(", "));
+  const level = safety.violated.size || safety.inEffect ? "violated" : safety.due.size ? "due" : "held";
+  const summary = level === "held" ? `safety: ${safety.rules} rule${safety.rules === 1 ? "" : "s"} held` : `safety: ${parts.join("; ")}`;
+  return { rules: safety.rules, level, summary };
 }
 
 function startReplay() {

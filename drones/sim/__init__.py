@@ -1,10 +1,21 @@
-"""The simulated drone and its world: kinematics on an external clock, obstacles, markers, camera."""
+"""The simulated drone and its world: kinematics on an external clock, obstacles, markers, camera.
 
-from aeroexec.drones.sim.airspace import Airspace
-from aeroexec.drones.sim.camera import Camera
-from aeroexec.drones.sim.config import SimConfig
-from aeroexec.drones.sim.drone import SimulatedDrone
-from aeroexec.drones.sim.world import World, WorldError
-from aeroexec.drones.sim.world_file import default_world, load_world
+Each name is imported from its module when first used (``aeroexec.lazy``): a world is read without the drone.
+"""
+
+from typing import TYPE_CHECKING
+
+from aeroexec.lazy import lazy_names
 
 __all__ = ["Airspace", "Camera", "SimConfig", "SimulatedDrone", "World", "WorldError", "default_world", "load_world"]
+__getattr__ = lazy_names(__name__, {"Airspace": "airspace", "Camera": "camera", "SimConfig": "config",
+                                    "SimulatedDrone": "drone", "World": "world", "WorldError": "world",
+                                    "default_world": "world_file", "load_world": "world_file"})
+
+if TYPE_CHECKING:
+    from aeroexec.drones.sim.airspace import Airspace
+    from aeroexec.drones.sim.camera import Camera
+    from aeroexec.drones.sim.config import SimConfig
+    from aeroexec.drones.sim.drone import SimulatedDrone
+    from aeroexec.drones.sim.world import World, WorldError
+    from aeroexec.drones.sim.world_file import default_world, load_world

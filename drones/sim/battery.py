@@ -24,6 +24,18 @@ def cell_voltage(percent: float) -> float:
     return v0 + (v1 - v0) * (p - p0) / (p1 - p0)
 
 
+def drain_rate(config: SimConfig, armed: bool, airborne: bool, horizontal_speed: float, climb: float) -> float:
+    """Percent per second a battery with ``config``'s figures loses in the given state of the motors and motion
+    (the vehicle model's estimates use it too: ``aeroexec.drones.vehicle``)."""
+    if not armed:
+        return 0.0
+    hover = 100.0 / (config.battery_hover_minutes * 60.0)
+    if not airborne:
+        return hover * config.battery_idle_drain
+    return hover * (1.0 + config.battery_speed_drain * (horizontal_speed / config.max_speed) ** 2
+                    + config.battery_climb_drain * max(climb, 0.0) / config.max_climb_rate)
+
+
 class Battery:
     """State of charge in percent, drained by :meth:`drain` each simulation step."""
 
@@ -38,20 +50,14 @@ class Battery:
 
     def drain_rate(self, armed: bool, airborne: bool, horizontal_speed: float, climb: float) -> float:
         """Percent per second for the given state of the motors and motion."""
-        c = self.config
-        if not armed:
-            return 0.0
-        if not airborne:
-            return self._hover_rate * c.battery_idle_drain
-        load = (1.0 + c.battery_speed_drain * (horizontal_speed / c.max_speed) ** 2
-                + c.battery_climb_drain * max(climb, 0.0) / c.max_climb_rate)
-        return self._hover_rate * load
+        return drain_rate(self.config, armed, airborne, horizontal_speed, climb)
 
     def drain(self, dt: float, armed: bool, airborne: bool, horizontal_speed: float, climb: float) -> None:
         self.percent = max(self.percent - dt * self.drain_rate(armed, airborne, horizontal_speed, climb), 0.0)
 
     def drain_flying(self, dt: float, horizontal_speed: float, climb: float) -> None:
-        """:meth:`drain` armed and airborne (every substep of a flight): the same arithmetic in one call."""
+        """:meth:`drain` armed and airborne (every substep of a flight): :func:`drain_rate`'s arithmetic in one
+        call."""
         c = self.config
         load = (1.0 + c.battery_speed_drain * (horizontal_speed / c.max_speed) ** 2
                 + c.battery_climb_drain * max(climb, 0.0) / c.max_climb_rate)

@@ -27,6 +27,7 @@ from aeroexec.drones.sim.world_file import default_world
 logger = logging.getLogger(__name__)
 
 _F = TypeVar("_F", bound=Callable)
+_FLYING_HEIGHT = 0.3  # m: placed higher than this, a drone said to fly hovers; lower, it stands on the ground
 
 MODES = ("HOLD", "TAKEOFF", "LAND", "RETURN", "OFFBOARD")
 
@@ -84,6 +85,27 @@ class SimulatedDrone(Drone):
         self._blown = start_time  # when the gusts were last drawn
         self._link_up = True
         self._weather = random.Random(seed + 7919)  # the gusts and dropped detections (apart from the noise)
+
+    @_locked
+    def place(self, position: Vector, yaw: float = 0.0, *, flying: bool = False,
+              battery_percent: float | None = None) -> None:
+        """Put the drone at ``position`` before it flies (a resumed run): hovering there armed when ``flying`` (as
+        an autopilot holds where its companion computer stopped talking to it), else on the ground under it. Home
+        (where it returns to) stays where it started."""
+        v = self._vehicle
+        x, y, z = (float(c) for c in position)
+        v.yaw = float(yaw)
+        if battery_percent is not None:
+            v.battery.percent = max(0.0, min(100.0, float(battery_percent)))
+        if flying and z > _FLYING_HEIGHT:
+            v.position = (x, y, z)
+            v.arm()
+            v.airborne = True
+            v._flew_since_armed = True
+            v.fly_to(v.position, mode="HOLD")
+        else:
+            v.position = (x, y, 0.0)
+        self._telemetry = None
 
     def join(self, airspace: Airspace, name: str) -> None:
         """Fly in ``airspace`` as ``name``: the other drones there see this one, and it sees them."""

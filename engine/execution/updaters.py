@@ -140,15 +140,24 @@ def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,
     """Register the predicates answered by functions (Table 7); ``flight_time``: seconds a full battery keeps the
     drone in the air (the catalog's ``vehicle_limits.max_flight_time``; None: unknown, never the limit)."""
 
-    def point(value: Any) -> tuple[float, float, float] | None:
-        if isinstance(value, tuple) and len(value) == 3 and all(isinstance(v, int | float) for v in value):
-            return tuple(float(v) for v in value)
+    def point(value: Any) -> tuple[float, float, float] | None:  # (written out: safety rules ask it often)
+        if isinstance(value, tuple) and len(value) == 3:
+            x, y, z = value
+            if type(x) is float and type(y) is float and type(z) is float and type(value) is tuple:
+                return value
+            if isinstance(x, (int, float)) and isinstance(y, (int, float)) and isinstance(z, (int, float)):
+                return (float(x), float(y), float(z))
         return None
 
     def guarded(function: Callable[..., float | None]) -> Callable[..., float | None]:
         def answer(*args: Any) -> float | None:
-            points = [point(a) for a in args]
-            return None if any(p is None for p in points) else function(*points)
+            points = []
+            for a in args:
+                found = point(a)
+                if found is None:
+                    return None
+                points.append(found)
+            return function(*points)
         return answer
 
     def travel_time(a: tuple, b: tuple) -> float:

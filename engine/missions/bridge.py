@@ -95,6 +95,8 @@ class MissionBridge:
         self._poll_version: int | None = None
         self._poll_reported = False
         self.preempted: BaseException | None = None
+        #: Journals the mission's API calls and replays them on a resume (``missions/replay.py``); None: neither.
+        self.recorder: Any = None
 
     @property
     def _cond(self) -> threading.Condition:

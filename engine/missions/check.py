@@ -15,7 +15,6 @@ from __future__ import annotations
 import ast
 import contextlib
 import logging
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -26,7 +25,7 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.catalog.world_check import WorldMap
-from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, Problem, SpecificationError
+from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, MissionProblem, Problem, SpecificationError
 from aeroexec.engine.missions.api_modules import (
     AEROSTACK_MODULES,
     API_FUNCTIONS,
@@ -53,19 +52,6 @@ from aeroexec.limits import InputError, read_text
 logger = logging.getLogger(__name__)
 
 ENTRY_POINTS = ("mission", "runMission")
-
-
-@dataclass(frozen=True, slots=True)
-class MissionProblem(Problem):
-    """A problem in a mission program: the paper's error type and the column as well (1-based; 0 unknown)."""
-
-    kind: str = ""
-    column: int = 0
-
-    def __str__(self) -> str:
-        where = self.file + (f":{self.line}" if self.line else "") + (f":{self.column}" if self.line and
-                                                                         self.column else "")
-        return f"{where}: {self.severity}: {self.kind + ': ' if self.kind else ''}{self.message}"
 
 
 class MissionChecker:

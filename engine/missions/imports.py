@@ -12,6 +12,7 @@ import importlib.util
 from pathlib import Path
 
 from aeroexec.engine.missions.ros import is_ros
+from aeroexec.engine.missions.standins import stands_in
 
 
 def _statements(body: list[ast.stmt]):
@@ -40,6 +41,8 @@ def missing_imports(tree: ast.Module, filename: str) -> list[tuple[ast.stmt, str
             continue
         for name in names:
             top = name.split(".")[0]
+            if stands_in(name):
+                continue  # aeroexec's own, as the mission imports it (standins)
             if is_ros(name):
                 continue  # judged by what the mission uses of it (ros.ros_problems)
             if not _found(top, here):

@@ -19,6 +19,8 @@ import threading
 import types
 from typing import Any
 
+from aeroexec.engine.missions import standins
+
 #: ROS 1 packages (Aerostack's missions): their use is refused in ROS 1's words.
 ROS1_PACKAGES = frozenset({"rospy", "roslib", "rosbag", "rosgraph", "rosnode", "rosservice", "rostopic",
                            "actionlib", "tf", "dynamic_reconfigure", "mavros", "message_filters", "cv_bridge",
@@ -121,20 +123,25 @@ def _no_attribute(attribute: str) -> Any:
 
 
 class _StandInLoader(importlib.abc.Loader):
+    def __init__(self, name: str) -> None:
+        self.name = name  # the module as the mission named it
+
     def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
-        return refusing_module(spec.name)
+        return refusing_module(self.name)
 
     def exec_module(self, module: types.ModuleType) -> None:
         return None
 
 
 class RosStandIns(importlib.abc.MetaPathFinder):
-    """Found last on ``sys.meta_path``: a ROS module nothing else provides imports as a refusing stand-in."""
+    """Found last on ``sys.meta_path``: a ROS module nothing else provides imports as a refusing stand-in (a
+    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.node``, aeroexec.aerostack.rclpy.node)."""
 
     def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
-        if not is_ros(fullname):
-            return None
-        return importlib.machinery.ModuleSpec(fullname, _StandInLoader(), is_package=True)
+        name = fullname.removeprefix(f"{standins.PACKAGE}.")
+        if not is_ros(name) or name == fullname and standins.stands_in(name):
+            return None  # rclpy, as2_msgs...: a mission's are aeroexec's (standins), nobody else's are stand-ins
+        return importlib.machinery.ModuleSpec(fullname, _StandInLoader(name), is_package=True)
 
 
 _FINDER = RosStandIns()

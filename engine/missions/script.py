@@ -30,7 +30,7 @@ from typing import Any
 
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted
-from aeroexec.engine.missions import ros
+from aeroexec.engine.missions import ros, standins
 
 #: The modules whose import makes a program without ``mission()`` an Aerostack2 script.
 SCRIPT_APIS = ("as2_python_api", "rclpy")
@@ -180,7 +180,7 @@ class _MissionThreading(types.ModuleType):
 
 
 def _builtins(engine_time: types.ModuleType) -> dict[str, Any]:
-    real_import = builtins.__import__
+    real_import = standins.mission_import()  # the mission APIs under the names the script imports
     mission_threading = _MissionThreading()
 
     def import_(name: str, globals: Any = None, locals: Any = None, fromlist: Any = (), level: int = 0) -> Any:

@@ -4,8 +4,9 @@ reactive-higher priority of the paper (it stops the mission's motion, and the mi
 ``hold`` flies back to where the rule last held (the boundary) and hovers; ``return`` flies to the nearest of
 home and the rally points (home for ``return home``) at the altitude it is at, and lands; ``land`` lands where
 the drone is; ``subtree ID`` / ``call FUNCTION`` hand the mission over to its own contingency (a handler the
-flight registers). While a hold, return or land is in effect the mission's requests are refused, naming the
-rule; a rule of higher priority may take over from one of lower.
+flight registers; what the mission was running is stopped: a subtree's tree is halted, a called function's mission
+has its behaviors stopped). While a hold, return or land is in effect the mission's requests are refused, naming
+the rule; a rule of higher priority may take over from one of lower.
 """
 
 from __future__ import annotations
@@ -49,6 +50,8 @@ class Contingencies:
         if kind in (SUBTREE, CALL):
             handler = self.handlers.get(kind)
             if handler is not None and handler(rule.contingency.target, rule):
+                if kind == CALL:  # what the mission waited on (a WAIT, a flight) ends: its function takes over
+                    self._stop_mission(f"safety rule {rule.name}: {rule.contingency}")
                 return f"handed over to {rule.contingency}"
             self.log.record("safety_contingency", detail=f"{rule.name}: nothing serves {rule.contingency}; landing",
                             rule=rule.name)
@@ -66,6 +69,12 @@ class Contingencies:
         point = (target[0], target[1], here[2])
         self._go(rule, point, then=DESCEND)
         return f"returning to {_fmt(point)} to land"
+
+    def _stop_mission(self, reason: str) -> None:
+        """Stop the behaviors the mission started (a subtree's hand-over halts its tree, which stops them)."""
+        for name, activation in sorted(self.coordinator.active().items(), key=lambda item: -item[1].order):
+            if activation.source == "mission":
+                self.coordinator.stop(name, reason)
 
     def _go(self, rule: SafetyRule, point: tuple, then: str) -> None:
         here = self.position() or point

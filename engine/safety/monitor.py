@@ -13,18 +13,21 @@ from __future__ import annotations
 import heapq
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from aeroexec.beliefs import Conjunction, format_term
+from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.safety_rules import ALWAYS, LAND, WITHIN, Contingency, SafetyRule
+from aeroexec.engine.safety.compliance import SafetyStatus
 from aeroexec.engine.safety.contingency import Contingencies
-from aeroexec.engine.safety.schedule import Plan, Rate, Source, goal_literals
-from aeroexec.engine.safety.vehicle import SafetyPredicates, VehicleModel
+from aeroexec.engine.safety.odometers import Odometers, floats
+from aeroexec.engine.safety.predicates import SafetyPredicates
+from aeroexec.engine.safety.schedule import TIME, Entry, Plan, Rate, Source, goal_literals
 
 logger = logging.getLogger(__name__)
 
-RATED = (("position", 2), ("charge", 2))
+POSITION, CHARGE = ("position", 2), ("charge", 2)  # beliefs whose new values are scheduled for, not woken by
 
 
 @dataclass
@@ -36,32 +39,44 @@ class _Watch:
     condition: Plan | None
     trigger: Plan | None
     reads: frozenset  # predicates whose changes wake it
-    due: float = 0.0
+    generation: int = 0  # moves at every check: the entries an earlier check left are stale
     violated: bool = False
     since: float | None = None  # a within rule: when its obligation opened
-    boundary: tuple | None = None  # where the drone was when the rule last held
+    boundary: tuple | None = None  # where the drone was when the rule last held (as believed: floats() reads it)
+    violated_at: float = 0.0
     checks: int = 0
 
 
-def sources(model: VehicleModel) -> dict[tuple[str, int], Source]:
+def sources(model: VehicleModel, predicates: SafetyPredicates, belief_period: float = 0.1) -> \
+        dict[tuple[str, int], Source]:
     """The rates of the beliefs and computed predicates the monitors schedule by."""
     speed = 1.25 * model.max_speed + model.max_climb_rate  # ground speed with a tail wind, and a climb
-    jump = 4.0 * model.position_noise + 0.02  # noise, and the telemetry's rounding to centimeters
-    move = Rate(speed, jump)
-    drain = Rate(1.5 * model.max_drain, 1.0)  # charge(battery, N) is floored to whole percent
-    home = Rate(model.home_rate(1.25 * model.max_speed, model.max_climb_rate), model.home_rate(jump, jump) + 0.1)
+    telemetry = Rate(per_second=speed, jump=4.0 * model.position_noise + 0.02)  # the telemetry's own position
+    rounded = Rate(jump=0.01)  # computed distances are rounded to centimeters
+
+    def home(who: Any) -> Rate:  # the charge a return takes, per meter flown horizontally and vertically
+        return Rate(per_meter=((who, "h", predicates.home_cost_horizontal), (who, "z", predicates.home_cost_vertical)),
+                    jump=predicates.home_step)
+
+    def braking(who: Any) -> Rate:  # the stopping point moves with the position, and with the velocity's
+        return Rate(per_meter=((who, "p", 2.0),), jump=0.5 + model.max_speed * max(belief_period, 0.1))  # changes
+
+    drain = Rate(per_second=1.5 * model.max_drain, jump=1.0)  # charge(battery, N) is floored to whole percent
     return {
-        ("position", 2): Source(move),
-        ("charge", 2): Source(drain),
-        ("mission_time", 1): Source(Rate(1.0, 0.01)),
-        ("distance", 3): Source(through=(0, 1)),
-        ("distance_to", 2): Source(move, through=(0,)),
-        ("minimum_distance_to_obstacle", 2): Source(through=(0,)),
-        ("distance_to_obstacle", 2): Source(through=(0,)),
-        ("rally_distance", 2): Source(move),
-        ("stopping_point", 2): Source(Rate(2.0 * speed, jump + 0.5)),  # it moves with the speed's changes too
-        ("battery_to_home", 2): Source(home, reads=(("wind", 2),)),
-        ("return_margin", 2): Source(home + drain, reads=(("wind", 2),)),
+        POSITION: Source(point=True, follows=(POSITION,)),
+        CHARGE: Source(drain, follows=(CHARGE,)),
+        ("mission_time", 1): Source(Rate(per_second=1.0, jump=0.01)),
+        ("distance", 3): Source(rounded, through=(0, 1)),
+        ("distance_to", 2): Source(telemetry + rounded, through=(0,)),
+        ("minimum_distance_to_obstacle", 2): Source(rounded, through=(0,)),
+        ("distance_to_obstacle", 2): Source(rounded, through=(0,)),
+        ("rally_distance", 2): Source(rounded, through=(0,), mover=lambda who: Rate(per_meter=((who, "h", 1.0),)),
+                                      follows=(POSITION,)),
+        ("stopping_point", 2): Source(mover=braking, reads=(("velocity", 2),), follows=(POSITION,)),  # a mate's
+        # velocity is a belief the fleet link writes with its position
+        ("battery_to_home", 2): Source(through=(0,), scale=predicates.home_cost, mover=home, reads=(("wind", 2),),
+                                       follows=(POSITION,)),
+        ("return_margin", 2): Source(drain, mover=home, reads=(("wind", 2),), follows=(POSITION, CHARGE)),
     }
 
 
@@ -74,7 +89,8 @@ class SafetyMonitor:
         self.rules, self.model, self.predicates = rules, model, predicates
         self.contingencies = Contingencies(engine.coordinator, engine.log, lambda: predicates.position("self"),
                                            self._rally, engine.settings.cruise_speed)
-        rated = sources(model)
+        updaters = getattr(engine, "updaters", None) or [None]
+        rated = sources(model, predicates, getattr(updaters[0], "period", 0.1))
         memory = self.memory
         computed = memory.is_computed
         self._watches: list[_Watch] = []
@@ -82,6 +98,9 @@ class SafetyMonitor:
             condition = Plan.of(rule.condition, rated, computed)
             trigger = Plan.of(rule.trigger, rated, computed) if rule.trigger is not None else None
             scheduled = condition is not None and (rule.trigger is None or trigger is not None)
+            for plan in (condition, trigger) if scheduled else ():
+                if plan is not None:
+                    plan.compile(memory)
             reads: set = set()
             for name, arity in rule.predicates:
                 source = rated.get((name, arity))
@@ -93,120 +112,185 @@ class SafetyMonitor:
                 reads.add(("*", 0))  # it reads what a function computes: any change may change it
             self._watches.append(_Watch(index, rule, condition if scheduled else None,
                                         trigger if scheduled else None, frozenset(reads)))
-        self._by_signature: dict[tuple, list[_Watch]] = {}
+        self._by_signature: dict[tuple, list[int]] = {}
         for watch in self._watches:
             for signature in watch.reads:
-                self._by_signature.setdefault(signature, []).append(watch)
+                self._by_signature.setdefault(signature, []).append(watch.index)
         self._any = self._by_signature.get(("*", 0), [])
-        self._readers: dict[tuple, list[_Watch]] = {}  # every rule reading a predicate, scheduled or not
+        self._readers: dict[tuple, list[int]] = {}  # every rule reading a predicate, scheduled or not
         for watch in self._watches:
             for signature in watch.rule.predicates:
-                self._readers.setdefault(signature, []).append(watch)
-        self._rated = {s for s in rated if s in RATED}
+                self._readers.setdefault(signature, []).append(watch.index)
+        self._followers: dict[tuple, list[int]] = {}  # a rated belief -> the rules reading what moves with it: a
+        for signature, source in rated.items():  # belief of it that appears or goes (a new fleet mate) wakes them
+            for followed in source.follows:
+                self._followers.setdefault(followed, []).extend(self._readers.get(signature, []))
+        self._followers.setdefault(POSITION, [])
+        # the predicates whose changes matter here (the position: the odometers')
+        names = {name for name, _ in (*self._by_signature, *self._readers, *self._followers)}
+        self._replacing: tuple | None = None
+        self._position_woken = sorted({*self._by_signature.get(POSITION, []), *self._any})  # at every move
+        self.odometers = Odometers(self._wake, self._live)
         self._woken: set[int] = {w.index for w in self._watches}  # everything is checked at the first tick
-        self._due: list[tuple[float, int]] = []
-        self._replacing: Any = None
+        self._due: list[tuple[float, int, int]] = []  # (time, generation, rule)
         self.started = False
-        memory.subscribe(self._changed)
+        self._in_effect: tuple[str, str, str] | None = None  # the contingency taken last: rule, contingency, action
+        #: check every rule at every tick: the reference the schedule must agree with (tests, benches)
+        self.every_tick = False
+        memory.subscribe(self._changed, None if self._any else names)  # not called for the rest (speed...)
 
     # -- the tick ---------------------------------------------------------------------------------------------
     def tick(self, now: float) -> None:
         """Check the rules that are due or woken, and act on violations."""
+        if self.every_tick:
+            self._woken.update(range(len(self._watches)))
+        due = self._due
+        if not self._woken and not (due and due[0][0] <= now + 1e-9):
+            return
         if not self.started:
             self.started = True
             count = len(self.rules)
             self.log.record("safety_watch", detail=f"{count} safety rule{'s' if count != 1 else ''}",
                             rules=[{"rule": r.name, "text": r.text, "contingency": str(r.contingency),
                                     "priority": r.priority, "where": r.where} for r in self.rules])
-        due = self._due
-        woken = self._woken
+        watches = self._watches
         while due and due[0][0] <= now + 1e-9:
-            _, index = heapq.heappop(due)
-            woken.add(index)
-        if not woken:
+            _, generation, index = heapq.heappop(due)
+            if watches[index].generation == generation:
+                self._woken.add(index)
+        if not self._woken:
             return
-        self._woken = set()
-        for index in sorted(woken, key=lambda i: (-self.rules[i].priority, i)):
-            self._check(self._watches[index], now)
+        woken, self._woken = self._woken, set()
+        rules = self.rules
+        for index in sorted(woken, key=lambda i: (-rules[i].priority, i)):
+            self._check(watches[index], now)
+
+    def _wake(self, index: int, generation: int) -> None:
+        if self._watches[index].generation == generation:
+            self._woken.add(index)
+
+    def _live(self, index: int, generation: int) -> bool:
+        return self._watches[index].generation == generation
 
     def _changed(self, change: Any) -> None:
-        signature = change.belief.signature
-        if signature in self._rated:  # a rated belief's new value is scheduled for; one that comes or goes is not
-            if change.kind == "removed" and change.reason == "replaced":
-                self._replacing = signature
-                return
-            if change.kind == "added" and self._replacing == signature:
-                self._replacing = None
-                for watch in self._by_signature.get(signature, ()):  # rules that read it unscheduled
-                    self._woken.add(watch.index)
-                for watch in self._any:
-                    self._woken.add(watch.index)
-                return
-            for watch in self._readers.get(signature, ()):  # a belief that comes or goes: a new fleet mate
-                self._woken.add(watch.index)
-        for watch in self._by_signature.get(signature, ()):
-            self._woken.add(watch.index)
-        for watch in self._any:
-            self._woken.add(watch.index)
+        belief = change.belief
+        name = belief.name
+        if name == "position":  # every update of a drone's position: the odometers schedule for it
+            if change.kind == "added":
+                args = belief.args
+                if len(args) == 2 and not self.odometers.moved(args[0], args[1], change.time):
+                    self._woken.update(self._followers[POSITION])  # a new fleet mate, or a first position
+            elif change.reason != "replaced":  # else its new value follows
+                self.odometers.forget(belief.args[0], change.time)
+                self._woken.update(self._followers[POSITION])
+            if self._position_woken:  # rules that read it and are not scheduled
+                self._woken.update(self._position_woken)
+            return
+        signature = (name, len(belief.args))
+        woken = self._woken
+        if signature in self._followers:  # a rated belief (the charge): its new value is scheduled for
+            if change.kind == "removed":
+                if change.reason == "replaced":
+                    self._replacing = signature
+                    return  # its new value follows
+                woken.update(self._followers[signature])
+            else:
+                replacing, self._replacing = self._replacing == signature, None
+                if not replacing:  # a first value
+                    woken.update(self._followers[signature])
+        indexes = self._by_signature.get(signature)
+        if indexes:
+            woken.update(indexes)
+        if self._any:
+            woken.update(self._any)
 
     # -- one rule ---------------------------------------------------------------------------------------------
     def _check(self, watch: _Watch, now: float) -> None:
         watch.checks += 1
+        watch.generation += 1
         rule = watch.rule
-        holds, seconds, evidence = self._evaluate(rule.condition, watch.condition)
         if rule.form == WITHIN:
-            fired, trigger_seconds, trigger_evidence = self._evaluate(rule.trigger, watch.trigger)
-            seconds = min(seconds, trigger_seconds)
-            self._within(watch, now, fired, holds, {**trigger_evidence, **evidence})
-            if watch.since is not None and not watch.violated:
-                seconds = min(seconds, watch.since + rule.within - now)
+            entries = self._check_within(watch, now)
         else:
+            holds, entries, evidence = self._evaluate(rule.condition, watch.condition, now)
             broken = (not holds) if rule.form == ALWAYS else holds
             if broken and not watch.violated:
                 watch.violated = True
+                if self.contingencies.active is not rule:  # it held until the tick before (or it would have been
+                    watch.boundary = self.odometers.where("self", before=now)  # checked then): where the drone was
                 self._violated(watch, now, evidence, "")
             elif not broken and self.contingencies.active is not rule:  # during its own contingency it stays broken
                 if watch.violated:
                     watch.violated = False
                     self.log.record("safety_restored", detail=f"{rule.name}: {rule.text} holds again",
                                     rule=rule.name)
-                watch.boundary = self.predicates.position("self")
-        if seconds < math.inf:
-            heapq.heappush(self._due, (now + max(seconds, 0.0), watch.index))
+                watch.boundary = self.odometers.last("self")
+        generation, index = watch.generation, watch.index
+        odometers = self.odometers
+        if len(entries) > 1:  # any of them wakes it: the first on each odometer is enough
+            first: dict = {}
+            for key, reading in entries:
+                if reading < first.get(key, math.inf):
+                    first[key] = reading
+            entries = first.items()
+        for key, reading in entries:
+            if key is TIME:
+                due = self._due
+                if len(due) > 64 + 4 * len(self._watches):  # stale waits: keep those still standing
+                    due[:] = [e for e in due if self._live(e[2], e[1])]
+                    heapq.heapify(due)
+                heapq.heappush(due, (max(reading, now), generation, index))
+            else:
+                odometers.wake_at(key, reading, generation, index)
 
-    def _within(self, watch: _Watch, now: float, fired: bool, holds: bool, evidence: dict) -> None:
+    def _check_within(self, watch: _Watch, now: float) -> list[Entry]:
+        """A ``within`` rule: its trigger decides while no obligation is open; then its condition and deadline."""
         rule = watch.rule
+        entries: list[Entry] = []
         if watch.since is None:
-            if fired and not holds:
-                watch.since, watch.violated = now, False
-                action = self._act(watch)
-                self.log.record("safety_triggered", detail=f"{rule.name}: {rule.trigger.text}; {rule.condition.text} "
-                                f"due within {rule.within:g} s; {action}", rule=rule.name,
-                                beliefs=_shown(evidence), contingency=str(rule.contingency), action=action)
-            return
-        if holds:
-            took = now - watch.since
-            self.log.record("safety_met", detail=f"{rule.name}: {rule.condition.text} after {took:.1f} s "
-                            f"(within {rule.within:g} s)", rule=rule.name, seconds=round(took, 2))
-            watch.since, watch.violated = None, False
-        elif not watch.violated and now - watch.since >= rule.within - 1e-9:
-            watch.violated = True
-            self._violated(watch, now, evidence, f"not within {rule.within:g} s", escalate=True)
+            fired, entries, trigger_evidence = self._evaluate(rule.trigger, watch.trigger, now)
+            if not fired:
+                return entries
+            holds, more, evidence = self._evaluate(rule.condition, watch.condition, now)
+            entries = entries + more
+            if holds:
+                return entries
+            watch.since, watch.violated = now, False
+            action = self._act(watch)
+            self.log.record("safety_triggered", detail=f"{rule.name}: {rule.trigger.text}; {rule.condition.text} "
+                            f"due within {rule.within:g} s; {action}", rule=rule.name, due=round(now + rule.within, 2),
+                            beliefs=_shown({**trigger_evidence, **evidence}), contingency=str(rule.contingency),
+                            action=action)
+        else:
+            holds, entries, evidence = self._evaluate(rule.condition, watch.condition, now)
+            if holds:
+                took = now - watch.since
+                self.log.record("safety_met", detail=f"{rule.name}: {rule.condition.text} after {took:.1f} s "
+                                f"(within {rule.within:g} s)", rule=rule.name, seconds=round(took, 2))
+                watch.since, watch.violated = None, False
+                return self._check_within(watch, now)  # the trigger may hold still: what it waits for next
+            if not watch.violated and now - watch.since >= rule.within - 1e-9:
+                watch.violated = True
+                self._violated(watch, now, evidence, f"not within {rule.within:g} s", escalate=True)
+        if watch.since is not None and not watch.violated:
+            entries = [*entries, (TIME, watch.since + rule.within)]
+        return entries
 
-    def _evaluate(self, condition: Conjunction, plan: Plan | None) -> tuple[bool, float, dict]:
+    def _evaluate(self, condition: Conjunction, plan: Plan | None, now: float) -> tuple[bool, list[Entry], dict]:
         memory = self.memory
         try:
             if plan is None:
                 found = memory.query(condition)
                 evidence = found if found is not None else (memory.query(goal_literals(condition)) or {})
-                return found is not None, math.inf, evidence
-            return plan.verdict(memory.query_all(plan.goals))
+                return found is not None, [], evidence
+            return plan.verdict(plan.solve(memory), now, self.odometers.reading)
         except Exception:
             logger.exception("a safety condition failed to evaluate: %s", condition.text)
-            return False, 0.5, {}
+            return False, [(TIME, now + 0.5)], {}
 
     def _violated(self, watch: _Watch, now: float, evidence: dict, why: str, escalate: bool = False) -> None:
         rule = watch.rule
+        watch.violated_at = now
         action = self._act(watch, escalate)
         what = why or (f"{rule.condition.text} no longer holds" if rule.form == ALWAYS
                        else f"{rule.condition.text} holds")
@@ -220,22 +304,30 @@ class SafetyMonitor:
     def _act(self, watch: _Watch, escalate: bool = False) -> str:
         rule = watch.rule
         if escalate and rule.contingency.kind != LAND:  # a deadline missed: land
-            from dataclasses import replace
-
             rule = replace(rule, contingency=Contingency(LAND))
         contingencies = self.contingencies
         if not (escalate or contingencies.outranks(rule)):
             return f"the contingency of {contingencies.active.name} stays in effect"
         try:
-            return contingencies.take(rule, watch.boundary)
+            action = contingencies.take(rule, floats(watch.boundary))
         except Exception as exc:
             logger.exception("the contingency of %s failed", rule.name)
-            return f"its contingency failed: {type(exc).__name__}: {exc}"
+            action = f"its contingency failed: {type(exc).__name__}: {exc}"
+        self._in_effect = (rule.name, str(rule.contingency), action)
+        return action
 
     def _rally(self, here: tuple, home: bool) -> tuple:
         return self.model.home if home else self.predicates.nearest_rally(here)
 
     # -- compliance -------------------------------------------------------------------------------------------
+    def status(self) -> SafetyStatus:
+        """The rules violated now, the contingency in effect, the obligations open (for the views)."""
+        return SafetyStatus(len(self.rules),
+                            tuple((w.rule.name, round(w.violated_at, 2)) for w in self._watches if w.violated),
+                            self._in_effect if self.contingencies.active is not None else None,
+                            tuple((w.rule.name, round(w.since + w.rule.within, 2)) for w in self._watches
+                                  if w.since is not None and not w.violated))
+
     @property
     def checks(self) -> dict[str, int]:
         """How many times each rule was checked (the monitors' work)."""

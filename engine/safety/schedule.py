@@ -1,49 +1,130 @@
 """When a safety rule's condition can next change: the monitors' incremental evaluation.
 
-A rule is checked again when a belief it reads changes, as the reactive rules are, except for beliefs whose
-values move at a bounded rate (the drone's and its fleet mates' positions, the charge, the mission's time): a
-condition over those compares numbers (``?d < 5``), and how far each comparison is from flipping, divided by how
-fast its sides can move, is a time before which its truth cannot change (the vehicle's top speed, its battery's
-fastest drain; noise and rounding are allowed for). Far from a keep-out volume the rule sleeps; near it, it is
-checked at every update. A belief of a rated predicate that appears or goes (a new fleet mate) wakes the rule.
+A rule is checked again when a belief it reads changes, as the reactive rules are, except for values that move
+continuously: a drone's position (its own, a fleet mate's) and what is computed from it (a distance, the charge a
+return home takes, the stopping point), and the mission's time. A condition over those compares numbers
+(``?d < 5``); how far each comparison is from flipping is a budget that the value's motion must spend before the
+comparison can flip. Each drone's position belief drives odometers (the path its believed position has travelled:
+in 3-D, horizontally, along each axis), and a value's rate says how much it can move per meter of such a path
+(a distance to a fixed point: at most one meter per meter) or per second (the mission's time), plus what it may
+jump at once (rounding). A check leaves *entries*: "check me again when this odometer reaches this reading" or "at
+this time"; until one is reached the rule cannot have flipped. Far from a keep-out volume, or while the drone
+hovers, the rule sleeps; flying at it, it is checked as often as its distance requires. The bound is the belief's
+own path, so noise in the position and the vehicle's speed need no allowance: what the rule reads is what is
+measured.
 """
 
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 from aeroexec.beliefs import Comparison, Conjunction, Goal, Negation, Var
-from aeroexec.beliefs.terms import Struct
+from aeroexec.engine.safety.chains import compile_chain, variables
 
 Signature = tuple[str, int]
+AXES = ("x", "y", "z", "h", "p")  # the odometers of a drone: along each axis, horizontal path, 3-D path
+TIME = None  # the key of the time "odometer" in an entry
+Entry = tuple[Any, float]  # (odometer key (who, axis) or TIME, the reading at which to check again)
+Coefficient = float | Callable[[], float]
 
 
 @dataclass(frozen=True)
 class Rate:
-    """How fast a value can move (units per second) and by how much it may jump at once (noise, rounding)."""
+    """How fast a value can move: ``per_second`` of time, ``per_meter`` of a drone's path (``(who, axis,
+    coefficient)``: ``who`` an atom or a variable of the condition), and by how much it may ``jump`` at once. A
+    coefficient is a number, or a function giving it now (the charge a meter home takes depends on the wind)."""
 
-    speed: float = 0.0
-    jump: float = 0.0
+    per_second: Coefficient = 0.0
+    per_meter: tuple[tuple[Any, str, Coefficient], ...] = ()
+    jump: Coefficient = 0.0
 
     def __add__(self, other: Rate) -> Rate:
-        return Rate(self.speed + other.speed, self.jump + other.jump)
+        merged: dict[tuple, Coefficient] = {}
+        for who, axis, k in (*self.per_meter, *other.per_meter):
+            merged[(who, axis)] = _combine(merged[(who, axis)], k, operator.add) if (who, axis) in merged else k
+        return Rate(_combine(self.per_second, other.per_second, operator.add),
+                    tuple((w, x, k) for (w, x), k in merged.items()), _combine(self.jump, other.jump, operator.add))
+
+    def scaled(self, k: Coefficient) -> Rate:
+        return Rate(_combine(self.per_second, k, operator.mul),
+                    tuple((w, a, _combine(c, k, operator.mul)) for w, a, c in self.per_meter),
+                    _combine(self.jump, k, operator.mul))
+
+    @property
+    def moves(self) -> bool:
+        return callable(self.per_second) or self.per_second > 0.0 or bool(self.per_meter)
 
 
 STILL = Rate()
 
 
+def _combine(a: Coefficient, b: Coefficient, how: Callable[[float, float], float]) -> Coefficient:
+    if not callable(a) and not callable(b):
+        return how(a, b)
+    return lambda: how(_now(a), _now(b))
+
+
+def _now(k: Coefficient) -> float:
+    return k() if callable(k) else k
+
+
+def _max(a: Rate, b: Rate) -> Rate:
+    terms: dict[tuple, Coefficient] = {}
+    for w, x, k in (*a.per_meter, *b.per_meter):
+        terms[(w, x)] = _combine(terms[(w, x)], k, max) if (w, x) in terms else k
+    return Rate(_combine(a.per_second, b.per_second, max), tuple((w, x, k) for (w, x), k in terms.items()),
+                _combine(a.jump, b.jump, max))
+
+
 @dataclass(frozen=True)
 class Source:
-    """What a predicate's last argument is, as a rate: ``rate`` of its value, ``through`` (an argument whose
-    rate adds to it, for computed predicates of a point), ``reads``: the beliefs a computed one consults."""
+    """What a predicate's last argument is, as a rate. ``point``: a drone's position (``position(Who, P)``: ``P``
+    moves with ``Who``'s path, a destructured ``(?x, ?y, ?z)`` along each axis). Else ``rate`` (its own), plus the
+    rates of the arguments ``through`` scaled by ``scale`` (a computed predicate of points), or ``mover(Who)``
+    when its first argument is a drone (``battery_to_home(self, B)``); ``reads``: the beliefs a computed one
+    consults, whose changes wake the rule; ``follows``: the rated beliefs (positions, the charge) it moves with."""
 
     rate: Rate = STILL
     through: tuple[int, ...] = ()
+    scale: Coefficient = 1.0
+    mover: Callable[[Any], Rate] | None = None
     reads: tuple[Signature, ...] = ()
-    rated_reads: tuple[Signature, ...] = ()
+    point: bool = False
+    follows: tuple[Signature, ...] = ()  # the rated beliefs it moves with
+
+
+_OPERATORS = {"=": operator.eq, "!=": operator.ne, "<": operator.lt, ">": operator.gt, "<=": operator.le,
+              ">=": operator.ge}
+
+
+class _Test:
+    """One comparison, ready to be checked against a solution: its sides, its operator (``ordered``: it holds
+    between numbers only, as the memory compares) and its rate."""
+
+    __slots__ = ("left", "right", "left_var", "right_var", "test", "ordered", "rate", "fixed")
+
+    def __init__(self, comparison: Comparison, rate: Rate) -> None:
+        left, right = comparison.left, comparison.right
+        self.left_var = type(left) is Var
+        self.right_var = type(right) is Var
+        self.left = left.name if self.left_var else left
+        self.right = right.name if self.right_var else right
+        self.test = _OPERATORS[comparison.op]
+        self.ordered = comparison.op not in ("=", "!=")
+        self.rate = rate
+        dynamic = callable(rate.jump) or callable(rate.per_second) or any(callable(k) for _, _, k in rate.per_meter)
+        self.fixed = None if dynamic else _figures(rate)  # its figures, when they do not depend on the moment
+
+
+def _figures(rate: Rate) -> tuple[float, float, tuple, bool]:
+    """A rate's figures now: its jump, per second, per meter terms, and whether anything moves it."""
+    per_second = _now(rate.per_second)
+    terms = tuple((who, axis, _now(k)) for who, axis, k in rate.per_meter)
+    return _now(rate.jump), per_second, terms, per_second > 0.0 or bool(terms)
 
 
 class Plan:
@@ -52,8 +133,9 @@ class Plan:
     variable (``?x = 3`` with ``?x`` free) or reads a predicate with no known rate: such a rule is checked at
     every change of what it reads."""
 
-    def __init__(self, goals: Conjunction, comparisons: tuple[Comparison, ...], rates: dict[Var, Rate]) -> None:
-        self.goals, self.comparisons, self.rates = goals, comparisons, rates
+    def __init__(self, goals: Conjunction, tests: tuple[_Test, ...]) -> None:
+        self.goals, self.tests = goals, tests
+        self.solve: Callable[[Any], list[dict]] = lambda memory: memory.query_all(goals)
 
     @classmethod
     def of(cls, condition: Conjunction, sources: Mapping[Signature, Source],
@@ -75,59 +157,130 @@ class Plan:
             source = sources.get(term.signature)
             if source is None and computed(*term.signature):
                 return None  # a built-in or computed predicate whose value moves without a belief changing
-            if source is not None and term.args:  # a rated value: its last argument moves at the source's rate
-                rate = source.rate
-                for index in source.through:
-                    if index < len(term.args):
-                        rate = rate + _rate_of(term.args[index], rates)
-                _give(term.args[-1], rate, rates)
-            bound |= set(_variables(term))
+            if source is not None and term.args:
+                _give(term.args[-1], _rate(source, term.args, rates), rates, source.point)
+            bound |= set(variables(term))
         for comparison in comparisons:
-            if any(v not in bound for v in (*_variables(comparison.left), *_variables(comparison.right))):
+            if any(v not in bound for v in (*variables(comparison.left), *variables(comparison.right))):
                 return None
+        tests = tuple(_Test(c, _rate_of(c.left, rates) + _rate_of(c.right, rates)) for c in comparisons)
         text = ", ".join(str(g) for g in goals) or "true"
-        return cls(Conjunction(tuple(goals), text), tuple(comparisons), rates)
+        return cls(Conjunction(tuple(goals), text), tests)
 
-    def verdict(self, solutions: list[dict]) -> tuple[bool, float, dict]:
-        """Whether the condition holds over ``solutions`` of its goals, the seconds before that can change, and
-        the solution that decided it (the one that holds, or the nearest to holding)."""
-        holding, soonest, latest, nearest = [], math.inf, 0.0, None
+    def compile(self, memory: Any) -> None:
+        """Solve the goals as a chain where they form one (:mod:`aeroexec.engine.safety.chains`)."""
+        chain = compile_chain(self.goals, memory)
+        if chain is not None:
+            self.solve = chain
+
+    def verdict(self, solutions: list[dict], now: float, reading: Callable[[Any], float]) -> \
+            tuple[bool, list[Entry], dict]:
+        """Whether the condition holds over ``solutions`` of its goals, the entries (odometer readings, times)
+        before none of which that can change, and the solution that decided it (the one that holds, or the
+        nearest to holding). ``reading(key)`` is an odometer's reading now."""
+        best_holding, holding_score, holding_entries = None, -1.0, None
+        entries: list[Entry] = []
+        nearest, nearest_score = None, math.inf
         for solution in solutions:
-            true, seconds = self._solution(solution)
+            true, found, score = self._solution(solution, now, reading)
             if true:
-                holding.append(solution)
-                latest = max(latest, seconds)
-            elif seconds < soonest:
-                soonest, nearest = seconds, solution
-        if holding:
-            return True, latest, holding[0]
-        return False, soonest, nearest or (solutions[0] if solutions else {})
+                if score > holding_score:  # it stays true while any holding solution does: follow the surest
+                    best_holding, holding_score, holding_entries = solution, score, found
+            else:
+                entries.extend(found)  # any of them may come to hold
+                if score < nearest_score:
+                    nearest, nearest_score = solution, score
+        if best_holding is not None:
+            return True, holding_entries, best_holding
+        return False, entries, nearest or (solutions[0] if solutions else {})
 
-    def _solution(self, solution: dict) -> tuple[bool, float]:
-        all_true, to_false, to_true = True, math.inf, 0.0
-        for comparison in self.comparisons:
-            left, right = _value(comparison.left, solution), _value(comparison.right, solution)
-            true = _compare(comparison.op, left, right)
-            rate = _rate_of(comparison.left, self.rates) + _rate_of(comparison.right, self.rates)
-            gap = _gap(left, right)
-            seconds = math.inf if rate.speed <= 0 and rate.jump <= 0 else (
-                0.0 if rate.speed <= 0 or gap is None else max(gap - rate.jump, 0.0) / rate.speed)
-            if rate.speed <= 0 and rate.jump > 0 and gap is not None and gap > rate.jump:
-                seconds = math.inf
+    def _solution(self, solution: dict, now: float, reading: Callable[[Any], float]) -> \
+            tuple[bool, list[Entry], float]:
+        """Whether the comparisons hold for one solution, the entries before which that cannot change, and a
+        score: how far (in budget per unit of rate) it is from changing."""
+        to_false: list[Entry] = []
+        to_true: list[Entry] | None = None
+        true_score, false_score = math.inf, -1.0
+        all_true = True
+        for test in self.tests:
+            left = solution.get(test.left) if test.left_var else test.left
+            right = solution.get(test.right) if test.right_var else test.right
+            figures = test.fixed or _figures(test.rate)
+            kind, other = type(left), type(right)
+            if (kind is float or kind is int) and (other is float or other is int):
+                true = test.test(left, right)
+                budget = abs(left - right) - figures[0]
+            else:
+                true = not test.ordered and test.test(left, right)
+                budget = None
+            found, score = _entries(figures, budget, solution, now, reading)
             if true:
-                to_false = min(to_false, seconds)
+                to_false.extend(found)
+                true_score = min(true_score, score)
             else:
                 all_true = False
-                to_true = max(to_true, seconds)
-        return (True, to_false) if all_true else (False, to_true)
+                if score > false_score:  # all must flip for it to hold: any one is a bound, the surest kept
+                    to_true, false_score = found, score
+        if all_true:
+            return True, to_false, true_score
+        return False, to_true or [], false_score
 
 
-def _give(arg: Any, rate: Rate, rates: dict[Var, Rate]) -> None:
+def _entries(figures: tuple, budget: float | None, solution: dict, now: float,
+             reading: Callable[[Any], float]) -> tuple[list[Entry], float]:
+    """Where a comparison with ``budget`` left before it flips may flip at the earliest: its budget shared
+    between what moves it (an entry each), and a score (budget over the total rate). ``figures``: its rate's."""
+    jump, per_second, terms, moves = figures
+    if not moves:
+        if jump > 0.0 and (budget is None or budget <= 0.0):
+            return [(TIME, now)], 0.0  # only its rounding moves it, and it is within that of flipping
+        return [], math.inf
+    if budget is None or budget <= 0.0:
+        return [(TIME, now)], 0.0
+    share = budget / (len(terms) + (1 if per_second > 0.0 else 0))
+    found: list[Entry] = []
+    total = per_second
+    if per_second > 0.0:
+        found.append((TIME, now + share / per_second))
+    for who, axis, k in terms:
+        if k <= 0.0:
+            continue
+        if type(who) is Var:
+            who = solution.get(who.name)
+        key = (who, axis)
+        found.append((key, reading(key) + share / k))
+        total += k
+    if total <= 0.0:
+        return [], math.inf
+    return found, budget / total
+
+
+def _rate(source: Source, args: tuple, rates: Mapping[Var, Rate]) -> Rate:
+    """The rate of the last argument of a goal of ``source``'s predicate with ``args``."""
+    first = args[0] if args else None
+    if source.point:
+        return Rate(per_meter=((first, "p", 1.0),))
+    rate = source.rate
+    if source.mover is not None and (type(first) is str or type(first) is Var and first not in rates):
+        rate = rate + source.mover(first)  # a drone, by name (self) or a variable naming one (a point has a rate)
+    moved = STILL
+    for index in source.through:
+        if index < len(args) - 1:
+            moved = moved + _rate_of(args[index], rates)
+    return rate + moved.scaled(source.scale) if moved.moves or moved.jump else rate
+
+
+def _give(arg: Any, rate: Rate, rates: dict[Var, Rate], point: bool) -> None:
     if type(arg) is Var:
         rates[arg] = _max(rates.get(arg, STILL), rate)
     elif isinstance(arg, tuple):  # a list term too
+        if point and len(arg) == 3 and rate.per_meter:  # (?x, ?y, ?z): each moves along its axis
+            who = rate.per_meter[0][0]
+            for item, axis in zip(arg, "xyz", strict=True):
+                _give(item, Rate(per_meter=((who, axis, 1.0),)), rates, False)
+            return
         for item in arg:
-            _give(item, rate, rates)
+            _give(item, rate, rates, False)
 
 
 def _rate_of(term: Any, rates: Mapping[Var, Rate]) -> Rate:
@@ -141,46 +294,10 @@ def _rate_of(term: Any, rates: Mapping[Var, Rate]) -> Rate:
     return STILL
 
 
-def _max(a: Rate, b: Rate) -> Rate:
-    return Rate(max(a.speed, b.speed), max(a.jump, b.jump))
-
-
-def _variables(term: Any) -> list[Var]:
-    if type(term) is Var:
-        return [term]
-    if isinstance(term, tuple):
-        return [v for item in term for v in _variables(item)]
-    if isinstance(term, Struct):
-        return [v for item in term.args for v in _variables(item)]
-    return []
-
-
-def _value(term: Any, solution: dict) -> Any:
-    return solution.get(str(term)) if type(term) is Var else term
-
-
-def _number(value: Any) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool)
-
-
-def _gap(left: Any, right: Any) -> float | None:
-    return abs(float(left) - float(right)) if _number(left) and _number(right) else None
-
-
-def _compare(op: str, left: Any, right: Any) -> bool:
-    if op == "=":
-        return left == right
-    if op == "!=":
-        return left != right
-    if not (_number(left) and _number(right)):
-        return False
-    return {"<": left < right, ">": left > right, "<=": left <= right, ">=": left >= right}[op]
-
-
 def goal_literals(condition: Conjunction) -> Conjunction:
     """The goals of a condition without its comparisons and negations: what it read, to say why it broke."""
     goals = tuple(lit for lit in condition.literals if type(lit) is Goal)
     return Conjunction(goals, ", ".join(str(g) for g in goals))
 
 
-__all__ = ["Plan", "Rate", "STILL", "Source", "goal_literals"]
+__all__ = ["AXES", "TIME", "Plan", "Rate", "STILL", "Source", "goal_literals"]

@@ -1,6 +1,6 @@
 """Safety rules decided before flight, where the mission alone decides them: its literal destinations (a tree's
 ``GO_TO_POINT COORDINATES="..."``, a Python mission's ``execute_behavior("GO_TO_POINT", COORDINATES=[...])``) in
-the order written, flown from home with the vehicle model's battery use.
+the order written, flown from home with the vehicle model's battery use (the model verify's route uses).
 
 A rule is decided at each destination when what it reads is known there: ``position(self, P)`` (the destination),
 ``charge(battery, C)`` (100 % at take-off less the route's use so far), the geometry (``distance``), the return
@@ -20,9 +20,10 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, Struct
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
+from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.safety_rules import ALWAYS, NEVER, SafetyRule
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.safety.vehicle import SafetyPredicates, VehicleModel
+from aeroexec.engine.safety.predicates import SafetyPredicates
 
 MOTION = {"GO_TO_POINT": "COORDINATES", "TAKE_OFF": "ALTITUDE"}
 KNOWN = {("position", 2), ("charge", 2), ("distance", 3), ("battery_to_home", 2), ("return_margin", 2),
@@ -61,7 +62,9 @@ def route(mission: Any, file: str, model: VehicleModel) -> list[Waypoint]:
             continue
         if len(point) == 1:  # TAKE_OFF: the altitude above where it is
             point = (here[0], here[1], point[0])
-        leg_seconds, used = model.leg(here, point)
+            leg_seconds, used = model.take_off(point[2] - here[2])
+        else:
+            leg_seconds, used = model.fly(here, point)
         seconds, charge, here = seconds + leg_seconds, charge - used, point
         points.append(Waypoint(point, where, line, round(seconds, 2), round(charge, 2)))
     return points

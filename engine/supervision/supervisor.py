@@ -20,6 +20,9 @@ the loop. Every command is recorded as an ``operator_command`` event (``command`
   not end "completed". Time waited with ``wait`` or a tree's Delay/Timeout keeps running while paused.
 - abort: the mission stops (its waiting call raises MissionAborted, an attached tree is halted), every
   behavior but LAND is stopped and, when the drone is in the air, LAND is activated at the higher priority.
+- suspend: as abort, for a stop the run is to go on from (a battery swap): the run ends ``suspended`` and
+  ``aeroexec run --resume`` continues it from where it stopped. Both first record where the mission stopped
+  (``mission_stopped``, ``mission_suspended``), before anything is halted.
 - the changes of the running mission (skip, jump, insert, modify, delete, replace, load:
   :mod:`aeroexec.engine.supervision.changes`) are checked and made by the flight's :attr:`Supervisor.changes` (a
   bare engine takes a Python mission's skip only); each is recorded as a ``mission_change`` event (``command``,
@@ -53,10 +56,11 @@ logger = logging.getLogger(__name__)
 
 LAND_BEHAVIOR = "LAND"
 LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
-COMMANDS = ("pause", "resume", "abort", "inhibit", "answer", "add", "remove", "status", "query", "items", *CHANGES)
+COMMANDS = ("pause", "resume", "abort", "suspend", "inhibit", "answer", "add", "remove", "status", "query", "items",
+            *CHANGES)
 READ_ONLY = ("status", "query", "items")  # commands that change nothing: not logged as operator commands
 MAX_ANSWERS = 100  # unifications a query returns at most
-RUNNING, PAUSED, ABORTED = "running", "paused", "aborted"
+RUNNING, PAUSED, ABORTED, SUSPENDED = "running", "paused", "aborted", "suspended"
 
 
 class SupervisedMission(Protocol):
@@ -261,10 +265,23 @@ class Supervisor:
         return result.accepted
 
     def _abort(self, reason: str) -> CommandResult:
-        if self.state == ABORTED:
-            return CommandResult(True, "already aborted")
-        self.state = ABORTED
+        if self.state in (ABORTED, SUSPENDED):
+            return CommandResult(True, f"already {self.state}")
         reason = reason or "aborted by the operator"
+        self.engine.log.record("mission_stopped", detail=reason)
+        return CommandResult(True, f"mission aborted; {self._stop_mission(ABORTED, reason)}")
+
+    def _suspend(self, reason: str) -> CommandResult:
+        if self.state in (ABORTED, SUSPENDED):
+            return CommandResult(False, f"the mission is already {self.state}")
+        reason = reason or "suspended by the operator"
+        self.engine.log.record("mission_suspended", detail=reason)
+        landing = self._stop_mission(SUSPENDED, reason)
+        return CommandResult(True, f"mission suspended (aeroexec run --resume goes on from here); {landing}")
+
+    def _stop_mission(self, state: str, reason: str) -> str:
+        """Stop the mission and every behavior but LAND, and land; what the landing does, in words."""
+        self.state = state
         bridge = self.engine.bridge
         bridge.hold(False)
         bridge.close()  # a Python mission's waiting call raises MissionAborted
@@ -277,8 +294,7 @@ class Supervisor:
         for name, _ in sorted(coordinator.active().items(), key=lambda item: -item[1].order):
             if name != LAND_BEHAVIOR:
                 coordinator.stop(name, reason)
-        landing = start_landing(self.engine, reason)
-        return CommandResult(True, f"mission aborted; {landing}")
+        return start_landing(self.engine, reason)
 
     # -- changes of the running mission ------------------------------------------------------------------
     def _change(self, command: str, argument: str, origin: str, prepared: Any = None) -> CommandResult:

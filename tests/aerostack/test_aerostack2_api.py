@@ -151,4 +151,6 @@ def test_threads_of_the_scripts_own_are_the_missions(tmp_path, capsys):
     flight = fly(path, tmp_path, capsys)
     assert flight.status == 0, flight.err
     assert flight.achieved() == ["TAKE_OFF", "GO_TO_POINT", "LAND"]
-    assert any(line.startswith("joined after ") and 5 <= int(line.split()[-1]) <= 8 for line in flight.out.splitlines())
+    # ~7 s flown (take-off, 3 s, go_to); a thread that wakes late on a loaded machine lets the clock run on a little
+    joined = [int(line.split()[-1]) for line in flight.out.splitlines() if line.startswith("joined after ")]
+    assert joined and 5 <= joined[0] <= 12, flight.out

@@ -159,6 +159,21 @@ def test_listeners_hear_every_change():
     ]
 
 
+def test_a_listener_of_some_predicates_hears_only_theirs():
+    m = BeliefMemory()
+    heard, every = [], []
+    m.subscribe(lambda change: every.append(str(change.belief)))
+    unsubscribe = m.subscribe(lambda change: heard.append((change.kind, str(change.belief))), names=["charge"])
+    m.add("speed(self, 3)")
+    m.add("charge(battery, full)")
+    m.add("charge(battery, low)")
+    unsubscribe()
+    m.add("charge(battery, empty)")
+    assert heard == [("added", "charge(battery, full)"), ("removed", "charge(battery, full)"),
+                     ("added", "charge(battery, low)")]
+    assert len(every) == 6  # the listener of every change still hears it
+
+
 def test_a_failing_listener_does_not_break_the_memory(caplog):
     m = BeliefMemory()
     m.subscribe(lambda change: 1 / 0)

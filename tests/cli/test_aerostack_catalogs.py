@@ -5,8 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-import executive_engine_api as api
 import pytest
+from aeroexec.aerostack import executive_engine_api as api
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.catalog import default_catalog, load_catalog, parse_catalog
 from aeroexec.engine.engine import Engine

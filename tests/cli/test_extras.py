@@ -117,7 +117,7 @@ class _Distribution:
 def test_the_install_line_follows_how_aeroexec_was_installed(monkeypatch, direct_url, line):
     from importlib import metadata
 
-    monkeypatch.setattr(metadata, "distribution", lambda name: _Distribution(direct_url))
+    monkeypatch.setattr(metadata, "distributions", lambda **select: [_Distribution(direct_url)])
     monkeypatch.chdir("/")
     assert install_line("fleet") == line
 
@@ -125,8 +125,8 @@ def test_the_install_line_follows_how_aeroexec_was_installed(monkeypatch, direct
 def test_the_install_line_names_the_current_folder_as_dot(monkeypatch, tmp_path):
     from importlib import metadata
 
-    monkeypatch.setattr(metadata, "distribution", lambda name: _Distribution(
-        {"url": tmp_path.as_uri(), "dir_info": {}}))
+    monkeypatch.setattr(metadata, "distributions", lambda **select: [_Distribution(
+        {"url": tmp_path.as_uri(), "dir_info": {}})])
     monkeypatch.chdir(tmp_path)
     assert install_line("console") == "pip install '.[console]'"
     assert extras.missing("console") == []  # installed here (the suite needs every extra)

@@ -104,8 +104,8 @@ def test_beliefs_report_and_console_take_a_run_folder_or_its_log_alike(flown, tm
     for command in ("beliefs", "report", "console"):
         wrong = aeroexec(command, str(tmp_path / "nothing"))
         assert wrong.returncode == 1 and wrong.stdout == ""
-        assert wrong.stderr.strip() == (f"{tmp_path / 'nothing'}: no event log here (a run's output folder or its "
-                                        f"events.jsonl is expected)")
+        assert wrong.stderr.strip() == (f"{tmp_path / 'nothing'}: no event log here (a run's output folder, its "
+                                        f"events.jsonl or its journal.sqlite is expected)")
 
 
 def test_beliefs_without_a_run_names_the_one_it_answers_from_before_answering(flown, tmp_path):

@@ -84,3 +84,36 @@ def test_a_long_explanation_wraps_whole_in_a_narrow_view():
     finally:
         view.stop()
         engine.stop()
+
+
+def test_safety_rules_have_a_line_of_their_own_held_then_violated_with_the_contingency_in_effect():
+    from aeroexec.engine.catalog import default_catalog
+    from aeroexec.engine.catalog.safety_rules import read_safety_rules_text
+    from aeroexec.engine.safety.declared import vocabulary
+
+    catalog = default_catalog()
+    text = ("- {rule: fence, always: 'position(self, (?x, ?y, ?z)), ?x < 6', contingency: hold}\n"
+            "- {rule: max_time, never: 'mission_time(?t), ?t > 900', contingency: land}\n")
+    rules = read_safety_rules_text(text, "rules.yaml", vocabulary(catalog)).rules
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world, catalog=catalog.with_safety_rules(rules))
+    view = LiveView(engine, "fenced.py")
+
+    def mission() -> None:
+        api.execute_behavior("TAKE_OFF", altitude=3)
+        api.execute_behavior("GO_TO_POINT", coordinates=(10, 0, 3))
+
+    try:
+        engine.start_mission(mission, "fenced")
+        assert engine.run_until(lambda: engine.coordinator.is_active("GO_TO_POINT"), 20)
+        held = screen(view)
+        assert held[1].strip() == "safety: 2 rules held", held[:3]
+        engine.run_until(lambda: engine.log.events("safety_violated"), 30)
+        engine.step(0.5)
+        violated = screen(view)
+        line = " ".join(row.strip() for row in violated[1:3])
+        assert line.startswith("safety: violated fence (t=") and "in effect: fence hold, holding at (" in line
+        assert len(violated) <= 24 and violated[-1].strip() == KEYS_HELP
+    finally:
+        view.stop()
+        engine.stop()

@@ -42,7 +42,10 @@ def flown(tmp_path_factory):
 
 
 def test_the_live_console_reads_at_a_glance_at_both_sizes(browser, flown, request):
-    run = Run("missions/iarc7.xml", flown, "--speed", "2")
+    rules = flown.parent / "rules.yaml"  # rules that hold all along: the header says so
+    rules.write_text("- {rule: ceiling, always: 'position(self, (?x, ?y, ?z)), ?z < 60', contingency: land}\n"
+                     "- {rule: max_time, never: 'mission_time(?t), ?t > 900', contingency: return}\n")
+    run = Run("missions/iarc7.xml", flown, "--speed", "2", "--safety-rules", str(rules))
     try:
         viewport(browser, *SIZES[0])
         browser.get(run.url)
@@ -53,6 +56,7 @@ def test_the_live_console_reads_at_a_glance_at_both_sizes(browser, flown, reques
         altitude, speed = shown(browser, "altitude"), shown(browser, "speed")
         assert altitude.endswith(" m") and float(altitude.split()[0]) > 1.0, altitude
         assert speed.endswith(" m/s"), speed
+        assert shown(browser, "safety") == "safety: 2 rules held"
         assert browser.execute_script("return !!document.querySelector('#map .scale-bar')")
         assert browser.execute_script("return document.querySelector('#map .north-label').textContent") == "N"
         assert browser.execute_script("return document.querySelectorAll('#map .grid').length") >= 8
@@ -84,6 +88,7 @@ def test_a_replay_says_replay_and_reads_at_a_glance(browser, flown):
         assert shown(browser, "replay-mission") == "iarc7.xml"
         readable(browser, "the replay", "events-panel")
         assert shown(browser, "altitude") == "0.0 m"  # at the end of the run: landed
+        assert shown(browser, "safety") == "safety: 2 rules held"  # from the run's safety events
     finally:
         replay.terminate()
         replay.wait(timeout=30)

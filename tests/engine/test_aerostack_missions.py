@@ -1,27 +1,24 @@
 """Aerostack's own Python missions run unchanged: Levant's ``executive_engine_api`` and Sirocco's
 ``mission_execution_control``, their return conventions, new predicates, polling on the simulated clock."""
 
-import importlib.util
 import subprocess
 import sys
 from pathlib import Path
 
-import executive_engine_api
-import mission_execution_control
 import pytest
+from aeroexec.aerostack import executive_engine_api, mission_execution_control
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.missions.bridge import POLLING_REPORT
 from aeroexec.engine.missions.check import check_mission_file, check_mission_source
+from aeroexec.flight.missions import mission_function
 
 DATA = Path(__file__).parent / "data" / "aerostack"
 
 
 def load(name: str):
-    spec = importlib.util.spec_from_file_location(f"aerostack_mission_{name}", DATA / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return getattr(module, "mission", None) or module.runMission
+    """The mission's function, loaded as aeroexec loads a mission (its imports of Aerostack's APIs mapped)."""
+    return mission_function(DATA / f"{name}.py")
 
 
 def run(mission, max_time=300.0, battery=100.0):
@@ -309,4 +306,5 @@ def test_verify_knows_every_function_the_aerostack_modules_offer():
 
     for module in (executive_engine_api, mission_execution_control):
         functions = {name for name in module.__all__ if callable(getattr(module, name))}
-        assert functions == set(API_MODULES[module.__name__]), module.__name__
+        name = module.__name__.rpartition(".")[2]  # as missions import it
+        assert functions == set(API_MODULES[name]), name

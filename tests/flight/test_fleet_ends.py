@@ -60,7 +60,7 @@ def test_a_fleet_drones_folder_holds_what_a_runs_folder_holds(tmp_path, capsys):
     assert main(["run", str(TREE), "--quiet", "--output", str(tmp_path / "alone")]) == 0
     assert main(["fleet", str(fleet_file(tmp_path)), "--quiet", "--output", str(tmp_path / "fleet")]) == 0
     alone = sorted(p.name for p in (tmp_path / "alone").iterdir())
-    assert alone == ["events.jsonl", "mission.btlog"]
+    assert alone == ["events.jsonl", "journal.sqlite", "mission.btlog"]
     for drone in ("d1", "d2"):
         assert sorted(p.name for p in (tmp_path / "fleet" / drone).iterdir()) == alone
         records = read_log(tmp_path / "fleet" / drone / "events.jsonl")

@@ -16,7 +16,7 @@ def test_a_session_flies_a_rover_mission_and_leaves_a_runs_files(tmp_path):
     with FlightSession(spec, notify=lambda text: None) as session:
         outcome = session.fly()
     assert (outcome.status.word, outcome.exit_status) == ("completed", 0)
-    assert sorted(p.name for p in outcome.folder.iterdir()) == ["events.jsonl", "mission.btlog"]
+    assert sorted(p.name for p in outcome.folder.iterdir()) == ["events.jsonl", "journal.sqlite", "mission.btlog"]
     records = read_log(outcome.folder / "events.jsonl")
     assert records[0]["robot"] == "rover" and ended(records)["detail"] == "completed"
 

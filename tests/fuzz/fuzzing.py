@@ -192,6 +192,21 @@ def _control(path: Path) -> list[str]:
     return []
 
 
+def _journal(path: Path) -> list[str]:
+    """A run's flight journal read as ``aeroexec journal`` and ``run --resume`` read it: answered, or refused
+    naming the file (a damaged one too)."""
+    from aeroexec.flight.journal import Journal, JournalError, resume_point
+
+    try:
+        with Journal(path) as journal:
+            journal.records()
+            journal.done()
+        resume_point(path)
+    except JournalError as error:
+        return [str(error)]
+    return []
+
+
 def _fleet_file(path: Path) -> list[str]:
     from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
 
@@ -332,6 +347,7 @@ FORMATS = {f.name: f for f in [
     Format("fleet messages", ".msg", _files("tests/fuzz/seeds/*.msg"), _fleet_message),
     Format("fleet certificates", ".pem", _files("tests/fuzz/seeds/*.pem"), _fleet_certificate),
     Format("rules files", ".rules", _files("tests/fuzz/seeds/*.rules"), _rules),
+    Format("flight journals", ".sqlite", _files("tests/fuzz/seeds/*.sqlite"), _journal),
     Format("change fragments", ".fragment", _files("tests/fuzz/seeds/*.fragment"), _fragment),
 ]}
 
@@ -339,7 +355,10 @@ FORMATS = {f.name: f for f in [
 WHOLE_FILE = re.compile(r"(not a regular file|the file is [\d,]+ bytes|the file is more than|cannot read (the|an)"
                         r"|has no mission\(\) or runMission\(\)|is empty|not XML: the file has no element"
                         r"|not a certificate \(PEM\)|not made by the fleet's CA|not the key of|valid from .* not now"
-                        r"|is not of fleet|a CA's certificate is no member's)")
+                        r"|is not of fleet|a CA's certificate is no member's"
+                        r"|not a flight journal|the journal is damaged|the journal cannot be read"
+                        r"|a journal of another format|nothing to resume|no state of the tree|nothing is left to do"
+                        r"|by itself)")
 
 
 def placed(message: str, path: Path, fmt: Format) -> bool:

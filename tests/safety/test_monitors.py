@@ -155,3 +155,34 @@ def mission():
     assert "mission_preempted" in kinds and kinds.index("mission_preempted") < kinds.index("drone_landed")
     landing = next(r for r in records if r["kind"] == "activated" and r["behavior"] == "LAND")
     assert landing["data"]["source"] == "mission" and 8.0 < landing["time"] < 9.0
+
+
+def test_a_called_contingency_stops_what_the_mission_was_waiting_on(tmp_path, capsys):
+    python = tmp_path / "timed.py"
+    python.write_text('''from aeroexec.engine.api import execute_behavior
+
+SAFETY_RULES = """
+- {rule: max_time, never: "mission_time(?t), ?t > 8", contingency: call go_home}
+"""
+
+
+def go_home():
+    execute_behavior("GO_TO_POINT", COORDINATES=[0, 0, 3])
+    execute_behavior("WAIT", DURATION=5)
+    execute_behavior("LAND")
+
+
+def mission():
+    execute_behavior("TAKE_OFF", ALTITUDE=3)
+    execute_behavior("GO_TO_POINT", COORDINATES=[4, 0, 3])
+    execute_behavior("WAIT", DURATION=60)
+''')
+    assert main(["run", str(python), "--quiet", "--output", str(tmp_path / "p")]) == 1
+    records = [json.loads(line) for line in (tmp_path / "p" / "events.jsonl").read_text().splitlines()]
+    (violation,) = [r for r in records if r["kind"] == "safety_violated"]
+    waits = [r for r in records if r.get("behavior") == "WAIT" and r["kind"] in ("INTERRUPTED", "GOAL_ACHIEVED")]
+    assert waits[0]["kind"] == "INTERRUPTED" and waits[0]["time"] == violation["time"], "the mission's WAIT stopped"
+    assert "safety rule max_time" in waits[0]["detail"]
+    assert waits[1]["kind"] == "GOAL_ACHIEVED", "the function's own WAIT ran, its behavior free again"
+    landed = [r for r in records if r["kind"] == "drone_landed"]
+    assert landed and landed[0]["time"] < 30 and math.hypot(*landed[0]["data"]["position"][:2]) < 1.0

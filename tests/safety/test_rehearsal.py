@@ -30,6 +30,7 @@ def test_a_mission_built_to_fail_in_strong_wind_fails_in_the_windy_runs_on_cores
     mission.write_text(WINDY)
     run_seeds = seeds(8)
     local = fly_local(str(mission), run_seeds, workers=2)
+    assert len({r.worker for r in local}) == 2, "both worker processes flew runs"
     for result in local:
         wind = result.variation.wind_speed + 3 * result.variation.wind_gust
         calm = result.variation.wind_speed + 3 * result.variation.wind_gust < 8 and result.variation.link_loss is None

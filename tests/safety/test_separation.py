@@ -73,3 +73,27 @@ def test_verify_refuses_fleet_routes_that_cross_within_the_separation(tmp_path, 
     assert f"safety rule separation ({rules}:1)" in out
     fleet.write_text(fleet.read_text().replace("home: [0, -12]", "home: [0, -18]"))  # d2 crosses well after d1
     assert main(["verify", str(fleet), "--safety-rules", str(rules)]) == 0
+
+
+VELOCITIES = "stopping_point(self, ?p), position(?o, ?), ?o != self, stopping_point(?o, ?q), distance(?p, ?q, ?d)"
+POSITIONS = "stopping_point(self, ?p), position(?o, ?q), ?o != self, distance(?p, ?q, ?d)"
+
+
+def closest_with(tmp_path, condition: str, name: str) -> float:
+    rule = f'- {{rule: separation, never: "{condition}, ?d < 4", contingency: hold}}\n'
+    for drone, point in (("cross1.py", [12, 0, 5]), ("cross2.py", [0, 12, 5])):
+        (tmp_path / drone).write_text(MISSION.format(point=point).replace(MISSION.split('"""')[1], "\n" + rule))
+    fleet = tmp_path / "cross.yaml"
+    fleet.write_text("fleet: cross\ndrones:\n  - {name: d1, mission: cross1.py, home: [-12, 0]}\n"
+                     "  - {name: d2, mission: cross2.py, home: [0, -12]}\n")
+    main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / name)])
+    one, two = track(tmp_path / name / "d1" / "events.jsonl"), track(tmp_path / name / "d2" / "events.jsonl")
+    return min(math.dist(one[t], two[t]) for t in one.keys() & two.keys())
+
+
+def test_with_the_mates_shared_velocities_a_separation_rule_needs_no_lookahead(tmp_path, capsys):
+    """The fleet link writes each mate's velocity (velocity(dN, V)) with its position, so a rule compares where
+    both drones would stop: 4 m between the stopping points keeps them apart; the same 4 m against the mate's
+    position alone does not (it would need a larger distance, a lookahead, to make up for the mate's motion)."""
+    assert closest_with(tmp_path, VELOCITIES, "both") >= 3.0
+    assert closest_with(tmp_path, POSITIONS, "own") < 3.0

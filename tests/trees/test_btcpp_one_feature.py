@@ -10,7 +10,7 @@ import re
 
 import pytest
 from aeroexec.trees import groot
-from aeroexec.trees.runtime.registry import BUILT_IN
+from aeroexec.trees.runtime.manifests import MANIFESTS
 from btcpp_harness import compare, run_aeroexec
 from one_feature_trees import DATA, LENIENT, ONE_FEATURE, Case
 from test_btcpp_parity import HAND_WRITTEN, SUBTREES
@@ -56,11 +56,11 @@ def test_the_set_has_a_tree_for_every_built_in_node_and_every_port():
     count = len(ONE_FEATURE) + len(HAND_WRITTEN) + len(LENIENT) + len(ONLY_4_10)
     assert count >= 113
     missing = []
-    for name, cls in BUILT_IN.items():
+    for name, manifest in MANIFESTS.items():
         if name in ENGINE_LEAVES:
             continue
         if not re.search(rf"<{name}[\s/>]", written):
             missing.append(name)
-        missing += [f"{name}.{port.name}" for port in cls.ports
+        missing += [f"{name}.{port.name}" for port in manifest.ports
                     if not re.search(rf"<{name}\b[^>]*\s{port.name}=", written)]
     assert missing == []

@@ -33,8 +33,7 @@ from dataclasses import dataclass, field
 from aeroexec.drones.angles import wrap180
 from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, format_geo, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
-from aeroexec.engine.errors import WRONG_SEQUENCE, WRONG_VALUE, Problem
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import WRONG_SEQUENCE, WRONG_VALUE, MissionProblem, Problem
 from aeroexec.trees.items.commands import CommandItems, text
 from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, POSITIONAL, REFUSED, ItemMission, MissionItem
 from aeroexec.trees.items.structure import Span, Step, build, nest_jumps

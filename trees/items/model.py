@@ -12,8 +12,7 @@ import math
 from dataclasses import dataclass, field
 
 from aeroexec.drones.geodesy import Geodetic
-from aeroexec.engine.errors import WRONG_FORMAT
-from aeroexec.engine.missions.check import MissionProblem
+from aeroexec.engine.errors import WRONG_FORMAT, MissionProblem
 
 #: MAV_CMD numbers and names of the items aeroexec reads (others are named by number).
 COMMANDS = {

@@ -5,13 +5,14 @@ write it). Files are read through :mod:`aeroexec.limits` (size bound, UTF-8 with
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from aeroexec.trees.items.model import ItemMission
-from aeroexec.trees.items.plan import read_legacy_mission, read_plan
-from aeroexec.trees.items.wpl import is_wpl, read_wpl
 from aeroexec.trees.model import TreeFormatError
 
 from aeroexec.limits import InputError, read_text
+
+if TYPE_CHECKING:
+    from aeroexec.trees.items.model import ItemMission
 
 ITEM_EXTENSIONS = (".plan", ".waypoints", ".mission", ".txt")
 
@@ -30,6 +31,10 @@ def read_item_mission(text: str | bytes, file: str) -> ItemMission:
             line = text[:exc.start].count(b"\n") + 1
             raise TreeFormatError([(file, line, f"cannot read the file: it is not UTF-8 text ({exc.reason})")]) \
                 from None
+    # the readers here, not at the top: which files are mission-item files is asked of every mission file
+    from aeroexec.trees.items.plan import read_legacy_mission, read_plan
+    from aeroexec.trees.items.wpl import is_wpl, read_wpl
+
     suffix = Path(file).suffix.lower()
     if suffix == ".plan":
         return read_plan(text, file)

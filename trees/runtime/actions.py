@@ -8,8 +8,9 @@ the tick, naming the node, as BT.CPP throws: the run fails unless a TryCatch aro
 
 from __future__ import annotations
 
-from aeroexec.trees.conversions import ANY, STRING, UNSIGNED, ConversionError
-from aeroexec.trees.runtime.ports import BidirectionalPort, InputPort, NodeConfig
+from aeroexec.trees.conversions import ConversionError
+from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SUCCESS, Node, TickError, kept
 from aeroexec.trees.script import ScriptError, compile_script, truth
 from py_trees.behaviour import Behaviour
@@ -49,6 +50,7 @@ class Leaf(Node, Behaviour):
 
 
 class AlwaysSuccess(Leaf):
+    manifest = MANIFESTS["AlwaysSuccess"]
     result = SUCCESS
     __slots__ = ("_result",)  # read at every tick: in a slot
 
@@ -71,13 +73,14 @@ class AlwaysSuccess(Leaf):
 
 
 class AlwaysFailure(AlwaysSuccess):
+    manifest = MANIFESTS["AlwaysFailure"]
     result = FAILURE
 
 
 class Script(Leaf):
     """Runs its script; SUCCESS."""
 
-    ports = (InputPort("code", STRING, required=True, description="the script"),)
+    manifest = MANIFESTS["Script"]
     condition = False
 
     def __init__(self, name: str, config: NodeConfig) -> None:
@@ -95,6 +98,7 @@ class Script(Leaf):
 class ScriptCondition(Script):
     """SUCCESS when its script's value is true, else FAILURE."""
 
+    manifest = MANIFESTS["ScriptCondition"]
     condition = True
 
 
@@ -102,13 +106,12 @@ class SetBlackboard(Leaf):
     """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value; FAILURE when it holds none, as in
     BT.CPP); text written to a typed entry is converted to its type."""
 
-    ports = (InputPort("value", ANY, required=True, description="the value to write", empty=True),
-             BidirectionalPort("output_key", ANY, "the blackboard entry it writes", required=True))
+    manifest = MANIFESTS["SetBlackboard"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
         self.key = config.output("output_key")
-        self.value = config.input("value", self.ports)
+        self.value = config.input("value", self.manifest.ports)
 
     def update(self) -> Status:
         source = self.value.key
@@ -130,7 +133,7 @@ class SetBlackboard(Leaf):
 class UnsetBlackboard(Leaf):
     """Removes the entry ``key``."""
 
-    ports = (InputPort("key", STRING, required=True, description="the entry to remove"),)
+    manifest = MANIFESTS["UnsetBlackboard"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
@@ -144,11 +147,11 @@ class UnsetBlackboard(Leaf):
 class Sleep(Leaf):
     """RUNNING until ``msec`` of engine time passed since it started, then SUCCESS."""
 
-    ports = (InputPort("msec", UNSIGNED, required=True, description="milliseconds to wait"),)
+    manifest = MANIFESTS["Sleep"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
-        self.msec = config.input("msec", self.ports)
+        self.msec = config.input("msec", self.manifest.ports)
         self.seconds = 0.0
         self.started_at = 0.0
 
@@ -164,7 +167,7 @@ class Sleep(Leaf):
 class WasEntryUpdated(Leaf):
     """SUCCESS when ``entry`` was written since this node last looked, else FAILURE."""
 
-    ports = (InputPort("entry", ANY, required=True, description="the blackboard entry to watch"),)
+    manifest = MANIFESTS["WasEntryUpdated"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)

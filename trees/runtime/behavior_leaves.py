@@ -15,11 +15,11 @@ from typing import Any
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
-from aeroexec.trees.conversions import ANY, DOUBLE, STRING
 from aeroexec.trees.model import WAIT_FOR_COMPLETION
 from aeroexec.trees.ports import MissingKey, request_from_ports
 from aeroexec.trees.runtime.actions import Leaf
-from aeroexec.trees.runtime.ports import InputPort, NodeConfig, OutputPort
+from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.ports import NodeConfig
 from py_trees.common import Status
 
 
@@ -96,9 +96,7 @@ class AskBehavior(BehaviorLeaf):
     """``<AskBehavior behavior="GENERATE_PATH_FREE_OF_OBSTACLES" DESTINATION="..." result="{path}"/>``: the
     behavior's other ports are its arguments."""
 
-    ports = (InputPort("behavior", STRING, required=True, description="a deliberative behavior of the catalog"),
-             OutputPort("result", ANY, "the blackboard key that receives its result", required=True),
-             InputPort("timeout", DOUBLE, description="seconds before the behavior times out"))
+    manifest = MANIFESTS["AskBehavior"]
     skip_ports = ("behavior", "result")
 
     def __init__(self, name: str, config: NodeConfig) -> None:

@@ -10,16 +10,12 @@ from __future__ import annotations
 import abc
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
-from aeroexec.trees.conversions import BOOL, STRING
 from aeroexec.trees.ports import MissingKey, substitute
 from aeroexec.trees.runtime.actions import Leaf
-from aeroexec.trees.runtime.ports import InputPort, NodeConfig, Port
+from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import FAILURE, SUCCESS
 from py_trees.common import Status
-
-
-def _belief(meaning: str) -> Port:
-    return InputPort("belief", STRING, required=True, description=meaning)
 
 
 class BeliefLeaf(Leaf):
@@ -46,7 +42,7 @@ class CheckBelief(BeliefLeaf):
     """SUCCESS when the belief expression holds, else FAILURE."""
 
     __slots__ = ("belief", "fixed", "holds")  # read at every tick: in slots
-    ports = (_belief("a belief expression; SUCCESS when it holds"),)
+    manifest = MANIFESTS["CheckBelief"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
@@ -76,11 +72,13 @@ class CheckBelief(BeliefLeaf):
 class Condition(CheckBelief):
     """``<Condition belief="..."/>``, aeroexec's old spelling of CheckBelief (BT.CPP refuses it)."""
 
+    manifest = MANIFESTS["Condition"]
+
 
 class QueryBelief(BeliefLeaf):
     """Writes each variable the expression binds (``?P`` -> key ``P``); FAILURE when it has no answer."""
 
-    ports = (_belief("a belief expression; its variables go to the blackboard"),)
+    manifest = MANIFESTS["QueryBelief"]
 
     def apply(self, text: str) -> Status:
         found = self.context.engine.memory.query(text)
@@ -94,9 +92,7 @@ class QueryBelief(BeliefLeaf):
 class AddBelief(BeliefLeaf):
     """Adds a belief; a predicate the catalog does not declare is declared by the mission (``multivalued``)."""
 
-    ports = (_belief("a ground belief to add"),
-             InputPort("multivalued", BOOL, "false", "a predicate the catalog does not declare may hold several "
-                                                     "values at once (default false)"))
+    manifest = MANIFESTS["AddBelief"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
@@ -114,7 +110,7 @@ class AddBelief(BeliefLeaf):
 class RemoveBelief(BeliefLeaf):
     """Removes the beliefs matching the pattern."""
 
-    ports = (_belief("a belief pattern; matching beliefs are removed"),)
+    manifest = MANIFESTS["RemoveBelief"]
 
     def apply(self, text: str) -> Status:
         self.context.engine.memory.remove(text)
@@ -125,7 +121,7 @@ class AddRule(Leaf):
     """Adds the rules (and facts) of its ``rule`` port the first time it is ticked; FAILURE when they cannot be
     taken (each problem named with the node's file and line)."""
 
-    ports = (InputPort("rule", STRING, required=True, description="rules deriving beliefs (head :- body.) and facts"),)
+    manifest = MANIFESTS["AddRule"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from aeroexec.trees.conversions import BOOL, STRING
 from aeroexec.trees.runtime.controls import Control
-from aeroexec.trees.runtime.ports import InputPort, NodeConfig, PortError
+from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt, reset
 from py_trees.behaviour import Behaviour
 
@@ -17,7 +17,7 @@ from py_trees.behaviour import Behaviour
 class IfThenElse(Control):
     """The condition (first child) is ticked until it completes, then one branch."""
 
-    min_children, max_children = 2, 3
+    manifest = MANIFESTS["IfThenElse"]
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
@@ -47,8 +47,7 @@ class IfThenElse(Control):
 class WhileDoElse(Control):
     """The condition is ticked every time; switching branch halts the other."""
 
-    min_children, max_children = 2, 3
-    loops = True
+    manifest = MANIFESTS["WhileDoElse"]
 
     def run(self) -> Result:
         condition = self.tick_index(0)
@@ -71,18 +70,13 @@ class WhileDoElse(Control):
 class Switch(Control):
     """SwitchN: the child of the first ``case_i`` equal to ``variable`` (as text or as numbers), else the last."""
 
-    cases = 0
-
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
-        self.variable = self.config.input("variable", self.ports)
-        self.case_inputs = [self.config.input(f"case_{i}", self.ports) for i in range(1, self.cases + 1)]
+        variable, *cases = self.manifest.ports  # variable, case_1 ... case_N
+        self.cases = len(cases)
+        self.variable = self.config.input(variable.name, self.manifest.ports)
+        self.case_inputs = [self.config.input(case.name, self.manifest.ports) for case in cases]
         self.running: int | None = None
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        cls.min_children = cls.max_children = cls.cases + 1
-        cls.ports = (InputPort("variable", STRING), *(InputPort(f"case_{i}", STRING) for i in range(1, cls.cases + 1)))
 
     def run(self) -> Result:
         chosen = self.cases
@@ -127,23 +121,23 @@ def _equal(a: str, b: str) -> bool:
 
 
 class Switch2(Switch):
-    cases = 2
+    manifest = MANIFESTS["Switch2"]
 
 
 class Switch3(Switch):
-    cases = 3
+    manifest = MANIFESTS["Switch3"]
 
 
 class Switch4(Switch):
-    cases = 4
+    manifest = MANIFESTS["Switch4"]
 
 
 class Switch5(Switch):
-    cases = 5
+    manifest = MANIFESTS["Switch5"]
 
 
 class Switch6(Switch):
-    cases = 6
+    manifest = MANIFESTS["Switch6"]
 
 
 class TryCatch(Control):
@@ -153,12 +147,11 @@ class TryCatch(Control):
     aeroexec's addition: a node of the try-block that cannot tick (a script error, a port it cannot read), which
     BT.CPP throws out of the whole tree, fails the try-block instead; the error is recorded (``tree_error``)."""
 
-    min_children = 2
-    ports = (InputPort("catch_on_halt", BOOL, "false", "a halt during the try-block runs the catch child"),)
+    manifest = MANIFESTS["TryCatch"]
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
-        self.catch_on_halt = self.config.input("catch_on_halt", self.ports)
+        self.catch_on_halt = self.config.input("catch_on_halt", self.manifest.ports)
         self.index, self.skipped_count, self.catching = 0, 0, False
 
     def run(self) -> Result:

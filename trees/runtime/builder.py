@@ -69,7 +69,8 @@ class TreeBuilder:
                 return BehaviorLeaf(model.name, config)
             raise TreeBuildError(f"{model.where}: {kind} cannot be built here (verify the mission first)")
         count = len(model.children)
-        if count < cls.min_children or (cls.max_children is not None and count > cls.max_children):
+        low, high = cls.manifest.min_children, cls.manifest.max_children
+        if count < low or (high is not None and count > high):
             raise TreeBuildError(f"{model.where}: {kind} cannot have {count} children (verify the mission first)")
         children = [self.node(child, board, stack) for child in model.children]
         try:

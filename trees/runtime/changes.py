@@ -47,8 +47,8 @@ from aeroexec.trees.runtime.change_targets import (
 )
 from aeroexec.trees.runtime.controls import Control, Sequence
 from aeroexec.trees.runtime.decorators import Decorator, SubTree
+from aeroexec.trees.runtime.manifests import ports_of
 from aeroexec.trees.runtime.parallels import Parallel, ParallelAll
-from aeroexec.trees.runtime.registry import ports_of
 from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SUCCESS, attach
 from py_trees.behaviour import Behaviour
 
@@ -239,7 +239,8 @@ class TreeChanges:
         parent, start, nodes = self.span(change.target)
         self._editable_here(parent, "replaced in")
         count = len(parent.children) - len(nodes) + len(fragment)
-        if count < parent.min_children or (parent.max_children is not None and count > parent.max_children):
+        low, high = parent.manifest.min_children, parent.manifest.max_children
+        if count < low or (high is not None and count > high):
             raise ChangeError(f"{label(parent)} ({type(parent).__name__}) cannot have {count} children: replace "
                               f"{label(nodes[0])} with {len(nodes)} node{'s' if len(nodes) != 1 else ''}")
         return ChangePlan(change, f"{labels(nodes)} replaced by {labels(fragment)}",

@@ -23,6 +23,7 @@ import abc
 from typing import Any
 
 import py_trees
+from aeroexec.trees.runtime.manifests import MANIFESTS, control
 from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import (
     FAILURE,
@@ -41,7 +42,7 @@ from py_trees.common import Status
 class Control(Node, py_trees.composites.Composite):
     """A composite whose ``run()`` decides its result from its children, BehaviorTree.CPP style."""
 
-    min_children, max_children = 1, None
+    manifest = control()  # one child or more; each node's is its name's
     #: whether it ticks its children in order from ``restart_from()`` (then reaching the last one means every one
     #: was ticked: none is left to show IDLE)
     in_order = False
@@ -125,6 +126,7 @@ class Sequence(Control):
     hands control back to the tree (RUNNING) before the next child is ticked.
     """
 
+    manifest = MANIFESTS["Sequence"]
     stop_on = FAILURE
     restart_on_stop = True
     asynchronous = False
@@ -227,12 +229,14 @@ class Sequence(Control):
 class AsyncSequence(Sequence):
     """A Sequence that hands control back to the tree after each child that completed on its first tick."""
 
+    manifest = MANIFESTS["AsyncSequence"]
     asynchronous = True
 
 
 class SequenceWithMemory(Sequence):
     """After a failure or a halt it resumes at the child that failed."""
 
+    manifest = MANIFESTS["SequenceWithMemory"]
     restart_on_stop = False
     asynchronous = True
 
@@ -243,10 +247,12 @@ class SequenceWithMemory(Sequence):
 class Fallback(Sequence):
     """The first child that succeeds; a RUNNING child is ticked again."""
 
+    manifest = MANIFESTS["Fallback"]
     stop_on = SUCCESS
 
 
 class AsyncFallback(Fallback):
+    manifest = MANIFESTS["AsyncFallback"]
     asynchronous = True
 
 
@@ -254,8 +260,8 @@ class ReactiveSequence(Control):
     """Every tick starts at the first child; a RUNNING child halts every other child (completed ones back to IDLE);
     the first FAILURE ends it (a ReactiveFallback: the first SUCCESS)."""
 
+    manifest = MANIFESTS["ReactiveSequence"]
     stop_on, otherwise = FAILURE, SUCCESS
-    loops = True
     in_order = True
 
     def run(self) -> Result:
@@ -275,4 +281,5 @@ class ReactiveSequence(Control):
 
 
 class ReactiveFallback(ReactiveSequence):
+    manifest = MANIFESTS["ReactiveFallback"]
     stop_on, otherwise = SUCCESS, FAILURE

@@ -16,19 +16,9 @@ from __future__ import annotations
 from typing import Any
 
 import py_trees
-from aeroexec.trees.conversions import (
-    ANY,
-    BOOL,
-    DOUBLE,
-    INT,
-    STATUS,
-    STRING,
-    UNSIGNED,
-    ConversionError,
-    from_blackboard,
-    queue_items,
-)
-from aeroexec.trees.runtime.ports import BidirectionalPort, InputPort, NodeConfig, OutputPort, Port, PortError
+from aeroexec.trees.conversions import ConversionError, from_blackboard, queue_items
+from aeroexec.trees.runtime.manifests import MANIFESTS, decorator
+from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from aeroexec.trees.runtime.ticking import (
     FAILURE,
     INVALID,
@@ -49,7 +39,7 @@ from py_trees.common import Status
 class Decorator(Node, py_trees.decorators.Decorator):
     """A decorator whose ``run()`` decides when and whether to tick its child."""
 
-    min_children = max_children = 1
+    manifest = decorator()  # exactly one child; each node's is its name's
 
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name=name, child=child)
@@ -86,6 +76,8 @@ class Decorator(Node, py_trees.decorators.Decorator):
 
 
 class Inverter(Decorator):
+    manifest = MANIFESTS["Inverter"]
+
     def run(self) -> Result:
         result = self.decorated.step()
         return FAILURE if result is SUCCESS else SUCCESS if result is FAILURE else result
@@ -111,6 +103,7 @@ class Inverter(Decorator):
 class ForceSuccess(Decorator):
     """A completed child becomes SUCCESS; RUNNING and SKIPPED pass through."""
 
+    manifest = MANIFESTS["ForceSuccess"]
     forced = SUCCESS
 
     def run(self) -> Result:
@@ -119,20 +112,20 @@ class ForceSuccess(Decorator):
 
 
 class ForceFailure(ForceSuccess):
+    manifest = MANIFESTS["ForceFailure"]
     forced = FAILURE
 
 
 class Repeat(Decorator):
     """The child again while it succeeds, ``num_cycles`` times (-1: forever); its first FAILURE ends the node."""
 
-    ports = (InputPort("num_cycles", INT, required=True, description="successful runs of the child (-1: forever)"),)
-    loops = True
+    manifest = MANIFESTS["Repeat"]
     counted = SUCCESS  # the result that counts a cycle; the other one ends the node with it
     port = "num_cycles"
 
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name, child, config)
-        self.cycles_port = self.config.input(self.port, self.ports)
+        self.cycles_port = self.config.input(self.port, self.manifest.ports)
         self.count = 0
 
     def run(self) -> Result:
@@ -163,13 +156,13 @@ class Repeat(Decorator):
 class RetryUntilSuccessful(Repeat):
     """The child again while it fails, ``num_attempts`` times (-1: forever); its first SUCCESS ends the node."""
 
-    ports = (InputPort("num_attempts", INT, required=True, description="runs of a failing child (-1: forever)"),)
+    manifest = MANIFESTS["RetryUntilSuccessful"]
     counted = FAILURE
     port = "num_attempts"
 
 
 class KeepRunningUntilFailure(Decorator):
-    loops = True
+    manifest = MANIFESTS["KeepRunningUntilFailure"]
 
     def run(self) -> Result:
         result = self.decorated.step()
@@ -188,7 +181,7 @@ class Timed(Decorator):
 
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name, child, config)
-        self.msec = self.config.input(self.port, self.ports)
+        self.msec = self.config.input(self.port, self.manifest.ports)
         self.seconds = 0.0
         self.started_at: float | None = None
 
@@ -212,7 +205,7 @@ class Timed(Decorator):
 class Timeout(Timed):
     """Fails when ``msec`` of engine time pass before the child completes, halting the child."""
 
-    ports = (InputPort("msec", UNSIGNED, required=True, description="milliseconds before the child is halted"),)
+    manifest = MANIFESTS["Timeout"]
     port = "msec"
 
     def run(self) -> Result:
@@ -227,7 +220,7 @@ class Timeout(Timed):
 class Delay(Timed):
     """Ticks the child only once ``delay_msec`` of engine time have passed since the node started."""
 
-    ports = (InputPort("delay_msec", UNSIGNED, required=True, description="milliseconds before the child is ticked"),)
+    manifest = MANIFESTS["Delay"]
     port = "delay_msec"
 
     def run(self) -> Result:
@@ -239,11 +232,11 @@ class Delay(Timed):
 class RunOnce(Decorator):
     """The child runs to completion once; afterwards SKIPPED (``then_skip``) or its first result again."""
 
-    ports = (InputPort("then_skip", BOOL, "true", "after the first run: SKIPPED, else its result again"),)
+    manifest = MANIFESTS["RunOnce"]
 
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name, child, config)
-        self.then_skip = self.config.input("then_skip", self.ports)
+        self.then_skip = self.config.input("then_skip", self.manifest.ports)
         self.first: Result | None = None
 
     def run(self) -> Result:
@@ -258,13 +251,12 @@ class RunOnce(Decorator):
 class Precondition(Decorator):
     """Ticks its child once the ``if`` script holds, until the child completes; otherwise answers ``else``."""
 
-    ports = (InputPort("if", STRING, required=True, description="a script"),
-             InputPort("else", STATUS, "FAILURE", "the result when the script does not hold"))
+    manifest = MANIFESTS["Precondition"]
 
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name, child, config)
         self.script = compile_script(self.config.model.ports.get("if", ""))
-        self.otherwise = self.config.input("else", self.ports)
+        self.otherwise = self.config.input("else", self.manifest.ports)
         self.running = False
 
     def run(self) -> Result:
@@ -291,19 +283,10 @@ class Loop(Decorator):
     popped; a list there is popped in place (BT.CPP's shared queue); a tuple is copied once.
     """
 
-    item = ANY
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        cls.ports = (BidirectionalPort("queue", ANY, "the items, ';' between them", required=True, empty=True),
-                     InputPort("if_empty", STATUS, "SUCCESS", "the result when the queue is empty"),
-                     OutputPort("value", cls.item, "the current item"))
-
-    loops = True
-
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
         super().__init__(name, child, config)
-        self.queue_port = self.config.input("queue", self.ports)
+        self.item = next(port.type for port in self.manifest.ports if port.name == "value")  # LoopInt: int
+        self.queue_port = self.config.input("queue", self.manifest.ports)
         self.static: list[Any] | None = None
         if self.queue_port.key is None:
             text = self.queue_port.value if self.queue_port.value is not None else ""
@@ -312,8 +295,8 @@ class Loop(Decorator):
             except ConversionError as error:
                 raise PortError(f"{self.config.model.where}: the queue of {self.config.model.type} cannot be read: "
                                 f"{error}") from None
-        self.if_empty = self.config.input("if_empty", self.ports)
-        self.value_key = self.config.output("value", self.ports)
+        self.if_empty = self.config.input("if_empty", self.manifest.ports)
+        self.value_key = self.config.output("value", self.manifest.ports)
         self.queue: list[Any] | None = None
         self.child_running = False
 
@@ -364,26 +347,26 @@ class Loop(Decorator):
 
 
 class LoopInt(Loop):
-    item = INT
+    manifest = MANIFESTS["LoopInt"]
 
 
 class LoopDouble(Loop):
-    item = DOUBLE
+    manifest = MANIFESTS["LoopDouble"]
 
 
 class LoopString(Loop):
-    item = STRING
+    manifest = MANIFESTS["LoopString"]
 
 
 class LoopBool(Loop):
-    item = BOOL
+    manifest = MANIFESTS["LoopBool"]
 
 
 class SkipUnlessUpdated(Decorator):
     """The child runs only when ``entry`` was written since the node last looked (else SKIPPED); a child RUNNING is
     ticked on regardless."""
 
-    ports = (InputPort("entry", ANY, required=True, description="the blackboard entry to watch"),)
+    manifest = MANIFESTS["SkipUnlessUpdated"]
     otherwise: Result = SKIPPED
 
     def __init__(self, name: str, child: Behaviour, config: NodeConfig | None = None) -> None:
@@ -409,11 +392,11 @@ class SkipUnlessUpdated(Decorator):
 class WaitValueUpdate(SkipUnlessUpdated):
     """As SkipUnlessUpdated, RUNNING until ``entry`` is written."""
 
+    manifest = MANIFESTS["WaitValueUpdate"]
     otherwise = RUNNING
 
 
 class SubTree(Decorator):
     """A SubTree: its child is the referenced tree, on a blackboard of its own (built by the builder)."""
 
-    ports: tuple[Port, ...] = (InputPort("ID", STRING, required=True, description="the BehaviorTree it runs"),)
-    min_children = max_children = 0  # in the XML: its child is the tree it names
+    manifest = MANIFESTS["SubTree"]

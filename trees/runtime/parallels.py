@@ -5,9 +5,9 @@ became impossible; completing halts the running children. ParallelAll ticks ever
 
 from __future__ import annotations
 
-from aeroexec.trees.conversions import INT
 from aeroexec.trees.runtime.controls import Control
-from aeroexec.trees.runtime.ports import InputPort, NodeConfig
+from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -21,14 +21,13 @@ class Parallel(Control):
     """Succeeds once ``success_count`` children succeed (default -1: all), fails once ``failure_count`` failed
     (default 1) or success became impossible."""
 
+    manifest = MANIFESTS["Parallel"]
     in_order = True
-    ports = (InputPort("success_count", INT, "-1", "children that must succeed (negative: all but -1 - n)"),
-             InputPort("failure_count", INT, "1", "children whose failure fails the node"))
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
-        self.success_count = self.config.input("success_count", self.ports)
-        self.failure_count = self.config.input("failure_count", self.ports)
+        self.success_count = self.config.input("success_count", self.manifest.ports)
+        self.failure_count = self.config.input("failure_count", self.manifest.ports)
         self.completed: set[int] = set()
         self.successes = self.failures = 0
 
@@ -73,13 +72,12 @@ class Parallel(Control):
 class ParallelAll(Control):
     """Ticks every child until all completed; FAILURE when at least ``max_failures`` failed (negative: n + 1 + v)."""
 
-    ports = (InputPort("max_failures", INT, "1", "children whose failure fails the node"),)
-    loops = True
+    manifest = MANIFESTS["ParallelAll"]
     in_order = True
 
     def __init__(self, name: str, children: list[Behaviour] | None = None, config: NodeConfig | None = None) -> None:
         super().__init__(name, children, config)
-        self.max_failures = self.config.input("max_failures", self.ports)
+        self.max_failures = self.config.input("max_failures", self.manifest.ports)
         self.completed: set[int] = set()
         self.failures = 0
 

@@ -1,10 +1,10 @@
-"""The ports of the built-in nodes, declared and read as BehaviorTree.CPP declares and reads them.
+"""The ports of the built-in nodes, read as BehaviorTree.CPP reads them.
 
-A node class declares its ports once, in ``ports`` (BT.CPP's ``providedPorts()``): ``InputPort("num_cycles",
-"int")``. The builder hands each node a :class:`NodeConfig` (BT.CPP's ``NodeConfig``: the model node with its
-ports as written, the blackboard of its scope, the tree's context); the node asks it for an :class:`Input` per
-port it reads. Verification (``trees.verify``) reads the same declarations: the ports a node has, those it
-needs, the values they take.
+A node type declares its ports once, in its manifest (``runtime.manifests``, BT.CPP's ``providedPorts()``):
+``InputPort("num_cycles", "int")``. The builder hands each node a :class:`NodeConfig` (BT.CPP's ``NodeConfig``: the
+model node with its ports as written, the blackboard of its scope, the tree's context); the node asks it for an
+:class:`Input` per port it reads. Verification (``trees.verify``) reads the same declarations: the ports a node
+has, those it needs, the values they take.
 
 A port's text is its value, converted once to the port's type (:func:`convert`); a port written ``{key}`` is
 read from the blackboard each time the node reads it. A value that cannot be read raises :class:`PortError`
@@ -16,54 +16,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from aeroexec.trees.conversions import ANY, STRING, ConversionError, convert, from_blackboard, text_of
+from aeroexec.trees.conversions import ConversionError, convert, from_blackboard, text_of
 from aeroexec.trees.model import TreeNode
 from aeroexec.trees.ports import bare_key
+from aeroexec.trees.runtime.manifests import Port
 from aeroexec.trees.runtime.ticking import TickError
 
 
 class PortError(ValueError):
     """A port whose value cannot be read (a key nothing wrote, text that is not of the port's type)."""
-
-
-@dataclass(frozen=True, slots=True)
-class Port:
-    """One port of a node type (BT.CPP's ``PortInfo``): its name, type (``trees.conversions``), direction, default
-    text, whether the XML must write it (BT.CPP then fails at the first read of a port left out without a default)
-    and whether an empty value means something there."""
-
-    name: str
-    type: str = STRING
-    direction: str = "input"  # input, output, inout
-    default: str | None = None
-    required: bool = False
-    description: str = ""
-    empty: bool = False  # an empty value means something (an empty queue, an empty text)
-
-    @property
-    def reads(self) -> bool:
-        return self.direction != "output"
-
-    @property
-    def writes(self) -> bool:
-        return self.direction != "input"
-
-
-def InputPort(name: str, type: str = STRING, default: str | None = None, description: str = "",  # noqa: N802
-              required: bool = False, empty: bool = False) -> Port:
-    """BT.CPP's ``InputPort<T>(name, default, description)``."""
-    return Port(name, type, "input", default, required, description, empty)
-
-
-def OutputPort(name: str, type: str = ANY, description: str = "", required: bool = False) -> Port:  # noqa: N802
-    """BT.CPP's ``OutputPort<T>(name, description)``: the ``{key}`` (or plain key) the node writes."""
-    return Port(name, type, "output", None, required, description)
-
-
-def BidirectionalPort(name: str, type: str = ANY, description: str = "",  # noqa: N802
-                      required: bool = False, empty: bool = False) -> Port:
-    """BT.CPP's ``BidirectionalPort<T>(name, description)``."""
-    return Port(name, type, "inout", None, required, description, empty)
 
 
 class Input:

@@ -21,6 +21,7 @@ from types import MethodType
 from typing import Any
 
 from aeroexec.trees import conversions
+from aeroexec.trees.runtime.manifests import ACTION, NodeManifest
 from py_trees import logging as py_trees_logging
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
@@ -84,13 +85,9 @@ class Node:
 
     #: whether the class has an ``initialise`` of its own (py_trees' does nothing: it is not called then)
     initialises = False
-    #: BehaviorTree.CPP's ``providedPorts()``: the ports the XML may write (``runtime.ports.Port``)
-    ports: tuple = ()
-    #: how many children the XML gives the node (``max_children`` None: no limit)
-    min_children: int = 0
-    max_children: int | None = 0
-    #: whether the node ticks part of its subtree again and again (verification's loops)
-    loops = False
+    #: what the node type is to the XML (``runtime.manifests``): its ports (BehaviorTree.CPP's ``providedPorts()``),
+    #: children and whether it loops; a built-in node's is its name's in ``MANIFESTS``
+    manifest = NodeManifest(ACTION)
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

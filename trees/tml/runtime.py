@@ -43,6 +43,8 @@ logger = logging.getLogger(__name__)
 class TmlEventHandling(Control):
     """Children: the main tree first, then each tree an event calls; ``events`` in document order."""
 
+    memory = ("armed", "handling", "interrupted", "main_done")  # kept by trees.runtime.tree_state
+
     def __init__(self, name: str, main: Behaviour, called: Mapping[str, Behaviour], events: list[TmlEvent],
                  context: Any, blackboard: Any, needs: Mapping[str, list[str]] | None = None) -> None:
         """``needs``: the variables each called tree uses before binding them itself."""

@@ -7,15 +7,15 @@ import logging
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
+from aeroexec.aerostack.as2_msgs.msg import BehaviorStatus
 from aeroexec.engine import api
 from aeroexec.engine.errors import RequestRejected
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.missions.aerostack2 import Request
 from aeroexec.engine.missions.behavior_runs import BehaviorRun
-from as2_msgs.msg import BehaviorStatus
 
 if TYPE_CHECKING:
-    from as2_python_api.drone_interface_base import DroneInterfaceBase
+    from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
 
 logger = logging.getLogger(__name__)
 

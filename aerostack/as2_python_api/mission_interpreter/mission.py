@@ -9,8 +9,8 @@ import json
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from aeroexec.aerostack.as2_msgs.msg import BehaviorStatus
 from aeroexec.engine.missions import aerostack2
-from as2_msgs.msg import BehaviorStatus
 
 
 class InterpreterState(enum.IntEnum):

@@ -10,13 +10,17 @@ from __future__ import annotations
 import logging
 from typing import Any
 
+from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
+from aeroexec.aerostack.as2_python_api.mission_interpreter.mission import (
+    InterpreterState,
+    InterpreterStatus,
+    Mission,
+    MissionItem,
+)
 from aeroexec.engine import api
 from aeroexec.engine.errors import RequestRejected
 from aeroexec.engine.missions import aerostack2
 from aeroexec.engine.missions.behavior_runs import BehaviorQueue, BehaviorRun
-
-from as2_python_api.drone_interface_base import DroneInterfaceBase
-from as2_python_api.mission_interpreter.mission import InterpreterState, InterpreterStatus, Mission, MissionItem
 
 logger = logging.getLogger("MissionInterpreter")
 

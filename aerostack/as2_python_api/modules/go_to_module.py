@@ -1,7 +1,7 @@
 """Aerostack2's ``go_to`` module: its methods and the catalog requests they stand for are in
 :data:`aeroexec.engine.missions.aerostack2.MODULES`."""
 
-from as2_python_api.modules.module_base import ModuleBase
+from aeroexec.aerostack.as2_python_api.modules.module_base import ModuleBase
 
 
 class GoToModule(ModuleBase):

@@ -5,12 +5,11 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from aeroexec.aerostack.as2_python_api.modules.module_base import ModuleBase
 from aeroexec.engine.errors import WRONG_VALUE
 
-from as2_python_api.modules.module_base import ModuleBase
-
 if TYPE_CHECKING:
-    from as2_python_api.drone_interface_base import DroneInterfaceBase
+    from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
 
 #: How far (meters) an origin may be from the home point and still be it.
 ORIGIN_TOLERANCE = 1.0

@@ -8,14 +8,13 @@ import logging
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from aeroexec.aerostack.as2_python_api.behavior_actions.behavior_handler import BehaviorHandler
 from aeroexec.engine.missions import aerostack2, ros
 from aeroexec.engine.missions.aerostack2 import As2Error
 
-from as2_python_api.behavior_actions.behavior_handler import BehaviorHandler
-
 if TYPE_CHECKING:
-    from as2_python_api.drone_interface_base import DroneInterfaceBase
-    from as2_python_api.mission_interpreter.mission import MissionItem
+    from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
+    from aeroexec.aerostack.as2_python_api.mission_interpreter.mission import MissionItem
 
 logger = logging.getLogger(__name__)
 
@@ -67,7 +66,7 @@ class ModuleBase(BehaviorHandler):
     @classmethod
     def get_plan_item(cls, method_name: Callable | None = None, *args: Any, **kwargs: Any) -> MissionItem:
         """The mission interpreter's item for a call of ``method_name`` (``__call__`` by default)."""
-        from as2_python_api.mission_interpreter.mission import MissionItem
+        from aeroexec.aerostack.as2_python_api.mission_interpreter.mission import MissionItem
 
         name = getattr(method_name, "__name__", method_name) or "__call__"
         call = aerostack2.method(cls.__alias__, name)
@@ -87,7 +86,7 @@ def module_class(name: str) -> type[ModuleBase]:
                                   f"of the mission's own talks to ROS 2 ({ros.ROS2_BEYOND})")
     file = {"motion_ref_handler": "motion_reference_handler", "goto": "go_to", "goto_gps": "go_to_gps"}.get(alias,
                                                                                                            alias)
-    module = importlib.import_module(f"as2_python_api.modules.{file}_module")
+    module = importlib.import_module(f"aeroexec.aerostack.as2_python_api.modules.{file}_module")
     return next(v for v in vars(module).values() if isinstance(v, type) and issubclass(v, ModuleBase)
                 and v.__alias__ == alias)
 

@@ -7,14 +7,13 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from aeroexec.aerostack.as2_python_api.modules.module_base import ModuleBase
 from aeroexec.engine.errors import WRONG_VALUE
 from aeroexec.engine.missions.aerostack2 import EARTH_FRAMES, Request, degrees
 from aeroexec.engine.missions.ros import ROS2_BEYOND
 
-from as2_python_api.modules.module_base import ModuleBase
-
 if TYPE_CHECKING:
-    from as2_python_api.drone_interface_base import DroneInterfaceBase
+    from aeroexec.aerostack.as2_python_api.drone_interface_base import DroneInterfaceBase
 
 #: Degrees a speed reference may be off an axis of the heading and still fly along it.
 AXIS_TOLERANCE = 2.0

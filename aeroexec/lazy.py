@@ -1,0 +1,32 @@
+"""A package's public names imported when first used (PEP 562's module ``__getattr__``).
+
+``from aeroexec.drones.sim import SimulatedDrone`` still works, but importing the package, or any one module of it,
+no longer imports every module behind its names: ``verify`` reads a world without loading the simulated drone. A
+package lists its names and the modules they come from::
+
+    __getattr__ = lazy_names(__name__, {"SimulatedDrone": "drone", "World": "world"})
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from collections.abc import Callable, Mapping
+from typing import Any
+
+__all__ = ["lazy_names"]
+
+
+def lazy_names(package: str, names: Mapping[str, str]) -> Callable[[str], Any]:
+    """The ``__getattr__`` of ``package``: each name of ``names`` from its module (relative to the package), imported
+    the first time the name is asked for and kept in the package from then on."""
+
+    def __getattr__(name: str) -> Any:
+        module = names.get(name)
+        if module is None:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        value = getattr(importlib.import_module(f"{package}.{module}"), name)
+        setattr(sys.modules[package], name, value)
+        return value
+
+    return __getattr__

@@ -1,0 +1,202 @@
+"""The flight journal's cost: the engine step with and without the journal (CPU of the whole process per step: the
+journal's own thread counts, and each measure waits for what it handed over to be written), and the size of a
+10-minute mission's journal.
+
+Run ``python bench/journal.py`` (``--repeat N``, ``--quick`` for shorter runs). Three steps are measured in turn,
+short runs alternated many times and the ratios of each pair's medians printed: the bare engine (``bench/engine.py``'s
+step), the engine as a flight runs it (its event log, events.jsonl, written; a tree's .btlog too), and that flight
+with the journal.
+Cases: a GO_TO_POINT patrol, a tree mission (a patrol with photos and broadcasts: node transitions and tree states
+kept), a Python mission polling a belief between its behaviors (every call journaled). Target (issue 30): the
+journal costs under 10 % of the step; a 10-minute mission's journal stays under a few MB.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "bench"))
+
+from engine import line, logging_quiet  # noqa: E402  (bench/engine.py, beside this script)
+
+CORNERS = [(0.0, -12.0, 3.0), (15.0, -12.0, 3.0), (15.0, -17.0, 3.0), (0.0, -17.0, 3.0)]
+PATROL = f"""<root BTCPP_format="4" main_tree_to_execute="Patrol"><BehaviorTree ID="Patrol"><Sequence>
+  <TAKE_OFF ALTITUDE="3"/>
+  <Repeat num_cycles="{{cycles}}"><Sequence>
+    {"".join(f'<GO_TO_POINT COORDINATES="{x:g}, {y:g}, {z:g}"/><TAKE_PHOTO/>' for x, y, z in CORNERS)}
+    <BROADCAST_MESSAGE MESSAGE="round done"/>
+  </Sequence></Repeat>
+  <LAND/>
+</Sequence></BehaviorTree></root>"""
+POLLING = """import aeroexec.engine.api as api
+
+def mission():
+    api.execute_behavior("TAKE_OFF", altitude=3)
+    for corner in {corners}:
+        api.activate_behavior("GO_TO_POINT", coordinates=corner)
+        while api.is_active_behavior("GO_TO_POINT"):
+            api.true_belief("charge(battery, ?C), ?C > 20")
+        api.execute_behavior("TAKE_PHOTO")
+    api.execute_behavior("LAND")
+"""
+
+
+# -- the step ------------------------------------------------------------------------------------------------------
+BARE, LOGGED, JOURNALED = "bare engine", "with events.jsonl", "with events.jsonl and the journal"
+
+
+def engine(kind: str, folder: Path) -> Any:
+    from aeroexec.drones.sim import SimulatedDrone, default_world
+    from aeroexec.engine.engine import Engine
+    from aeroexec.flight.flight_log import FlightLogWriter
+    from aeroexec.flight.journal import JournalWriter
+
+    world = default_world()
+    folder.mkdir(parents=True, exist_ok=True)
+    made = Engine(SimulatedDrone(world), obstacles=world, output_dir=folder)
+    made.journal = JournalWriter(made, folder) if kind == JOURNALED else None
+    if kind != BARE:
+        FlightLogWriter(made, folder / "events.jsonl")
+    if made.journal is not None:
+        made.journal.went_live()
+    return made
+
+
+def stepper(made: Any, seconds: float, before: Callable[[], None] = lambda: None) -> Callable[[], int]:
+    """Steps ``made`` for ``seconds`` of engine time (calling ``before`` first each step); the journal's writes of
+    the stretch are waited for, so its thread's work counts in it."""
+    def run() -> int:
+        steps, end = 0, made.now() + seconds
+        while made.now() < end:
+            before()
+            made.step(made.period)
+            steps += 1
+        if made.journal is not None:
+            made.journal.sync()
+        return steps
+
+    run.engine = made  # type: ignore[attr-defined]
+    return run
+
+
+def patrol_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
+    """``bench/engine.py``'s patrol, each leg asked for when the last one ends, as a mission asks (in that tick)."""
+    made = engine(kind, folder)
+    made.coordinator.activate("TAKE_OFF", {"ALTITUDE": 3.0}, source="mission")
+    made.run_until(lambda: not made.coordinator.is_active("TAKE_OFF"), 30.0)
+    leg = [0]
+
+    def next_leg(*_: Any) -> None:
+        leg[0] += 1
+        made.coordinator.activate("GO_TO_POINT", {"COORDINATES": list(CORNERS[leg[0] % 4])}, source="mission",
+                                  on_end=next_leg)
+
+    next_leg()
+    return stepper(made, seconds)
+
+
+def tree_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
+    from aeroexec.trees import read_mission_tree
+    from aeroexec.trees.btlog import BtlogWriter
+    from aeroexec.trees.runtime.runner import TreeMission
+
+    made = engine(kind, folder)
+    mission = TreeMission(read_mission_tree(PATROL.format(cycles=1000), "patrol.xml"), made)
+    if kind != BARE:  # a flight keeps the tree's .btlog beside its events.jsonl
+        BtlogWriter(mission, folder / "mission.btlog")
+    if made.journal is not None:
+        made.journal.attach_tree(mission)
+    mission.start()
+    return stepper(made, seconds)
+
+
+def python_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
+    from aeroexec.engine.missions.replay import MissionRecorder
+    from aeroexec.flight.missions import mission_function
+
+    made = engine(kind, folder)
+    path = folder / "polling.py"
+    path.write_text(POLLING.format(corners=CORNERS * 100))
+    if made.journal is not None:
+        made.bridge.recorder = MissionRecorder(made.journal, made.now)
+    made.start_mission(mission_function(path), "polling.py")
+    return stepper(made, seconds)
+
+
+def steps(repeat: int, seconds: float) -> None:
+    print(f"Engine step with the journal (CPU of the process per step, its threads all counted: each run waits for the "
+          f"journal to write what it was handed). {repeat} rounds of runs of {seconds:g} s of engine time, the three "
+          f"in turn (order rotated); medians of each round's ratios")
+    cases = [("GO_TO_POINT patrol", patrol_case), ("tree: patrol with photos and broadcasts", tree_case),
+             ("Python mission polling a belief", python_case)]
+    kinds = (BARE, LOGGED, JOURNALED)
+    with tempfile.TemporaryDirectory() as scratch:
+        for name, case in cases:
+            runs = {kind: case(kind, Path(scratch) / f"{name[:4]}-{n}", seconds) for n, kind in enumerate(kinds)}
+            for run in runs.values():  # warm up: imports, caches, the first behaviors
+                run()
+            per_step: dict[str, list[float]] = {kind: [] for kind in kinds}
+            for round_ in range(repeat):
+                for kind in kinds[round_ % 3:] + kinds[:round_ % 3]:
+                    began = time.process_time()
+                    count = runs[kind]()
+                    per_step[kind].append((time.process_time() - began) / count)
+            median = statistics.median
+            flight = median(j / f for j, f in zip(per_step[JOURNALED], per_step[LOGGED], strict=True)) - 1
+            bare = median((j - f) / b for j, f, b in zip(per_step[JOURNALED], per_step[LOGGED], per_step[BARE],
+                                                          strict=True))
+            print(f"  {name}")
+            line(f"  {BARE} / {LOGGED} / {JOURNALED}", " / ".join(f"{median(per_step[k]) * 1e6:.0f}" for k in kinds)
+                 + " us")
+            line("  the journal's cost, of a flight's step", "", f"+{flight:.1%}",
+                 f"target <= 10 %: {'met' if flight <= 0.10 else 'MISSED'}")
+            line("  the journal's cost, of the bare engine's step", "", f"+{bare:.1%}")
+
+
+# -- the size ------------------------------------------------------------------------------------------------------
+def size(minutes: float) -> None:
+    from aeroexec.flight.session import FlightSession
+    from aeroexec.flight.spec import FlightSpec
+
+    print(f"The journal of a {minutes:g}-minute mission (a flight session: the journal beside events.jsonl)")
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(scratch)
+        rounds = round(minutes * 60.0 / 14.5)  # a round of the patrol takes ~14.5 s
+        for name, text in (("patrol.xml", PATROL.format(cycles=rounds)),
+                           ("polling.py", POLLING.format(corners=CORNERS * rounds))):
+            mission = folder / name
+            mission.write_text(text)
+            output = folder / f"out-{name}"
+            spec = FlightSpec(mission=mission, output=str(output), register=False, max_time=minutes * 90.0)
+            with FlightSession(spec, notify=lambda text: None) as session:
+                outcome = session.fly()
+            journal = (output / "journal.sqlite").stat().st_size
+            log = (output / "events.jsonl").stat().st_size
+            line(f"{name}: {outcome.status.word} at t={session.engine.now():.0f} s", f"{journal / 1e6:.2f} MB",
+                 f"events.jsonl {log / 1e6:.2f} MB", f"target: a few MB: {'met' if journal < 3e6 else 'MISSED'}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=20, help="rounds of the three runs (default 20)")
+    parser.add_argument("--quick", action="store_true", help="shorter runs")
+    parser.add_argument("--only", choices=["steps", "size"])
+    options = parser.parse_args()
+    logging_quiet()
+    print(f"{'':52s}{'median':>22s}  {'ratio':>16s}")
+    if options.only in (None, "steps"):
+        steps(options.repeat, 5.0 if options.quick else 10.0)
+    if options.only in (None, "size"):
+        size(2.0 if options.quick else 10.0)
+
+
+if __name__ == "__main__":
+    main()

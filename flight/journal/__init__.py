@@ -1,0 +1,21 @@
+"""The flight journal: one SQLite database per run (``journal.sqlite`` in its output folder, WAL mode) written as
+the run flies — events, node transitions, belief changes, operator commands, behavior activations and outcomes,
+telemetry, a Python mission's calls, a tree's state and where the mission stopped — and what a resumed run
+(``aeroexec run --resume RUN_DIR``) goes on from.
+
+``schema.py`` (the tables), ``writer.py`` (:class:`JournalWriter`, on the engine's loop), ``reader.py``
+(:class:`Journal`: questions over it, and the event log's records rebuilt from it), ``resume_point.py`` (where an
+interrupted run goes on from), ``rejoin.py`` (the drone put back where the mission left it), ``resumption.py``
+(a flight set up from a resume point).
+"""
+
+from __future__ import annotations
+
+from aeroexec.flight.journal.reader import Journal, is_journal, read_records
+from aeroexec.flight.journal.resume_point import ResumePoint, resume_point, resume_spec
+from aeroexec.flight.journal.resumption import RejoinFailed, Resumption, open_journal
+from aeroexec.flight.journal.schema import NAME, JournalError
+from aeroexec.flight.journal.writer import JournalWriter
+
+__all__ = ["NAME", "Journal", "JournalError", "JournalWriter", "RejoinFailed", "ResumePoint", "Resumption",
+           "is_journal", "open_journal", "read_records", "resume_point", "resume_spec"]
