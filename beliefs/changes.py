@@ -12,7 +12,9 @@ class BeliefChange:
     """One change of the memory: ``kind`` is "added" or "removed".
 
     ``reason`` says why: "add", "remove", "replaced" (retracted by an exclusive
-    value), "expired" (its persistence ran out) or "clear".
+    value), "expired" (its persistence ran out), "clear", or "shared" (a belief the memory answers from rows it
+    shares with others came or went: it stores nothing, :meth:`BeliefMemory.announce
+    <aeroexec.beliefs.memory.BeliefMemory.announce>`).
     """
 
     kind: str

@@ -133,6 +133,18 @@ class RuleBook:
     def is_derived(self, signature: Signature) -> bool:
         return signature in self.derived
 
+    def share(self, signatures: set[Signature]) -> None:
+        """Rules reading ``signatures`` (shared beliefs: rows the memory answers from without storing them, so no
+        journal tells their changes) are evaluated again whenever asked, as rules reading a computed predicate."""
+        volatile: set[Signature] = set()
+        for layer in self._layers:  # bottom-up: a stratum reading a volatile one is volatile too
+            stratum = layer.stratum
+            if stratum.reads & signatures or stratum.reads & volatile:
+                stratum.volatile = True
+                layer.valid = False
+            if stratum.volatile:
+                volatile.update(stratum.predicates)
+
     def volatile(self, signature: Signature) -> bool:
         layer = self._layer_of.get(signature)
         return layer is not None and layer.stratum.volatile

@@ -24,6 +24,7 @@ from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.reasoning import Reasoning
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
+from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
 from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
@@ -59,6 +60,8 @@ class BeliefMemory(Reasoning):
         self._vocabulary: dict[str, int] = dict(predicates or {})
         self._spellings: dict[str, dict[str, str | tuple[str, ...]]] = {}
         self._computed: dict[tuple[str, int], tuple[Callable, int]] = {}
+        #: what questions are answered by besides stored beliefs: computed predicates and shared beliefs
+        self._answered: dict[tuple[str, int], tuple[Any, int | None]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
         self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
         self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
@@ -111,7 +114,22 @@ class BeliefMemory(Reasoning):
         if not 0 <= inputs <= arity:
             raise ValueError(f"{name}/{arity} cannot have {inputs} input arguments")
         self._computed[(name, arity)] = (function, inputs)
+        self._answered[(name, arity)] = (function, inputs)
         self._queries.clear()
+
+    def share(self, view: SharedView) -> None:
+        """Answer questions on ``view``'s predicate from its shared rows too, after the stored ones
+        (:mod:`aeroexec.beliefs.shared`: a fleet's positions, held once per process)."""
+        self._answered[view.signature] = (view, None)
+        if self._rulebook is not None:
+            self._rulebook.share({view.signature})
+        self._queries.clear()
+
+    def announce(self, kind: str, belief: Struct) -> None:
+        """Tell the listeners that a shared belief came (``kind`` "added") or went ("removed"), reason "shared":
+        what watches this memory's beliefs (rules, safety monitors) hears of a fleet mate appearing or going,
+        though the memory stores nothing."""
+        self._notify(kind, belief, "shared")
 
     def function(self, name: str, arity: int) -> tuple[Callable, int] | None:
         """The function registered for ``name/arity`` and how many input arguments it takes (None: stored beliefs
@@ -338,14 +356,14 @@ class BeliefMemory(Reasoning):
         else:
             raise BeliefSyntaxError(repr(expression), "a belief expression is text")
         self._check_vocabulary(conjunction)
-        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._computed)
+        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._answered)
         predicates = conjunction.predicates
         book = self._rulebook
         derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
         compiled.derived = derived or None
         if not derived:
             compiled.probe = compiled.probe_in(self._relations)
-        compiled.reads = (None if any(p in self._computed or (book and book.volatile(p)) for p in predicates)
+        compiled.reads = (None if any(p in self._answered or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
         if len(self._queries) > 4096:
             self._queries.clear()

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, literal_variables
+from aeroexec.beliefs.shared import SharedStep
 from aeroexec.beliefs.steps import (
     NUMERIC_ORDER_OPS,
     BelongStep,
@@ -258,6 +259,8 @@ def _compile(lit, exclusive: Callable[[str], bool], computed: dict, outer: froze
         name, arity = goal.signature
         if (name, arity) in computed:
             function, inputs = computed[(name, arity)]
+            if inputs is None:  # stored beliefs, then those several memories share (beliefs/shared.py)
+                return SharedStep(goal, exclusive(name), function)
             return ComputedStep(goal, function, inputs)
         if name == "belong" and arity == 2:
             return BelongStep(goal.args[0], goal.args[1], frozenset(variables(goal)))

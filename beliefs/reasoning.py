@@ -25,6 +25,7 @@ class Reasoning:
     _rulebook: RuleBook | None
     _vocabulary: dict[str, int]
     _computed: dict
+    _answered: dict  # computed predicates and shared beliefs: what changes without this memory's writes
     _relations: Any
     _spellings: dict
     _multivalued: set[str]
@@ -49,13 +50,14 @@ class Reasoning:
         if problems or unstratified:
             raise RuleError(problems + unstratified)
         if book is None:
-            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._computed,
+            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._answered,
                                              lambda body: respell(body, self._spellings))
         self._multivalued |= derived  # a derived predicate holds a set of beliefs
         for (name, _), rel in self._relations.items():
             if name in derived:
                 rel.by_key = None
         book.load(program, strata)
+        book.share({s for s, (_, inputs) in self._answered.items() if inputs is None})
         self._queries.clear()
         for fact in rules:
             if not fact.body.literals:
@@ -80,8 +82,8 @@ class Reasoning:
 
     def reads(self, predicates: Iterable[tuple[str, int]]) -> tuple[frozenset[tuple[str, int]], bool]:
         """The stored predicates that ``predicates`` read, through the rules deriving them (their own stored
-        beliefs included), and whether any of them reads a computed predicate (which changes without a belief
-        doing so)."""
+        beliefs included), and whether any of them reads a computed predicate or shared beliefs (which change
+        without a belief of this memory doing so)."""
         found: set[tuple[str, int]] = set()
         computed = False
         book = self._rulebook
@@ -91,7 +93,7 @@ class Reasoning:
             if signature in seen:
                 continue
             seen.add(signature)
-            if signature in self._computed:
+            if signature in self._answered:
                 computed = True
             found.add(signature)
             if book is not None and book.is_derived(signature):

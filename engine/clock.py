@@ -58,6 +58,12 @@ class SimulatedClock(Clock):
                     time.sleep(delay)
         self._now = deadline
 
+    def pace_from_now(self) -> None:
+        """Count the pacing from now: the time now is the wall time now (a flight whose set-up took a while does not
+        run unpaced until it has caught up)."""
+        self._origin_wall = time.monotonic()
+        self._origin_sim = self._now
+
     def advance(self, seconds: float) -> None:
         """Move time forward by ``seconds`` at once (tests)."""
         if seconds < 0:

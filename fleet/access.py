@@ -2,11 +2,10 @@
 
 The roster names each identity (a certificate's common name) and the drones it speaks for: one drone, or every
 drone of a process that hosts several. The router gives each identity the right to publish on its own drones'
-keys (``aeroexec/<fleet>/<drone>/{telemetry,events,beliefs,broadcast}``) and to answer their command queries,
-nowhere else; operators may query the ``command`` keys; every identity may subscribe to the fleet's keys; the
-fleet's other routers (the router identity, linking machines) relay everything of the fleet. Anything else is
-denied, by the router, before it reaches anyone. Receivers use the roster too: who is a member and which
-predicates each drone shares.
+keys (``aeroexec/<fleet>/<drone>/tick``) and to answer their command queries, nowhere else; operators may query the
+``command`` keys; every identity may subscribe to the fleet's keys; the fleet's other routers (the router identity,
+linking machines) relay everything of the fleet. Anything else is denied, by the router, before it reaches
+anyone. Receivers use the roster too: who is a member and which predicates each drone shares.
 """
 
 from __future__ import annotations

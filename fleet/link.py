@@ -1,14 +1,17 @@
 """One drone's fleet link: what its engine tells the fleet and what it hears of the others, on its own tick.
 
-Published (on the engine's thread): telemetry at ``telemetry_rate`` Hz of engine time (position, velocity, yaw,
-battery, flight state, mission, active behaviors; also the drone's heartbeat), the engine's events (those of
-a tick together, in one message), and the beliefs of the ``share`` predicates (``self`` as written) once a second
-and when they change.
+Said (on the engine's thread, kept by the :class:`~aeroexec.fleet.node.FleetNode` for the end of the period):
+telemetry at ``telemetry_rate`` Hz of engine time (position, velocity, yaw, battery, flight state, mission,
+active behaviors; also the drone's heartbeat), the engine's events of the period, and the beliefs of the
+``share`` predicates (``self`` as written) once a second and when they change.
 
-Heard (queued by the :class:`~aeroexec.fleet.node.FleetNode`, applied here): ``position(dN, (x, y, z))`` and
-``velocity(dN, (vx, vy, vz))`` (to 0.1 m/s; what a separation rule's ``stopping_point(dN, P)`` reads) from
-telemetry; BROADCAST_MESSAGE as ``message(dN, Text)`` while this drone's SOCIAL_COMMUNICATION capability runs;
-and shared beliefs, with ``self`` replaced by the sender, accepted only when
+Heard (what the process's table took at the end of the last period, :mod:`aeroexec.fleet.table`):
+``position(dN, (x, y, z))`` and ``velocity(dN, (vx, vy, vz))`` (to 0.1 m/s) of every other drone, answered by this
+drone's belief memory from the process's one table (:mod:`aeroexec.beliefs.shared`: never written here, so hearing
+N drones costs this drone nothing; a mate's position coming or going is told to the memory's listeners, so rules
+and safety monitors that read it look again);
+BROADCAST_MESSAGE as ``message(dN, Text)`` while this drone's SOCIAL_COMMUNICATION capability runs; and shared
+beliefs, with ``self`` replaced by the sender, accepted only when
 
 - their predicate is one the sender shares (the roster's share list for it, else this drone's own ``share``),
 - they are not about this drone: they do not name it, and are not of the predicates of its own state
@@ -17,102 +20,76 @@ and shared beliefs, with ``self`` replaced by the sender, accepted only when
 
 Each accepted belief keeps its source: ``said(dN, Belief)`` holds while the sender keeps saying it, beside the
 belief itself; a claim that contradicts a belief this drone formed itself (an exclusive predicate's other value)
-is held only as ``said(dN, Belief)``. What a drone heard from another expires ``persistence`` seconds (wall time)
-after it was last said (a message: after its sender was last heard); a drone unheard for 2 s is reported silent.
-A refusal is counted by the node; the first of each sender and reason is an event (``fleet_refused``).
+is held only as ``said(dN, Belief)``. What a drone heard from another expires the table's ``persistence`` (5 s)
+after it was last said (a message: after its sender was last heard); a drone unheard for 2 s is reported silent
+(engine time for the drones of this process, wall time for those of other processes: :mod:`aeroexec.fleet.table`).
+A refusal is counted by the node; the first of each sender and reason is an event
+(``fleet_refused``).
 """
 
 from __future__ import annotations
 
 import logging
 import threading
-import time
-from collections import deque
 from typing import Any
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, BeliefUpdater, ListTerm, Struct, Var, parse_belief
+from aeroexec.beliefs import BeliefError, BeliefMemory, BeliefUpdater, Struct, Var
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES
-from aeroexec.fleet.node import SILENT_AFTER, FleetNode
-from aeroexec.fleet.payloads import PayloadError, check_name, vector
+from aeroexec.fleet.node import FleetNode
+from aeroexec.fleet.payloads import check_name
+from aeroexec.fleet.table import MAX_BELIEFS, News, Said
 
 logger = logging.getLogger(__name__)
 
 SOCIAL = "SOCIAL_COMMUNICATION"
 SAID = "said"
 VELOCITY = "velocity"  # a mate's, from its telemetry
-PERSISTENCE = 5.0  # wall seconds a belief heard from another drone lasts unless said again
 BELIEFS_PERIOD = 1.0  # engine seconds between two snapshots of the shared beliefs
-CHECK_PERIOD = 0.2  # wall seconds between two looks for silent drones and expired beliefs
-MAX_BELIEFS = 500  # per snapshot
-MAX_QUEUED_MESSAGES = 16  # broadcasts of one sender waiting for the next tick
+CHECK_PERIOD = 0.2  # engine seconds between two looks for expired messages
+MAX_QUEUED_MESSAGES = 16  # broadcasts of one sender taken in one period
 MAX_MESSAGES = 100  # message(dN, Text) beliefs held per sender
 OWN_STATE = frozenset(TELEMETRY_PREDICATES) | {"localization", "carry", VELOCITY}  # what a drone knows of itself
-
-
-def _named(value: Any, sender: str) -> Any:
-    """A term with the atom ``self`` replaced by ``sender``."""
-    if value == "self":
-        return sender
-    if isinstance(value, tuple):
-        return type(value)(_named(v, sender) for v in value) if isinstance(value, ListTerm) else tuple(
-            _named(v, sender) for v in value)
-    if isinstance(value, Struct):
-        return Struct(value.name, tuple(_named(v, sender) for v in value.args))
-    return value
-
-
-def _atoms(value: Any, found: set[str] | None = None) -> set[str]:
-    """Every atom (and string) of a term."""
-    found = set() if found is None else found
-    if isinstance(value, str):
-        found.add(value)
-    elif isinstance(value, tuple):
-        for v in value:
-            _atoms(v, found)
-    elif isinstance(value, Struct):
-        for v in value.args:
-            _atoms(v, found)
-    return found
+QUIET = frozenset({"fleet_belief", "node_status", "fleet_refused", "fleet_drone_heard", "fleet_drone_silent"})
+NAMED = 3  # drones named in one fleet_drone_heard line
 
 
 class FleetLink(BeliefUpdater):
     """Drone ``name``'s engine on the fleet ``node``; join it with :meth:`join`."""
 
     def __init__(self, node: FleetNode, name: str, engine: Any, share: tuple[str, ...] = (),
-                 telemetry_rate: float = 5.0, persistence: float = PERSISTENCE) -> None:
+                 telemetry_rate: float = 5.0) -> None:
         super().__init__(f"fleet link of {name}", period=0.0)
         self.node, self.name, self.engine = node, check_name(name, "the drone name"), engine
         self.share = tuple(share)
         self.telemetry_period = 1.0 / telemetry_rate
-        self.persistence = persistence
         self.mission = ""
         self.state = "running"
         self._lock = threading.Lock()
-        self._positions: dict[str, dict[str, Any]] = {}  # newest telemetry per drone, not yet applied
-        self._snapshots: dict[str, dict[str, Any]] = {}  # newest shared beliefs per drone, not yet applied
-        self._broadcasts: dict[str, deque[dict[str, Any]]] = {}  # broadcasts per drone, not yet applied
+        self._news: list[News] = []  # what the table took, not yet applied
         self._refusals: list[tuple[str, str, str]] = []  # the node's new refusals, for the event log
         self._refused: set[tuple[str, str]] = set()  # (sender, reason) already in the event log
-        self._heard: dict[Struct, tuple[str, float]] = {}  # belief -> (sender, time.monotonic() last said)
-        self._messages: dict[Struct, tuple[str, float]] = {}  # message(dN, Text) -> (sender, when received)
-        self._where: dict[str, tuple[Struct, float]] = {}  # drone -> (its position belief, when received)
-        self._moving: dict[str, Struct] = {}  # drone -> its velocity belief (it goes with its position)
+        self._heard: dict[Struct, set[str]] = {}  # a belief held because others say it -> who says it
+        self._messages: dict[Struct, str] = {}  # message(dN, Text) -> its sender
         self._next_check = 0.0
         self._events: list[dict[str, Any]] = []
         self._silent: set[str] = set()
-        self._known: set[str] = set()
+        self._known: set[str] = set()  # drones heard of before their telemetry came (their beliefs, broadcasts)
         self._next_telemetry = 0.0
         self._next_beliefs = 0.0
         self._social: bool | None = None
 
     # -- wiring --------------------------------------------------------------------------------
     def join(self) -> FleetLink:
-        """Attach to the node, become the engine's belief updater, message bus and event publisher."""
+        """Attach to the node, answer other drones' positions from its table, become the engine's belief updater,
+        message bus and event publisher."""
         memory = self.engine.memory
         if not memory.accepts(SAID):
             memory.declare(SAID, 2, multivalued=True)
         if not memory.accepts(VELOCITY):
             memory.declare(VELOCITY, 2)
+        hidden = ((self.name,),)
+        memory.share(self.node.table.positions.view(hidden=hidden))
+        memory.share(self.node.table.velocities.view(hidden=hidden))
         self.node.attach(self)
         self.engine.updaters.append(self)
         self.engine.context.bus = self
@@ -125,23 +102,11 @@ class FleetLink(BeliefUpdater):
     def submit(self, command: str, argument: str) -> Any:
         return self.engine.supervisor.submit(command, argument, origin="fleet")
 
-    # -- Zenoh's thread ------------------------------------------------------------------------
-    def post(self, sender: str, topic: str, message: dict[str, Any]) -> None:
-        overflow = False
-        with self._lock:
-            if topic == "telemetry":
-                self._positions[sender] = message  # only the newest matters
-            elif topic == "beliefs":
-                self._snapshots[sender] = message  # a snapshot: the newest says all
-            elif topic == "broadcast":
-                waiting = self._broadcasts.setdefault(sender, deque())
-                overflow = len(waiting) >= MAX_QUEUED_MESSAGES
-                if not overflow:
-                    waiting.append(message)
-        if overflow:
-            reason = f"more than {MAX_QUEUED_MESSAGES} broadcasts in one tick"
-            self.node.refuse(sender, reason, everyone=False)
-            self.refused(sender, reason, "")
+    # -- the node ------------------------------------------------------------------------------
+    def hear(self, news: News) -> None:
+        """What the process's table took at the end of a period (applied on this drone's next tick)."""
+        if news or self._news:
+            self._news.append(news)
 
     def refused(self, sender: str, reason: str, example: str) -> None:
         """The node refused a message of ``sender`` for a new ``reason``: an event on this drone's next tick."""
@@ -157,35 +122,25 @@ class FleetLink(BeliefUpdater):
 
     def broadcast(self, sender: str, text: str) -> list[str]:
         """Send ``text`` to every drone of the fleet (and the operator); returns the drones heard lately."""
-        self.node.publish(self.name, "broadcast", text=str(text))
-        heard = self.node.heard()
-        now = time.monotonic()
-        return sorted(d for d, t in heard.items() if d != self.name and now - t < SILENT_AFTER)
+        self.node.say(self.name, "broadcast", text=str(text))
+        now, table = self.engine.now(), self.node.table
+        lately = [d for d in table.reported if table.since(table.reported, d, now) < table.silent_after]
+        return sorted(d for d in lately if d != self.name)
 
     # -- the engine's thread -------------------------------------------------------------------
     def update(self, memory: BeliefMemory, now: float) -> None:
         if self._social is None:
             self._social = self._start_social()
         with self._lock:
-            positions, self._positions = self._positions, {}
-            snapshots, self._snapshots = self._snapshots, {}
-            broadcasts = [(s, m) for s, waiting in self._broadcasts.items() for m in waiting]
-            self._broadcasts.clear()
             refusals, self._refusals = self._refusals, []
         for sender, reason, example in refusals:
             self._note_refusal(sender, reason, example)
-        wall = time.monotonic()
-        for sender, message in positions.items():
-            self._place(sender, message, wall)
-        for sender, message in snapshots.items():
-            self._hear_beliefs(sender, message, wall)
-        for sender, message in broadcasts:
-            self._hear_broadcast(sender, message, wall)
-        if wall >= self._next_check:
-            self._next_check = wall + CHECK_PERIOD
-            self._check_silence(wall)
-            self._expire(wall)
-            self.node.refusals.flush()
+        news, self._news = self._news, []
+        for taken in news:
+            self._take(taken)
+        if self._messages and now >= self._next_check:
+            self._next_check = now + CHECK_PERIOD
+            self._expire(now)
         self._publish_events()
         if now >= self._next_telemetry:
             self._next_telemetry = now + self.telemetry_period
@@ -193,6 +148,17 @@ class FleetLink(BeliefUpdater):
         if self.share and now >= self._next_beliefs:
             self._next_beliefs = now + BELIEFS_PERIOD
             self._publish_beliefs()
+        if not self.node.driven:  # alone in its process: this drone's period ends here
+            self.node.exchange(now)
+
+    def tell(self, state: str) -> None:
+        """Say how this drone's mission ended (its telemetry's status), at once."""
+        self.state = state
+        now = self.engine.now()
+        self._publish_events()
+        self._publish_telemetry(now)
+        if not self.node.driven:
+            self.node.exchange(now)
 
     def _start_social(self) -> bool:
         if SOCIAL not in self.engine.catalog.capabilities:
@@ -207,6 +173,55 @@ class FleetLink(BeliefUpdater):
         self.engine.log.record("fleet_link", detail=f"{self.name} joined fleet {self.node.fleet}")
         return True
 
+    def _take(self, news: News) -> None:
+        log = self.engine.log
+        heard = [d for d in news.heard if d != self.name]
+        if heard:
+            named = ", ".join(heard[:NAMED]) + (f" and {len(heard) - NAMED} more" if len(heard) > NAMED else "")
+            log.record("fleet_drone_heard", detail=f"{named} {'is' if len(heard) == 1 else 'are'} in the fleet",
+                       drones=heard)
+        memory = self.engine.memory
+        for drone, where in news.came:
+            if drone != self.name:
+                memory.announce("added", Struct("position", (drone, where)))
+        for drone, where in news.went:
+            if drone != self.name:
+                memory.announce("removed", Struct("position", (drone, where)))
+        for drone, unheard in news.silent:
+            if drone != self.name and drone not in self._silent:
+                self._silent.add(drone)
+                log.record("fleet_drone_silent", detail=f"{drone}: nothing heard for {unheard:.1f} s", drone=drone)
+        for drone in news.again:
+            if drone in self._silent:
+                self._silent.discard(drone)
+                log.record("fleet_drone_heard", detail=f"{drone} is heard again", drones=[drone])
+        for sender, belief in news.unsaid:
+            if sender != self.name:
+                self._forget(sender, belief)
+        for sender, said in news.said:
+            if sender != self.name:
+                reason = self._refusal_of(sender, said)
+                if reason:
+                    self._refuse(sender, reason, str(said.belief))
+                else:
+                    self._hold(sender, said.belief)
+        received: dict[str, int] = {}
+        for sender, text in news.broadcasts:
+            if sender != self.name:
+                received[sender] = received.get(sender, 0) + 1
+                if received[sender] > MAX_QUEUED_MESSAGES:
+                    if received[sender] == MAX_QUEUED_MESSAGES + 1:
+                        self._refuse(sender, f"more than {MAX_QUEUED_MESSAGES} broadcasts in one tick", "",
+                                     "message")
+                    continue
+                self._hear_broadcast(sender, text)
+
+    def _heard_from(self, sender: str) -> None:
+        """A drone whose telemetry never came is heard when this drone first takes something it said."""
+        if sender not in self.node.table.reported and sender not in self._known:
+            self._known.add(sender)
+            self.engine.log.record("fleet_drone_heard", detail=f"{sender} is in the fleet", drones=[sender])
+
     def _refuse(self, sender: str, reason: str, example: str, what: str = "belief") -> None:
         """Count a refusal with the node; the first of its sender and reason is an event here."""
         self.node.refuse(sender, reason, example, what, everyone=False)
@@ -219,65 +234,25 @@ class FleetLink(BeliefUpdater):
                                                                                           else ""),
                                    sender=sender, reason=reason)
 
-    def _heard_from(self, sender: str) -> None:
-        if sender not in self._known:
-            self._known.add(sender)
-            self.engine.log.record("fleet_drone_heard", detail=f"{sender} is in the fleet", drone=sender)
-
-    def _place(self, sender: str, message: dict[str, Any], wall: float) -> None:
-        """``position(sender, (x, y, z))`` from its telemetry (replacing the last one)."""
-        try:
-            belief = Struct("position", (sender, vector(message.get("position"))))
-        except PayloadError as error:
-            self._refuse(sender, f"telemetry: {error.reason}", str(error), "message")
-            return
-        self._heard_from(sender)
-        self.engine.memory.add(belief)
-        self._where[sender] = (belief, wall)
-        try:  # its velocity too, when its telemetry has one
-            moving = Struct(VELOCITY, (sender, tuple(round(v, 1) for v in vector(message.get("velocity")))))
-        except PayloadError:
-            return
-        self.engine.memory.add(moving)
-        self._moving[sender] = moving
-
-    def _hear_beliefs(self, sender: str, message: dict[str, Any], wall: float) -> None:
-        texts = message.get("beliefs")
-        if not isinstance(texts, list) or len(texts) > MAX_BELIEFS or not all(isinstance(t, str) for t in texts):
-            self._refuse(sender, f"not a list of at most {MAX_BELIEFS} belief texts", "", "message")
-            return
-        roster = self.node.roster
-        shared = roster.shared_by(sender) if roster is not None and sender in roster.drones else self.share
-        for text in texts:
-            try:
-                belief = _named(parse_belief(text), sender)
-            except BeliefError as error:
-                self._refuse(sender, "not a belief", f"{text}: {error}")
-                continue
-            reason = self._refusal_of(sender, belief, shared)
-            if reason:
-                self._refuse(sender, reason, str(belief))
-                continue
-            self._hold(sender, belief, wall)
-
-    def _refusal_of(self, sender: str, belief: Struct, shared: tuple[str, ...]) -> str:
-        """Why ``sender`` may not tell this drone ``belief`` ("" when it may)."""
+    def _refusal_of(self, sender: str, said: Said) -> str:
+        """Why ``sender`` may not tell this drone ``said`` ("" when it may)."""
+        belief = said.belief
         if belief.name == SAID:
             return "reports what others said (only a drone's own claims are heard)"
+        roster = self.node.roster
+        shared = roster.shared_by(sender) if roster is not None and sender in roster.drones else self.share
         if belief.name not in shared:
             return "a predicate the sender does not share"
-        atoms = _atoms(belief)
-        if self.name in atoms:
+        if self.name in said.atoms:
             return "about this drone"
         if belief.name in OWN_STATE and (not belief.args or belief.args[0] != sender):
             return "about this drone's own state"
-        roster = self.node.roster
-        members = roster.drones if roster is not None else self._known
-        if any(atom in members and atom != sender for atom in atoms):
+        members = roster.drones if roster is not None else self.node.table.heard
+        if any(atom in members and atom != sender for atom in said.atoms):
             return "about another member (each drone speaks for itself)"
         return ""
 
-    def _hold(self, sender: str, belief: Struct, wall: float) -> None:
+    def _hold(self, sender: str, belief: Struct) -> None:
         """Believe ``belief`` as said by ``sender``: ``said(sender, belief)``, and the belief itself unless it
         contradicts one this drone formed itself."""
         memory = self.engine.memory
@@ -290,15 +265,25 @@ class FleetLink(BeliefUpdater):
             self._refuse(sender, "a belief this drone cannot hold", f"{belief}: {error}")
             return
         self._heard_from(sender)
-        self._heard[said] = (sender, wall)
+        self._heard.setdefault(said, set()).add(sender)
         if own:
             self._refuse(sender, "contradicts what this drone believes itself (kept as said)", f"{belief} vs {own}")
             return
         if added or belief in self._heard:
-            self._heard[belief] = (sender, wall)
+            self._heard.setdefault(belief, set()).add(sender)
         if added:
             self.engine.log.record("fleet_belief", detail=f"from {sender}: {belief}", sender=sender,
                                    belief=str(belief))
+
+    def _forget(self, sender: str, belief: Struct) -> None:
+        """``sender`` no longer says ``belief``: forget it unless another drone still does."""
+        for held in (Struct(SAID, (sender, belief)), belief):
+            sources = self._heard.get(held)
+            if sources is not None and sender in sources:
+                sources.discard(sender)
+                if not sources:
+                    del self._heard[held]
+                    self.engine.memory.remove(held)
 
     def _own_value(self, belief: Struct) -> Struct | None:
         """The belief of this drone's own that ``belief`` would replace (another value of an exclusive predicate)."""
@@ -310,83 +295,52 @@ class FleetLink(BeliefUpdater):
                 return held
         return None
 
-    def _hear_broadcast(self, sender: str, message: dict[str, Any], wall: float) -> None:
-        text = message.get("text")
-        if not isinstance(text, str):
-            self._refuse(sender, "a broadcast whose text is not text", "", "message")
-            return
+    def _hear_broadcast(self, sender: str, text: str) -> None:
         self._heard_from(sender)
         if not self._social or SOCIAL not in self.engine.resources.running():
             return
-        if sum(1 for s, _ in self._messages.values() if s == sender) >= MAX_MESSAGES:
+        if sum(1 for s in self._messages.values() if s == sender) >= MAX_MESSAGES:
             self._refuse(sender, f"more than {MAX_MESSAGES} messages held at once", text, "message")
             return
         self.engine.log.record("message_received", detail=f"from {sender}: {text}", sender=sender, text=text,
                                receiver=self.name)
         belief = Struct("message", (sender, text))
         if self.engine.memory.add(belief):
-            self._messages[belief] = (sender, wall)
+            self._messages[belief] = sender
 
-    def _check_silence(self, wall: float) -> None:
-        for drone, heard in self.node.heard().items():
-            if drone == self.name:
-                continue
-            if wall - heard >= SILENT_AFTER and drone not in self._silent:
-                self._silent.add(drone)
-                self.engine.log.record("fleet_drone_silent", detail=f"{drone}: nothing heard for "
-                                                                    f"{wall - heard:.1f} s", drone=drone)
-            elif wall - heard < SILENT_AFTER and drone in self._silent:
-                self._silent.discard(drone)
-                self.engine.log.record("fleet_drone_heard", detail=f"{drone} is heard again", drone=drone)
-
-    def _expire(self, wall: float) -> None:
-        for belief, (_sender, said) in list(self._heard.items()):
-            if wall - said >= self.persistence:
-                del self._heard[belief]
+    def _expire(self, now: float) -> None:
+        table = self.node.table
+        for belief, sender in list(self._messages.items()):
+            if table.since(table.heard, sender, now) >= table.persistence:
+                del self._messages[belief]
                 self.engine.memory.remove(belief)
-        for sender, (belief, said) in list(self._where.items()):
-            if wall - said >= self.persistence:
-                del self._where[sender]
-                self.engine.memory.remove(belief)
-                moving = self._moving.pop(sender, None)
-                if moving is not None:
-                    self.engine.memory.remove(moving)
-        if self._messages:
-            heard = self.node.heard()
-            for belief, (sender, received) in list(self._messages.items()):
-                if wall - max(heard.get(sender, received), received) >= self.persistence:
-                    del self._messages[belief]
-                    self.engine.memory.remove(belief)
 
     @property
     def silent(self) -> set[str]:
         return set(self._silent)
 
-    # -- publishing ----------------------------------------------------------------------------
+    # -- saying --------------------------------------------------------------------------------
     def _publish_telemetry(self, now: float) -> None:
         t = self.engine.drone.telemetry()
         active = sorted(self.engine.coordinator.active())
-        self.node.publish(self.name, "telemetry", sent=time.time(), time=round(now, 3),
-                          position=[round(v, 3) for v in t.position], velocity=[round(v, 3) for v in t.velocity],
-                          yaw=round(t.yaw, 2), battery=round(t.battery_percent, 1),
-                          state=str(getattr(t.landed_state, "value", t.landed_state)), mission=self.mission,
-                          status=self.state, active=active)
+        self.node.say(self.name, "telemetry", time=round(now, 3), position=[round(v, 3) for v in t.position],
+                      velocity=[round(v, 3) for v in t.velocity], yaw=round(t.yaw, 2),
+                      battery=round(t.battery_percent, 1), state=str(getattr(t.landed_state, "value", t.landed_state)),
+                      mission=self.mission, status=self.state, active=active)
 
     def _publish_beliefs(self) -> None:
-        heard = set(self._heard) | set(self._messages) | {belief for belief, _ in self._where.values()} | \
-            set(self._moving.values())
         shared = []
         for predicate in self.share:
             if predicate == SAID:
                 continue
             for belief in self.engine.memory.beliefs(predicate):
-                if belief not in heard:  # only what this drone knows itself, never what others told it
+                if belief not in self._heard and belief not in self._messages:  # only what it knows itself
                     shared.append(str(belief))
-        self.node.publish(self.name, "beliefs", beliefs=shared[:MAX_BELIEFS])
+        self.node.say(self.name, "beliefs", beliefs=shared[:MAX_BELIEFS])
 
     def _publish_event(self, event: Any) -> None:
-        """Keep an event for the next batch (one message per tick carries all of them)."""
-        if event.kind in ("fleet_belief", "node_status", "fleet_refused"):
+        """Keep an event for the period's end (one message per period carries all of them)."""
+        if event.kind in QUIET:
             return
         with self._lock:
             self._events.append({"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
@@ -396,4 +350,4 @@ class FleetLink(BeliefUpdater):
         with self._lock:
             events, self._events = self._events, []
         if events:
-            self.node.publish(self.name, "events", events=events)
+            self.node.say(self.name, "events", events=events)

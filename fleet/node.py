@@ -1,12 +1,17 @@
-"""One process's place in a fleet: one subscriber for the fleet's keys and one command queryable per local drone,
-shared by every local drone's :class:`~aeroexec.fleet.link.FleetLink`.
+"""One process's place in a fleet: its drones' messages sent and the fleet's taken once per engine period, the table
+of what it heard (:mod:`aeroexec.fleet.table`), one command queryable per local drone.
 
-Samples are decoded once here and handed to the links' inboxes. Refused here, counted (one log line per sender and
-reason per interval, :mod:`~aeroexec.fleet.refusals`) and told to the links for their event logs: malformed or
-foreign messages, a sender that is not in the fleet's roster, a message on the keys of a drone of this process
-that this process did not send. Local samples are delivered on the publishing thread (Zenoh's direct callback), so a
-fleet in one process hears its own drones in the same order every run. Commands need the fleet's token (a second
-factor: the operator's identity is checked by the router) and are answered from one thread, every drone's at once.
+What a local drone says in a period is kept and put at the period's end (:meth:`FleetNode.exchange`) as one
+``tick`` message on its own key (the fleet's router lets only its identity put there); what arrived from the fleet
+waits in Zenoh's queue (never a Python callback per message) and is taken then too, local and remote messages
+together, ordered by drone, so what a local drone hears at period k is what the process's drones said at period
+k - 1, whatever the load. A local drone's messages never leave through Zenoh and come back.
+
+Refused here, counted (one log line per sender and reason per interval, :mod:`~aeroexec.fleet.refusals`) and told to
+the links for their event logs: malformed or foreign messages, a sender that is not in the fleet's roster, a
+message on the keys of a drone of this process that this process did not send. Commands need the fleet's token (a
+second factor: the operator's identity is checked by the router) and are answered from one thread, every drone's
+at once.
 """
 
 from __future__ import annotations
@@ -15,46 +20,58 @@ import hmac
 import json
 import logging
 import queue
-import statistics
 import threading
 import time
 from collections.abc import Mapping
 from typing import Any
 
 from aeroexec.fleet.access import Roster
-from aeroexec.fleet.payloads import PayloadError, check_name, decode, encode, is_name, key, vector
+from aeroexec.fleet.payloads import VERSION, PayloadError, check_name, decode, encode, is_name, key, said
+from aeroexec.fleet.payloads import tick as tick_payload
 from aeroexec.fleet.refusals import MAX_KINDS, Refusals
+from aeroexec.fleet.table import FleetTable
 
 logger = logging.getLogger(__name__)
 
 COMMAND_TIMEOUT = 5.0  # wall seconds a command waits for the drones' engines to run it
-SILENT_AFTER = 2.0  # wall seconds without telemetry after which a drone is silent
-_LATENCY_SAMPLES = 100_000
+QUEUED = 1 << 16  # samples Zenoh keeps for the next period's end (then it waits: back-pressure, nothing lost)
 
 
-def qos(topic: str) -> dict[str, Any]:
-    """Zenoh QoS of a topic: never block the engine (DROP when congested); a broadcast goes first and alone."""
+def qos() -> dict[str, Any]:
+    """Zenoh QoS of a drone's messages: never block the engine (DROP when congested); only for other sessions."""
     import zenoh
 
-    if topic == "broadcast":
-        return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA_HIGH,
-                "express": True}
-    return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA}
+    return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA,
+            "allowed_destination": zenoh.Locality.REMOTE}
 
 
 def _direct(callback: Any) -> Any:
-    """``callback`` run on the thread that delivers the sample (Zenoh's, or the local publisher's)."""
+    """``callback`` run on the thread that delivers the sample (Zenoh's)."""
     import zenoh
 
     return zenoh.handlers.Callback(callback, indirect=False)
 
 
-class FleetNode:
-    """The local drones of ``fleet`` on one Zenoh ``session``: decoding, fan-out, commands, who was heard when.
+def _queued() -> Any:
+    import zenoh
 
-    ``roster``: the fleet's members (a sender outside it is refused) and what each shares; ``sessions``: the
-    session of each local drone that speaks with an identity of its own (the others use ``session``); ``local``:
-    the drones this process flies, known before they join (a message on their keys is theirs only)."""
+    return zenoh.handlers.FifoChannel(QUEUED)
+
+
+def _remote() -> Any:
+    import zenoh
+
+    return zenoh.Locality.REMOTE
+
+
+class FleetNode:
+    """The local drones of ``fleet`` on one Zenoh ``session``: their messages out, the fleet's in, commands.
+
+    ``roster``: the fleet's members (a sender outside it is refused), who speaks for whom and what each shares;
+    ``sessions``: the session of each local drone that speaks with an identity of its own (the others use
+    ``session``); ``local``: the drones this process flies, known before they join (a message on their keys is
+    theirs only). Whoever drives the local engines calls :meth:`exchange` at the end of each period and sets
+    :attr:`driven`; otherwise each link exchanges at the end of its own update (a drone alone in its process)."""
 
     def __init__(self, session: Any, fleet: str, token: str, roster: Roster | None = None,
                  sessions: Mapping[str, Any] | None = None, local: tuple[str, ...] = ()) -> None:
@@ -63,20 +80,20 @@ class FleetNode:
         self.sessions = dict(sessions or {})
         self.local = set(local)
         self.links: dict[str, Any] = {}
-        self.last_heard: dict[str, float] = {}  # drone -> time.monotonic() of its last telemetry
-        self.status: dict[str, dict[str, Any]] = {}  # drone -> its last telemetry
-        self.latencies: list[float] = []  # s, telemetry publish -> receive (same-machine clocks)
+        self.driven = False
         self.refusals = Refusals(fleet)
+        self.table = FleetTable(lambda sender, reason, example, what: self.refuse(sender, reason, example, what))
         self._kinds: list[tuple[str, str, str]] = []  # every local drone hears of these refusals, even drones to come
+        self._said: list[tuple[str, str, dict[str, Any]]] = []  # what the local drones said this period
         self._publishers: dict[tuple[str, str], Any] = {}
         self._queryables: dict[str, Any] = {}
         self._lock = threading.Lock()
-        self._speaking = threading.local()  # the local drone whose message this thread is publishing
         self._answers: queue.Queue[tuple[Any, str, str, Any, float] | None] = queue.Queue()
         self._answering = threading.Thread(target=self._answer, name="aeroexec-fleet-commands", daemon=True)
         self._answering.start()
         self._closed = False
-        self._subscriber = session.declare_subscriber(f"aeroexec/{fleet}/**", _direct(self._on_sample))
+        remote = _remote()
+        self._queue = session.declare_subscriber(f"aeroexec/{fleet}/**", _queued(), allowed_origin=remote)
 
     @property
     def dropped(self) -> int:
@@ -90,6 +107,7 @@ class FleetNode:
                 raise ValueError(f"two drones are called {link.name} in fleet {self.fleet}")
             self.links[link.name] = link
             kinds = list(self._kinds)
+        self.local.add(link.name)
         for sender, reason, example in kinds:
             link.refused(sender, reason, example)
         session = self.sessions.get(link.name, self.session)
@@ -103,34 +121,10 @@ class FleetNode:
         if queryable is not None:
             _undeclare(queryable, self.fleet)
 
-    def publish(self, drone: str, topic: str, **fields: Any) -> None:
-        """Put one message of ``drone`` on its ``topic`` key (QoS: DATA priority, DROP when congested)."""
-        if self._closed:
-            return
-        self._speaking.drone = drone
-        try:
-            publisher = self._publishers.get((drone, topic))
-            if publisher is None:
-                session = self.sessions.get(drone, self.session)
-                publisher = session.declare_publisher(key(self.fleet, drone, topic), **qos(topic))
-                self._publishers[(drone, topic)] = publisher
-            publisher.put(encode(drone, **fields))
-        except Exception as error:  # a closed session or a full queue: the drone flies on
-            logger.debug("fleet %s: %s/%s not sent: %s", self.fleet, drone, topic, error)
-        finally:
-            self._speaking.drone = None
-
-    def heard(self) -> dict[str, float]:
+    def say(self, drone: str, topic: str, **fields: Any) -> None:
+        """Keep one message of ``drone`` for the end of the period (telemetry, events, beliefs, broadcast)."""
         with self._lock:
-            return dict(self.last_heard)
-
-    def latency(self) -> tuple[float, float, int]:
-        """Median and 99th percentile (s) of telemetry publish -> receive, and how many samples."""
-        with self._lock:
-            samples = sorted(self.latencies)
-        if not samples:
-            return float("nan"), float("nan"), 0
-        return statistics.median(samples), samples[min(len(samples) - 1, int(0.99 * len(samples)))], len(samples)
+            self._said.append((drone, topic, fields))
 
     def refuse(self, sender: str, reason: str, example: str = "", what: str = "message", everyone: bool = True) -> None:
         """Count a refusal of ``sender``'s message (or belief); the first of a kind goes to every local drone's event
@@ -143,51 +137,73 @@ class FleetNode:
             for link in links:
                 link.refused(sender, reason, example)
 
-    # -- Zenoh's threads (and the local publisher's) ---------------------------------------------------------------
-    def _on_sample(self, sample: Any) -> None:
-        received = time.time()
-        key_expr = str(sample.key_expr)
-        try:
-            drone, topic, message = decode(key_expr, bytes(sample.payload), self.fleet)
-        except PayloadError as error:
-            parts = key_expr.split("/")
-            self.refuse(parts[2] if len(parts) > 2 and is_name(parts[2]) else key_expr, error.reason, str(error))
-            return
-        if not self._genuine(drone, topic):
-            return
-        if topic == "telemetry":
-            try:
-                vector(message.get("position"))
-            except PayloadError as error:  # a heartbeat that says nothing: not heard
-                self.refuse(drone, f"telemetry: {error.reason}", str(error))
-                return
-            with self._lock:
-                self.last_heard[drone] = time.monotonic()
-                self.status[drone] = message
-                sent = message.get("sent")
-                if isinstance(sent, float) and len(self.latencies) < _LATENCY_SAMPLES:
-                    self.latencies.append(received - sent)
+    # -- the end of a period (the engines' thread) -------------------------------------------------------------------
+    def exchange(self, now: float) -> None:
+        """Send what the local drones said this period, take what the fleet said, and tell the local links what
+        changed."""
         with self._lock:
-            links = [link for name, link in self.links.items() if name != drone]
-        for link in links:
-            try:
-                link.post(drone, topic, message)
-            except Exception:
-                logger.exception("fleet %s: %s could not take a message from %s", self.fleet, link.name, drone)
+            said, self._said = self._said, []
+        self._send(said)
+        heard, outside = self._take()
+        messages = said + heard
+        messages.sort(key=_drone)  # stable: each drone's messages stay in the order it said them
+        news = self.table.take(messages, now, outside)
+        for link in list(self.links.values()):
+            link.hear(news)
+        self.refusals.flush()
 
-    def _genuine(self, drone: str, topic: str) -> bool:
-        """False (the sample refused) when the sender is no member, or a local drone this process did not hear say
-        it; a command put as a message is ignored."""
-        if topic == "command":
-            self.refuse(drone, "a command put as a message (commands are queries)")
-            return False
+    def _send(self, said: list[tuple[str, str, dict[str, Any]]]) -> None:
+        if self._closed:
+            return
+        by_drone: dict[str, list[list[Any]]] = {}
+        for drone, topic, fields in said:
+            by_drone.setdefault(drone, []).append([topic, fields])
+        for drone, messages in by_drone.items():
+            self._put(drone, tick_payload(drone, messages, time.time()))
+
+    def _put(self, drone: str, payload: bytes) -> None:
+        try:
+            publisher = self._publishers.get(drone)
+            if publisher is None:
+                session = self.sessions.get(drone, self.session)
+                publisher = session.declare_publisher(key(self.fleet, drone, "tick"), **qos())
+                self._publishers[drone] = publisher
+            publisher.put(payload)
+        except Exception as error:  # a closed session or a full queue: the drone flies on
+            logger.debug("fleet %s: %s's tick not sent: %s", self.fleet, drone, error)
+
+    def _take(self) -> tuple[list[tuple[str, str, dict[str, Any]]], set[str]]:
+        """What arrived from the fleet, checked; and its drones (they fly outside this process, on their own
+        time)."""
+        heard: list[tuple[str, str, dict[str, Any]]] = []
+        outside: set[str] = set()
+        while (sample := self._queue.try_recv()) is not None:
+            key_expr = str(sample.key_expr)
+            try:
+                drone, topic, message = decode(key_expr, bytes(sample.payload), self.fleet)
+                if topic != "tick":
+                    continue  # commands are queries
+                messages = said(message, key_expr)
+            except PayloadError as error:
+                parts = key_expr.split("/")
+                self.refuse(parts[2] if len(parts) > 2 and is_name(parts[2]) else key_expr, error.reason, str(error))
+                continue
+            if not self._genuine(drone):
+                continue
+            outside.add(drone)
+            heard.extend((drone, topic, fields) for topic, fields in messages)
+        return heard, outside
+
+    # -- Zenoh's threads -----------------------------------------------------------------------------------------------
+    def _genuine(self, drone: str) -> bool:
+        """False (the message refused) when its drone is no member, or flies in this process."""
         if self.roster is not None and drone not in self.roster.drones:
             self.refuse(drone, "not a fleet member")
             return False
-        if (drone in self.local or drone in self.links) and drone not in self.sessions \
-                and getattr(self._speaking, "drone", None) != drone:
-            self.refuse(drone, f"not said by {drone}, which flies in this process (someone else on its keys)")
-            return False
+        if drone in self.local:
+            if drone not in self.sessions:
+                self.refuse(drone, f"not said by {drone}, which flies in this process (someone else on its keys)")
+            return False  # else (a drone with a session of its own) it came back through the router
         return True
 
     def _on_query(self, drone: str, query: Any) -> None:
@@ -209,8 +225,8 @@ class FleetNode:
             request = json.loads(bytes(query.payload)) if query.payload is not None else None
         except (ValueError, UnicodeDecodeError, RecursionError):
             request = None
-        if not isinstance(request, dict) or request.get("v") != 1 or not isinstance(request.get("command"), str):
-            raise PayloadError("not a fleet command (expected JSON {v: 1, token, command, argument})",
+        if not isinstance(request, dict) or request.get("v") != VERSION or not isinstance(request.get("command"), str):
+            raise PayloadError(f"not a fleet command (expected JSON {{v: {VERSION}, token, command, argument}})",
                                "not a fleet command")
         if not hmac.compare_digest(str(request.get("token", "")).encode(), self.token.encode()):
             raise PayloadError("wrong token: the fleet's token is in its output folder's fleet.json", "wrong token")
@@ -238,15 +254,22 @@ class FleetNode:
                 logger.debug("fleet %s: the answer of %s was not sent: %s", self.fleet, name, error)
 
     def close(self) -> None:
-        """Stop hearing the fleet (the sessions are the caller's to close)."""
+        """Stop hearing the fleet, the local drones' last words sent (the sessions are the caller's to close)."""
         if self._closed:
             return
+        with self._lock:
+            said, self._said = self._said, []
+        self._send(said)  # the last words of the local drones (how their missions ended)
         self._closed = True
         self._answers.put(None)
         self._answering.join(1.0)  # an answer its engine will not give any more is not waited for
-        for entity in (self._subscriber, *self._queryables.values(), *self._publishers.values()):
+        for entity in (self._queue, *self._queryables.values(), *self._publishers.values()):
             _undeclare(entity, self.fleet)
         self.refusals.flush(final=True)
+
+
+def _drone(message: tuple[str, str, dict[str, Any]]) -> str:
+    return message[0]
 
 
 def _undeclare(entity: Any, fleet: str) -> None:

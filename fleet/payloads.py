@@ -1,7 +1,12 @@
 """The fleet link's messages: versioned JSON objects, checked on arrival (a malformed or foreign one is refused).
 
 Every payload is one UTF-8 JSON object with ``"v": VERSION`` and the sender's ``"drone"`` name, which must be
-the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topic>``.
+the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topic>``:
+
+- ``tick``: what a drone said in one engine period (:func:`tick`: ``said``, its messages ``[topic, fields]`` with
+  ``topic`` one of :data:`SAID`, and the wall time it was sent), put at the period's end, on the drone's own key
+  (the fleet's router lets only the drone's identity put there);
+- ``command``: the operator's queries.
 """
 
 from __future__ import annotations
@@ -11,8 +16,9 @@ import math
 import re
 from typing import Any
 
-VERSION = 1
-TOPICS = ("telemetry", "events", "beliefs", "broadcast", "command")
+VERSION = 2
+TOPICS = ("tick", "command")  # the keys' last chunk
+SAID = ("telemetry", "events", "beliefs", "broadcast")  # what a drone says in a tick
 #: A fleet or drone name: one Zenoh key chunk that is also a portable file name (the drone's output folder, its
 #: certificate): a letter, then letters, digits, ``_``, ``-`` or ``.`` (not last). In beliefs a name that is not a
 #: bare atom is written quoted (``position('scout-1', P)``).
@@ -50,6 +56,26 @@ def check_name(name: str, what: str) -> str:
 
 def encode(drone: str, **fields: Any) -> bytes:
     return json.dumps({"v": VERSION, "drone": drone, **fields}, separators=(",", ":")).encode()
+
+
+def tick(drone: str, messages: list[list[Any]], sent: float | None = None) -> bytes:
+    """The ``tick`` payload of ``drone``: its ``messages`` ``[topic, fields]`` of one period (``sent``: the wall time
+    it was put, for those who measure the link's latency)."""
+    return encode(drone, said=messages, sent=sent)
+
+
+def said(message: dict[str, Any], key_expr: str) -> list[tuple[str, dict[str, Any]]]:
+    """The ``(topic, fields)`` of a ``tick`` payload; :class:`PayloadError` when it is not one."""
+    messages = message.get("said")
+    if not isinstance(messages, list):
+        raise PayloadError(f"{key_expr}: not a tick (expected said: [[topic, fields]...])", "not a tick")
+    out = []
+    for item in messages:
+        if not (isinstance(item, list) and len(item) == 2 and item[0] in SAID and isinstance(item[1], dict)):
+            raise PayloadError(f"{key_expr}: {str(item)[:200]} is not [topic, fields] (topics: {', '.join(SAID)})",
+                               "a malformed message in a tick")
+        out.append((item[0], item[1]))
+    return out
 
 
 def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[str, Any]]:

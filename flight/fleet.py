@@ -3,10 +3,13 @@ plugins, event log, ``.btlog`` and run status), in one world and airspace, ticke
 clock, linked over the process's Zenoh node.
 
 Each period ticks every engine, serves every Python mission until it waits, steps the end of every flight that
-is ending, then moves the clock one period on (paced to ``speed`` times real time when given: the clock's own
-pacing, as for one drone). A drone whose mission ended lands (:class:`~aeroexec.flight.ending.FlightEnding`);
-Ctrl-C, SIGTERM, SIGHUP, :meth:`FleetFlight.stop` and the time limit end every mission and land every drone; a
-second interrupt leaves them as they are. The run ends when every flight has ended.
+is ending, then exchanges the period's messages with the fleet (:meth:`FleetNode.exchange
+<aeroexec.fleet.node.FleetNode.exchange>`: what each drone said goes out, and every drone hears it at its next
+tick from the process's one table) and moves the clock one period on (paced to ``speed`` times real time when
+given: the clock's own pacing, as for one drone). A drone whose mission ended lands
+(:class:`~aeroexec.flight.ending.FlightEnding`); Ctrl-C, SIGTERM, SIGHUP, :meth:`FleetFlight.stop` and the time
+limit end every mission and land every drone; a second interrupt leaves them as they are. The run ends when every
+flight has ended.
 """
 
 from __future__ import annotations
@@ -97,7 +100,10 @@ class FleetFlight:
         choice = robot_choice(base.robot)
         if self.world is None:
             self.world = load_world(choice.world_file(base.world), home=base.home)
-        airspace = Airspace()
+        self.node.driven = True  # the exchange is at the end of each period
+        flying = frozenset(d.name for d in self.drones)  # drones of processes of their own are not in this world
+        where = self.node.table.where
+        airspace = Airspace(lambda: {name: p for name, p in where.items() if name in flying})
         for drone in self.drones:
             robot = self._robot(choice, drone)
             if hasattr(robot, "join"):
@@ -135,6 +141,8 @@ class FleetFlight:
         """Fly every mission, then end every flight; each drone's outcome. Call it from the thread that may get
         KeyboardInterrupt (Ctrl-C, or SIGTERM/SIGHUP through :mod:`aeroexec.flight.signals`)."""
         max_time = self.base.max_time if max_time is None else max_time
+        if self.clock.speed is not None:
+            self.clock.pace_from_now()  # setting many drones up takes a while: real time starts now
         self._start_missions()
         try:
             try:
@@ -185,6 +193,7 @@ class FleetFlight:
                     if m.ending is None and not m.session.mission_done:
                         m.session.time_limit()
             self._period()
+            self.node.exchange(now)
             self.clock.sleep_until(now + period, self._stop)
 
     def _period(self) -> None:

@@ -91,6 +91,8 @@ class FlightLogWriter:
         self._write_line(event_line(event))
 
     def on_belief(self, change: BeliefChange) -> None:
+        if change.reason == "shared":  # a fleet mate's position came or went: its fleet_drone_heard event says so
+            return
         self._write_line(belief_line(change))
 
     def on_tick(self) -> None:

@@ -267,8 +267,7 @@ class FlightSession:
     def _tell_fleet(self, state: str) -> None:
         """The fleet hears how this drone's mission ended (its telemetry's status), once more before it leaves."""
         if self.link is not None and self.link.state != state:
-            self.link.state = state
-            self.link.update(self.engine.memory, float("inf"))
+            self.link.tell(state)
 
     # -- the flight ---------------------------------------------------------------------------------
     def start_mission(self) -> None:

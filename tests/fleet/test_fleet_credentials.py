@@ -97,7 +97,7 @@ def test_the_routers_rules_give_each_identity_its_own_drones_keys_and_nothing_el
     host = next(k for k, names in subject.items() if names == ["w1@f"])
     speak = next(by_id[r] for r in policy[host] if by_id[r]["messages"] == ["put"])
     assert speak["flows"] == ["ingress"] and sorted(speak["key_exprs"]) == sorted(
-        f"aeroexec/f/{d}/{t}" for d in ("d2", "d3") for t in ("telemetry", "events", "beliefs", "broadcast"))
+        f"aeroexec/f/{d}/tick" for d in ("d2", "d3"))
     assert [by_id[r]["key_exprs"] for r in policy["operators"]] == [["aeroexec/f/*/command"]] * 2
     with pytest.raises(ValueError, match="the drone d2 has two identities"):
         Roster("f", {"a@f": ("d2",), "b@f": ("d2",)})
@@ -110,7 +110,7 @@ def test_a_process_identity_speaks_for_exactly_the_drones_it_hosts(tmp_path):
     import time
 
     import zenoh
-    from aeroexec.fleet.payloads import encode
+    from aeroexec.fleet.payloads import tick
 
     fleet = tmp_path / "f.yaml"
     fleet.write_text("fleet: f\ncredentials: creds\ndrones:\n  - {name: d1, mission: m.py}\n"
@@ -129,7 +129,7 @@ def test_a_process_identity_speaks_for_exactly_the_drones_it_hosts(tmp_path):
         assert worker.sessions["d2"] is worker.sessions["d3"] is not worker.session
         w1, d1 = worker.sessions["d2"], worker.session
         for session, drone in ((w1, "d2"), (w1, "d3"), (w1, "d1"), (d1, "d1"), (d1, "d2")):
-            session.put(f"aeroexec/f/{drone}/telemetry", encode(drone, position=[0, 0, 0]))
+            session.put(f"aeroexec/f/{drone}/tick", tick(drone, [["telemetry", {"position": [0, 0, 0]}]]))
         deadline = time.monotonic() + 5
         while len(heard) < 3 and time.monotonic() < deadline:
             time.sleep(0.05)
@@ -137,4 +137,4 @@ def test_a_process_identity_speaks_for_exactly_the_drones_it_hosts(tmp_path):
     finally:
         worker.close()
         router.close()
-    assert sorted(heard) == ["aeroexec/f/d1/telemetry", "aeroexec/f/d2/telemetry", "aeroexec/f/d3/telemetry"]
+    assert sorted(heard) == ["aeroexec/f/d1/tick", "aeroexec/f/d2/tick", "aeroexec/f/d3/tick"]

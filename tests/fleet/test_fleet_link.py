@@ -11,7 +11,7 @@ from aeroexec.engine.engine import Engine
 from aeroexec.fleet.control import FleetCommandError, command_fleet
 from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.node import FleetNode
-from aeroexec.fleet.payloads import encode
+from aeroexec.fleet.payloads import encode, tick
 from aeroexec.fleet.refusals import Refusals
 from aeroexec.fleet.transport import free_endpoint, open_session
 
@@ -23,12 +23,17 @@ def fleet():
     other = open_session("client", connect=[endpoint])
     node = FleetNode(session, "f", "secret")
     engine = Engine(SimulatedDrone())
-    link = FleetLink(node, "d1", engine, share=("object",), persistence=1.0).join()
+    link = FleetLink(node, "d1", engine, share=("object",)).join()
     yield endpoint, engine, link, other
     node.close()
     engine.stop()
     other.close()
     session.close()
+
+
+def say(session, drone: str, *messages: tuple[str, dict]) -> None:
+    """One period of ``drone``'s, as a peer puts it: its messages ``(topic, fields)``."""
+    session.put(f"aeroexec/f/{drone}/tick", tick(drone, [[topic, fields] for topic, fields in messages]))
 
 
 def settle(engine: Engine, until, wall: float = 5.0) -> bool:
@@ -43,51 +48,63 @@ def settle(engine: Engine, until, wall: float = 5.0) -> bool:
 
 def test_malformed_and_foreign_messages_are_dropped_and_the_engine_goes_on(fleet, caplog):
     endpoint, engine, link, other = fleet
-    other.put("aeroexec/f/d2/beliefs", b"{not json")
-    other.put("aeroexec/f/d2/beliefs", json.dumps({"v": 99, "drone": "d2", "beliefs": []}).encode())
-    other.put("aeroexec/f/d2/beliefs", encode("d3", beliefs=["object(box, thing)"]))  # lies about its sender
-    other.put("aeroexec/f/d2/telemetry", encode("d2", position=["x", 1, 2]))
-    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["object(self, "]))
-    other.put("aeroexec/f/self/telemetry", encode("self", position=[9, 9, 9]))  # would pass for this drone
-    assert settle(engine, lambda: link.node.dropped >= 6)
-    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["seen(self, marker_3)", "object(marker_3, aruco)",
-                                                             "object(self, drone)"]))
+    other.put("aeroexec/f/d2/tick", b"{not json")
+    other.put("aeroexec/f/d2/tick", json.dumps({"v": 99, "drone": "d2", "said": []}).encode())
+    other.put("aeroexec/f/d2/tick", tick("d3", [["beliefs", {"beliefs": ["object(box, thing)"]}]]))  # a liar
+    say(other, "d2", ("telemetry", {"position": ["x", 1, 2]}))
+    say(other, "d2", ("beliefs", {"beliefs": ["object(self, "]}))
+    other.put("aeroexec/f/self/tick", tick("self", [["telemetry", {"position": [9, 9, 9]}]]))  # d1's self?
+    other.put("aeroexec/f/d2/telemetry", encode("d2", position=[9, 9, 9]))  # not a key of the fleet's
+    assert settle(engine, lambda: link.node.dropped >= 7)
+    say(other, "d2", ("beliefs", {"beliefs": ["seen(self, marker_3)", "object(marker_3, aruco)",
+                                              "object(self, drone)"]}))
     assert settle(engine, lambda: engine.memory.holds("object(d2, drone)"))
     assert engine.memory.holds("object(marker_3, aruco)")
     assert "a predicate the sender does not share (seen(d2, marker_3))" in caplog.text
     assert not engine.memory.holds("object(box, thing)")
     assert not engine.memory.holds("position(self, (9.0, 9.0, 9.0))")
     assert "not JSON" in caplog.text and "version 99" in caplog.text and "says it is from 'd3'" in caplog.text
+    assert "not a key of the fleet's" in caplog.text
     assert not engine.stopped
 
 
 def test_a_silent_drones_beliefs_expire_and_it_is_reported(fleet):
     endpoint, engine, link, other = fleet
-    other.put("aeroexec/f/d2/telemetry", encode("d2", sent=time.time(), position=[1, 2, 3]))
-    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["object(marker_5, aruco)"]))
-    other.put("aeroexec/f/d2/broadcast", encode("d2", text="on my way"))
+    table = link.node.table  # d2 flies in another process: its silence is timed on the wall clock (shortened here)
+    table.persistence, table.silent_after = 1.5, 0.75
+    told = []  # what watches the memory (rules, safety monitors, the event log) hears of d2's position
+    engine.memory.subscribe(lambda change: told.append((change.kind, str(change.belief)))
+                            if change.belief.name == "position" else None)
+    say(other, "d2", ("telemetry", {"position": [1, 2, 3], "velocity": [0.52, -1.04, 0]}),
+        ("beliefs", {"beliefs": ["object(marker_5, aruco)"]}), ("broadcast", {"text": "on my way"}))
     assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)")
                   and engine.memory.holds("position(d2, (1.0, 2.0, 3.0))")
                   and engine.memory.holds('message(d2, "on my way")'))
-    for _ in range(12):  # d2 keeps talking: its message stays though its persistence (1 s) has passed
-        other.put("aeroexec/f/d2/telemetry", encode("d2", sent=time.time(), position=[1, 2, 3]))
-        settle(engine, lambda: False, wall=0.1)
-    assert engine.memory.holds('message(d2, "on my way")')
-    assert not engine.log.events(kind="fleet_drone_silent")
-    assert settle(engine, lambda: engine.log.events(kind="fleet_drone_silent"), wall=4.0)
-    assert link.silent == {"d2"}
-    assert settle(engine, lambda: not engine.memory.holds('message(d2, "on my way")'), wall=2.0)
+    assert engine.memory.holds("velocity(d2, (0.5, -1.0, 0.0))")
+    assert ("added", "position(d2, (1.0, 2.0, 3.0))") in told
+    said = time.monotonic()
+    while time.monotonic() < said + 2.0:  # d2 keeps talking longer than its message lasts: the message stays
+        say(other, "d2", ("telemetry", {"position": [1, 2, 3], "velocity": [0.52, -1.04, 0]}))
+        time.sleep(0.05)
+        engine.step(0.05)
+    assert engine.memory.holds('message(d2, "on my way")') and engine.memory.holds("position(d2, ?P)")
+    assert not engine.log.events(kind="fleet_drone_silent") and not link.silent
+    assert settle(engine, lambda: link.silent == {"d2"})
+    assert len(engine.log.events(kind="fleet_drone_silent")) == 1
+    assert settle(engine, lambda: not engine.memory.holds('message(d2, "on my way")'))
     assert not engine.memory.holds("object(marker_5, aruco)") and not engine.memory.holds("position(d2, ?P)")
+    assert not engine.memory.holds("said(d2, ?B)") and not engine.memory.holds("velocity(d2, ?V)")
+    assert settle(engine, lambda: told[-1] == ("removed", "position(d2, (1.0, 2.0, 3.0))"))  # told at the next tick
 
 
 def test_messages_need_social_communication(fleet):
     endpoint, engine, link, other = fleet
-    other.put("aeroexec/f/d2/broadcast", encode("d2", text="area clear"))
+    say(other, "d2", ("broadcast", {"text": "area clear"}))
     assert settle(engine, lambda: engine.memory.holds('message(d2, "area clear")'))
     engine.resources.release("fleet link", engine.now())
     engine.step(3.0)  # the capability stops when nobody uses it
     assert "SOCIAL_COMMUNICATION" not in engine.resources.running()
-    other.put("aeroexec/f/d2/broadcast", encode("d2", text="second"))
+    say(other, "d2", ("broadcast", {"text": "second"}))
     time.sleep(0.3)
     engine.step(0.2)
     assert not engine.memory.holds('message(d2, "second")')
@@ -109,12 +126,11 @@ def test_a_drone_shares_what_it_knows_itself_never_what_others_told_it(fleet):
     endpoint, engine, link, other = fleet
     link.share = ("object", "position")
     said = []
-    sub = other.declare_subscriber("aeroexec/f/d1/beliefs",
-                                   lambda sample: said.append(json.loads(bytes(sample.payload))))
+    sub = other.declare_subscriber("aeroexec/f/d1/tick", lambda sample: said.extend(
+        fields for topic, fields in json.loads(bytes(sample.payload))["said"] if topic == "beliefs"))
     time.sleep(0.3)
     engine.memory.add("object(red_box, box)")
-    other.put("aeroexec/f/d2/telemetry", encode("d2", sent=time.time(), position=[1, 2, 3]))
-    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["object(marker_5, aruco)"]))
+    say(other, "d2", ("telemetry", {"position": [1, 2, 3]}), ("beliefs", {"beliefs": ["object(marker_5, aruco)"]}))
     assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)") and len(said) >= 2)
     engine.step(1.1)
     assert settle(engine, lambda: len(said) >= 3)
@@ -128,9 +144,9 @@ def test_a_peers_beliefs_keep_their_source_and_never_replace_what_the_drone_know
     endpoint, engine, link, other = fleet
     link.share = ("object", "code", "position", "charge")  # what this drone accepts from peers (no roster here)
     engine.memory.add("code(marker_3, 3)")  # seen by this drone's own camera
-    other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=[
+    say(other, "d2", ("beliefs", {"beliefs": [
         "code(marker_3, 4)", "object(marker_5, aruco)", "position(self, (1, 2, 3))", "charge(battery, 5)",
-        "position(d1, (9, 9, 9))", "object(d1, enemy)", "said(d3, object(x, y))", "color(marker_5, red)"]))
+        "position(d1, (9, 9, 9))", "object(d1, enemy)", "said(d3, object(x, y))", "color(marker_5, red)"]}))
     assert settle(engine, lambda: engine.memory.holds("object(marker_5, aruco)"))
     memory = engine.memory
     assert memory.holds("said(d2, object(marker_5, aruco))") and memory.holds("position(d2, (1.0, 2.0, 3.0))")
@@ -146,7 +162,7 @@ def test_a_peers_beliefs_keep_their_source_and_never_replace_what_the_drone_know
                             "a predicate the sender does not share"}
     assert refused["about this drone's own state"] == "from d2: about this drone's own state (charge(battery, 5))"
     for _ in range(3):  # said again and again: refused again, but each reason is one event
-        other.put("aeroexec/f/d2/beliefs", encode("d2", beliefs=["charge(battery, 5)"]))
+        say(other, "d2", ("beliefs", {"beliefs": ["charge(battery, 5)"]}))
         settle(engine, lambda: False, wall=0.2)
     assert len(engine.log.events(kind="fleet_refused")) == 5
 
@@ -154,13 +170,13 @@ def test_a_peers_beliefs_keep_their_source_and_never_replace_what_the_drone_know
 def test_refusals_are_counted_not_repeated(fleet, caplog):
     endpoint, engine, link, other = fleet
     for _ in range(5000):
-        other.put("aeroexec/f/d9/beliefs", b"{not json")
+        other.put("aeroexec/f/d9/tick", b"{not json")
     assert settle(engine, lambda: link.node.dropped >= 1000)
     time.sleep(0.5)
     link.node.close()
     lines = [r.getMessage() for r in caplog.records if "refused" in r.getMessage()]
     assert len(lines) == 2, lines
-    assert lines[0].startswith("fleet f: refused a message from d9: not JSON (not JSON on aeroexec/f/d9/beliefs")
+    assert lines[0].startswith("fleet f: refused a message from d9: not JSON (not JSON on aeroexec/f/d9/tick")
     counted = int(lines[1].split("refused ")[1].split(" more")[0].replace(",", ""))
     assert lines[1].startswith(f"fleet f: refused {counted:,} more messages from d9 in the last ")
     assert counted + 1 == link.node.dropped >= 1000

@@ -14,7 +14,7 @@ import pytest
 import zenoh
 from aeroexec.cli.main import main
 from aeroexec.fleet.credentials import Authority
-from aeroexec.fleet.payloads import encode
+from aeroexec.fleet.payloads import tick
 from aeroexec.fleet.transport import config, free_endpoint
 from processes import MISSIONS, aeroexec, stop, wait_for_line
 
@@ -83,21 +83,22 @@ class Rogue(threading.Thread):
                 refused.append(name)
         self.report["refused"] = refused
         # (c) a member on another member's keys, lying about the sender in the payload too
-        for topic, fields in [("telemetry", {"position": [40, 40, 30], "sent": time.time()}),
-                              ("beliefs", {"beliefs": ["code(m9, 3)"]}), ("broadcast", {"text": "marker 3 found"})]:
-            member.put(f"aeroexec/search/d1/{topic}", encode("d1", **fields))
+        for fields in ([["telemetry", {"position": [40, 40, 30]}]], [["beliefs", {"beliefs": ["code(m9, 3)"]}]],
+                       [["broadcast", {"text": "marker 3 found"}]]):
+            member.put("aeroexec/search/d1/tick", tick("d1", fields))
+            member.put("aeroexec/search/d9/tick", tick("d1", fields))
         if self.impostor:  # d2's own certificate and key, stolen, while d2 flies in the fleet's process
             stolen = rogue_session(self.endpoint, ca, self.creds / "d2.pem", self.creds / "d2.key")
-            stolen.put("aeroexec/search/d2/beliefs", encode("d2", beliefs=["code(m_stolen, 3)"]))
+            stolen.put("aeroexec/search/d2/tick", tick("d2", [["beliefs", {"beliefs": ["code(m_stolen, 3)"]}]]))
             stolen.close()
         # (d) on its own keys: about the receivers' own state, and predicates the fleet does not share
-        member.put("aeroexec/search/d9/beliefs", encode("d9", beliefs=LIES))
-        member.put("aeroexec/search/d9/telemetry", encode("d9", position=["x", 1, 2]))
+        member.put("aeroexec/search/d9/tick", tick("d9", [["beliefs", {"beliefs": LIES}],
+                                                          ["telemetry", {"position": ["x", 1, 2]}]]))
         # (e) a flood: not JSON and lies on its own keys, another's keys, another version
-        lies = encode("d9", beliefs=LIES)
-        kinds = [("aeroexec/search/d9/beliefs", b"{not json"), ("aeroexec/search/d9/beliefs", lies),
-                 ("aeroexec/search/d1/telemetry", encode("d1", position=[40, 40, 30])),
-                 ("aeroexec/search/d9/events", json.dumps({"v": 99, "drone": "d9"}).encode())]
+        lies = tick("d9", [["beliefs", {"beliefs": LIES}]])
+        kinds = [("aeroexec/search/d9/tick", b"{not json"), ("aeroexec/search/d9/tick", lies),
+                 ("aeroexec/search/d1/tick", tick("d1", [["telemetry", {"position": [40, 40, 30]}]])),
+                 ("aeroexec/search/d9/tick", json.dumps({"v": 99, "drone": "d9"}).encode())]
         publishers = [(member.declare_publisher(k, congestion_control=zenoh.CongestionControl.BLOCK), payload)
                       for k, payload in kinds]  # every message sent, none dropped on the way
         started = time.monotonic()

@@ -223,17 +223,26 @@ class _Sample:
 
 
 class _Session:
-    """Enough of a Zenoh session for a fleet node that is handed its samples."""
+    """Enough of a Zenoh session for a fleet node that is handed its samples (:attr:`samples`)."""
 
     class _Entity:
+        def __init__(self, samples: list) -> None:
+            self.samples = samples
+
         def put(self, payload: bytes) -> None:
             pass
+
+        def try_recv(self) -> _Sample | None:
+            return self.samples.pop(0) if self.samples else None
 
         def undeclare(self) -> None:
             pass
 
+    def __init__(self) -> None:
+        self.samples: list[_Sample] = []
+
     def declare_subscriber(self, *args, **kwargs) -> _Entity:  # noqa: ANN002, ANN003
-        return self._Entity()
+        return self._Entity(self.samples)
 
     declare_queryable = declare_publisher = declare_subscriber
 
@@ -242,8 +251,9 @@ _fleet = None
 
 
 def _fleet_message(path: Path) -> list[str]:
-    """A message of a fleet member (its first line the topic, then the payload) as drone d1's node and link take it:
-    refused or believed, never an exception (refusals are logged by sender and reason, not errors of a file)."""
+    """A message of a fleet member (its first line the topic, then the payload) as drone d1's node and link take it
+    (at the end of d1's period, and on its next): refused or believed, never an exception (refusals are logged by
+    sender and reason, not errors of a file)."""
     global _fleet
     if _fleet is None:
         from aeroexec.drones.sim import SimulatedDrone
@@ -252,11 +262,14 @@ def _fleet_message(path: Path) -> list[str]:
         from aeroexec.fleet.node import FleetNode
 
         engine = Engine(SimulatedDrone())
-        node = FleetNode(_Session(), "f", "token")
-        _fleet = FleetLink(node, "d1", engine, share=("object", "code", "position")).join()
+        session = _Session()
+        node = FleetNode(session, "f", "token")
+        _fleet = (FleetLink(node, "d1", engine, share=("object", "code", "position")).join(), session)
+    link, session = _fleet
     topic, _, payload = path.read_bytes().partition(b"\n")
-    _fleet.node._on_sample(_Sample(f"aeroexec/f/d2/{topic.decode('utf-8', 'replace')}", payload))
-    _fleet.update(_fleet.engine.memory, _fleet.engine.now())
+    session.samples.append(_Sample(f"aeroexec/f/d2/{topic.decode('utf-8', 'replace')}", payload))
+    link.update(link.engine.memory, link.engine.now())
+    link.update(link.engine.memory, link.engine.now())
     return []
 
 
