@@ -73,7 +73,7 @@ def sources(model: VehicleModel, predicates: SafetyPredicates, belief_period: fl
         ("rally_distance", 2): Source(rounded, through=(0,), mover=lambda who: Rate(per_meter=((who, "h", 1.0),)),
                                       follows=(POSITION,)),
         ("stopping_point", 2): Source(mover=braking, reads=(("velocity", 2),), follows=(POSITION,)),  # a mate's
-        # velocity is a belief the fleet link writes with its position
+        # velocity is answered from the fleet's shared table (no belief change per sample): its braking bound covers it
         ("battery_to_home", 2): Source(through=(0,), scale=predicates.home_cost, mover=home, reads=(("wind", 2),),
                                        follows=(POSITION,)),
         ("return_margin", 2): Source(drain, mover=home, reads=(("wind", 2),), follows=(POSITION, CHARGE)),
