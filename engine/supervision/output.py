@@ -10,13 +10,19 @@ DEFAULT_BASE = Path("aeroexec_output")
 
 
 def choose_output_folder(explicit: str | Path | None = None, base: str | Path = DEFAULT_BASE) -> Path:
-    """The run's output folder (not created): ``explicit`` when given, else a new ``base/<date-time>[-N]``."""
+    """The run's output folder: ``explicit`` when given (not created), else a new ``base/<date-time>[-N]``, created
+    here so that two runs started in the same second in the same folder never share one."""
     if explicit is not None:
         return Path(explicit)
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    folder = Path(base) / stamp
-    n = 2
-    while folder.exists():
-        folder = Path(base) / f"{stamp}-{n}"
-        n += 1
-    return folder
+    n = 1
+    while True:
+        folder = Path(base) / (stamp if n == 1 else f"{stamp}-{n}")
+        try:
+            folder.mkdir(parents=True)
+        except FileExistsError:
+            n += 1
+            continue
+        except OSError:
+            return folder  # the caller's own creation says why it cannot be made
+        return folder

@@ -82,3 +82,20 @@ def test_the_output_folder_is_chosen_in_one_place(tmp_path):
     first = prepare_output(base=tmp_path)
     second = prepare_output(base=tmp_path)
     assert first != second and first.is_dir() and second.is_dir() and first.parent == tmp_path
+
+
+def test_runs_started_in_the_same_second_never_share_a_folder(tmp_path):
+    import threading
+
+    chosen, start = [], threading.Barrier(8)
+
+    def choose():
+        start.wait()
+        chosen.append(choose_output_folder(base=tmp_path))
+
+    threads = [threading.Thread(target=choose) for _ in range(8)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert len(set(chosen)) == 8 and all(folder.is_dir() for folder in chosen)
