@@ -9,6 +9,7 @@ Runs go to worker processes on every core (:func:`fly_local`), or to a Dask clus
 from __future__ import annotations
 
 import math
+import multiprocessing
 import os
 import random
 import tempfile
@@ -137,6 +138,15 @@ def _fly(arguments: tuple) -> RunResult:
     return fly(*arguments)
 
 
+def _clean_start() -> multiprocessing.context.BaseContext:
+    """Workers started from a clean process (a fork server, else spawned): a fork of a process whose other threads
+    hold locks (a console, a logging handler, a test runner's I/O) can leave the child waiting on them forever."""
+    try:
+        return multiprocessing.get_context("forkserver")
+    except ValueError:  # no fork server on this platform
+        return multiprocessing.get_context("spawn")
+
+
 def fly_local(mission: str, run_seeds: Iterable[int], rules: tuple[str, ...] = (), workers: int | None = None,
               max_time: float = 900.0, progress: Callable[[RunResult], None] = lambda result: None
               ) -> list[RunResult]:
@@ -144,7 +154,7 @@ def fly_local(mission: str, run_seeds: Iterable[int], rules: tuple[str, ...] = (
     jobs = [(str(mission), seed, tuple(rules), max_time) for seed in run_seeds]
     workers = workers or os.cpu_count() or 1
     results = []
-    with ProcessPoolExecutor(max_workers=min(workers, max(len(jobs), 1))) as pool:
+    with ProcessPoolExecutor(max_workers=min(workers, max(len(jobs), 1)), mp_context=_clean_start()) as pool:
         for result in pool.map(_fly, jobs):
             progress(result)
             results.append(result)
