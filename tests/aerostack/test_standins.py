@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[2]
 NAMES = ("rclpy", "as2_python_api", "as2_msgs", "executive_engine_api", "mission_execution_control")
 
 
-def test_the_wheel_installs_nothing_outside_the_aeroexec_namespace(tmp_path):
+def test_the_wheel_holds_every_module_of_the_source_and_nothing_outside_the_aeroexec_namespace(tmp_path):
     source = tmp_path / "src"
     source.mkdir()
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())
@@ -34,6 +34,19 @@ def test_the_wheel_installs_nothing_outside_the_aeroexec_namespace(tmp_path):
     for name in ("rclpy/__init__.py", "as2_python_api/drone_interface.py", "as2_msgs/msg.py",
                  "executive_engine_api.py", "mission_execution_control.py"):
         assert f"aeroexec/aerostack/{name}" in files
+    setuptools = project["tool"]["setuptools"]
+    data = setuptools["package-data"]
+    missing = []
+    for package, folder in setuptools["package-dir"].items():  # a module or data file left out breaks `pip install .`
+        for path in (ROOT / folder).rglob("*"):
+            if not path.is_file() or "__pycache__" in path.parts or ".egg-info" in str(path):
+                continue
+            inner = path.relative_to(ROOT / folder)
+            owner = ".".join([package, *inner.parent.parts])
+            packaged = path.suffix == ".py" or any(path.match(pattern) for pattern in data.get(owner, ()))
+            if packaged and "/".join([*package.split("."), *inner.parts]) not in files:
+                missing.append(str(path.relative_to(ROOT)))
+    assert not missing, f"not in the wheel (pyproject.toml's packages or package-data): {missing}"
 
 
 SCRIPT = """\
