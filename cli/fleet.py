@@ -1,7 +1,8 @@
-"""``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one process, one world, linked over Zenoh
-(a :class:`~aeroexec.flight.FleetFlight`: one flight session per drone); ``aeroexec fleet FLEET.yaml --router``: the
-fleet's Zenoh router, for fleets that span processes and machines; ``aeroexec fleet FLEET.yaml --make-credentials
-DIR``: the fleet's CA and every identity, for several machines.
+"""``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one world, linked over Zenoh: in one process (a
+:class:`~aeroexec.flight.FleetFlight`: one flight session per drone), or spread over worker processes in lockstep
+(``--workers N``, a :class:`~aeroexec.flight.WorkerFleet`; one per core for large fleets); ``aeroexec fleet
+FLEET.yaml --router``: the fleet's Zenoh router, for fleets that span processes and machines; ``aeroexec fleet
+FLEET.yaml --make-credentials DIR``: the fleet's CA and every identity, for several machines.
 
 Sessions are mutual TLS with the fleet's credentials (made in the output folder when the file names none) and the
 router enforces the fleet's access rules (:mod:`aeroexec.fleet.members`). The fleet's endpoint, token and operator
@@ -25,10 +26,9 @@ from typing import Any
 from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_arguments, add_surface_arguments, say
 from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import wanted as live_view_wanted
-from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.engine.supervision.supervisor import is_flying
+from aeroexec.engine.events import EngineEvent
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
-from aeroexec.flight.fleet import STATUS_FILE, FleetFlight, fleet_exit_status
+from aeroexec.flight.fleet import STATUS_FILE, FleetFlight, drone_status, event_line, fleet_exit_status, summary_line
 from aeroexec.flight.output import prepare_output
 from aeroexec.flight.session import FlightOutcome
 from aeroexec.flight.signals import ending_signals
@@ -51,6 +51,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "with the identities the fleet file names; with --router: the fleet's router on "
                              "another machine, to link to")
     add_pacing_arguments(parser)
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="fly the drones in N worker processes, in lockstep through the fleet's router (default: "
+                             "one per core for fleets of over 100 drones a core, else 1; 1 with --web, the live view "
+                             "or --connect)")
+    parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # started by the coordinator
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the missions' questions from FILE (YAML: question -> answer, or a list)")
@@ -145,6 +150,14 @@ def fly_fleet(args: argparse.Namespace) -> int:
                       processes=tuple(args.processes),
                       updaters=tuple(args.updater), max_time=args.max_time, home=args.home,
                       answers=args.answers)
+    if args.worker:
+        from aeroexec.flight.fleet.worker import serve
+
+        with ending_signals():
+            return serve(spec)
+    workers = worker_count(args, len(spec.flown), live)
+    if workers is None:
+        return 2
     with ending_signals():
         try:
             folder = prepare_output(args.output)
@@ -160,6 +173,8 @@ def fly_fleet(args: argparse.Namespace) -> int:
         node = fleet = None
         try:
             write_fleet_file(folder, spec.name, endpoints, token, membership.operator)
+            if workers > 1:
+                return fly_workers(args, spec, base, folder, endpoints[0], token, workers, watched)
             node = membership.node(token)
             fleet = FleetFlight(node, list(spec.flown), base, output=folder, speed=args.speed or (1.0 if watched
                                                                                                  else None),
@@ -192,7 +207,59 @@ def fly_fleet(args: argparse.Namespace) -> int:
     for member in fleet.members:
         print(summary_line(member, outcomes[member.name]), file=sys.stderr)
     print(f"fleet {spec.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
-    return fleet_exit_status(outcomes)
+    return fleet_exit_status({name: drone_status(outcome) for name, outcome in outcomes.items()})
+
+
+def worker_count(args: argparse.Namespace, drones: int, live: bool) -> int | None:
+    """How many worker processes fly the fleet; None (said why) when the options cannot go together."""
+    from aeroexec.flight.fleet.workers import default_workers
+
+    one_process = [what for what, given in (("--web", args.web is not None), ("--connect", bool(args.connect)))
+                   if given]
+    if args.workers is None:
+        return 1 if one_process or live else default_workers(drones)
+    if args.workers < 1:
+        print(f"aeroexec fleet: --workers {args.workers}: at least 1", file=sys.stderr)
+        return None
+    if args.workers > 1 and one_process:
+        print(f"aeroexec fleet: {' and '.join(one_process)} needs every drone in this process: use --workers 1",
+              file=sys.stderr)
+        return None
+    return min(args.workers, drones)
+
+
+def fly_workers(args: argparse.Namespace, spec: object, base: FlightSpec, folder: Path, endpoint: str, token: str,
+                workers: int, watched: bool) -> int:
+    """Fly the fleet in ``workers`` processes through this process's router; the fleet's exit status."""
+    from aeroexec.fleet.members import credentials_folder
+    from aeroexec.flight.fleet.workers import WorkerFleet
+
+    if live_view_wanted(args):
+        say(f"with {workers} workers, events print as lines (--workers 1 for the live view)")
+    coordinator = WorkerFleet(spec, base, workers=workers, endpoint=endpoint, token=token,
+                              credentials=credentials_folder(spec, folder), output=folder,
+                              speed=args.speed or (1.0 if watched else None), quiet=args.quiet,
+                              verbose=args.verbose, lines=lambda line: print(line, flush=True), notify=say)
+    try:
+        coordinator.open()
+    except FlightError as error:
+        print(error, file=sys.stderr)
+        return 1
+    except KeyboardInterrupt as interrupt:
+        print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
+              file=sys.stderr)
+        coordinator.close()
+        return 130
+    try:
+        say(f"fleet {spec.name}: {len(spec.flown)} drones in {len(coordinator.shares)} workers, link on {endpoint}; "
+            f"token, endpoint and operator credentials in {folder / FLEET_FILE}")
+        records = coordinator.fly()
+    finally:
+        coordinator.close()
+    for record in records.values():
+        print(record["summary"], file=sys.stderr)
+    print(f"fleet {spec.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
+    return fleet_exit_status(records)
 
 
 def _fly(fleet: FleetFlight, name: str, live: bool, quiet: bool) -> dict[str, FlightOutcome]:
@@ -211,21 +278,9 @@ def _fly(fleet: FleetFlight, name: str, live: bool, quiet: bool) -> dict[str, Fl
             view.stop()
 
 
-def summary_line(member: object, outcome: FlightOutcome) -> str:
-    engine = member.engine
-    t = engine.drone.telemetry()
-    goals = sum(e.kind == Outcome.GOAL_ACHIEVED.value for e in engine.log.events())
-    silent = sorted(member.link.silent)
-    why = f" ({'; '.join(outcome.faults or outcome.status.reasons[:1])})" if outcome.exit_status else ""
-    return (f"{member.name}: {member.session.spec.name} {outcome.status.word}{why} at t={engine.now():.1f} s, "
-            f"{goals} goal{'' if goals == 1 else 's'} achieved, {'in the air' if is_flying(engine) else 'landed'} at "
-            f"({t.position[0]:.1f}, {t.position[1]:.1f}), battery {t.battery_percent:.0f} %"
-            + (f"; silent: {', '.join(silent)}" if silent else ""))
-
-
 def prefixed(name: str, out: object) -> object:
     def show(event: EngineEvent) -> None:
-        if event.kind != "node_status":
-            print(f"{name:>4} | {event}", file=out, flush=True)
+        if (line := event_line(name, event)) is not None:
+            print(line, file=out, flush=True)
 
     return show

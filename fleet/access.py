@@ -14,9 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from aeroexec.fleet.payloads import TOPICS
-
-SPOKEN = tuple(t for t in TOPICS if t != "command")  # what a drone publishes
+SPOKEN = ("tick",)  # what a drone publishes (a worker process of the fleet's own puts steps as its router)
 RELAYED = ["put", "declare_subscriber", "declare_queryable", "query", "reply"]  # between the fleet's routers
 
 

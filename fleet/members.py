@@ -6,6 +6,8 @@
 - :func:`connect`: a process flying some of a fleet file's drones through its router, one session per identity
   its drones speak with (one for a process hosting them all, or one per drone).
 - :func:`join`: one drone of its own process (``aeroexec run --fleet``), with its identity.
+- :func:`work`: a worker process of the fleet's own (``aeroexec fleet --workers``), flying its share of the drones
+  through the router that started it, with the router's identity (it speaks for every drone, as the router does).
 - :func:`make_credentials`: every credential a fleet file needs, for several machines.
 """
 
@@ -129,6 +131,19 @@ def join(fleet: str, name: str, credentials: str | Path, endpoints: list[str]) -
         logger.info("%s speaks as %s", name, material.name)
     return Membership(fleet, open_session("client", connect=endpoints, identity=material), list(endpoints),
                       local=(name,))
+
+
+def work(spec: FleetSpec, credentials: Path, endpoints: list[str], drones: tuple[str, ...]) -> Membership:
+    """The session of a worker process flying ``drones`` of ``spec``, through the router at ``endpoints`` that made
+    or read the fleet's credentials in ``credentials``."""
+    material = _read(Identity.at(credentials, creds.ROUTER), spec.name, creds.ROUTER)
+    return Membership(spec.name, open_session("client", connect=endpoints, identity=material), list(endpoints),
+                      spec.roster(), local=drones)
+
+
+def credentials_folder(spec: FleetSpec, output: Path) -> Path:
+    """Where :func:`listen` finds the fleet's credentials: the file's, else those it made in ``output``."""
+    return spec.credentials if spec.credentials is not None else output / CREDENTIALS_FOLDER
 
 
 def operator_identity(credentials: str | Path) -> Identity:

@@ -5,7 +5,10 @@ What a local drone says in a period is kept and put at the period's end (:meth:`
 ``tick`` message on its own key (the fleet's router lets only its identity put there); what arrived from the fleet
 waits in Zenoh's queue (never a Python callback per message) and is taken then too, local and remote messages
 together, ordered by drone, so what a local drone hears at period k is what the process's drones said at period
-k - 1, whatever the load. A local drone's messages never leave through Zenoh and come back.
+k - 1, whatever the load. A local drone's messages never leave through Zenoh and come back. A fleet spread over worker
+processes (:meth:`FleetNode.lockstep`) ends each period with a ``step`` message and takes every other worker's
+ticks of the period before going on (:mod:`aeroexec.fleet.lockstep`), so its drones hear what they would hear in
+one process.
 
 Refused here, counted (one log line per sender and reason per interval, :mod:`~aeroexec.fleet.refusals`) and told to
 the links for their event logs: malformed or foreign messages, a sender that is not in the fleet's roster, a
@@ -25,9 +28,10 @@ import time
 from collections.abc import Mapping
 from typing import Any
 
+from aeroexec.fleet import payloads
 from aeroexec.fleet.access import Roster
+from aeroexec.fleet.lockstep import HELLO, Lockstep
 from aeroexec.fleet.payloads import VERSION, PayloadError, check_name, decode, encode, is_name, key, said
-from aeroexec.fleet.payloads import tick as tick_payload
 from aeroexec.fleet.refusals import MAX_KINDS, Refusals
 from aeroexec.fleet.table import FleetTable
 
@@ -37,11 +41,13 @@ COMMAND_TIMEOUT = 5.0  # wall seconds a command waits for the drones' engines to
 QUEUED = 1 << 16  # samples Zenoh keeps for the next period's end (then it waits: back-pressure, nothing lost)
 
 
-def qos() -> dict[str, Any]:
-    """Zenoh QoS of a drone's messages: never block the engine (DROP when congested); only for other sessions."""
+def qos(lockstep: bool = False) -> dict[str, Any]:
+    """Zenoh QoS of a drone's messages: never block the engine (DROP when congested), unless the fleet is in
+    lockstep, where every period must arrive (BLOCK: simulated time waits); only for other sessions."""
     import zenoh
 
-    return {"congestion_control": zenoh.CongestionControl.DROP, "priority": zenoh.Priority.DATA,
+    congestion = zenoh.CongestionControl.BLOCK if lockstep else zenoh.CongestionControl.DROP
+    return {"congestion_control": congestion, "priority": zenoh.Priority.DATA,
             "allowed_destination": zenoh.Locality.REMOTE}
 
 
@@ -92,6 +98,8 @@ class FleetNode:
         self._answering = threading.Thread(target=self._answer, name="aeroexec-fleet-commands", daemon=True)
         self._answering.start()
         self._closed = False
+        self._lockstep: Lockstep | None = None
+        self._hello: set[str] = set()  # the other workers heard while meeting
         remote = _remote()
         self._queue = session.declare_subscriber(f"aeroexec/{fleet}/**", _queued(), allowed_origin=remote)
 
@@ -138,52 +146,128 @@ class FleetNode:
                 link.refused(sender, reason, example)
 
     # -- the end of a period (the engines' thread) -------------------------------------------------------------------
-    def exchange(self, now: float) -> None:
-        """Send what the local drones said this period, take what the fleet said, and tell the local links what
-        changed."""
+    def exchange(self, now: float, ended: bool = False) -> bool:
+        """Send what the local drones said this period, take what the fleet said (in lockstep: every other worker's
+        messages of the period, waited for), and tell the local links what changed. ``ended``: every local flight
+        has ended. False when the fleet's flights have all ended (here and, in lockstep, in every worker)."""
         with self._lock:
             said, self._said = self._said, []
-        self._send(said)
+        lockstep = self._lockstep
+        period = lockstep.period if lockstep is not None else None
+        ticks = self._send(said, period)
         heard, outside = self._take()
+        if lockstep is not None:
+            self._put(lockstep.me, payloads.step(lockstep.me, lockstep.period, ticks, ended), "step")
+            self._wait(heard, outside)
+            heard.extend(lockstep.take(lockstep.period))
         messages = said + heard
         messages.sort(key=_drone)  # stable: each drone's messages stay in the order it said them
         news = self.table.take(messages, now, outside)
         for link in list(self.links.values()):
             link.hear(news)
         self.refusals.flush()
+        return not (ended and (lockstep is None or lockstep.everyone_ended))
 
-    def _send(self, said: list[tuple[str, str, dict[str, Any]]]) -> None:
+    # -- worker processes ----------------------------------------------------------------------------------------------
+    def lockstep(self, me: str, peers: Mapping[str, Any], patience: float | None = None) -> Lockstep:
+        """Fly in lockstep with the other workers ``peers`` (each one's first drone -> the drones it flies); ``me``:
+        this worker's first drone. Call before :meth:`meet`."""
+        self._lockstep = Lockstep(me, peers) if patience is None else Lockstep(me, peers, patience)
+        return self._lockstep
+
+    @property
+    def in_lockstep(self) -> Lockstep | None:
+        """The lockstep with the other workers, if this process is one of several."""
+        return self._lockstep
+
+    def meet(self, timeout: float, stop: threading.Event | None = None) -> bool:
+        """Say hello until every other worker has heard this one and said so (True), or ``timeout`` wall seconds
+        passed or ``stop`` was set (False)."""
+        lockstep = self._lockstep
+        if lockstep is None:
+            return True
+        deadline = time.monotonic() + timeout
+        while True:
+            self._put(lockstep.me, payloads.step(lockstep.me, HELLO, 0, False, sorted(self._hello)), "step")
+            heard, outside = self._take()
+            if heard:
+                logger.debug("fleet %s: %d messages of drones of their own processes before the first period",
+                             self.fleet, len(heard))
+            if lockstep.met(self._hello):
+                self._put(lockstep.me, payloads.step(lockstep.me, HELLO, 0, False, sorted(self._hello)), "step")
+                return True
+            if time.monotonic() > deadline or (stop is not None and stop.is_set()):
+                return False
+            time.sleep(0.05)
+
+    def _wait(self, heard: list[tuple[str, str, dict[str, Any]]], outside: set[str]) -> None:
+        """Take what arrives until every other worker's ticks of this period are here (or it is given up)."""
+        lockstep = self._lockstep
+        period = lockstep.period
+        pause, deadline = 0.00005, None
+        while missing := lockstep.missing(period):
+            if deadline is None:
+                deadline = time.monotonic() + lockstep.patience
+            elif time.monotonic() > deadline:
+                lockstep.give_up(missing)
+                return
+            time.sleep(pause)
+            pause = min(2 * pause, 0.002)
+            more, more_outside = self._take()
+            heard.extend(more)
+            outside |= more_outside
+
+    def _send(self, said: list[tuple[str, str, dict[str, Any]]], period: int | None = None) -> int:
+        """Put each local drone's messages as one tick; how many ticks were put."""
         if self._closed:
-            return
+            return 0
         by_drone: dict[str, list[list[Any]]] = {}
         for drone, topic, fields in said:
             by_drone.setdefault(drone, []).append([topic, fields])
+        sent = time.time()
         for drone, messages in by_drone.items():
-            self._put(drone, tick_payload(drone, messages, time.time()))
+            self._put(drone, payloads.tick(drone, messages, sent, period))
+        return len(by_drone)
 
-    def _put(self, drone: str, payload: bytes) -> None:
+    def _put(self, drone: str, payload: bytes, topic: str = "tick") -> None:
         try:
-            publisher = self._publishers.get(drone)
+            publisher = self._publishers.get((drone, topic))
             if publisher is None:
                 session = self.sessions.get(drone, self.session)
-                publisher = session.declare_publisher(key(self.fleet, drone, "tick"), **qos())
-                self._publishers[drone] = publisher
+                publisher = session.declare_publisher(key(self.fleet, drone, topic),
+                                                      **qos(self._lockstep is not None))
+                self._publishers[drone, topic] = publisher
             publisher.put(payload)
         except Exception as error:  # a closed session or a full queue: the drone flies on
-            logger.debug("fleet %s: %s's tick not sent: %s", self.fleet, drone, error)
+            logger.debug("fleet %s: %s's %s not sent: %s", self.fleet, drone, topic, error)
 
     def _take(self) -> tuple[list[tuple[str, str, dict[str, Any]]], set[str]]:
         """What arrived from the fleet, checked; and its drones (they fly outside this process, on their own
-        time)."""
+        time). In lockstep, the other workers' ticks and steps go to their periods."""
         heard: list[tuple[str, str, dict[str, Any]]] = []
         outside: set[str] = set()
+        lockstep = self._lockstep
         while (sample := self._queue.try_recv()) is not None:
             key_expr = str(sample.key_expr)
             try:
                 drone, topic, message = decode(key_expr, bytes(sample.payload), self.fleet)
-                if topic != "tick":
+                if topic == "command":
                     continue  # commands are queries
+                if topic == "step":
+                    if lockstep is None or not lockstep.is_peer(drone):
+                        raise PayloadError(f"{key_expr}: a step of {drone}, which is no worker of this fleet's",
+                                           "a step of no worker of the fleet's")
+                    period, ticks, ended, hello = payloads.stepped(message, key_expr)
+                    if period == HELLO:
+                        self._hello.add(drone)
+                    lockstep.step(drone, period, ticks, ended, hello)
+                    continue
                 messages = said(message, key_expr)
+                if lockstep is not None and lockstep.owns(drone):
+                    if self._genuine(drone):
+                        lockstep.tick(drone, payloads.period_of(message, key_expr),
+                                      [(drone, topic, fields) for topic, fields in messages])
+                    continue
             except PayloadError as error:
                 parts = key_expr.split("/")
                 self.refuse(parts[2] if len(parts) > 2 and is_name(parts[2]) else key_expr, error.reason, str(error))
@@ -259,7 +343,7 @@ class FleetNode:
             return
         with self._lock:
             said, self._said = self._said, []
-        self._send(said)  # the last words of the local drones (how their missions ended)
+        self._send(said, self._lockstep.period if self._lockstep else None)  # the local drones' last words
         self._closed = True
         self._answers.put(None)
         self._answering.join(1.0)  # an answer its engine will not give any more is not waited for

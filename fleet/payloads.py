@@ -6,6 +6,9 @@ the drone chunk of the key it came on. Keys are ``aeroexec/<fleet>/<drone>/<topi
 - ``tick``: what a drone said in one engine period (:func:`tick`: ``said``, its messages ``[topic, fields]`` with
   ``topic`` one of :data:`SAID`, and the wall time it was sent), put at the period's end, on the drone's own key
   (the fleet's router lets only the drone's identity put there);
+- ``step``: the end of one engine period of a worker of a fleet spread over worker processes
+  (:func:`step`, :mod:`aeroexec.fleet.lockstep`), on the key of the worker's first drone; a tick of such a worker
+  says its ``period``;
 - ``command``: the operator's queries.
 """
 
@@ -17,7 +20,7 @@ import re
 from typing import Any
 
 VERSION = 2
-TOPICS = ("tick", "command")  # the keys' last chunk
+TOPICS = ("tick", "step", "command")  # the keys' last chunk
 SAID = ("telemetry", "events", "beliefs", "broadcast")  # what a drone says in a tick
 #: A fleet or drone name: one Zenoh key chunk that is also a portable file name (the drone's output folder, its
 #: certificate): a letter, then letters, digits, ``_``, ``-`` or ``.`` (not last). In beliefs a name that is not a
@@ -58,10 +61,40 @@ def encode(drone: str, **fields: Any) -> bytes:
     return json.dumps({"v": VERSION, "drone": drone, **fields}, separators=(",", ":")).encode()
 
 
-def tick(drone: str, messages: list[list[Any]], sent: float | None = None) -> bytes:
+def tick(drone: str, messages: list[list[Any]], sent: float | None = None, period: int | None = None) -> bytes:
     """The ``tick`` payload of ``drone``: its ``messages`` ``[topic, fields]`` of one period (``sent``: the wall time
-    it was put, for those who measure the link's latency)."""
-    return encode(drone, said=messages, sent=sent)
+    it was put, for those who measure the link's latency; ``period``: the period's number, in lockstep)."""
+    if period is None:
+        return encode(drone, said=messages, sent=sent)
+    return encode(drone, said=messages, sent=sent, period=period)
+
+
+def step(worker: str, period: int, ticks: int, ended: bool, heard: list[str] | None = None) -> bytes:
+    """The ``step`` payload of the worker whose first drone is ``worker``: the end of ``period``, in which it put
+    ``ticks`` tick messages; ``ended`` when every flight of it has ended; ``heard``: the workers it heard (a hello,
+    before the first period)."""
+    return encode(worker, period=period, ticks=ticks, ended=ended, heard=heard or [])
+
+
+def stepped(message: dict[str, Any], key_expr: str) -> tuple[int, int, bool, list[str]]:
+    """``(period, ticks, ended, heard)`` of a ``step`` payload; :class:`PayloadError` when it is not one."""
+    period, ticks, ended, heard = (message.get(k) for k in ("period", "ticks", "ended", "heard"))
+    if not (_count(period, -1) and _count(ticks, 0) and isinstance(ended, bool) and isinstance(heard, list)
+            and all(isinstance(h, str) for h in heard)):
+        raise PayloadError(f"{key_expr}: not a step (expected period, ticks, ended, heard)", "not a step")
+    return period, ticks, ended, heard
+
+
+def period_of(message: dict[str, Any], key_expr: str) -> int:
+    """The period a worker's tick says it belongs to; :class:`PayloadError` when it says none."""
+    period = message.get("period")
+    if not _count(period, 0):
+        raise PayloadError(f"{key_expr}: a worker's tick without its period", "a worker's tick without its period")
+    return period
+
+
+def _count(value: Any, least: int) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and least <= value < 1 << 62
 
 
 def said(message: dict[str, Any], key_expr: str) -> list[tuple[str, dict[str, Any]]]:

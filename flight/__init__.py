@@ -14,7 +14,7 @@ import importlib
 from typing import Any
 
 _PUBLIC = {
-    "FleetFlight": "fleet", "fleet_exit_status": "fleet",
+    "FleetFlight": "fleet", "fleet_exit_status": "fleet", "WorkerFleet": "fleet.workers",
     "FlightOutcome": "session", "FlightSession": "session",
     "Interrupted": "signals", "ending_signals": "signals",
     "FleetJoin": "spec", "FlightError": "spec", "FlightSpec": "spec",

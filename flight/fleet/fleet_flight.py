@@ -14,7 +14,6 @@ flight has ended.
 
 from __future__ import annotations
 
-import json
 import logging
 import threading
 import time
@@ -28,6 +27,7 @@ from aeroexec.engine.errors import Problem
 from aeroexec.engine.missions.bridge import RUNNING
 from aeroexec.engine.missions.script import ScriptMission, fly_together
 from aeroexec.flight.ending import FlightEnding
+from aeroexec.flight.fleet.status import drone_status, write_status
 from aeroexec.flight.robot import load_world, robot_choice
 from aeroexec.flight.session import FlightOutcome, FlightSession
 from aeroexec.flight.spec import FleetJoin, FlightError, FlightSpec
@@ -37,7 +37,6 @@ logger = logging.getLogger(__name__)
 
 HAND_OVER = 0.0002  # wall seconds between two looks at missions still computing
 STALL_WARNING = 30.0  # wall seconds of missions computing before saying so
-STATUS_FILE = "fleet_status.json"  # how the fleet and each drone ended, in the fleet's output folder
 
 
 @dataclass
@@ -63,10 +62,12 @@ class FleetFlight:
     """The drones of a fleet flown in this process. ``drones`` are the fleet file's drone records (name, mission,
     home, seed, share); ``base`` is the flight every drone shares (robot kind, catalog, plugins, world, time
     limit; its ``mission`` is ignored); each drone's files go to ``output/<drone>/``. ``world`` overrides the
-    base's world file."""
+    base's world file. ``everyone``: the names of every drone of the world when other worker processes fly
+    some of them in lockstep (:meth:`FleetNode.lockstep <aeroexec.fleet.node.FleetNode.lockstep>`)."""
 
     def __init__(self, node: Any, drones: list[Any], base: FlightSpec, *, output: Path, speed: float | None = None,
                  world: Any = None, telemetry_rate: float = 5.0, remote_questions: bool = False,
+                 everyone: tuple[str, ...] | None = None,
                  notify: Callable[[str], None] = logger.warning,
                  report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem)) -> None:
         self.node, self.drones, self.base, self.output = node, drones, base, Path(output)
@@ -74,9 +75,12 @@ class FleetFlight:
         self.notify, self.report = notify, report
         self.clock = SimulatedClock(speed=speed)  # one simulated time for every drone, paced when speed is given
         self.world = world  # None: the base spec's world file (or the robot kind's, or the built-in field)
+        self.everyone = everyone  # the drones flown in this world: these and those of the other workers
         self.members: list[Member] = []
         self.surfaces = Surfaces()
         self._stop = threading.Event()
+        self._how = "stop"
+        self._over = False  # every flight of the fleet has ended
         self._closed = False
 
     @property
@@ -101,7 +105,8 @@ class FleetFlight:
         if self.world is None:
             self.world = load_world(choice.world_file(base.world), home=base.home)
         self.node.driven = True  # the exchange is at the end of each period
-        flying = frozenset(d.name for d in self.drones)  # drones of processes of their own are not in this world
+        # drones of processes of their own are not in this world; the other workers' are
+        flying = frozenset(self.everyone if self.everyone is not None else (d.name for d in self.drones))
         where = self.node.table.where
         airspace = Airspace(lambda: {name: p for name, p in where.items() if name in flying})
         for drone in self.drones:
@@ -132,8 +137,10 @@ class FleetFlight:
         files = {m.name: m.session.spec.mission for m in self.members if m.session.tree is None}
         self.surfaces.add(serve_console(self.engines, self.world, files, port=port, host=host, notify=self.notify))
 
-    def stop(self) -> None:
-        """End every mission at the next period and land every drone (another thread may call it)."""
+    def stop(self, how: str = "stop") -> None:
+        """End every mission at the next period and land every drone (another thread may call it); ``how`` names
+        who asked, in the event logs."""
+        self._how = how
         self._stop.set()
 
     # -- the flight ---------------------------------------------------------------------------------
@@ -183,17 +190,20 @@ class FleetFlight:
 
     def _loop(self, max_time: float) -> None:
         period = self.members[0].engine.period if self.members else 0.05
-        while not all(m.ended for m in self.members):
+        flying = not self._over
+        while flying:
             if self._stop.is_set():
                 self._stop.clear()
-                self._interrupt("stop")
+                self._interrupt(self._how)
             now = self.clock.now()
             if now >= max_time:
                 for m in self.members:
                     if m.ending is None and not m.session.mission_done:
                         m.session.time_limit()
             self._period()
-            self.node.exchange(now)
+            # in lockstep the fleet flies on until every worker's flights have ended, at the same period in each
+            flying = self.node.exchange(now, all(m.ended for m in self.members))
+            self._over = not flying
             self.clock.sleep_until(now + period, self._stop)
 
     def _period(self) -> None:
@@ -227,16 +237,7 @@ class FleetFlight:
                     warned_at = time.monotonic() + STALL_WARNING
 
     def _write_status(self, outcomes: dict[str, FlightOutcome]) -> None:
-        words = sorted({o.status.word for o in outcomes.values()})
-        record = {"fleet": self.node.fleet, "status": words[0] if len(words) == 1 else "mixed",
-                  "exit_status": fleet_exit_status(outcomes),
-                  "drones": {name: {"status": o.status.word, "reasons": o.status.reasons, "faults": o.faults,
-                                    "exit_status": o.exit_status, "log_incomplete": o.log_incomplete}
-                             for name, o in outcomes.items()}}
-        try:
-            (self.output / STATUS_FILE).write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-        except OSError as error:
-            logger.error("%s cannot be written: %s", self.output / STATUS_FILE, error.strerror or error)
+        write_status(self.output, self.node.fleet, {name: drone_status(o) for name, o in outcomes.items()})
 
     def close(self) -> None:
         """Close every drone's session and the surfaces (idempotent, never hangs)."""
@@ -248,10 +249,4 @@ class FleetFlight:
             m.session.close()
 
 
-def fleet_exit_status(outcomes: dict[str, FlightOutcome]) -> int:
-    """The fleet's exit status: 0 when every drone's flight completed (exit status 0), else 1; each drone's own
-    status is in its log, its summary line and :data:`STATUS_FILE`."""
-    return 0 if outcomes and all(o.exit_status == 0 for o in outcomes.values()) else 1
-
-
-__all__ = ["STATUS_FILE", "FleetFlight", "Member", "fleet_exit_status"]
+__all__ = ["FleetFlight", "Member"]

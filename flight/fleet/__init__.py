@@ -1,0 +1,24 @@
+"""A fleet flown from one fleet file: every drone one :class:`~aeroexec.flight.session.FlightSession`, in one world
+and on one simulated time, linked over the fleet's Zenoh router.
+
+- :mod:`~aeroexec.flight.fleet.fleet_flight`: the drones of one process, ticked in lockstep (:class:`FleetFlight`);
+- :mod:`~aeroexec.flight.fleet.workers`: the drones spread over worker processes, one per core, each a
+  :class:`FleetFlight` of its share, in lockstep with the others through the router (:class:`WorkerFleet`);
+- :mod:`~aeroexec.flight.fleet.worker`: one worker process's side;
+- :mod:`~aeroexec.flight.fleet.status`: how the fleet and each drone ended (``fleet_status.json``).
+"""
+
+from __future__ import annotations
+
+from aeroexec.flight.fleet.fleet_flight import FleetFlight, Member
+from aeroexec.flight.fleet.status import (
+                                          STATUS_FILE,
+                                          drone_status,
+                                          event_line,
+                                          fleet_exit_status,
+                                          summary_line,
+                                          write_status,
+)
+
+__all__ = ["STATUS_FILE", "FleetFlight", "Member", "drone_status", "event_line", "fleet_exit_status", "summary_line",
+           "write_status"]
