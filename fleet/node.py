@@ -224,9 +224,8 @@ class FleetNode:
         by_drone: dict[str, list[list[Any]]] = {}
         for drone, topic, fields in said:
             by_drone.setdefault(drone, []).append([topic, fields])
-        sent = time.time()
-        for drone, messages in by_drone.items():
-            self._put(drone, payloads.tick(drone, messages, sent, period))
+        for drone, messages in by_drone.items():  # each stamped as it is put: the link's latency, put -> arrival
+            self._put(drone, payloads.tick(drone, messages, time.time(), period))
         return len(by_drone)
 
     def _put(self, drone: str, payload: bytes, topic: str = "tick") -> None:

@@ -81,6 +81,7 @@ class FleetFlight:
         self._stop = threading.Event()
         self._how = "stop"
         self._over = False  # every flight of the fleet has ended
+        self.time: dict[str, float] = {}  # how long the flight took: simulated, wall and CPU seconds
         self._closed = False
 
     @property
@@ -151,6 +152,7 @@ class FleetFlight:
         if self.clock.speed is not None:
             self.clock.pace_from_now()  # setting many drones up takes a while: real time starts now
         self._start_missions()
+        started, cpu = time.monotonic(), time.process_time()
         try:
             try:
                 self._loop(max_time)
@@ -163,6 +165,8 @@ class FleetFlight:
                 if not m.ended:
                     m.ended = True
                     m.faults = ["the operator interrupted the end of the flight: the drone was left as it was"]
+        self.time = {"simulated": self.clock.now(), "wall": time.monotonic() - started,
+                     "cpu": time.process_time() - cpu, "workers": 1}
         outcomes = {m.name: m.session.finish(m.faults) for m in self.members}
         self._write_status(outcomes)
         self.close()
@@ -237,7 +241,8 @@ class FleetFlight:
                     warned_at = time.monotonic() + STALL_WARNING
 
     def _write_status(self, outcomes: dict[str, FlightOutcome]) -> None:
-        write_status(self.output, self.node.fleet, {name: drone_status(o) for name, o in outcomes.items()})
+        write_status(self.output, self.node.fleet, {name: drone_status(o) for name, o in outcomes.items()},
+                     {"time": self.time})
 
     def close(self) -> None:
         """Close every drone's session and the surfaces (idempotent, never hangs)."""

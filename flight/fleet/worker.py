@@ -19,7 +19,6 @@ import logging
 import signal
 import sys
 import threading
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
@@ -138,12 +137,10 @@ class Worker:
                 self._go.wait()
                 if self._stopped is not None:
                     return 130
-                started, cpu = time.monotonic(), time.process_time()
                 outcomes = fleet.fly()
-                wall, cpu = time.monotonic() - started, time.process_time() - cpu
                 done = {m.name: {**drone_status(outcomes[m.name]), "summary": summary_line(m, outcomes[m.name])}
                         for m in fleet.members}
-                self.tell(done=done, time={"simulated": fleet.clock.now(), "wall": wall, "cpu": cpu})
+                self.tell(done=done, time=fleet.time)
                 return 0
             finally:
                 fleet.close()

@@ -126,6 +126,7 @@ class WorkerFleet:
         """Fly every share; each drone's record (:func:`~aeroexec.flight.fleet.status.drone_status` and its summary
         line). The operator's Ctrl-C (KeyboardInterrupt, or SIGTERM/SIGHUP through :mod:`aeroexec.flight.signals`)
         is passed on to every worker."""
+        cpu = time.process_time()  # the coordinator's: its router relays the workers' messages
         for process in self.processes:
             self._send(process, "go")
         while not all(p.ended for p in self.processes):
@@ -141,7 +142,8 @@ class WorkerFleet:
             records.update(process.done or {})
         self.time = {"simulated": max((p.time.get("simulated", 0.0) for p in self.processes), default=0.0),
                      "wall": max((p.time.get("wall", 0.0) for p in self.processes), default=0.0),
-                     "cpu": sum(p.time.get("cpu", 0.0) for p in self.processes), "workers": len(self.processes)}
+                     "cpu": sum(p.time.get("cpu", 0.0) for p in self.processes) + time.process_time() - cpu,
+                     "workers": len(self.processes)}
         order = [d.name for d in self.spec.flown]
         records = {name: records[name] for name in order if name in records}
         write_status(self.output, self.spec.name, {n: {k: v for k, v in r.items() if k != "summary"}
@@ -166,7 +168,8 @@ class WorkerFleet:
             process.done = {name: {"status": "failed", "reasons": [reason], "faults": [reason], "exit_status": 1,
                                    "log_incomplete": True, "summary": f"{name}: failed ({reason})"}
                             for name in process.drones}
-            self.notify(f"the worker flying {_named(process.drones)} {reason}; the others fly on")
+            self.notify(f"the worker flying {_named(process.drones)} ended unexpectedly (exit status {status}): its "
+                        f"drones are reported failed; the others fly on")
             for other in self.processes:
                 if not other.ended:
                     self._send(other, f"left {process.name}")
