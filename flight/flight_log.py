@@ -1,5 +1,5 @@
-"""The event log file of a run: one JSON object per line, written as things happen, so a crash loses nothing
-that happened before it.
+"""The event log file of a run: one JSON object per line, written at the end of every engine tick, so a crash loses
+at most the tick it happened in.
 
 Every line has ``time`` (engine seconds) and ``kind``. The kinds:
 
@@ -19,11 +19,12 @@ Every line has ``time`` (engine seconds) and ``kind``. The kinds:
   the first resume, then 3...) and what the run was given, then its records, their times going on from where the
   interrupted run stopped.
 
-Each line is written with one ``write`` system call on an unbuffered file, so a killed process leaves only
-whole lines. When a line cannot be written whole (the disk is full, the file system is gone), what was written
-of it is cut off again and nothing more is written: the log ends at a record boundary, :attr:`incomplete` says
-why, and the error is logged once. :func:`read_flight_log` reads a log back (ignoring a torn last line, should
-there be one).
+A tick's lines are written with one ``write`` system call on an unbuffered file (more for a short write), so a
+killed process leaves whole lines but for the last, which a reader ignores and a resumed run cuts off. When
+lines cannot be written whole (the disk is full, the file system is gone), what was written of a line is cut
+off again and nothing more is written: the log ends at a record boundary, :attr:`incomplete` says why, the lines
+not written are counted in :attr:`lost`, and the error is logged once. :func:`read_flight_log` reads a log back
+(ignoring a torn last line, should there be one).
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ logger = logging.getLogger(__name__)
 
 FORMAT = "aeroexec-events/1"
 SAMPLE_PERIOD = 0.5  # s of engine time between drone state samples
+PENDING = 4096  # lines kept for the end of the tick at most: more are written at once
 #: Event kinds whose message is the reason a behavior ended or did not start.
 REASON_KINDS = {o.value for o in Outcome} | {"failed_preconditions", "rejected", "mission_failed", "process_failed"}
 
@@ -69,6 +71,8 @@ class FlightLogWriter:
             _cut_torn_line(self.path)
         self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT |
                                        (os.O_APPEND if resumed is not None else os.O_TRUNC), 0o644)
+        self._end = os.lseek(self._fd, 0, os.SEEK_END)  # where the next line goes (the writer is alone)
+        self._pending: list[bytes] = []  # the tick's lines, written at its end
         self._last_sample: float | None = None
         self.lines = 0
         #: Why records were lost (the write error), or None while every record is in the file.
@@ -83,6 +87,7 @@ class FlightLogWriter:
             header["clock"] = "wall"
             header["wall_time"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
         self._write({**header, **{k: plain(v) for k, v in (meta or {}).items()}})
+        self.flush()
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
 
@@ -99,6 +104,7 @@ class FlightLogWriter:
         now = self.engine.now()
         if self._last_sample is None or now - self._last_sample >= self.sample_period - 1e-9:
             self.sample(now)
+        self.flush()
 
     def sample(self, now: float | None = None) -> None:
         """Write the drone's state now."""
@@ -116,32 +122,49 @@ class FlightLogWriter:
         self._write_line(_json(record))
 
     def _write_line(self, line: str) -> None:
-        data = (line + "\n").encode("utf-8")
         with self._lock:
             if self._fd is None:
                 return
             if self.incomplete is not None:
                 self.lost += 1
                 return
-            start = None
-            try:
-                start = os.lseek(self._fd, 0, os.SEEK_CUR)
-                written = os.write(self._fd, data)
-                while written < len(data):  # a short write (a full disk, a signal): finish the line
-                    written += os.write(self._fd, data[written:])
-                self.lines += 1
-            except OSError as exc:
-                self._stop_writing(exc, start)
+            self._pending.append((line + "\n").encode("utf-8"))
+            if len(self._pending) >= PENDING:
+                self._write_pending()
 
-    def _stop_writing(self, error: OSError, start: int | None) -> None:
-        """A record could not be written whole: cut off what was (the log ends at a record boundary), write
-        nothing more, and say so once."""
+    def flush(self) -> None:
+        """Write the lines kept since the last tick."""
+        with self._lock:
+            self._write_pending()
+
+    def _write_pending(self) -> None:
+        lines, self._pending = self._pending, []
+        if not lines or self._fd is None:
+            return
+        data = b"".join(lines)
+        written = 0
+        try:
+            written = os.write(self._fd, data)
+            while written < len(data):  # a short write (a full disk, a signal): finish the lines
+                written += os.write(self._fd, data[written:])
+        except OSError as exc:
+            whole = data.rfind(b"\n", 0, written) + 1  # the lines written whole stay
+            kept = data.count(b"\n", 0, whole)
+            self._end += whole
+            self.lines += kept
+            self._stop_writing(exc, len(lines) - kept)
+            return
+        self._end += len(data)
+        self.lines += len(lines)
+
+    def _stop_writing(self, error: OSError, lost: int) -> None:
+        """Lines could not be written whole: cut off what was of the first of them (the log ends at a record
+        boundary), write nothing more, and say so once."""
         self.incomplete = error.strerror or str(error)
-        self.lost += 1
-        if start is not None:
-            with contextlib.suppress(OSError):
-                os.ftruncate(self._fd, start)
-                os.lseek(self._fd, start, os.SEEK_SET)
+        self.lost += lost
+        with contextlib.suppress(OSError):
+            os.ftruncate(self._fd, self._end)
+            os.lseek(self._fd, self._end, os.SEEK_SET)
         logger.error("the event log %s cannot be written (%s): it stops after %d records; the flight goes on",
                      self.path, self.incomplete, self.lines)
 
@@ -154,8 +177,10 @@ class FlightLogWriter:
         if self.on_tick in self.engine.tick_callbacks:
             self.engine.tick_callbacks.remove(self.on_tick)
         self.sample()
+        self.flush()
         self._write({"time": round(self.engine.now(), 3), "kind": "log_closed", "lines": self.lines + 1})
         with self._lock:
+            self._write_pending()
             fd, self._fd = self._fd, None
         with contextlib.suppress(OSError):
             os.fsync(fd)
