@@ -237,8 +237,9 @@ def belief_line(change: BeliefChange) -> str:
     """A belief change's line in the log (``belief_added`` / ``belief_removed``: the belief's text, the reason)."""
     last, line = _LINES.belief
     if last is not change:
-        line = _json({"time": round(float(change.time), 3), "kind": f"belief_{change.kind}",
-                      "belief": format_term(change.belief), "reason": change.reason})
+        # as _json writes the record, without building it: the log's most frequent line (ordered keys, compact)
+        line = (f'{{"time":{_number(round(float(change.time), 3))},"kind":{_text("belief_" + change.kind)},'
+                f'"belief":{_text(format_term(change.belief))},"reason":{_text(change.reason)}}}')
         _LINES.belief = (change, line)
     return line
 
@@ -254,6 +255,16 @@ def state_line(now: float, telemetry: Any) -> str:
 
 def _json(record: dict[str, Any]) -> str:
     return json.dumps(record, allow_nan=False, separators=(",", ":"))
+
+
+_text = json.encoder.encode_basestring_ascii  # a string as json.dumps writes it
+
+
+def _number(value: float) -> str:
+    """A finite float as json.dumps writes it (ValueError for NaN and infinities, as ``allow_nan=False``)."""
+    if not math.isfinite(value):
+        raise ValueError(f"Out of range float values are not JSON compliant: {value!r}")
+    return float.__repr__(value)
 
 
 def event_record(event: EngineEvent) -> dict[str, Any]:

@@ -99,3 +99,19 @@ def test_runs_started_in_the_same_second_never_share_a_folder(tmp_path):
     for thread in threads:
         thread.join()
     assert len(set(chosen)) == 8 and all(folder.is_dir() for folder in chosen)
+
+
+@pytest.mark.parametrize(("text", "time"), [("position(self, (1.5, -2.25, 3.0))", 12.3456),
+                                            ('message(d1, "h\u00e9llo \\"x\\"\\n")', 3.0),
+                                            ("object('scout-4', drone)", 1e17), ("charge(battery, 99)", 0.0004)])
+def test_a_belief_line_is_the_json_of_its_record(text, time):
+    """The belief line is made by hand (the log's most frequent line): it reads back as its record would."""
+    from aeroexec.beliefs import BeliefChange, format_term, parse_term
+    from aeroexec.flight.flight_log import belief_line
+
+    change = BeliefChange("removed", parse_term(text), "replaced", time)
+    record = {"time": round(time, 3), "kind": "belief_removed", "belief": format_term(change.belief),
+              "reason": "replaced"}
+    assert belief_line(change) == json.dumps(record, separators=(",", ":"))
+    with pytest.raises(ValueError):
+        belief_line(BeliefChange("added", parse_term(text), "add", float("nan")))
