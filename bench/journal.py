@@ -80,7 +80,7 @@ def stepper(made: Any, seconds: float, before: Callable[[], None] = lambda: None
             made.step(made.period)
             steps += 1
         if made.journal is not None:
-            made.journal.sync()
+            made.journal.flush()
         return steps
 
     run.engine = made  # type: ignore[attr-defined]

@@ -1,13 +1,11 @@
 """Writing a run's flight journal as it flies (the schema: ``schema.py``).
 
-The engine's thread (and a Python mission's, for its calls) only appends rows to a list; at the end of a tick the
-list goes to the journal's own thread (``aeroexec-journal``), which writes it in one transaction. The list is
-handed over at the end of every tick in which a behavior event, a node transition, an operator command, a
-mission call that acts or a tree state happened, once the batch handed over before it is written (the loop waits
-for it, at most ``SYNC_WAIT`` s of wall time: a slow disk never holds the loop longer): a ``kill -9`` loses at most
-the tick under way and the last batch handed over, which the journal's thread writes within a moment; otherwise
-every ``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls). A journal that
-cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set and the flight goes on.
+The engine's thread (and a Python mission's, for its calls) appends rows to a list during a tick; the loop commits
+the list in one transaction (``store.py``: no wait for the disk, the checkpoints are another thread's) at the end
+of every tick in which a behavior event, a node transition, an operator command, a mission call that acts or a
+tree state happened, so a ``kill -9`` loses at most the tick under way; otherwise every ``FLUSH_PERIOD`` s of
+engine time (telemetry, belief changes, polling calls). A journal that cannot be written (a full disk) stops with
+:attr:`JournalWriter.incomplete` set and the flight goes on.
 
 Where the mission stopped is kept as it happens (``progress`` ``stop``): a reaction of the higher priority that
 takes the drone from the mission (LAND on low battery), ``ctl suspend`` or ``ctl abort`` (``mission_stopped``),
@@ -18,17 +16,12 @@ reaction after which the mission achieves a goal again (it went on by itself) li
 
 from __future__ import annotations
 
-import contextlib
 import datetime
 import itertools
 import json
 import logging
-import queue
 import re
-import sqlite3
 import threading
-import time
-import zlib
 from pathlib import Path
 from typing import Any
 
@@ -43,13 +36,14 @@ from aeroexec.flight.flight_log import (
     state_line,
     state_record,
 )
-from aeroexec.flight.journal.schema import connect, hold_lock, journal_path, release_lock
+from aeroexec.flight.journal.looks import LookRun
+from aeroexec.flight.journal.schema import journal_path
+from aeroexec.flight.journal.store import JournalStore, Row
 from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 
 logger = logging.getLogger(__name__)
 
 FLUSH_PERIOD = 5.0  # s of engine time between two hand-overs when nothing urgent happened
-SYNC_WAIT = 0.05  # s of wall time the loop waits at most for an urgent hand-over to be written
 TREE_PERIOD = 5.0  # s of engine time between two tree states when nothing visible changed (counters, timers)
 #: The robot's own motion beliefs, changing every belief period: kept as telemetry samples instead.
 MOTION = frozenset({"position", "speed", "orientation"})
@@ -86,19 +80,16 @@ class JournalWriter:
         self.path = journal_path(folder)
         self.sample_period = sample_period
         self.supersede_from = supersede_from
-        self.incomplete: str | None = None  # why the journal stopped short, None while whole
-        self.cpu = 0.0  # s of CPU its thread spent writing
         self.live = False
         self.frozen: dict[str, Any] | None = None  # where the mission stopped, once it did
-        self._lock_file = hold_lock(self.path)
+        self._store = JournalStore(self.path)
         try:
-            self._db = connect(self.path)
             self.segment, start = self._begin(meta or {})
         except BaseException:
-            release_lock(self._lock_file, self.path)
+            self._store.close()
             raise
         self._seq = itertools.count(start).__next__
-        self._rows: list[tuple[str, tuple]] = []
+        self._rows: list[Row] = []
         self._rows_lock = threading.Lock()
         self._urgent = False
         self._next_flush = engine.now() + FLUSH_PERIOD
@@ -106,7 +97,7 @@ class JournalWriter:
         self._last_periodic: float | None = None
         self._active: dict[str, tuple[int, bool]] = {}  # behavior -> its open activation row, and whether urgent
         self._waiting: dict[int, int] = {}  # call number -> its row, while under way
-        self._looks: _Looks | None = None  # the run of looking calls going on
+        self._looks: LookRun | None = None  # the run of looking calls going on
         self._mission_running = False
         self._reaction: str | None = None  # the reaction that stopped the mission
         self._tree: Any = None
@@ -115,17 +106,18 @@ class JournalWriter:
         self._shape_kept = False
         self._tree_writes = -1
         self._next_tree = self._next_look = 0.0
-        self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
-        self._last_batch: threading.Event | None = None  # set once the last batch handed over is written
-        self._thread = threading.Thread(target=self._serve, name="aeroexec-journal", daemon=True)
-        self._thread.start()
         self._closed = False
         self._status: Any = None
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
 
+    @property
+    def incomplete(self) -> str | None:
+        """Why the journal stopped short (the write's error), None while it is whole."""
+        return self._store.incomplete
+
     def _begin(self, meta: dict[str, Any]) -> tuple[int, int]:
-        db = self._db
+        db = self._store.db
         with db:
             for key, value in meta.items():
                 db.execute("INSERT OR IGNORE INTO meta VALUES (?, ?)",
@@ -258,7 +250,7 @@ class JournalWriter:
                 if looks is None or not looks.add(number, after, key, time):
                     if looks is not None and looks.dirty:
                         self._rows.append((_LOOKS, looks.row(self.segment)))
-                    looks = self._looks = _Looks(self._seq(), number, after)
+                    looks = self._looks = LookRun(self._seq(), number, after)
                     looks.add(number, after, key, time)
             return
         time = round(time, 3)
@@ -331,8 +323,8 @@ class JournalWriter:
                   urgent=True)
         self._tree_dirty = True
 
-    # -- handing rows to the journal's thread ----------------------------------------------------------------
-    def _add(self, rows: list[tuple[str, tuple]], urgent: bool = False, looks_end: bool = False) -> None:
+    # -- committing ------------------------------------------------------------------------------------------
+    def _add(self, rows: list[Row], urgent: bool = False, looks_end: bool = False) -> None:
         with self._rows_lock:
             if looks_end and self._looks is not None:  # a call that acts or waits ends a run of looks
                 if self._looks.dirty:
@@ -343,60 +335,14 @@ class JournalWriter:
                 self._urgent = True
 
     def flush(self) -> None:
-        """Hand what was recorded to the journal's thread (written in one transaction); an urgent hand-over waits
-        for the one before it to be written (at most ``SYNC_WAIT`` s)."""
+        """Commit what was recorded, in one transaction."""
         with self._rows_lock:
             if self._looks is not None and self._looks.dirty:
                 self._rows.append((_LOOKS, self._looks.row(self.segment)))
-            rows, self._rows, urgent, self._urgent = self._rows, [], self._urgent, False
+            rows, self._rows, self._urgent = self._rows, [], False
         self._next_flush = self.engine.now() + FLUSH_PERIOD
-        if not rows:
-            return
-        last = self._last_batch
-        if urgent and last is not None and not last.is_set():
-            last.wait(SYNC_WAIT)  # the one before is written first: a kill -9 loses at most this tick's
-        self._last_batch = threading.Event()
-        self._queue.put((rows, self._last_batch))
-
-    def sync(self, timeout: float = 10.0) -> bool:
-        """Flush and wait until everything is written (False when it was not within ``timeout`` wall seconds)."""
-        self.flush()
-        done = threading.Event()
-        self._queue.put(done.set)
-        return done.wait(timeout)
-
-    def _serve(self) -> None:
-        while True:
-            item = self._queue.get()
-            if item is None:
-                return
-            if callable(item):
-                item()
-                continue
-            rows, written = item if isinstance(item, tuple) else (item, None)
-            began = time.thread_time()
-            if self.incomplete is None:
-                try:
-                    with self._db:
-                        self._write(rows)
-                except sqlite3.Error as error:
-                    self.incomplete = str(error)
-                    logger.error("the journal %s cannot be written (%s): it stops here; the flight goes on",
-                                 self.path, error)
-            self.cpu += time.thread_time() - began
-            if written is not None:
-                written.set()
-
-    def _write(self, rows: list[tuple[str, tuple]]) -> None:
-        """The rows, each run of rows of one statement in one call."""
-        many = self._db.executemany
-        statement, params = rows[0][0], []
-        for row in rows:
-            if row[0] is not statement:
-                many(statement, params)
-                statement, params = row[0], []
-            params.append(row[1])
-        many(statement, params)
+        if rows:
+            self._store.write(rows)
 
     # -- the end ----------------------------------------------------------------------------------------------
     def ended(self, status: Any) -> None:
@@ -418,7 +364,7 @@ class JournalWriter:
         self._finish()
 
     def abandon(self) -> None:
-        """Stop as a killed process would: what was handed over is written, nothing more (tests of a crash)."""
+        """Stop as a killed process would: what was committed is kept, nothing more (tests of a crash)."""
         if self._closed:
             return
         self._stop_listening()
@@ -437,46 +383,7 @@ class JournalWriter:
 
     def _finish(self) -> None:
         self.flush()
-        self._queue.put(None)
-        self._thread.join(timeout=30.0)
-        with contextlib.suppress(sqlite3.Error):
-            self._db.close()
-        release_lock(self._lock_file, self.path)
-
-
-class _Looks:
-    """A run of calls that only look (a polling loop), kept as one row: the distinct calls with their answers, and
-    which one each call was (a byte each, compressed: a loop of two calls asked 10,000 times is a few bytes)."""
-
-    def __init__(self, seq: int, first: int, after: int) -> None:
-        self.seq, self.first, self.after = seq, first, after
-        self.next = first  # the number of the call that would go on this run
-        self.calls: dict[tuple, int] = {}
-        self.sequence = bytearray()
-        self.returned_at = 0.0
-        self.dirty = False
-
-    def add(self, number: int, after: int, key: tuple, time: float) -> bool:
-        """Add call ``number`` (``key``: function, arguments, location, result), returned at ``time``; False when it
-        cannot go on this run (it does not follow, it is on the other side of the stop, or 256 calls are known)."""
-        if number != self.next or after != self.after:
-            return False
-        calls = self.calls
-        index = calls.get(key)
-        if index is None:
-            if len(calls) >= 256:
-                return False
-            index = calls[key] = len(calls)
-        self.sequence.append(index)
-        self.next += 1
-        self.returned_at, self.dirty = time, True
-        return True
-
-    def row(self, segment: int) -> tuple:
-        self.dirty = False
-        calls = [[f, json.loads(a), loc, json.loads(r)] for f, a, loc, r in self.calls]
-        return (self.seq, segment, self.first, len(self.sequence), json.dumps(calls, separators=(",", ":")),
-                zlib.compress(bytes(self.sequence)), round(self.returned_at, 3), self.after)
+        self._store.close()
 
 
 def drone_state(now: float, telemetry: Any) -> dict[str, Any]:

@@ -134,7 +134,7 @@ def test_the_journal_is_read_while_the_run_flies_and_a_flying_run_is_not_resumed
     folder = tmp_path / "run"
     run = fly_until(spec(MISSIONS / "figure10.py", folder), active("GO_TO_POINT", 1.0))
     try:
-        run.journal.sync()
+        run.journal.flush()
         with Journal(folder) as journal:
             assert [r["outcome"] for r in journal.behavior("TAKE_OFF")] == ["GOAL_ACHIEVED"]
             assert [r["outcome"] for r in journal.behavior("GO_TO_POINT")] == [None]
@@ -155,12 +155,12 @@ def test_a_mission_that_failed_by_itself_is_not_resumed(tmp_path):
 
 
 def test_a_journal_that_cannot_be_written_stops_and_the_flight_goes_on(tmp_path, monkeypatch):
-    from aeroexec.flight.journal import writer
+    from aeroexec.flight.journal import store
 
     def full(self, rows):
         raise sqlite3.OperationalError("database or disk is full")
 
-    monkeypatch.setattr(writer.JournalWriter, "_write", full)
+    monkeypatch.setattr(store.JournalStore, "_write", full)
     _, outcome = fly(spec(MISSIONS / "figure10.py", tmp_path / "run"))
     assert outcome.status.word == "completed" and outcome.exit_status == 6
     assert outcome.log_incomplete == "the journal: database or disk is full"
