@@ -34,7 +34,6 @@ from aeroexec.flight.flight_log import (
     event_record,
     plain,
     state_line,
-    state_record,
 )
 from aeroexec.flight.journal.looks import LookRun
 from aeroexec.flight.journal.schema import journal_path
@@ -101,7 +100,7 @@ class JournalWriter:
         self._mission_running = False
         self._reaction: str | None = None  # the reaction that stopped the mission
         self._tree: Any = None
-        self._boards: list[Any] = []
+        self._capture: Any = None  # the tree's Capture
         self._tree_dirty = True
         self._shape_kept = False
         self._tree_writes = -1
@@ -178,8 +177,9 @@ class JournalWriter:
         if self._urgent or now >= self._next_flush:
             self.flush()
 
-    def sample(self, now: float | None = None) -> dict[str, Any] | None:
-        """Write the drone's state now; the state written (None when the drone cannot say)."""
+    def sample(self, now: float | None = None) -> str | None:
+        """Write the drone's state now (the event log's line of it, made once for both); the line (None when the
+        drone cannot say)."""
         now = self.engine.now() if now is None else now
         self._last_sample = round(now, 3)
         try:
@@ -189,23 +189,23 @@ class JournalWriter:
             logger.exception("no drone state for the journal")
             return None
         self._add([(_EVENT, (self._seq(), self.segment, self._last_sample, "state", "", "", line, None))])
-        return drone_state(now, telemetry)
+        return line
 
     # -- a tree mission ---------------------------------------------------------------------------------------
     def attach_tree(self, mission: Any) -> None:
         """Keep ``mission``'s state (after each tick that changed it) while the mission is live."""
-        from aeroexec.trees.runtime.tree_state import scopes
+        from aeroexec.trees.runtime.tree_state import Capture
 
         self._tree = mission
-        self._boards = scopes(mission.root, mission.blackboard)
+        self._capture = Capture(mission.root, mission.blackboard)
         mission.observers.append(self._tree_ticked)
         getattr(mission, "restructured", []).append(self._restructured)
 
     def _restructured(self) -> None:
         """The tree was changed in flight: its next state is kept with its new shape."""
-        from aeroexec.trees.runtime.tree_state import scopes
+        from aeroexec.trees.runtime.tree_state import Capture
 
-        self._boards = scopes(self._tree.root, self._tree.blackboard)
+        self._capture = Capture(self._tree.root, self._tree.blackboard)
         self._shape_kept, self._tree_dirty = False, True
 
     def _tree_ticked(self, visited: Any) -> None:
@@ -214,19 +214,17 @@ class JournalWriter:
         now = self.engine.now()
         if not self._tree_dirty and now >= self._next_look:  # the blackboard alone changed? looked at twice a second
             self._next_look = now + self.sample_period
-            writes = sum(sum(board._versions.values()) for board in self._boards)
+            writes = sum(sum(board._versions.values()) for board in self._capture.boards)
             self._tree_dirty, self._tree_writes = writes != self._tree_writes, writes
         if self._tree_dirty or now >= self._next_tree:
             self.keep_tree(now)
 
     def keep_tree(self, now: float | None = None) -> None:
         """Write the tree's state now."""
-        from aeroexec.trees.runtime.tree_state import capture
-
         now = self.engine.now() if now is None else now
         self._tree_dirty = False
         self._next_tree = now + TREE_PERIOD
-        state = capture(self._tree.root, self._tree.blackboard)
+        state = self._capture()
         rows = [(_PROGRESS, (self.segment, "tree", self._seq(), round(now, 3), state.to_json(shape=False)))]
         if not self._shape_kept:  # the tree's shape once (resume_point reads its states with it)
             self._shape_kept = True
@@ -306,7 +304,8 @@ class JournalWriter:
             self._unfreeze()  # the reaction is over and the mission went on by itself
 
     def _freeze(self, seq: int, event: EngineEvent, reason: str) -> None:
-        state = self.sample() or {}
+        line = self.sample()
+        state = {k: v for k, v in json.loads(line).items() if k not in ("time", "kind")} if line else {}
         self.frozen = {"seq": seq, "time": round(event.time, 3), "kind": event.kind, "reason": reason,
                        "behavior": event.behavior, "drone": state}
         self._keep_stop()
@@ -386,11 +385,4 @@ class JournalWriter:
         self._store.close()
 
 
-def drone_state(now: float, telemetry: Any) -> dict[str, Any]:
-    """What the journal keeps of the drone's state: an event log's state sample but its time and kind."""
-    state = state_record(now, telemetry)
-    del state["time"], state["kind"]
-    return state
-
-
-__all__ = ["FLUSH_PERIOD", "MOTION", "JournalWriter", "drone_state"]
+__all__ = ["FLUSH_PERIOD", "MOTION", "JournalWriter"]
