@@ -18,6 +18,7 @@ class LookRun:
         self.sequence = bytearray()
         self.returned_at = 0.0
         self.dirty = False
+        self._calls_text = ("", 0)  # the distinct calls as JSON, and how many they were then
 
     def add(self, number: int, after: int, key: tuple, time: float) -> bool:
         """Add call ``number`` (``key``: function, arguments, location, result), returned at ``time``; False when it
@@ -36,10 +37,15 @@ class LookRun:
         return True
 
     def row(self, segment: int) -> tuple:
+        """The run as the ``looks`` table keeps it (written again at every commit while the run goes on)."""
         self.dirty = False
-        calls = [[f, json.loads(a), loc, json.loads(r)] for f, a, loc, r in self.calls]
-        return (self.seq, segment, self.first, len(self.sequence), json.dumps(calls, separators=(",", ":")),
-                zlib.compress(bytes(self.sequence)), round(self.returned_at, 3), self.after)
+        text, known = self._calls_text
+        if known != len(self.calls):  # a call the run had not seen before
+            calls = [[f, json.loads(a), loc, json.loads(r)] for f, a, loc, r in self.calls]
+            text = json.dumps(calls, separators=(",", ":"))
+            self._calls_text = (text, len(self.calls))
+        return (self.seq, segment, self.first, len(self.sequence), text, zlib.compress(bytes(self.sequence)),
+                round(self.returned_at, 3), self.after)
 
 
 __all__ = ["LookRun"]
