@@ -7,7 +7,10 @@ engine (``bench/engine.py``'s step), the engine as a flight runs it (its event l
 .btlog too), and that flight with the journal. Each round runs the three in turn (the order rotated from round to
 round, the garbage collected before each run), and the journal's cost is the median over the rounds of each
 round's ratio, with its quartiles: what the machine's load does to a round does it to the three runs alike. The
-load average is printed before and after.
+load average is printed before and after. The process runs on one CPU (``--no-pin``: where the scheduler puts its
+threads): a Python mission's thread and the engine's hand over to each other at every call, and whether the
+scheduler keeps them on one core or wakes one on the other changes the step by up to 80 % from run to run (the
+"slow mode" of earlier measures), which is the scheduler's doing, not the journal's.
 Cases: a GO_TO_POINT patrol, a tree mission (a patrol with photos and broadcasts: node transitions and tree states
 kept), a Python mission polling a belief between its behaviors (every call journaled). Target (issue 30): the
 journal costs under 10 % of the step; a 10-minute mission's journal stays under a few MB.
@@ -139,11 +142,15 @@ def load() -> str:
     return "load average " + " / ".join(f"{value:.2f}" for value in os.getloadavg()) + " (1 / 5 / 15 min)"
 
 
-def steps(repeat: int, seconds: float) -> None:
+def steps(repeat: int, seconds: float, pin: bool) -> None:
     print(f"Engine step with the journal (CPU of the process per step, every thread counted). {repeat} rounds of runs "
           f"of {seconds:g} s of engine time ({seconds * 20:.0f} steps), the three in turn; medians over the rounds, "
           f"[quartiles]")
-    print(f"  before: {load()}")
+    cpus = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
+    if pin and len(cpus) > 1:
+        os.sched_setaffinity(0, {cpus[-1]})  # this thread, and every thread it starts from now on
+    where = f"on CPU {cpus[-1]} of {len(cpus)}" if pin and len(cpus) > 1 else f"on {len(cpus) or 'all'} CPUs"
+    print(f"  before: {load()}; the process {where}")
     cases = [("GO_TO_POINT patrol", patrol_case), ("tree: patrol with photos and broadcasts", tree_case),
              ("Python mission polling a belief", python_case)]
     kinds = (BARE, LOGGED, JOURNALED)
@@ -205,11 +212,12 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=20, help="rounds of the three runs (default 20)")
     parser.add_argument("--quick", action="store_true", help="shorter runs")
     parser.add_argument("--only", choices=["steps", "size"])
+    parser.add_argument("--no-pin", action="store_true", help="let the scheduler place the threads (noisier)")
     options = parser.parse_args()
     logging_quiet()
     print(f"{'':52s}{'median':>22s}  {'quartiles':>16s}")
     if options.only in (None, "steps"):
-        steps(options.repeat, 10.0 if options.quick else 30.0)
+        steps(options.repeat, 10.0 if options.quick else 30.0, not options.no_pin)
     if options.only in (None, "size"):
         size(2.0 if options.quick else 10.0)
 
