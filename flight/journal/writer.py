@@ -170,6 +170,9 @@ class JournalWriter:
                              None if lifetime is None else round(time + lifetime, 3)))])
 
     def on_tick(self) -> None:
+        # Registered before a tree's tick (and a Python mission's calls, served after the tick): a commit holds what
+        # the mission did in the last period with the behavior events of this tick that settle it (a broadcast sent
+        # and its goal reached), so a resume never sees the one without the other. Keep it first.
         now = self.engine.now()
         if self._last_periodic is None or now - self._last_periodic >= self.sample_period - 1e-9:
             self._last_periodic = now  # as events.jsonl samples: at the same times
