@@ -61,14 +61,18 @@ BARE, LOGGED, JOURNALED = "bare engine", "with events.jsonl", "with events.jsonl
 
 
 def engine(kind: str, folder: Path) -> Any:
+    """An engine on the simulated drone, its battery lasting the bench (10 h of hover: the default 20 min would
+    land the patrol, flown for an hour of engine time, half-way through)."""
     from aeroexec.drones.sim import SimulatedDrone, default_world
+    from aeroexec.drones.sim.config import SimConfig
     from aeroexec.engine.engine import Engine
     from aeroexec.flight.flight_log import FlightLogWriter
     from aeroexec.flight.journal import JournalWriter
 
     world = default_world()
     folder.mkdir(parents=True, exist_ok=True)
-    made = Engine(SimulatedDrone(world), obstacles=world, output_dir=folder)
+    made = Engine(SimulatedDrone(world, config=SimConfig(battery_hover_minutes=600.0)), obstacles=world,
+                  output_dir=folder)
     made.journal = JournalWriter(made, folder) if kind == JOURNALED else None
     if kind != BARE:
         FlightLogWriter(made, folder / "events.jsonl")
@@ -144,20 +148,21 @@ def load() -> str:
 
 def steps(repeat: int, seconds: float, pin: bool) -> None:
     print(f"Engine step with the journal (CPU of the process per step, every thread counted). {repeat} rounds of runs "
-          f"of {seconds:g} s of engine time ({seconds * 20:.0f} steps), the three in turn; medians over the rounds, "
-          f"[quartiles]")
+          f"of {seconds:g} s of engine time or more (the cheaper steps' runs longer: a few tenths of a second of CPU "
+          f"each), the three in turn; medians over the rounds, [quartiles]")
     cpus = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
     if pin and len(cpus) > 1:
         os.sched_setaffinity(0, {cpus[-1]})  # this thread, and every thread it starts from now on
     where = f"on CPU {cpus[-1]} of {len(cpus)}" if pin and len(cpus) > 1 else f"on {len(cpus) or 'all'} CPUs"
     print(f"  before: {load()}; the process {where}")
-    cases = [("GO_TO_POINT patrol", patrol_case), ("tree: patrol with photos and broadcasts", tree_case),
-             ("Python mission polling a belief", python_case)]
+    cases = [("GO_TO_POINT patrol", patrol_case, 4), ("tree: patrol with photos and broadcasts", tree_case, 2),
+             ("Python mission polling a belief", python_case, 1)]
     kinds = (BARE, LOGGED, JOURNALED)
     median = statistics.median
     with tempfile.TemporaryDirectory() as scratch:
-        for name, case in cases:
-            runs = {kind: case(kind, Path(scratch) / f"{name[:4]}-{n}", seconds) for n, kind in enumerate(kinds)}
+        for name, case, longer in cases:
+            runs = {kind: case(kind, Path(scratch) / f"{name[:4]}-{n}", seconds * longer)
+                    for n, kind in enumerate(kinds)}
             for run in runs.values():  # warm up: imports, caches, the first behaviors
                 run()
             per_step: dict[str, list[float]] = {kind: [] for kind in kinds}
@@ -170,7 +175,7 @@ def steps(repeat: int, seconds: float, pin: bool) -> None:
             rounds = list(zip(per_step[BARE], per_step[LOGGED], per_step[JOURNALED], strict=True))
             flight = [j / f - 1 for _, f, j in rounds]
             bare = [(j - f) / b for b, f, j in rounds]
-            print(f"  {name}")
+            print(f"  {name} (runs of {seconds * longer * 20:.0f} steps)")
             line(f"  {BARE} / {LOGGED} / {JOURNALED}", " / ".join(f"{median(per_step[k]) * 1e6:.0f}" for k in kinds)
                  + " us")
             line("  the journal's cost, of a flight's step", f"+{median(flight):.1%}", quartiles(flight),
