@@ -1,11 +1,12 @@
 """Writing a run's flight journal as it flies (the schema: ``schema.py``).
 
-The engine's thread (and a Python mission's, for its calls) appends rows to a list during a tick; the loop commits
-the list in one transaction (``store.py``: no wait for the disk, the checkpoints are another thread's) at the end
-of every tick in which a behavior event, a node transition, an operator command, a mission call that acts or a
-tree state happened, so a ``kill -9`` loses at most the tick under way; otherwise every ``FLUSH_PERIOD`` s of
-engine time (telemetry, belief changes, polling calls). A journal that cannot be written (a full disk) stops with
-:attr:`JournalWriter.incomplete` set and the flight goes on.
+The engine's thread (and a Python mission's, for its calls) appends rows to a list; the loop commits the list in
+one transaction (``store.py``: no wait for the disk, the checkpoints are another thread's) in the tick after a
+behavior event, a node transition, an operator command, a mission call that acts or a tree state was recorded
+(:meth:`JournalWriter.on_tick`, before the mission's part of the tick), so a ``kill -9`` loses at most the last
+engine period; otherwise every ``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls). A
+journal that cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set and the flight goes
+on.
 
 Where the mission stopped is kept as it happens (``progress`` ``stop``): a reaction of the higher priority that
 takes the drone from the mission (LAND on low battery), ``ctl suspend`` or ``ctl abort`` (``mission_stopped``),
