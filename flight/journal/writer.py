@@ -43,16 +43,16 @@ from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 
 logger = logging.getLogger(__name__)
 
-FLUSH_PERIOD = 5.0  # s of engine time between two hand-overs when nothing urgent happened
+FLUSH_PERIOD = 5.0  # s of engine time between two commits when nothing urgent happened
 TREE_PERIOD = 5.0  # s of engine time between two tree states when nothing visible changed (counters, timers)
 #: The robot's own motion beliefs, changing every belief period: kept as telemetry samples instead.
 MOTION = frozenset({"position", "speed", "orientation"})
 #: Events where the mission stops (besides a reaction of the higher priority).
 STOPS = frozenset({"mission_stopped", "mission_suspended", "operator_interrupt", "engine_time_limit"})
-#: Calls that only look: not worth a hand-over of their own.
+#: Calls that only look: not worth a commit of their own.
 LOOKS = frozenset({"consult_belief", "true_belief", "is_active_behavior", "now", "why", "why_not"})
 OUTCOMES = frozenset(o.value for o in Outcome)
-#: Events that need no hand-over of their own (the next one takes them): capabilities, the drone's own reports.
+#: Events that need no commit of their own (the next one takes them): capabilities, the drone's own reports.
 BACKGROUND = ("capability_", "drone_")
 _TAKEN_OVER = re.compile(r"^stopped for (\S+) \(reactive\)$")
 
