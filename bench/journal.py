@@ -82,8 +82,8 @@ def engine(kind: str, folder: Path) -> Any:
 
 
 def stepper(made: Any, seconds: float, before: Callable[[], None] = lambda: None) -> Callable[[], int]:
-    """Steps ``made`` for ``seconds`` of engine time (calling ``before`` first each step); the journal's writes of
-    the stretch are waited for, so its thread's work counts in it."""
+    """Steps ``made`` for ``seconds`` of engine time (calling ``before`` first each step); what the journal recorded
+    in the stretch is committed before it ends, so the stretch pays for it."""
     def run() -> int:
         steps, end = 0, made.now() + seconds
         while made.now() < end:
