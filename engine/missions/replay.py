@@ -194,17 +194,21 @@ class MissionRecorder:
 def location(skip: int = 0) -> str:
     """``FILE:LINE`` of the innermost frame of the mission's own code (not aeroexec's) on this thread's stack, the
     ``skip`` frames above the caller's (known to be aeroexec's) left out."""
-    frame: Any = sys._getframe(1 + skip)
-    while frame is not None:
+    depth = 1 + skip
+    while True:  # frame by frame from the inside: only the frames looked at are made (f_back would make them all)
+        try:
+            frame = sys._getframe(depth)
+        except ValueError:  # the stack's end
+            return ""
         name = _mission_file(frame.f_code.co_filename)
         if name is not None:
             return f"{name}:{frame.f_lineno}"
-        frame = frame.f_back
-    return ""
+        depth += 1
 
 
-#: The recorder's own frames above the API's wrapper when a live call is recorded (``_live``, ``call``).
-_MISSION_DEPTH = 2
+#: The frames above a live call's recording that are aeroexec's: the recorder's (``_live``, ``call``) and the
+#: API's wrapper (``api.journaled``).
+_MISSION_DEPTH = 3
 
 
 @functools.lru_cache(maxsize=256)

@@ -108,16 +108,19 @@ def text(value: Any) -> str:
 
 def call_text(args: tuple, kwargs: dict[str, Any]) -> str:
     """The one text of a call's arguments (``[args, kwargs]`` encoded), remembered when they are all scalars."""
-    kinds = tuple(map(type, args))
-    if not kwargs and _SCALARS.issuperset(kinds):
+    if not kwargs and len(args) == 1 and type(args[0]) is str:  # a behavior's name, a belief: the usual call
+        key: tuple = args
+    else:
+        kinds = tuple(map(type, args))
+        if kwargs or not _SCALARS.issuperset(kinds):
+            return canonical(encode([list(args), kwargs]))
         key = (args, kinds)  # the kinds too: 1, 1.0 and True are equal keys but three texts
-        found = _TEXTS.get(key)
-        if found is None:
-            found = canonical(encode([list(args), kwargs]))
-            if len(_TEXTS) < 4096:
-                _TEXTS[key] = found
-        return found
-    return canonical(encode([list(args), kwargs]))
+    found = _TEXTS.get(key)
+    if found is None:
+        found = canonical(encode([list(args), kwargs]))
+        if len(_TEXTS) < 4096:
+            _TEXTS[key] = found
+    return found
 
 
 __all__ = ["call_text", "canonical", "decode", "dumps", "encode", "loads", "text"]

@@ -3,7 +3,9 @@ the run flies — events, node transitions, belief changes, operator commands, b
 telemetry, a Python mission's calls, a tree's state and where the mission stopped — and what a resumed run
 (``aeroexec run --resume RUN_DIR``) goes on from.
 
-``schema.py`` (the tables), ``writer.py`` (:class:`JournalWriter`, on the engine's loop), ``reader.py``
+``schema.py`` (the tables), ``writer.py`` (:class:`JournalWriter`, on the engine's loop), ``store.py`` (the
+database as it is written: commits on the loop, checkpoints on a thread), ``looks.py`` (a polling mission's calls
+in runs), ``reader.py``
 (:class:`Journal`: questions over it, and the event log's records rebuilt from it), ``resume_point.py`` (where an
 interrupted run goes on from), ``rejoin.py`` (the drone put back where the mission left it), ``resumption.py``
 (a flight set up from a resume point).

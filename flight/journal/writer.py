@@ -1,13 +1,12 @@
 """Writing a run's flight journal as it flies (the schema: ``schema.py``).
 
-The engine's thread (and a Python mission's, for its calls) only appends rows to a list; at the end of a tick the
-list goes to the journal's own thread (``aeroexec-journal``), which writes it in one transaction. The list is
-handed over at the end of every tick in which a behavior event, a node transition, an operator command, a
-mission call that acts or a tree state happened, once the batch handed over before it is written (the loop waits
-for it, at most ``SYNC_WAIT`` s of wall time: a slow disk never holds the loop longer): a ``kill -9`` loses at most
-the tick under way and the last batch handed over, which the journal's thread writes within a moment; otherwise
-every ``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls). A journal that
-cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set and the flight goes on.
+The engine's thread (and a Python mission's, for its calls) appends rows to a list; the loop commits the list in
+one transaction (``store.py``: no wait for the disk, the checkpoints are another thread's) in the tick after a
+behavior event, a node transition, an operator command, a mission call that acts or a tree state was recorded
+(:meth:`JournalWriter.on_tick`, before the mission's part of the tick), so a ``kill -9`` loses at most the last
+engine period; otherwise every ``FLUSH_PERIOD`` s of engine time (telemetry, belief changes, polling calls). A
+journal that cannot be written (a full disk) stops with :attr:`JournalWriter.incomplete` set and the flight goes
+on.
 
 Where the mission stopped is kept as it happens (``progress`` ``stop``): a reaction of the higher priority that
 takes the drone from the mission (LAND on low battery), ``ctl suspend`` or ``ctl abort`` (``mission_stopped``),
@@ -18,17 +17,12 @@ reaction after which the mission achieves a goal again (it went on by itself) li
 
 from __future__ import annotations
 
-import contextlib
 import datetime
 import itertools
 import json
 import logging
-import queue
 import re
-import sqlite3
 import threading
-import time
-import zlib
 from pathlib import Path
 from typing import Any
 
@@ -41,24 +35,24 @@ from aeroexec.flight.flight_log import (
     event_record,
     plain,
     state_line,
-    state_record,
 )
-from aeroexec.flight.journal.schema import connect, hold_lock, journal_path, release_lock
+from aeroexec.flight.journal.looks import LookRun
+from aeroexec.flight.journal.schema import journal_path
+from aeroexec.flight.journal.store import JournalStore, Row
 from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 
 logger = logging.getLogger(__name__)
 
-FLUSH_PERIOD = 5.0  # s of engine time between two hand-overs when nothing urgent happened
-SYNC_WAIT = 0.05  # s of wall time the loop waits at most for an urgent hand-over to be written
+FLUSH_PERIOD = 5.0  # s of engine time between two commits when nothing urgent happened
 TREE_PERIOD = 5.0  # s of engine time between two tree states when nothing visible changed (counters, timers)
 #: The robot's own motion beliefs, changing every belief period: kept as telemetry samples instead.
 MOTION = frozenset({"position", "speed", "orientation"})
 #: Events where the mission stops (besides a reaction of the higher priority).
 STOPS = frozenset({"mission_stopped", "mission_suspended", "operator_interrupt", "engine_time_limit"})
-#: Calls that only look: not worth a hand-over of their own.
+#: Calls that only look: not worth a commit of their own.
 LOOKS = frozenset({"consult_belief", "true_belief", "is_active_behavior", "now", "why", "why_not"})
 OUTCOMES = frozenset(o.value for o in Outcome)
-#: Events that need no hand-over of their own (the next one takes them): capabilities, the drone's own reports.
+#: Events that need no commit of their own (the next one takes them): capabilities, the drone's own reports.
 BACKGROUND = ("capability_", "drone_")
 _TAKEN_OVER = re.compile(r"^stopped for (\S+) \(reactive\)$")
 
@@ -86,19 +80,16 @@ class JournalWriter:
         self.path = journal_path(folder)
         self.sample_period = sample_period
         self.supersede_from = supersede_from
-        self.incomplete: str | None = None  # why the journal stopped short, None while whole
-        self.cpu = 0.0  # s of CPU its thread spent writing
         self.live = False
         self.frozen: dict[str, Any] | None = None  # where the mission stopped, once it did
-        self._lock_file = hold_lock(self.path)
+        self._store = JournalStore(self.path)
         try:
-            self._db = connect(self.path)
             self.segment, start = self._begin(meta or {})
         except BaseException:
-            release_lock(self._lock_file, self.path)
+            self._store.close()
             raise
         self._seq = itertools.count(start).__next__
-        self._rows: list[tuple[str, tuple]] = []
+        self._rows: list[Row] = []
         self._rows_lock = threading.Lock()
         self._urgent = False
         self._next_flush = engine.now() + FLUSH_PERIOD
@@ -106,26 +97,27 @@ class JournalWriter:
         self._last_periodic: float | None = None
         self._active: dict[str, tuple[int, bool]] = {}  # behavior -> its open activation row, and whether urgent
         self._waiting: dict[int, int] = {}  # call number -> its row, while under way
-        self._looks: _Looks | None = None  # the run of looking calls going on
+        self._looks: LookRun | None = None  # the run of looking calls going on
         self._mission_running = False
         self._reaction: str | None = None  # the reaction that stopped the mission
         self._tree: Any = None
-        self._boards: list[Any] = []
+        self._capture: Any = None  # the tree's Capture
         self._tree_dirty = True
         self._shape_kept = False
         self._tree_writes = -1
         self._next_tree = self._next_look = 0.0
-        self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
-        self._last_batch: threading.Event | None = None  # set once the last batch handed over is written
-        self._thread = threading.Thread(target=self._serve, name="aeroexec-journal", daemon=True)
-        self._thread.start()
         self._closed = False
         self._status: Any = None
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
 
+    @property
+    def incomplete(self) -> str | None:
+        """Why the journal stopped short (the write's error), None while it is whole."""
+        return self._store.incomplete
+
     def _begin(self, meta: dict[str, Any]) -> tuple[int, int]:
-        db = self._db
+        db = self._store.db
         with db:
             for key, value in meta.items():
                 db.execute("INSERT OR IGNORE INTO meta VALUES (?, ?)",
@@ -179,6 +171,9 @@ class JournalWriter:
                              None if lifetime is None else round(time + lifetime, 3)))])
 
     def on_tick(self) -> None:
+        # Registered before a tree's tick (and a Python mission's calls, served after the tick): a commit holds what
+        # the mission did in the last period with the behavior events of this tick that settle it (a broadcast sent
+        # and its goal reached), so a resume never sees the one without the other. Keep it first.
         now = self.engine.now()
         if self._last_periodic is None or now - self._last_periodic >= self.sample_period - 1e-9:
             self._last_periodic = now  # as events.jsonl samples: at the same times
@@ -186,8 +181,9 @@ class JournalWriter:
         if self._urgent or now >= self._next_flush:
             self.flush()
 
-    def sample(self, now: float | None = None) -> dict[str, Any] | None:
-        """Write the drone's state now; the state written (None when the drone cannot say)."""
+    def sample(self, now: float | None = None) -> str | None:
+        """Write the drone's state now (the event log's line of it, made once for both); the line (None when the
+        drone cannot say)."""
         now = self.engine.now() if now is None else now
         self._last_sample = round(now, 3)
         try:
@@ -197,23 +193,23 @@ class JournalWriter:
             logger.exception("no drone state for the journal")
             return None
         self._add([(_EVENT, (self._seq(), self.segment, self._last_sample, "state", "", "", line, None))])
-        return drone_state(now, telemetry)
+        return line
 
     # -- a tree mission ---------------------------------------------------------------------------------------
     def attach_tree(self, mission: Any) -> None:
         """Keep ``mission``'s state (after each tick that changed it) while the mission is live."""
-        from aeroexec.trees.runtime.tree_state import scopes
+        from aeroexec.trees.runtime.tree_state import Capture
 
         self._tree = mission
-        self._boards = scopes(mission.root, mission.blackboard)
+        self._capture = Capture(mission.root, mission.blackboard)
         mission.observers.append(self._tree_ticked)
         getattr(mission, "restructured", []).append(self._restructured)
 
     def _restructured(self) -> None:
         """The tree was changed in flight: its next state is kept with its new shape."""
-        from aeroexec.trees.runtime.tree_state import scopes
+        from aeroexec.trees.runtime.tree_state import Capture
 
-        self._boards = scopes(self._tree.root, self._tree.blackboard)
+        self._capture = Capture(self._tree.root, self._tree.blackboard)
         self._shape_kept, self._tree_dirty = False, True
 
     def _tree_ticked(self, visited: Any) -> None:
@@ -222,19 +218,17 @@ class JournalWriter:
         now = self.engine.now()
         if not self._tree_dirty and now >= self._next_look:  # the blackboard alone changed? looked at twice a second
             self._next_look = now + self.sample_period
-            writes = sum(sum(board._versions.values()) for board in self._boards)
+            writes = sum(sum(board._versions.values()) for board in self._capture.boards)
             self._tree_dirty, self._tree_writes = writes != self._tree_writes, writes
         if self._tree_dirty or now >= self._next_tree:
             self.keep_tree(now)
 
     def keep_tree(self, now: float | None = None) -> None:
         """Write the tree's state now."""
-        from aeroexec.trees.runtime.tree_state import capture
-
         now = self.engine.now() if now is None else now
         self._tree_dirty = False
         self._next_tree = now + TREE_PERIOD
-        state = capture(self._tree.root, self._tree.blackboard)
+        state = self._capture()
         rows = [(_PROGRESS, (self.segment, "tree", self._seq(), round(now, 3), state.to_json(shape=False)))]
         if not self._shape_kept:  # the tree's shape once (resume_point reads its states with it)
             self._shape_kept = True
@@ -258,7 +252,7 @@ class JournalWriter:
                 if looks is None or not looks.add(number, after, key, time):
                     if looks is not None and looks.dirty:
                         self._rows.append((_LOOKS, looks.row(self.segment)))
-                    looks = self._looks = _Looks(self._seq(), number, after)
+                    looks = self._looks = LookRun(self._seq(), number, after)
                     looks.add(number, after, key, time)
             return
         time = round(time, 3)
@@ -314,7 +308,8 @@ class JournalWriter:
             self._unfreeze()  # the reaction is over and the mission went on by itself
 
     def _freeze(self, seq: int, event: EngineEvent, reason: str) -> None:
-        state = self.sample() or {}
+        line = self.sample()
+        state = {k: v for k, v in json.loads(line).items() if k not in ("time", "kind")} if line else {}
         self.frozen = {"seq": seq, "time": round(event.time, 3), "kind": event.kind, "reason": reason,
                        "behavior": event.behavior, "drone": state}
         self._keep_stop()
@@ -331,8 +326,8 @@ class JournalWriter:
                   urgent=True)
         self._tree_dirty = True
 
-    # -- handing rows to the journal's thread ----------------------------------------------------------------
-    def _add(self, rows: list[tuple[str, tuple]], urgent: bool = False, looks_end: bool = False) -> None:
+    # -- committing ------------------------------------------------------------------------------------------
+    def _add(self, rows: list[Row], urgent: bool = False, looks_end: bool = False) -> None:
         with self._rows_lock:
             if looks_end and self._looks is not None:  # a call that acts or waits ends a run of looks
                 if self._looks.dirty:
@@ -343,60 +338,14 @@ class JournalWriter:
                 self._urgent = True
 
     def flush(self) -> None:
-        """Hand what was recorded to the journal's thread (written in one transaction); an urgent hand-over waits
-        for the one before it to be written (at most ``SYNC_WAIT`` s)."""
+        """Commit what was recorded, in one transaction."""
         with self._rows_lock:
             if self._looks is not None and self._looks.dirty:
                 self._rows.append((_LOOKS, self._looks.row(self.segment)))
-            rows, self._rows, urgent, self._urgent = self._rows, [], self._urgent, False
+            rows, self._rows, self._urgent = self._rows, [], False
         self._next_flush = self.engine.now() + FLUSH_PERIOD
-        if not rows:
-            return
-        last = self._last_batch
-        if urgent and last is not None and not last.is_set():
-            last.wait(SYNC_WAIT)  # the one before is written first: a kill -9 loses at most this tick's
-        self._last_batch = threading.Event()
-        self._queue.put((rows, self._last_batch))
-
-    def sync(self, timeout: float = 10.0) -> bool:
-        """Flush and wait until everything is written (False when it was not within ``timeout`` wall seconds)."""
-        self.flush()
-        done = threading.Event()
-        self._queue.put(done.set)
-        return done.wait(timeout)
-
-    def _serve(self) -> None:
-        while True:
-            item = self._queue.get()
-            if item is None:
-                return
-            if callable(item):
-                item()
-                continue
-            rows, written = item if isinstance(item, tuple) else (item, None)
-            began = time.thread_time()
-            if self.incomplete is None:
-                try:
-                    with self._db:
-                        self._write(rows)
-                except sqlite3.Error as error:
-                    self.incomplete = str(error)
-                    logger.error("the journal %s cannot be written (%s): it stops here; the flight goes on",
-                                 self.path, error)
-            self.cpu += time.thread_time() - began
-            if written is not None:
-                written.set()
-
-    def _write(self, rows: list[tuple[str, tuple]]) -> None:
-        """The rows, each run of rows of one statement in one call."""
-        many = self._db.executemany
-        statement, params = rows[0][0], []
-        for row in rows:
-            if row[0] is not statement:
-                many(statement, params)
-                statement, params = row[0], []
-            params.append(row[1])
-        many(statement, params)
+        if rows:
+            self._store.write(rows)
 
     # -- the end ----------------------------------------------------------------------------------------------
     def ended(self, status: Any) -> None:
@@ -418,7 +367,7 @@ class JournalWriter:
         self._finish()
 
     def abandon(self) -> None:
-        """Stop as a killed process would: what was handed over is written, nothing more (tests of a crash)."""
+        """Stop as a killed process would: what was committed is kept, nothing more (tests of a crash)."""
         if self._closed:
             return
         self._stop_listening()
@@ -437,53 +386,7 @@ class JournalWriter:
 
     def _finish(self) -> None:
         self.flush()
-        self._queue.put(None)
-        self._thread.join(timeout=30.0)
-        with contextlib.suppress(sqlite3.Error):
-            self._db.close()
-        release_lock(self._lock_file, self.path)
+        self._store.close()
 
 
-class _Looks:
-    """A run of calls that only look (a polling loop), kept as one row: the distinct calls with their answers, and
-    which one each call was (a byte each, compressed: a loop of two calls asked 10,000 times is a few bytes)."""
-
-    def __init__(self, seq: int, first: int, after: int) -> None:
-        self.seq, self.first, self.after = seq, first, after
-        self.next = first  # the number of the call that would go on this run
-        self.calls: dict[tuple, int] = {}
-        self.sequence = bytearray()
-        self.returned_at = 0.0
-        self.dirty = False
-
-    def add(self, number: int, after: int, key: tuple, time: float) -> bool:
-        """Add call ``number`` (``key``: function, arguments, location, result), returned at ``time``; False when it
-        cannot go on this run (it does not follow, it is on the other side of the stop, or 256 calls are known)."""
-        if number != self.next or after != self.after:
-            return False
-        calls = self.calls
-        index = calls.get(key)
-        if index is None:
-            if len(calls) >= 256:
-                return False
-            index = calls[key] = len(calls)
-        self.sequence.append(index)
-        self.next += 1
-        self.returned_at, self.dirty = time, True
-        return True
-
-    def row(self, segment: int) -> tuple:
-        self.dirty = False
-        calls = [[f, json.loads(a), loc, json.loads(r)] for f, a, loc, r in self.calls]
-        return (self.seq, segment, self.first, len(self.sequence), json.dumps(calls, separators=(",", ":")),
-                zlib.compress(bytes(self.sequence)), round(self.returned_at, 3), self.after)
-
-
-def drone_state(now: float, telemetry: Any) -> dict[str, Any]:
-    """What the journal keeps of the drone's state: an event log's state sample but its time and kind."""
-    state = state_record(now, telemetry)
-    del state["time"], state["kind"]
-    return state
-
-
-__all__ = ["FLUSH_PERIOD", "MOTION", "JournalWriter", "drone_state"]
+__all__ = ["FLUSH_PERIOD", "MOTION", "JournalWriter"]

@@ -45,7 +45,7 @@ def fly_until(flight: FlightSpec, condition: Callable[[FlightSession], bool], **
 
 
 def crash(run: FlightSession) -> None:
-    """End a flight as ``kill -9`` would: the journal keeps what it was handed, the logs stop where they are."""
+    """End a flight as ``kill -9`` would: the journal keeps what it committed, the logs stop where they are."""
     run.journal.abandon()
     for writer in (run.flight_log, run.btlog):
         if writer is not None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import sqlite3
+import time
 
 import pytest
 from aeroexec.cli.main import main
@@ -134,7 +135,7 @@ def test_the_journal_is_read_while_the_run_flies_and_a_flying_run_is_not_resumed
     folder = tmp_path / "run"
     run = fly_until(spec(MISSIONS / "figure10.py", folder), active("GO_TO_POINT", 1.0))
     try:
-        run.journal.sync()
+        run.journal.flush()
         with Journal(folder) as journal:
             assert [r["outcome"] for r in journal.behavior("TAKE_OFF")] == ["GOAL_ACHIEVED"]
             assert [r["outcome"] for r in journal.behavior("GO_TO_POINT")] == [None]
@@ -155,12 +156,38 @@ def test_a_mission_that_failed_by_itself_is_not_resumed(tmp_path):
 
 
 def test_a_journal_that_cannot_be_written_stops_and_the_flight_goes_on(tmp_path, monkeypatch):
-    from aeroexec.flight.journal import writer
+    from aeroexec.flight.journal import store
 
     def full(self, rows):
         raise sqlite3.OperationalError("database or disk is full")
 
-    monkeypatch.setattr(writer.JournalWriter, "_write", full)
+    monkeypatch.setattr(store.JournalStore, "_write", full)
     _, outcome = fly(spec(MISSIONS / "figure10.py", tmp_path / "run"))
     assert outcome.status.word == "completed" and outcome.exit_status == 6
     assert outcome.log_incomplete == "the journal: database or disk is full"
+
+
+def test_the_journal_is_checkpointed_while_the_run_flies_and_whole_after_a_kill(tmp_path, monkeypatch):
+    """The loop only appends to the WAL; the journal's thread copies it into the database as the run goes (here
+    every 5 commits), and a journal left by a killed process (its WAL not checkpointed) reads whole."""
+    from aeroexec.flight.journal import store
+
+    monkeypatch.setattr(store, "CHECKPOINT_COMMITS", 5)
+    monkeypatch.setattr(store, "CHECKPOINT_PERIOD", 60.0)
+    folder = tmp_path / "run"
+    run = fly_until(spec(MISSIONS / "figure10.py", folder), goals_after(2))
+    try:
+        database = folder / "journal.sqlite"
+        for _ in range(200):  # the checkpoint is the thread's: a moment (10 s at most on a loaded machine)
+            if database.stat().st_size > 8 * 4096:
+                break
+            run.engine.step(run.engine.period)
+            run.journal.flush()
+            time.sleep(0.05)
+        assert database.stat().st_size > 8 * 4096  # the events so far are in the database itself
+        assert (folder / "journal.sqlite-wal").is_file()
+    finally:
+        crash(run)
+    with Journal(folder) as journal:
+        assert [r["outcome"] for r in journal.behavior("TAKE_OFF")] == ["GOAL_ACHIEVED"]
+        assert journal.rows("SELECT count(*) FROM events")[0][0] > 20

@@ -8,8 +8,9 @@ The flight journal keeps the last state of a tree mission so that a resumed run 
 - :func:`walk` yields ``(path, node)`` for every node, the wrappers of pre- and post-conditions included; a path
   is the child indexes from the root joined by dots (``""`` the root, ``"0.2"`` its first child's third child).
   :func:`node_at` finds a node by path.
-- :func:`capture` gives a :class:`TreeState`: a :class:`NodeState` per node (path, type, name, status, memory) and
-  the blackboard scopes' entries; :meth:`TreeState.to_json` / :meth:`TreeState.from_json` keep it as text.
+- :func:`capture` gives a :class:`TreeState` (:class:`Capture` captures a tree again and again): a
+  :class:`NodeState` per node (path, type, name, status, memory) and the blackboard scopes' entries;
+  :meth:`TreeState.to_json` / :meth:`TreeState.from_json` keep it as text.
 - :func:`restore` puts a state back into a freshly built tree (raising :class:`TreeStateError`, naming the first
   node that differs, when the tree is not the one captured). A node that was RUNNING is RUNNING again, its memory
   as it was: ticked next, it goes on (a running behavior leaf starts its behavior again); completed nodes keep
@@ -167,18 +168,33 @@ def scopes(root: Behaviour, blackboard: Blackboard | None = None) -> list[Blackb
 # -- capture and restore -------------------------------------------------------------------------------------
 def capture(root: Behaviour, blackboard: Blackboard | None = None) -> TreeState:
     """The state of the tree under ``root`` now (``blackboard``: the mission's scope, first of the scopes)."""
-    walked = list(walk(root))
-    paths = {id(node): path for path, node in walked}
-    nodes = []
-    for path, node in walked:
-        memory = {name: _out(getattr(node, name), node, paths) for name in memory_of(node) if hasattr(node, name)}
-        current = getattr(node, "current_child", None)
-        if current is not None and node.children:
-            memory["current_child"] = next((i for i, c in enumerate(node.children) if c is current), None)
-        nodes.append(NodeState(path, type(node).__name__, node.name, status_name(node), memory))
-    boards = [{"values": {k: encode(v) for k, v in board._local.items()}, "versions": dict(board._versions)}
-              for board in scopes(root, blackboard)]
-    return TreeState(nodes, boards)
+    return Capture(root, blackboard)()
+
+
+class Capture:
+    """Captures the tree under ``root`` again and again (the flight journal keeps a mission's state after every tick
+    that changed it): its walk, its scopes and each node's memory are looked up once, so make a new one when the
+    tree changes shape (``TreeMission.restructured``)."""
+
+    def __init__(self, root: Behaviour, blackboard: Blackboard | None = None) -> None:
+        walked = list(walk(root))
+        self.paths = {id(node): path for path, node in walked}
+        self.nodes = [(path, node, type(node).__name__, memory_of(node)) for path, node in walked]
+        self.boards = scopes(root, blackboard)
+
+    def __call__(self) -> TreeState:
+        """The tree's state now."""
+        paths = self.paths
+        nodes = []
+        for path, node, kind, remembered in self.nodes:
+            memory = {name: _out(getattr(node, name), node, paths) for name in remembered if hasattr(node, name)}
+            current = getattr(node, "current_child", None)
+            if current is not None and node.children:
+                memory["current_child"] = next((i for i, c in enumerate(node.children) if c is current), None)
+            nodes.append(NodeState(path, kind, node.name, status_name(node), memory))
+        boards = [{"values": {k: encode(v) for k, v in board._local.items()}, "versions": dict(board._versions)}
+                  for board in self.boards]
+        return TreeState(nodes, boards)
 
 
 def restore(root: Behaviour, state: TreeState, blackboard: Blackboard | None = None) -> None:
@@ -274,5 +290,5 @@ def _in(data: Any, nodes: dict[str, Behaviour], owner: Behaviour) -> Any:
     return decode(data)
 
 
-__all__ = ["MEMORY", "NodeState", "TreeState", "TreeStateError", "capture", "first_difference", "memory_of",
+__all__ = ["MEMORY", "Capture", "NodeState", "TreeState", "TreeStateError", "capture", "first_difference", "memory_of",
            "node_at", "restore", "restore_mission", "scopes", "shape", "walk"]
