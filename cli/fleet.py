@@ -53,8 +53,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pacing_arguments(parser)
     parser.add_argument("--workers", type=int, metavar="N",
                         help="fly the drones in N worker processes, in lockstep through the fleet's router (default: "
-                             "one per core for fleets of over 100 drones a core, else 1; 1 with --web, the live view "
-                             "or --connect)")
+                             "one for every 100 drones, at most one per core; 1 with --web, the live view or "
+                             "--connect)")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # started by the coordinator
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
     parser.add_argument("--answers", metavar="FILE",
