@@ -7,8 +7,8 @@ and when, is what it would hear with every drone in one process: the same event 
 flies it and however loaded the machine is. A worker whose step does not come within ``patience`` wall seconds, or
 that its coordinator says has left, is waited for no more: its drones fall silent in the fleet's table.
 
-Before the first period the workers meet (:class:`Meeting`): each says hello until every other worker has heard it
-and said so, so no period's messages go to a worker the router does not yet know to hear.
+Before the first period the workers meet (:meth:`Lockstep.met`): each says hello until every other worker has heard
+it and said so, so no period's messages go to a worker the router does not yet know to hear.
 """
 
 from __future__ import annotations
@@ -63,11 +63,12 @@ class Lockstep:
 
     def tick(self, drone: str, period: int, messages: list[tuple[str, str, dict[str, Any]]]) -> None:
         """A tick of ``drone`` (of another worker) for ``period`` arrived."""
-        if period < self.period:
-            logger.warning("a tick of %s for period %d came after that period was taken (now %d): dropped", drone,
-                           period, self.period)
+        owner = self.owner[drone]
+        if owner.left or period < self.period:  # a worker given up on, or a period gone by: too late
+            logger.debug("a tick of %s for period %d came after that period was taken (now %d): dropped", drone,
+                         period, self.period)
             return
-        peer = self.owner[drone].name
+        peer = owner.name
         kept = self._periods.setdefault(period, _Period())
         kept.ticks.setdefault(peer, []).extend(messages)
         kept.arrived[peer] = kept.arrived.get(peer, 0) + 1

@@ -100,6 +100,8 @@ class FleetNode:
         self._closed = False
         self._lockstep: Lockstep | None = None
         self._hello: set[str] = set()  # the other workers heard while meeting
+        self._early: list[tuple[str, str, dict[str, Any]]] = []  # what drones of their own said while meeting
+        self._early_outside: set[str] = set()
         remote = _remote()
         self._queue = session.declare_subscriber(f"aeroexec/{fleet}/**", _queued(), allowed_origin=remote)
 
@@ -156,6 +158,9 @@ class FleetNode:
         period = lockstep.period if lockstep is not None else None
         ticks = self._send(said, period)
         heard, outside = self._take()
+        if self._early:
+            heard[:0], self._early = self._early, []
+            outside |= self._early_outside
         if lockstep is not None:
             self._put(lockstep.me, payloads.step(lockstep.me, lockstep.period, ticks, ended), "step")
             self._wait(heard, outside)
@@ -190,9 +195,8 @@ class FleetNode:
         while True:
             self._put(lockstep.me, payloads.step(lockstep.me, HELLO, 0, False, sorted(self._hello)), "step")
             heard, outside = self._take()
-            if heard:
-                logger.debug("fleet %s: %d messages of drones of their own processes before the first period",
-                             self.fleet, len(heard))
+            self._early.extend(heard)  # drones of processes of their own: heard at the first period
+            self._early_outside |= outside
             if lockstep.met(self._hello):
                 self._put(lockstep.me, payloads.step(lockstep.me, HELLO, 0, False, sorted(self._hello)), "step")
                 return True

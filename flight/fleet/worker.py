@@ -131,6 +131,8 @@ class Worker:
                     for member in fleet.members:
                         member.engine.log.subscribe(self._shower(member.name))
                 if not node.meet(MEETING, self._go):
+                    if self._stopped is not None:
+                        return 130
                     raise FlightError(f"the fleet's other workers were not heard through its router at "
                                       f"{task.endpoint} within {MEETING:.0f} s")
                 self.tell(ready=True)
@@ -166,9 +168,21 @@ def serve(fleet_spec: Any, stdin: IO[str] = sys.stdin, stdout: IO[str] = sys.std
         print(f"aeroexec fleet --worker: not a worker's task on stdin ({error}); only aeroexec fleet starts workers",
               file=sys.stderr)
         return 2
+    from aeroexec.fleet.credentials import CredentialsError
+    from aeroexec.fleet.transport import TransportError
+
     worker = Worker(fleet_spec, task, stdout)
     threading.Thread(target=worker.listen, args=(stdin,), name="aeroexec-worker-lines", daemon=True).start()
-    return worker.fly()
+    try:
+        return worker.fly()
+    except FlightError as error:  # its drones cannot fly: said on its stderr, the coordinator says which worker
+        print(error, file=sys.stderr, flush=True)
+        return 2 if error.usage else 1
+    except (TransportError, CredentialsError) as error:
+        print(error, file=sys.stderr, flush=True)
+        return 1
+    except KeyboardInterrupt:  # stopped before its drones flew
+        return 130
 
 
 __all__ = ["Worker", "WorkerTask", "serve", "spec_from_record", "spec_record"]

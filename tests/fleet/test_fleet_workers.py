@@ -148,3 +148,15 @@ def test_a_worker_that_dies_fails_its_drones_and_the_others_land(tmp_path):
     for drone in ("d1", "d2"):  # the other worker went on without it and landed its drones
         assert status["drones"][drone]["status"] == "aborted"
         assert f"{drone}: " in err and "landed" in err.split(f"{drone}: m")[1].splitlines()[0]
+
+
+def test_a_mission_a_worker_cannot_fly_is_named_with_its_line_and_nothing_flies(tmp_path):
+    fleet = cascade(tmp_path, 4)
+    (tmp_path / "m4.py").write_text("import aeroexec.engine.api as api\n\n\ndef mission(:\n    pass\n")
+    flown = subprocess.run([sys.executable, "-m", "aeroexec", "fleet", str(fleet), "--workers", "2", "--quiet",
+                            "--output", str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert flown.returncode == 1, flown.stderr
+    assert "m4.py:4" in flown.stderr and "the worker flying d3, d4 ended before its drones took off" in flown.stderr
+    assert "internal error" not in flown.stderr and "Traceback" not in flown.stderr
+    assert not any((tmp_path / "out" / d / "events.jsonl").exists() and "TAKE_OFF" in
+                   (tmp_path / "out" / d / "events.jsonl").read_text() for d in ("d1", "d2", "d3", "d4"))
