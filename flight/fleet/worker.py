@@ -123,7 +123,7 @@ class Worker:
             node.lockstep(task.drones[0], task.peers)
             self.fleet = fleet = FleetFlight(node, drones, base, output=output, speed=task.speed,
                                              telemetry_rate=task.telemetry_rate, everyone=tuple(task.everyone),
-                                             notify=lambda text: print(text, file=sys.stderr, flush=True),
+                                             notify=logger.info,  # the coordinator tells the operator
                                              report=lambda problem: print(problem, file=sys.stderr, flush=True))
             try:
                 fleet.open()

@@ -156,9 +156,14 @@ class WorkerFleet:
         if self._stops == 1:
             self.notify(f"interrupted by the operator ({how}): every drone aborts and lands ({how} again leaves "
                         f"them as they are)")
+        elif self._stops == 2:
+            self.notify("interrupted again: leaving the drones as they are")
+        self._tell_all(f"stop {how}")
+
+    def _tell_all(self, line: str) -> None:
         for process in self.processes:
             if not process.ended:
-                self._send(process, f"stop {how}")
+                self._send(process, line)
 
     def _ended(self, process: _Process) -> None:
         status = process.popen.wait()
@@ -170,9 +175,7 @@ class WorkerFleet:
                             for name in process.drones}
             self.notify(f"the worker flying {_named(process.drones)} ended unexpectedly (exit status {status}): its "
                         f"drones are reported failed; the others fly on")
-            for other in self.processes:
-                if not other.ended:
-                    self._send(other, f"left {process.name}")
+            self._tell_all(f"left {process.name}")
 
     # -- the workers' lines --------------------------------------------------------------------------------------------
     def _read(self, process: _Process) -> None:
