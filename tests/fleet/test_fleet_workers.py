@@ -196,3 +196,28 @@ def test_the_operator_commands_the_drones_of_every_worker_with_ctl(tmp_path):
             process.kill()
     assert process.returncode == 1  # aborted missions did not complete
     assert "w4 | " in rest and "operator_command" in rest
+
+
+def test_workers_whose_coordinator_is_killed_land_their_drones_and_end(tmp_path):
+    process = _fly(tmp_path, 4)
+    try:
+        _wait_until_all_up(tmp_path, 4, process)
+        workers = _workers(process)
+        process.kill()  # the coordinator and its router gone at once
+        process.wait(10)
+        deadline = time.monotonic() + 60
+        while any(Path(f"/proc/{pid}").exists() and "zombie" not in Path(f"/proc/{pid}/status").read_text().lower()
+                  for pid in workers):
+            assert time.monotonic() < deadline, "a worker did not end"
+            time.sleep(0.2)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    for i in range(1, 5):
+        log = events(tmp_path / "out", f"d{i}")
+        assert log[-1]["kind"] == "log_closed", f"d{i}"
+        ended = next(e for e in log if e["kind"] == "run_ended")
+        assert ended["detail"] == "aborted" and any(
+            e["kind"] == "operator_interrupt" and "coordinator ended" in e["detail"] for e in log), f"d{i}"
+        assert [e["landed_state"] for e in log if e["kind"] == "state"][-1] == "on_ground", f"d{i}"
+        assert any(e["kind"] == "drone_disarmed" for e in log), f"d{i}"
