@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
-from aeroexec.engine.library import LibraryError, default_library, default_processes
+from aeroexec.engine.library import LibraryError, default_library, default_processes, default_updaters
 from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.robots import DRONE, RobotKind, RobotKindError, robot_kind
 from aeroexec.flight.spec import FlightError, FlightSpec
@@ -131,7 +131,6 @@ def make_engine(spec: FlightSpec, choice: RobotChoice, robot: Any, *, catalog: B
     """The engine that flies ``robot``: its kind's behaviors, processes and settings (the drone's: the aerial library
     with the flight's plugins) and own-state updaters, at :data:`RATE`; raises FlightError."""
     from aeroexec.engine.engine import Engine
-    from aeroexec.engine.library import default_updaters
 
     try:
         updaters = default_updaters(robot, spec.updaters)

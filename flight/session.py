@@ -17,10 +17,11 @@ import logging
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
 from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
+from aeroexec.engine.engine import Engine  # loaded with the session, before the run lists itself as starting
 from aeroexec.engine.errors import Problem
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
@@ -42,9 +43,6 @@ from aeroexec.flight.run_status import FAILED, FlightOutcome, flight_status, rec
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
-
-if TYPE_CHECKING:
-    from aeroexec.engine.engine import Engine
 
 logger = logging.getLogger(__name__)
 
