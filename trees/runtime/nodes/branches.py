@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from aeroexec.trees.runtime.controls import Control
+from aeroexec.trees.runtime.nodes.controls import Control
 from aeroexec.trees.runtime.manifests import MANIFESTS
 from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt, reset
