@@ -7,7 +7,13 @@ from types import SimpleNamespace
 import py_trees
 import pytest
 from aeroexec.trees.runtime.nodes.branches import IfThenElse, WhileDoElse
-from aeroexec.trees.runtime.nodes.controls import Fallback, ReactiveFallback, ReactiveSequence, Sequence, SequenceWithMemory
+from aeroexec.trees.runtime.nodes.controls import (
+    Fallback,
+    ReactiveFallback,
+    ReactiveSequence,
+    Sequence,
+    SequenceWithMemory,
+)
 from aeroexec.trees.runtime.nodes.decorators import (
     Delay,
     ForceFailure,
@@ -21,8 +27,8 @@ from aeroexec.trees.runtime.nodes.decorators import (
 )
 from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
 from aeroexec.trees.runtime.nodes.parallels import Parallel
-from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.nodes.registry import BUILT_IN
+from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import status_name
 from py_trees.common import Status
 

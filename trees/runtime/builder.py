@@ -13,13 +13,13 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from aeroexec.trees.model import POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
-from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.context import TreeContext
+from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.nodes.decorators import SubTree
 from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
-from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from aeroexec.trees.runtime.nodes.registry import BUILT_IN
+from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from py_trees.behaviour import Behaviour
 
 #: A leaf type registered by the caller, as BehaviorTree.CPP's factory registers nodes: model node, blackboard -> leaf.
