@@ -10,7 +10,7 @@ import pytest
 from aeroexec.drones.sim import SimulatedDrone, load_world
 from aeroexec.engine.engine import Engine
 from aeroexec.trees.loaders.aerostack2_nodes import PORTS
-from aeroexec.trees.loaders.mission_file import load_mission_tree
+from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.runtime.runner import TreeMission
 from aeroexec.trees.verify import verify_document

@@ -20,9 +20,9 @@ from aeroexec.engine.catalog import default_catalog
 from aeroexec.trees.groot.btlog import read_btlog
 from aeroexec.trees.items import items_document
 from aeroexec.trees.items.plan import read_plan
-from aeroexec.trees.loaders.mission_file import read_mission_tree
 from aeroexec.trees.loaders.xml_loader import read_xml
 from aeroexec.trees.loaders.xml_writer import write_xml
+from aeroexec.trees.mission_file import read_mission_tree
 from aeroexec.trees.model import TreeFormatError
 
 ROOT = Path(__file__).parents[2]

@@ -11,7 +11,7 @@ from aeroexec.drones.geodesy import geo_to_enu, parse_geo
 from aeroexec.trees.items import items_document
 from aeroexec.trees.items.readers import load_item_mission, read_item_mission
 from aeroexec.trees.items.writer import WriteError, write_plan, write_waypoints
-from aeroexec.trees.loaders.mission_file import read_mission_tree
+from aeroexec.trees.mission_file import read_mission_tree
 from aeroexec.trees.mission_world import world_for
 from aeroexec.trees.model import TreeFormatError
 from real_missions import DATA, FILES, REFUSED, fly, name

@@ -23,7 +23,7 @@ from aeroexec.engine.catalog import default_catalog
 from aeroexec.trees.groot.palette import palette_ports
 from aeroexec.trees.loaders.aerostack2_nodes import is_aerostack2
 from aeroexec.trees.loaders.lenient_xml import escape_attributes
-from aeroexec.trees.loaders.mission_file import load_mission_tree
+from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.portability import portability_problems
 from aeroexec.trees.tml.compiler import load_xml_mission

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.trees.groot.btlog import MAGIC, BtlogError, decode_transition, encode_transition, read_btlog
-from aeroexec.trees.loaders.mission_file import read_mission_tree
+from aeroexec.trees.mission_file import read_mission_tree
 from aeroexec.trees.verify import verify_document
 
 XML = '<root BTCPP_format="4"><BehaviorTree ID="T" _fullpath=""><Sequence name="s" _uid="1">' \

@@ -153,7 +153,7 @@ def test_a_missing_blackboard_key_fails_the_leaf_with_an_explanation(engine):
 def test_an_aerostack_flat_yaml_mission_verifies_and_runs(engine):
     from pathlib import Path
 
-    from aeroexec.trees.loaders.mission_file import load_mission_tree
+    from aeroexec.trees.mission_file import load_mission_tree
     from aeroexec.trees.verify import verify_document
 
     document = load_mission_tree(Path(__file__).parent / "data" / "aerostack_tower_inspection.yaml")

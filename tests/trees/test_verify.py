@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from aeroexec.trees.loaders.mission_file import read_mission_tree
+from aeroexec.trees.mission_file import read_mission_tree
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.verify import verify_document
 
