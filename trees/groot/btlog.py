@@ -6,10 +6,7 @@ The format (BehaviorTree.CPP 4.3 to 4.10, ``src/loggers/bt_file_logger_v2.cpp``)
 
 - 18 bytes ``BTCPP4-FileLogger2``, then the protocol byte 1;
 - 4 bytes: N, the size of the XML (int32), then N bytes: the tree as ``WriteTreeToXML(tree, true, true)`` prints
-  it (tinyxml2, 4-space indent): ``<root BTCPP_format="4">``, one ``<BehaviorTree ID=.. _fullpath=..>`` per tree
-  instance in creation order (``_fullpath``: the SubTree's ``name``, else ``ID::uid``, below its parent's path), every
-  node with ``name`` and ``_uid``, its ports and its ``_skipIf``.. attributes, a ``<SubTree>`` with ``ID``,
-  ``_fullpath`` and ``_uid`` and no children, then a ``<TreeNodesModel>``;
+  it (:mod:`aeroexec.trees.groot.tree_xml`);
 - 8 bytes: the first timestamp (int64, microseconds since the Unix epoch);
 - then 9 bytes per transition: 6 bytes of microseconds since the first timestamp, the node's uid (uint16), the new
   status (uint8: IDLE 0, RUNNING 1, SUCCESS 2, FAILURE 3, SKIPPED 4).
