@@ -30,7 +30,7 @@ from aeroexec.engine.events import EngineEvent
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
 from aeroexec.flight.fleet import STATUS_FILE, FleetFlight, drone_status, event_line, fleet_exit_status, summary_line
 from aeroexec.flight.output import prepare_output
-from aeroexec.flight.session import FlightOutcome
+from aeroexec.flight.run_status import FlightOutcome
 from aeroexec.flight.signals import ending_signals
 from aeroexec.flight.spec import FlightError, FlightSpec
 

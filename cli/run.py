@@ -25,8 +25,8 @@ from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import LiveConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.flight.run_status import COMPLETED, LOG_INCOMPLETE
-from aeroexec.flight.session import FlightOutcome, FlightSession
+from aeroexec.flight.run_status import COMPLETED, LOG_INCOMPLETE, FlightOutcome
+from aeroexec.flight.session import FlightSession
 from aeroexec.flight.signals import ending_signals
 from aeroexec.flight.spec import LINK_GRACE, MAX_TIME, READY_TIMEOUT, FleetJoin, FlightError, FlightSpec
 

@@ -4,9 +4,10 @@ One model for every estimate made before or during a flight: verify's route of a
 live mission change's battery check (through that route), and the safety rules' ``battery_to_home`` and
 ``return_margin`` with their checks before flight (``engine/safety/``). Its figures are the simulated
 multicopter's (:class:`aeroexec.drones.sim.SimConfig`: speeds, accelerations, climb, descent and landing rates,
-the return altitude) and its drain is the simulated battery's own arithmetic (:func:`aeroexec.drones.sim.battery.
-drain_rate`: minutes of hover, extra drain with airspeed and climb, idle on the ground), so an estimate and a
-simulated flight agree; a robot that is no simulator is estimated with the same defaults.
+the return altitude) and its drain is the simulated battery's own arithmetic
+(:func:`aeroexec.drones.sim.vehicle.battery.drain_rate`: minutes of hover, extra drain with airspeed and climb, idle
+on the ground), so an estimate and a simulated flight agree; a robot that is no simulator is estimated with the same
+defaults.
 
 A flight is made of legs as the simulator flies them: a take-off climbs at the take-off rate; GO_TO_POINT flies a
 straight line, its horizontal part at the asked speed with time to accelerate and brake, its vertical part at the
@@ -22,8 +23,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from aeroexec.drones.sim.battery import drain_rate
 from aeroexec.drones.sim.config import SimConfig
+from aeroexec.drones.sim.vehicle.battery import drain_rate
 
 Point = tuple[float, float, float]
 Wind = tuple[float, float]

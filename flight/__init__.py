@@ -15,7 +15,7 @@ from typing import Any
 
 _PUBLIC = {
     "FleetFlight": "fleet", "fleet_exit_status": "fleet", "WorkerFleet": "fleet.workers",
-    "FlightOutcome": "session", "FlightSession": "session",
+    "FlightOutcome": "run_status", "FlightSession": "session",
     "Interrupted": "signals", "ending_signals": "signals",
     "FleetJoin": "spec", "FlightError": "spec", "FlightSpec": "spec",
 }

@@ -321,6 +321,20 @@ def plain(value: Any) -> Any:
 MAX_LOG_BYTES = 1 << 30
 
 
+def world_meta(world: Any) -> dict[str, Any]:
+    """What the event log's first record says of the world: its home (latitude, longitude, altitude) and bounds."""
+    if world is None:
+        return {}
+    meta: dict[str, Any] = {}
+    home = getattr(world, "home", None)
+    if home is not None:
+        meta["home"] = [round(float(home[0]), 8), round(float(home[1]), 8), round(float(home[2]), 3)]
+    bounds = getattr(world, "bounds", None)
+    if bounds is not None:
+        meta["bounds"] = [[float(v) for v in bounds.lower], [float(v) for v in bounds.upper]]
+    return meta
+
+
 def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
     """The records of an event log; a last line cut short (by a crash mid-write) is left out."""
     records: list[dict[str, Any]] = []

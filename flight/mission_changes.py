@@ -16,18 +16,23 @@ the flight.
   starts at the first tick after its thread ended. A Python mission's flight order is checked from the ground: loaded
   while the drone flies, only its requests' formats and values are checked before (the engine refuses a request out
   of order when it comes, FAILED_PRECONDITIONS).
+- A safety rule's contingency (:func:`contingency_handlers`): ``subtree ID`` runs that tree of the mission in place of
+  the running one, ``call FUNCTION`` preempts a Python mission with that function of it.
 """
 
 from __future__ import annotations
 
+import copy
 import logging
 import shutil
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from aeroexec.engine.errors import WRONG_SEQUENCE, Problem
 from aeroexec.engine.events import Outcome
+from aeroexec.engine.missions.bridge import MissionPreempted
 from aeroexec.engine.supervision.changes import (
     ChangeError,
     ChangeOutcome,
@@ -240,6 +245,31 @@ class MissionChanges:
         return self.replacing is not None
 
 
+def contingency_handlers(session: Any) -> dict[str, Callable[[str, Any], bool]]:
+    """The changes a safety rule's contingency makes to ``session``'s running mission: ``subtree ID`` runs that tree
+    of the mission instead; ``call FUNCTION`` that function (the handlers of ``engine.safety.contingencies``)."""
+    def subtree(tree_id: str, rule: Any) -> bool:
+        if session.tree is None or tree_id not in session.mission.trees:
+            return False
+        from aeroexec.trees.runtime.runner import TreeMission
+
+        session.tree.halt(f"safety rule {rule.name}: subtree {tree_id}")
+        document = copy.copy(session.mission)
+        document.main = tree_id
+        session.tree = TreeMission(document, session.engine, name=f"{session.spec.name} ({tree_id})")
+        session.tree.start()
+        return True
+
+    def call(name: str, rule: Any) -> bool:
+        function = getattr(session.mission, "__globals__", {}).get(name)
+        if session.tree is not None or not callable(function):
+            return False
+        session.engine.bridge.preempt(MissionPreempted(function, f"safety rule {rule.name}: call {name}"))
+        return True
+
+    return {"subtree": subtree, "call": call}
+
+
 def _flying(engine: Any) -> bool:
     from aeroexec.drones import LandedState
 
@@ -253,4 +283,4 @@ def _first(problems: list[Problem]) -> str:
     return f"{where}{first.message}{more}"
 
 
-__all__ = ["MissionChanges", "PreparedLoad"]
+__all__ = ["MissionChanges", "PreparedLoad", "contingency_handlers"]

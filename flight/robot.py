@@ -1,7 +1,7 @@
 """The robot of a flight and the world it moves in: the robot kind (``drone`` by default, or one an installed
 plugin adds: its catalog, behaviors, processes, own-state beliefs, simulated robot, default world and engine
-settings), the adapter that drives it (the built-in simulator, MAVSDK, or an ``aeroexec.drones`` adapter), and
-the world file."""
+settings), the adapter that drives it (the built-in simulator, MAVSDK, or an ``aeroexec.drones`` adapter), the
+world file, and the engine built for the robot (:func:`make_engine`) with the operator its questions go to."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
 from aeroexec.engine.library import LibraryError, default_library, default_processes
@@ -17,7 +17,12 @@ from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.robots import DRONE, RobotKind, RobotKindError, robot_kind
 from aeroexec.flight.spec import FlightError, FlightSpec
 
+if TYPE_CHECKING:
+    from aeroexec.engine.engine import Engine
+
 logger = logging.getLogger(__name__)
+
+RATE = 20.0  # Hz: the engine's period
 
 
 def chosen_catalog(path: str | None) -> BehaviorCatalog:
@@ -121,6 +126,35 @@ def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callab
                           f"or NAME:ADDRESS of an installed adapter; {error}") from None
 
 
+def make_engine(spec: FlightSpec, choice: RobotChoice, robot: Any, *, catalog: BehaviorCatalog, clock: Any,
+                world: Any, operator: Any, folder: Path | None) -> Engine:
+    """The engine that flies ``robot``: its kind's behaviors, processes and settings (the drone's: the aerial library
+    with the flight's plugins) and own-state updaters, at :data:`RATE`; raises FlightError."""
+    from aeroexec.engine.engine import Engine
+    from aeroexec.engine.library import default_updaters
+
+    try:
+        updaters = default_updaters(robot, spec.updaters)
+        options = choice.engine_options(robot, spec.library, spec.processes)
+    except LibraryError as error:
+        raise FlightError(str(error)) from None
+    return Engine(robot, catalog=catalog, clock=clock, rate=RATE, obstacles=world, operator=operator,
+                  output_dir=folder, updaters=updaters, **options)
+
+
+def flight_operator(spec: FlightSpec) -> Any:
+    """Where the mission's questions go: the ``--answers`` file, the console or ``ctl answer`` (remote questions),
+    this terminal, or the default answers; raises FlightError."""
+    from aeroexec.engine.supervision.operator import OperatorError, RemoteOperator, make_operator
+
+    if spec.remote_questions and spec.answers is None:
+        return RemoteOperator()
+    try:
+        return make_operator(spec.answers, interactive=spec.interactive)
+    except OperatorError as error:
+        raise FlightError(f"--answers {error}") from None
+
+
 def _mavsdk_vehicle(spec: FlightSpec, notify: Callable[[str], None], cancelled: Callable[[], bool]) -> Any:
     from aeroexec.drones.mavsdk import MavsdkDrone
 
@@ -147,4 +181,5 @@ def _mavsdk_vehicle(spec: FlightSpec, notify: Callable[[str], None], cancelled: 
     return drone
 
 
-__all__ = ["DRONE", "FlightError", "RobotChoice", "chosen_catalog", "load_world", "make_robot", "robot_choice"]
+__all__ = ["DRONE", "RATE", "FlightError", "RobotChoice", "chosen_catalog", "flight_operator", "load_world",
+           "make_engine", "make_robot", "robot_choice"]

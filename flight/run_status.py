@@ -18,12 +18,16 @@ A resumed run's log goes on after the interrupted run's: its status is that of i
 
 Whatever the word, a run whose event log could not be written whole (a full disk) exits 6 unless it failed
 or was aborted: its record is incomplete (:data:`LOG_INCOMPLETE`).
+
+A flight's :class:`FlightOutcome` is its status (:func:`flight_status`: a suspended tree says how many of its goals
+were not reached) with the vehicle's faults and whether its event log is whole.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from aeroexec.engine.events import EngineEvent
@@ -134,6 +138,50 @@ def record_run_status(log: Any, status: RunStatus) -> None:
     log.record(RUN_ENDED, detail=status.word, exit_status=status.exit_status, reasons=list(status.reasons))
 
 
+@dataclass
+class FlightOutcome:
+    """How a flight ended: its status (the word and why), the vehicle's faults, whether the event log is whole,
+    and the exit status ``aeroexec run`` returns for it."""
+
+    status: RunStatus
+    faults: list[str] = field(default_factory=list)
+    log_incomplete: str | None = None  # why the event log stopped short (a full disk), None when whole
+    folder: Path | None = None
+
+    @property
+    def exit_status(self) -> int:
+        return exit_status(self.status, self.log_incomplete is not None)
+
+
+def flight_status(log: Any, faults: list[str], tree: Any = None, catalog: Any = None,
+                  reached_before: Collection[int] = ()) -> RunStatus:
+    """How a flight ended: failed by the vehicle's ``faults``, else as its event ``log`` says; a suspended tree's
+    reason says how many of its goals were not reached (``reached_before``: those a resumed run's earlier parts
+    reached)."""
+    status = RunStatus(FAILED, faults) if faults else run_status(log.events())
+    if status.word == SUSPENDED and tree is not None:
+        reached = {e.data.get("uid") for e in log.events("node_status") if e.data.get("new") == "SUCCESS"}
+        reached |= set(reached_before)
+        left, total = goals_left(tree, catalog, reached)
+        status = RunStatus(SUSPENDED, [f"{status.reasons[0]}; {left} of {total} goals not reached"])
+    return status
+
+
+def goals_left(tree: Any, catalog: Any, reached: Collection[int] = ()) -> tuple[int, int]:
+    """How many of a tree's behavior leaves did not reach their goal, of how many (``reached``: the places, from 1,
+    of the nodes that succeeded before, though a halt has reset them since)."""
+    leaves = [(uid, node) for uid, (_, node) in enumerate(tree.nodes, 1) if _behavior_of(node) in catalog]
+    done = sum(node.status.name == "SUCCESS" or uid in reached for uid, node in leaves)
+    return len(leaves) - done, len(leaves)
+
+
+def _behavior_of(node: Any) -> str:
+    from aeroexec.trees.runtime.builder import model_of
+
+    model = model_of(node)
+    return getattr(model, "type", "") if model is not None else ""
+
+
 __all__ = ["ABORTED", "COMPLETED", "EXIT_STATUS", "FAILED", "FAILURE_KINDS", "LOG_INCOMPLETE", "REFUSAL_KINDS",
-           "REFUSED", "SUSPENDED", "SUSPENSION", "RunStatus", "exit_status", "last_part", "record_run_status",
-           "run_status", "safety_reaction"]
+           "REFUSED", "SUSPENDED", "SUSPENSION", "FlightOutcome", "RunStatus", "exit_status", "flight_status",
+           "goals_left", "last_part", "record_run_status", "run_status", "safety_reaction"]

@@ -13,51 +13,40 @@ faults, how the run ended).
 
 from __future__ import annotations
 
-import copy
 import logging
 import threading
-from collections.abc import Callable, Collection
-from dataclasses import dataclass, field
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
 from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
-from aeroexec.engine.engine import Engine
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.library import LibraryError, default_updaters
-from aeroexec.engine.missions.bridge import MissionPreempted
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
-from aeroexec.flight.flight_log import FlightLogWriter
+from aeroexec.flight.flight_log import FlightLogWriter, world_meta
 from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
-from aeroexec.flight.mission_changes import MissionChanges
+from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import prepare_output
-from aeroexec.flight.robot import RobotChoice, load_world, make_robot, robot_choice, with_rule_files
-from aeroexec.flight.run_status import FAILED, SUSPENDED, RunStatus, exit_status, record_run_status, run_status
+from aeroexec.flight.robot import (
+    RobotChoice,
+    flight_operator,
+    load_world,
+    make_engine,
+    make_robot,
+    robot_choice,
+    with_rule_files,
+)
+from aeroexec.flight.run_status import FAILED, FlightOutcome, flight_status, record_run_status
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
 
+if TYPE_CHECKING:
+    from aeroexec.engine.engine import Engine
+
 logger = logging.getLogger(__name__)
-
-RATE = 20.0  # Hz: the engine's period
-
-
-@dataclass
-class FlightOutcome:
-    """How a flight ended: its status (the word and why), the vehicle's faults, whether the event log is whole,
-    and the exit status ``aeroexec run`` returns for it."""
-
-    status: RunStatus
-    faults: list[str] = field(default_factory=list)
-    log_incomplete: str | None = None  # why the event log stopped short (a full disk), None when whole
-    folder: Path | None = None
-
-    @property
-    def exit_status(self) -> int:
-        return exit_status(self.status, self.log_incomplete is not None)
 
 
 class FlightSession:
@@ -159,7 +148,7 @@ class FlightSession:
             self._join_fleet()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
                 "drone": spec.drone, "seed": spec.seed, "robot": spec.robot, "output": str(self.folder),
-                **_world_meta(self.world)}
+                **world_meta(self.world)}
         if spec.fleet is not None:
             meta.update(fleet=spec.fleet.fleet, drone_name=spec.fleet.name)
         if spec.journal:
@@ -193,7 +182,7 @@ class FlightSession:
             if spec.groot is not None:
                 self._surfaces.add(serve_groot(self.tree, self.catalog, spec.groot, self.notify))
         if self.engine.safety is not None:
-            self._serve_contingencies(self.engine.safety.contingencies.handlers)
+            self.engine.safety.contingencies.handlers.update(contingency_handlers(self))
         if spec.web is not None:
             self._surfaces.add(serve_console({spec.robot: self.engine}, self.world,
                                              {spec.robot: None if self.tree is not None else spec.mission},
@@ -204,14 +193,9 @@ class FlightSession:
         if self.clock is None:
             self.clock = SimulatedClock(start, speed=spec.speed) if simulated else WallClock(start)
         if self.operator is None:
-            self.operator = _operator(spec)
-        try:
-            updaters = default_updaters(self.robot, spec.updaters)
-            options = choice.engine_options(self.robot, spec.library, spec.processes)
-        except LibraryError as error:
-            raise FlightError(str(error)) from None
-        return Engine(self.robot, catalog=self.catalog, clock=self.clock, rate=RATE, obstacles=self.world,
-                      operator=self.operator, output_dir=self.folder, updaters=updaters, **options)
+            self.operator = flight_operator(spec)
+        return make_engine(spec, choice, self.robot, catalog=self.catalog, clock=self.clock, world=self.world,
+                           operator=self.operator, folder=self.folder)
 
     def _open_journal(self, meta: dict[str, Any]) -> None:
         """The flight journal: a new one, or the interrupted run's going on (a resume)."""
@@ -222,29 +206,6 @@ class FlightSession:
             raise FlightError(str(error)) from None
         if self.resumption is not None:
             self.notify(f"resuming {self.spec.name} from {self.resumption.point.where()}")
-
-    def _serve_contingencies(self, handlers: dict) -> None:
-        """A safety rule's ``subtree ID`` runs that tree of the mission instead; ``call FUNCTION`` that function."""
-        def subtree(tree_id: str, rule: Any) -> bool:
-            if self.tree is None or tree_id not in self.mission.trees:
-                return False
-            from aeroexec.trees.runtime.runner import TreeMission
-
-            self.tree.halt(f"safety rule {rule.name}: subtree {tree_id}")
-            document = copy.copy(self.mission)
-            document.main = tree_id
-            self.tree = TreeMission(document, self.engine, name=f"{self.spec.name} ({tree_id})")
-            self.tree.start()
-            return True
-
-        def call(name: str, rule: Any) -> bool:
-            function = getattr(self.mission, "__globals__", {}).get(name)
-            if self.tree is not None or not callable(function):
-                return False
-            self.engine.bridge.preempt(MissionPreempted(function, f"safety rule {rule.name}: call {name}"))
-            return True
-
-        handlers.update(subtree=subtree, call=call)
 
     def _join_fleet(self) -> None:
         from aeroexec.fleet.joined import join_fleet
@@ -372,13 +333,8 @@ class FlightSession:
     def finish(self, faults: list[str]) -> FlightOutcome:
         """Record how the flight ended (faults fail it) and close the outputs; the outcome."""
         engine = self.engine
-        status = RunStatus(FAILED, faults) if faults else run_status(engine.log.events())
-        if status.word == SUSPENDED and self.tree is not None:
-            reached = {e.data.get("uid") for e in engine.log.events("node_status") if e.data.get("new") == "SUCCESS"}
-            if self.resumption is not None:
-                reached |= self.resumption.reached
-            left, total = goals_left(self.tree, self.catalog, reached)
-            status = RunStatus(SUSPENDED, [f"{status.reasons[0]}; {left} of {total} goals not reached"])
+        status = flight_status(engine.log, faults, self.tree, self.catalog,
+                               self.resumption.reached if self.resumption is not None else ())
         self._tell_fleet("failed" if status.word == FAILED else
                          "completed" if status.exit_status in (0, 3) else "stopped")
         record_run_status(engine.log, status)
@@ -426,46 +382,6 @@ class FlightSession:
             _quietly(self.robot.close)
 
 
-def goals_left(tree: Any, catalog: Any, reached: Collection[int] = ()) -> tuple[int, int]:
-    """How many of a tree's behavior leaves did not reach their goal, of how many (``reached``: the places, from 1,
-    of the nodes that succeeded before, though a halt has reset them since)."""
-    leaves = [(uid, node) for uid, (_, node) in enumerate(tree.nodes, 1) if _behavior_of(node) in catalog]
-    done = sum(node.status.name == "SUCCESS" or uid in reached for uid, node in leaves)
-    return len(leaves) - done, len(leaves)
-
-
-def _behavior_of(node: Any) -> str:
-    from aeroexec.trees.runtime.builder import model_of
-
-    model = model_of(node)
-    return getattr(model, "type", "") if model is not None else ""
-
-
-def _world_meta(world: Any) -> dict[str, Any]:
-    """What the event log's first record says of the world: its home (latitude, longitude, altitude) and bounds."""
-    if world is None:
-        return {}
-    meta: dict[str, Any] = {}
-    home = getattr(world, "home", None)
-    if home is not None:
-        meta["home"] = [round(float(home[0]), 8), round(float(home[1]), 8), round(float(home[2]), 3)]
-    bounds = getattr(world, "bounds", None)
-    if bounds is not None:
-        meta["bounds"] = [[float(v) for v in bounds.lower], [float(v) for v in bounds.upper]]
-    return meta
-
-
-def _operator(spec: FlightSpec) -> Any:
-    from aeroexec.engine.supervision.operator import OperatorError, RemoteOperator, make_operator
-
-    if spec.remote_questions and spec.answers is None:
-        return RemoteOperator()
-    try:
-        return make_operator(spec.answers, interactive=spec.interactive)
-    except OperatorError as error:
-        raise FlightError(f"--answers {error}") from None
-
-
 def _quietly(close: Callable[[], Any]) -> None:
     try:
         close()
@@ -473,4 +389,4 @@ def _quietly(close: Callable[[], Any]) -> None:
         logger.exception("closing %s failed", getattr(close, "__qualname__", close))
 
 
-__all__ = ["FlightOutcome", "FlightSession", "goals_left"]
+__all__ = ["FlightSession"]

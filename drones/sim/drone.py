@@ -18,9 +18,9 @@ from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure,
 from aeroexec.drones.sim.airspace import Airspace
 from aeroexec.drones.sim.camera import Camera, merge_observations
 from aeroexec.drones.sim.config import SimConfig
-from aeroexec.drones.sim.motion import wrap180
-from aeroexec.drones.sim.multicopter import FALL, IDLE, TAKEOFF, Multicopter
 from aeroexec.drones.sim.payload import PayloadBay
+from aeroexec.drones.sim.vehicle.motion import wrap180
+from aeroexec.drones.sim.vehicle.multicopter import FALL, IDLE, TAKEOFF, Multicopter
 from aeroexec.drones.sim.world import World
 from aeroexec.drones.sim.world_file import default_world
 

@@ -29,7 +29,8 @@ from aeroexec.engine.missions.script import ScriptMission, fly_together
 from aeroexec.flight.ending import FlightEnding
 from aeroexec.flight.fleet.status import drone_status, write_status
 from aeroexec.flight.robot import load_world, robot_choice
-from aeroexec.flight.session import FlightOutcome, FlightSession
+from aeroexec.flight.run_status import FlightOutcome
+from aeroexec.flight.session import FlightSession
 from aeroexec.flight.spec import FleetJoin, FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console
 

@@ -21,7 +21,7 @@ def event_line(drone: str, event: Any) -> str | None:
 
 
 def drone_status(outcome: Any) -> dict[str, Any]:
-    """One drone's record of :data:`STATUS_FILE`, from its :class:`~aeroexec.flight.session.FlightOutcome`."""
+    """One drone's record of :data:`STATUS_FILE`, from its :class:`~aeroexec.flight.run_status.FlightOutcome`."""
     return {"status": outcome.status.word, "reasons": outcome.status.reasons, "faults": outcome.faults,
             "exit_status": outcome.exit_status, "log_incomplete": outcome.log_incomplete}
 

@@ -5,7 +5,7 @@ over the platform's path, with the broad phase and without it."""
 import math
 import random
 
-from aeroexec.drones.sim.contact import DECK_CONTACT, Contacts
+from aeroexec.drones.sim.vehicle.contact import DECK_CONTACT, Contacts
 from aeroexec.drones.sim.world import Bounds, Platform, World, WorldObject
 
 OBJECTS = (WorldObject("ball", "red", "sphere", (3.0, 0.0, 0.4)), WorldObject("box", "blue", "cube", (-4.1, 3.9, 1.0)),

@@ -13,7 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.flight.journal import Journal
-from aeroexec.flight.session import FlightOutcome, FlightSession
+from aeroexec.flight.run_status import FlightOutcome
+from aeroexec.flight.session import FlightSession
 from aeroexec.flight.spec import FlightSpec
 
 ROOT = Path(__file__).parents[2]

@@ -10,10 +10,11 @@ import logging
 import math
 
 from aeroexec.drones.interface import DroneEvent, LandedState
-from aeroexec.drones.sim.battery import Battery
 from aeroexec.drones.sim.config import SimConfig
-from aeroexec.drones.sim.contact import Contacts
-from aeroexec.drones.sim.motion import (
+from aeroexec.drones.sim.shapes import ObstacleIndex
+from aeroexec.drones.sim.vehicle.battery import Battery
+from aeroexec.drones.sim.vehicle.contact import Contacts
+from aeroexec.drones.sim.vehicle.motion import (
     Limits,
     accelerate,
     clamp_velocity,
@@ -23,7 +24,6 @@ from aeroexec.drones.sim.motion import (
     turn_yaw,
     wrap180,
 )
-from aeroexec.drones.sim.shapes import ObstacleIndex
 from aeroexec.drones.sim.world import World
 
 logger = logging.getLogger(__name__)
