@@ -3,7 +3,7 @@
 Beliefs are ground terms such as ``charge(battery, 80)``. The memory keeps them
 consistent (adding a value of a mutually exclusive predicate retracts the old
 one), forgets beliefs whose persistence has run out, answers belief expressions
-by unification through its indexes, derives beliefs by rules (``beliefs/derivation.py``),
+by unification through its indexes, derives beliefs by rules (``beliefs/rules/derivation.py``),
 and tells listeners of every change. It is not thread-safe: the engine serializes
 access to it on its own loop.
 """
@@ -17,13 +17,13 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
 from aeroexec.beliefs.changes import BeliefChange
-from aeroexec.beliefs.derivation import RuleBook
 from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
 from aeroexec.beliefs.parser import parse_belief, parse_expression
 from aeroexec.beliefs.query import CompiledQuery
-from aeroexec.beliefs.reasoning import Reasoning
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
+from aeroexec.beliefs.rules.derivation import RuleBook
+from aeroexec.beliefs.rules.reasoning import Reasoning
 from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
