@@ -162,3 +162,62 @@ def test_a_mission_a_worker_cannot_fly_is_named_with_its_line_and_nothing_flies(
     assert "internal error" not in flown.stderr and "Traceback" not in flown.stderr
     assert not any((tmp_path / "out" / d / "events.jsonl").exists() and "TAKE_OFF" in
                    (tmp_path / "out" / d / "events.jsonl").read_text() for d in ("d1", "d2", "d3", "d4"))
+
+
+def test_the_operator_commands_the_drones_of_every_worker_with_ctl(tmp_path):
+    waiting = Path(__file__).resolve().parents[2] / "missions" / "relay_carrier.py"  # waits on the ground
+    fleet = tmp_path / "wait.yaml"
+    fleet.write_text("fleet: waiting\ndrones:\n" + "".join(
+        f"  - {{name: w{i}, mission: {waiting}, home: [{3 * i}, 0]}}\n" for i in range(1, 5)))
+    out = tmp_path / "out"
+    process = subprocess.Popen([sys.executable, "-m", "aeroexec", "fleet", str(fleet), "--workers", "2", "--plain",
+                                "--speed", "1", "--output", str(out)], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True)
+
+    def ctl(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "aeroexec", "ctl", "--fleet", "waiting", "--run", str(out),
+                               *args], capture_output=True, text=True, timeout=60)
+
+    try:
+        deadline = time.monotonic() + 60
+        while not (out / "w4" / "events.jsonl").exists() or "fleet_drone_heard" not in (
+                out / "w4" / "events.jsonl").read_text():
+            assert time.monotonic() < deadline and process.poll() is None, "the fleet never flew"
+            time.sleep(0.2)
+        status = ctl("status")
+        assert status.returncode == 0, status.stderr
+        assert all(f"w{i}: " in status.stdout for i in range(1, 5)), status.stdout  # both workers answered
+        aborted = ctl("abort", "--drone", "w4")  # a drone of the second worker
+        assert aborted.returncode == 0 and "w4: " in aborted.stdout and "w1" not in aborted.stdout
+        assert ctl("abort").returncode == 0
+        rest, _ = process.communicate(timeout=90)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 1  # aborted missions did not complete
+    assert "w4 | " in rest and "operator_command" in rest
+
+
+def test_workers_whose_coordinator_is_killed_land_their_drones_and_end(tmp_path):
+    process = _fly(tmp_path, 4)
+    try:
+        _wait_until_all_up(tmp_path, 4, process)
+        workers = _workers(process)
+        process.kill()  # the coordinator and its router gone at once
+        process.wait(10)
+        deadline = time.monotonic() + 60
+        while any(Path(f"/proc/{pid}").exists() and "zombie" not in Path(f"/proc/{pid}/status").read_text().lower()
+                  for pid in workers):
+            assert time.monotonic() < deadline, "a worker did not end"
+            time.sleep(0.2)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    for i in range(1, 5):
+        log = events(tmp_path / "out", f"d{i}")
+        assert log[-1]["kind"] == "log_closed", f"d{i}"
+        ended = next(e for e in log if e["kind"] == "run_ended")
+        assert ended["detail"] == "aborted" and any(
+            e["kind"] == "operator_interrupt" and "coordinator ended" in e["detail"] for e in log), f"d{i}"
+        assert [e["landed_state"] for e in log if e["kind"] == "state"][-1] == "on_ground", f"d{i}"
+        assert any(e["kind"] == "drone_disarmed" for e in log), f"d{i}"
