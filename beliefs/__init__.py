@@ -4,7 +4,7 @@ from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, RuleError, R
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, Rule
 from aeroexec.beliefs.memory import BeliefChange, BeliefMemory
 from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, parse_term, read_rules
-from aeroexec.beliefs.proofs import Proof
+from aeroexec.beliefs.rules.proofs import Proof
 from aeroexec.beliefs.terms import ListTerm, Struct, Var, format_term, term, to_python
 from aeroexec.beliefs.updater import BeliefUpdater, FunctionUpdater, publish
 

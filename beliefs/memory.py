@@ -3,9 +3,9 @@
 Beliefs are ground terms such as ``charge(battery, 80)``. The memory keeps them
 consistent (adding a value of a mutually exclusive predicate retracts the old
 one), forgets beliefs whose persistence has run out, answers belief expressions
-by unification through its indexes, derives beliefs by rules (``beliefs/derivation.py``),
-and tells listeners of every change. It is not thread-safe: the engine serializes
-access to it on its own loop.
+by unification through its indexes (``beliefs/consulting.py``), derives beliefs
+by rules (``beliefs/rules/derivation.py``), and tells listeners of every change.
+It is not thread-safe: the engine serializes access to it on its own loop.
 """
 
 from __future__ import annotations
@@ -17,24 +17,24 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
 from aeroexec.beliefs.changes import BeliefChange
-from aeroexec.beliefs.derivation import RuleBook
-from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, UnknownPredicateError
+from aeroexec.beliefs.consulting import Consulting, Expression
+from aeroexec.beliefs.errors import BeliefError
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
-from aeroexec.beliefs.parser import parse_belief, parse_expression
+from aeroexec.beliefs.parser import parse_expression
 from aeroexec.beliefs.query import CompiledQuery
-from aeroexec.beliefs.reasoning import Reasoning
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
+from aeroexec.beliefs.rules.derivation import RuleBook
+from aeroexec.beliefs.rules.reasoning import Reasoning
 from aeroexec.beliefs.shared import SharedView
-from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
+from aeroexec.beliefs.spellings import respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
-from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
+from aeroexec.beliefs.terms import Struct, format_term
 
 log = logging.getLogger(__name__)
 
-Expression = str | Conjunction | Struct
 __all__ = ["BeliefChange", "BeliefMemory"]
 
-class BeliefMemory(Reasoning):
+class BeliefMemory(Reasoning, Consulting):
     """An indexed memory of beliefs answering belief expressions by unification.
 
     ``multivalued`` names predicates whose values are not mutually exclusive;
@@ -319,98 +319,8 @@ class BeliefMemory(Reasoning):
         return found
 
     # -- internals ----------------------------------------------------------------
-    def _answer(self, expression: Expression, bindings: Mapping[str, Any] | None) -> dict | None:
-        """The first unification (not to be changed: it may be the one remembered for the next call).
-
-        An expression without bindings that reads only stored beliefs is solved again only when a relation it
-        reads has changed (or the plans' epoch moved): relations' versions and the epoch only grow, so their
-        sum tells.
-        """
-        if self._heap:
-            self._expire_due()
-        compiled = self._queries.get(expression)
-        if compiled is None:
-            compiled = self._compile(expression)
-        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
-        if bindings:
-            return compiled.first(relations, self._bind(bindings))
-        reads = compiled.reads
-        if reads is None or not self.standing_answers:  # a computed predicate: asked every time
-            return compiled.first(relations)
-        stamp = relations.epoch
-        for signature in reads:
-            rel = relations.get(signature)
-            if rel is not None:
-                stamp += rel.version + 1
-        if compiled.stamp != stamp:
-            compiled.answer, compiled.stamp = compiled.first(relations), stamp
-        return compiled.answer
-
-    def _compile(self, expression: Expression) -> CompiledQuery:
-        if type(expression) is Struct:
-            conjunction = Conjunction((Goal(expression),), format_term(expression))
-        elif type(expression) is Conjunction:
-            conjunction = expression
-        elif isinstance(expression, str):
-            conjunction = parse_expression(expression)
-        else:
-            raise BeliefSyntaxError(repr(expression), "a belief expression is text")
-        self._check_vocabulary(conjunction)
-        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._answered)
-        predicates = conjunction.predicates
-        book = self._rulebook
-        derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
-        compiled.derived = derived or None
-        if not derived:
-            compiled.probe = compiled.probe_in(self._relations)
-        compiled.reads = (None if any(p in self._answered or (book and book.volatile(p)) for p in predicates)
-                          else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
-        if len(self._queries) > 4096:
-            self._queries.clear()
-        self._queries[expression] = compiled
-        return compiled
-
-    @staticmethod
-    def _bind(bindings: Mapping[str, Any]) -> dict:
-        return {Var(name): from_python(value) for name, value in bindings.items()}
-
     def _is_exclusive(self, name: str) -> bool:
         return name not in self._multivalued
-
-    def _check_vocabulary(self, conjunction: Conjunction) -> None:
-        if not self._vocabulary:
-            return
-        book = self._rulebook
-        for name, arity in conjunction.predicates:
-            if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
-                continue
-            if book is not None and book.is_derived((name, arity)):
-                continue
-            declared = self._vocabulary.get(name)
-            if declared is None:
-                raise UnknownPredicateError(name, conjunction.text or str(conjunction))
-            if declared != arity:
-                raise UnknownPredicateError(
-                    f"{name}/{arity}",
-                    conjunction.text or str(conjunction),
-                    f"{name} takes {declared} argument{'s' if declared != 1 else ''}",
-                )
-
-    def _parse_belief(self, text: Any) -> Struct:
-        if not isinstance(text, str):
-            raise BeliefSyntaxError(repr(text), "a belief is text or a term")
-        belief = parse_belief(text)
-        self._check_vocabulary(Conjunction((Goal(belief),), text))
-        return belief
-
-    def _parse_goal(self, text: Any) -> Struct:
-        if not isinstance(text, str):
-            raise BeliefSyntaxError(repr(text), "a belief pattern is text or a term")
-        expr = parse_expression(text)
-        if len(expr.literals) != 1 or type(expr.literals[0]) is not Goal:
-            raise BeliefSyntaxError(text, "expected a single predicate such as visible(?X)")
-        self._check_vocabulary(expr)
-        return expr.literals[0].term
 
     def _new_relation(self, belief: Struct) -> Relation:
         name, arity = belief.signature

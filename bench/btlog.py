@@ -14,7 +14,7 @@ from pathlib import Path
 
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.trees.btlog import BtlogWriter
+from aeroexec.trees.groot.btlog import BtlogWriter
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.runtime.runner import TreeMission
 

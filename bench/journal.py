@@ -116,7 +116,7 @@ def patrol_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
 
 def tree_case(kind: str, folder: Path, seconds: float) -> Callable[[], int]:
     from aeroexec.trees import read_mission_tree
-    from aeroexec.trees.btlog import BtlogWriter
+    from aeroexec.trees.groot.btlog import BtlogWriter
     from aeroexec.trees.runtime.runner import TreeMission
 
     made = engine(kind, folder)

@@ -6,7 +6,7 @@ import argparse
 
 from aeroexec.cli.lines import write_output
 from aeroexec.flight.robot import chosen_catalog
-from aeroexec.trees.groot import tree_nodes_model
+from aeroexec.trees.groot.palette import tree_nodes_model
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -165,7 +165,7 @@ class FlightSession:
         if self.control is not None:
             self.control.attach(self.engine)
         if isinstance(self.mission, TreeDocument):
-            from aeroexec.trees.btlog import BtlogWriter
+            from aeroexec.trees.groot.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
             if self.resumption is not None:  # the tree as changed in flight, then its state
@@ -259,7 +259,7 @@ class FlightSession:
         engine, name = self.engine, Path(path).name
         self.mission = mission
         if isinstance(mission, TreeDocument):
-            from aeroexec.trees.btlog import BtlogWriter
+            from aeroexec.trees.groot.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
             self.tree = TreeMission(mission, engine, name=name)

@@ -37,7 +37,7 @@ def serve_console(engines: dict[str, Any], world: Any, mission_files: dict[str, 
 
 def serve_groot(tree_mission: Any, catalog: Any, port: int, notify: Callable[[str], None] = print) -> Any:
     """The Groot2 publisher of a tree mission on ``port`` (and ``port + 1``); raises FlightError when it cannot."""
-    from aeroexec.trees.groot_publisher import GrootPublisher, GrootPublisherError
+    from aeroexec.trees.groot.publisher import GrootPublisher, GrootPublisherError
 
     try:
         publisher = GrootPublisher(tree_mission, port=port, catalog=catalog)

@@ -27,10 +27,10 @@ from aeroexec.trees.model import PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.route import estimate_route
 from aeroexec.trees.runtime.builder import model_of
 from aeroexec.trees.runtime.changes import ChangePlan
-from aeroexec.trees.runtime.controls import Sequence
-from aeroexec.trees.runtime.decorators import Decorator, Repeat, SubTree
-from aeroexec.trees.runtime.node_conditions import NodeConditions
-from aeroexec.trees.runtime.parallels import Parallel, ParallelAll
+from aeroexec.trees.runtime.nodes.controls import Sequence
+from aeroexec.trees.runtime.nodes.decorators import Decorator, Repeat, SubTree
+from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
+from aeroexec.trees.runtime.nodes.parallels import Parallel, ParallelAll
 from aeroexec.trees.runtime.ticking import RUNNING, SUCCESS
 from aeroexec.trees.sequence_check import SequenceChecker
 from aeroexec.trees.verify import TreeVerifier

@@ -2,8 +2,8 @@
 
 ``load_mission_tree(path)`` reads ``.xml`` (BehaviorTree.CPP v4, :mod:`aeroexec.trees.loaders.xml_loader`, or a TML
 mission when the document element is ``<mission>``, :mod:`aeroexec.trees.tml.compiler`; Aerostack2's behavior-tree
-nodes are mapped onto the catalog, :mod:`aeroexec.trees.aerostack2_nodes`), ``.yaml``/``.yml`` (the nested form or
-Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`), Aerostack2's interpreter missions in
+nodes are mapped onto the catalog, :mod:`aeroexec.trees.loaders.aerostack2_nodes`), ``.yaml``/``.yml`` (the nested
+form or Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`), Aerostack2's interpreter missions in
 ``.json``, ``.yaml`` or ``.yml`` (``{target, plan}``, :mod:`aeroexec.trees.loaders.aerostack2_loader`) and the
 mission-item files (:mod:`aeroexec.trees.items`): ``.plan`` and ``.mission`` (QGroundControl), ``.waypoints`` and
 ``.txt`` (QGC WPL 110), placed from ``home`` (the world's home point; default: the mission's own) into a
@@ -38,7 +38,7 @@ def load_mission_tree(path: str | Path, home: Geodetic | None = None) -> TreeDoc
 
         return items_document(load_item_mission(path), home)
     if suffix == ".xml":
-        from aeroexec.trees.aerostack2_nodes import aerostack2_tree
+        from aeroexec.trees.loaders.aerostack2_nodes import aerostack2_tree
         from aeroexec.trees.tml.compiler import load_xml_mission
 
         return aerostack2_tree(load_xml_mission(path), home)
@@ -60,7 +60,7 @@ def read_mission_tree(text: str | bytes, file: str, home: Geodetic | None = None
 
         return items_document(read_item_mission(text, file), home)
     if suffix == ".xml":
-        from aeroexec.trees.aerostack2_nodes import aerostack2_tree
+        from aeroexec.trees.loaders.aerostack2_nodes import aerostack2_tree
         from aeroexec.trees.tml.compiler import read_xml_mission
 
         return aerostack2_tree(read_xml_mission(text, file), home)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import MissionProblem
-from aeroexec.trees.groot import palette_ports
+from aeroexec.trees.groot.palette import palette_ports
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, template_keys
 from aeroexec.trees.runtime.manifests import MANIFESTS

@@ -143,7 +143,7 @@ class Resumption:
     def restore_tree(self, tree: Any, mission: Any = "the mission") -> None:
         """Put the tree's kept state back (FlightError when ``mission``'s tree is not the one interrupted); the
         leaves whose goal was reached meanwhile are settled."""
-        from aeroexec.trees.runtime.behavior_leaves import BehaviorLeaf
+        from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
         from aeroexec.trees.runtime.tree_state import TreeState, TreeStateError, restore_mission, walk
 
         self.tree = tree

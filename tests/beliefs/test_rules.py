@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import pytest
-from aeroexec.beliefs import BeliefMemory, RuleError, Struct, joins, parse_rules
+from aeroexec.beliefs import BeliefMemory, RuleError, Struct, parse_rules
+from aeroexec.beliefs.rules import joins
 
 ZONES = """% where a drone may land
 safe_zone(?Z) :- zone(?Z), not(occupied(?Z)), wind(?Z, ?W), ?W < 8.
@@ -64,7 +65,7 @@ def test_asking_again_while_nothing_changed_costs_a_look_up(memory, monkeypatch)
     assert memory.holds("safe_zone(z1)")
     calls = []
     real = joins.evaluate
-    monkeypatch.setattr("aeroexec.beliefs.derivation.evaluate", lambda *a: calls.append(a) or real(*a))
+    monkeypatch.setattr("aeroexec.beliefs.rules.derivation.evaluate", lambda *a: calls.append(a) or real(*a))
     for step in range(100):  # a condition ticked every period while the drone moves
         memory.add(Struct("position", ("self", (step, 0, 5))))
         assert memory.holds("safe_zone(z1)")

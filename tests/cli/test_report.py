@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from aeroexec.cli.reporting.style import PATH_COLOR, RETURN_COLOR
-from aeroexec.trees.btlog import STATUS_CODES, read_btlog
+from aeroexec.trees.groot.btlog import STATUS_CODES, read_btlog
 from PIL import Image
 
 ROOT = Path(__file__).parents[2]

@@ -14,7 +14,7 @@ import behaviortreepy as bt
 import msgpack
 import pytest
 import zmq
-from aeroexec.trees.groot_publisher import GrootPublisher, GrootPublisherError
+from aeroexec.trees.groot.publisher import GrootPublisher, GrootPublisherError
 from console_helpers import TREE, free_port
 
 REQUEST_ID = 0x11223344

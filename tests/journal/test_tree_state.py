@@ -10,7 +10,7 @@ from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.engine import Engine
 from aeroexec.trees import read_mission_tree
-from aeroexec.trees.runtime.registry import BUILT_IN
+from aeroexec.trees.runtime.nodes.registry import BUILT_IN
 from aeroexec.trees.runtime.runner import TreeMission
 from aeroexec.trees.runtime.ticking import status_name
 from aeroexec.trees.runtime.tree_state import TreeState, TreeStateError, capture, restore_mission

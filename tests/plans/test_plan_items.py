@@ -17,7 +17,7 @@ import pytest
 from aeroexec.drones.geodesy import enu_to_geodetic, geo_to_enu, parse_geo
 from aeroexec.drones.sim import default_world
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.btlog import read_btlog
+from aeroexec.trees.groot.btlog import read_btlog
 from aeroexec.trees.items import items_document
 from aeroexec.trees.items.plan import read_plan
 from aeroexec.trees.loaders.xml_loader import read_xml

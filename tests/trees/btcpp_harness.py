@@ -46,7 +46,7 @@ from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.builder import TreeBuildError, build_tree, describe, model_of
 from aeroexec.trees.runtime.context import TreeContext
-from aeroexec.trees.runtime.node_conditions import NodeConditions
+from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
 from aeroexec.trees.runtime.ticking import TickError, TickState, attach, result_of, tick_tree
 from aeroexec.trees.script import text_of
 from py_trees.behaviour import Behaviour

@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from aeroexec.trees import groot
+from aeroexec.trees.groot import palette as groot
 from aeroexec.trees.runtime.manifests import MANIFESTS
 from btcpp_harness import compare, run_aeroexec
 from one_feature_trees import DATA, LENIENT, ONE_FEATURE, Case

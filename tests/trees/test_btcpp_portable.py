@@ -20,8 +20,8 @@ import behaviortreepy as bt
 import pytest
 from aeroexec.cli.main import main
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.aerostack2_nodes import is_aerostack2
-from aeroexec.trees.groot import palette_ports
+from aeroexec.trees.groot.palette import palette_ports
+from aeroexec.trees.loaders.aerostack2_nodes import is_aerostack2
 from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError

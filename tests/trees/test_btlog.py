@@ -5,7 +5,7 @@ import struct
 from pathlib import Path
 
 import pytest
-from aeroexec.trees.btlog import MAGIC, BtlogError, decode_transition, encode_transition, read_btlog
+from aeroexec.trees.groot.btlog import MAGIC, BtlogError, decode_transition, encode_transition, read_btlog
 from aeroexec.trees.mission_file import read_mission_tree
 from aeroexec.trees.verify import verify_document
 

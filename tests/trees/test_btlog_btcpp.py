@@ -12,7 +12,7 @@ import behaviortreepy as bt
 import pytest
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
-from aeroexec.trees.btlog import MAGIC, RECORD, BtlogWriter, read_btlog
+from aeroexec.trees.groot.btlog import MAGIC, RECORD, BtlogWriter, read_btlog
 from aeroexec.trees.loaders.xml_loader import read_xml
 from aeroexec.trees.runtime.runner import TreeMission
 from btcpp_files import settle

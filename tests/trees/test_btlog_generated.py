@@ -15,7 +15,7 @@ from types import SimpleNamespace
 import behaviortreepy as bt
 import pytest
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.btlog import TransitionTracker, read_btlog
+from aeroexec.trees.groot.btlog import TransitionTracker, read_btlog
 from aeroexec.trees.loaders.xml_writer import write_xml
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runtime.blackboard import Blackboard

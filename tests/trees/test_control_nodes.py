@@ -6,9 +6,15 @@ from types import SimpleNamespace
 
 import py_trees
 import pytest
-from aeroexec.trees.runtime.branches import IfThenElse, WhileDoElse
-from aeroexec.trees.runtime.controls import Fallback, ReactiveFallback, ReactiveSequence, Sequence, SequenceWithMemory
-from aeroexec.trees.runtime.decorators import (
+from aeroexec.trees.runtime.nodes.branches import IfThenElse, WhileDoElse
+from aeroexec.trees.runtime.nodes.controls import (
+    Fallback,
+    ReactiveFallback,
+    ReactiveSequence,
+    Sequence,
+    SequenceWithMemory,
+)
+from aeroexec.trees.runtime.nodes.decorators import (
     Delay,
     ForceFailure,
     ForceSuccess,
@@ -19,10 +25,10 @@ from aeroexec.trees.runtime.decorators import (
     RunOnce,
     Timeout,
 )
-from aeroexec.trees.runtime.node_conditions import NodeConditions
-from aeroexec.trees.runtime.parallels import Parallel
+from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
+from aeroexec.trees.runtime.nodes.parallels import Parallel
+from aeroexec.trees.runtime.nodes.registry import BUILT_IN
 from aeroexec.trees.runtime.ports import NodeConfig
-from aeroexec.trees.runtime.registry import BUILT_IN
 from aeroexec.trees.runtime.ticking import status_name
 from py_trees.common import Status
 

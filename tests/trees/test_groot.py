@@ -2,7 +2,7 @@
 
 import defusedxml.ElementTree as ElementTree
 from aeroexec.engine.catalog import default_catalog
-from aeroexec.trees.groot import tree_nodes_model
+from aeroexec.trees.groot.palette import tree_nodes_model
 
 
 def test_every_behavior_is_an_action_with_its_arguments_as_ports():
@@ -29,7 +29,7 @@ def test_the_engine_leaves_are_in_the_palette():
 
 def test_every_port_aeroexec_accepts_on_its_leaves_is_declared():
     from aeroexec.engine.catalog.descriptors import DELIBERATIVE
-    from aeroexec.trees.groot import palette_ports
+    from aeroexec.trees.groot.palette import palette_ports
 
     catalog = default_catalog()
     ports = palette_ports(catalog)

@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 from aeroexec.trees.runtime.manifests import CONTROLS, DECORATORS, LOOPING, MANIFESTS
-from aeroexec.trees.runtime.registry import BUILT_IN
+from aeroexec.trees.runtime.nodes.registry import BUILT_IN
 
 
 def test_every_registered_node_takes_the_manifest_of_its_name():
@@ -21,7 +21,7 @@ def test_verifying_a_tree_imports_neither_py_trees_nor_the_node_classes(tmp_path
     code = ("import sys; from pathlib import Path; from aeroexec.engine.catalog import default_catalog\n"
             "from aeroexec.flight.missions import check_mission\n"
             "checked = check_mission(Path(sys.argv[1]), default_catalog())\n"
-            "loaded = sorted(m for m in sys.modules if m.startswith(('py_trees', 'aeroexec.trees.runtime.registry')))\n"
+            "loaded = sorted(m for m in sys.modules if m.startswith(('py_trees', 'aeroexec.trees.runtime.nodes')))\n"
             "print(len(checked.errors), loaded)")
     mission = tmp_path / "loops.xml"
     mission.write_text('<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'

@@ -12,7 +12,7 @@ import xml.etree.ElementTree as ElementTree
 
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.engine.catalog import BehaviorCatalog
-from aeroexec.trees.groot import tree_nodes_model
+from aeroexec.trees.groot.palette import tree_nodes_model
 from aeroexec.trees.model import TreeDocument, TreeNode
 
 

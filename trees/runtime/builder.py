@@ -1,6 +1,6 @@
 """A verified :class:`TreeDocument` as a ``py_trees`` tree that runs on the engine.
 
-Each model node becomes the behaviour its type names in the registration table (``runtime.registry``), else a
+Each model node becomes the behaviour its type names in the registration table (``runtime.nodes.registry``), else a
 leaf type the caller registered, else a catalog behavior's leaf; ``source`` is the model node, for file:line in
 events. A node with pre- or post-conditions (``_skipIf``, ``_onSuccess``...) is wrapped in
 :class:`NodeConditions`, which takes its place in the tree (the wrapped node is marked ``hidden``: the wrapper
@@ -13,13 +13,13 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from aeroexec.trees.model import POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
-from aeroexec.trees.runtime.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.blackboard import Blackboard
 from aeroexec.trees.runtime.context import TreeContext
-from aeroexec.trees.runtime.decorators import SubTree
-from aeroexec.trees.runtime.node_conditions import NodeConditions
+from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
+from aeroexec.trees.runtime.nodes.decorators import SubTree
+from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
+from aeroexec.trees.runtime.nodes.registry import BUILT_IN
 from aeroexec.trees.runtime.ports import NodeConfig, PortError
-from aeroexec.trees.runtime.registry import BUILT_IN
 from py_trees.behaviour import Behaviour
 
 #: A leaf type registered by the caller, as BehaviorTree.CPP's factory registers nodes: model node, blackboard -> leaf.

@@ -14,9 +14,9 @@ from typing import Any
 
 from aeroexec.engine.supervision.changes import ChangeError
 from aeroexec.trees.runtime.builder import model_of
-from aeroexec.trees.runtime.controls import Sequence
-from aeroexec.trees.runtime.decorators import Decorator
-from aeroexec.trees.runtime.node_conditions import NodeConditions
+from aeroexec.trees.runtime.nodes.controls import Sequence
+from aeroexec.trees.runtime.nodes.decorators import Decorator
+from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
 from aeroexec.trees.runtime.ticking import FAILURE, status_name
 from py_trees.behaviour import Behaviour
 

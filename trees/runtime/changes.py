@@ -31,7 +31,6 @@ from typing import Any
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.supervision.changes import ChangeError, MissionChange, not_cut_short
 from aeroexec.trees.model import COMMON_ATTRIBUTES, TreeNode
-from aeroexec.trees.runtime.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.builder import TreeBuilder, model_of
 from aeroexec.trees.runtime.change_targets import (
     MissionItems,
@@ -45,10 +44,11 @@ from aeroexec.trees.runtime.change_targets import (
     place,
     walk,
 )
-from aeroexec.trees.runtime.controls import Control, Sequence
-from aeroexec.trees.runtime.decorators import Decorator, SubTree
 from aeroexec.trees.runtime.manifests import ports_of
-from aeroexec.trees.runtime.parallels import Parallel, ParallelAll
+from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
+from aeroexec.trees.runtime.nodes.controls import Control, Sequence
+from aeroexec.trees.runtime.nodes.decorators import Decorator, SubTree
+from aeroexec.trees.runtime.nodes.parallels import Parallel, ParallelAll
 from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SUCCESS, attach
 from py_trees.behaviour import Behaviour
 

@@ -29,9 +29,9 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefError, to_python
 from aeroexec.trees.ports import MissingKey, substitute
-from aeroexec.trees.runtime.controls import Control, SequenceWithMemory
-from aeroexec.trees.runtime.decorators import Decorator
-from aeroexec.trees.runtime.parallels import Parallel
+from aeroexec.trees.runtime.nodes.controls import Control, SequenceWithMemory
+from aeroexec.trees.runtime.nodes.decorators import Decorator
+from aeroexec.trees.runtime.nodes.parallels import Parallel
 from aeroexec.trees.runtime.ticking import Result, halt
 from aeroexec.trees.tml.reader import TmlEvent
 from py_trees.behaviour import Behaviour

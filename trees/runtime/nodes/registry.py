@@ -9,7 +9,7 @@ behavior name is a leaf type of its own (``BehaviorLeaf``).
 
 from __future__ import annotations
 
-from aeroexec.trees.runtime import (
+from aeroexec.trees.runtime.nodes import (
     actions,
     behavior_leaves,
     belief_leaves,

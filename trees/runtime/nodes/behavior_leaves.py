@@ -17,8 +17,8 @@ from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
 from aeroexec.trees.model import WAIT_FOR_COMPLETION
 from aeroexec.trees.ports import MissingKey, request_from_ports
-from aeroexec.trees.runtime.actions import Leaf
 from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.nodes.actions import Leaf
 from aeroexec.trees.runtime.ports import NodeConfig
 from py_trees.common import Status
 

@@ -11,8 +11,8 @@ import abc
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
 from aeroexec.trees.ports import MissingKey, substitute
-from aeroexec.trees.runtime.actions import Leaf
 from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.nodes.actions import Leaf
 from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import FAILURE, SUCCESS
 from py_trees.common import Status

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from aeroexec.trees.runtime.controls import Control
 from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.nodes.controls import Control
 from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt, reset
 from py_trees.behaviour import Behaviour

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from aeroexec.trees.runtime.decorators import Decorator
+from aeroexec.trees.runtime.nodes.decorators import Decorator
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status

@@ -1,7 +1,7 @@
 """Rules in the belief memory: adding them (checked, put in strata) and asking why a belief holds or not.
 
 :class:`Reasoning` is the part of :class:`~aeroexec.beliefs.memory.BeliefMemory` that deals with rules; the
-memory answers derived predicates through its :class:`~aeroexec.beliefs.derivation.RuleBook`.
+memory answers derived predicates through its :class:`~aeroexec.beliefs.rules.derivation.RuleBook`.
 """
 
 from __future__ import annotations
@@ -9,12 +9,12 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-from aeroexec.beliefs.derivation import RuleBook
 from aeroexec.beliefs.errors import RuleError
 from aeroexec.beliefs.expression import Conjunction, Goal, Rule
 from aeroexec.beliefs.parser import parse_rules
-from aeroexec.beliefs.program import Vocabulary, check, stratify
-from aeroexec.beliefs.proofs import Proof, Prover
+from aeroexec.beliefs.rules.derivation import RuleBook
+from aeroexec.beliefs.rules.program import Vocabulary, check, stratify
+from aeroexec.beliefs.rules.proofs import Proof, Prover
 from aeroexec.beliefs.spellings import respell
 from aeroexec.beliefs.terms import Struct, format_term
 

@@ -5,7 +5,7 @@ is a 6-byte header (protocol byte, type letter, uint32 id) and an optional paylo
 echoed with the tree's 16-byte UUID, then the payload, as ``groot2_protocol.h`` and ``groot2_publisher.cpp`` of
 BehaviorTree.CPP 4.8-4.10 define them:
 
-- ``T`` the tree as XML with ``_uid`` and ``_fullpath`` (:func:`~aeroexec.trees.btlog.tree_xml`);
+- ``T`` the tree as XML with ``_uid`` and ``_fullpath`` (:func:`~aeroexec.trees.groot.tree_xml.tree_xml`);
 - ``S`` 3 bytes per node: uint16 uid, uint8 status (IDLE after a status is sent as 10 + that status);
 - ``B`` the blackboards named in the payload (``Main;sub``) as msgpack ``{name: {key: value}}``;
 - ``r`` recording of transitions ``start`` (reply: the start time in µs) / ``stop``; ``t`` the recorded
@@ -61,7 +61,7 @@ class GrootPublisher:
     """Serves one :class:`~aeroexec.trees.runtime.runner.TreeMission` to Groot2 clients until :meth:`close`."""
 
     def __init__(self, mission: Any, port: int = DEFAULT_PORT, host: str = "127.0.0.1", catalog: Any = None) -> None:
-        from aeroexec.trees.btlog import tree_xml
+        from aeroexec.trees.groot.tree_xml import tree_xml
 
         self.mission, self.engine, self.catalog = mission, mission.engine, catalog
         self.xml = tree_xml(mission, catalog).encode()
@@ -186,7 +186,7 @@ class GrootPublisher:
 
     def _restructured(self) -> None:
         """The tree was changed in flight: Groot2 gets the changed tree (a new uuid tells it to ask again)."""
-        from aeroexec.trees.btlog import tree_xml
+        from aeroexec.trees.groot.tree_xml import tree_xml
 
         xml = tree_xml(self.mission, self.catalog).encode()
         with self._lock:

@@ -5,8 +5,8 @@ became impossible; completing halts the running children. ParallelAll ticks ever
 
 from __future__ import annotations
 
-from aeroexec.trees.runtime.controls import Control
 from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.nodes.controls import Control
 from aeroexec.trees.runtime.ports import NodeConfig
 from aeroexec.trees.runtime.ticking import FAILURE, RUNNING, SKIPPED, SUCCESS, Result, TickError, halt
 from py_trees.behaviour import Behaviour

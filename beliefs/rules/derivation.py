@@ -1,6 +1,6 @@
 """The beliefs rules derive, kept up to date: bottom-up semi-naive evaluation, maintained by differences.
 
-A :class:`RuleBook` holds a memory's rules in strata (``beliefs/program.py``) and one relation per derived
+A :class:`RuleBook` holds a memory's rules in strata (``beliefs/rules/program.py``) and one relation per derived
 predicate. Nothing is derived until a derived predicate is asked; then each stratum it needs is brought up
 to date from what changed since (the journals of the relations it reads): added beliefs are followed
 semi-naively from the new rows alone, removed ones by delete-and-rederive (DRed), a change under a
@@ -15,10 +15,10 @@ from itertools import filterfalse
 from typing import Any
 
 from aeroexec.beliefs.expression import Conjunction, Goal, Rule
-from aeroexec.beliefs.joins import evaluate
-from aeroexec.beliefs.program import Signature, Stratum
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import Journal, Relation, Relations
+from aeroexec.beliefs.rules.joins import evaluate
+from aeroexec.beliefs.rules.program import Signature, Stratum
 from aeroexec.beliefs.terms import Struct, Var, match
 
 STORED = "#stored"  # the stored beliefs of a derived predicate, read by its rules as a rule of their own
