@@ -328,8 +328,13 @@ def test_ctl_from_another_directory_finds_the_live_run(tmp_path, private_runtime
         listed = ctl("list")
         assert listed.returncode == 0 and "square_patrol.py" in listed.stdout
         assert str(here / "aeroexec_output") in listed.stdout and f"pid {flying.pid}" in listed.stdout
-        status = ctl("status")
-        assert status.returncode == 0 and "running at t=" in status.stdout, status.stderr
+        def running() -> subprocess.CompletedProcess | None:  # a run lists itself while it is still starting
+            status = ctl("status")
+            assert status.returncode == 0, status.stderr
+            assert "running at t=" in status.stdout or "the run is " in status.stdout, status.stdout  # its stage
+            return status if "running at t=" in status.stdout else None
+
+        until(running, timeout=60)
         by_pid = ctl("--run", str(flying.pid), "status")
         assert by_pid.returncode == 0 and "at t=" in by_pid.stdout
         assert ctl("abort").returncode == 0
