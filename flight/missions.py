@@ -171,11 +171,23 @@ def safety_check(checked: CheckedMission, catalog: BehaviorCatalog, rules_files:
     if found.errors:
         return catalog, problems
     watched = catalog.with_safety_rules(found.rules)
-    mission = checked.tree if checked.tree is not None else checked.source
+    mission = _requests(checked, watched)
     if watched.safety_rules and mission is not None and not checked.errors:
         model = model or VehicleModel()
-        problems += route_problems(route(mission, str(checked.path), model), watched.safety_rules, model)
+        problems += route_problems(route(mission, str(checked.path), model, watched), watched.safety_rules, model)
     return watched, problems
+
+
+def _requests(checked: CheckedMission, catalog: BehaviorCatalog) -> Any:
+    """What the safety rules' route is read from: a tree, or a program's requests in the order written (every
+    way it names a destination: any case, an alias, a drone interface's positional arguments); None without."""
+    if checked.tree is not None:
+        return checked.tree
+    if checked.source is None:
+        return None
+    from aeroexec.engine.missions.check import literal_requests
+
+    return literal_requests(checked.source, str(checked.path), catalog)
 
 
 def fleet_safety_check(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (),
@@ -203,9 +215,10 @@ def fleet_safety_check(path: Path, catalog: BehaviorCatalog, rules_files: Iterab
         problems += found
         rules += [r for r in watched.safety_rules if r not in rules]
         model = replace(VehicleModel(), home=(drone.home[0], drone.home[1], 0.0))
-        mission = checked.tree if checked.tree is not None else checked.source
+        mission = _requests(checked, watched)
         start = Waypoint(model.home, str(drone.mission), 0)  # where it stands at first
-        routes[drone.name] = [start, *(route(mission, str(drone.mission), model) if mission is not None else [])]
+        routes[drone.name] = [start, *(route(mission, str(drone.mission), model, watched)
+                                       if mission is not None else [])]
     return problems + separation_problems(routes, rules, VehicleModel())
 
 

@@ -414,6 +414,26 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     return list(checker.problems)
 
 
+def literal_requests(source: str, filename: str, catalog: BehaviorCatalog | None = None
+                     ) -> list[tuple[str, dict[str, Any], int]]:
+    """Every behavior a program asks for, in the order written: ``(behavior, arguments, line)`` with the arguments
+    named as the catalog names them, whatever the mission wrote (``coordinates=``, ``point=``, an Aerostack2
+    drone interface's positional ``go_to(x, y, z)``), each value the constant it is or :class:`Unknown` when it is
+    known only in flight. The safety rules' check before flight reads its destinations from here."""
+    try:
+        tree = parse_source(source, filename)
+    except (SyntaxError, ValueError, MemoryError, RecursionError):
+        return []  # the mission's check reports it
+    checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog))
+    calls = sorted((n for n in checker.nodes if isinstance(n, ast.Call)), key=lambda n: (n.lineno, n.col_offset))
+    found = []
+    for call in calls:
+        for function, name, arguments, _ in checker.behavior_requests(call):
+            if function in RUN and name is not None:
+                found.append((name, arguments, call.lineno))
+    return found
+
+
 def check_mission_file(path: str | Path, catalog: BehaviorCatalog | None = None) -> list[Problem]:
     """Read and check a mission file (see :func:`check_mission_source`)."""
     path = Path(path)
@@ -425,4 +445,4 @@ def check_mission_file(path: str | Path, catalog: BehaviorCatalog | None = None)
 
 
 __all__ = ["API_FUNCTIONS", "ENTRY_POINTS", "MissionChecker", "MissionProblem", "check_mission_file",
-           "check_mission_source"]
+           "check_mission_source", "literal_requests"]

@@ -11,21 +11,22 @@ checked pairwise against separation rules (``position(?other, Q)`` of another dr
 
 from __future__ import annotations
 
-import ast
 import math
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, Struct
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
 from aeroexec.drones.vehicle import VehicleModel
+from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
+from aeroexec.engine.catalog.descriptors import DELIBERATIVE
 from aeroexec.engine.catalog.safety_rules import ALWAYS, NEVER, SafetyRule
+from aeroexec.engine.catalog.world_check import LOOKED_AT, PATH_ARGUMENTS, POINT_ARGUMENTS
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.safety.predicates import SafetyPredicates
 
-MOTION = {"GO_TO_POINT": "COORDINATES", "TAKE_OFF": "ALTITUDE"}
 KNOWN = {("position", 2), ("charge", 2), ("distance", 3), ("battery_to_home", 2), ("return_margin", 2),
          ("rally_distance", 2), ("stopping_point", 2)} | BUILTIN_PREDICATES  # at a destination, at rest
 
@@ -52,22 +53,62 @@ def _mentions_others(rule: SafetyRule) -> bool:
     return bool(re.search(r"position\(\s*\?", rule.condition.text))
 
 
-def route(mission: Any, file: str, model: VehicleModel) -> list[Waypoint]:
-    """The literal destinations of a mission (a tree document or Python source) in order, with time and charge."""
-    raw = _python_points(mission, file) if isinstance(mission, str) else _tree_points(mission)
+def route(mission: Any, file: str, model: VehicleModel, catalog: BehaviorCatalog | None = None) -> list[Waypoint]:
+    """The literal destinations of a mission in order, with time and charge: ``mission`` is a tree document, or a
+    program's requests in the order written (``(behavior, arguments, line)``, as
+    :func:`aeroexec.engine.missions.check.literal_requests` reads them). What a request flies to is read through
+    the ``catalog``'s argument descriptors (default: the aerial catalog): its names and aliases in any case."""
+    catalog = catalog or default_catalog()
+    requests = _tree_requests(mission) if hasattr(mission, "trees") else [
+        (behavior, arguments, file, line) for behavior, arguments, line in mission]
     here, seconds, charge = model.home, 0.0, 100.0
     points = []
-    for point, where, line in raw:
-        if point is None:
-            continue
-        if len(point) == 1:  # TAKE_OFF: the altitude above where it is
-            point = (here[0], here[1], point[0])
-            leg_seconds, used = model.take_off(point[2] - here[2])
-        else:
-            leg_seconds, used = model.fly(here, point)
-        seconds, charge, here = seconds + leg_seconds, charge - used, point
-        points.append(Waypoint(point, where, line, round(seconds, 2), round(charge, 2)))
+    for behavior, arguments, where, line in requests:
+        for point in _destinations(catalog, behavior, arguments, here):
+            if point is None:
+                continue
+            if len(point) == 1:  # TAKE_OFF: the altitude above where it is
+                point = (here[0], here[1], point[0])
+                leg_seconds, used = model.take_off(point[2] - here[2])
+            else:
+                leg_seconds, used = model.fly(here, point)
+            seconds, charge, here = seconds + leg_seconds, charge - used, point
+            points.append(Waypoint(point, where, line, round(seconds, 2), round(charge, 2)))
     return points
+
+
+def _destinations(catalog: BehaviorCatalog, behavior: str, given: Mapping[str, Any],
+                  here: tuple[float, float, float]) -> list[tuple[float, ...] | None]:
+    """Where a request flies, in order: the points of its place arguments a behavior flies to (the catalog's
+    ``allowed_values: WORLD`` arguments that are destinations or paths, not points looked at), a relative
+    destination from ``here``, a take-off's altitude (one number); None for a destination known only in flight."""
+    descriptor = catalog.behavior(str(behavior).upper())
+    if descriptor is None or descriptor.category == DELIBERATIVE or descriptor.name in LOOKED_AT:
+        return []
+    known = {alias.upper(): a.name for a in descriptor.arguments.values() for alias in (a.name, *a.aliases)}
+    arguments = {known.get(str(k).upper(), str(k).upper()): v for k, v in given.items()}
+    if descriptor.name == "TAKE_OFF":
+        return [_numbers(arguments["ALTITUDE"])] if "ALTITUDE" in arguments else []
+    found: list[tuple[float, ...] | None] = []
+    for name, value in arguments.items():
+        argument = descriptor.arguments.get(name)
+        if argument is None or not argument.is_place:
+            continue
+        if name in PATH_ARGUMENTS or argument.value_type == "PATH":
+            if name in PATH_ARGUMENTS:
+                points = value if isinstance(value, list | tuple) and not _numbers(value) else [value]
+                found += [_point(v) for v in points]
+        elif name in POINT_ARGUMENTS:
+            found.append(_point(value))
+    if "RELATIVE_COORDINATES" in arguments and "RELATIVE_COORDINATES" in descriptor.arguments:
+        delta = _point(arguments["RELATIVE_COORDINATES"])
+        found.append(None if delta is None else tuple(h + d for h, d in zip(here, delta, strict=True)))
+    return found
+
+
+def _point(value: Any) -> tuple[float, ...] | None:
+    numbers = _numbers(value)
+    return numbers if numbers is not None and len(numbers) == 3 else None
 
 
 def route_problems(points: Iterable[Waypoint], rules: Iterable[SafetyRule], model: VehicleModel) -> list[Problem]:
@@ -154,8 +195,10 @@ def _numbers(value: Any) -> tuple[float, ...] | None:
     return None
 
 
-def _tree_points(document: Any) -> list[tuple[Any, str, int]]:
-    found: list[tuple[Any, str, int]] = []
+def _tree_requests(document: Any) -> list[tuple[str, dict[str, Any], str, int]]:
+    """A tree's behavior leaves in the order written (through its SubTrees), with their literal ports: a port
+    read from the blackboard (``{key}``) is known only in flight."""
+    found: list[tuple[str, dict[str, Any], str, int]] = []
 
     def visit(tree_id: str, depth: int) -> None:
         root = document.trees.get(tree_id)
@@ -164,35 +207,11 @@ def _tree_points(document: Any) -> list[tuple[Any, str, int]]:
         for node in root.walk():
             if node.type == "SubTree" and node.ports.get("ID"):
                 visit(node.ports["ID"], depth + 1)
-            key = MOTION.get(node.type)
-            if key is None:
                 continue
-            value = node.ports.get(key) or node.ports.get("POINT")
-            if value is None and node.type == "TAKE_OFF":
-                continue
-            found.append((_numbers(value) if value and "{" not in value else None, node.file, node.line))
+            ports = {k: (None if isinstance(v, str) and "{" in v else v) for k, v in node.ports.items()}
+            found.append((node.type, ports, node.file, node.line))
 
     visit(document.main, 0)
-    return found
-
-
-def _python_points(source: str, file: str) -> list[tuple[Any, str, int]]:
-    try:
-        tree = ast.parse(source, file)
-    except (SyntaxError, ValueError, MemoryError, RecursionError):
-        return []  # the mission's check reports it
-    found = []
-    calls = sorted((n for n in ast.walk(tree) if isinstance(n, ast.Call)), key=lambda n: (n.lineno, n.col_offset))
-    for call in calls:
-        name = call.args[0] if call.args else None
-        if not (isinstance(name, ast.Constant) and name.value in MOTION):
-            continue
-        for keyword in call.keywords:
-            if keyword.arg in (MOTION[name.value], "POINT"):
-                try:
-                    found.append((_numbers(ast.literal_eval(keyword.value)), file, call.lineno))
-                except ValueError:
-                    found.append((None, file, call.lineno))
     return found
 
 

@@ -125,3 +125,50 @@ def test_a_route_whose_battery_use_breaks_the_return_margin_is_refused(tmp_path,
     assert main(["verify", str(mission), "--safety-rules", str(rules)]) == 1
     out = capsys.readouterr().out
     assert "breaks safety rule margin" in out and "% left on arrival" in out
+
+
+KEEP_OUT = """\
+    - rule: keep_out_tower
+      never: position(self, ?p), distance(?p, (15, -15, 6), ?d), ?d < 5
+      contingency: hold
+    """
+PYTHON = """\
+import aeroexec.engine.api as api
+
+
+def runMission():
+    api.executeBehavior("TAKE_OFF", altitude=6)
+    {call}
+    api.executeBehavior("LAND")
+"""
+AEROSTACK2 = """\
+from as2_python_api.drone_interface import DroneInterface
+
+uav = DroneInterface("drone0")
+uav.takeoff(6.0, 1.0)
+{call}
+uav.land()
+"""
+
+
+@pytest.mark.parametrize("source, call", [
+    (PYTHON, 'api.executeBehavior("GO_TO_POINT", coordinates=[13, -13, 6])'),  # the README's spelling
+    (PYTHON, 'api.executeBehavior("GO_TO_POINT", point=[13, -13, 6])'),  # figure10.py's
+    (PYTHON, 'api.executeBehavior("go_to_point", Coordinates=(13, -13, 6))'),
+    (PYTHON, 'api.executeBehavior("GO_TO_POINT", relative_coordinates=[13, -13, 0])'),
+    (PYTHON, 'api.executeBehavior("FOLLOW_PATH", path=[[5, 0, 6], [13, -13, 6]])'),
+    (AEROSTACK2, "uav.go_to(13, -13, 6, 1.0)"),  # positional
+    (AEROSTACK2, "uav.go_to.go_to_point([13, -13, 6], speed=1.0)"),
+], ids=["coordinates=", "point=", "any case", "relative", "a path", "go_to(x, y, z)", "go_to_point(point)"])
+def test_every_way_a_python_mission_gives_a_destination_is_checked_against_the_safety_rules(
+        tmp_path, capsys, source, call):
+    rules = write(tmp_path / "rules.yaml", KEEP_OUT)
+    mission = tmp_path / "m.py"
+    mission.write_text(source.format(call=call))
+    line = source.splitlines().index("{call}" if "{call}" in source.splitlines() else "    {call}") + 1
+    assert main(["verify", str(mission), "--safety-rules", str(rules)]) == 1
+    out = capsys.readouterr().out
+    assert f"{mission}:{line}: error: the destination (13, -13, 6)" in out and "keep_out_tower" in out
+    elsewhere = tmp_path / "elsewhere.py"
+    elsewhere.write_text(source.format(call=call.replace("13, -13", "5, -5").replace("13, -13, 0", "5, -5, 0")))
+    assert main(["verify", str(elsewhere), "--safety-rules", str(rules)]) == 0, capsys.readouterr().out
