@@ -1,6 +1,10 @@
 """The end of a flight: reach the drone again if its link is down (for a grace time, while the autopilot's own
 failsafe acts), land it if it is in the air, confirm it disarmed, and say what went wrong.
 
+A safety rule's ``hold`` or ``return`` in effect when the mission ends is never undone by the end: the drone first
+finishes the contingency's flight (to where the rule last held, or to the return point), then a hold lands where
+it holds and a return lands where it returned.
+
 :class:`FlightEnding` does this one engine period at a time, so one run (:func:`end_flight`) and a fleet of
 drones in lockstep end their flights the same way. A run whose link was lost in flight, whose final landing
 failed, or that leaves the drone armed or in the air has faults (:func:`flight_faults`), sentences for the run's
@@ -13,6 +17,7 @@ import logging
 from typing import Any
 
 from aeroexec.drones import Drone, LandedState
+from aeroexec.engine.catalog.safety_rules import HOLD, RETURN
 from aeroexec.engine.supervision.supervisor import LAND_BEHAVIOR, LANDING_TIMEOUT, is_flying, start_landing
 from aeroexec.flight.spec import LINK_GRACE
 
@@ -41,6 +46,10 @@ class FlightEnding:
         self._waiting = False  # the link wait was announced
         self._landing = False  # LAND was asked for
         self._disarm: Any = None  # the disarm command, once sent
+        self._held = False  # the contingency in effect was announced
+        flight = contingency_flight(engine)
+        self._contingency_time = 0.0 if flight is None or flight.timeout is None else max(
+            0.0, flight.started_at + flight.timeout - engine.now())  # s its flight may still take
         engine.bridge.close()
 
     @property
@@ -50,7 +59,8 @@ class FlightEnding:
     @property
     def deadline(self) -> float:
         """Engine seconds the whole ending may take at most (for a loop that drives it)."""
-        return (self.link_grace + self.landing_timeout) * _LOSSES + _AUTO_DISARM + self.disarm_timeout + 1.0
+        return (self.link_grace + self.landing_timeout) * _LOSSES + _AUTO_DISARM + self.disarm_timeout + 1.0 + \
+            self._contingency_time
 
     def step(self) -> bool:
         """Advance by what the last engine period brought; True once the flight has ended."""
@@ -96,8 +106,21 @@ class FlightEnding:
             if not is_flying(engine) and not landing:
                 self._landed()
                 return
+            rule = contingency_in_effect(engine)
+            if rule is not None and not landing:
+                if not self._held:
+                    self._held = True
+                    engine.log.record("ending_held", detail=f"the mission ended while safety rule {rule.name} "
+                                                            f"({rule.contingency}) is in effect: the drone finishes it "
+                                                            f"and lands where it {_WHERE[rule.contingency.kind]}",
+                                      rule=rule.name, contingency=str(rule.contingency))
+                if contingency_flight(engine) is not None:
+                    return  # still flying to where the rule holds it (its own timeout bounds the wait)
             self._landing = True
-            start_landing(engine, self.reason)
+            self._since = engine.now()  # the landing's time from now, after a contingency's flight
+            start_landing(engine, self.reason if rule is None else
+                          f"the mission ended; safety rule {rule.name} ({rule.contingency}): landing where it "
+                          f"{_WHERE[rule.contingency.kind]}")
             return
         still = landing or (is_flying(engine) and engine.drone.telemetry().landed_state is LandedState.LANDING)
         if still and self._elapsed() < self.landing_timeout:
@@ -134,6 +157,24 @@ class FlightEnding:
         if self._disarm.done and not self._disarm.ok or self._elapsed() >= self.disarm_timeout:
             logger.warning("the drone did not disarm: %s", self._disarm.reason if self._disarm.done else "no answer")
             self._enter(DONE)
+
+
+_WHERE = {HOLD: "holds", RETURN: "returned"}
+
+
+def contingency_in_effect(engine: Any) -> Any:
+    """The safety rule whose ``hold`` or ``return`` is in effect (None when none is)."""
+    safety = getattr(engine, "safety", None)
+    rule = safety.contingencies.active if safety is not None else None
+    return rule if rule is not None and rule.contingency.kind in (HOLD, RETURN) else None
+
+
+def contingency_flight(engine: Any) -> Any:
+    """The activation of a safety contingency's flight under way (to where a rule holds, or back), else None."""
+    if contingency_in_effect(engine) is None:
+        return None
+    return next((a for a in engine.coordinator.active().values()
+                 if a.source == "safety" and a.name != LAND_BEHAVIOR and a.category != "recurrent"), None)
 
 
 def end_flight(engine: Any, *, link_grace: float = LINK_GRACE, landing_timeout: float = LANDING_TIMEOUT,
@@ -186,4 +227,5 @@ def flight_faults(engine: Any) -> list[str]:
     return faults
 
 
-__all__ = ["DISARM_TIMEOUT", "FlightEnding", "end_flight", "flight_faults"]
+__all__ = ["DISARM_TIMEOUT", "FlightEnding", "contingency_flight", "contingency_in_effect", "end_flight",
+           "flight_faults"]

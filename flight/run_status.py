@@ -5,7 +5,8 @@ log, and the exit status ``aeroexec run`` returns for it.
 - completed with refused requests: the mission finished, but a request of it was refused on the way
   (FAILED_PRECONDITIONS, a rejected request the mission caught, a paused behavior the resume could not
   restart) (exit 3);
-- failed: the mission raised, a tree ended in FAILURE, or the time limit stopped it; or the vehicle had a
+- failed: the mission raised, a tree ended in FAILURE, or the time limit stopped it; or a safety rule was broken
+  (its contingency took the drone over: the reasons name the rule, when, and what it did); or the vehicle had a
   fault (the link was lost in flight, the landing failed, the drone was left armed or in the air) (exit 1);
 - aborted: the operator aborted the run (``ctl abort``, the ``a`` key, Ctrl-C, SIGTERM, SIGHUP) (exit 4);
 - suspended: a safety reaction (a reactive behavior of the higher priority, such as LAND on low battery) took
@@ -48,6 +49,8 @@ RUN_ENDED = "run_ended"
 REFUSAL_KINDS = ("failed_preconditions", "rejected")
 #: Event kinds that make a run fail (the mission raised or its tree failed, the time limit stopped it).
 FAILURE_KINDS = ("mission_failed", "engine_time_limit")
+#: Event kinds that are a safety rule broken (or a ``within`` obligation opened), its contingency taken.
+SAFETY_KINDS = ("safety_violated", "safety_triggered")
 #: The operator suspended the mission (``ctl suspend``): the event says where (``mission_stopped``, data ``suspend``).
 SUSPENSION = "mission_suspended"
 #: A safety reaction: a reactive behavior of the higher priority, which takes the drone over (``reactive``).
@@ -97,6 +100,9 @@ def run_status(events: Iterable[dict[str, Any] | EngineEvent]) -> RunStatus:
     if aborted:
         return RunStatus(ABORTED, aborted)
     failed = [r.get("detail", "") for r in records if r.get("kind") in FAILURE_KINDS]
+    broken = [safety_reason(r) for r in records if r.get("kind") in SAFETY_KINDS]
+    if broken:  # the run did not do what was asked: a contingency took the drone over
+        return RunStatus(FAILED, broken + failed)
     refused = [f"{r.get('behavior', '')}: {r.get('detail', '')}" for r in records
                if r.get("kind") in REFUSAL_KINDS and (r.get("data") or {}).get("source") == "mission"]
     completed = any(r.get("kind") == "mission_completed" for r in records)
@@ -108,6 +114,16 @@ def run_status(events: Iterable[dict[str, Any] | EngineEvent]) -> RunStatus:
     if failed or not completed:
         return RunStatus(FAILED, failed or ["the mission did not finish"])
     return RunStatus(REFUSED, refused) if refused else RunStatus(COMPLETED)
+
+
+def safety_reason(record: dict[str, Any]) -> str:
+    """A safety rule's violation (or ``within`` trigger) in words: ``safety rule fence broken at t=12.3 s: hold
+    (holding at (18.9, 0.0, 5.0))``."""
+    data = record.get("data") or {}
+    what = "triggered" if record.get("kind") == "safety_triggered" else "broken"
+    action = f" ({data['action']})" if data.get("action") else ""
+    return (f"safety rule {data.get('rule', '?')} {what} at t={float(record.get('time', 0.0)):.1f} s: "
+            f"{data.get('contingency', '')}{action}")
 
 
 def safety_reaction(records: list[dict[str, Any]]) -> str | None:
@@ -183,5 +199,6 @@ def _behavior_of(node: Any) -> str:
 
 
 __all__ = ["ABORTED", "COMPLETED", "EXIT_STATUS", "FAILED", "FAILURE_KINDS", "LOG_INCOMPLETE", "REFUSAL_KINDS",
-           "REFUSED", "SUSPENDED", "SUSPENSION", "FlightOutcome", "RunStatus", "exit_status", "flight_status",
-           "goals_left", "last_part", "record_run_status", "run_status", "safety_reaction"]
+           "REFUSED", "SAFETY_KINDS", "SUSPENDED", "SUSPENSION", "FlightOutcome", "RunStatus", "exit_status",
+           "flight_status", "goals_left", "last_part", "record_run_status", "run_status", "safety_reaction",
+           "safety_reason"]

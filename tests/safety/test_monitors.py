@@ -7,6 +7,7 @@ import math
 import textwrap
 
 import aeroexec.engine.api as api
+import pytest
 from aeroexec.cli.main import main
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.config import SimConfig
@@ -186,3 +187,44 @@ def mission():
     assert waits[1]["kind"] == "GOAL_ACHIEVED", "the function's own WAIT ran, its behavior free again"
     landed = [r for r in records if r["kind"] == "drone_landed"]
     assert landed and landed[0]["time"] < 30 and math.hypot(*landed[0]["data"]["position"][:2]) < 1.0
+
+
+FENCED = '''import aeroexec.engine.api as api
+
+SAFETY_RULES = """
+- rule: fence
+  always: position(self, (?x, ?y, ?z)), ?x > -10, ?x < 10, ?y > -10, ?y < 10
+  contingency: {contingency}
+"""
+
+
+def mission():
+    api.execute_behavior("TAKE_OFF", altitude=5)
+    ok, here = api.consult_belief("position(self, (?x, ?y, ?z))")
+    api.execute_behavior("GO_TO_POINT", coordinates=[here["x"] + 15, here["y"], 5])  # out through the fence
+    api.execute_behavior("GO_TO_POINT", coordinates=[0, 0, 5])  # refused: the rule has the drone
+    api.execute_behavior("LAND")  # refused too: the mission ends at once, the contingency under way
+'''
+
+
+@pytest.mark.parametrize("contingency", ["hold", "return home", "land"])
+def test_a_broken_rule_fails_the_run_and_its_end_never_undoes_a_hold_or_a_return(tmp_path, capsys, contingency):
+    """The run did not do what was asked: failed, exit 1, the last line naming the rule (not "completed with
+    refused requests", exit 3); a hold lands inside the fence, a return at home, though the mission ended first."""
+    mission = tmp_path / "fenced.py"
+    mission.write_text(FENCED.format(contingency=contingency))
+    assert main(["run", str(mission), "--quiet", "--output", str(tmp_path / "out")]) == 1
+    summary = capsys.readouterr().err.strip().splitlines()
+    assert "fenced.py: failed at" in summary[-2] and "safety rule fence broken at t=" in summary[-1], summary
+    records = [json.loads(line) for line in (tmp_path / "out" / "events.jsonl").read_text().splitlines()]
+    kinds = [r["kind"] for r in records]
+    assert kinds.index("safety_violated") < kinds.index("mission_completed"), "the mission ended during it"
+    (landed,) = [r for r in records if r["kind"] == "drone_landed"]
+    x, y, _ = landed["data"]["position"]
+    if contingency == "hold":
+        assert abs(x) < 10 and abs(y) < 10, f"it landed where it held, inside the fence, not at ({x:.2f}, {y:.2f})"
+    elif contingency == "return home":
+        assert math.hypot(x, y) < 1.0, f"it landed at home, where it returned, not at ({x:.2f}, {y:.2f})"
+    (ended,) = [r for r in records if r["kind"] == "run_ended"]
+    assert ended["detail"] == "failed" and ended["data"]["exit_status"] == 1
+    assert ended["data"]["reasons"][0].startswith("safety rule fence broken at t=")
