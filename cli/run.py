@@ -25,15 +25,15 @@ from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import LiveConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
-from aeroexec.flight.run_status import COMPLETED, LOG_INCOMPLETE, FlightOutcome
+from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession
 from aeroexec.flight.signals import ending_signals
 from aeroexec.flight.spec import LINK_GRACE, MAX_TIME, READY_TIMEOUT, FleetJoin, FlightError, FlightSpec
 
-EXIT_HELP = ("exit status: 0 completed, 3 completed with refused requests, 1 failed, 4 aborted (the operator, "
-             "Ctrl-C, SIGTERM, SIGHUP), 5 suspended (a safety reaction such as LAND on low battery cut the mission "
-             "short), 6 the event log is incomplete (a full disk), 2 an option that cannot be used, 130 interrupted "
-             "before take-off")
+EXIT_HELP = ("exit status: 0 completed, 3 completed with refused requests, 1 failed (a safety rule broken too), "
+             "4 aborted (the operator, Ctrl-C, SIGTERM, SIGHUP), 5 suspended (a safety reaction such as LAND on low "
+             "battery cut the mission short), 6 the event log or journal is incomplete or photos could not be saved "
+             "(a full disk), 2 an option that cannot be used, 130 interrupted before take-off")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -215,10 +215,14 @@ def summary(session: FlightSession, outcome: FlightOutcome) -> int:
              f"files in {session.folder}"]
     if status.word != COMPLETED and not outcome.faults:
         lines += [f"  {reason}" for reason in status.reasons[:5]]
+    if outcome.photos_not_saved is not None:
+        lines.append(f"photos could not be saved ({outcome.photos_not_saved})")
     if outcome.log_incomplete is not None:
-        lines.append(f"the event log is incomplete ({outcome.log_incomplete}): exit status {LOG_INCOMPLETE}")
+        lines.append(f"the event log is incomplete ({outcome.log_incomplete})")
     if outcome.faults:
         lines.append(f"failed: {'; '.join(outcome.faults)}")
+    if outcome.photos_not_saved is not None or outcome.log_incomplete is not None:
+        lines[-1] += f": exit status {outcome.exit_status}"  # the one the process returns (6 unless it failed)
     text = "\n".join(lines)
     print(text, file=sys.stderr, flush=True)
     if not _same_file(sys.stdout, sys.stderr) and not sys.stdout.isatty():

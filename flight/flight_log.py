@@ -78,6 +78,7 @@ class FlightLogWriter:
         #: Why records were lost (the write error), or None while every record is in the file.
         self.incomplete: str | None = None
         self.lost = 0  # records that could not be written
+        self._final: tuple[int, int] | None = None  # where the run's last records start (see :meth:`last_records`)
         header: dict[str, Any] = {"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT}
         if resumed is not None:
             header.update(kind="log_resumed", segment=resumed)
@@ -157,11 +158,23 @@ class FlightLogWriter:
         self._end += len(data)
         self.lines += len(lines)
 
+    def last_records(self) -> None:
+        """What is recorded from now on (the run's end, ``log_closed``) is written whole or not at all: every
+        record before is written now, and a write that fails later cuts the log back to here, so a log that says
+        how the run ended (``run_ended``, with its exit status) is a whole log."""
+        self.flush()
+        with self._lock:
+            if self.incomplete is None:
+                self._final = (self._end, self.lines)
+
     def _stop_writing(self, error: OSError, lost: int) -> None:
         """Lines could not be written whole: cut off what was of the first of them (the log ends at a record
-        boundary), write nothing more, and say so once."""
+        boundary; back to :meth:`last_records`' mark once it is set), write nothing more, and say so once."""
         self.incomplete = error.strerror or str(error)
         self.lost += lost
+        if self._final is not None and self._end > self._final[0]:
+            self.lost += self.lines - self._final[1]
+            self._end, self.lines = self._final
         with contextlib.suppress(OSError):
             os.ftruncate(self._fd, self._end)
             os.lseek(self._fd, self._end, os.SEEK_SET)

@@ -17,8 +17,10 @@ log, and the exit status ``aeroexec run`` returns for it.
 A resumed run's log goes on after the interrupted run's: its status is that of its last part (from the last
 ``log_resumed`` line).
 
-Whatever the word, a run whose event log could not be written whole (a full disk) exits 6 unless it failed
-or was aborted: its record is incomplete (:data:`LOG_INCOMPLETE`).
+Whatever the word, a run whose event log or journal could not be written whole, or whose photos could not all be
+saved (a full disk) exits 6 unless it failed or was aborted: its record is incomplete (:data:`LOG_INCOMPLETE`).
+The exit status is decided once, before the run's end is recorded: ``run_ended`` states it, the summary's last line
+says it, the process returns it.
 
 A flight's :class:`FlightOutcome` is its status (:func:`flight_status`: a suspended tree says how many of its goals
 were not reached) with the vehicle's faults and whether its event log is whole.
@@ -149,9 +151,11 @@ def exit_status(status: RunStatus, log_incomplete: bool = False) -> int:
     return status.exit_status
 
 
-def record_run_status(log: Any, status: RunStatus) -> None:
-    """Write the run's end to the event log (``run_ended``, detail the word)."""
-    log.record(RUN_ENDED, detail=status.word, exit_status=status.exit_status, reasons=list(status.reasons))
+def record_run_status(log: Any, status: RunStatus, code: int | None = None) -> None:
+    """Write the run's end to the event log (``run_ended``, detail the word, and the exit status ``code`` the
+    process returns: by default the word's)."""
+    log.record(RUN_ENDED, detail=status.word, exit_status=status.exit_status if code is None else code,
+               reasons=list(status.reasons))
 
 
 @dataclass
@@ -163,10 +167,14 @@ class FlightOutcome:
     faults: list[str] = field(default_factory=list)
     log_incomplete: str | None = None  # why the event log stopped short (a full disk), None when whole
     folder: Path | None = None
+    photos_not_saved: str | None = None  # why photos could not be saved (a full disk), None when all were
+    recorded: int | None = None  # the exit status ``run_ended`` states, when the event log holds it
 
     @property
     def exit_status(self) -> int:
-        return exit_status(self.status, self.log_incomplete is not None)
+        if self.recorded is not None:
+            return self.recorded
+        return exit_status(self.status, self.log_incomplete is not None or self.photos_not_saved is not None)
 
 
 def flight_status(log: Any, faults: list[str], tree: Any = None, catalog: Any = None,

@@ -335,15 +335,25 @@ class FlightSession:
                                self.resumption.reached if self.resumption is not None else ())
         self._tell_fleet("failed" if status.word == FAILED else
                          "completed" if status.exit_status in (0, 3) else "stopped")
-        record_run_status(engine.log, status)
+        if self.flight_log is not None:
+            self.flight_log.last_records()  # run_ended is in the log only with the rest of the log
+        unsaved = next((e.data.get("error") or e.detail for e in engine.log.events("photo_not_saved")), None)
+        code = FlightOutcome(status, list(faults), self._incomplete(), self.folder, unsaved).exit_status
+        record_run_status(engine.log, status, code)
         if self.journal is not None:
-            self.journal.ended(status)
+            self.journal.ended(status, code)
         self.close()
+        whole = self.flight_log is not None and self.flight_log.incomplete is None  # run_ended is in the log
+        self.outcome = FlightOutcome(status, list(faults), self._incomplete(), self.folder, unsaved,
+                                     recorded=code if whole else None)
+        return self.outcome
+
+    def _incomplete(self) -> str | None:
+        """Why the run's record is incomplete so far (the event log's or the journal's write error), or None."""
         incomplete = self.flight_log.incomplete if self.flight_log is not None else None
         if incomplete is None and self.journal is not None and self.journal.incomplete is not None:
             incomplete = f"the journal: {self.journal.incomplete}"
-        self.outcome = FlightOutcome(status, list(faults), incomplete, self.folder)
-        return self.outcome
+        return incomplete
 
     def _warn_of_early_link_loss(self, event: Any) -> None:
         """A link lost on the ground before the mission started is a warning, once per drop, not a fault."""

@@ -15,6 +15,7 @@ Settings read from ``EngineSettings.extra``: ``video_rate`` (frames per second, 
 
 from __future__ import annotations
 
+import contextlib
 import io
 import logging
 import math
@@ -79,16 +80,38 @@ def take_photo(process: BehaviorProcess) -> str:
     image, error = capture(process.context)
     if image is None:
         return error
-    path = next_path(output_folder(process.context), "photo", ".png")
-    path.write_bytes(image)
+    path: Path | None = None
+    try:
+        path = next_path(output_folder(process.context), "photo", ".png")
+        path.write_bytes(image)
+    except OSError as error:  # a full disk: the photo is lost, the flight goes on
+        not_saved(process, path, error)
+        return ""
     process.result = str(path)
     process.memory.add(Struct("photo", ("self", str(path))))
     process.context.log.record("photo_taken", process.name, str(path), bytes=len(image))
     return ""
 
 
+def not_saved(process: BehaviorProcess, path: Path | None, error: OSError) -> None:
+    """A photo that could not be written (a full disk): what was written of it is removed, the first is logged
+    (``photo_not_saved``), the rest counted; the behavior goes on, so the flight goes on and lands as usual."""
+    if path is not None:
+        with contextlib.suppress(OSError):
+            path.unlink(missing_ok=True)
+    found = recordings(process.context)
+    found.unsaved_photos += 1
+    if found.unsaved_photos == 1:
+        why = error.strerror or str(error)
+        logger.warning("a photo could not be saved (%s): the flight goes on", why)
+        process.context.log.record("photo_not_saved", process.name, f"the photo could not be saved ({why}): the "
+                                   f"flight goes on; photos that cannot be saved are not logged again", error=why,
+                                   file=str(path) if path is not None else None)
+
+
 class TakePhoto(BehaviorProcess):
-    """TAKE_PHOTO: the camera's image now, as ``photo_N.png``; result and ``photo(self, File)`` name the file."""
+    """TAKE_PHOTO: the camera's image now, as ``photo_N.png``; result and ``photo(self, File)`` name the file. A photo
+    that cannot be saved (a full disk) is logged once and its goal is achieved without a file: the flight goes on."""
 
     behavior = "TAKE_PHOTO"
 
@@ -198,6 +221,7 @@ class Recordings:
     map: OccupancyMap | None = None
     map_file: Path | None = None  # where the map of the active BUILD_MAP is saved
     map_dimension: str = "THREE"
+    unsaved_photos: int = 0  # photos that could not be written (a full disk)
     map_saved_at: float | None = None
 
 

@@ -108,6 +108,7 @@ class JournalWriter:
         self._next_tree = self._next_look = 0.0
         self._closed = False
         self._status: Any = None
+        self._code: int | None = None  # the exit status the run ends with (None: its status's)
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
 
@@ -348,21 +349,24 @@ class JournalWriter:
             self._store.write(rows)
 
     # -- the end ----------------------------------------------------------------------------------------------
-    def ended(self, status: Any) -> None:
-        """How the run ended (a RunStatus), written when the journal closes (after the engine's last events)."""
-        self._status = status
+    def ended(self, status: Any, code: int | None = None) -> None:
+        """How the run ended (a RunStatus) and the exit status the process returns (default: the status's),
+        written when the journal closes (after the engine's last events)."""
+        self._status, self._code = status, code
 
     def close(self, status: Any = None) -> None:
         """End the segment (``status``, else the one :meth:`ended` gave: how the run ended), write everything,
         close (idempotent)."""
         if self._closed:
             return
+        code = self._code if status is None else None
         status = status if status is not None else self._status
         self._stop_listening()
         self.sample()
         if status is not None:
             self._add([("UPDATE segments SET ended_at = ?, status = ?, exit_status = ?, reasons = ? "
-                        "WHERE segment = ?", (round(self.engine.now(), 3), status.word, status.exit_status,
+                        "WHERE segment = ?", (round(self.engine.now(), 3), status.word,
+                                              status.exit_status if code is None else code,
                                               json.dumps(list(status.reasons)), self.segment))])
         self._finish()
 

@@ -4,6 +4,7 @@ anything flies), a full disk (whole lines only, exit 6, said once), a closed std
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import subprocess
@@ -13,7 +14,7 @@ import pytest
 from aeroexec.drones.interface import LandedState
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
-from flight_runs import MISSIONS, Command, ended, landed, read_log
+from flight_runs import MISSIONS, RUN_S, Command, ended, landed, read_log
 from free_ports import free_udp_port
 
 FIGURE10 = str(MISSIONS / "figure10.py")
@@ -120,6 +121,78 @@ def test_a_full_disk_leaves_whole_lines_a_flight_that_lands_and_says_so_once(tmp
     assert "figure10.py: completed" in result.stderr
     assert "the event log is incomplete (No space left on device)" in result.stderr
     assert "GOAL_ACHIEVED LAND" in result.stdout  # the flight went on to its end
+
+
+PHOTOS_ON_A_FULL_DISK = """
+import errno, os, pathlib, sys
+
+write_bytes = pathlib.Path.write_bytes
+
+
+def full(path, data):  # the disk is full when the photos come: each write of one fails part way
+    if path.name.startswith("photo_"):
+        write_bytes(path, bytes(data[:100]))
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    return write_bytes(path, data)
+
+
+pathlib.Path.write_bytes = full
+from aeroexec.cli.main import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_photos_that_cannot_be_saved_are_said_once_and_the_survey_flies_on_and_lands_at_home(tmp_path):
+    result = subprocess.run([sys.executable, "-c", PHOTOS_ON_A_FULL_DISK, "run", str(MISSIONS / "survey.plan"),
+                             "--plain", "--output", str(tmp_path / "out")], capture_output=True, text=True,
+                            timeout=RUN_S, cwd=tmp_path)
+    assert result.returncode == 6, result.stderr
+    records = read_log(tmp_path / "out" / "events.jsonl")
+    unsaved = [r for r in records if r["kind"] == "photo_not_saved"]
+    assert len(unsaved) == 1 and "No space left on device" in unsaved[0]["detail"], "said once"
+    assert not [r for r in records if r["kind"] in ("FAILED", "WRONG_PROGRESS", "mission_failed")]
+    assert not list((tmp_path / "out").glob("photo_*")), "no photo left half written"
+    (touchdown,) = [r for r in records if r["kind"] == "drone_landed"]
+    assert math.hypot(*touchdown["data"]["position"][:2]) < 2.0, "it flew the whole survey and landed at home"
+    assert ended(records)["detail"] == "completed" and ended(records)["data"]["exit_status"] == 6
+    last = result.stderr.strip().splitlines()[-1]
+    assert last == "photos could not be saved (No space left on device): exit status 6", result.stderr
+
+
+FAILING = """
+import aeroexec.engine.api as api
+
+
+def mission():
+    api.execute_behavior("TAKE_OFF", altitude=3)
+    api.execute_behavior("GO_TO_POINT", coordinates=[4, 0, 3])
+    raise RuntimeError("the mission gives up")
+"""
+
+
+@pytest.mark.parametrize("mission", ["failing.py", "figure10.py"])
+def test_the_exit_status_is_the_one_the_last_line_and_run_ended_state_wherever_the_disk_fills(tmp_path, mission):
+    source = tmp_path / mission
+    source.write_text(FAILING if mission == "failing.py" else (MISSIONS / mission).read_text())
+
+    def run(room: int, out: str) -> tuple[int, str, list[dict]]:
+        result = subprocess.run([sys.executable, "-c", FULL_DISK, str(room), "run", str(source), "--plain",
+                                 "--output", str(tmp_path / out)], capture_output=True, text=True, timeout=RUN_S,
+                                cwd=tmp_path)
+        assert "Traceback" not in result.stderr, result.stderr
+        return result.returncode, result.stderr.strip().splitlines()[-1], read_log(tmp_path / out / "events.jsonl")
+
+    code, last, records = run(10 ** 9, "whole0000")  # as long a name as the others
+    whole = (tmp_path / "whole0000" / "events.jsonl").stat().st_size
+    expected = 1 if mission == "failing.py" else 0
+    assert code == expected and ended(records)["data"]["exit_status"] == expected
+    for room in (whole // 3, whole - 400, whole - 150, whole - 40, whole - 1):  # the run's last records cut too
+        code, last, records = run(room, f"{room:09d}")
+        assert code == (1 if mission == "failing.py" else 6), (room, last)
+        assert last.endswith(f": exit status {code}"), (room, last)
+        stated = [r for r in records if r["kind"] == "run_ended"]
+        assert not stated or stated[0]["data"]["exit_status"] == code, (room, stated)
+        assert records[-1]["kind"] != "log_closed", room
 
 
 def test_a_closed_standard_output_ends_a_command_quietly(tmp_path):
