@@ -1,14 +1,21 @@
-"""A flight's output folder, made ready before anything flies: created, a folder, and writable; otherwise a
-:class:`FlightError` naming the path (the default place, ``aeroexec_output/<date-time>``, is the engine's
-:func:`~aeroexec.engine.supervision.output.choose_output_folder`)."""
+"""A flight's output folder, made ready before anything flies: created, a folder, writable, with room for the run's
+first records; otherwise a :class:`FlightError` naming the path, an option that cannot be used (exit status 2):
+a disk with no space left is "the output folder ... has no space left" (:func:`no_space`), whichever file finds it
+first (this check, the journal, the event log). The default place, ``aeroexec_output/<date-time>``, is the
+engine's :func:`~aeroexec.engine.supervision.output.choose_output_folder`."""
 
 from __future__ import annotations
 
+import errno
+import os
 import tempfile
 from pathlib import Path
 
 from aeroexec.engine.supervision.output import DEFAULT_BASE, choose_output_folder
 from aeroexec.flight.spec import FlightError
+
+ROOM = 256 * 1024  # bytes a new run must be able to write before it flies (its journal, its first log lines)
+NO_SPACE = (errno.ENOSPC, errno.EDQUOT)  # no space left, the user's quota reached
 
 
 def prepare_output(explicit: str | Path | None = None, base: str | Path = DEFAULT_BASE) -> Path:
@@ -19,15 +26,25 @@ def prepare_output(explicit: str | Path | None = None, base: str | Path = DEFAUL
         raise FlightError(f"{option}: not a folder (it is a file); give a folder for the run's files", usage=True)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile(dir=folder, prefix=".aeroexec-", delete=True):
-            pass
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".aeroexec-", delete=True) as probe:
+            room = bytes(ROOM)
+            while room:  # the run's first records (the journal's schema, the log's first lines) fit
+                room = room[os.write(probe.fileno(), room):]
     except FileExistsError:
         raise FlightError(f"{option}: a file stands in its path; give a folder for the run's files",
                           usage=True) from None
     except OSError as error:
+        if error.errno in NO_SPACE:
+            raise no_space(folder, error.strerror or str(error)) from None
         raise FlightError(f"{option}: cannot write the run's files there: {error.strerror or error}",
                           usage=True) from None
     return folder
 
 
-__all__ = ["prepare_output"]
+def no_space(folder: Path, why: str) -> FlightError:
+    """The refusal of a run whose output folder's disk is full (exit status 2, before anything flies)."""
+    return FlightError(f"the output folder {folder} has no space left ({why}): free some space on its disk, or give "
+                       f"another folder with --output", usage=True)
+
+
+__all__ = ["NO_SPACE", "no_space", "prepare_output"]

@@ -29,7 +29,7 @@ from aeroexec.flight.flight_log import FlightLogWriter, world_meta
 from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
 from aeroexec.flight.missions import load_mission, watched_catalog
-from aeroexec.flight.output import prepare_output
+from aeroexec.flight.output import NO_SPACE, no_space, prepare_output
 from aeroexec.flight.robot import (
     RobotChoice,
     flight_operator,
@@ -156,6 +156,8 @@ class FlightSession:
             self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta,
                                               resumed=self.journal.segment if self.resumption else None)
         except OSError as error:
+            if error.errno in NO_SPACE:
+                raise no_space(self.folder, f"the event log cannot be written: {error.strerror}") from None
             raise FlightError(f"the event log {log_path} cannot be written: {error.strerror or error}",
                               usage=True) from None
         self.notify(f"event log: {log_path}")
@@ -201,6 +203,8 @@ class FlightSession:
             self.journal = open_journal(self.engine, self.spec, self.folder, meta,
                                         python=not isinstance(self.mission, TreeDocument), resumption=self.resumption)
         except JournalError as error:
+            if error.no_space:
+                raise no_space(self.folder, "the journal cannot be written") from None
             raise FlightError(str(error)) from None
         if self.resumption is not None:
             self.notify(f"resuming {self.spec.name} from {self.resumption.point.where()}")

@@ -99,7 +99,16 @@ CREATE VIEW IF NOT EXISTS operator_commands AS
 
 
 class JournalError(Exception):
-    """A journal that cannot be opened, read or written, in words naming the file."""
+    """A journal that cannot be opened, read or written, in words naming the file; ``no_space``: its disk is full."""
+
+    def __init__(self, message: str, no_space: bool = False) -> None:
+        super().__init__(message)
+        self.no_space = no_space
+
+
+def disk_full(error: BaseException) -> bool:
+    """Whether SQLite's ``error`` is a full disk (SQLITE_FULL: "database or disk is full")."""
+    return getattr(error, "sqlite_errorcode", None) == sqlite3.SQLITE_FULL or "disk is full" in str(error)
 
 
 def journal_path(folder: str | Path) -> Path:
@@ -124,6 +133,8 @@ def connect(path: Path, *, readonly: bool = False) -> sqlite3.Connection:
             connection.executescript(SCHEMA)
         found = connection.execute("SELECT value FROM meta WHERE key = 'format'").fetchone()
     except (sqlite3.DatabaseError, UnicodeDecodeError) as error:
+        if not readonly and disk_full(error):
+            raise JournalError(f"{path}: no space left to write the journal ({error})", no_space=True) from None
         raise JournalError(f"{path}: not a flight journal ({error})") from None
     if found is None and not readonly:
         connection.execute("INSERT INTO meta VALUES ('format', ?)", (FORMAT,))

@@ -195,6 +195,43 @@ def test_the_exit_status_is_the_one_the_last_line_and_run_ended_state_wherever_t
         assert records[-1]["kind"] != "log_closed", room
 
 
+NO_SPACE_AT_START = """
+import errno, os, sqlite3, sys
+
+if sys.argv[1] == "journal":  # SQLite finds the disk full when it makes the new journal
+    class Full(sqlite3.Connection):
+        def executescript(self, script):
+            raise sqlite3.OperationalError("database or disk is full")
+
+    connect = sqlite3.connect
+    sqlite3.connect = lambda *args, **kwargs: connect(*args, **{**kwargs, "factory": Full})
+else:  # the output folder's check finds it full
+    from aeroexec.flight import output
+
+    class FullDisk:
+        def __getattr__(self, name):
+            return getattr(os, name)
+
+        def write(self, fd, data):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    output.os = FullDisk()
+from aeroexec.cli.main import main
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.parametrize("found_by", ["journal", "folder"])
+def test_a_new_run_on_a_full_disk_is_refused_as_an_output_folder_with_no_space_left(tmp_path, found_by):
+    out = tmp_path / "out"
+    result = subprocess.run([sys.executable, "-c", NO_SPACE_AT_START, found_by, "run", FIGURE10, "--plain",
+                             "--output", str(out)], capture_output=True, text=True, timeout=RUN_S, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr  # an output folder that cannot be used, as a file in its way is
+    assert f"the output folder {out} has no space left" in result.stderr
+    assert "not a flight journal" not in result.stderr and "Traceback" not in result.stderr
+    assert "activated" not in result.stdout, "nothing flew"
+
+
 def test_a_closed_standard_output_ends_a_command_quietly(tmp_path):
     read, write = os.pipe()
     process = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "catalog"], stdout=write,
