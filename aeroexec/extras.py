@@ -3,8 +3,8 @@
 ``pip install aeroexec`` installs what flying a mission needs (on the simulator or through MAVSDK); fleets, the
 web console, the flight report's images and Groot2 live are extras (``aeroexec[fleet]``, ...). Where an extra's
 modules are imported, :func:`require` turns a missing one into :class:`MissingExtra`: one line naming the part,
-what is missing and the exact command that installs it, for this installation (from PyPI, a source folder, or
-an editable checkout)::
+what is missing and the exact command that installs it, for this installation (``aeroexec[fleet]``; ``.[fleet]``
+in the checkout it was installed from)::
 
     with require("console"):
         import uvicorn
@@ -53,8 +53,9 @@ class MissingExtra(ImportError):
 
 
 def install_line(extra: str) -> str:
-    """The command that adds ``extra`` to this installation: ``pip install 'aeroexec[fleet]'`` from PyPI, with
-    the source folder instead of the name when aeroexec was installed from one (``-e`` when editable)."""
+    """The command that adds ``extra`` to this installation: ``pip install 'aeroexec[fleet]'`` (pip keeps the
+    aeroexec installed, wherever it came from, and adds the extra's dependencies), or ``pip install '.[fleet]'``
+    in the source folder aeroexec was installed from (``-e`` when editable), the checkout the user works in."""
     import shlex
 
     source, editable = _installed_from()
@@ -88,8 +89,8 @@ def _importable(module: str) -> bool:
 
 
 def _installed_from() -> tuple[str | None, bool]:
-    """(the source folder as the user would type it, editable) when aeroexec was installed from a folder;
-    (None, False) when it came from an index or cannot be told."""
+    """(".", editable) when aeroexec was installed from the current folder; (None, False) when it came from an
+    index, another folder (``.`` would be wrong there, and a path may have moved), or cannot be told."""
     import json
     from importlib import metadata  # here: the message is rare, and metadata costs every command ~10 ms
     from urllib.parse import unquote, urlparse
@@ -108,4 +109,4 @@ def _installed_from() -> tuple[str | None, bool]:
     with contextlib.suppress(OSError):
         if folder.resolve() == Path.cwd().resolve():
             return ".", editable  # the checkout the user is in
-    return str(folder), editable
+    return None, False

@@ -111,15 +111,24 @@ class _Distribution:
 @pytest.mark.parametrize(("direct_url", "line"), [
     (None, "pip install 'aeroexec[fleet]'"),  # from an index
     ({"url": "https://example.org/aeroexec-0.2.0.tar.gz", "archive_info": {}}, "pip install 'aeroexec[fleet]'"),
-    ({"url": "file:///opt/src/aeroexec", "dir_info": {}}, "pip install '/opt/src/aeroexec[fleet]'"),
-    ({"url": "file:///opt/src/aeroexec", "dir_info": {"editable": True}}, "pip install -e '/opt/src/aeroexec[fleet]'"),
+    ({"url": "file:///opt/src/aeroexec", "dir_info": {}}, "pip install 'aeroexec[fleet]'"),  # another folder:
+    ({"url": "file:///opt/src/aeroexec", "dir_info": {"editable": True}}, "pip install 'aeroexec[fleet]'"),  # not "."
 ])
 def test_the_install_line_follows_how_aeroexec_was_installed(monkeypatch, direct_url, line):
+    """Outside the folder it was installed from, the line names aeroexec: '.[fleet]' would install whatever project
+    the user stands in, and a source path may have moved; pip keeps the aeroexec installed and adds the extra."""
     from importlib import metadata
 
     monkeypatch.setattr(metadata, "distributions", lambda **select: [_Distribution(direct_url)])
     monkeypatch.chdir("/")
     assert install_line("fleet") == line
+
+
+def test_a_missing_extra_outside_the_checkout_names_aeroexec_not_the_current_folder(tmp_path):
+    result = without(list(EXTRAS["fleet"].modules), "ctl", "--fleet", "f", "status", cwd=tmp_path)
+    assert result.returncode == 2
+    assert result.stderr.strip().endswith("pip install 'aeroexec[fleet]'"), result.stderr
+    assert "'.[fleet]'" not in result.stderr and str(ROOT) not in result.stderr
 
 
 def test_the_install_line_names_the_current_folder_as_dot(monkeypatch, tmp_path):
@@ -129,4 +138,7 @@ def test_the_install_line_names_the_current_folder_as_dot(monkeypatch, tmp_path)
         {"url": tmp_path.as_uri(), "dir_info": {}})])
     monkeypatch.chdir(tmp_path)
     assert install_line("console") == "pip install '.[console]'"
+    monkeypatch.setattr(metadata, "distributions", lambda **select: [_Distribution(
+        {"url": tmp_path.as_uri(), "dir_info": {"editable": True}})])
+    assert install_line("console") == "pip install -e '.[console]'"  # the checkout the user works in
     assert extras.missing("console") == []  # installed here (the suite needs every extra)
