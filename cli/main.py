@@ -29,7 +29,8 @@ COMMANDS = {
     "verify": ("verify", "check missions without flying: every error with file:line"),
     "rehearse": ("rehearse", "fly a mission many times in the simulator with wind, battery, noise and link "
                              "variations, on every core or a Dask cluster; an HTML report"),
-    "convert": ("convert", "write a mission tree (a QGroundControl .plan, YAML) as BehaviorTree.CPP v4 XML"),
+    "convert": ("convert", "write a mission tree (a plan, a waypoint file, YAML, XML) as BehaviorTree.CPP v4 XML, "
+                           "a QGroundControl .plan or a .waypoints file (--to, or -o's extension)"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
     "sim": ("sim", "run the simulated drone behind a MAVLink endpoint (PX4 or ArduPilot) for MAVSDK or QGroundControl"),

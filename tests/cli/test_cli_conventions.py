@@ -56,6 +56,31 @@ def test_help_texts_say_what_each_command_accepts():
     assert "--world" in verify and "--no-world" in verify and ".tml.xml" in verify
 
 
+def test_convert_help_names_every_format_it_writes():
+    from aeroexec.cli.convert import FORMATS
+
+    for text in (aeroexec("convert", "--help").stdout, aeroexec("--help").stdout):
+        said = " ".join(text.split())
+        assert "BehaviorTree.CPP v4 XML" in said and ".plan" in said and ".waypoints" in said, text
+    assert set(FORMATS) == {"xml", "plan", "waypoints"}  # a format added is named in the help too
+
+
+def test_what_the_commands_write_into_the_current_folder_is_git_ignored():
+
+    from aeroexec.cli.main import build_parser
+    from aeroexec.engine.supervision.output import DEFAULT_BASE
+
+    ignored = set((Path(__file__).parents[2] / ".gitignore").read_text().split())
+    parser = build_parser()
+    defaults = {str(DEFAULT_BASE)}
+    for sub in parser.commands.values():  # every command's --output folder by default
+        for action in sub._actions:
+            if "--output" in action.option_strings and isinstance(action.default, str):
+                defaults.add(action.default)
+    assert "aeroexec_rehearsal" in defaults
+    assert {f"{name}/" for name in defaults} <= ignored, defaults
+
+
 def test_catalog_ignores_case_and_lists_predicates_and_worlds():
     lower = aeroexec("catalog", "take_off")
     assert lower.returncode == 0 and "TAKE_OFF  (goal_based" in lower.stdout
