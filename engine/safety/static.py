@@ -1,6 +1,10 @@
 """Safety rules decided before flight, where the mission alone decides them: its literal destinations (a tree's
-``GO_TO_POINT COORDINATES="..."``, a Python mission's ``execute_behavior("GO_TO_POINT", COORDINATES=[...])``) in
-the order written, flown from home with the vehicle model's battery use (the model verify's route uses).
+``GO_TO_POINT COORDINATES="..."``, a Python mission's requests however it writes them: ``coordinates=``,
+``point=``, any case, Aerostack2's ``go_to(x, y, z)``, as :func:`aeroexec.engine.missions.check.literal_requests`
+reads them) in the order written, flown from home with the vehicle model's battery use (the model verify's route
+uses). What a request flies to is read through the catalog's argument descriptors: its place arguments
+(``allowed_values: WORLD``) that are destinations or paths, relative coordinates from the point before, a
+take-off's altitude.
 
 A rule is decided at each destination when what it reads is known there: ``position(self, P)`` (the destination),
 ``charge(battery, C)`` (100 % at take-off less the route's use so far), the geometry (``distance``), the return
