@@ -5,8 +5,11 @@ BUILD_MAP, with the ``video_recorder`` and
 Files go to the run's output folder (``context.output_dir``; without one, ``aeroexec_output/<date-time>`` in the
 working directory, chosen on first use): ``photo_N.png``, ``video_N/frame_NNNNN.png`` and ``video_N.gif``,
 ``map_N.png`` (and ``map_N_height.png`` for a 3D map). Beliefs: ``photo(self, File)``, ``video(self, File)``,
-``map(self, File)``. The recordings in progress live on the behavior context, so the behavior (which opens and
-closes them) and its capability's process (which does the periodic work) share them.
+``map(self, File)``. A photo that cannot be written (a full disk) is not a failed behavior: what was written of it
+is removed, the first is logged (``photo_not_saved``), and TAKE_PHOTO and TRIGGER_CAMERA go on, so a survey flies
+on and lands as usual (the run then exits 6, its record incomplete). The recordings in progress live on the
+behavior context, so the behavior (which opens and closes them) and its capability's process (which does the
+periodic work) share them.
 
 Settings read from ``EngineSettings.extra``: ``video_rate`` (frames per second, 2.0), ``video_gif_frames``
 (most frames kept for the GIF, 240), ``map_resolution`` (m, 0.5), ``map_period`` (s between scans, 0.5),
