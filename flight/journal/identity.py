@@ -129,13 +129,13 @@ def check_belongs(journal: Path, meta: dict[str, Any], folder: Path, log: Path) 
                            f"own folder")
 
 
-def check_time(file: Path, time: Any, what: str) -> float:
-    """``time`` (engine s) as a time a run can go on from; JournalError naming ``file`` (the journal, or the event
-    log) when it is not."""
+def check_time(file: Path, time: Any, what: str, damaged: str = "the journal") -> float:
+    """``time`` (engine s) as a time a run can go on from; JournalError naming ``file`` (``damaged``: the journal,
+    or the event log) when it is not."""
     if isinstance(time, bool) or not isinstance(time, int | float) or not math.isfinite(time) \
             or not 0.0 <= time <= LATEST:
-        raise JournalError(f"{file}: {what} is t={time!r} s, not a time a run reaches (0 to {LATEST:g} s): the "
-                           f"file is damaged, the run cannot be resumed")
+        raise JournalError(f"{file}: {damaged} is damaged: {what} is t={time!r} s, not a time a run reaches (0 to "
+                           f"{LATEST:g} s): the run cannot be resumed")
     return float(time)
 
 
@@ -155,7 +155,7 @@ def last_logged_time(log: Path) -> float | None:
         except ValueError:
             continue  # a torn last line, or the first one cut by the tail's start
         if isinstance(record, dict) and "time" in record:
-            return check_time(log, record["time"], "the event log's last record")
+            return check_time(log, record["time"], "its last record", "the event log")
     return None
 
 

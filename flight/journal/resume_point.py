@@ -21,6 +21,7 @@ locked) is not resumed either.
 from __future__ import annotations
 
 import json
+import math
 import os
 import zlib
 from dataclasses import dataclass, field
@@ -42,6 +43,7 @@ EFFECTS = {"photo_taken": "TAKE_PHOTO", "message_sent": "BROADCAST_MESSAGE", "it
 ACHIEVED = Outcome.GOAL_ACHIEVED.value
 UP = ("in_air", "taking_off")  # landed states of a drone flying as the mission meant it (landing is coming down)
 SUSPENDED = "suspended"
+FARTHEST = 1e6  # m from home: farther is a damaged journal's place, not a drone's
 
 
 @dataclass
@@ -109,7 +111,10 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
     stop_seq = stopped[0] if stopped is not None else 1 << 62
     at_stop = (stop or {}).get("drone") or journal.last_state(segment.segment) or {}
     place = tuple(float(v) for v in at_stop.get("position", (0.0, 0.0, 0.0)))
-    last = check_time(journal.path, journal.last_time(), "the journal's last time")
+    if len(place) != 3 or not all(math.isfinite(v) and abs(v) <= FARTHEST for v in place):
+        raise JournalError(f"{journal.path}: the journal is damaged: the drone's place when the mission stopped, "
+                           f"{list(place)}, is not one it can fly back to: the run cannot be resumed")
+    last = check_time(journal.path, journal.last_time(), "its last time")
     point = ResumePoint(folder, meta, round(last + period, 3), segment.segment, stop,
                         place, at_stop.get("landed_state") in UP, journal.last_state(),  # type: ignore[arg-type]
                         suspended=segments[-1].status == SUSPENDED)

@@ -120,7 +120,15 @@ def test_an_implausible_last_time_is_refused_and_nothing_takes_off(legs, time):
     _, folder = legs
     with sqlite3.connect(folder / "journal.sqlite") as db:
         db.execute("UPDATE events SET time = ? WHERE seq = (SELECT max(seq) FROM events)", (time,))
-    refused(folder, f"{folder / 'journal.sqlite'}: the journal's last time is t=", "not a time a run reaches")
+    refused(folder, f"{folder / 'journal.sqlite'}: the journal is damaged: its last time is t=",
+            "not a time a run reaches")
+
+
+def test_an_implausible_place_is_refused(legs):
+    _, folder = legs
+    with sqlite3.connect(folder / "journal.sqlite") as db:
+        db.execute("UPDATE events SET record = json_set(record, '$.position[2]', 1e300) WHERE kind = 'state'")
+    refused(folder, f"{folder / 'journal.sqlite'}: the journal is damaged: the drone's place")
 
 
 def test_an_implausible_time_in_the_event_log_is_refused(legs):
@@ -128,7 +136,7 @@ def test_an_implausible_time_in_the_event_log_is_refused(legs):
     log = folder / "events.jsonl"
     with open(log, "a") as file:
         file.write('{"time":1e300,"kind":"state"}\n')
-    refused(folder, f"{log}: the event log's last record is t=1e+300 s")
+    refused(folder, f"{log}: the event log is damaged: its last record is t=1e+300 s")
 
 
 def test_a_resumed_run_agrees_with_its_event_log(legs):
