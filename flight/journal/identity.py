@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from aeroexec.flight.journal.reader import Journal
 from aeroexec.flight.journal.schema import JournalError
 
 #: Latest engine time (s) a resumed run may go on from: about 116 days of flight; later is a damaged journal.
@@ -95,6 +96,23 @@ def check_files(journal: Path, journaled: Any, now: list[FlightFile]) -> None:
                                    f"file back as it was, or fly the new one from its start (aeroexec run)")
 
 
+def changed_files(folder: str | Path) -> list[str]:
+    """The files that shaped the run in ``folder`` whose content now differs from the journaled one's, in words
+    (an empty list: a resume now flies the mission the journal holds; a campaign's invariant after a resume)."""
+    with Journal(folder) as journal:
+        journaled = journal.meta().get("files")
+    if not isinstance(journaled, list):
+        return [f"{folder}: the journal does not say which files shaped its flight"]
+    found = []
+    for entry in journaled:
+        now = digest(entry.get("path", "")) if isinstance(entry, dict) else None
+        if not isinstance(entry, dict) or now != entry.get("sha256"):
+            what = entry.get("role", "?") if isinstance(entry, dict) else "?"
+            where = entry.get("path") if isinstance(entry, dict) else entry
+            found.append(f"{where}: the {what} file {'cannot be read' if now is None else 'changed'}")
+    return found
+
+
 def first_record(log: Path) -> dict[str, Any] | None:
     """The event log's first line (``log_started``), or None when there is none to read."""
     try:
@@ -159,5 +177,5 @@ def last_logged_time(log: Path) -> float | None:
     return None
 
 
-__all__ = ["LATEST", "FlightFile", "check_belongs", "check_files", "check_time", "digest", "first_record",
-           "flight_files", "last_logged_time", "new_run_id"]
+__all__ = ["LATEST", "FlightFile", "changed_files", "check_belongs", "check_files", "check_time", "digest",
+           "first_record", "flight_files", "last_logged_time", "new_run_id"]

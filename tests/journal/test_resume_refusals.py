@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.flight.journal.agreement import disagreements
+from aeroexec.flight.journal.identity import changed_files
 from journeys import MISSIONS, achieved, crash, final_state, fly_until, goals_after, resume, spec
 
 RUN_S = 120.0  # s, wall: longest a resume below may take
@@ -58,7 +59,9 @@ def test_a_tree_whose_waypoint_was_edited_is_refused_and_the_run_resumes_as_it_w
     mission.write_text(flown.replace('target="3, 3, 2"', 'target="5, 3, 2"'))  # the tree's shape is the same
     message = refused(folder, f"{mission}: the mission file changed since the interrupted run flew it")
     assert "aeroexec run" in message  # what to do: put it back, or fly it from its start
+    assert changed_files(folder) == [f"{mission}: the mission file changed"]
     mission.write_text(flown)
+    assert changed_files(folder) == []
     _, outcome = resume(folder)
     assert outcome.exit_status == 0, outcome.status
     legs_flown = [a["COORDINATES"] for b, a in achieved(folder) if b == "GO_TO_POINT"]
