@@ -149,6 +149,8 @@ class FlightSession:
         self.engine.supervisor.changes = self.changes
         if spec.fleet is not None or self.fleet_node is not None:
             self._join_fleet()
+        if self.resumption is not None and isinstance(self.mission, TreeDocument):  # refused before any output
+            self.resumption.check_tree(self.mission, self.engine, spec.mission)
         run = self.resumption.run if self.resumption is not None else new_run_id()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
                 "drone": spec.drone, "seed": spec.seed, "robot": spec.robot, "output": str(self.folder),
@@ -174,8 +176,6 @@ class FlightSession:
             from aeroexec.trees.groot.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
-            if self.resumption is not None:  # the tree as changed in flight, then its state
-                self.resumption.change_document(self.mission, self.spec.mission)
             self.tree = TreeMission(self.mission, self.engine, name=spec.name)
             if self.resumption is not None:
                 self.resumption.restore_tree(self.tree, self.spec.mission)

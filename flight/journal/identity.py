@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 import uuid
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,6 +25,7 @@ from aeroexec.flight.journal.schema import JournalError
 #: Latest engine time (s) a resumed run may go on from: about 116 days of flight; later is a damaged journal.
 LATEST = 1e7
 FIRST_LINE = 1 << 20  # bytes of the event log's first line read, at most
+INCLUDE = re.compile(r"""<include\s[^>]*?path\s*=\s*["']([^"']+)["']""")
 TAIL = 1 << 16  # bytes of the event log's end read for its last time
 
 
@@ -59,10 +61,32 @@ def digest(path: str | Path) -> str | None:
 
 def flight_files(mission: str | Path, world: str | Path | None, catalog: str | Path | None,
                  rules: tuple[str, ...] | list[str], safety_rules: tuple[str, ...] | list[str]) -> list[FlightFile]:
-    """The files that shape a flight, with their digests now."""
-    named = [("mission", mission), ("world", world), ("catalog", catalog),
-             *(("rules", path) for path in rules), *(("safety rules", path) for path in safety_rules)]
+    """The files that shape a flight, with their digests now (a tree's included files too)."""
+    named = [("mission", mission), *(("included", path) for path in included(Path(mission))), ("world", world),
+             ("catalog", catalog), *(("rules", path) for path in rules),
+             *(("safety rules", path) for path in safety_rules)]
     return [FlightFile(role, str(Path(path).resolve()), digest(path)) for role, path in named if path]
+
+
+def included(mission: Path) -> list[Path]:
+    """The files a BehaviorTree.CPP XML mission includes (``<include path="..."/>``, relative to the including
+    file), and theirs, in the order they are first named."""
+    found: list[Path] = []
+    todo = [mission] if mission.suffix.lower() == ".xml" else []
+    seen = {mission.resolve()}
+    while todo:
+        including = todo.pop(0)
+        try:
+            text = including.read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            continue
+        for name in INCLUDE.findall(text):
+            path = (including.parent / name).resolve()
+            if path not in seen:
+                seen.add(path)
+                found.append(path)
+                todo.append(path)
+    return found
 
 
 def check_files(journal: Path, journaled: Any, now: list[FlightFile]) -> None:
@@ -178,4 +202,4 @@ def last_logged_time(log: Path) -> float | None:
 
 
 __all__ = ["LATEST", "FlightFile", "changed_files", "check_belongs", "check_files", "check_time", "digest",
-           "first_record", "flight_files", "last_logged_time", "new_run_id"]
+           "first_record", "flight_files", "included", "last_logged_time", "new_run_id"]

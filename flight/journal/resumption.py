@@ -162,6 +162,20 @@ class Resumption:
             raise FlightError(f"{mission}: the changes made to it in flight do not fit it now ({error}); resume with "
                               f"the mission as it was") from None
 
+    def check_tree(self, document: Any, engine: Any, mission: Any = "the mission") -> None:
+        """Make the changes made in flight on ``document`` (:meth:`change_document`) and check the tree built from
+        it takes the kept state, on a tree of its own: FlightError before anything is written when it does not."""
+        from aeroexec.trees.runtime.runner import TreeMission
+        from aeroexec.trees.runtime.tree_state import TreeState, TreeStateError, restore_mission
+
+        self.change_document(document, mission)
+        try:
+            restore_mission(TreeMission(document, engine),
+                            TreeState.from_json(self.point.tree or "", self.point.meta.get("tree_shape")))
+        except (TreeStateError, ValueError) as error:
+            raise FlightError(f"{mission}: it is not the tree the interrupted run flew ({error}); run it from the "
+                              f"start, or resume with the mission as it was") from None
+
     def restore_tree(self, tree: Any, mission: Any = "the mission") -> None:
         """Put the tree's kept state back (FlightError when ``mission``'s tree is not the one interrupted); the
         leaves whose goal was reached meanwhile are settled."""

@@ -68,6 +68,35 @@ def test_a_tree_whose_waypoint_was_edited_is_refused_and_the_run_resumes_as_it_w
     assert legs_flown == [[3, 0, 2], [3, 3, 2], [0, 0, 2]]  # never (5, 3, 2)
 
 
+MAIN = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <include path="sub/legs.xml"/>
+  <BehaviorTree ID="Main"><Sequence><TAKE_OFF ALTITUDE="2"/><SubTree ID="Legs"/><LAND/></Sequence></BehaviorTree>
+</root>
+"""
+LEGS = """<root BTCPP_format="4"><BehaviorTree ID="Legs"><Sequence>
+  <GO_TO_POINT COORDINATES="3, 0, 2"/><GO_TO_POINT COORDINATES="3, 3, 2"/><GO_TO_POINT COORDINATES="0, 0, 2"/>
+</Sequence></BehaviorTree></root>
+"""
+
+
+def test_a_tree_whose_included_file_was_edited_is_refused(tmp_path):
+    mission, legs = tmp_path / "main.xml", tmp_path / "sub" / "legs.xml"
+    mission.write_text(MAIN)
+    legs.parent.mkdir()
+    legs.write_text(LEGS)
+    folder = tmp_path / "run"
+    crash(fly_until(spec(mission, folder), goals_after(2)))
+    legs.write_text(LEGS.replace("3, 3, 2", "5, 3, 2"))
+    refused(folder, f"{legs}: the included file changed since the interrupted run flew it")
+
+
+def test_a_journal_whose_tree_state_does_not_fit_is_refused_without_a_write(legs):
+    _, folder = legs
+    with sqlite3.connect(folder / "journal.sqlite") as db:
+        db.execute("UPDATE meta SET value = json_remove(value, '$[3]') WHERE key = 'tree_shape'")
+    refused(folder, "it is not the tree the interrupted run flew")
+
+
 def test_a_rules_file_changed_since_is_refused(tmp_path):
     rules = tmp_path / "rules.pl"
     rules.write_text("near_home(?X) :- position(?X, ?P).\n")
