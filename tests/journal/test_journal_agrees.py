@@ -19,7 +19,7 @@ from aeroexec.flight.journal import Journal
 from aeroexec.flight.journal.agreement import disagreements
 from aeroexec.flight.journal.schema import NAME
 from aeroexec.flight.journal.store import JournalStore
-from aeroexec.flight.signals import ending_signals
+from aeroexec.flight.signals import ending_signals, interrupts_held
 from journeys import MISSIONS, fly, spec
 
 RUN_S = 120.0  # s, wall: longest a run below may take
@@ -112,5 +112,53 @@ def test_after_kill_9_the_resumed_runs_time_goes_on_from_the_event_log(tmp_path)
     assert first_after >= last_before - PERIOD, (last_before, first_after)
     times = [r["time"] for r in after]
     assert all(b >= a - PERIOD for a, b in zip(times, times[1:], strict=False))
+    found = disagreements(folder)
+    assert found == [], found
+
+
+def test_a_signal_within_a_held_period_is_raised_at_its_end_and_a_second_at_once():
+    order = []
+    with ending_signals():
+        try:
+            with interrupts_held():
+                os.kill(os.getpid(), signal.SIGTERM)
+                order.append("the period went on")
+        except KeyboardInterrupt as interrupt:
+            order.append(interrupt.signal_name)
+        try:
+            with interrupts_held():
+                os.kill(os.getpid(), signal.SIGTERM)
+                os.kill(os.getpid(), signal.SIGHUP)  # the operator insists
+                order.append("not reached")
+        except KeyboardInterrupt as interrupt:
+            order.append(interrupt.signal_name)
+    assert order == ["the period went on", "SIGTERM", "SIGTERM"]
+
+
+def test_a_patrol_sigtermed_mid_flight_keeps_every_record_in_its_journal(tmp_path):
+    """``aeroexec run square_patrol.py`` SIGTERM'd once its event log holds 20 belief changes: it lands (exit 4),
+    and its journal holds every record its event log holds."""
+    folder = tmp_path / "run"
+    process = subprocess.Popen([sys.executable, "-m", "aeroexec.cli.main", "run", str(MISSIONS / "square_patrol.py"),
+                                "--plain", "--quiet", "--speed", "10", "--output", str(folder)],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    log = folder / "events.jsonl"
+    deadline = time.monotonic() + RUN_S
+    try:
+        while process.poll() is None and time.monotonic() < deadline:
+            try:
+                seen = log.read_text().count('"kind":"belief_')
+            except OSError:
+                seen = 0
+            if seen >= 20:
+                process.send_signal(signal.SIGTERM)
+                break
+            time.sleep(0.005)
+        _, err = process.communicate(timeout=RUN_S)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 4, err.decode()[-2000:]
+    assert records(folder)[-1]["kind"] == "log_closed"
     found = disagreements(folder)
     assert found == [], found
