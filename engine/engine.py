@@ -140,6 +140,10 @@ class Engine:
         self.tick_callbacks: list[Callable[[], None]] = []
         #: The operator's commands (pause, resume, abort...), run on this loop's thread (engine/supervision.py).
         self.supervisor = Supervisor(self)
+        #: What a tick, and each mission call served, runs within (the flight holds Ctrl-C and SIGTERM in it: what
+        #: it records is never cut in two).
+        self.period_guard: Callable[[], contextlib.AbstractContextManager[Any]] = contextlib.nullcontext
+        self.bridge.guard = lambda: self.period_guard()
         self._started = False
         self._stop = threading.Event()
         self._closed = False
@@ -153,7 +157,7 @@ class Engine:
 
     def tick(self) -> None:
         """One period of the engine, at the clock's current time."""
-        with self._lock:
+        with self._lock, self.period_guard():
             if not self._started:
                 self._begin()
             now = self.clock.now()

@@ -27,6 +27,7 @@ from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter, world_meta
 from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
+from aeroexec.flight.journal.identity import FlightFile, flight_files, new_run_id
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import NO_SPACE, no_space, prepare_output
@@ -40,6 +41,7 @@ from aeroexec.flight.robot import (
     with_rule_files,
 )
 from aeroexec.flight.run_status import FAILED, FlightOutcome, flight_status, record_run_status
+from aeroexec.flight.signals import interrupts_held
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
@@ -104,21 +106,23 @@ class FlightSession:
     def _open(self) -> None:
         spec = self.spec
         self.folder = prepare_output(spec.output)
-        if spec.resume:
+        log_path = Path(spec.log) if spec.log else self.folder / "events.jsonl"
+        choice = robot_choice(spec.robot)
+        world_path = choice.world_file(spec.world)
+        if spec.resume:  # refused before anything is written (the journal, the event log) or flown
             try:
                 self.resumption = Resumption(resume_point(self.folder))
+                self.resumption.check(spec, world_path, log_path)
             except JournalError as error:
                 raise FlightError(str(error)) from None
         start = self.resumption.point.time if self.resumption is not None else 0.0
         if spec.register:  # ctl finds the run from now on, while it starts
             self.control = ControlServer(None, self.folder, name=spec.name, register=spec.register,
                                          on_abort=self._cancel.set).start()
-        choice = robot_choice(spec.robot)
         try:
             self.catalog = with_rule_files(choice.catalog(spec.catalog), spec.rules)
         except CatalogError as error:
             raise FlightError("\n".join(str(p) for p in error.problems)) from None
-        world_path = choice.world_file(spec.world)
         if self.world is None:
             self.world = load_world(world_path, default=spec.simulated or choice.kind is not None,
                                     mission=Path(spec.mission), home=spec.home)  # a plan's open field, --home
@@ -140,18 +144,22 @@ class FlightSession:
         if self._cancel.is_set():
             raise FlightError(f"{spec.name}: the start was aborted (aeroexec ctl abort)")
         self.engine = self._engine(choice, simulated, start)
+        self.engine.period_guard = interrupts_held  # Ctrl-C, SIGTERM: between periods, never within one
         self.changes = MissionChanges(self)
         self.engine.supervisor.changes = self.changes
         if spec.fleet is not None or self.fleet_node is not None:
             self._join_fleet()
+        if self.resumption is not None and isinstance(self.mission, TreeDocument):  # refused before any output
+            self.resumption.check_tree(self.mission, self.engine, spec.mission)
+        run = self.resumption.run if self.resumption is not None else new_run_id()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
                 "drone": spec.drone, "seed": spec.seed, "robot": spec.robot, "output": str(self.folder),
-                **world_meta(self.world)}
+                "run": run, **world_meta(self.world)}
         if spec.fleet is not None:
             meta.update(fleet=spec.fleet.fleet, drone_name=spec.fleet.name)
         if spec.journal:
-            self._open_journal(meta)
-        log_path = Path(spec.log) if spec.log else self.folder / "events.jsonl"
+            self._open_journal(meta, flight_files(spec.mission, world_path, spec.catalog, spec.rules,
+                                                  spec.safety_rules))
         try:
             self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta,
                                               resumed=self.journal.segment if self.resumption else None)
@@ -170,8 +178,6 @@ class FlightSession:
             from aeroexec.trees.groot.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
-            if self.resumption is not None:  # the tree as changed in flight, then its state
-                self.resumption.change_document(self.mission, self.spec.mission)
             self.tree = TreeMission(self.mission, self.engine, name=spec.name)
             if self.resumption is not None:
                 self.resumption.restore_tree(self.tree, self.spec.mission)
@@ -197,11 +203,13 @@ class FlightSession:
         return make_engine(spec, choice, self.robot, catalog=self.catalog, clock=self.clock, world=self.world,
                            operator=self.operator, folder=self.folder)
 
-    def _open_journal(self, meta: dict[str, Any]) -> None:
-        """The flight journal: a new one, or the interrupted run's going on (a resume)."""
+    def _open_journal(self, meta: dict[str, Any], files: list[FlightFile]) -> None:
+        """The flight journal: a new one (``files``: those that shaped the flight, with their digests), or the
+        interrupted run's going on (a resume)."""
         try:
             self.journal = open_journal(self.engine, self.spec, self.folder, meta,
-                                        python=not isinstance(self.mission, TreeDocument), resumption=self.resumption)
+                                        python=not isinstance(self.mission, TreeDocument), resumption=self.resumption,
+                                        files=files)
         except JournalError as error:
             if error.no_space:
                 raise no_space(self.folder, "the journal cannot be written") from None
@@ -346,7 +354,11 @@ class FlightSession:
         record_run_status(engine.log, status, code)
         if self.journal is not None:
             self.journal.ended(status, code)
-        self.close()
+        try:
+            with interrupts_held():  # the outputs close whole; a signal meanwhile has nothing left to stop
+                self.close()
+        except KeyboardInterrupt:
+            logger.info("interrupted while the outputs closed: they were closed first")
         whole = self.flight_log is not None and self.flight_log.incomplete is None  # run_ended is in the log
         self.outcome = FlightOutcome(status, list(faults), self._incomplete(), self.folder, unsaved,
                                      recorded=code if whole else None)

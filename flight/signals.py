@@ -1,6 +1,11 @@
 """Signals that end a flight as Ctrl-C does: SIGTERM (a service manager, ``kill``) and SIGHUP (the terminal
 closed) raise :class:`Interrupted`, a KeyboardInterrupt, in the main thread, so the flight aborts, lands and
-closes its log whatever ended it; a second one leaves the drone as it is, like a second Ctrl-C."""
+closes its log whatever ended it; a second one leaves the drone as it is, like a second Ctrl-C.
+
+Within :func:`interrupts_held` (an engine period, the outputs closing) such a signal, and Ctrl-C, waits for the
+block's end: a period is never cut in two, so the event log and the journal never keep one half of it each (a
+commit interrupted half-way was rolled back, and its records lost to the journal). A second signal while one
+waits raises that one at once (the operator insists)."""
 
 from __future__ import annotations
 
@@ -21,18 +26,50 @@ class Interrupted(KeyboardInterrupt):
         self.signal_name = signal_name
 
 
+class _Held(threading.local):
+    depth = 0
+    waiting: Interrupted | None = None
+
+
+_held = _Held()
+
+
 def _raise(signum: int, _frame: object) -> None:
-    raise Interrupted(signal.Signals(signum).name)
+    interrupt = Interrupted("Ctrl-C" if signum == signal.SIGINT else signal.Signals(signum).name)
+    if _held.depth and _held.waiting is None:
+        _held.waiting = interrupt  # raised when the block ends
+        return
+    if _held.waiting is not None:  # a second one while the first waits: the first, at once
+        interrupt, _held.waiting = _held.waiting, None
+    raise interrupt
+
+
+@contextlib.contextmanager
+def interrupts_held() -> Iterator[None]:
+    """Within the block (in the main thread), an ending signal or Ctrl-C is raised at the block's end, not within
+    it; a second one is raised at once."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    _held.depth += 1
+    try:
+        yield
+    finally:
+        _held.depth -= 1
+        if not _held.depth and _held.waiting is not None:
+            interrupt, _held.waiting = _held.waiting, None
+            raise interrupt
 
 
 @contextlib.contextmanager
 def ending_signals() -> Iterator[None]:
-    """Within the block, SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread (elsewhere: nothing
-    changes, signals only reach the main thread)."""
+    """Within the block, SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread, and so does Ctrl-C
+    (``signal_name`` "Ctrl-C"), held within :func:`interrupts_held` (elsewhere: nothing changes, signals only
+    reach the main thread)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = {number: signal.signal(number, _raise) for number in ENDING_SIGNALS}
+    previous = {number: signal.signal(number, _raise) for number in (*ENDING_SIGNALS, signal.SIGINT)}
     try:
         yield
     finally:
@@ -40,4 +77,4 @@ def ending_signals() -> Iterator[None]:
             signal.signal(number, handler)
 
 
-__all__ = ["ENDING_SIGNALS", "Interrupted", "ending_signals"]
+__all__ = ["ENDING_SIGNALS", "Interrupted", "ending_signals", "interrupts_held"]

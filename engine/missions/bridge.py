@@ -84,6 +84,8 @@ class MissionBridge:
         """``now``, ``world_version`` (changes whenever a belief does) and ``report`` let the bridge tell of a
         mission that polls a world that does not change."""
         self._queue: queue.SimpleQueue[_Request] = queue.SimpleQueue()
+        #: What each call is served within (the engine's period guard: Ctrl-C waits for the call's end).
+        self.guard: Callable[[], contextlib.AbstractContextManager[Any]] = contextlib.nullcontext
         self._mission = _Mission()
         self._pending: set[_Request] = set()
         self._closed = False
@@ -212,7 +214,8 @@ class MissionBridge:
                 with contextlib.suppress(queue.Empty):
                     request = self._queue.get_nowait()
             if request is not None:
-                self._execute(request)
+                with self.guard():
+                    self._execute(request)
                 if not request.waits:
                     served += 1
                     self._polled()

@@ -5,14 +5,16 @@ telemetry, a Python mission's calls, a tree's state and where the mission stoppe
 
 ``schema.py`` (the tables), ``writer.py`` (:class:`JournalWriter`, on the engine's loop), ``store.py`` (the
 database as it is written: commits on the loop, checkpoints on a thread), ``looks.py`` (a polling mission's calls
-in runs), ``reader.py``
-(:class:`Journal`: questions over it, and the event log's records rebuilt from it), ``resume_point.py`` (where an
-interrupted run goes on from), ``rejoin.py`` (the drone put back where the mission left it), ``resumption.py``
-(a flight set up from a resume point).
+in runs), ``reader.py`` (:class:`Journal`: questions over it, and the event log's records rebuilt from it),
+``agreement.py`` (:func:`disagreements`: where a journal and its event log differ), ``resume_point.py`` (where an
+interrupted run goes on from), ``identity.py`` (the run, folder and files a journal belongs to, checked before a
+resume), ``rejoin.py`` (the drone put back where the mission left it), ``resumption.py`` (a flight set up from a
+resume point).
 """
 
 from __future__ import annotations
 
+from aeroexec.flight.journal.agreement import disagreements
 from aeroexec.flight.journal.reader import Journal, is_journal, read_records
 from aeroexec.flight.journal.resume_point import ResumePoint, resume_point, resume_spec
 from aeroexec.flight.journal.resumption import RejoinFailed, Resumption, open_journal
@@ -20,4 +22,4 @@ from aeroexec.flight.journal.schema import NAME, JournalError
 from aeroexec.flight.journal.writer import JournalWriter
 
 __all__ = ["NAME", "Journal", "JournalError", "JournalWriter", "RejoinFailed", "ResumePoint", "Resumption",
-           "is_journal", "open_journal", "read_records", "resume_point", "resume_spec"]
+           "disagreements", "is_journal", "open_journal", "read_records", "resume_point", "resume_spec"]

@@ -21,6 +21,7 @@ locked) is not resumed either.
 from __future__ import annotations
 
 import json
+import math
 import os
 import zlib
 from dataclasses import dataclass, field
@@ -31,6 +32,7 @@ from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES
 from aeroexec.engine.missions.replay import RecordedCall
 from aeroexec.engine.missions.values import canonical, encode
+from aeroexec.flight.journal.identity import check_time
 from aeroexec.flight.journal.reader import Journal
 from aeroexec.flight.journal.rejoin import LAND, TAKE_OFF
 from aeroexec.flight.journal.schema import JournalError, is_flying
@@ -41,6 +43,7 @@ EFFECTS = {"photo_taken": "TAKE_PHOTO", "message_sent": "BROADCAST_MESSAGE", "it
 ACHIEVED = Outcome.GOAL_ACHIEVED.value
 UP = ("in_air", "taking_off")  # landed states of a drone flying as the mission meant it (landing is coming down)
 SUSPENDED = "suspended"
+FARTHEST = 1e6  # m from home: farther is a damaged journal's place, not a drone's
 
 
 @dataclass
@@ -108,7 +111,11 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
     stop_seq = stopped[0] if stopped is not None else 1 << 62
     at_stop = (stop or {}).get("drone") or journal.last_state(segment.segment) or {}
     place = tuple(float(v) for v in at_stop.get("position", (0.0, 0.0, 0.0)))
-    point = ResumePoint(folder, meta, round(journal.last_time() + period, 3), segment.segment, stop,
+    if len(place) != 3 or not all(math.isfinite(v) and abs(v) <= FARTHEST for v in place):
+        raise JournalError(f"{journal.path}: the journal is damaged: the drone's place when the mission stopped, "
+                           f"{list(place)}, is not one it can fly back to: the run cannot be resumed")
+    last = check_time(journal.path, journal.last_time(), "its last time")
+    point = ResumePoint(folder, meta, round(last + period, 3), segment.segment, stop,
                         place, at_stop.get("landed_state") in UP, journal.last_state(),  # type: ignore[arg-type]
                         suspended=segments[-1].status == SUSPENDED)
     done = _effects(journal, segment.segment, stop_seq)
@@ -131,6 +138,7 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
         point.was_flying = False
     elif TAKE_OFF in reached:
         point.was_flying = True
+    point.where()  # a stop the journal cannot say (a damaged one) is found here, not when the resume says it
     return point
 
 
@@ -252,36 +260,51 @@ def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone:
                 token: str | None = None, credentials: str | None = None, **flight: Any) -> Any:
     """The flight that goes on with the interrupted run in ``folder``: as it was asked (mission, robot, drone,
     world, catalog, plugins, seed, fleet), with ``flight``'s pacing, time limit, answers and surfaces (this
-    command line's), and when given another ``mission`` file (the same mission moved, or edited: a Python mission
-    is checked call by call), ``drone`` address or fleet ``credentials``; JournalError when the journal cannot say."""
+    command line's), and when given another ``mission`` file (the same mission moved: its content is checked when
+    the flight opens), ``drone`` address or fleet ``credentials``; JournalError naming the journal when it cannot
+    say (a damaged journal)."""
     from aeroexec.fleet.fleet_json import TOKEN_VARIABLE, read_fleet_file
     from aeroexec.flight.spec import FleetJoin, FlightSpec
 
     folder = Path(folder)
     with Journal(folder) as journal:
         meta = journal.meta()
+        where = journal.path
     asked = meta.get("spec")
     if not isinstance(asked, dict):
-        raise JournalError(f"{folder}: the journal does not say what flight it was")
-    fleet = asked.get("fleet")
-    join = None
-    if isinstance(fleet, dict):
-        if token is None:
-            try:
-                token = read_fleet_file(fleet["fleet"], str(folder)).get("token")
-            except ValueError:
-                token = os.environ.get(TOKEN_VARIABLE)
-        join = FleetJoin(fleet["fleet"], fleet["name"], tuple(fleet.get("connect") or ()), token,
-                         tuple(fleet.get("share") or ()), float(fleet.get("telemetry_rate", 5.0)),
-                         credentials or fleet.get("credentials"))
-    return FlightSpec(mission=Path(mission or meta.get("mission") or asked["mission"]), robot=asked["robot"],
-                      drone=drone or asked["drone"], world=asked.get("world"), catalog=asked.get("catalog"),
-                      library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),
-                      updaters=tuple(asked.get("updaters") or ()), rules=tuple(asked.get("rules") or ()),
-                      safety_rules=tuple(asked.get("safety_rules") or ()), seed=int(asked.get("seed", 0)),
-                      output=str(folder),
-                      home=tuple(asked["home"]) if asked.get("home") else None,  # type: ignore[arg-type]
-                      log=asked.get("log"), fleet=join, resume=True, **flight)
+        raise JournalError(f"{where}: the journal is damaged: it does not say what flight it was (meta 'spec')")
+    mission = mission or meta.get("mission") or asked.get("mission")
+    missing = [key for key, value in (("mission", mission), ("robot", asked.get("robot")),
+                                      ("drone", drone or asked.get("drone"))) if not value]
+    if missing:
+        raise JournalError(f"{where}: the journal is damaged: its flight (meta 'spec') does not say its "
+                           f"{' or '.join(missing)}: it cannot be resumed")
+    try:
+        fleet = asked.get("fleet")
+        join = None
+        if isinstance(fleet, dict):
+            if token is None:
+                try:
+                    token = read_fleet_file(fleet["fleet"], str(folder)).get("token")
+                except ValueError:
+                    token = os.environ.get(TOKEN_VARIABLE)
+            join = FleetJoin(fleet["fleet"], fleet["name"], tuple(fleet.get("connect") or ()), token,
+                             tuple(fleet.get("share") or ()), float(fleet.get("telemetry_rate", 5.0)),
+                             credentials or fleet.get("credentials"))
+        return FlightSpec(mission=Path(mission), robot=str(asked["robot"]), drone=str(drone or asked["drone"]),
+                          world=asked.get("world"), catalog=asked.get("catalog"),
+                          library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),
+                          updaters=tuple(asked.get("updaters") or ()), rules=tuple(asked.get("rules") or ()),
+                          safety_rules=tuple(asked.get("safety_rules") or ()), seed=int(asked.get("seed", 0)),
+                          output=str(folder),
+                          home=tuple(asked["home"]) if asked.get("home") else None,  # type: ignore[arg-type]
+                          log=asked.get("log"), fleet=join, resume=True, **flight)
+    except KeyError as error:
+        raise JournalError(f"{where}: the journal is damaged: its flight (meta 'spec') does not say {error}: it "
+                           f"cannot be resumed") from None
+    except (TypeError, ValueError) as error:
+        raise JournalError(f"{where}: the journal is damaged: its flight (meta 'spec') cannot be read "
+                           f"({error}): it cannot be resumed") from None
 
 
 __all__ = ["EFFECTS", "ResumePoint", "behavior_of", "resume_point", "resume_spec"]

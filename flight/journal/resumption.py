@@ -25,14 +25,17 @@ from aeroexec.engine.events import Outcome, achieved_goal_message
 from aeroexec.engine.missions.replay import MissionRecorder, location
 from aeroexec.engine.missions.values import canonical, decode
 from aeroexec.flight.flight_log import plain
+from aeroexec.flight.journal.identity import FlightFile, check_belongs, check_files, flight_files, last_logged_time
 from aeroexec.flight.journal.rejoin import FLYING, Rejoin
 from aeroexec.flight.journal.resume_point import ResumePoint, behavior_of
+from aeroexec.flight.journal.schema import journal_path
 from aeroexec.flight.journal.writer import JournalWriter
 from aeroexec.flight.spec import FlightError, FlightSpec
 
 logger = logging.getLogger(__name__)
 
 FULL = 100.0  # % of a swapped battery
+PERIOD = 0.05  # s: the engine's period, the most a resumed run's clock may lose
 
 
 class RejoinFailed(RequestRejected):
@@ -59,6 +62,25 @@ class Resumption:
         self.settled: dict[str, tuple[str, Any]] = dict(point.settled)
         self._answer: Any = None  # what the Python mission's call under way is answered with, when settled
         self.reached: set[int] = set()  # the tree's nodes (places from 1) that had succeeded before the resume
+
+    def check(self, spec: FlightSpec, world: str | None, log: Path) -> None:
+        """JournalError, before anything is written or flown, when this flight is not the interrupted run's to go
+        on with: its journal copied from another run's folder, a file that shaped it changed since (the mission,
+        the world, the catalog, the rules), times the clock cannot go on from; the resumed run's clock goes on from
+        the event log's last record when that is later than the journal's (a ``kill -9`` between two commits)."""
+        point = self.point
+        journal = journal_path(point.folder)
+        check_belongs(journal, point.meta, point.folder, log)
+        check_files(journal, point.meta.get("files"),
+                    flight_files(spec.mission, world, spec.catalog, spec.rules, spec.safety_rules))
+        logged = last_logged_time(log)
+        if logged is not None:
+            point.time = max(point.time, round(logged + PERIOD, 3))
+
+    @property
+    def run(self) -> str:
+        """The interrupted run's identity (the resumed run keeps it)."""
+        return str(self.point.meta["run"])
 
     @property
     def supersede_from(self) -> int | None:
@@ -139,6 +161,20 @@ class Resumption:
         except (KeyError, ValueError, TreeFormatError) as error:
             raise FlightError(f"{mission}: the changes made to it in flight do not fit it now ({error}); resume with "
                               f"the mission as it was") from None
+
+    def check_tree(self, document: Any, engine: Any, mission: Any = "the mission") -> None:
+        """Make the changes made in flight on ``document`` (:meth:`change_document`) and check the tree built from
+        it takes the kept state, on a tree of its own: FlightError before anything is written when it does not."""
+        from aeroexec.trees.runtime.runner import TreeMission
+        from aeroexec.trees.runtime.tree_state import TreeState, TreeStateError, restore_mission
+
+        self.change_document(document, mission)
+        try:
+            restore_mission(TreeMission(document, engine),
+                            TreeState.from_json(self.point.tree or "", self.point.meta.get("tree_shape")))
+        except (TreeStateError, ValueError) as error:
+            raise FlightError(f"{mission}: it is not the tree the interrupted run flew ({error}); run it from the "
+                              f"start, or resume with the mission as it was") from None
 
     def restore_tree(self, tree: Any, mission: Any = "the mission") -> None:
         """Put the tree's kept state back (FlightError when ``mission``'s tree is not the one interrupted); the
@@ -239,10 +275,11 @@ class Resumption:
 
 
 def open_journal(engine: Any, spec: FlightSpec, folder: Path, log: dict[str, Any], *, python: bool,
-                 resumption: Resumption | None = None) -> JournalWriter:
-    """The journal of a flight in ``folder``: a new one (``log``: what the event log's first line says), or the
-    interrupted run's going on; a Python mission's calls go through a recorder (journaled, replayed on a resume).
-    JournalError when it cannot be written."""
+                 resumption: Resumption | None = None, files: list[FlightFile] = ()) -> JournalWriter:
+    """The journal of a flight in ``folder``: a new one (``log``: what the event log's first line says, with the
+    run's identity ``run``; ``files``: those that shaped the flight, with their digests), or the interrupted run's
+    going on; a Python mission's calls go through a recorder (journaled, replayed on a resume). JournalError when
+    it cannot be written."""
     asked = plain(dataclasses.asdict(spec))
     for key in ("world", "catalog", "log", "answers"):  # files as paths a resume finds from any folder
         if asked.get(key):
@@ -254,7 +291,9 @@ def open_journal(engine: Any, spec: FlightSpec, folder: Path, log: dict[str, Any
         if asked["fleet"].get("credentials"):
             asked["fleet"]["credentials"] = str(Path(asked["fleet"]["credentials"]).resolve())
     journal = JournalWriter(engine, folder, meta={"mission": str(Path(spec.mission).resolve()),
-                                                  "kind": "python" if python else "tree", "spec": asked, "log": log},
+                                                  "kind": "python" if python else "tree", "spec": asked, "log": log,
+                                                  "run": log.get("run"), "folder": str(Path(folder).resolve()),
+                                                  "files": [file.as_meta() for file in files]},
                             supersede_from=resumption.supersede_from if resumption is not None else None)
     if python:
         engine.bridge.recorder = (resumption.recorder(engine, journal) if resumption is not None

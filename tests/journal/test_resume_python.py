@@ -1,6 +1,7 @@
 """Python missions resumed by deterministic replay: the mission runs again from the top, its journaled calls answer
-at once without acting, and it goes live at the first call the journal has no result for. A mission edited
-before the resume is refused at the call where it diverges, with its line."""
+at once without acting, and it goes live at the first call the journal has no result for. A mission file edited
+since is refused before anything moves; a mission whose calls differ on the resume (it reads something that
+changed) is refused at the call where it diverges, with its line."""
 
 from __future__ import annotations
 
@@ -67,14 +68,19 @@ def test_replayed_calls_do_not_act(tmp_path):
     assert started[-1] == "LAND"
 
 
-def edited(tmp_path, old: str, new: str):
+def varying(tmp_path, monkeypatch, old: str, new: str):
+    """figure10.py whose ``old`` code becomes ``new`` when the environment says EDITED: the same file (a file edited
+    since is refused whole), calls that differ on the resume (a mission that reads the world, a clock, a file)."""
     mission = tmp_path / "figure10.py"
-    shutil.copy(FIGURE10, mission)
-    return mission, lambda: mission.write_text(mission.read_text().replace(old, new))
+    imported = "import aeroexec.engine.api as api"
+    source = FIGURE10.read_text().replace(imported, f"{imported}; import os")  # the lines stay where they were
+    mission.write_text(source.replace(old, new))
+    return mission, lambda: monkeypatch.setenv("EDITED", "1")
 
 
-def test_an_edited_mission_is_refused_at_the_line_where_it_diverges(tmp_path):
-    mission, edit = edited(tmp_path, "point=[2, 5, 1.3]", "point=[3, 5, 1.3]")
+def test_a_mission_whose_calls_differ_is_refused_at_the_line_where_it_diverges(tmp_path, monkeypatch):
+    mission, edit = varying(tmp_path, monkeypatch, "point=[2, 5, 1.3]",
+                            "point=[3, 5, 1.3] if os.environ.get('EDITED') else [2, 5, 1.3]")
     folder = tmp_path / "run"
     crash(fly_until(spec(mission, folder), active("GO_TO_POINT", 1.0)))  # the edited call under way
     edit()
@@ -85,13 +91,14 @@ def test_an_edited_mission_is_refused_at_the_line_where_it_diverges(tmp_path):
     assert "point=[3, 5, 1.3]" in reason and "point=[2, 5, 1.3]" in reason, reason
     assert not [e for e in session.engine.log.events("activated") if e.data.get("source") in ("mission", "resume")]
     # the refusal changed nothing: resumed with the mission as it was, it goes on
-    mission.write_text(FIGURE10.read_text())
+    monkeypatch.delenv("EDITED")
     _, outcome = resume(folder)
     assert outcome.exit_status == 0, outcome.status
 
 
-def test_an_edit_before_the_resume_point_is_refused_too(tmp_path):
-    mission, edit = edited(tmp_path, 'api.executeBehavior("TAKE_OFF")', 'api.executeBehavior("TAKE_OFF", altitude=3)')
+def test_calls_that_differ_before_the_resume_point_are_refused_too(tmp_path, monkeypatch):
+    mission, edit = varying(tmp_path, monkeypatch, 'api.executeBehavior("TAKE_OFF")',
+                            'api.executeBehavior("TAKE_OFF", **({"altitude": 3} if os.environ.get("EDITED") else {}))')
     folder = tmp_path / "run"
     crash(fly_until(spec(mission, folder), goals_after(3)))
     edit()
@@ -100,14 +107,25 @@ def test_an_edit_before_the_resume_point_is_refused_too(tmp_path):
     assert "figure10.py:11: the mission differs from the interrupted run at its call 1" in outcome.status.reasons[0]
 
 
-def test_a_mission_that_ends_before_its_journaled_calls_is_refused(tmp_path):
-    mission, edit = edited(tmp_path, "    api.inhibitBehavior", "    return\n    api.inhibitBehavior")
+def test_a_mission_that_ends_before_its_journaled_calls_is_refused(tmp_path, monkeypatch):
+    mission, edit = varying(tmp_path, monkeypatch, "    api.inhibitBehavior",
+                            "    if os.environ.get('EDITED'):\n        return\n    api.inhibitBehavior")
     folder = tmp_path / "run"
     crash(fly_until(spec(mission, folder), active("LAND", 0.5)))
     edit()
     _, outcome = resume(folder)
     assert outcome.exit_status == 1
     assert "the mission ended after 5 calls" in outcome.status.reasons[0], outcome.status.reasons
+
+
+def test_an_edited_mission_file_is_refused_before_anything_moves(tmp_path):
+    mission = tmp_path / "figure10.py"
+    shutil.copy(FIGURE10, mission)
+    folder = tmp_path / "run"
+    crash(fly_until(spec(mission, folder), active("GO_TO_POINT", 1.0)))
+    mission.write_text(FIGURE10.read_text().replace("point=[2, 5, 1.3]", "point=[3, 5, 1.3]"))
+    with pytest.raises(FlightError, match="figure10.py: the mission file changed since the interrupted run flew it"):
+        resume(folder)
 
 
 POLLING = """import aeroexec.engine.api as api
