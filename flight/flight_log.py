@@ -337,7 +337,12 @@ def world_meta(world: Any) -> dict[str, Any]:
 
 def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
     """The records of an event log; a last line cut short (by a crash mid-write) is left out."""
-    records: list[dict[str, Any]] = []
+    return [record for _, record in read_numbered_log(path)]
+
+
+def read_numbered_log(path: str | Path) -> list[tuple[int, dict[str, Any]]]:
+    """The records of an event log with their line numbers (from 1), as :func:`read_flight_log` reads them."""
+    records: list[tuple[int, dict[str, Any]]] = []
     try:
         lines = read_text(path, limit=MAX_LOG_BYTES).split("\n")  # a FIFO is refused unread
     except InputError as exc:  # the callers say "cannot read the event log" and the file
@@ -348,7 +353,7 @@ def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
         try:
             if nesting_beyond(line, MAX_NESTING, "[{", "]}", quotes='"') is not None:
                 raise ValueError(f"{path}:{number}: nested more than {MAX_NESTING} levels deep")
-            records.append(json.loads(line))
+            records.append((number, json.loads(line)))
         except json.JSONDecodeError:
             if number == len(lines):  # the torn last line (no newline after it)
                 logger.warning("%s: the last line is incomplete and was left out", path)
