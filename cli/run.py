@@ -108,6 +108,9 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     add_surface_arguments(parser)
     parser.add_argument("--groot", nargs="?", type=int, const=1667, metavar="PORT",
                         help="serve tree missions to Groot2 (its publisher protocol on PORT and PORT+1, default 1667)")
+    parser.add_argument("--mcap", metavar="FILE",
+                        help="write an MCAP recording of the flight to FILE while flying (the topics of aeroexec "
+                             "export --mcap: ROS 2 pose, velocity, fix, battery, /tf, route; aeroexec's records)")
 
 
 def add_pacing_arguments(parser: argparse.ArgumentParser) -> None:
@@ -152,7 +155,7 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                       output=args.output, log=args.log, answers=args.answers,
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),
                       web=args.web, web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
-                      ready_timeout=args.ready_timeout, fleet=fleet)
+                      ready_timeout=args.ready_timeout, fleet=fleet, mcap=getattr(args, "mcap", None))
 
 
 def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
@@ -167,7 +170,7 @@ def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                            answers=args.answers, remote_questions=watched,
                            interactive=sys.stdin is not None and sys.stdin.isatty(), web=args.web,
                            web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
-                           ready_timeout=args.ready_timeout)
+                           ready_timeout=args.ready_timeout, mcap=getattr(args, "mcap", None))
     except JournalError as error:
         raise FlightError(str(error)) from None
 

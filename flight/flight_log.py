@@ -37,6 +37,7 @@ import logging
 import math
 import os
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -78,6 +79,8 @@ class FlightLogWriter:
         #: Why records were lost (the write error), or None while every record is in the file.
         self.incomplete: str | None = None
         self.lost = 0  # records that could not be written
+        #: Called with each block of whole lines written (a recording written while flying), under the lock.
+        self.taps: list[Callable[[bytes], None]] = []
         header: dict[str, Any] = {"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT}
         if resumed is not None:
             header.update(kind="log_resumed", segment=resumed)
@@ -86,7 +89,8 @@ class FlightLogWriter:
         else:
             header["clock"] = "wall"
             header["wall_time"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
-        self._write({**header, **{k: plain(v) for k, v in (meta or {}).items()}})
+        self.header: dict[str, Any] = {**header, **{k: plain(v) for k, v in (meta or {}).items()}}  # the first line
+        self._write(self.header)
         self.flush()
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
@@ -153,9 +157,16 @@ class FlightLogWriter:
             self._end += whole
             self.lines += kept
             self._stop_writing(exc, len(lines) - kept)
+            self._tap(data[:whole])
             return
         self._end += len(data)
         self.lines += len(lines)
+        self._tap(data)
+
+    def _tap(self, data: bytes) -> None:
+        for tap in self.taps:
+            if data:
+                tap(data)
 
     def _stop_writing(self, error: OSError, lost: int) -> None:
         """Lines could not be written whole: cut off what was of the first of them (the log ends at a record

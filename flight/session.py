@@ -72,6 +72,7 @@ class FlightSession:
         self.link: Any = None  # the fleet link
         self._joined: Any = None  # the fleet joined from this process alone (its session and node)
         self.flight_log: FlightLogWriter | None = None
+        self.recording: Any = None  # the MCAP recording written while flying (--mcap)
         self.btlog: Any = None
         self.control: ControlServer | None = None
         self.journal: JournalWriter | None = None  # the flight journal (journal.sqlite)
@@ -152,6 +153,8 @@ class FlightSession:
         if spec.journal:
             self._open_journal(meta)
         log_path = Path(spec.log) if spec.log else self.folder / "events.jsonl"
+        if spec.mcap:  # before the log: a recording that cannot be written is refused before anything is logged
+            self._open_recording(Path(spec.mcap))
         try:
             self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta,
                                               resumed=self.journal.segment if self.resumption else None)
@@ -159,6 +162,9 @@ class FlightSession:
             raise FlightError(f"the event log {log_path} cannot be written: {error.strerror or error}",
                               usage=True) from None
         self.notify(f"event log: {log_path}")
+        if self.recording is not None:
+            self.recording.attach(self.flight_log)
+            self.notify(f"recording: {self.recording.path}")
         if self.resumption is not None:  # once the logs listen: the resumed part says what it holds
             self.resumption.restore_beliefs(self.engine)
         self.engine.log.subscribe(self._warn_of_early_link_loss)
@@ -342,8 +348,20 @@ class FlightSession:
         incomplete = self.flight_log.incomplete if self.flight_log is not None else None
         if incomplete is None and self.journal is not None and self.journal.incomplete is not None:
             incomplete = f"the journal: {self.journal.incomplete}"
+        if incomplete is None and self.recording is not None and self.recording.error is not None:
+            incomplete = f"the recording {self.recording.path}: {self.recording.error}"
         self.outcome = FlightOutcome(status, list(faults), incomplete, self.folder)
         return self.outcome
+
+    def _open_recording(self, path: Path) -> None:
+        """The MCAP recording, fed by the event log as it is written (``flight/recording/live.py``)."""
+        from aeroexec.flight.recording.live import LiveRecording
+
+        try:
+            self.recording = LiveRecording(path, Path(self.spec.mission))
+        except OSError as error:
+            raise FlightError(f"the recording {path} cannot be written: {error.strerror or error}",
+                              usage=True) from None
 
     def _warn_of_early_link_loss(self, event: Any) -> None:
         """A link lost on the ground before the mission started is a warning, once per drop, not a fault."""
@@ -373,7 +391,7 @@ class FlightSession:
             _quietly(self._joined.close)
         elif self.link is not None:
             _quietly(self.link.leave)
-        for part in (self.flight_log, self.journal, self.btlog, self.operator):
+        for part in (self.flight_log, self.recording, self.journal, self.btlog, self.operator):
             if part is not None:
                 _quietly(part.close)
         if self.robot is not None:

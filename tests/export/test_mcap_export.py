@@ -5,60 +5,20 @@ messages as the event log has records."""
 
 from __future__ import annotations
 
-import json
 import math
-from collections import Counter, defaultdict
+from collections import Counter
 from pathlib import Path
 
 import pytest
 from aeroexec.cli.main import main
 from aeroexec.drones.geodesy import enu_to_geodetic
 from aeroexec.engine.events import Outcome
-from mcap.reader import make_reader
-from mcap_ros2.decoder import DecoderFactory
-from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+from recordings import JAZZY, assert_monotonic, read_back, records, schemas
+from rosbags.typesys import get_types_from_msg
 
 ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
-JAZZY = get_typestore(Stores.ROS2_JAZZY)
 BEHAVIOR_KINDS = {"activated", "failed_preconditions", "rejected", *(o.value for o in Outcome)}
-
-
-def records(log: Path) -> list[dict]:
-    return [json.loads(line) for line in log.read_text().splitlines() if line.strip()]
-
-
-def read_back(path: Path) -> dict[str, list[tuple[int, object, object]]]:
-    """topic -> [(log time, mcap_ros2's decoding or the JSON, rosbags' decoding or None)], every message decoded."""
-    decoders = DecoderFactory()
-    found: dict[str, list] = defaultdict(list)
-    with open(path, "rb") as file:
-        reader = make_reader(file)
-        for schema, channel, message in reader.iter_messages(log_time_order=False):
-            if channel.message_encoding == "cdr":
-                assert schema.encoding == "ros2msg"
-                decoded = decoders.decoder_for("cdr", schema)(message.data)
-                found[channel.topic].append((message.log_time, decoded, JAZZY.deserialize_cdr(message.data,
-                                                                                               schema.name)))
-            else:
-                assert (channel.message_encoding, schema.encoding) == ("json", "jsonschema")
-                json.loads(schema.data)
-                found[channel.topic].append((message.log_time, json.loads(message.data), None))
-    return found
-
-
-def schemas(path: Path) -> dict[str, tuple[str, str]]:
-    """topic -> (schema name, schema text)"""
-    with open(path, "rb") as file:
-        summary = make_reader(file).get_summary()
-    return {c.topic: (summary.schemas[c.schema_id].name, summary.schemas[c.schema_id].data.decode())
-            for c in summary.channels.values()}
-
-
-def assert_monotonic(found: dict[str, list]) -> None:
-    for topic, messages in found.items():
-        times = [t for t, _, _ in messages]
-        assert times == sorted(times), topic
 
 
 def fly_and_export(tmp_path: Path, *argv: str) -> Path:
