@@ -41,6 +41,8 @@ EXTRAS = {
     "rehearse": Extra("rehearse", "rehearsal campaigns on Dask (--dask, --scheduler)", {"distributed": "distributed"}),
     "ros": Extra("ros", "MCAP recordings (aeroexec export --mcap, run --mcap)",
                  {"mcap": "mcap", "mcap_ros2": "mcap-ros2-support"}),
+    "foxglove": Extra("foxglove", "Foxglove live views (--foxglove)",
+                      {"foxglove": "foxglove-sdk", "mcap_ros2": "mcap-ros2-support"}),
 }
 
 

@@ -45,7 +45,7 @@ COMMANDS = {
 #: What needs an extra (aeroexec/extras.py): a sub-command, or an option given (by its dest) to any sub-command.
 #: Checked once the line is parsed, before anything runs, so a missing extra never stops a flight half-way.
 COMMAND_EXTRAS = {"fleet": "fleet", "console": "console", "report": "report", "rehearse": "report", "export": "ros"}
-OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot", "mcap": "ros"}
+OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot", "mcap": "ros", "foxglove": "foxglove"}
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:

@@ -153,8 +153,8 @@ class FlightSession:
         if spec.journal:
             self._open_journal(meta)
         log_path = Path(spec.log) if spec.log else self.folder / "events.jsonl"
-        if spec.mcap:  # before the log: a recording that cannot be written is refused before anything is logged
-            self._open_recording(Path(spec.mcap))
+        if spec.mcap or spec.foxglove is not None:  # before the log: refused before anything is logged
+            self._open_recording()
         try:
             self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta,
                                               resumed=self.journal.segment if self.resumption else None)
@@ -164,7 +164,8 @@ class FlightSession:
         self.notify(f"event log: {log_path}")
         if self.recording is not None:
             self.recording.attach(self.flight_log)
-            self.notify(f"recording: {self.recording.path}")
+            if self.recording.path is not None:
+                self.notify(f"recording: {self.recording.path}")
         if self.resumption is not None:  # once the logs listen: the resumed part says what it holds
             self.resumption.restore_beliefs(self.engine)
         self.engine.log.subscribe(self._warn_of_early_link_loss)
@@ -353,15 +354,34 @@ class FlightSession:
         self.outcome = FlightOutcome(status, list(faults), incomplete, self.folder)
         return self.outcome
 
-    def _open_recording(self, path: Path) -> None:
-        """The MCAP recording, fed by the event log as it is written (``flight/recording/live.py``)."""
+    def _open_recording(self) -> None:
+        """The MCAP recording and the Foxglove live view, one recorder fed by the event log as it is written
+        (``flight/recording/live.py``)."""
         from aeroexec.flight.recording.live import LiveRecording
 
+        sinks: list[Any] = []
         try:
-            self.recording = LiveRecording(path, Path(self.spec.mission))
-        except OSError as error:
-            raise FlightError(f"the recording {path} cannot be written: {error.strerror or error}",
-                              usage=True) from None
+            if self.spec.foxglove is not None:
+                from aeroexec.flight.recording.foxglove_view import FoxgloveView
+
+                try:
+                    sinks.append(FoxgloveView(self.spec.foxglove, self.spec.web_host))
+                except OSError as error:
+                    raise FlightError(f"--foxglove {error}", usage=True) from None
+                self.notify(f"foxglove: {sinks[-1].url} (Foxglove: Open connection, Foxglove WebSocket)")
+            if self.spec.mcap:
+                from aeroexec.flight.recording.mcap_file import McapFile
+
+                try:
+                    sinks.append(McapFile(self.spec.mcap))
+                except OSError as error:
+                    raise FlightError(f"the recording {self.spec.mcap} cannot be written: "
+                                      f"{error.strerror or error}", usage=True) from None
+        except BaseException:
+            for sink in sinks:
+                _quietly(lambda sink=sink: sink.close(keep=False))
+            raise
+        self.recording = LiveRecording(sinks, Path(self.spec.mission), self.spec.mcap)
 
     def _warn_of_early_link_loss(self, event: Any) -> None:
         """A link lost on the ground before the mission started is a warning, once per drop, not a fault."""

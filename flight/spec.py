@@ -60,6 +60,7 @@ class FlightSpec:
     web_host: str = "127.0.0.1"
     groot: int | None = None  # serve Groot2 on this port; None: no Groot2
     mcap: str | None = None  # write an MCAP recording of the flight to this file while flying; None: none
+    foxglove: int | None = None  # serve the recording's topics to Foxglove on this port (0: a free one); None: not
     link_grace: float = LINK_GRACE
     ready_timeout: float = READY_TIMEOUT
     fleet: FleetJoin | None = None

@@ -169,6 +169,8 @@ def export_mcap(run: str | Path, target: str | Path) -> Exported:
         recorder.metadata("aeroexec", {"mission": first.get("mission", ""), "clock": first.get("clock", ""),
                                        "drones": ",".join(frames), "fleet": first.get("fleet", ""),
                                        "start_ns": start})
+        for drone in drones:
+            recorder.declare(frames[drone.name])
         for folder, drone in zip(folders, drones, strict=True):
             samples = [r for _, r in drone.records if r.get("kind") == "state" and isinstance(r.get("position"), list)]
             home = samples[0]["position"][:2] if samples else (0.0, 0.0)

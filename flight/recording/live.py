@@ -1,8 +1,10 @@
-"""A recording written while the run flies (``aeroexec run --mcap FILE``): the event log's lines, as the log
-writes them at the end of each tick, are handed to a thread of their own (``aeroexec-recording``), which makes
-them messages with the same :class:`~aeroexec.flight.recording.recorder.Recorder` an export uses; so a flight's
-live recording holds what ``aeroexec export`` makes of its log afterwards, message for message. The engine's loop
-only queues bytes; a recording that cannot be written (a full disk) is said once and given up, the flight goes on.
+"""A recording written while the run flies (``aeroexec run --mcap FILE``, and the live view ``--foxglove``): the
+event log's lines, as the log writes them at the end of each tick, are handed to a thread of their own
+(``aeroexec-recording``), which makes them messages with the same
+:class:`~aeroexec.flight.recording.recorder.Recorder` an export uses, once for every sink (the file, the view); so a
+flight's live recording holds what ``aeroexec export`` makes of its log afterwards, message for message. The
+engine's loop only queues bytes; a recording that cannot be written (a full disk) is said once and given up, the
+flight goes on.
 """
 
 from __future__ import annotations
@@ -15,8 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.flight.recording.export import route_of
-from aeroexec.flight.recording.mcap_file import McapFile
-from aeroexec.flight.recording.recorder import Recorder, start_ns
+from aeroexec.flight.recording.recorder import Recorder, Sink, start_ns
 from aeroexec.flight.recording.topics import Drone
 
 logger = logging.getLogger(__name__)
@@ -24,13 +25,14 @@ _END = b""
 
 
 class LiveRecording:
-    """The recording of one drone's flight into the MCAP file ``path``, fed by its event log writer
+    """The recording of one drone's flight to ``sinks`` (an MCAP file, a live view), fed by its event log writer
     (:meth:`attach`); :meth:`close` after the log is closed writes what is left and finishes the file."""
 
-    def __init__(self, path: str | Path, mission: Path | None = None) -> None:
-        self.path = Path(path)
+    def __init__(self, sinks: list[Sink], mission: Path | None = None, path: str | Path | None = None) -> None:
+        """``path``: the MCAP file among the sinks, named in messages."""
+        self.path = Path(path) if path is not None else None
         self.mission = mission  # where the planned route is read from (None: no route)
-        self.recorder = Recorder([McapFile(self.path)])
+        self.recorder = Recorder(sinks)
         self.error: str | None = None  # why the recording was given up, None while it is whole
         self._queue: queue.SimpleQueue[bytes] = queue.SimpleQueue()
         self._drone: Drone | None = None
@@ -51,6 +53,7 @@ class LiveRecording:
         self.recorder.metadata("aeroexec", {"mission": header.get("mission", ""), "clock": header.get("clock", ""),
                                             "drones": name, "fleet": header.get("fleet", ""),
                                             "start_ns": self._drone.start_ns})
+        self.recorder.declare(self._drone)
         flight_log.taps.append(self._queue.put)
 
     def _run(self) -> None:
@@ -65,7 +68,7 @@ class LiveRecording:
                     self._record(json.loads(line))
             except Exception as error:  # the disk, a bug: the recording stops, the flight goes on
                 self.error = f"{type(error).__name__}: {error}"
-                logger.error("the recording %s stops here (%s); the flight goes on", self.path, self.error)
+                logger.error("the recording %s stops here (%s); the flight goes on", self.path or "", self.error)
 
     def _record(self, record: dict[str, Any]) -> None:
         assert self._drone is not None

@@ -17,7 +17,7 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from aeroexec.flight.recording.ros_messages import message_definition
-from aeroexec.flight.recording.topics import JSON_SCHEMAS, META_KINDS, Drone, Topic, topics_of
+from aeroexec.flight.recording.topics import JSON_SCHEMAS, META_KINDS, TOPICS, Drone, Topic, topics_of
 
 from aeroexec.extras import require
 
@@ -58,6 +58,13 @@ class Recorder:
         self._channels: dict[str, list[Any]] = {}
         self._last: dict[str, int] = {}
         self._encoders: dict[str, Callable[[Any], bytes]] = {}
+
+    def declare(self, drone: Drone) -> None:
+        """Open every topic ``drone`` has now, before its records: a live view advertises them all at once, to a
+        viewer that connects before the flight."""
+        for topic in TOPICS:
+            if topic.has(drone):
+                self._channel(topic.topic(drone), topic)
 
     def record(self, drone: Drone, record: dict[str, Any]) -> None:
         """The messages of one record of ``drone``'s log. Raises KeyError, TypeError or ValueError for a record

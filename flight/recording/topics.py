@@ -55,6 +55,8 @@ class Topic:
     kinds: Callable[[str], bool]
     message: Callable[[dict[str, Any], Drone, int], Any]
     what: str
+    has: Callable[[Drone], bool] = lambda drone: True  # whether a drone has this topic at all
+
 
     def topic(self, drone: Drone) -> str:
         return self.name.format(drone=drone.name)
@@ -140,7 +142,7 @@ TOPICS: tuple[Topic, ...] = (
           "position (ENU, m) and heading"),
     Topic("/{drone}/velocity", "geometry_msgs/msg/TwistStamped", "cdr", _is("state"), velocity, "velocity (ENU, m/s)"),
     Topic("/{drone}/fix", "sensor_msgs/msg/NavSatFix", "cdr", _is("state"), fix,
-          "latitude, longitude, altitude (when the world has a geodetic home)"),
+          "latitude, longitude, altitude (when the world has a geodetic home)", lambda drone: drone.home is not None),
     Topic("/{drone}/battery", "sensor_msgs/msg/BatteryState", "cdr", _is("state"), battery, "charge left"),
     Topic("/tf", "tf2_msgs/msg/TFMessage", "cdr", _is("state"), transform, "world -> drone"),
     Topic("/{drone}/route", "nav_msgs/msg/Path", "cdr", _is("route"), route, "the mission's planned route"),
