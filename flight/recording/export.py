@@ -171,6 +171,9 @@ def export_mcap(run: str | Path, target: str | Path) -> Exported:
                                        "start_ns": start})
         for drone in drones:
             recorder.declare(frames[drone.name])
+            if fleet:
+                recorder.metadata(f"aeroexec.{drone.name}", {"mission": drone.meta.get("mission", ""),
+                                                             "log": str(drone.path)})
         for folder, drone in zip(folders, drones, strict=True):
             samples = [r for _, r in drone.records if r.get("kind") == "state" and isinstance(r.get("position"), list)]
             home = samples[0]["position"][:2] if samples else (0.0, 0.0)

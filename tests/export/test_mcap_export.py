@@ -144,3 +144,17 @@ def test_a_cut_line_of_the_event_log_is_refused_with_its_file_and_line_and_no_fi
     assert err.startswith(f"aeroexec export: {log}:41: a state record that cannot be recorded")
     assert "Traceback" not in err
     assert not target.exists() and not list(tmp_path.glob("*.part"))
+
+
+def test_a_last_line_torn_by_a_crash_is_left_out_and_said(tmp_path, capsys, caplog):
+    assert main(["run", str(MISSIONS / "figure10.xml"), "--quiet", "--output", str(tmp_path / "run")]) == 0
+    log = tmp_path / "run" / "events.jsonl"
+    text = log.read_text()
+    whole = len(text.splitlines())
+    log.write_text(text + '{"time":12.0,"kind":"sta')  # what a killed process leaves
+    capsys.readouterr()
+    assert export(str(tmp_path / "run"), "--mcap", str(tmp_path / "x.mcap")) == 0
+    assert f"{log}: the last line is incomplete and was left out" in caplog.text  # a WARNING line on stderr
+    found = read_back(tmp_path / "x.mcap")
+    assert sum(len(m) for t, m in found.items() if t not in ("/drone/velocity", "/drone/fix", "/drone/battery",
+                                                             "/tf", "/drone/route")) == whole - 2
