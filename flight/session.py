@@ -163,7 +163,7 @@ class FlightSession:
                               usage=True) from None
         self.notify(f"event log: {log_path}")
         if self.recording is not None:
-            self.recording.attach(self.flight_log)
+            self.recording.attach(self.flight_log, Path(spec.mission))
             if self.recording.path is not None:
                 self.notify(f"recording: {self.recording.path}")
         if self.resumption is not None:  # once the logs listen: the resumed part says what it holds
@@ -381,7 +381,7 @@ class FlightSession:
             for sink in sinks:
                 _quietly(lambda sink=sink: sink.close(keep=False))
             raise
-        self.recording = LiveRecording(sinks, Path(self.spec.mission), self.spec.mcap)
+        self.recording = LiveRecording(sinks, self.spec.mcap)
 
     def _warn_of_early_link_loss(self, event: Any) -> None:
         """A link lost on the ground before the mission started is a warning, once per drop, not a fault."""

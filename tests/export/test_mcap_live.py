@@ -67,3 +67,20 @@ def test_a_recording_that_cannot_be_written_is_refused_before_anything_flies(tmp
     err = capsys.readouterr().err
     assert f"the recording {target} cannot be written" in err and "Traceback" not in err
     assert not (tmp_path / "run" / "events.jsonl").exists()
+
+
+def test_fleet_mcap_records_every_drone_while_flying_what_export_makes_of_the_fleets_folder(tmp_path, capsys):
+    live = tmp_path / "live.mcap"
+    fleet = ROOT / "missions" / "relay.yaml"
+    assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "run"), "--mcap", str(live)]) == 0
+    assert f"recording in {live}" in capsys.readouterr().err
+    assert main(["export", str(tmp_path / "run"), "--mcap", str(tmp_path / "after.mcap")]) == 0
+    assert raw(live) == raw(tmp_path / "after.mcap")
+    found = read_back(live)
+    assert_monotonic(found)
+    for drone in ("scout", "carrier"):
+        states = [r for r in records(tmp_path / "run" / drone / "events.jsonl") if r["kind"] == "state"]
+        assert len(found[f"/{drone}/pose"]) == len(states) > 10
+    assert main(["fleet", str(fleet), "--quiet", "--workers", "2", "--output", str(tmp_path / "w"),
+                 "--mcap", str(tmp_path / "w.mcap")]) == 2
+    assert "--mcap needs every drone in this process: use --workers 1" in capsys.readouterr().err
