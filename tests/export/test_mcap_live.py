@@ -84,3 +84,27 @@ def test_fleet_mcap_records_every_drone_while_flying_what_export_makes_of_the_fl
     assert main(["fleet", str(fleet), "--quiet", "--workers", "2", "--output", str(tmp_path / "w"),
                  "--mcap", str(tmp_path / "w.mcap")]) == 2
     assert "--mcap needs every drone in this process: use --workers 1" in capsys.readouterr().err
+
+
+def test_a_recording_that_fails_in_flight_is_given_up_said_and_the_run_not_reported_whole(tmp_path, monkeypatch,
+                                                                                           capsys):
+    from aeroexec.flight.recording.mcap_file import McapFile
+
+    written = {"n": 0}
+    write = McapFile.write
+
+    def full_disk(self, channel, log_time, data):  # the disk fills up after 100 messages
+        written["n"] += 1
+        if written["n"] > 100:
+            raise OSError(28, "No space left on device")
+        write(self, channel, log_time, data)
+
+    monkeypatch.setattr(McapFile, "write", full_disk)
+    target = tmp_path / "live.mcap"
+    code = main(["run", str(FIGURE10), "--quiet", "--output", str(tmp_path / "run"), "--mcap", str(target)])
+    err = capsys.readouterr().err
+    assert code == 6, err
+    assert f"the recording {target}: OSError: [Errno 28] No space left on device" in err
+    log = records(tmp_path / "run" / "events.jsonl")
+    assert log[-1]["kind"] == "log_closed" and [r for r in log if r["kind"] == "drone_landed"]  # flown, landed
+    assert not target.exists() and not list(tmp_path.glob("*.part"))
