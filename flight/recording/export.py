@@ -113,6 +113,17 @@ def _home(meta: dict[str, Any]) -> tuple[float, float, float] | None:
     return None
 
 
+def standing(records: Any) -> tuple[float, float]:
+    """Where the drone stands at first (x, y): its first state sample's position, else home."""
+    for record in records:
+        position = record.get("position") if record.get("kind") == "state" else None
+        if isinstance(position, list) and len(position) == 3:
+            if all(isinstance(v, int | float) and not isinstance(v, bool) for v in position):
+                return float(position[0]), float(position[1])
+            return 0.0, 0.0
+    return 0.0, 0.0
+
+
 def planned_route(folder: Path, start: tuple[float, float]) -> tuple[list[tuple[float, float, float]] | None, str]:
     """The literal destinations of the mission the run's journal names, flown from ``start`` (ENU x, y); None and
     why not when there is no journal or mission file to read it from."""
@@ -145,11 +156,13 @@ def route_of(mission: Path, start: tuple[float, float]) -> list[tuple[float, flo
             from aeroexec.trees import load_mission_tree
 
             document = load_mission_tree(mission)
-    except (InputError, OSError, ValueError) as error:
-        logger.info("no planned route: %s", error)
-        return None
-    model = replace(VehicleModel(), home=(start[0], start[1], 0.0))
-    return [model.home, *(w.point for w in route(document, str(mission), model))]
+        model = replace(VehicleModel(), home=(start[0], start[1], 0.0))
+        return [model.home, *(w.point for w in route(document, str(mission), model))]
+    except InputError as error:
+        logger.warning("no planned route: %s", error.message)
+    except Exception as error:  # the mission file changed since the flight: the recording goes on without a route
+        logger.warning("no planned route from %s: %s", mission, error)
+    return None
 
 
 def export_mcap(run: str | Path, target: str | Path) -> Exported:
@@ -175,9 +188,7 @@ def export_mcap(run: str | Path, target: str | Path) -> Exported:
                 recorder.metadata(f"aeroexec.{drone.name}", {"mission": drone.meta.get("mission", ""),
                                                              "log": str(drone.path)})
         for folder, drone in zip(folders, drones, strict=True):
-            samples = [r for _, r in drone.records if r.get("kind") == "state" and isinstance(r.get("position"), list)]
-            home = samples[0]["position"][:2] if samples else (0.0, 0.0)
-            points, why = planned_route(folder, (float(home[0]), float(home[1])))
+            points, why = planned_route(folder, standing(r for _, r in drone.records))
             if points is None:
                 exported.notes.append(why)
             else:
@@ -201,4 +212,4 @@ def export_mcap(run: str | Path, target: str | Path) -> Exported:
     return exported
 
 
-__all__ = ["Exported", "RecordingError", "export_mcap", "route_of", "run_folders"]
+__all__ = ["Exported", "RecordingError", "export_mcap", "route_of", "run_folders", "standing"]

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from aeroexec.flight.recording.export import route_of
+from aeroexec.flight.recording.export import route_of, standing
 from aeroexec.flight.recording.recorder import Recorder, Sink, start_ns
 from aeroexec.flight.recording.topics import Drone
 
@@ -82,8 +82,7 @@ class LiveRecording:
     def _record(self, fed: _Fed, record: dict[str, Any]) -> None:
         if fed.route_pending and record.get("kind") == "state":  # the route from where the drone stands
             fed.route_pending = False
-            position = record.get("position") or [0.0, 0.0]
-            points = route_of(fed.mission, (float(position[0]), float(position[1]))) if fed.mission else None
+            points = route_of(fed.mission, standing([record])) if fed.mission else None
             if points is not None:
                 self.recorder.record(fed.drone, {"time": fed.header.get("time", 0.0), "kind": "route",
                                                  "points": [list(p) for p in points]})

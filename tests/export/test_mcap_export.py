@@ -158,3 +158,17 @@ def test_a_last_line_torn_by_a_crash_is_left_out_and_said(tmp_path, capsys, capl
     found = read_back(tmp_path / "x.mcap")
     assert sum(len(m) for t, m in found.items() if t not in ("/drone/velocity", "/drone/fix", "/drone/battery",
                                                              "/tf", "/drone/route")) == whole - 2
+
+
+def test_a_mission_file_changed_since_the_flight_leaves_the_route_out_and_the_rest_recorded(tmp_path, capsys, caplog):
+    mission = tmp_path / "m.xml"
+    mission.write_text((MISSIONS / "figure10.xml").read_text())
+    assert main(["run", str(mission), "--quiet", "--output", str(tmp_path / "run")]) == 0
+    mission.write_text("<root BTCPP_format='4'><BehaviorTree ID='M'><Sequence>")  # cut short since
+    assert export(str(tmp_path / "run"), "--mcap", str(tmp_path / "x.mcap")) == 0
+    assert "no planned route" in caplog.text
+    found = read_back(tmp_path / "x.mcap")
+    assert "/drone/route" not in found and len(found["/drone/pose"]) > 10
+    mission.unlink()  # gone
+    assert export(str(tmp_path / "run"), "--mcap", str(tmp_path / "y.mcap")) == 0
+    assert f"aeroexec export: {mission}: the mission file is not there: no planned route" in capsys.readouterr().err
