@@ -1,10 +1,10 @@
 """Optional parts of aeroexec and the ``pip install`` line that adds each one.
 
 ``pip install aeroexec`` installs what flying a mission needs (on the simulator or through MAVSDK); fleets, the
-web console, the flight report's images and Groot2 live are extras (``aeroexec[fleet]``, ...). Where an extra's
-modules are imported, :func:`require` turns a missing one into :class:`MissingExtra`: one line naming the part,
-what is missing and the exact command that installs it, for this installation (``aeroexec[fleet]``; ``.[fleet]``
-in the checkout it was installed from)::
+web console, the flight report's images, Groot2 live and MCAP recordings are extras (``aeroexec[fleet]``, ...).
+Where an extra's modules are imported, :func:`require` turns a missing one into :class:`MissingExtra`: one line
+naming the part, what is missing and the exact command that installs it, for this installation (``aeroexec[fleet]``;
+``.[fleet]`` in the checkout it was installed from)::
 
     with require("console"):
         import uvicorn
@@ -39,6 +39,10 @@ EXTRAS = {
     "report": Extra("report", "the flight report's images", {"matplotlib": "matplotlib"}),
     "groot": Extra("groot", "Groot2 live views (--groot)", {"zmq": "pyzmq", "msgpack": "msgpack"}),
     "rehearse": Extra("rehearse", "rehearsal campaigns on Dask (--dask, --scheduler)", {"distributed": "distributed"}),
+    "ros": Extra("ros", "MCAP recordings (aeroexec export --mcap, run --mcap)",
+                 {"mcap": "mcap", "mcap_ros2": "mcap-ros2-support"}),
+    "foxglove": Extra("foxglove", "Foxglove live views (--foxglove)",
+                      {"foxglove": "foxglove-sdk", "mcap_ros2": "mcap-ros2-support"}),
 }
 
 

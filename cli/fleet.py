@@ -30,7 +30,7 @@ from aeroexec.engine.events import EngineEvent
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
 from aeroexec.flight.fleet import STATUS_FILE, FleetFlight, drone_status, event_line, fleet_exit_status, summary_line
 from aeroexec.flight.output import prepare_output
-from aeroexec.flight.run_status import FlightOutcome
+from aeroexec.flight.run_status import LOG_INCOMPLETE, FlightOutcome
 from aeroexec.flight.signals import ending_signals
 from aeroexec.flight.spec import FlightError, FlightSpec
 
@@ -57,6 +57,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "--connect)")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # started by the coordinator
     parser.add_argument("--output", metavar="DIR", help="where each drone's files go (DIR/<drone>/)")
+    parser.add_argument("--mcap", metavar="FILE",
+                        help="write an MCAP recording of the fleet to FILE while flying, each drone's topics under "
+                             "its name (as aeroexec export --mcap of the fleet's folder; the drones in this process)")
     parser.add_argument("--answers", metavar="FILE",
                         help="answer the missions' questions from FILE (YAML: question -> answer, or a list)")
     add_home_argument(parser)
@@ -179,7 +182,8 @@ def fly_fleet(args: argparse.Namespace) -> int:
             fleet = FleetFlight(node, list(spec.flown), base, output=folder, speed=args.speed or (1.0 if watched
                                                                                                  else None),
                                 telemetry_rate=spec.telemetry_rate, remote_questions=args.web is not None,
-                                notify=say, report=lambda problem: print(problem, file=sys.stderr))
+                                notify=say, report=lambda problem: print(problem, file=sys.stderr),
+                                recording=args.mcap)
             try:
                 fleet.open()
                 if args.web is not None:
@@ -207,15 +211,22 @@ def fly_fleet(args: argparse.Namespace) -> int:
     for member in fleet.members:
         print(summary_line(member, outcomes[member.name]), file=sys.stderr)
     print(f"fleet {spec.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
-    return fleet_exit_status({name: drone_status(outcome) for name, outcome in outcomes.items()})
+    status = fleet_exit_status({name: drone_status(outcome) for name, outcome in outcomes.items()})
+    if fleet.recording is not None:
+        if fleet.recording.error is not None:
+            print(f"fleet {spec.name}: the recording {args.mcap} is incomplete ({fleet.recording.error}): exit "
+                  f"status {LOG_INCOMPLETE}", file=sys.stderr)
+            return status or LOG_INCOMPLETE
+        print(f"fleet {spec.name}: recording in {args.mcap}", file=sys.stderr)
+    return status
 
 
 def worker_count(args: argparse.Namespace, drones: int, live: bool) -> int | None:
     """How many worker processes fly the fleet; None (said why) when the options cannot go together."""
     from aeroexec.flight.fleet.workers import default_workers
 
-    one_process = [what for what, given in (("--web", args.web is not None), ("--connect", bool(args.connect)))
-                   if given]
+    one_process = [what for what, given in (("--web", args.web is not None), ("--connect", bool(args.connect)),
+                                            ("--mcap", getattr(args, "mcap", None) is not None)) if given]
     if args.workers is None:
         return 1 if one_process or live else default_workers(drones)
     if args.workers < 1:

@@ -40,11 +40,13 @@ COMMANDS = {
     "beliefs": ("beliefs", "query the beliefs an event log ends with, at a prompt"),
     "console": ("console", "replay a finished run in the web console (read-only, with a time slider)"),
     "journal": ("journal", "ask a run's flight journal: a behavior's requests, a belief's changes, the steps done"),
+    "export": ("export", "a finished run as an MCAP recording (ROS 2 messages, aeroexec's records) for Foxglove, "
+                         "rosbags, ros2 bag"),
 }
 #: What needs an extra (aeroexec/extras.py): a sub-command, or an option given (by its dest) to any sub-command.
 #: Checked once the line is parsed, before anything runs, so a missing extra never stops a flight half-way.
-COMMAND_EXTRAS = {"fleet": "fleet", "console": "console", "report": "report", "rehearse": "report"}
-OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot"}
+COMMAND_EXTRAS = {"fleet": "fleet", "console": "console", "report": "report", "rehearse": "report", "export": "ros"}
+OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot", "mcap": "ros", "foxglove": "foxglove"}
 
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:

@@ -108,6 +108,13 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
     add_surface_arguments(parser)
     parser.add_argument("--groot", nargs="?", type=int, const=1667, metavar="PORT",
                         help="serve tree missions to Groot2 (its publisher protocol on PORT and PORT+1, default 1667)")
+    parser.add_argument("--mcap", metavar="FILE",
+                        help="write an MCAP recording of the flight to FILE while flying (the topics of aeroexec "
+                             "export --mcap: ROS 2 pose, velocity, fix, battery, /tf, route; aeroexec's records)")
+    parser.add_argument("--foxglove", nargs="?", type=int, const=8765, metavar="PORT",
+                        help="serve the flight live to Foxglove (its WebSocket protocol on --web-host's address, "
+                             "PORT 8765 without PORT, 0 for a free one): the topics of --mcap; simulated time then "
+                             "runs at real time unless --speed says")
 
 
 def add_pacing_arguments(parser: argparse.ArgumentParser) -> None:
@@ -152,7 +159,8 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                       output=args.output, log=args.log, answers=args.answers,
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),
                       web=args.web, web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
-                      ready_timeout=args.ready_timeout, fleet=fleet)
+                      ready_timeout=args.ready_timeout, fleet=fleet, mcap=getattr(args, "mcap", None),
+                      foxglove=getattr(args, "foxglove", None))
 
 
 def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
@@ -167,7 +175,8 @@ def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                            answers=args.answers, remote_questions=watched,
                            interactive=sys.stdin is not None and sys.stdin.isatty(), web=args.web,
                            web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
-                           ready_timeout=args.ready_timeout)
+                           ready_timeout=args.ready_timeout, mcap=getattr(args, "mcap", None),
+                           foxglove=getattr(args, "foxglove", None))
     except JournalError as error:
         raise FlightError(str(error)) from None
 
@@ -176,7 +185,7 @@ def run(args: argparse.Namespace) -> int:
     live = live_view_wanted(args)
     with ending_signals():  # SIGTERM and SIGHUP end the run as Ctrl-C does: abort, land, close the log
         try:
-            spec = flight_spec(args, watched=live or args.web is not None)
+            spec = flight_spec(args, watched=live or args.web is not None or args.foxglove is not None)
             session = FlightSession(spec, notify=say, report=lambda problem: print(problem, file=sys.stderr))
             session.open()
         except FlightError as error:

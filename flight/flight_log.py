@@ -37,6 +37,7 @@ import logging
 import math
 import os
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -79,6 +80,8 @@ class FlightLogWriter:
         self.incomplete: str | None = None
         self.lost = 0  # records that could not be written
         self._final: tuple[int, int] | None = None  # where the run's last records start (see :meth:`last_records`)
+        #: Called with each block of whole lines written (a recording written while flying), under the lock.
+        self.taps: list[Callable[[bytes], None]] = []
         header: dict[str, Any] = {"time": round(engine.now(), 3), "kind": "log_started", "format": FORMAT}
         if resumed is not None:
             header.update(kind="log_resumed", segment=resumed)
@@ -87,7 +90,8 @@ class FlightLogWriter:
         else:
             header["clock"] = "wall"
             header["wall_time"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
-        self._write({**header, **{k: plain(v) for k, v in (meta or {}).items()}})
+        self.header: dict[str, Any] = {**header, **{k: plain(v) for k, v in (meta or {}).items()}}  # the first line
+        self._write(self.header)
         self.flush()
         self._unsubscribe = [engine.log.subscribe(self.on_event), engine.memory.subscribe(self.on_belief)]
         engine.tick_callbacks.append(self.on_tick)
@@ -154,9 +158,16 @@ class FlightLogWriter:
             self._end += whole
             self.lines += kept
             self._stop_writing(exc, len(lines) - kept)
+            self._tap(data[:whole])
             return
         self._end += len(data)
         self.lines += len(lines)
+        self._tap(data)
+
+    def _tap(self, data: bytes) -> None:
+        for tap in self.taps:
+            if data:
+                tap(data)
 
     def last_records(self) -> None:
         """What is recorded from now on (the run's end, ``log_closed``) is written whole or not at all: every
@@ -350,7 +361,12 @@ def world_meta(world: Any) -> dict[str, Any]:
 
 def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
     """The records of an event log; a last line cut short (by a crash mid-write) is left out."""
-    records: list[dict[str, Any]] = []
+    return [record for _, record in read_numbered_log(path)]
+
+
+def read_numbered_log(path: str | Path) -> list[tuple[int, dict[str, Any]]]:
+    """The records of an event log with their line numbers (from 1), as :func:`read_flight_log` reads them."""
+    records: list[tuple[int, dict[str, Any]]] = []
     try:
         lines = read_text(path, limit=MAX_LOG_BYTES).split("\n")  # a FIFO is refused unread
     except InputError as exc:  # the callers say "cannot read the event log" and the file
@@ -361,7 +377,7 @@ def read_flight_log(path: str | Path) -> list[dict[str, Any]]:
         try:
             if nesting_beyond(line, MAX_NESTING, "[{", "]}", quotes='"') is not None:
                 raise ValueError(f"{path}:{number}: nested more than {MAX_NESTING} levels deep")
-            records.append(json.loads(line))
+            records.append((number, json.loads(line)))
         except json.JSONDecodeError:
             if number == len(lines):  # the torn last line (no newline after it)
                 logger.warning("%s: the last line is incomplete and was left out", path)

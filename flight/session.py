@@ -74,6 +74,7 @@ class FlightSession:
         self.link: Any = None  # the fleet link
         self._joined: Any = None  # the fleet joined from this process alone (its session and node)
         self.flight_log: FlightLogWriter | None = None
+        self.recording: Any = None  # the MCAP recording written while flying (--mcap)
         self.btlog: Any = None
         self.control: ControlServer | None = None
         self.journal: JournalWriter | None = None  # the flight journal (journal.sqlite)
@@ -160,6 +161,8 @@ class FlightSession:
         if spec.journal:
             self._open_journal(meta, flight_files(spec.mission, world_path, spec.catalog, spec.rules,
                                                   spec.safety_rules))
+        if spec.mcap or spec.foxglove is not None:  # before the log: refused before anything is logged
+            self._open_recording()
         try:
             self.flight_log = FlightLogWriter(self.engine, log_path, meta=meta,
                                               resumed=self.journal.segment if self.resumption else None)
@@ -169,6 +172,10 @@ class FlightSession:
             raise FlightError(f"the event log {log_path} cannot be written: {error.strerror or error}",
                               usage=True) from None
         self.notify(f"event log: {log_path}")
+        if self.recording is not None:
+            self.recording.attach(self.flight_log, Path(spec.mission))
+            if self.recording.path is not None:
+                self.notify(f"recording: {self.recording.path}")
         if self.resumption is not None:  # once the logs listen: the resumed part says what it holds
             self.resumption.restore_beliefs(self.engine)
         self.engine.log.subscribe(self._warn_of_early_link_loss)
@@ -369,7 +376,38 @@ class FlightSession:
         incomplete = self.flight_log.incomplete if self.flight_log is not None else None
         if incomplete is None and self.journal is not None and self.journal.incomplete is not None:
             incomplete = f"the journal: {self.journal.incomplete}"
+        if incomplete is None and self.recording is not None and self.recording.error is not None:
+            incomplete = f"the recording {self.recording.path}: {self.recording.error}"
         return incomplete
+
+    def _open_recording(self) -> None:
+        """The MCAP recording and the Foxglove live view, one recorder fed by the event log as it is written
+        (``flight/recording/live.py``)."""
+        from aeroexec.flight.recording.live import LiveRecording
+
+        sinks: list[Any] = []
+        try:
+            if self.spec.foxglove is not None:
+                from aeroexec.flight.recording.foxglove_view import FoxgloveView
+
+                try:
+                    sinks.append(FoxgloveView(self.spec.foxglove, self.spec.web_host))
+                except OSError as error:
+                    raise FlightError(f"--foxglove {error}", usage=True) from None
+                self.notify(f"foxglove: {sinks[-1].url} (Foxglove: Open connection, Foxglove WebSocket)")
+            if self.spec.mcap:
+                from aeroexec.flight.recording.mcap_file import McapFile
+
+                try:
+                    sinks.append(McapFile(self.spec.mcap))
+                except OSError as error:
+                    raise FlightError(f"the recording {self.spec.mcap} cannot be written: "
+                                      f"{error.strerror or error}", usage=True) from None
+        except BaseException:
+            for sink in sinks:
+                _quietly(lambda sink=sink: sink.close(keep=False))
+            raise
+        self.recording = LiveRecording(sinks, self.spec.mcap)
 
     def _warn_of_early_link_loss(self, event: Any) -> None:
         """A link lost on the ground before the mission started is a warning, once per drop, not a fault."""
@@ -399,7 +437,7 @@ class FlightSession:
             _quietly(self._joined.close)
         elif self.link is not None:
             _quietly(self.link.leave)
-        for part in (self.flight_log, self.journal, self.btlog, self.operator):
+        for part in (self.flight_log, self.recording, self.journal, self.btlog, self.operator):
             if part is not None:
                 _quietly(part.close)
         if self.robot is not None:

@@ -59,6 +59,8 @@ class FlightSpec:
     web: int | None = None  # serve the web console on this port (0: a free one); None: no console
     web_host: str = "127.0.0.1"
     groot: int | None = None  # serve Groot2 on this port; None: no Groot2
+    mcap: str | None = None  # write an MCAP recording of the flight to this file while flying; None: none
+    foxglove: int | None = None  # serve the recording's topics to Foxglove on this port (0: a free one); None: not
     link_grace: float = LINK_GRACE
     ready_timeout: float = READY_TIMEOUT
     fleet: FleetJoin | None = None

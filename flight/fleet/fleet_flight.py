@@ -70,7 +70,8 @@ class FleetFlight:
                  world: Any = None, telemetry_rate: float = 5.0, remote_questions: bool = False,
                  everyone: tuple[str, ...] | None = None,
                  notify: Callable[[str], None] = logger.warning,
-                 report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem)) -> None:
+                 report: Callable[[Problem], None] = lambda problem: logger.warning("%s", problem),
+                 recording: str | None = None) -> None:
         self.node, self.drones, self.base, self.output = node, drones, base, Path(output)
         self.telemetry_rate, self.remote_questions = telemetry_rate, remote_questions
         self.notify, self.report = notify, report
@@ -83,6 +84,8 @@ class FleetFlight:
         self._how = "stop"
         self._over = False  # every flight of the fleet has ended
         self.time: dict[str, float] = {}  # how long the flight took: simulated, wall and CPU seconds
+        self.recording_path = recording  # an MCAP file recording every drone while flying (None: none)
+        self.recording: Any = None
         self._closed = False
 
     @property
@@ -111,6 +114,8 @@ class FleetFlight:
         flying = frozenset(self.everyone if self.everyone is not None else (d.name for d in self.drones))
         where = self.node.table.where
         airspace = Airspace(lambda: {name: p for name, p in where.items() if name in flying})
+        if self.recording_path is not None:  # before any drone: a file that cannot be written is refused first
+            self.recording = open_recording(self.recording_path)
         for drone in self.drones:
             robot = self._robot(choice, drone)
             if hasattr(robot, "join"):
@@ -123,6 +128,8 @@ class FleetFlight:
                                     robot=robot, world=self.world, fleet_node=self.node)
             self.members.append(Member(drone.name, session))
             session.open()
+            if self.recording is not None:
+                self.recording.attach(session.flight_log, Path(drone.mission))
 
     def _robot(self, choice: Any, drone: Any) -> Any:
         if choice.kind is None:
@@ -253,6 +260,22 @@ class FleetFlight:
         self.surfaces.close()
         for m in self.members:
             m.session.close()
+        if self.recording is not None:  # once every log is closed: their last lines are in it
+            try:
+                self.recording.close()
+            except Exception:  # never keeps the fleet from closing
+                logger.exception("closing the recording failed")
+
+
+def open_recording(path: str) -> Any:
+    """The fleet's MCAP recording (``flight/recording/live.py``); FlightError when the file cannot be written."""
+    from aeroexec.flight.recording.live import LiveRecording
+    from aeroexec.flight.recording.mcap_file import McapFile
+
+    try:
+        return LiveRecording([McapFile(path)], path)
+    except OSError as error:
+        raise FlightError(f"the recording {path} cannot be written: {error.strerror or error}", usage=True) from None
 
 
 __all__ = ["FleetFlight", "Member"]

@@ -72,6 +72,9 @@ def test_a_mission_flies_with_no_extra_installed(tmp_path):
     (["console", "missions"], "console"),
     (["run", "missions/figure10.xml", "--groot"], "groot"),
     (["report", "missing/events.jsonl"], "report"),
+    (["export", "missing", "--mcap", "missing.mcap"], "ros"),
+    (["run", "missions/figure10.xml", "--mcap", "flight.mcap"], "ros"),
+    (["run", "missions/figure10.xml", "--foxglove"], "foxglove"),
 ])
 def test_a_missing_extra_is_refused_before_anything_runs_with_the_pip_line(argv, extra, tmp_path):
     result = without(list(EXTRAS[extra].modules), *argv, "--output", str(tmp_path / "out")) \
