@@ -3,8 +3,9 @@
 The roster names each identity (a certificate's common name) and the drones it speaks for: one drone, or every
 drone of a process that hosts several. The router gives each identity the right to publish on its own drones'
 keys (``aeroexec/<fleet>/<drone>/tick``) and to answer their command queries, nowhere else; operators may query the
-``command`` keys; every identity may subscribe to the fleet's keys; the fleet's other routers (the router identity,
-linking machines) relay everything of the fleet. Anything else is denied, by the router, before it reaches
+``command`` keys (one drone's, or every drone's with ``*/command``, which reaches every member serving one); every
+identity may subscribe to the fleet's keys; the fleet's other routers (the router identity, linking machines) relay
+everything of the fleet. Anything else is denied, by the router, before it reaches
 anyone. Receivers use the roster too: who is a member and which predicates each drone shares.
 """
 
@@ -60,6 +61,9 @@ def access_control(roster: Roster) -> dict[str, Any]:
         _rule("heard", "egress", ["put", "declare_subscriber"], [f"{prefix}/**"]),
         _rule("command", "ingress", ["query"], [f"{prefix}/*/command"]),
         _rule("answered", "egress", ["reply", "declare_queryable"], [f"{prefix}/*/command"]),
+        # an operator's query of every drone (``*/command``) reaches each member; a member answers only on its
+        # own drones' keys (``serve``): the rule naming a member's own keys only let a fleet-wide query reach none
+        _rule("asked", "egress", ["query"], [f"{prefix}/*/command"]),
         _rule("relay", "ingress", RELAYED, [f"{prefix}/**"]),
         _rule("relayed", "egress", RELAYED, [f"{prefix}/**"]),
     ]
@@ -73,10 +77,9 @@ def access_control(roster: Roster) -> dict[str, Any]:
         rules += [
             _rule(f"speak-{n}", "ingress", ["put"], [f"{prefix}/{d}/{topic}" for d in own for topic in SPOKEN]),
             _rule(f"serve-{n}", "ingress", ["declare_queryable", "reply"], [f"{prefix}/{d}/command" for d in own]),
-            _rule(f"asked-{n}", "egress", ["query"], [f"{prefix}/{d}/command" for d in own]),
         ]
         subjects.append({"id": f"member-{n}", "cert_common_names": [identity]})
-        policies.append({"rules": [f"speak-{n}", f"serve-{n}", f"asked-{n}"], "subjects": [f"member-{n}"]})
+        policies.append({"rules": [f"speak-{n}", f"serve-{n}", "asked"], "subjects": [f"member-{n}"]})
         everyone.append(f"member-{n}")
     if roster.operators:
         subjects.append({"id": "operators", "cert_common_names": sorted(roster.operators)})

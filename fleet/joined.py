@@ -48,6 +48,6 @@ def join_fleet(engine: Any, fleet: str, name: str, folder: Path, mission: str, c
     node = membership.node(token)
     link = FleetLink(node, name, engine, tuple(share)).join()
     link.mission = mission
-    write_fleet_file(folder, fleet, endpoints, token)
+    write_fleet_file(folder, fleet, endpoints, token, membership.operator, (name,))
     logger.info("%s joined fleet %s through %s", name, fleet, ", ".join(endpoints))
     return JoinedFleet(session, node, link, folder)

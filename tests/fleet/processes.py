@@ -23,6 +23,29 @@ def stop(*processes: subprocess.Popen) -> None:
             process.wait(10)
 
 
+def wait_for_lines(process: subprocess.Popen, texts: list[tuple[str, ...]], timeout: float) -> list[str]:
+    """The process's output lines up to the one where, for each tuple of ``texts``, a line holding every text of it
+    has been seen (e.g. ``[("d1 |", "drone_takeoff_complete"), ("d2 |", "drone_takeoff_complete")]``); kills it
+    when they do not all come in time."""
+    lines: list[str] = []
+    found = threading.Event()
+    waiting = list(texts)
+
+    def read() -> None:
+        for line in process.stdout:
+            lines.append(line)
+            waiting[:] = [t for t in waiting if not all(part in line for part in t)]
+            if not waiting:
+                found.set()
+                return
+
+    threading.Thread(target=read, daemon=True).start()
+    if not found.wait(timeout):
+        process.kill()
+        raise AssertionError(f"{waiting!r} not seen in {timeout:g} s: {''.join(lines)[-3000:]}")
+    return lines
+
+
 def wait_for_line(process: subprocess.Popen, text: str, timeout: float) -> list[str]:
     """The process's output lines up to the first holding ``text``; kills it when none comes in time."""
     lines: list[str] = []
