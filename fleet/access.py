@@ -6,7 +6,8 @@ keys (``aeroexec/<fleet>/<drone>/tick``) and to answer their command queries, no
 ``command`` keys (one drone's, or every drone's with ``*/command``, which reaches every member serving one); every
 identity may subscribe to the fleet's keys; the fleet's other routers (the router identity, linking machines) relay
 everything of the fleet. Anything else is denied, by the router, before it reaches
-anyone. Receivers use the roster too: who is a member and which predicates each drone shares.
+anyone. Receivers use the roster too: who is a member, which predicates each drone shares, and how many members
+must agree on a belief of a predicate the fleet file's ``trust:`` names.
 """
 
 from __future__ import annotations
@@ -23,13 +24,15 @@ RELAYED = ["put", "declare_subscriber", "declare_queryable", "query", "reply"]  
 class Roster:
     """The identities of ``fleet``: ``speakers`` (identity -> the drones it speaks for), ``operators`` (identities
     that may command), ``shares`` (drone -> the predicates it shares with the fleet), ``routers`` (the identities
-    of the fleet's routers, which relay for each other)."""
+    of the fleet's routers, which relay for each other), ``trust`` (predicate -> how many distinct members must
+    say a belief of it before a drone believes it; 1 when not named)."""
 
     fleet: str
     speakers: Mapping[str, tuple[str, ...]]
     operators: tuple[str, ...] = ()
     shares: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     routers: tuple[str, ...] = ()
+    trust: Mapping[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         owners: dict[str, str] = {}
@@ -46,6 +49,10 @@ class Roster:
     def drones(self) -> frozenset[str]:
         """Every drone of the fleet, wherever it flies."""
         return self._drones  # type: ignore[attr-defined]
+
+    def needed(self, predicate: str) -> int:
+        """How many distinct members must say a belief of ``predicate`` before a drone believes it."""
+        return self.trust.get(predicate, 1)
 
     def shared_by(self, drone: str) -> tuple[str, ...]:
         """The predicates ``drone`` shares (empty when it shares none, or is no member)."""

@@ -63,3 +63,35 @@ def wait_for_line(process: subprocess.Popen, text: str, timeout: float) -> list[
         process.kill()
         raise AssertionError(f"{text!r} not seen in {timeout:g} s: {''.join(lines)[-3000:]}")
     return lines
+
+
+class Output:
+    """Every output line of a process, read as it comes; :meth:`wait` for what a test expects of them."""
+
+    def __init__(self, process: subprocess.Popen) -> None:
+        self.process, self.lines = process, []
+        self._changed = threading.Condition()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        for line in self.process.stdout:
+            with self._changed:
+                self.lines.append(line)
+                self._changed.notify_all()
+        with self._changed:
+            self.lines.append("")  # the end
+            self._changed.notify_all()
+
+    def wait(self, done, what: str, timeout: float) -> list[str]:
+        """The lines once ``done(lines)`` holds; kills the process when it does not hold within ``timeout``."""
+        with self._changed:
+            if self._changed.wait_for(lambda: done(self.lines) or self.lines[-1:] == [""], timeout) and done(
+                    self.lines):
+                return list(self.lines)
+        self.process.kill()
+        raise AssertionError(f"{what}: not seen in {timeout:g} s: {''.join(self.lines)[-3000:]}")
+
+    @property
+    def text(self) -> str:
+        return "".join(self.lines)
