@@ -8,6 +8,18 @@ from pathlib import Path
 
 MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 TOKEN = "t0k3n"
+HOVER = '''"""Take off, hover until someone says "go home" (or 600 s), land."""
+import aeroexec.engine.api as api
+
+
+def mission():
+    api.execute_behavior("TAKE_OFF", altitude=2)
+    waited = 0
+    while not api.true_belief('message(?D, "go home")') and waited < 600:
+        api.wait(0.5)
+        waited += 0.5
+    api.execute_behavior("LAND")
+'''  # a mission that flies until the operator ends it
 
 
 def aeroexec(*args: str, cwd: Path) -> subprocess.Popen:

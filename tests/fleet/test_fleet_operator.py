@@ -10,20 +10,7 @@ from pathlib import Path
 
 from aeroexec.cli.main import main
 from aeroexec.fleet.transport import free_endpoint
-from processes import TOKEN, aeroexec, stop, wait_for_line, wait_for_lines
-
-HOVER = '''"""Take off, hover until someone says "go home" (or 600 s), land."""
-import aeroexec.engine.api as api
-
-
-def mission():
-    api.execute_behavior("TAKE_OFF", altitude=2)
-    waited = 0
-    while not api.true_belief('message(?D, "go home")') and waited < 600:
-        api.wait(0.5)
-        waited += 0.5
-    api.execute_behavior("LAND")
-'''
+from processes import HOVER, TOKEN, aeroexec, stop, wait_for_line, wait_for_lines
 
 
 def ctl(*args: str, cwd: Path, token: str | None = None) -> subprocess.CompletedProcess:
