@@ -60,10 +60,11 @@ class FleetLink(BeliefUpdater):
     """Drone ``name``'s engine on the fleet ``node``; join it with :meth:`join`."""
 
     def __init__(self, node: FleetNode, name: str, engine: Any, share: tuple[str, ...] = (),
-                 telemetry_rate: float = 5.0) -> None:
+                 telemetry_rate: float = 5.0, trust: dict[str, int] | None = None) -> None:
         super().__init__(f"fleet link of {name}", period=0.0)
         self.node, self.name, self.engine = node, check_name(name, "the drone name"), engine
         self.share = tuple(share)
+        self.trust = dict(trust or {})  # without a roster (a drone in its own process): its own --trust
         self.telemetry_period = 1.0 / telemetry_rate
         self.mission = ""
         self.state = "running"
@@ -257,9 +258,10 @@ class FleetLink(BeliefUpdater):
         return ""
 
     def _needed(self, belief: Struct) -> int:
-        """How many distinct members must say ``belief`` before this drone believes it (the fleet file's trust:)."""
+        """How many distinct members must say ``belief`` before this drone believes it (the fleet file's trust:, or
+        this drone's own without a roster)."""
         roster = self.node.roster
-        return roster.needed(belief.name) if roster is not None else 1
+        return roster.needed(belief.name) if roster is not None else self.trust.get(belief.name, 1)
 
     def _hold(self, sender: str, belief: Struct) -> None:
         """Believe ``belief`` as said by ``sender``: ``said(sender, belief)``, and the belief itself unless it

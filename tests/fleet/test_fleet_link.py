@@ -209,17 +209,20 @@ def test_a_count_is_logged_once_per_interval():
                      "fleet f: refused 3 more messages from ghost in the last 10 s: not a fleet member"]
 
 
-def test_a_trusted_predicate_is_believed_only_while_enough_distinct_members_say_it():
+@pytest.mark.parametrize("given", ["the fleet file's trust:", "run --fleet --trust code=2"])
+def test_a_trusted_predicate_is_believed_only_while_enough_distinct_members_say_it(given):
     """trust: {code: 2}: one member's code(...) is held as said(d2, ...) only; a second member saying it makes the
-    drone believe it, with both sources; when one of them stops saying it, the belief goes."""
+    drone believe it, with both sources; when one of them stops saying it, the belief goes. The same for a drone
+    in its own process (no fleet file: its own --trust)."""
     endpoint = free_endpoint()
     session = open_session("router", listen=[endpoint])
     others = {d: open_session("client", connect=[endpoint]) for d in ("d2", "d3")}
     roster = Roster("f", {f"{d}@f": (d,) for d in ("d1", "d2", "d3", "d4")},
                     shares={d: ("object", "code") for d in ("d1", "d2", "d3", "d4")}, trust={"code": 2})
-    node = FleetNode(session, "f", "secret", roster, local=("d1",))
+    from_file = given.startswith("the fleet file")
+    node = FleetNode(session, "f", "secret", roster if from_file else None, local=("d1",))
     engine = Engine(SimulatedDrone())
-    FleetLink(node, "d1", engine, share=("object", "code")).join()
+    FleetLink(node, "d1", engine, share=("object", "code"), trust=None if from_file else {"code": 2}).join()
     memory = engine.memory
     try:
         def d2_says() -> bool:
@@ -251,3 +254,15 @@ def test_a_trusted_predicate_is_believed_only_while_enough_distinct_members_say_
         for other in others.values():
             other.close()
         session.close()
+
+
+@pytest.mark.parametrize("word", ["code", "code=0", "code=two", "Code(x)=2", "=2", "code=²"])
+def test_a_wrong_trust_argument_is_a_usage_error_naming_it(tmp_path, capsys, word):
+    from aeroexec.cli.main import main
+
+    (tmp_path / "m.py").write_text("def mission():\n    pass\n")
+    status = main(["run", str(tmp_path / "m.py"), "--fleet", "f", "--name", "d1", "--trust", word, "--output",
+                   str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert f"--trust {word}: give PREDICATE=K" in err and "Traceback" not in err
