@@ -221,10 +221,14 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
         token = args.token or os.environ.get(TOKEN_VARIABLE) or known.get("token", "")
         credentials = args.credentials or known.get("credentials")
         if not credentials:
+            where = " (the run's fleet.json names none: the operator's identity is not in its credentials folder)" \
+                if known else ""
             raise ValueError(f"no operator credentials for fleet {args.fleet}: give --credentials DIR (the folder of "
-                             f"operator.pem, operator.key and ca.pem)")
+                             f"operator.pem, operator.key and ca.pem){where}")
+        members = known.get("drones") if isinstance(known.get("drones"), list) else ()
         answers = command_fleet(args.connect or known.get("endpoints") or [], args.fleet, token, args.command,
-                                argument, drone=args.drone or "*", identity=operator_identity(credentials))
+                                argument, drone=args.drone or "*", identity=operator_identity(credentials),
+                                members=[m for m in members if isinstance(m, str)])
     except (ValueError, FleetCommandError) as error:
         print(error, file=sys.stderr)
         return 1
@@ -239,11 +243,17 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
             print(describe_items(answer.get("items", [])), end="")
             if answer.get("silent"):
                 print(f"  silent (nothing heard for 2 s or more): {', '.join(answer['silent'])}")
+        elif answer.get("answered") is False:
+            print(f"{drone}: {answer.get('error')}", file=sys.stderr)
         else:
             print(f"{drone}: refused: {answer.get('error') or answer.get('message') or 'no reason given'}",
                   file=sys.stderr)
             for problem in answer.get("problems", [])[1:]:
                 print(f"  {problem}", file=sys.stderr)
-    if not answers:
+    unanswered = sorted(d for d, a in answers.items() if a.get("answered") is False)
+    if not answers or len(unanswered) == len(answers):
         print(f"no drone of fleet {args.fleet} answered", file=sys.stderr)
+    elif unanswered:
+        print(f"{len(unanswered)} of {len(answers)} drones of fleet {args.fleet} did not answer: "
+              f"{', '.join(unanswered)}", file=sys.stderr)
     return 0 if answers and all(a.get("ok") for a in answers.values()) else 1

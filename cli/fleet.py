@@ -175,7 +175,7 @@ def fly_fleet(args: argparse.Namespace) -> int:
         endpoints = membership.endpoints
         node = fleet = None
         try:
-            write_fleet_file(folder, spec.name, endpoints, token, membership.operator)
+            write_fleet_file(folder, spec.name, endpoints, token, membership.operator, (d.name for d in spec.drones))
             if workers > 1:
                 return fly_workers(args, spec, base, folder, endpoints[0], token, workers, watched)
             node = membership.node(token)

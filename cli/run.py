@@ -59,6 +59,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             "certificate file (its .key and ca.pem beside it); see aeroexec fleet --make-credentials")
     fleet.add_argument("--share", action="append", default=[], metavar="PREDICATE",
                        help="share this drone's beliefs of PREDICATE with the fleet (repeatable)")
+    fleet.add_argument("--trust", action="append", default=[], metavar="PREDICATE=K",
+                       help="believe a belief of PREDICATE another drone says only while K distinct members say it "
+                            "(as the fleet file's trust:), e.g. --trust code=2 (repeatable)")
     fleet.add_argument("--token", metavar="T", help="the fleet's token for operator commands (default: "
                                                     "$AEROEXEC_FLEET_TOKEN, else a new one in fleet.json)")
 
@@ -138,6 +141,21 @@ def add_surface_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the address the console listens on (default 127.0.0.1: this machine only)")
 
 
+def trust_arguments(words: list[str]) -> tuple[tuple[str, int], ...]:
+    """``--trust PREDICATE=K`` as (predicate, k) pairs; FlightError (usage) naming the one that is not."""
+    from aeroexec.fleet.fleet_file import PREDICATE
+
+    trust: dict[str, int] = {}
+    for word in words:
+        predicate, _, count = word.partition("=")
+        if not PREDICATE.match(predicate) or not count.isascii() or not count.isdigit() or len(count) > 6 or \
+                int(count) < 1:
+            raise FlightError(f"--trust {word}: give PREDICATE=K, a predicate's name and how many distinct members "
+                              f"(at least 1) must say a belief of it, e.g. --trust code=2", usage=True)
+        trust[predicate] = int(count)
+    return tuple(trust.items())
+
+
 def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
     """The flight the arguments ask for; ``watched``: someone watches (live view, browser), so simulated time
     runs at real time unless ``--speed`` says, and questions wait for an answer."""
@@ -150,7 +168,7 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
         if not args.name:
             raise FlightError("--fleet needs --name D: this drone's name in the fleet", usage=True)
         fleet = FleetJoin(args.fleet, args.name, tuple(args.connect or ()), args.token, tuple(args.share),
-                          credentials=args.credentials)
+                          credentials=args.credentials, trust=trust_arguments(getattr(args, "trust", None) or []))
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
                       home=args.home, catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),

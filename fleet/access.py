@@ -3,9 +3,11 @@
 The roster names each identity (a certificate's common name) and the drones it speaks for: one drone, or every
 drone of a process that hosts several. The router gives each identity the right to publish on its own drones'
 keys (``aeroexec/<fleet>/<drone>/tick``) and to answer their command queries, nowhere else; operators may query the
-``command`` keys; every identity may subscribe to the fleet's keys; the fleet's other routers (the router identity,
-linking machines) relay everything of the fleet. Anything else is denied, by the router, before it reaches
-anyone. Receivers use the roster too: who is a member and which predicates each drone shares.
+``command`` keys (one drone's, or every drone's with ``*/command``, which reaches every member serving one); every
+identity may subscribe to the fleet's keys; the fleet's other routers (the router identity, linking machines) relay
+everything of the fleet. Anything else is denied, by the router, before it reaches
+anyone. Receivers use the roster too: who is a member, which predicates each drone shares, and how many members
+must agree on a belief of a predicate the fleet file's ``trust:`` names.
 """
 
 from __future__ import annotations
@@ -22,13 +24,15 @@ RELAYED = ["put", "declare_subscriber", "declare_queryable", "query", "reply"]  
 class Roster:
     """The identities of ``fleet``: ``speakers`` (identity -> the drones it speaks for), ``operators`` (identities
     that may command), ``shares`` (drone -> the predicates it shares with the fleet), ``routers`` (the identities
-    of the fleet's routers, which relay for each other)."""
+    of the fleet's routers, which relay for each other), ``trust`` (predicate -> how many distinct members must
+    say a belief of it before a drone believes it; 1 when not named)."""
 
     fleet: str
     speakers: Mapping[str, tuple[str, ...]]
     operators: tuple[str, ...] = ()
     shares: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     routers: tuple[str, ...] = ()
+    trust: Mapping[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         owners: dict[str, str] = {}
@@ -46,6 +50,10 @@ class Roster:
         """Every drone of the fleet, wherever it flies."""
         return self._drones  # type: ignore[attr-defined]
 
+    def needed(self, predicate: str) -> int:
+        """How many distinct members must say a belief of ``predicate`` before a drone believes it."""
+        return self.trust.get(predicate, 1)
+
     def shared_by(self, drone: str) -> tuple[str, ...]:
         """The predicates ``drone`` shares (empty when it shares none, or is no member)."""
         return tuple(self.shares.get(drone, ()))
@@ -60,6 +68,9 @@ def access_control(roster: Roster) -> dict[str, Any]:
         _rule("heard", "egress", ["put", "declare_subscriber"], [f"{prefix}/**"]),
         _rule("command", "ingress", ["query"], [f"{prefix}/*/command"]),
         _rule("answered", "egress", ["reply", "declare_queryable"], [f"{prefix}/*/command"]),
+        # an operator's query of every drone (``*/command``) reaches each member; a member answers only on its
+        # own drones' keys (``serve``): the rule naming a member's own keys only let a fleet-wide query reach none
+        _rule("asked", "egress", ["query"], [f"{prefix}/*/command"]),
         _rule("relay", "ingress", RELAYED, [f"{prefix}/**"]),
         _rule("relayed", "egress", RELAYED, [f"{prefix}/**"]),
     ]
@@ -73,10 +84,9 @@ def access_control(roster: Roster) -> dict[str, Any]:
         rules += [
             _rule(f"speak-{n}", "ingress", ["put"], [f"{prefix}/{d}/{topic}" for d in own for topic in SPOKEN]),
             _rule(f"serve-{n}", "ingress", ["declare_queryable", "reply"], [f"{prefix}/{d}/command" for d in own]),
-            _rule(f"asked-{n}", "egress", ["query"], [f"{prefix}/{d}/command" for d in own]),
         ]
         subjects.append({"id": f"member-{n}", "cert_common_names": [identity]})
-        policies.append({"rules": [f"speak-{n}", f"serve-{n}", f"asked-{n}"], "subjects": [f"member-{n}"]})
+        policies.append({"rules": [f"speak-{n}", f"serve-{n}", "asked"], "subjects": [f"member-{n}"]})
         everyone.append(f"member-{n}")
     if roster.operators:
         subjects.append({"id": "operators", "cert_common_names": sorted(roster.operators)})

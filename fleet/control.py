@@ -1,10 +1,15 @@
 """The operator's side of a fleet: a command (pause, resume, abort, status, inhibit, answer...) sent as a Zenoh
-query on ``aeroexec/<fleet>/<drone>/command``, from a session with the operator's identity (the router lets only
-operators query) and with the fleet's token (the second factor); one answer per drone."""
+query on ``aeroexec/<fleet>/<drone>/command`` (``*`` for every drone), from a session with the operator's identity
+(the router lets only operators query) and with the fleet's token (the second factor); one answer per drone.
+
+Which drones should answer: the fleet's members the caller knows (its ``fleet.json``), and those the answering
+drones know (the first drone of each process names its fleet's members, ``fleet``); each of them that did not
+answer gets an answer of its own, ``{ok: false, answered: false}``."""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable
 from typing import Any
 
 from aeroexec.fleet.credentials import CredentialsError, Identity
@@ -19,10 +24,12 @@ class FleetCommandError(RuntimeError):
 
 
 def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, argument: str = "",
-                  drone: str = "*", timeout: float = TIMEOUT,
-                  identity: Identity | None = None) -> dict[str, dict[str, Any]]:
-    """Each answering drone's answer (``ok``, ``message`` or ``error``, ``status`` for status); ``identity``: the
-    operator's (None only for a fleet without credentials)."""
+                  drone: str = "*", timeout: float = TIMEOUT, identity: Identity | None = None,
+                  members: Iterable[str] = ()) -> dict[str, dict[str, Any]]:
+    """Each drone's answer (``ok``, ``message`` or ``error``, ``status`` for status); ``identity``: the operator's
+    (None only for a fleet without credentials); ``members``: the drones the caller knows of, each expected to
+    answer a command to every drone (``drone`` ``*``). A drone expected that did not answer has
+    ``{ok: false, answered: false, error}``."""
     check_name(fleet, "the fleet name")
     if drone != "*":
         check_name(drone, "the drone name")
@@ -50,4 +57,9 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
             answers[str(answer.get("drone", str(sample.key_expr).split("/")[2] if reply.ok else "?"))] = answer
     finally:
         session.close()
+    expected = {drone} if drone != "*" else set(members) | {
+        name for answer in answers.values() for name in answer.get("fleet", ()) if isinstance(name, str)}
+    for name in sorted(expected - set(answers)):
+        answers[name] = {"ok": False, "answered": False,
+                         "error": "did not answer: not reached, or no longer flying"}
     return answers

@@ -7,6 +7,7 @@ world: default          # or a world file
 share: [object, code]   # shared by every drone (each drone may add its own)
 credentials: creds      # the fleet's credentials (aeroexec fleet FILE --make-credentials creds); default: made anew
 operators: [operator]   # the operators' identities (creds/operator.pem...), who may command the drones
+trust: {code: 2}        # a drone believes a code(...) another says only once 2 distinct members say it
 drones:
   - {name: d1, mission: missions/figure10.py, home: [0, 0]}
   - {name: d2, mission: missions/square_patrol.yaml, home: [3, 0], seed: 2, share: [position]}
@@ -20,6 +21,7 @@ that flies in another process or machine. Paths are read from the fleet file's f
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -29,7 +31,8 @@ from aeroexec.fleet.access import Roster
 from aeroexec.fleet.credentials import CA_CERTIFICATE, OPERATOR, ROUTER, Identity, common_name
 from aeroexec.fleet.payloads import NAME_RULE, is_name
 
-TOP = ("fleet", "world", "share", "drones", "token", "telemetry_rate", "credentials", "operators")
+TOP = ("fleet", "world", "share", "drones", "token", "telemetry_rate", "credentials", "operators", "trust")
+PREDICATE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")  # a predicate's name, as a belief writes it
 DRONE = ("name", "mission", "home", "seed", "share", "certificate", "key")
 RESERVED = ("ca", ROUTER)  # names of the fleet's own credential files
 
@@ -57,6 +60,7 @@ class FleetSpec:
     problems: tuple[Problem, ...] = field(default=())
     credentials: Path | None = None  # the folder of the fleet's credentials; None: made for each run
     operators: tuple[str, ...] = (OPERATOR,)
+    trust: dict[str, int] = field(default_factory=dict)  # predicate -> distinct members that must say a belief
 
     @property
     def flown(self) -> tuple[DroneSpec, ...]:
@@ -83,7 +87,7 @@ class FleetSpec:
             speakers.setdefault(common_name(self.identity_name(drone), self.name), []).append(drone.name)
         return Roster(self.name, {k: tuple(v) for k, v in speakers.items()},
                       tuple(common_name(o, self.name) for o in self.operators), {d.name: d.share for d in self.drones},
-                      (common_name(ROUTER, self.name),))
+                      (common_name(ROUTER, self.name),), dict(self.trust))
 
 
 class FleetFileError(ValueError):
@@ -127,10 +131,37 @@ def load_fleet(path: str | Path) -> FleetSpec:
         if drone.name in operators:
             r.error_at(drone.line, f"the drone {drone.name} has the name of an operator (operators:): an identity "
                                    f"is one or the other")
+    trust = _trust(r, top["trust"][1], drones) if "trust" in top else {}
     if r.failed:
         raise FleetFileError(r.problems)
     return FleetSpec(name or "fleet", tuple(drones), world, token, rate or 5.0, str(path), tuple(r.problems),
-                     credentials, operators)
+                     credentials, operators, trust)
+
+
+def _trust(r: NodeReader, node, drones: list[DroneSpec]) -> dict[str, int]:
+    """``trust: {predicate: k}``: each a predicate some drone shares, k from 1 to the drones sharing it less one
+    (a drone that shares it hears it from the others only)."""
+    entries = r.mapping(node, "trust") or {}
+    trust: dict[str, int] = {}
+    for predicate, (key_node, value_node) in entries.items():
+        if not PREDICATE.match(predicate):
+            r.error(key_node, f"trust: {predicate!r} is no predicate's name (letters, digits and _, not a digit "
+                              f"first), e.g. trust: {{code: 2}}")
+            continue
+        sharers = [d.name for d in drones if predicate in d.share]
+        if not sharers:
+            r.error(key_node, f"trust: no drone shares {predicate} (share:), so no drone hears it from another")
+            continue
+        needed = r.integer(value_node, f"trust: {predicate}", minimum=1)
+        if needed is None:
+            continue
+        most = max(1, len(sharers) - 1)  # a drone that shares it hears it from the others, never from itself
+        if needed > most:
+            r.error(value_node, f"trust: {predicate}: {needed} members must agree, but {len(sharers)} drones share "
+                                f"it, so a drone that shares it hears it from at most {most}: give 1 to {most}")
+            continue
+        trust[predicate] = needed
+    return trust
 
 
 def _drone(r: NodeReader, path: Path, node, common: tuple[str, ...], earlier: list[DroneSpec]) -> DroneSpec | None:

@@ -1,10 +1,11 @@
-"""``fleet.json`` in a fleet run's output folder: the fleet's name, endpoints, token and the operator's certificate,
-for ``aeroexec ctl``."""
+"""``fleet.json`` in a fleet run's output folder: the fleet's name, endpoints, token, the operator's certificate and
+the fleet's drones, for ``aeroexec ctl --fleet NAME --run DIR``."""
 
 from __future__ import annotations
 
 import json
 import os
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -15,12 +16,13 @@ TOKEN_VARIABLE = "AEROEXEC_FLEET_TOKEN"
 
 
 def write_fleet_file(folder: Path, fleet: str, endpoints: list[str], token: str,
-                     operator: Path | None = None) -> Path:
-    """The fleet's endpoint, token and operator certificate for ``aeroexec ctl --fleet`` (readable by the user
-    only)."""
+                     operator: Path | None = None, drones: Iterable[str] = ()) -> Path:
+    """What ``aeroexec ctl --fleet NAME --run DIR`` needs (readable by the user only): the fleet's endpoints, token,
+    the operator's certificate when this machine holds it, and the fleet's drones (each expected to answer)."""
     path = folder / FLEET_FILE
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
-    data = {"fleet": fleet, "endpoints": endpoints, "token": token, "pid": os.getpid()}
+    data: dict[str, Any] = {"fleet": fleet, "endpoints": endpoints, "token": token, "pid": os.getpid(),
+                            "drones": sorted(drones)}
     if operator is not None:
         data["credentials"] = str(Path(operator).resolve())
     with os.fdopen(fd, "w") as file:

@@ -31,9 +31,12 @@ class JoinedFleet:
 
 
 def join_fleet(engine: Any, fleet: str, name: str, folder: Path, mission: str, connect: list[str] | None = None,
-               token: str | None = None, share: tuple[str, ...] = (), credentials: str | None = None) -> JoinedFleet:
+               token: str | None = None, share: tuple[str, ...] = (), credentials: str | None = None,
+               trust: dict[str, int] | None = None) -> JoinedFleet:
     """Join ``engine`` to ``fleet`` as ``name`` through ``connect`` (a client of the router) with the identity at
-    ``credentials``; ValueError (CredentialsError) or :class:`TransportError` when it cannot."""
+    ``credentials``; ``trust``: predicate -> how many distinct members must say a belief of it (the fleet file's
+    ``trust:``, which this process does not read); ValueError (CredentialsError) or :class:`TransportError` when it
+    cannot."""
     fleet, name = check_name(fleet, "--fleet"), check_name(name, "--name")
     if not credentials:
         raise ValueError(f"--fleet needs --credentials DIR: the folder of {name}.pem, {name}.key and the fleet's "
@@ -46,8 +49,8 @@ def join_fleet(engine: Any, fleet: str, name: str, folder: Path, mission: str, c
         raise TransportError(f"{error} (is `aeroexec fleet FLEET.yaml --router` running?)") from None
     session = membership.session
     node = membership.node(token)
-    link = FleetLink(node, name, engine, tuple(share)).join()
+    link = FleetLink(node, name, engine, tuple(share), trust=trust).join()
     link.mission = mission
-    write_fleet_file(folder, fleet, endpoints, token)
+    write_fleet_file(folder, fleet, endpoints, token, membership.operator, (name,))
     logger.info("%s joined fleet %s through %s", name, fleet, ", ".join(endpoints))
     return JoinedFleet(session, node, link, folder)

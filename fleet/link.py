@@ -20,11 +20,13 @@ beliefs, with ``self`` replaced by the sender, accepted only when
 
 Each accepted belief keeps its source: ``said(dN, Belief)`` holds while the sender keeps saying it, beside the
 belief itself; a claim that contradicts a belief this drone formed itself (an exclusive predicate's other value)
-is held only as ``said(dN, Belief)``. What a drone heard from another expires the table's ``persistence`` (5 s)
-after it was last said (a message: after its sender was last heard); a drone unheard for 2 s is reported silent
-(engine time for the drones of this process, wall time for those of other processes: :mod:`aeroexec.fleet.table`).
-A refusal is counted by the node; the first of each sender and reason is an event
-(``fleet_refused``).
+is held only as ``said(dN, Belief)``. A belief of a predicate the fleet file's ``trust:`` names (``trust: {code:
+2}``) is believed only while that many distinct members say it; until then only its ``said`` beliefs are held (a
+``fleet_claim`` event), so one compromised member cannot make the drone believe it alone. What a drone heard from
+another expires the table's ``persistence`` (5 s) after it was last said (a message: after its sender was last
+heard); a drone unheard for 2 s is reported silent (engine time for the drones of this process, wall time for those
+of other processes: :mod:`aeroexec.fleet.table`). A refusal is counted by the node; the first of each sender and
+reason is an event (``fleet_refused``).
 """
 
 from __future__ import annotations
@@ -49,7 +51,8 @@ CHECK_PERIOD = 0.2  # engine seconds between two looks for expired messages
 MAX_QUEUED_MESSAGES = 16  # broadcasts of one sender taken in one period
 MAX_MESSAGES = 100  # message(dN, Text) beliefs held per sender
 OWN_STATE = frozenset(TELEMETRY_PREDICATES) | {"localization", "carry", VELOCITY}  # what a drone knows of itself
-QUIET = frozenset({"fleet_belief", "node_status", "fleet_refused", "fleet_drone_heard", "fleet_drone_silent"})
+QUIET = frozenset({"fleet_belief", "fleet_claim", "node_status", "fleet_refused", "fleet_drone_heard",
+                   "fleet_drone_silent"})
 NAMED = 3  # drones named in one fleet_drone_heard line
 
 
@@ -57,10 +60,11 @@ class FleetLink(BeliefUpdater):
     """Drone ``name``'s engine on the fleet ``node``; join it with :meth:`join`."""
 
     def __init__(self, node: FleetNode, name: str, engine: Any, share: tuple[str, ...] = (),
-                 telemetry_rate: float = 5.0) -> None:
+                 telemetry_rate: float = 5.0, trust: dict[str, int] | None = None) -> None:
         super().__init__(f"fleet link of {name}", period=0.0)
         self.node, self.name, self.engine = node, check_name(name, "the drone name"), engine
         self.share = tuple(share)
+        self.trust = dict(trust or {})  # without a roster (a drone in its own process): its own --trust
         self.telemetry_period = 1.0 / telemetry_rate
         self.mission = ""
         self.state = "running"
@@ -69,6 +73,7 @@ class FleetLink(BeliefUpdater):
         self._refusals: list[tuple[str, str, str]] = []  # the node's new refusals, for the event log
         self._refused: set[tuple[str, str]] = set()  # (sender, reason) already in the event log
         self._heard: dict[Struct, set[str]] = {}  # a belief held because others say it -> who says it
+        self._claims: dict[Struct, set[str]] = {}  # a belief of a trust: predicate -> the members saying it
         self._messages: dict[Struct, str] = {}  # message(dN, Text) -> its sender
         self._next_check = 0.0
         self._events: list[dict[str, Any]] = []
@@ -252,16 +257,28 @@ class FleetLink(BeliefUpdater):
             return "about another member (each drone speaks for itself)"
         return ""
 
+    def _needed(self, belief: Struct) -> int:
+        """How many distinct members must say ``belief`` before this drone believes it (the fleet file's trust:, or
+        this drone's own without a roster)."""
+        roster = self.node.roster
+        return roster.needed(belief.name) if roster is not None else self.trust.get(belief.name, 1)
+
     def _hold(self, sender: str, belief: Struct) -> None:
         """Believe ``belief`` as said by ``sender``: ``said(sender, belief)``, and the belief itself unless it
-        contradicts one this drone formed itself."""
+        contradicts one this drone formed itself or, for a predicate the fleet's ``trust:`` names, until enough
+        distinct members say it."""
         memory = self.engine.memory
         said = Struct(SAID, (sender, belief))
+        needed = self._needed(belief)
+        claims = self._claims.setdefault(belief, set()) if needed > 1 else {sender}
+        claims.add(sender)
+        agreed = len(claims) >= needed
         try:
             own = self._own_value(belief)
             memory.add(said)
-            added = not own and memory.add(belief)
+            added = not own and agreed and memory.add(belief)
         except (BeliefError, ValueError, TypeError) as error:  # a predicate this drone does not know, an arity...
+            claims.discard(sender)
             self._refuse(sender, "a belief this drone cannot hold", f"{belief}: {error}")
             return
         self._heard_from(sender)
@@ -269,19 +286,32 @@ class FleetLink(BeliefUpdater):
         if own:
             self._refuse(sender, "contradicts what this drone believes itself (kept as said)", f"{belief} vs {own}")
             return
+        if not agreed:
+            self.engine.log.record("fleet_claim", detail=f"from {sender}: {belief} (said by {len(claims)} of the "
+                                                         f"{needed} members needed to believe it)",
+                                   sender=sender, belief=str(belief), sources=sorted(claims), needed=needed)
+            return
         if added or belief in self._heard:
-            self._heard.setdefault(belief, set()).add(sender)
+            self._heard.setdefault(belief, set()).update(claims)
         if added:
-            self.engine.log.record("fleet_belief", detail=f"from {sender}: {belief}", sender=sender,
-                                   belief=str(belief))
+            sources = ", ".join(sorted(claims))
+            self.engine.log.record("fleet_belief", detail=f"from {sources}: {belief}", sender=sender,
+                                   belief=str(belief), **({"sources": sorted(claims)} if needed > 1 else {}))
 
     def _forget(self, sender: str, belief: Struct) -> None:
-        """``sender`` no longer says ``belief``: forget it unless another drone still does."""
+        """``sender`` no longer says ``belief``: forget it unless enough other drones still do (one, or the
+        fleet's ``trust:`` for its predicate)."""
+        claims = self._claims.get(belief)
+        if claims is not None:
+            claims.discard(sender)
+            if not claims:
+                del self._claims[belief]
+        needed = self._needed(belief)
         for held in (Struct(SAID, (sender, belief)), belief):
             sources = self._heard.get(held)
             if sources is not None and sender in sources:
                 sources.discard(sender)
-                if not sources:
+                if not sources or held is belief and len(sources) < needed:
                     del self._heard[held]
                     self.engine.memory.remove(held)
 

@@ -110,6 +110,7 @@ def connect(spec: FleetSpec, endpoints: list[str]) -> Membership:
             session = open_session("client", connect=endpoints, identity=_read(identity, spec.name, name))
             if membership is None:
                 membership = Membership(spec.name, session, list(endpoints), spec.roster(),
+                                        operator=_operator_beside(spec.credentials, spec.operators),
                                         local=tuple(d.name for d in spec.flown))
             else:
                 membership.sessions.update(dict.fromkeys(drones, session))
@@ -129,8 +130,9 @@ def join(fleet: str, name: str, credentials: str | Path, endpoints: list[str]) -
     material = identity.read(fleet)
     if material.name != common_name(name, fleet):
         logger.info("%s speaks as %s", name, material.name)
+    folder = Path(credentials) if Path(credentials).is_dir() else identity.certificate.parent
     return Membership(fleet, open_session("client", connect=endpoints, identity=material), list(endpoints),
-                      local=(name,))
+                      operator=_operator_beside(folder, (creds.OPERATOR,)), local=(name,))
 
 
 def work(spec: FleetSpec, credentials: Path, endpoints: list[str], drones: tuple[str, ...]) -> Membership:
@@ -149,6 +151,15 @@ def credentials_folder(spec: FleetSpec, output: Path) -> Path:
 def operator_identity(credentials: str | Path) -> Identity:
     """The operator's identity at ``credentials`` (a folder holding ``operator.pem``, or the certificate)."""
     return Identity.at(credentials, creds.OPERATOR)
+
+
+def _operator_beside(folder: Path | None, operators: tuple[str, ...]) -> Path | None:
+    """The first operator's certificate in the credentials ``folder`` when this machine holds it (with its key), for
+    an ``aeroexec ctl`` here; None when it is not here (a drone's machine holds only its own identity)."""
+    if folder is None or not operators:
+        return None
+    identity = Identity.at(folder, operators[0])
+    return identity.certificate if identity.certificate.is_file() and identity.key.is_file() else None
 
 
 def _read(identity: Identity, fleet: str, name: str) -> Material:

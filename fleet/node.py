@@ -14,7 +14,8 @@ Refused here, counted (one log line per sender and reason per interval, :mod:`~a
 the links for their event logs: malformed or foreign messages, a sender that is not in the fleet's roster, a
 message on the keys of a drone of this process that this process did not send. Commands need the fleet's token (a
 second factor: the operator's identity is checked by the router) and are answered from one thread, every drone's
-at once.
+at once; the answer of the process's first drone names the fleet's members it knows (``fleet``), so the operator
+can name the drones that did not answer.
 """
 
 from __future__ import annotations
@@ -334,11 +335,23 @@ class FleetNode:
                 if command == "status":
                     answer["status"] = result.data
                     answer["silent"] = sorted(getattr(self.links.get(name), "silent", ()))
+            with self._lock:
+                first = min(self.links, default=name)
+            if name == first:  # one drone per process says who the operator should hear
+                answer["fleet"] = self.members()
             try:
                 with query:
                     query.reply(key(self.fleet, name, "command"), encode(name, **answer))
             except Exception as error:  # the session closed meanwhile
                 logger.debug("fleet %s: the answer of %s was not sent: %s", self.fleet, name, error)
+
+    def members(self) -> list[str]:
+        """The fleet's drones as this process knows them: its roster, else its own drones and those it heard."""
+        if self.roster is not None:
+            return sorted(self.roster.drones)
+        with self._lock:
+            here = self.local | set(self.links)
+        return sorted(here | set(self.table.heard.copy()))
 
     def close(self) -> None:
         """Stop hearing the fleet, the local drones' last words sent (the sessions are the caller's to close)."""

@@ -235,7 +235,8 @@ class FlightSession:
                 self.link = FleetLink(self.fleet_node, join.name, self.engine, join.share, join.telemetry_rate).join()
             else:  # a drone in its own process: a client of the fleet's router
                 self._joined = join_fleet(self.engine, join.fleet, join.name, self.folder, self.spec.name,
-                                          list(join.connect) or None, join.token, join.share, join.credentials)
+                                          list(join.connect) or None, join.token, join.share, join.credentials,
+                                          dict(join.trust))
                 self.link = self._joined.link
                 self.notify(f"{join.name} joined fleet {join.fleet}")
         except (TransportError, ValueError) as error:

@@ -33,6 +33,7 @@ class FleetJoin:
     share: tuple[str, ...] = ()
     telemetry_rate: float = 5.0  # Hz the drone's telemetry goes to the fleet
     credentials: str | None = None  # its identity: a folder holding <name>.pem, <name>.key, ca.pem, or the .pem
+    trust: tuple[tuple[str, int], ...] = ()  # (predicate, k): believe a mate's belief of it once k members say it
 
 
 @dataclass

@@ -290,7 +290,8 @@ def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone:
                     token = os.environ.get(TOKEN_VARIABLE)
             join = FleetJoin(fleet["fleet"], fleet["name"], tuple(fleet.get("connect") or ()), token,
                              tuple(fleet.get("share") or ()), float(fleet.get("telemetry_rate", 5.0)),
-                             credentials or fleet.get("credentials"))
+                             credentials or fleet.get("credentials"),
+                             tuple((str(p), int(k)) for p, k in fleet.get("trust") or ()))
         return FlightSpec(mission=Path(mission), robot=str(asked["robot"]), drone=str(drone or asked["drone"]),
                           world=asked.get("world"), catalog=asked.get("catalog"),
                           library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),

@@ -99,6 +99,11 @@ def test_the_routers_rules_give_each_identity_its_own_drones_keys_and_nothing_el
     assert speak["flows"] == ["ingress"] and sorted(speak["key_exprs"]) == sorted(
         f"aeroexec/f/{d}/tick" for d in ("d2", "d3"))
     assert [by_id[r]["key_exprs"] for r in policy["operators"]] == [["aeroexec/f/*/command"]] * 2
+    # an operator's query of every drone reaches each member (which may serve only its own drones' keys)
+    asked = [by_id[r] for r in policy[host] if by_id[r]["messages"] == ["query"]]
+    assert [(r["flows"], r["key_exprs"]) for r in asked] == [(["egress"], ["aeroexec/f/*/command"])]
+    serve = next(by_id[r] for r in policy[host] if "declare_queryable" in by_id[r]["messages"])
+    assert sorted(serve["key_exprs"]) == ["aeroexec/f/d2/command", "aeroexec/f/d3/command"]
     with pytest.raises(ValueError, match="the drone d2 has two identities"):
         Roster("f", {"a@f": ("d2",), "b@f": ("d2",)})
     with pytest.raises(ValueError, match="both an operator and a drone's"):

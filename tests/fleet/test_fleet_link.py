@@ -8,6 +8,7 @@ import time
 import pytest
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.engine import Engine
+from aeroexec.fleet.access import Roster
 from aeroexec.fleet.control import FleetCommandError, command_fleet
 from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.node import FleetNode
@@ -206,3 +207,62 @@ def test_a_count_is_logged_once_per_interval():
     assert lines == ["fleet f: refused a message from ghost: not a fleet member; more of the same are counted, one "
                      "line every 10 s",
                      "fleet f: refused 3 more messages from ghost in the last 10 s: not a fleet member"]
+
+
+@pytest.mark.parametrize("given", ["the fleet file's trust:", "run --fleet --trust code=2"])
+def test_a_trusted_predicate_is_believed_only_while_enough_distinct_members_say_it(given):
+    """trust: {code: 2}: one member's code(...) is held as said(d2, ...) only; a second member saying it makes the
+    drone believe it, with both sources; when one of them stops saying it, the belief goes. The same for a drone
+    in its own process (no fleet file: its own --trust)."""
+    endpoint = free_endpoint()
+    session = open_session("router", listen=[endpoint])
+    others = {d: open_session("client", connect=[endpoint]) for d in ("d2", "d3")}
+    roster = Roster("f", {f"{d}@f": (d,) for d in ("d1", "d2", "d3", "d4")},
+                    shares={d: ("object", "code") for d in ("d1", "d2", "d3", "d4")}, trust={"code": 2})
+    from_file = given.startswith("the fleet file")
+    node = FleetNode(session, "f", "secret", roster if from_file else None, local=("d1",))
+    engine = Engine(SimulatedDrone())
+    FleetLink(node, "d1", engine, share=("object", "code"), trust=None if from_file else {"code": 2}).join()
+    memory = engine.memory
+    try:
+        def d2_says() -> bool:
+            say(others["d2"], "d2", ("beliefs", {"beliefs": ["code(marker_77, 3)", "object(marker_77, aruco)"]}))
+            return memory.holds("said(d2, code(marker_77, 3))") and memory.holds("object(marker_77, aruco)")
+
+        assert settle(engine, d2_says, wall=30)
+        assert not memory.holds("code(marker_77, 3)")  # one member is not enough
+        assert memory.holds("object(marker_77, aruco)")  # a predicate the fleet does not guard: believed
+        claims = engine.log.events(kind="fleet_claim")
+        assert [c.detail for c in claims] == [
+            "from d2: code(marker_77, 3) (said by 1 of the 2 members needed to believe it)"]
+
+        def both_say() -> bool:
+            d2_says()
+            say(others["d3"], "d3", ("beliefs", {"beliefs": ["code(marker_77, 3)"]}))
+            return memory.holds("code(marker_77, 3)")
+
+        assert settle(engine, both_say, wall=30)
+        assert memory.query_all("said(?D, code(marker_77, 3))") == [{"?D": "d2"}, {"?D": "d3"}]
+        believed = [e.detail for e in engine.log.events(kind="fleet_belief") if "code" in e.detail]
+        assert believed == ["from d2, d3: code(marker_77, 3)"]
+        # d3 falls silent: what it said expires, and with one member left the belief goes (d2 still says it)
+        assert settle(engine, lambda: d2_says() and not memory.holds("said(d3, code(marker_77, 3))"), wall=60)
+        assert not memory.holds("code(marker_77, 3)") and memory.holds("said(d2, code(marker_77, 3))")
+    finally:
+        node.close()
+        engine.stop()
+        for other in others.values():
+            other.close()
+        session.close()
+
+
+@pytest.mark.parametrize("word", ["code", "code=0", "code=two", "Code(x)=2", "=2", "code=²"])
+def test_a_wrong_trust_argument_is_a_usage_error_naming_it(tmp_path, capsys, word):
+    from aeroexec.cli.main import main
+
+    (tmp_path / "m.py").write_text("def mission():\n    pass\n")
+    status = main(["run", str(tmp_path / "m.py"), "--fleet", "f", "--name", "d1", "--trust", word, "--output",
+                   str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert f"--trust {word}: give PREDICATE=K" in err and "Traceback" not in err

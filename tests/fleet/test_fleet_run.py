@@ -93,6 +93,20 @@ def test_drones_of_one_world_see_each_other_and_know_where_the_others_are_whatev
     ("fleet: f\ndrones:\n  - {name: d1, mission: m.py, key: d1.key}\n",
      "f.yaml:3: error: the drone d1 names a key without its certificate: give certificate:"),
     ("fleet: f\ndrones:\n  - {name: d1}\n", "f.yaml: no drone has a mission: nothing flies here"),
+    # trust: a predicate's name some drone shares, and a number of members a drone can hear it from
+    ("fleet: f\nshare: [code]\ntrust: {Code(x): 2}\ndrones:\n  - {name: d1, mission: m.py}\n",
+     "f.yaml:3: error: trust: 'Code(x)' is no predicate's name (letters, digits and _, not a digit first)"),
+    ("fleet: f\nshare: [code]\ntrust:\n  object: 2\ndrones:\n  - {name: d1, mission: m.py}\n  - {name: d2}\n"
+     "  - {name: d3}\n",
+     "f.yaml:4: error: trust: no drone shares object (share:), so no drone hears it from another"),
+    ("fleet: f\nshare: [code]\ntrust:\n  code: 3\ndrones:\n  - {name: d1, mission: m.py}\n  - {name: d2}\n"
+     "  - {name: d3}\n",
+     "f.yaml:4: error: trust: code: 3 members must agree, but 3 drones share it, so a drone that shares it hears it "
+     "from at most 2: give 1 to 2"),
+    ("fleet: f\nshare: [code]\ntrust: {code: 0}\ndrones:\n  - {name: d1, mission: m.py}\n",
+     "f.yaml:3: error: trust: code must be a whole number of at least 1, not '0'"),
+    ("fleet: f\nshare: [code]\ntrust: [code]\ndrones:\n  - {name: d1, mission: m.py}\n",
+     "f.yaml:3: error: trust must be a mapping of keys to values"),
     ("fleet: f\ncredentials: nowhere\ndrones:\n  - {name: d1, mission: m.py}\n",
      "f.yaml: the credentials folder nowhere is not there: make it with aeroexec fleet f.yaml --make-credentials "
      "nowhere"),

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.fleet.transport import free_endpoint
-from aeroexec.flight.journal import Journal
+from aeroexec.flight.journal import Journal, resume_spec
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fleet"))
 from processes import MISSIONS, aeroexec, stop, wait_for_line  # noqa: E402  (tests/fleet/processes.py)
@@ -59,7 +59,8 @@ def router(tmp_path):
 
 def test_a_drone_killed_in_a_fleet_resumes_into_it(router, tmp_path):
     endpoint, credentials = router
-    common = ("--fleet", "relay", "--connect", endpoint, "--credentials", str(credentials), "--speed", "4", "--plain")
+    common = ("--fleet", "relay", "--connect", endpoint, "--credentials", str(credentials), "--speed", "4", "--plain",
+              "--trust", "code=2")
     carrier = aeroexec("run", str(MISSIONS / "relay_carrier.py"), "--name", "carrier", "--output",
                        str(tmp_path / "carrier"), *common, cwd=tmp_path)
     scout = resumed = None
@@ -90,3 +91,4 @@ def test_a_drone_killed_in_a_fleet_resumes_into_it(router, tmp_path):
         meta = journal.meta()
     assert sent == 1 and meta["spec"]["fleet"]["name"] == "scout" and "token" not in meta["spec"]["fleet"]
     assert meta["spec"]["fleet"]["credentials"] == str(credentials.resolve())
+    assert resume_spec(tmp_path / "scout").fleet.trust == (("code", 2),)  # the resumed drone keeps its --trust

@@ -1,0 +1,128 @@
+"""A fleet testbed of hosts on one machine: each host a Linux network namespace of its own, joined to the others by
+a veth pair to a bridge in a switch namespace, as machines on one network (``10.77.0.0/24``), with faults an
+operator meets in the field: packets dropped at random (nftables ``numgen random mod 100 < P drop`` on a host's
+way in) and a host cut off (its switch port ``ip link set down``) and healed.
+
+It addresses only the namespaces it creates (named after this process, ``aex<pid>-<host>``) and deletes them on
+:meth:`Testbed.close`. It needs root (CI runs as root), ``ip`` (iproute2) and ``nft`` (nftables); without them
+:class:`Testbed` says which is missing. The kernel of the project's machine has no ``netem``, so latency is not
+made here (a delaying relay between namespaces would be the way).
+
+    bed = Testbed()
+    a, b = bed.host("a"), bed.host("b")
+    process = a.popen("aeroexec", "fleet", "search.yaml", "--router", "--listen", f"tls/{a.address}:7447")
+    bed.lose(b, 20)   # 20 % of what reaches b is dropped
+    bed.cut(b); bed.heal(b)
+    bed.close()
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+NETWORK = "10.77.0"  # /24: host n has NETWORK.n
+SWITCH = "sw"
+BRIDGE = "br0"
+NIC = "eth0"  # each host's side of its link
+
+
+class TestbedError(RuntimeError):
+    """The testbed cannot be made on this machine; the text says why."""
+
+
+def _run(*command: str, stdin: str | None = None) -> None:
+    done = subprocess.run(command, input=stdin, capture_output=True, text=True, timeout=60)
+    if done.returncode != 0:
+        raise TestbedError(f"{' '.join(command)}: {done.stderr.strip() or done.stdout.strip()}")
+
+
+@dataclass
+class Host:
+    """One host of the testbed: its namespace, its address on the network, its port on the switch."""
+
+    namespace: str
+    address: str
+    port: str
+
+    def command(self, *words: str) -> list[str]:
+        """``words`` run in this host's namespace (``aeroexec ...`` as this checkout's Python runs it)."""
+        if words and words[0] == "aeroexec":
+            words = (sys.executable, "-m", "aeroexec.cli.main", *words[1:])
+        return ["ip", "netns", "exec", self.namespace, *words]
+
+    def popen(self, *words: str, cwd: Path, env: dict[str, str] | None = None) -> subprocess.Popen:
+        """A process on this host, its output (stdout and stderr) as text lines on ``stdout``."""
+        return subprocess.Popen(self.command(*words), cwd=cwd, env=env, text=True, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT)
+
+    def run(self, *words: str, cwd: Path, env: dict[str, str] | None = None,
+            timeout: float = 120) -> subprocess.CompletedProcess:
+        return subprocess.run(self.command(*words), cwd=cwd, env=env, capture_output=True, text=True,
+                              timeout=timeout)
+
+
+@dataclass
+class Testbed:
+    """Hosts on one switch; :meth:`close` deletes every namespace it made."""
+
+    __test__ = False  # a fixture's helper, not a test class
+    prefix: str = field(default_factory=lambda: f"aex{os.getpid()}")
+    hosts: list[Host] = field(default_factory=list)
+    _made: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        missing = [tool for tool in ("ip", "nft") if shutil.which(tool) is None]
+        if missing:
+            raise TestbedError(f"the fleet testbed needs {' and '.join(missing)} (Debian: iproute2, nftables)")
+        if os.geteuid() != 0:
+            raise TestbedError("the fleet testbed makes network namespaces: run it as root (CI does)")
+        self.switch = self._namespace(SWITCH)
+        _run("ip", "-n", self.switch, "link", "add", BRIDGE, "type", "bridge")
+        _run("ip", "-n", self.switch, "link", "set", BRIDGE, "up")
+
+    def _namespace(self, name: str) -> str:
+        namespace = f"{self.prefix}-{name}"
+        _run("ip", "netns", "add", namespace)
+        self._made.append(namespace)
+        _run("ip", "-n", namespace, "link", "set", "lo", "up")
+        return namespace
+
+    def host(self, name: str) -> Host:
+        """A new host on the switch, at the network's next address."""
+        namespace = self._namespace(name)
+        n = len(self.hosts) + 1
+        host = Host(namespace, f"{NETWORK}.{n}", f"p{n}")
+        _run("ip", "-n", namespace, "link", "add", NIC, "type", "veth", "peer", "name", host.port, "netns",
+             self.switch)
+        _run("ip", "-n", namespace, "addr", "add", f"{host.address}/24", "dev", NIC)
+        _run("ip", "-n", namespace, "link", "set", NIC, "up")
+        _run("ip", "-n", self.switch, "link", "set", host.port, "master", BRIDGE)
+        _run("ip", "-n", self.switch, "link", "set", host.port, "up")
+        self.hosts.append(host)
+        return host
+
+    def lose(self, host: Host, percent: int) -> None:
+        """Drop ``percent`` % of the packets reaching ``host`` from the network, at random (0: none)."""
+        rules = "table inet testbed\ndelete table inet testbed\ntable inet testbed {\n" \
+                "  chain input {\n    type filter hook input priority 0; policy accept;\n" \
+                + (f"    iifname \"{NIC}\" numgen random mod 100 < {int(percent)} drop\n" if percent else "") \
+                + "  }\n}\n"
+        _run("ip", "netns", "exec", host.namespace, "nft", "-f", "-", stdin=rules)
+
+    def cut(self, host: Host) -> None:
+        """Cut ``host`` off the network (its switch port down): a partition."""
+        _run("ip", "-n", self.switch, "link", "set", host.port, "down")
+
+    def heal(self, host: Host) -> None:
+        _run("ip", "-n", self.switch, "link", "set", host.port, "up")
+
+    def close(self) -> None:
+        """Delete the namespaces this testbed made (the processes in them are the caller's to end first)."""
+        for namespace in reversed(self._made):
+            subprocess.run(["ip", "netns", "del", namespace], capture_output=True, timeout=60)
+        self._made.clear()
