@@ -14,7 +14,8 @@ reaching the behavior could avoid. The policy, conservative everywhere:
   with the state machine;
 - loops (Repeat, RetryUntilSuccessful, KeepRunningUntilFailure) and nodes that tick their children again
   (ReactiveSequence, ReactiveFallback, WhileDoElse) are checked from the state every pass starts in, found
-  silently by iterating to a fixed point;
+  silently by iterating to a fixed point, and their first pass from the state the loop is entered in (a LAND
+  before a Repeat of GO_TO_POINTs is wrong although a later pass could start hovering);
 - children of a Parallel run together: each is checked with the phenomena the others change unknown;
 - a node with a pre-condition may not run at all: its exits are joined with the state before it.
 """
@@ -62,6 +63,7 @@ class SequenceChecker:
         self.silent = 0
         self.stack: list[str] = []
         self._memo: dict[tuple, Exits] = {}
+        self._reported: set[tuple[int, str]] = set()  # (node, message) said once
 
     def check(self) -> None:
         if self.document.main in self.document.trees:
@@ -110,6 +112,8 @@ class SequenceChecker:
         else:
             head = dict(self.unknown)
         exits, _ = body(head)
+        if not self.silent and _names(head) != _names(start):
+            body(start)  # the first pass starts where the loop is entered: what is wrong there is wrong (reported)
         return exits
 
     # -- the walk ------------------------------------------------------------------------------
@@ -244,7 +248,9 @@ class SequenceChecker:
         advanced, errors = self.specialist.advance(known, Request(behavior, arguments))
         if not self.silent:
             for error in errors:
-                self.report(node, error.message, WRONG_SEQUENCE)
+                if (id(node), error.message) not in self._reported:  # a loop's first pass and the others
+                    self._reported.add((id(node), error.message))
+                    self.report(node, error.message, WRONG_SEQUENCE)
         success: State = {**state, **advanced}
         for phenomenon in touched:
             mine = [t for t in transitions if t.phenomenon == phenomenon]
