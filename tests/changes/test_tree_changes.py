@@ -177,3 +177,44 @@ def test_a_tml_mission_takes_skip_of_the_task_it_waits_for_and_is_edited_by_load
         "a TML mission's tasks compile into a tree of their own: it takes skip; load a new mission to change its "
         "tasks")
     assert ended(flight.finish()) == "completed"
+
+
+LANDED_LAP = ("patrol.xml:12: The execution of behavior GO_TO_POINT cannot be done after the execution of LAND "
+              "(flight is landed; GO_TO_POINT needs hovering or moving)")
+LANDED_C = LANDED_LAP.replace(":12:", ":16:")
+LANDED_LAND = ("patrol.xml:17: The execution of behavior LAND cannot be done after the execution of LAND (flight is "
+               "landed; LAND needs hovering or moving)")
+
+
+@pytest.mark.parametrize("moment, command, argument, refusal", [
+    # at the running item (the laps, a Repeat): checked as before a future item, from the drone's state now
+    ("lap west", "insert", "before 4 LAND", LANDED_LAP),
+    ("lap west", "insert", "after 4 LAND", LANDED_C),
+    ("lap west", "replace", "4 LAND", LANDED_C),
+    ("lap west", "delete", "4", None),
+    # at a future item
+    ("corner A", "insert", "before 4 LAND", LANDED_LAP),
+    ("lap west", "insert", "before 5 LAND", LANDED_C),
+    ("lap west", "insert", "after 5 LAND", LANDED_LAND),
+    ("lap west", "replace", "5 LAND", LANDED_LAND),
+    ("lap west", "delete", "5", None),
+    # at the end of the mission
+    ("lap west", "insert", "before 6 LAND", LANDED_LAND),
+    ("lap west", "insert", "after 6 LAND", "change 1:1: The execution of behavior LAND cannot be done after the "
+                                          "execution of LAND (flight is landed; LAND needs hovering or moving)"),
+    ("lap west", "replace", "6 LAND", None),
+    ("lap west", "delete", "6", None),  # the mission ends without its LAND: the run lands the drone
+])
+def test_an_edit_at_the_running_item_is_checked_as_one_at_a_future_item_and_the_drone_lands(tmp_path, moment, command,
+                                                                                           argument, refusal):
+    flight = patrol_at(tmp_path, moment)
+    result = flight.change(command, argument)
+    if refusal is None:
+        assert result.ok, result.message
+    else:
+        assert not result.ok and result.message.endswith(refusal), result.message
+    records = flight.finish()
+    assert ended(records) == "completed"  # a refused edit leaves the mission as it was; a taken one keeps it flyable
+    assert flight.engine.drone.telemetry().landed_state.name == "ON_GROUND"
+    if refusal is not None:  # nothing of the refused edit flew
+        assert statuses(records, "laps")[-1] == "SUCCESS" and statuses(records, "land") == ["RUNNING", "SUCCESS"]
