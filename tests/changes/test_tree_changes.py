@@ -81,6 +81,26 @@ def test_skip_ends_the_running_behavior_skipped_and_modify_restarts_one_with_its
     assert ended(records) == "completed"
 
 
+@pytest.mark.parametrize("within, resumed", [
+    (4.0, "mission resumed (requested again: GO_TO_POINT)"),  # on its way: asked again, it flies on to corner A
+    (0.6, "mission resumed (already achieved, the mission goes on: GO_TO_POINT)"),  # held where it arrives
+])
+def test_pause_and_resume_say_what_becomes_of_the_running_go_to_point(tmp_path, within, resumed):
+    import math
+
+    flight = ChangedFlight(PATROL, tmp_path / "run")
+    flight.until(lambda: flight.running("corner A") and
+                 math.dist(flight.engine.drone.telemetry().position, A) < within)
+    paused = flight.change("pause")
+    assert paused.message == "mission paused (stopped GO_TO_POINT until resume, which asks for it again; " \
+                             "KEEP_HOVERING holds the drone)"
+    flight.engine.step(3.0)
+    assert flight.change("resume").message == resumed  # never "refused now" for a request that then succeeds
+    records = flight.finish()
+    assert statuses(records, "corner A") == ["RUNNING", "SUCCESS"] and ended(records) == "completed"
+    assert flight.reached_at(A, within=0.5) is not None
+
+
 def test_changes_made_while_paused_take_effect_on_resume_and_the_skipped_behavior_is_not_asked_again(tmp_path):
     flight = patrol_at(tmp_path, "corner B")
     assert flight.change("pause").ok
