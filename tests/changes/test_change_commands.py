@@ -169,8 +169,8 @@ def test_aerostack2_updates_reach_a_running_mission_as_the_changes_they_mean():
 
 
 @pytest.mark.parametrize("update, said", [
-    ("INSERT \u00b2 LAND", "update INSERT: '\u00b2' is not an item id (Aerostack2 numbers items 0, 1, 2... written with "
-                           "the digits 0-9)"),
+    ("INSERT \u00b2 LAND", "update INSERT: '\u00b2' is not an item id (Aerostack2 numbers items 0, 1, 2... "
+                           "written with the digits 0-9)"),
     ("INSERT " + "7" * 5000 + " LAND", "update INSERT: '777777777777777777777777'... (5000 characters) is not an "
                                       "item id"),
     ("REMOVE -1", "update REMOVE: '-1' is not an item id"),
