@@ -121,6 +121,8 @@ def change_argument(command: str, words: list[str]) -> str:
     if command == "update" and words and words[0].upper() in ("LOAD", "EXECUTE", "RESET") and words[1:]:
         item = words[1:2] if words[1].isdigit() else []
         mission = " ".join(words[1 + len(item):])
+        if not mission.strip():  # refused by the run, saying the file is missing (not this folder loaded)
+            return shlex.join(words)
         return shlex.join([words[0], *item, str(Path(mission).expanduser().resolve())])
     return shlex.join(words)
 

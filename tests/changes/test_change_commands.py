@@ -235,3 +235,13 @@ def test_aerostack2_updates_from_ctl_change_a_live_run(tmp_path):
     records = read_log(tmp_path / "out" / "events.jsonl")
     assert [(r["data"]["command"], r["data"]["ok"]) for r in records if r["kind"] == "mission_change"] == \
         [("skip", True)]
+
+
+def test_ctl_update_load_without_a_file_is_refused_as_such_not_loading_the_current_folder():
+    from aeroexec.cli.ctl import change_argument
+    from aeroexec.engine.supervision.changes import parse_aerostack2_update
+
+    argument = change_argument("update", ["LOAD", "3"])
+    assert argument == "LOAD 3"
+    with pytest.raises(ChangeError, match=r"^update LOAD: the mission file to load is missing \(update LOAD FILE\)$"):
+        parse_aerostack2_update(argument)
