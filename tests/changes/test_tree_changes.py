@@ -238,3 +238,44 @@ def test_an_edit_at_the_running_item_is_checked_as_one_at_a_future_item_and_the_
     assert flight.engine.drone.telemetry().landed_state.name == "ON_GROUND"
     if refusal is not None:  # nothing of the refused edit flew
         assert statuses(records, "laps")[-1] == "SUCCESS" and statuses(records, "land") == ["RUNNING", "SUCCESS"]
+
+
+FRAGMENTS = ["LAND", "TAKE_OFF ALTITUDE=2", "'GO_TO_POINT COORDINATES=\"3, 2, 3\"'", "'WAIT DURATION=1'",
+             "'<Repeat num_cycles=\"2\"><GO_TO_POINT COORDINATES=\"2, 2, 3\"/></Repeat>'", "'<LAND/><TAKE_OFF/>'"]
+
+
+def random_edit(rng, items: list[dict]) -> tuple[str, str]:
+    """One live edit as an operator (or the campaign) sends it: at the running item, a future one, the end, past it."""
+    running = [i for i, item in enumerate(items, 1) if item["status"] == "running"] or [1]
+    target = str(rng.choice([running[0], running[0], running[0] + 1, len(items), len(items) + 1,
+                             rng.randint(1, len(items)), "\u00b2"]))
+    command = rng.choice(["insert", "replace", "delete", "jump", "skip", "modify", "update", "pause", "resume"])
+    if command == "insert":
+        return command, f"{rng.choice(['before', 'after'])} {target} {rng.choice(FRAGMENTS)}"
+    if command == "replace":
+        return command, f"{target} {rng.choice(FRAGMENTS)}"
+    if command == "modify":
+        return command, f"{target} {rng.choice(['SPEED=2', 'num_cycles=1', 'name=renamed'])}"
+    if command == "update":
+        return command, rng.choice([f"INSERT {target} LAND", f"REMOVE {target}", "NEXT_ITEM", "INSERT", "MODIFY 1"])
+    return command, target if command in ("delete", "jump") else ""
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_live_edits_at_random_times_never_fail_inside_and_the_drone_always_lands(tmp_path, caplog, seed):
+    import random
+
+    rng = random.Random(seed)
+    flight = ChangedFlight(PATROL, tmp_path / "run")
+    said = []
+    for _ in range(5):
+        flight.engine.run_until(lambda: flight.session.mission_done, rng.uniform(0.5, 12.0))
+        command, argument = random_edit(rng, flight.items() or [{"status": "done"}])
+        said.append((command, argument, flight.change(command, argument).message))
+    if flight.engine.supervisor.paused:
+        flight.change("resume")
+    records = flight.finish()
+    internal = [record.getMessage() for record in caplog.records if record.levelname in ("ERROR", "CRITICAL")]
+    assert not internal and not [s for s in said if " failed: " in s[2] or "please report" in s[2]], said
+    assert flight.engine.drone.telemetry().landed_state.name == "ON_GROUND", said
+    assert ended(records) == "completed", said  # what a taken edit left to fly was checked flyable
