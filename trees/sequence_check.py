@@ -101,19 +101,24 @@ class SequenceChecker:
             self.silent -= 1
 
     def loop(self, start: State, body: Callable[[State], tuple[Exits, State | None]]) -> Exits:
-        """Exits of a node whose body runs again from the states ``body`` hands back, checked from its fixed point."""
-        head = start
+        """Exits of a node whose body runs again from the states ``body`` hands back, checked from its fixed point.
+        The first pass, from ``start``, reports what it finds wrong (it runs from there whatever the later passes
+        do); the passes towards the fixed point are silent; the one from the fixed point reports again."""
+        head, first = start, None
         for _ in range(len(self.unknown) + 2):
-            _, back = self.quietly(lambda h=head: body(h))  # type: ignore[misc,return-value]
+            if first is None:
+                first, back = body(head)
+            else:
+                _, back = self.quietly(lambda h=head: body(h))  # type: ignore[misc,return-value]
             following = join(start, back)
             if _names(following) == _names(head):
                 break
             head = following  # type: ignore[assignment]
         else:
             head = dict(self.unknown)
+        if head is start and first is not None:  # the first pass was the fixed point's
+            return first
         exits, _ = body(head)
-        if not self.silent and _names(head) != _names(start):
-            body(start)  # the first pass starts where the loop is entered: what is wrong there is wrong (reported)
         return exits
 
     # -- the walk ------------------------------------------------------------------------------
