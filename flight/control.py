@@ -49,7 +49,8 @@ class ControlServer:
 
     It may start before the engine exists (``engine=None``: the run is starting, e.g. waiting for its vehicle):
     ``status`` then says so, ``abort`` calls ``on_abort`` (the start is given up), other commands are refused
-    until :attr:`engine` is set. Every answer names the run (``run``: mission, pid, folder)."""
+    until :attr:`engine` is set. Every answer to the run's token names the run
+    (``run``: mission, pid, folder); a wrong token learns nothing of it."""
 
     def __init__(self, engine: Any, folder: str | Path | None = None, port: int = 0, name: str = "",
                  register: bool = True, on_abort: Any = None) -> None:
