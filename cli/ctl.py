@@ -4,9 +4,10 @@ Without options, the one live run of this user, wherever it was started (each ru
 runtime directory, ``$XDG_RUNTIME_DIR/aeroexec/``, from the moment it starts); with several live runs nothing is
 sent: they are listed and one must be named. ``aeroexec ctl list`` shows them. ``--run DIR`` names a run by its
 output folder (its ``control.json`` holds the port and token) or by its process id; ``--port P --token T``
-skips the files. Every answer names the run it comes from. The changes of the running mission (skip, jump, insert,
-modify, delete, replace, load) send their words as a shell line, so a name or a fragment with spaces stays one word,
-and a file to load by its full path; a refusal's problems follow it, one a line.
+skips the files. Every answer names the run it comes from (a wrong token gets only "refused: wrong token"). The
+changes of the running mission (skip, jump, insert, modify, delete, replace, load) send their words as a shell line,
+so a name or a fragment with spaces stays one word, and a file to load by its full path; a refusal's problems follow
+it, one a line.
 """
 
 from __future__ import annotations
@@ -121,6 +122,8 @@ def change_argument(command: str, words: list[str]) -> str:
     if command == "update" and words and words[0].upper() in ("LOAD", "EXECUTE", "RESET") and words[1:]:
         item = words[1:2] if words[1].isdigit() else []
         mission = " ".join(words[1 + len(item):])
+        if not mission.strip():  # refused by the run, saying the file is missing (not this folder loaded)
+            return shlex.join(words)
         return shlex.join([words[0], *item, str(Path(mission).expanduser().resolve())])
     return shlex.join(words)
 

@@ -1,6 +1,11 @@
 """The console's web server: the page, its static files and one WebSocket per page (Starlette on uvicorn).
 
-The page and the socket need the run's token (``?token=``); anything else gets 403. Updates are pushed: each
+The page and the socket need the run's token (``?token=``); the page's own files (``/static/``) need it too, in their
+URL or in the cookie the page was served with (HttpOnly, SameSite=Strict, named after the port); anything else gets
+403. A request from another origin gets 403 whatever its token: a browser says where a request comes from
+(``Origin``, on every WebSocket and cross-origin request; ``Sec-Fetch-Site``), and only the console's own page
+(``Origin`` the scheme and ``Host`` the request was sent to), an address typed in or a client that says nothing
+(``aeroexec``'s tests, curl) are served. Updates are pushed: each
 :class:`~aeroexec.console.feed.ConsoleFeed` hands its snapshots to the server's event loop, which sends them to
 every page; nothing polls. A page's commands (pause, resume, abort, suspend, inhibit, answer, add, remove, query,
 and the changes of the mission: skip, jump, insert, modify, delete, replace, load) go to the
@@ -18,8 +23,10 @@ import secrets
 import socket
 import threading
 import time
+from http.cookies import CookieError, SimpleCookie
 from pathlib import Path
 from typing import Any
+from urllib.parse import parse_qs
 
 from aeroexec.console.feed import ConsoleFeed
 
@@ -28,10 +35,13 @@ from aeroexec.extras import require
 with require("console"):  # without it: the pip line that installs it, not "No module named 'uvicorn'"
     import uvicorn
     from starlette.applications import Starlette
+    from starlette.datastructures import Headers
+    from starlette.middleware import Middleware
     from starlette.requests import Request
     from starlette.responses import FileResponse, PlainTextResponse, Response
     from starlette.routing import Mount, Route, WebSocketRoute
     from starlette.staticfiles import StaticFiles
+    from starlette.types import ASGIApp, Receive, Scope, Send
     from starlette.websockets import WebSocket, WebSocketDisconnect
 
 logger = logging.getLogger(__name__)
@@ -47,6 +57,31 @@ ORIGIN = "web console"
 
 class ConsoleError(RuntimeError):
     """The console cannot be served (the port is taken, the server did not start)."""
+
+
+class _Guard:
+    """ASGI middleware: a request :meth:`ConsoleServer.refusal` refuses gets 403 (a WebSocket is closed before it is
+    accepted, which its client sees as 403)."""
+
+    def __init__(self, app: ASGIApp, server: ConsoleServer) -> None:
+        self.app, self.server = app, server
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        refusal = self.server.refusal(scope) if scope["type"] in ("http", "websocket") else None
+        if refusal is None:
+            await self.app(scope, receive, send)
+        elif scope["type"] == "http":
+            await PlainTextResponse(refusal, 403)(scope, receive, send)
+        else:
+            logger.warning("web console: %s", refusal)
+            await WebSocket(scope, receive, send).close(code=1008)
+
+
+def _cookies(headers: Headers) -> dict[str, str]:
+    jar = SimpleCookie()
+    with contextlib.suppress(CookieError):
+        jar.load(headers.get("cookie", ""))
+    return {name: morsel.value for name, morsel in jar.items()}
 
 
 class ConsoleServer:
@@ -67,7 +102,8 @@ class ConsoleServer:
             raise ConsoleError(f"the web console cannot listen on {host}:{port}: {error.strerror or error}") from None
         self.port = self._socket.getsockname()[1]
         app = Starlette(routes=[Route("/", self._page), WebSocketRoute("/ws", self._socket_endpoint),
-                                Mount("/static", StaticFiles(directory=STATIC), name="static")])
+                                Mount("/static", StaticFiles(directory=STATIC), name="static")],
+                        middleware=[Middleware(_Guard, server=self)])
         config = uvicorn.Config(app, log_level="warning", lifespan="off", access_log=False,
                                 ws_max_size=MAX_MESSAGE)
         self._server = uvicorn.Server(config)
@@ -121,12 +157,39 @@ class ConsoleServer:
 
     # -- on the server's loop ---------------------------------------------------------------------
     def _authorized(self, token: str | None) -> bool:
-        return token is not None and secrets.compare_digest(token, self.token)
+        return token is not None and secrets.compare_digest(token.encode(), self.token.encode())
+
+    @property
+    def cookie(self) -> str:
+        """The name of the cookie holding the token for the page's files (one per port: cookies ignore ports)."""
+        return f"aeroexec_console_{self.port}"
+
+    def refusal(self, scope: Scope) -> str | None:
+        """Why a request (HTTP or WebSocket) is refused before it reaches its route (None: it goes on)."""
+        headers = Headers(scope=scope)
+        origin = headers.get("origin")
+        if origin is not None:
+            secure = scope.get("scheme") in ("https", "wss")
+            own = f"{'https' if secure else 'http'}://{headers.get('host', '')}"
+            if origin.lower() != own.lower():
+                return f"403: a request from another origin ({origin[:200]}) is refused: the console answers its own " \
+                       f"page only"
+        if headers.get("sec-fetch-site", "same-origin") not in ("same-origin", "none"):
+            return "403: a request from another site is refused: the console answers its own page only"
+        if scope["path"] in ("/", "/ws"):  # they need the token in their URL
+            return None
+        query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
+        token = (query.get("token") or [None])[0]
+        if self._authorized(token) or self._authorized(_cookies(headers).get(self.cookie)):
+            return None
+        return "403: this console needs its token (the URL aeroexec printed)"
 
     async def _page(self, request: Request) -> Response:
         if not self._authorized(request.query_params.get("token")):
             return PlainTextResponse("403: this console needs its token (the URL aeroexec printed)", 403)
-        return FileResponse(STATIC / "index.html", headers={"Cache-Control": "no-store"})
+        response = FileResponse(STATIC / "index.html", headers={"Cache-Control": "no-store"})
+        response.set_cookie(self.cookie, self.token, httponly=True, samesite="strict", path="/")
+        return response
 
     async def _socket_endpoint(self, websocket: WebSocket) -> None:
         if not self._authorized(websocket.query_params.get("token")):

@@ -2,8 +2,9 @@
 
 Protocol (JSON lines over TCP on 127.0.0.1 only): each request is one line
 ``{"token": T, "command": C, "argument": A}``; each answer is one line ``{"ok": bool, "message": text}``
-(plus ``"status": {...}`` for ``status``). A connection may send several requests. A wrong token gets
-``{"ok": false, "error": "wrong token", ...}`` and the connection is closed. The port and the token (random,
+(plus ``"status": {...}`` for ``status``). A connection may send several requests. A wrong or missing token gets
+``{"ok": false, "error": "wrong token"}`` and nothing else (not which run this is) and the connection is closed; an
+answer to the token names its run (``run``: mission, pid, folder). The port and the token (random,
 one per run) are written to ``control.json`` in the run's output folder, readable by its owner only.
 
 Every live run is also listed in the user's runtime directory (``$XDG_RUNTIME_DIR/aeroexec/``, else
@@ -40,6 +41,7 @@ CONTROL_FILE = "control.json"
 COMMAND_TIMEOUT = 5.0  # wall seconds a connection waits for the engine to execute a command
 IDLE_TIMEOUT = 30.0  # wall seconds a connection may stay silent
 MAX_LINE = 64 * 1024
+WRONG_TOKEN = "wrong token"  # all a request without this run's token learns (nothing of the run)
 
 
 class ControlServer:
@@ -47,7 +49,8 @@ class ControlServer:
 
     It may start before the engine exists (``engine=None``: the run is starting, e.g. waiting for its vehicle):
     ``status`` then says so, ``abort`` calls ``on_abort`` (the start is given up), other commands are refused
-    until :attr:`engine` is set. Every answer names the run (``run``: mission, pid, folder)."""
+    until :attr:`engine` is set. Every answer to the run's token names the run
+    (``run``: mission, pid, folder); a wrong token learns nothing of it."""
 
     def __init__(self, engine: Any, folder: str | Path | None = None, port: int = 0, name: str = "",
                  register: bool = True, on_abort: Any = None) -> None:
@@ -144,8 +147,15 @@ class ControlServer:
                 line = reader.readline(MAX_LINE + 1)
                 if not line:
                     return
-                answer, keep = self._answer(line)
-                answer["run"] = self.identity
+                try:
+                    answer, keep = self._answer(line)
+                except Exception as exc:  # a bug, not the client's input: answered, logged, the connection kept
+                    logger.error("control socket: a request could not be answered (%s: %s); please report it",
+                                 type(exc).__name__, exc)
+                    answer, keep = {"ok": False, "error": f"internal error ({type(exc).__name__}): please report "
+                                                          f"it"}, True
+                if answer.pop("authenticated", False):  # only who holds the token learns which run answers
+                    answer["run"] = self.identity
                 connection.sendall((json.dumps(answer) + "\n").encode())
                 if not keep:
                     return
@@ -168,19 +178,18 @@ class ControlServer:
         token = str(request.get("token", ""))
         if not hmac.compare_digest(token.encode(), self.token.encode()):
             logger.warning("control socket: a request with a wrong token was refused")
-            return {"ok": False, "error": "wrong token: this run's token is in its output folder's "
-                                          f"{CONTROL_FILE}"}, False
+            return {"ok": False, "error": WRONG_TOKEN}, False
         command, argument = str(request.get("command", "")), str(request.get("argument", "") or "")
         if self.engine is None:
-            return self._starting(command), True
+            return {**self._starting(command), "authenticated": True}, True
         if self.engine.stopped:
-            return {"ok": False, "error": "the engine has stopped"}, False
+            return {"ok": False, "error": "the engine has stopped", "authenticated": True}, False
         ticket = self.engine.supervisor.submit(command, argument, origin="ctl")
         result = ticket.wait(COMMAND_TIMEOUT)
         if result is None:
             return {"ok": False, "error": f"the engine did not run {command!r} within {COMMAND_TIMEOUT:g} s "
-                                          f"(it is not ticking)"}, True
-        answer: dict[str, Any] = {"ok": result.ok, "message": result.message}
+                                          f"(it is not ticking)", "authenticated": True}, True
+        answer: dict[str, Any] = {"ok": result.ok, "message": result.message, "authenticated": True}
         if not result.ok:
             answer["error"] = result.message
         if command == "status":

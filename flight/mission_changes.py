@@ -110,7 +110,7 @@ class MissionChanges:
         from aeroexec.trees.loaders.fragment import read_fragment
 
         fragment = []
-        if change.fragment:
+        if change.fragment or change.command in ("insert", "replace"):  # an empty one is refused, not inserted
             try:
                 fragment = read_fragment(change.fragment, f"change {self.count}")
             except TreeFormatError as error:

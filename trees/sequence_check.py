@@ -14,7 +14,8 @@ reaching the behavior could avoid. The policy, conservative everywhere:
   with the state machine;
 - loops (Repeat, RetryUntilSuccessful, KeepRunningUntilFailure) and nodes that tick their children again
   (ReactiveSequence, ReactiveFallback, WhileDoElse) are checked from the state every pass starts in, found
-  silently by iterating to a fixed point;
+  silently by iterating to a fixed point, and their first pass from the state the loop is entered in (a LAND
+  before a Repeat of GO_TO_POINTs is wrong although a later pass could start hovering);
 - children of a Parallel run together: each is checked with the phenomena the others change unknown;
 - a node with a pre-condition may not run at all: its exits are joined with the state before it.
 """
@@ -62,6 +63,7 @@ class SequenceChecker:
         self.silent = 0
         self.stack: list[str] = []
         self._memo: dict[tuple, Exits] = {}
+        self._reported: set[tuple[int, str]] = set()  # (node, message) said once
 
     def check(self) -> None:
         if self.document.main in self.document.trees:
@@ -99,16 +101,23 @@ class SequenceChecker:
             self.silent -= 1
 
     def loop(self, start: State, body: Callable[[State], tuple[Exits, State | None]]) -> Exits:
-        """Exits of a node whose body runs again from the states ``body`` hands back, checked from its fixed point."""
-        head = start
+        """Exits of a node whose body runs again from the states ``body`` hands back, checked from its fixed point.
+        The first pass, from ``start``, reports what it finds wrong (it runs from there whatever the later passes
+        do); the passes towards the fixed point are silent; the one from the fixed point reports again."""
+        head, first = start, None
         for _ in range(len(self.unknown) + 2):
-            _, back = self.quietly(lambda h=head: body(h))  # type: ignore[misc,return-value]
+            if first is None:
+                first, back = body(head)
+            else:
+                _, back = self.quietly(lambda h=head: body(h))  # type: ignore[misc,return-value]
             following = join(start, back)
             if _names(following) == _names(head):
                 break
             head = following  # type: ignore[assignment]
         else:
             head = dict(self.unknown)
+        if head is start and first is not None:  # the first pass was the fixed point's
+            return first
         exits, _ = body(head)
         return exits
 
@@ -244,7 +253,9 @@ class SequenceChecker:
         advanced, errors = self.specialist.advance(known, Request(behavior, arguments))
         if not self.silent:
             for error in errors:
-                self.report(node, error.message, WRONG_SEQUENCE)
+                if (id(node), error.message) not in self._reported:  # a loop's first pass and the others
+                    self._reported.add((id(node), error.message))
+                    self.report(node, error.message, WRONG_SEQUENCE)
         success: State = {**state, **advanced}
         for phenomenon in touched:
             mine = [t for t in transitions if t.phenomenon == phenomenon]

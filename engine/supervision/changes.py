@@ -25,6 +25,7 @@ supervisor records each one, taken or refused, as a ``mission_change`` event.
 from __future__ import annotations
 
 import logging
+import re
 import shlex
 from dataclasses import dataclass, field
 from typing import Any
@@ -38,6 +39,8 @@ CHANGES = ("skip", "jump", "insert", "modify", "delete", "replace", "load")
 #: Changes that edit the mission's items (a Python program cannot be edited while it runs).
 EDITS = ("insert", "modify", "delete", "replace")
 PLACES = ("before", "after")
+#: An item number or id as written: ASCII digits only (``str.isdigit`` also takes "²"), at most 9 of them.
+ITEM_DIGITS = re.compile(r"[0-9]{1,9}")
 SKIPPED_BY_OPERATOR = "skipped by the operator"
 USAGE = {
     "skip": "skip",
@@ -152,15 +155,18 @@ class MissionChange:
             if words[0] not in PLACES or len(words) < 3:
                 raise ChangeError(f"usage: {USAGE['insert']} (e.g. insert after 3 'GO_TO_POINT "
                                   f"COORDINATES=\"10, 0, 5\"')")
-            return cls.insert(words[1], " ".join(words[2:]), after=words[0] == "after")
+            fragment = " ".join(words[2:])
+            if not fragment.strip():
+                raise ChangeError(f"insert: the fragment to insert is missing; usage: {USAGE['insert']}")
+            return cls.insert(words[1], fragment, after=words[0] == "after")
         target, rest = words[0], words[1:]
         if command in ("jump", "delete"):
             if rest:
                 raise ChangeError(f"usage: {USAGE[command]} (a name with spaces is quoted)")
             return cls(command, target)
         if command == "replace":
-            if not rest:
-                raise ChangeError(f"usage: {USAGE['replace']}")
+            if not " ".join(rest).strip():
+                raise ChangeError(f"replace: the fragment to put in its place is missing; usage: {USAGE['replace']}")
             return cls.replace(target, " ".join(rest))
         pairs = []
         for word in rest:
@@ -204,12 +210,34 @@ def parse_aerostack2_update(text: str) -> tuple[str, str]:
         raise ChangeError(f"update: give Aerostack2's action ({', '.join(AEROSTACK2_UPDATES)}), then the item id "
                           f"and what it needs")
     action, rest = words[0], words[1:]
-    item = int(rest.pop(0)) if rest and rest[0].isdigit() else 0
+    item = 0
+    if rest and _numeric(rest[0]):  # meant as the item id ("²", "-1" and 5,000 digits are refused as such)
+        item = read_item_id(rest.pop(0), f"update {action}")
     more = " ".join(rest)
     return aerostack2_update(action, item, mission=more, fragment=more)
 
 
-def aerostack2_update(action: str, item_id: int = 0, mission: str = "", fragment: str = "") -> tuple[str, str]:
+def read_item_id(word: str, said: str = "update") -> int:
+    """An Aerostack2 item id as written (ASCII digits, from 0); :class:`ChangeError` names a bad one."""
+    if not ITEM_DIGITS.fullmatch(word):
+        raise ChangeError(f"{said}: {shown(word)} is not an item id (Aerostack2 numbers items 0, 1, 2... written "
+                          f"with the digits 0-9); usage: update ACTION [ITEM_ID] [FILE|FRAGMENT]")
+    return int(word)
+
+
+def _numeric(word: str) -> bool:
+    digits = word.lstrip("+-").replace(".", "")
+    return bool(digits) and all(c.isnumeric() for c in digits)
+
+
+def shown(word: str, limit: int = 24) -> str:
+    """``word`` quoted for a message, cut short when long (a 5,000-digit number is not said whole)."""
+    if len(word) <= limit:
+        return repr(word)
+    return f"{word[:limit]!r}... ({len(word)} characters)"
+
+
+def aerostack2_update(action: str, item_id: int | str = 0, mission: str = "", fragment: str = "") -> tuple[str, str]:
     """The aeroexec command and argument of one Aerostack2 mission update: ``action`` by name, ``item_id`` as
     Aerostack2 numbers items (from 0), ``mission`` a mission file for the loads, ``fragment`` what INSERT inserts
     and MODIFY's ``PORT=VALUE`` words. Raises :class:`ChangeError` for an action aeroexec has no meaning for."""
@@ -218,16 +246,33 @@ def aerostack2_update(action: str, item_id: int = 0, mission: str = "", fragment
     if command is None:
         raise ChangeError(f"Aerostack2's mission update {action!r} has no meaning here "
                           f"({', '.join(AEROSTACK2_UPDATES)})")
-    item = str(int(item_id) + 1 if name != "REPEAT" else 1)
+    if isinstance(item_id, str):
+        number = read_item_id(item_id.strip(), f"update {name}")
+    elif isinstance(item_id, int) and not isinstance(item_id, bool):
+        number = item_id
+    else:
+        raise ChangeError(f"update {name}: {shown(str(item_id))} is not an item id (Aerostack2 numbers items 0, 1, "
+                          f"2...)")
+    if number < 0:
+        raise ChangeError(f"update {name}: {number} is not an item id (Aerostack2 numbers items from 0)")
+    item = str(number + 1 if name != "REPEAT" else 1)
     if command in ("pause", "resume", "abort", "skip"):
         return command, ""
     if command == "load":
+        if not str(mission).strip():
+            raise ChangeError(f"update {name}: the mission file to load is missing (update {name} FILE)")
         return command, shlex.quote(mission)
     if command == "jump":
         return command, item
     if command == "insert":
+        if not str(fragment).strip():
+            raise ChangeError(f"update {name}: the fragment to insert is missing (update INSERT [ITEM_ID] FRAGMENT, "
+                              f"e.g. update INSERT 2 'GO_TO_POINT COORDINATES=\"10, 0, 5\"')")
         return command, shlex.join(["before", item, fragment])
     if command == "modify":
+        if not str(fragment).strip():
+            raise ChangeError(f"update {name}: the new values are missing (update MODIFY ITEM_ID PORT=VALUE..., e.g. "
+                              f"update MODIFY 2 SPEED=3)")
         return command, f"{item} {fragment}"
     return command, item
 
@@ -325,4 +370,4 @@ def skip_program_behavior(engine: Any) -> tuple[bool, str]:
 
 __all__ = ["AEROSTACK2_UPDATES", "CHANGES", "EDITS", "ChangeError", "ChangeOutcome", "MissionChange",
            "aerostack2_update", "ground_transitions", "make_change", "not_cut_short", "parse_aerostack2_update",
-           "program_change", "skip_program_behavior"]
+           "program_change", "read_item_id", "shown", "skip_program_behavior"]

@@ -215,10 +215,12 @@ class Supervisor:
                 coordinator.stop(name, "paused by the operator")
                 stopped.append(name)
             hold = coordinator.activate(hold_behavior, priority="higher", source="operator")
-            holding = f"; {hold_behavior}" if hold.accepted else f"; {hold_behavior} cannot start: {hold.message}"
+            holding = f"; {hold_behavior} holds the drone" if hold.accepted else \
+                f"; {hold_behavior} cannot start: {hold.message}"
         else:
             holding = f"; the catalog has no {hold_behavior}: the active behaviors go on"
-        what = f"stopped {', '.join(stopped)}" if stopped else "no motion stopped"
+        what = f"stopped {', '.join(stopped)} until resume, which asks for {'it' if len(stopped) == 1 else 'them'} " \
+               f"again" if stopped else "no motion stopped"
         return CommandResult(True, f"mission paused ({what}{holding})")
 
     def _resume(self, _: str) -> CommandResult:
@@ -230,21 +232,26 @@ class Supervisor:
         held = coordinator.active().get(hold_behavior)
         if held is not None and held.source == "operator":
             coordinator.stop(hold_behavior, "resumed by the operator")
-        again, refused = [], []
+        again, done, refused = [], [], []
         for activation, listeners, held in self._suspended:
-            if self._request_again(activation, listeners, held):
+            result = self._request_again(activation, listeners, held)
+            if result.accepted:
                 again.append(activation.name)
+            elif result.outcome is Outcome.GOAL_ACHIEVED:  # the mission hears it achieved: it goes on
+                done.append(activation.name)
             else:
-                refused.append(activation.name)
+                reason = f" ({result.message})" if result.message else ""
+                refused.append(f"{activation.name}, {(result.outcome or Outcome.FAILED_PRECONDITIONS).value}{reason}")
         self._suspended.clear()
         for mission in self._missions:
             mission.resume()
         self.engine.bridge.hold(False)
         parts = [f"requested again: {', '.join(again)}"] if again else []
-        parts += [f"refused now: {', '.join(refused)}"] if refused else []
+        parts += [f"already achieved, the mission goes on: {', '.join(done)}"] if done else []
+        parts += [f"refused now, the mission hears it: {'; '.join(refused)}"] if refused else []
         return CommandResult(True, "mission resumed" + (f" ({'; '.join(parts)})" if parts else ""))
 
-    def _request_again(self, activation: Any, listeners: list, preconditions_held: bool) -> bool:
+    def _request_again(self, activation: Any, listeners: list, preconditions_held: bool) -> Any:
         told: list[bool] = []
 
         def relay(outcome: Outcome, message: str, value: Any) -> None:  # once, however the request ends
@@ -262,7 +269,7 @@ class Supervisor:
             result.activation.on_end.append(relay)  # merged into an equal recurrent request
         if not result.accepted:
             relay(result.outcome or Outcome.FAILED_PRECONDITIONS, result.message, None)
-        return result.accepted
+        return result
 
     def _abort(self, reason: str) -> CommandResult:
         if self.state in (ABORTED, SUSPENDED):

@@ -168,6 +168,56 @@ def test_aerostack2_updates_reach_a_running_mission_as_the_changes_they_mean():
         parse_aerostack2_update("TELEPORT 1")
 
 
+@pytest.mark.parametrize("update, said", [
+    ("INSERT \u00b2 LAND", "update INSERT: '\u00b2' is not an item id (Aerostack2 numbers items 0, 1, 2... "
+                           "written with the digits 0-9)"),
+    ("INSERT " + "7" * 5000 + " LAND", "update INSERT: '777777777777777777777777'... (5000 characters) is not an "
+                                      "item id"),
+    ("REMOVE -1", "update REMOVE: '-1' is not an item id"),
+    ("INSERT", "update INSERT: the fragment to insert is missing (update INSERT [ITEM_ID] FRAGMENT"),
+    ("INSERT 2", "update INSERT: the fragment to insert is missing"),
+    ("MODIFY 2", "update MODIFY: the new values are missing (update MODIFY ITEM_ID PORT=VALUE..."),
+    ("LOAD", "update LOAD: the mission file to load is missing (update LOAD FILE)"),
+])
+def test_an_aerostack2_update_with_a_bad_item_id_or_nothing_to_insert_is_refused_naming_it(update, said):
+    from aeroexec.engine.supervision.changes import parse_aerostack2_update
+
+    with pytest.raises(ChangeError) as error:
+        parse_aerostack2_update(update)
+    assert str(error.value).startswith(said), error.value
+
+
+@pytest.mark.parametrize("command, argument, said", [
+    ("insert", "before 3 ''", "insert: the fragment to insert is missing; usage: insert before|after TARGET FRAGMENT"),
+    ("replace", "3 '  '", "replace: the fragment to put in its place is missing; usage: replace TARGET FRAGMENT"),
+])
+def test_an_insert_or_replace_with_an_empty_fragment_is_refused(command, argument, said):
+    with pytest.raises(ChangeError) as error:
+        MissionChange.parse(command, argument)
+    assert str(error.value) == said
+
+
+def test_a_target_that_is_no_item_number_is_refused_naming_it_and_the_mission_flies_on(tmp_path):
+    from changing import ChangedFlight
+
+    flight = ChangedFlight(PATROL, tmp_path / "run")
+    flight.until(lambda: flight.running("corner A"))
+    said = [flight.change(command, argument) for command, argument in [
+        ("insert", "before \u00b2 LAND"), ("jump", "7" * 5000), ("delete", "-1"), ("update", "INSERT \u00b2 LAND")]]
+    said.append(flight.engine.supervisor.execute("insert", MissionChange.insert(3, "").argument))
+    said.append(flight.change("update", "INSERT"))
+    assert [result.ok for result in said] == [False] * 6
+    assert said[0].message == "'\u00b2' is not an item number of the mission (items are numbered 1, 2, 3... in the " \
+                              "digits 0-9: aeroexec ctl items lists them)"
+    assert said[1].message.startswith("'777777777777777777777777'... (5000 characters) is not an item number")
+    assert said[2].message.startswith("'-1' is not an item number")
+    assert said[3].message.startswith("update INSERT: '\u00b2' is not an item id")
+    assert said[4].message.startswith("insert: the fragment to insert is missing")
+    assert said[5].message.startswith("update INSERT: the fragment to insert is missing")
+    records = flight.finish()
+    assert ended(records) == "completed" and "please report" not in (tmp_path / "run" / "events.jsonl").read_text()
+
+
 def test_aerostack2_updates_from_ctl_change_a_live_run(tmp_path):
     run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "1", "--output", str(tmp_path / "out"))
     try:
@@ -185,3 +235,13 @@ def test_aerostack2_updates_from_ctl_change_a_live_run(tmp_path):
     records = read_log(tmp_path / "out" / "events.jsonl")
     assert [(r["data"]["command"], r["data"]["ok"]) for r in records if r["kind"] == "mission_change"] == \
         [("skip", True)]
+
+
+def test_ctl_update_load_without_a_file_is_refused_as_such_not_loading_the_current_folder():
+    from aeroexec.cli.ctl import change_argument
+    from aeroexec.engine.supervision.changes import parse_aerostack2_update
+
+    argument = change_argument("update", ["LOAD", "3"])
+    assert argument == "LOAD 3"
+    with pytest.raises(ChangeError, match=r"^update LOAD: the mission file to load is missing \(update LOAD FILE\)$"):
+        parse_aerostack2_update(argument)

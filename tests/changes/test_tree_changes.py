@@ -81,6 +81,26 @@ def test_skip_ends_the_running_behavior_skipped_and_modify_restarts_one_with_its
     assert ended(records) == "completed"
 
 
+@pytest.mark.parametrize("within, resumed", [
+    (4.0, "mission resumed (requested again: GO_TO_POINT)"),  # on its way: asked again, it flies on to corner A
+    (0.6, "mission resumed (already achieved, the mission goes on: GO_TO_POINT)"),  # held where it arrives
+])
+def test_pause_and_resume_say_what_becomes_of_the_running_go_to_point(tmp_path, within, resumed):
+    import math
+
+    flight = ChangedFlight(PATROL, tmp_path / "run")
+    flight.until(lambda: flight.running("corner A") and
+                 math.dist(flight.engine.drone.telemetry().position, A) < within)
+    paused = flight.change("pause")
+    assert paused.message == "mission paused (stopped GO_TO_POINT until resume, which asks for it again; " \
+                             "KEEP_HOVERING holds the drone)"
+    flight.engine.step(3.0)
+    assert flight.change("resume").message == resumed  # never "refused now" for a request that then succeeds
+    records = flight.finish()
+    assert statuses(records, "corner A") == ["RUNNING", "SUCCESS"] and ended(records) == "completed"
+    assert flight.reached_at(A, within=0.5) is not None
+
+
 def test_changes_made_while_paused_take_effect_on_resume_and_the_skipped_behavior_is_not_asked_again(tmp_path):
     flight = patrol_at(tmp_path, "corner B")
     assert flight.change("pause").ok
@@ -177,3 +197,85 @@ def test_a_tml_mission_takes_skip_of_the_task_it_waits_for_and_is_edited_by_load
         "a TML mission's tasks compile into a tree of their own: it takes skip; load a new mission to change its "
         "tasks")
     assert ended(flight.finish()) == "completed"
+
+
+LANDED_LAP = ("patrol.xml:12: The execution of behavior GO_TO_POINT cannot be done after the execution of LAND "
+              "(flight is landed; GO_TO_POINT needs hovering or moving)")
+LANDED_C = LANDED_LAP.replace(":12:", ":16:")
+LANDED_LAND = ("patrol.xml:17: The execution of behavior LAND cannot be done after the execution of LAND (flight is "
+               "landed; LAND needs hovering or moving)")
+
+
+@pytest.mark.parametrize("moment, command, argument, refusal", [
+    # at the running item (the laps, a Repeat): checked as before a future item, from the drone's state now
+    ("lap west", "insert", "before 4 LAND", LANDED_LAP),
+    ("lap west", "insert", "after 4 LAND", LANDED_C),
+    ("lap west", "replace", "4 LAND", LANDED_C),
+    ("lap west", "delete", "4", None),
+    # at a future item
+    ("corner A", "insert", "before 4 LAND", LANDED_LAP),
+    ("lap west", "insert", "before 5 LAND", LANDED_C),
+    ("lap west", "insert", "after 5 LAND", LANDED_LAND),
+    ("lap west", "replace", "5 LAND", LANDED_LAND),
+    ("lap west", "delete", "5", None),
+    # at the end of the mission
+    ("lap west", "insert", "before 6 LAND", LANDED_LAND),
+    ("lap west", "insert", "after 6 LAND", "change 1:1: The execution of behavior LAND cannot be done after the "
+                                          "execution of LAND (flight is landed; LAND needs hovering or moving)"),
+    ("lap west", "replace", "6 LAND", None),
+    ("lap west", "delete", "6", None),  # the mission ends without its LAND: the run lands the drone
+])
+def test_an_edit_at_the_running_item_is_checked_as_one_at_a_future_item_and_the_drone_lands(tmp_path, moment, command,
+                                                                                           argument, refusal):
+    flight = patrol_at(tmp_path, moment)
+    result = flight.change(command, argument)
+    if refusal is None:
+        assert result.ok, result.message
+    else:
+        assert not result.ok and result.message.endswith(refusal), result.message
+    records = flight.finish()
+    assert ended(records) == "completed"  # a refused edit leaves the mission as it was; a taken one keeps it flyable
+    assert flight.engine.drone.telemetry().landed_state.name == "ON_GROUND"
+    if refusal is not None:  # nothing of the refused edit flew
+        assert statuses(records, "laps")[-1] == "SUCCESS" and statuses(records, "land") == ["RUNNING", "SUCCESS"]
+
+
+FRAGMENTS = ["LAND", "TAKE_OFF ALTITUDE=2", "'GO_TO_POINT COORDINATES=\"3, 2, 3\"'", "'WAIT DURATION=1'",
+             "'<Repeat num_cycles=\"2\"><GO_TO_POINT COORDINATES=\"2, 2, 3\"/></Repeat>'", "'<LAND/><TAKE_OFF/>'"]
+
+
+def random_edit(rng, items: list[dict]) -> tuple[str, str]:
+    """One live edit as an operator (or the campaign) sends it: at the running item, a future one, the end, past it."""
+    running = [i for i, item in enumerate(items, 1) if item["status"] == "running"] or [1]
+    target = str(rng.choice([running[0], running[0], running[0] + 1, len(items), len(items) + 1,
+                             rng.randint(1, len(items)), "\u00b2"]))
+    command = rng.choice(["insert", "replace", "delete", "jump", "skip", "modify", "update", "pause", "resume"])
+    if command == "insert":
+        return command, f"{rng.choice(['before', 'after'])} {target} {rng.choice(FRAGMENTS)}"
+    if command == "replace":
+        return command, f"{target} {rng.choice(FRAGMENTS)}"
+    if command == "modify":
+        return command, f"{target} {rng.choice(['SPEED=2', 'num_cycles=1', 'name=renamed'])}"
+    if command == "update":
+        return command, rng.choice([f"INSERT {target} LAND", f"REMOVE {target}", "NEXT_ITEM", "INSERT", "MODIFY 1"])
+    return command, target if command in ("delete", "jump") else ""
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_live_edits_at_random_times_never_fail_inside_and_the_drone_always_lands(tmp_path, caplog, seed):
+    import random
+
+    rng = random.Random(seed)
+    flight = ChangedFlight(PATROL, tmp_path / "run")
+    said = []
+    for _ in range(5):
+        flight.engine.run_until(lambda: flight.session.mission_done, rng.uniform(0.5, 12.0))
+        command, argument = random_edit(rng, flight.items() or [{"status": "done"}])
+        said.append((command, argument, flight.change(command, argument).message))
+    if flight.engine.supervisor.paused:
+        flight.change("resume")
+    records = flight.finish()
+    internal = [record.getMessage() for record in caplog.records if record.levelname in ("ERROR", "CRITICAL")]
+    assert not internal and not [s for s in said if " failed: " in s[2] or "please report" in s[2]], said
+    assert flight.engine.drone.telemetry().landed_state.name == "ON_GROUND", said
+    assert ended(records) == "completed", said  # what a taken edit left to fly was checked flyable

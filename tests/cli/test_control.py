@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import io
+import json
 import math
 import os
 import socket
@@ -138,6 +139,50 @@ def test_a_wrong_token_is_refused_and_the_server_stops_with_the_engine(run):
         send_command(port, token, "status", timeout=2)
 
 
+def test_a_wrong_or_missing_token_learns_nothing_of_the_run(tmp_path, capsys):
+    from aeroexec.cli.main import main
+
+    folder = tmp_path / "secret-survey-run"
+    with ControlServer(None, folder, name="secret_survey.plan", register=False) as server:
+        requests = [b'{"token": "0123", "command": "status"}\n', b'{"command": "status"}\n',
+                    b'{"token": null, "command": "abort"}\n']
+        for request in requests:
+            with socket.create_connection(("127.0.0.1", server.port), timeout=WAIT) as connection:
+                connection.sendall(request)
+                said = connection.makefile("rb").readline()
+            assert said == b'{"ok": false, "error": "wrong token"}\n'
+        for secret in (b"secret", str(os.getpid()).encode(), str(tmp_path).encode()):  # a bad request neither
+            with socket.create_connection(("127.0.0.1", server.port), timeout=WAIT) as connection:
+                connection.sendall(b"status\n")
+                assert secret not in connection.makefile("rb").readline()
+        assert main(["ctl", "--port", str(server.port), "--token", "nope", "status"]) == 1
+        assert capsys.readouterr().err == "refused: wrong token\n"
+        answer = send_command(server.port, server.token, "status")  # the token's holder is told which run it is
+        assert answer["run"] == {"mission": "secret_survey.plan", "pid": os.getpid(), "folder": str(folder.resolve())}
+
+
+def test_bad_updates_are_answered_and_the_connection_stays_usable(run):
+    engine, server, folder = run
+    port, token = read_control_file(folder)
+    engine.start()
+    updates = ["INSERT \u00b2 LAND", "INSERT " + "9" * 5000 + " LAND", "INSERT", "JUMP_TO \u0661"]
+    with socket.create_connection(("127.0.0.1", port), timeout=WAIT) as connection:
+        reader = connection.makefile("rb")
+        answers = []
+        for update in [*updates, None]:
+            request = {"token": token, "command": "update", "argument": update} if update else \
+                {"token": token, "command": "status"}
+            connection.sendall((json.dumps(request) + "\n").encode())
+            answers.append(json.loads(reader.readline()))
+    assert [a["ok"] for a in answers] == [False, False, False, False, True], answers
+    assert answers[0]["error"].startswith("update INSERT: '\u00b2' is not an item id")
+    assert answers[1]["error"].startswith("update INSERT: '999999999999999999999999'... (5000 characters) is not an "
+                                          "item id")
+    assert answers[2]["error"].startswith("update INSERT: the fragment to insert is missing")
+    assert answers[3]["error"].startswith("update JUMP_TO: '\u0661' is not an item id")
+    assert answers[4]["status"]["state"] == "running"
+
+
 def test_a_command_the_engine_cannot_run_says_so(tmp_path, monkeypatch):
     monkeypatch.setattr("aeroexec.flight.control.COMMAND_TIMEOUT", 0.3)
     world = default_world()
@@ -164,7 +209,7 @@ def test_aeroexec_ctl_commands_a_run(tmp_path):
         status = ctl("--run", str(out), "status")
         assert status.returncode == 0 and "running at t=" in status.stdout, status.stderr
         wrong = ctl("--port", str(read_control_file(out)[0]), "--token", "nope", "pause")
-        assert wrong.returncode == 1 and "wrong token" in wrong.stderr
+        assert wrong.returncode == 1 and wrong.stderr == "refused: wrong token\n"  # nothing of the run
         until(lambda: "GO_TO_POINT" in (out / "events.jsonl").read_text())  # flying
         aborted = ctl("--run", str(out), "abort")
         assert aborted.returncode == 0 and "mission aborted" in aborted.stdout

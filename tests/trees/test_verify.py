@@ -98,6 +98,33 @@ def test_land_after_land_is_a_wrong_sequence():
                          "landed; LAND needs hovering or moving)")]
 
 
+@pytest.mark.parametrize("loop", ["Repeat", "RetryUntilSuccessful", "KeepRunningUntilFailure"])
+def test_a_loop_entered_after_landing_is_checked_from_the_ground_on_its_first_pass(loop):
+    # a later pass could start hovering (the body's GO_TO_POINT would have flown): the first starts landed
+    ports = {"num_cycles": "2"} if loop == "Repeat" else {"num_attempts": "2"} if loop == "RetryUntilSuccessful" \
+        else {}
+    body = N("Sequence", N("GO_TO_POINT", COORDINATES="0, -4, 3", line=5), N("GO_TO_POINT", COORDINATES="4, -4, 3",
+                                                                             line=6))
+    found = sequence_problems(N("Sequence", N("TAKE_OFF", line=2), N("LAND", line=3), N(loop, body, **ports)))
+    assert found == [(5, "The execution of behavior GO_TO_POINT cannot be done after the execution of LAND (flight "
+                         "is landed; GO_TO_POINT needs hovering or moving)")]
+
+
+def test_nested_loops_are_walked_a_bounded_number_of_times(monkeypatch):
+    from aeroexec.trees.sequence_check import SequenceChecker
+
+    walked = []
+    behavior = SequenceChecker.behavior
+    monkeypatch.setattr(SequenceChecker, "behavior", lambda self, *args: walked.append(1) or behavior(self, *args))
+    body = N("GO_TO_POINT", COORDINATES="1, 1, 3", line=9)
+    for _ in range(16):  # each pass of a loop walked its body twice more: 2^16 walks of the GO_TO_POINT, 25 s
+        body = N("Repeat", N("Sequence", body, N("LAND"), N("TAKE_OFF")), num_cycles="2")
+    found = sequence_problems(N("Sequence", N("TAKE_OFF"), N("LAND"), body, N("LAND")))
+    assert found == [(9, "The execution of behavior GO_TO_POINT cannot be done after the execution of LAND (flight "
+                         "is landed; GO_TO_POINT needs hovering or moving)")]
+    assert len(walked) < 2000, len(walked)
+
+
 def test_each_branch_is_checked_from_the_state_it_starts_in():
     root = N("Sequence", N("IfThenElse", N("Condition", belief="code(box, 1)"), N("TAKE_OFF", line=2),
                            N("LAND", line=3)))

@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from aeroexec.engine.supervision.changes import ChangeError
+from aeroexec.engine.supervision.changes import ITEM_DIGITS, ChangeError, shown
 from aeroexec.trees.runtime.builder import model_of
 from aeroexec.trees.runtime.nodes.controls import Sequence
 from aeroexec.trees.runtime.nodes.decorators import Decorator
@@ -47,12 +47,16 @@ class MissionItems:
     def span(self, target: str) -> tuple[Behaviour, int, list[Behaviour]]:
         """The nodes a target names: their parent, the first one's place in it, and the nodes (siblings in order)."""
         target = target.strip()
-        if target.isdigit():
+        if ITEM_DIGITS.fullmatch(target):
             nodes = self._item(int(target))
         else:
             nodes = [n for n in self.visible() if n.name == target]
+            if not nodes and target.lstrip("+-").isnumeric():  # "²", "-1", 5,000 digits: meant as an item number
+                raise ChangeError(f"{shown(target)} is not an item number of the mission (items are numbered 1, 2, "
+                                  f"3... in the digits 0-9: aeroexec ctl items lists them)")
             if not nodes:
-                raise ChangeError(f"the mission has no node named {target!r} (aeroexec ctl items lists its items)")
+                raise ChangeError(f"the mission has no node named {shown(target, 80)} (aeroexec ctl items lists its "
+                                  f"items)")
             if len(nodes) > 1:
                 places = ", ".join(_where(n) for n in nodes[:5])
                 raise ChangeError(f"{len(nodes)} nodes are named {target!r} ({places}): name the item by its number")
