@@ -158,7 +158,11 @@ def _getter(positions: list[int]) -> Callable[[tuple], tuple]:
 
 
 def _builder(positions: list[tuple[int, int | None, Any]]) -> Callable[[tuple], tuple]:
-    """A function from a row of answers to the stored row a goal asks for (positions: (place, column, constant))."""
+    """A function from a row of answers to the stored row a goal asks for (positions: (place, column, constant)).
+
+    A goal without arguments (``d1``) asks for the empty row."""
+    if not positions:
+        return lambda row: ()
     if len(positions) == 1 and positions[0][1] is not None:
         i = positions[0][1]
         return lambda row: (row[i],)
