@@ -42,7 +42,10 @@ class Reasoning:
         book = self._rulebook
         program = [*(book.rules if book else ()), *(r for r in rules if r.body.literals)]
         derived = {r.head.name for r in program}
-        told = {r.head.name: r.head.arity for r in rules if not r.body.literals and r.head.name not in derived}
+        told: dict[str, int] = {}  # the first fact of a predicate declares it; another arity is refused
+        for r in rules:
+            if not r.body.literals and r.head.name not in derived:
+                told.setdefault(r.head.name, r.head.arity)
         vocabulary = Vocabulary({**told, **self._vocabulary},  # the facts given with the rules declare theirs
                                 {s: inputs for s, (_, inputs) in self._computed.items()}, bool(self._vocabulary))
         problems = check(program, vocabulary) + check([r for r in rules if not r.body.literals], vocabulary)

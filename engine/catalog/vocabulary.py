@@ -12,7 +12,6 @@ from typing import Any
 
 import yaml
 from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction, Rule, RuleError, RuleProblem, parse_rules
-from aeroexec.beliefs.terms import is_ground
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.yaml_nodes import NodeReader
 
@@ -25,12 +24,11 @@ def check_rules(predicates: Mapping[str, PredicateDeclaration], rules: Iterable[
     for p in predicates.values():
         if p.computed:
             memory.register(p.name, p.arity, _never, inputs=max(0, p.arity - 1))
-    try:
-        memory.add_rules([r for r in rules if r.body.literals])
+    try:  # the facts too: a fact declares its predicate (zone(z1). makes zone/1 known to the rules)
+        memory.add_rules(rules)
     except RuleError as error:
         return error.problems
-    return [RuleProblem(f"the fact {r} holds variables: a fact is ground", r.file, r.line)
-            for r in rules if not r.body.literals and not _ground(r)]
+    return []
 
 
 def derived_declarations(rules: Iterable[Rule], predicates: Mapping[str, PredicateDeclaration]
@@ -50,10 +48,6 @@ def derived_declarations(rules: Iterable[Rule], predicates: Mapping[str, Predica
 
 def _never(*args: object) -> None:
     return None
-
-
-def _ground(rule: Rule) -> bool:
-    return is_ground(rule.head)
 
 
 class VocabularySections:

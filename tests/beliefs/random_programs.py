@@ -136,7 +136,8 @@ def _rule(program: Program, head: str, level_of: dict[str, int], rng: random.Ran
                 other = _fmt(_value(variables[a], rng))
                 ours.append(f"?{a} {op} {other}")
             theirs.append(f"{a} {_PROLOG_EQUALITY[op]} {other}")
-    if rng.random() < 0.45 and (variables or any(not types[n] for n in negative)):  # a negation of a stored or lower derived predicate
+    # a negation of a stored or lower derived predicate
+    if rng.random() < 0.45 and (variables or any(not types[n] for n in negative)):
         name = rng.choice(negative)
         args = []
         for t in types[name]:

@@ -45,7 +45,7 @@ def naive(program: Program) -> list[set[tuple]]:
     rules = parse_rules("\n".join(text for text, _ in program.rules))
     facts = dict.fromkeys(Struct(name, row) for name, row in program.facts)
     answers = []
-    for phase in (0, 1):
+    for _ in (0, 1):
         known = derive(rules, list(facts), program.levels)
         answers.append({(f.name, f.args) for f in known if f.name in program.derived})
         for added, name, row in program.changes:
@@ -72,8 +72,8 @@ def test_rules_with_predicates_without_arguments_give_the_naive_answers():
         wanted = naive(program)
         assert found == wanted, (f"seed {seed}, program {number}:\n" + "\n".join(t for t, _ in program.rules)
                                  + f"\nfacts: {program.facts}\nchanges: {program.changes}\n"
-                                 f"aeroexec only: {[sorted(f - w, key=str) for f, w in zip(found, wanted)]}\n"
-                                 f"naive only: {[sorted(w - f, key=str) for f, w in zip(found, wanted)]}")
+                                 f"aeroexec only: {[sorted(f - w, key=str) for f, w in zip(found, wanted, strict=True)]}\n"
+                                 f"naive only: {[sorted(w - f, key=str) for f, w in zip(found, wanted, strict=True)]}")
     assert nullary > PROGRAMS // 10  # programs with a derived predicate of no argument were drawn
 
 
