@@ -15,9 +15,13 @@ from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction, Rule, RuleE
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.yaml_nodes import NodeReader
 
+from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY
+
 
 def check_rules(predicates: Mapping[str, PredicateDeclaration], rules: Iterable[Rule]) -> list[RuleProblem]:
-    """Every problem of ``rules`` against the declared ``predicates`` (derived declarations left out)."""
+    """Every problem of ``rules`` against the declared ``predicates`` (derived declarations left out), and the
+    evaluations that would pass the bound of rules in flight (:data:`~aeroexec.limits.RULES_WORK_PER_STEP`) over
+    the facts given with them."""
     rules = list(rules)
     stored = {p.name: p.arity for p in predicates.values() if not p.computed and not p.derived}
     memory = BeliefMemory(predicates=stored)
@@ -28,7 +32,8 @@ def check_rules(predicates: Mapping[str, PredicateDeclaration], rules: Iterable[
         memory.add_rules(rules)
     except RuleError as error:
         return error.problems
-    return []
+    memory.limit_rules(RULES_WORK_PER_STEP, RULES_WORK_WHY)  # what flies is tried as it will fly, with the facts
+    return memory.try_rules()
 
 
 def derived_declarations(rules: Iterable[Rule], predicates: Mapping[str, PredicateDeclaration]

@@ -70,10 +70,11 @@ def test_rules_with_predicates_without_arguments_give_the_naive_answers():
             raise AssertionError(f"seed {seed}, program {number}:\n" + "\n".join(t for t, _ in program.rules)
                                  + f"\nfacts: {program.facts}\nraised {type(error).__name__}: {error}") from error
         wanted = naive(program)
+        pairs = list(zip(found, wanted, strict=True))
         assert found == wanted, (f"seed {seed}, program {number}:\n" + "\n".join(t for t, _ in program.rules)
                                  + f"\nfacts: {program.facts}\nchanges: {program.changes}\n"
-                                 f"aeroexec only: {[sorted(f - w, key=str) for f, w in zip(found, wanted, strict=True)]}\n"
-                                 f"naive only: {[sorted(w - f, key=str) for f, w in zip(found, wanted, strict=True)]}")
+                                 f"aeroexec only: {[sorted(f - w, key=str) for f, w in pairs]}\n"
+                                 f"naive only: {[sorted(w - f, key=str) for f, w in pairs]}")
     assert nullary > PROGRAMS // 10  # programs with a derived predicate of no argument were drawn
 
 
