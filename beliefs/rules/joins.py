@@ -48,7 +48,7 @@ class Budget:
     per_ask: bool = True
 
     def left(self) -> int:
-        return MAX_ROWS if self.work is None else max(0, self.work - self.spent)
+        return MAX_ROWS if self.work is None else max(0, self.work - self.spent)  # MAX_ROWS: more than ever fits
 
     def charge(self, units: int, rule: Rule) -> None:
         self.spent += units
@@ -81,13 +81,14 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
     rows: Rows = [()]
     try:
         for step in query._order(relations, {}):
-            limit = min(budget.left(), _fits(len(schema) + 4))  # the rows it may build, a few new values each
+            fits = _fits(len(schema) + 4)  # the rows its memory allows, a few new values each
+            limit = min(budget.left(), fits)
             schema, rows, cost = _apply(step, schema, rows, relations, query.ranges, limit)
             budget.charge(cost, rule)
             if not rows:
                 return ()
     except _Overflow as overflow:
-        if overflow.rows <= budget.left():
+        if budget.work is None or fits <= budget.left():  # the memory bound, not the work, was the nearer
             width = len(schema) + 4
             raise EvaluationRefused(
                 f"the rule {rule} would build about {overflow.rows:,} partial answers (about "
