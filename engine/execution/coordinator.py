@@ -249,6 +249,8 @@ class BehaviorCoordinator:
                     why += f" ({note})" if note else ""
                     return Outcome.FAILED_PRECONDITIONS, f"{failed_preconditions_message(name)} {why}"
             situation = process.check_situation()
+        except EvaluationRefused as refused:  # preconditions over rules past the bound of a step: the reason, no trace
+            return Outcome.FAILED_PRECONDITIONS, f"{failed_preconditions_message(name)} {refused}"
         except Exception as exc:
             logger.exception("the situation check of %s failed", name)
             return Outcome.FAILED_PRECONDITIONS, (f"{failed_preconditions_message(name)} Its situation check "

@@ -11,9 +11,27 @@ import pytest
 from aeroexec.beliefs import BeliefMemory, EvaluationRefused, Struct, parse_rules
 from aeroexec.cli.main import main
 from aeroexec.drones.sim import SimulatedDrone, default_world
+from aeroexec.engine.catalog.behavior_catalog import default_catalog_path, parse_catalog
 from aeroexec.engine.engine import Engine
+from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runtime.runner import TreeMission
+from py_trees.common import Status
 
 from aeroexec.limits import RULES_WORK_PER_STEP
+
+
+def catalog_with(rules: str, **replaced: str):
+    """The aerial catalog with ``rules:`` at its end and some of its text replaced (and the rules' first line)."""
+    text = default_catalog_path().read_text()
+    for old, new in replaced.items():
+        assert old in text
+        text = text.replace(old, new)
+    text += "rules: |\n" + "".join(f"  {line}\n" for line in rules.splitlines())
+    return parse_catalog(text, "aerial_rules.yaml"), text.count("\n") - len(rules.splitlines()) + 1
+
+
+def N(kind: str, *children: TreeNode, **ports: str) -> TreeNode:  # noqa: N802
+    return TreeNode(kind, "", dict(ports), list(children), "mission.xml", 0)
 
 REACH = "reach(?A, ?B) :- object(?A, ?B).\nreach(?A, ?C) :- object(?A, ?B), reach(?B, ?C).\n"
 
@@ -159,3 +177,23 @@ def test_a_long_chain_of_rules_is_loaded_in_little_memory():
     assert peak < 40 * 2 ** 20  # linear in the rules (the strata each stratum needs were kept per stratum: 220 MiB)
     memory.add("object(a, b)")
     assert memory.query_all("q3000(?X)") == [{"?X": "a"}]
+
+
+def test_a_precondition_over_rules_past_the_bound_fails_the_behavior_with_the_reason():
+    catalog, first = catalog_with("steady :- object(?A, ?), object(?B, ?), object(?C, ?).", **{
+        "preconditions: flight_state(self, ?x), belong(?x, [moving, hovering]), not(stability(ground, unstable))":
+        "preconditions: flight_state(self, ?x), belong(?x, [moving, hovering]), steady"})
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world, catalog=catalog)
+    try:
+        for i in range(60):  # 216,000 triples: past the work of a step
+            engine.memory.add(Struct("object", (f"n{i}", "marker")))
+        mission = TreeMission(TreeDocument({"Main": N("Sequence", N("TAKE_OFF", ALTITUDE="2"), N("LAND"))}, "Main",
+                                           "mission.xml"), engine)
+        assert mission.run(60.0) == Status.FAILURE
+        failed = engine.log.events(kind="failed_preconditions", behavior="LAND")[0].detail
+        assert (f"aerial_rules.yaml:{first}: evaluating the rule steady :- object(?A, ?), object(?B, ?), "
+                "object(?C, ?). takes more than 30,000 units of work in one engine step") in failed
+        assert "raised" not in failed  # the reason, not an exception's name (and no traceback logged)
+    finally:
+        engine.stop()
