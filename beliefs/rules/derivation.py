@@ -22,6 +22,8 @@ from aeroexec.beliefs.rules.joins import EACH_COST, Budget, evaluate
 from aeroexec.beliefs.rules.program import Signature, Stratum
 from aeroexec.beliefs.terms import Struct, Var, match
 
+#: Most beliefs one derived predicate may hold (about 200 bytes each with its indexes): past it, refused
+MAX_DERIVED = 1_000_000
 STORED = "#stored"  # the stored beliefs of a derived predicate, read by its rules as a rule of their own
 DELTA = "#delta"  # the rows a round added (or removed), read by one goal of a rule
 
@@ -246,6 +248,9 @@ class RuleBook:
         pending, layer.pending = layer.pending, {}
         stratum = layer.stratum
         if not layer.valid or stratum.volatile or any(s in stratum.negated for s in pending):
+            if layer.valid:  # what it held, to tell the strata above what changed (a copy: counted as work)
+                self.budget.charge(sum(len(self.derived[p].rows) for p in stratum.predicates), _named(
+                    layer, layer.rules[0]))
             before = {p: dict(self.derived[p].rows) for p in stratum.predicates} if layer.valid else None
             self._compute(layer)
             layer.valid = True
@@ -310,6 +315,11 @@ class RuleBook:
                     rows = dict.fromkeys(filterfalse(rel.rows.__contains__, rows))
                     delta[signature] = rows
                     self.budget.charge(len(rows), _rule_of(layer, signature))  # stored and indexed
+                    if len(rel.rows) + len(rows) > MAX_DERIVED:
+                        rule = _rule_of(layer, signature)
+                        raise EvaluationRefused(f"the rules of {signature[0]} derive more than {MAX_DERIVED:,} beliefs "
+                                                f"(the limit of one derived predicate, for memory): refused",
+                                                rule.file, rule.line)
                     rel.insert_new(rows)
                     if changes is not None:
                         added, removed = changes[signature]

@@ -197,3 +197,19 @@ def test_a_precondition_over_rules_past_the_bound_fails_the_behavior_with_the_re
         assert "raised" not in failed  # the reason, not an exception's name (and no traceback logged)
     finally:
         engine.stop()
+
+
+def test_a_derived_predicate_grown_step_by_step_is_bounded_in_memory(monkeypatch):
+    monkeypatch.setattr("aeroexec.beliefs.rules.derivation.MAX_DERIVED", 1_000)
+    memory = BeliefMemory(multivalued={"object"})
+    memory.limit_rules(RULES_WORK_PER_STEP, per_step=True)
+    memory.add_rules(REACH, "reach.rules")
+    with pytest.raises(EvaluationRefused) as caught:
+        for i in range(100):  # a link a step: each step's new pairs are few, all of them together are not
+            memory.renew_rules()
+            memory.add(Struct("object", (f"n{i}", f"n{i + 1}")))
+            memory.holds("reach(n0, ?X)")
+    assert i < 50  # the link whose pairs passed the bound (45 links: 1,035 pairs)
+    assert str(caught.value) == ("reach.rules:1: the rules of reach derive more than 1,000 beliefs (the limit of one "
+                                 "derived predicate, for memory): refused")
+    assert len(memory._rulebook.derived[("reach", 2)].rows) <= 1_000
