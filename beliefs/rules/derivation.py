@@ -189,12 +189,13 @@ class RuleBook:
             if not layer.valid or layer.pending or layer.stratum.volatile:
                 if layer.refused is not None and layer.refused[0] == stamp and not layer.stratum.volatile:
                     raise layer.refused[1]  # refused for these very inputs: asking again costs nothing
+                whole = self.budget.spent == 0  # the stratum has the whole bound to itself
                 try:
                     self._update(layer)
                 except BaseException as error:  # a rule past the limits: evaluated again from scratch when next asked
                     self._invalidate(layer)
-                    if isinstance(error, EvaluationRefused):
-                        layer.refused = (stamp, error)
+                    # refused with the whole bound: so it is again while the beliefs it reads are the same
+                    layer.refused = (stamp, error) if whole and isinstance(error, EvaluationRefused) else None
                     raise
                 layer.refused = None
         self.view.epoch = stored.epoch * 4096 + self._epoch

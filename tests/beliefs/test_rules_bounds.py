@@ -213,3 +213,21 @@ def test_a_derived_predicate_grown_step_by_step_is_bounded_in_memory(monkeypatch
     assert str(caught.value) == ("reach.rules:1: the rules of reach derive more than 1,000 beliefs (the limit of one "
                                  "derived predicate, for memory): refused")
     assert len(memory._rulebook.derived[("reach", 2)].rows) <= 1_000
+
+
+def test_rules_refused_for_want_of_what_a_step_had_left_are_evaluated_again_next_step():
+    memory = BeliefMemory(multivalued={"object", "zone"})
+    memory.limit_rules(RULES_WORK_PER_STEP, per_step=True)
+    memory.add_rules(REACH + "trio(?A, ?B, ?C) :- zone(?A), zone(?B), zone(?C).", "zones.rules")
+    for i in range(100):
+        memory.add(Struct("object", (f"n{i}", f"n{i + 1}")))
+        memory.add(Struct("zone", (f"z{i}",)))
+    memory.renew_rules()
+    with pytest.raises(EvaluationRefused, match="zones.rules:3: "):
+        memory.holds("trio(?A, ?B, ?C)")  # a million triples: it takes the step's work, and more
+    with pytest.raises(EvaluationRefused, match="zones.rules:"):
+        memory.holds("reach(n0, n100)")  # 5,050 pairs, but nothing left in this step
+    memory.renew_rules()
+    assert memory.holds("reach(n0, n100)")  # the next step: asked again, and answered
+    with pytest.raises(EvaluationRefused, match="zones.rules:3: "):
+        memory.holds("trio(?A, ?B, ?C)")
