@@ -175,14 +175,7 @@ class RuleBook:
             self._stamp = stamp
         needed = self._needed.get(signatures)
         if needed is None:
-            below: set[int] = set()
-            todo = [layer for signature in signatures if (layer := self._layer_of.get(signature)) is not None]
-            while todo:
-                layer = todo.pop()
-                if layer.stratum.index not in below:
-                    below.add(layer.stratum.index)
-                    todo.extend(layer.sources)
-            needed = self._needed[signatures] = [self._layers[i] for i in sorted(below)]
+            needed = self._needed[signatures] = self._strata_of(signatures)
         if self.budget.per_ask:
             self.budget.spent = 0
         for layer in needed:
@@ -200,6 +193,37 @@ class RuleBook:
                 layer.refused = None
         self.view.epoch = stored.epoch * 4096 + self._epoch
         return self.view
+
+    def _strata_of(self, signatures: tuple[Signature, ...]) -> list[_Layer]:
+        """The strata an ask of ``signatures`` brings up to date, lowest first."""
+        below: set[int] = set()
+        todo = [layer for signature in signatures if (layer := self._layer_of.get(signature)) is not None]
+        while todo:
+            layer = todo.pop()
+            if layer.stratum.index not in below:
+                below.add(layer.stratum.index)
+                todo.extend(layer.sources)
+        return [self._layers[i] for i in sorted(below)]
+
+    def trial(self) -> None:
+        """Derive every derived predicate (before flight), each stratum with the whole bound of :attr:`budget`, and
+        raise :class:`EvaluationRefused` for the first that would pass it when asked first, from scratch: alone, or
+        with the strata it reads (each predicate is asked on its own in flight, not all of them in one step)."""
+        budget = self.budget
+        cost: dict[int, int] = {}
+        for layer in self._layers:  # lowest first: those it reads are done, its own work is measured alone
+            budget.spent = 0
+            self.ready(layer.stratum.predicates[:1])
+            cost[layer.stratum.index] = budget.spent
+            budget.spent = 0
+            if budget.work is None:
+                continue
+            total = sum(cost[below.stratum.index] for below in self._strata_of(layer.stratum.predicates[:1]))
+            if total > budget.work:
+                rule = _named(layer, layer.rules[0])
+                raise EvaluationRefused(f"asking {rule.head.name} evaluates its rules and those it reads in {total:,} "
+                                        f"units of work, more than {budget.work:,} in one ask{budget.why}: refused",
+                                        rule.file, rule.line)
 
     def _invalidate(self, layer: _Layer) -> None:
         """``layer`` and every stratum reading it, evaluated again from scratch when next asked (a stratum that

@@ -91,15 +91,14 @@ class Reasoning:
         self._rule_budget.spent = 0
 
     def try_rules(self) -> list[RuleProblem]:
-        """Derive every derived predicate from the beliefs held now, within the bound of :meth:`limit_rules`: the
-        evaluations refused, as problems with their rule's file and line (empty when all fit). A rules file is
-        tried so before flight, with its facts."""
+        """Derive every derived predicate from the beliefs held now, within the bound of :meth:`limit_rules`, each
+        as if asked first and alone: the evaluations refused, as problems with their rule's file and line (empty
+        when all fit). A rules file is tried so before flight, with its facts."""
         book = self._rulebook
         if book is None or not book.derived:
             return []
-        self.renew_rules()
         try:
-            book.ready(tuple(sorted(book.derived)))
+            book.trial()
         except EvaluationRefused as refused:
             return [RuleProblem(f"{refused.detail} before flight, with the facts given", refused.file,
                                 refused.line)]

@@ -231,3 +231,16 @@ def test_rules_refused_for_want_of_what_a_step_had_left_are_evaluated_again_next
     assert memory.holds("reach(n0, n100)")  # the next step: asked again, and answered
     with pytest.raises(EvaluationRefused, match="zones.rules:3: "):
         memory.holds("trio(?A, ?B, ?C)")
+
+
+def test_before_flight_each_derived_predicate_is_tried_as_if_asked_first_and_alone():
+    from aeroexec.engine.catalog import default_catalog
+    from aeroexec.engine.catalog.vocabulary import check_rules
+    own = {n: p for n, p in default_catalog().predicates.items() if not p.derived}
+    independent = "".join(f"r{i}(?X) :- object(?X, m{i}).\n" for i in range(1000))  # all together: past the bound
+    assert check_rules(own, parse_rules(independent, "many.rules")) == []
+    chained = "q0(?X) :- object(?X, ?).\n" + "".join(f"q{i + 1}(?X) :- q{i}(?X).\n" for i in range(1000))
+    problems = [str(p) for p in check_rules(own, parse_rules(chained, "chain.rules"))]
+    assert problems == ["chain.rules:366: asking q365 evaluates its rules and those it reads in 30,012 units of work, "
+                        "more than 30,000 in one ask (the limit of rules in flight, so that the engine loop never "
+                        "stalls): refused before flight, with the facts given"]
