@@ -1,6 +1,13 @@
 """The belief management system (paper section 5): language, memory, updaters."""
 
-from aeroexec.beliefs.errors import BeliefError, BeliefSyntaxError, RuleError, RuleProblem, UnknownPredicateError
+from aeroexec.beliefs.errors import (
+    BeliefError,
+    BeliefSyntaxError,
+    EvaluationRefused,
+    RuleError,
+    RuleProblem,
+    UnknownPredicateError,
+)
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, Rule
 from aeroexec.beliefs.memory import BeliefChange, BeliefMemory
 from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, parse_term, read_rules
@@ -14,6 +21,7 @@ __all__ = [
     "BeliefMemory",
     "BeliefSyntaxError",
     "BeliefUpdater",
+    "EvaluationRefused",
     "FunctionUpdater",
     "publish",
     "Comparison",

@@ -38,6 +38,16 @@ class UnknownPredicateError(BeliefError):
         self.predicate = predicate
 
 
+class EvaluationRefused(BeliefError):
+    """Rules whose evaluation would take more memory or work than allowed, refused before it is spent: the
+    message names the rule's file and line; a condition asking them fails with it."""
+
+    def __init__(self, detail: str, file: str = "", line: int = 0) -> None:
+        where = f"{file or '<rules>'}:{line}" if line else file or "<rules>"
+        super().__init__(f"{where}: {detail}")
+        self.detail, self.file, self.line = detail, file, line
+
+
 class RuleProblem:
     """One mistake in a rule, with where it was written (``file:line``, or the column in a one-line text)."""
 

@@ -24,6 +24,7 @@ from aeroexec.beliefs.parser import parse_expression
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
 from aeroexec.beliefs.rules.derivation import RuleBook
+from aeroexec.beliefs.rules.joins import Budget
 from aeroexec.beliefs.rules.reasoning import Reasoning
 from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell_term, spelling_table
@@ -71,6 +72,7 @@ class BeliefMemory(Reasoning, Consulting):
         self._sequence = 0
         self._changes = 0
         self._rulebook: RuleBook | None = None
+        self._rule_budget = Budget()  # what one ask may spend evaluating rules (limit_rules)
         #: answer a repeated question from its last answer while the relations it reads stand (off: solve it
         #: every time, as benchmarks do to measure solving)
         self.standing_answers = True

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 import threading
 from functools import lru_cache
@@ -28,6 +29,8 @@ __all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term", "rea
 
 #: Longest expression accepted; longer text is refused before parsing.
 MAX_EXPRESSION_LENGTH = 200_000
+#: Longest rules text accepted (a rules file, a catalog's ``rules:``, ``add_rules``); refused before parsing.
+MAX_RULES_LENGTH = 10 * MAX_EXPRESSION_LENGTH
 
 _TERMINAL_NAMES = {
     "NAME": "a name",
@@ -84,7 +87,10 @@ class _Build(Transformer):
         if len(text) > MAX_NUMBER_LENGTH:
             raise _Invalid(f"a number of {len(text)} characters is longer than the limit of {MAX_NUMBER_LENGTH}")
         if any(c in text for c in ".eE"):
-            return float(text)
+            value = float(text)
+            if not math.isfinite(value):  # the README's limits: a number beyond a float's range is a wrong value
+                raise _WrongValue(text)
+            return value
         return int(text)
 
     def string(self, items):
@@ -96,6 +102,14 @@ class _Build(Transformer):
 
 class _Invalid(Exception):
     """Raised inside the transformer for a well-formed parse that is not a valid expression."""
+
+
+class _WrongValue(_Invalid):
+    """A value the grammar reads but no belief holds (``1e400``): the paper's WRONG_VALUE."""
+
+    def __init__(self, value: str) -> None:
+        super().__init__(f"the value {value} is not correct (a finite number is expected)")
+        self.value = value
 
 
 def _as_literal(item):
@@ -154,8 +168,8 @@ def parse_rules(text: str, file: str = "", first_line: int = 1) -> list[Rule]:
 
     if not isinstance(text, str):
         raise refused("rules are text")
-    if len(text) > MAX_EXPRESSION_LENGTH * 10:
-        raise refused(f"{len(text)} characters is longer than {MAX_EXPRESSION_LENGTH * 10}")
+    if len(text) > MAX_RULES_LENGTH:
+        raise refused(f"the rules are {len(text):,} characters, more than the limit of {MAX_RULES_LENGTH:,}")
     deep = nesting_beyond(text, MAX_TERM_DEPTH)
     if deep is not None:
         line = line_of_offset(text, deep)
@@ -172,6 +186,10 @@ def parse_rules(text: str, file: str = "", first_line: int = 1) -> list[Rule]:
         detail = str(exc.orig_exc) if isinstance(exc.orig_exc, _Invalid) else "not a term"
         meta = getattr(exc.obj, "meta", None)
         line = getattr(meta, "line", 0) if meta is not None and not getattr(meta, "empty", True) else 0
+        if isinstance(exc.orig_exc, _WrongValue):
+            clause = _clause_at(text, getattr(meta, "start_pos", None))
+            raise refused(f"The value {exc.orig_exc.value} of {clause} is not correct (a finite number is expected)",
+                          line) from None
         raise refused(f"The format of the rule is not correct ({detail})", line) from None
     except RecursionError:
         raise refused("the rules are nested too deeply") from None
@@ -315,7 +333,10 @@ def _read_items(text: str, item: re.Pattern) -> list:
         if kind == "name":
             values.append(value)
         elif kind == "number":
-            values.append(float(value) if "." in value or "e" in value or "E" in value else int(value))
+            number = float(value) if "." in value or "e" in value or "E" in value else int(value)
+            if number in _INFINITE:  # 1e400: the parser refuses it with the reason
+                raise _Invalid(value)
+            values.append(number)
         elif kind == "string":
             values.append(unquote(value))
         elif kind == "tuple":
@@ -325,6 +346,7 @@ def _read_items(text: str, item: re.Pattern) -> list:
     return values
 
 
+_INFINITE = (math.inf, -math.inf)
 _LONG_DIGITS = re.compile(rf"\d{{{MAX_NUMBER_LENGTH + 1}}}")
 
 
@@ -335,7 +357,10 @@ def _read_flat(text: str) -> Struct | None:
     found = whole.fullmatch(text)
     if found is None or found.group(1) == "not":
         return None
-    return Struct(found.group(1), tuple(_read_items(found.group(2), item)))
+    try:
+        return Struct(found.group(1), tuple(_read_items(found.group(2), item)))
+    except _Invalid:
+        return None
 
 
 def parse_belief(text: str) -> Struct:

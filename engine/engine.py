@@ -33,6 +33,8 @@ from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorke
 from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates, VehicleModel
 from aeroexec.engine.supervision.supervisor import Supervisor
 
+from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY
+
 logger = logging.getLogger(__name__)
 
 
@@ -101,6 +103,10 @@ class Engine:
                     self.memory.declare(name, arity)
         register_computed(self.memory, drone, self.settings.cruise_speed, obstacles,
                           self.catalog.vehicle_limits.get("max_flight_time"))
+        # rules in flight are bounded: all the asks of one step together (renewed by tick) may spend so much, an
+        # ask that would spend more is refused (the condition asking fails with the reason and the rule's line)
+        self.memory.limit_rules(int(self.settings.extra.get("rules_work", RULES_WORK_PER_STEP)), RULES_WORK_WHY,
+                                per_step=True)
         self.memory.add_rules(self.catalog.rules)  # derived predicates, asked like stored ones
         self.log = EventLog(self.clock.now)
         self.context = BehaviorContext(drone, self.memory, self.clock.now, self.catalog, self.log, self.settings,
@@ -158,6 +164,7 @@ class Engine:
     def tick(self) -> None:
         """One period of the engine, at the clock's current time."""
         with self._lock, self.period_guard():
+            self.memory.renew_rules()  # the rules' work of a step is bounded (RULES_WORK_PER_STEP)
             if not self._started:
                 self._begin()
             now = self.clock.now()

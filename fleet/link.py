@@ -35,7 +35,7 @@ import logging
 import threading
 from typing import Any
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, BeliefUpdater, Struct, Var
+from aeroexec.beliefs import BeliefError, BeliefMemory, BeliefUpdater, EvaluationRefused, Struct, Var
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES
 from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import check_name
@@ -363,7 +363,12 @@ class FleetLink(BeliefUpdater):
         for predicate in self.share:
             if predicate == SAID:
                 continue
-            for belief in self.engine.memory.beliefs(predicate):
+            try:
+                known = list(self.engine.memory.beliefs(predicate))
+            except EvaluationRefused as refused:  # rules past the bound of a step: shared again next period
+                logger.warning("drone %s: the shared beliefs %s: %s", self.name, predicate, refused)
+                continue
+            for belief in known:
                 if belief not in self._heard and belief not in self._messages:  # only what it knows itself
                     shared.append(str(belief))
         self.node.say(self.name, "beliefs", beliefs=shared[:MAX_BELIEFS])

@@ -14,13 +14,16 @@ from collections.abc import Callable, Iterable
 from itertools import filterfalse
 from typing import Any
 
+from aeroexec.beliefs.errors import EvaluationRefused
 from aeroexec.beliefs.expression import Conjunction, Goal, Rule
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import Journal, Relation, Relations
-from aeroexec.beliefs.rules.joins import evaluate
+from aeroexec.beliefs.rules.joins import EACH_COST, Budget, evaluate
 from aeroexec.beliefs.rules.program import Signature, Stratum
 from aeroexec.beliefs.terms import Struct, Var, match
 
+#: Most beliefs one derived predicate may hold (about 200 bytes each with its indexes): past it, refused
+MAX_DERIVED = 1_000_000
 STORED = "#stored"  # the stored beliefs of a derived predicate, read by its rules as a rule of their own
 DELTA = "#delta"  # the rows a round added (or removed), read by one goal of a rule
 
@@ -59,7 +62,9 @@ class _Layer:
         self.predicates = set(stratum.predicates)
         self.pending: dict[Signature, Delta] = {}
         self.valid = False
-        self.below: set[int] = set()  # the strata it needs, itself included
+        self.refused: tuple[Any, EvaluationRefused] | None = None  # (the inputs' stamp, the refusal) when refused
+        self.sources: list[_Layer] = []  # the strata it reads directly (those they read are found when asked)
+        self.readers: list[_Layer] = []  # the strata that read it directly, lowest first
 
 
 class RuleBook:
@@ -84,6 +89,8 @@ class RuleBook:
         self._names: set[str] = set()
         self._read: list[Relation] = []  # the stored relations the rules read (those that exist)
         self._needed: dict[tuple, list[_Layer]] = {}  # the derived predicates asked -> the strata they need
+        #: what one ask may spend (renewed at each ask): none by default; an engine bounds it (rules in flight)
+        self.budget = Budget()
 
     # -- the program ------------------------------------------------------------------------------------------------
     def load(self, rules: list[Rule], strata: list[Stratum]) -> None:
@@ -107,17 +114,20 @@ class RuleBook:
             for signature in stratum.predicates:
                 self._layer_of[signature] = layer
             self._layers.append(layer)
-        for layer in self._layers:
-            layer.below = {layer.stratum.index}
+        for layer in self._layers:  # direct sources only: a chain of N strata keeps N links, not N * N / 2
+            sources: dict[int, _Layer] = {}
             for signature in self._inputs(layer):
                 source = self._layer_of.get(signature)
                 if source is not None and source is not layer:
-                    layer.below |= source.below
+                    sources[source.stratum.index] = source
                 if signature[0].endswith(STORED):
                     self._readers.setdefault((signature[0][: -len(STORED)], signature[1]), []).append(
                         (layer, signature))
                 elif signature not in self._layer_of:
                     self._readers.setdefault(signature, []).append((layer, signature))
+            layer.sources = list(sources.values())
+            for source in layer.sources:
+                source.readers.append(layer)
         for rel in self.stored.values():
             rel.journal = None  # a relation the rules read is read whole when next asked; the others kept no journal
         self.view = Relations()
@@ -165,21 +175,66 @@ class RuleBook:
             self._stamp = stamp
         needed = self._needed.get(signatures)
         if needed is None:
-            below: set[int] = set()
-            for signature in signatures:
-                layer = self._layer_of.get(signature)
-                if layer is not None:
-                    below |= layer.below
-            needed = self._needed[signatures] = [layer for layer in self._layers if layer.stratum.index in below]
+            needed = self._needed[signatures] = self._strata_of(signatures)
+        if self.budget.per_ask:
+            self.budget.spent = 0
         for layer in needed:
             if not layer.valid or layer.pending or layer.stratum.volatile:
+                if layer.refused is not None and layer.refused[0] == stamp and not layer.stratum.volatile:
+                    raise layer.refused[1]  # refused for these very inputs: asking again costs nothing
+                whole = self.budget.spent == 0  # the stratum has the whole bound to itself
                 try:
                     self._update(layer)
-                except BaseException:  # a rule past the limits: evaluated again from scratch when next asked
-                    layer.valid = False
+                except BaseException as error:  # a rule past the limits: evaluated again from scratch when next asked
+                    self._invalidate(layer)
+                    # refused with the whole bound: so it is again while the beliefs it reads are the same
+                    layer.refused = (stamp, error) if whole and isinstance(error, EvaluationRefused) else None
                     raise
+                layer.refused = None
         self.view.epoch = stored.epoch * 4096 + self._epoch
         return self.view
+
+    def _strata_of(self, signatures: tuple[Signature, ...]) -> list[_Layer]:
+        """The strata an ask of ``signatures`` brings up to date, lowest first."""
+        below: set[int] = set()
+        todo = [layer for signature in signatures if (layer := self._layer_of.get(signature)) is not None]
+        while todo:
+            layer = todo.pop()
+            if layer.stratum.index not in below:
+                below.add(layer.stratum.index)
+                todo.extend(layer.sources)
+        return [self._layers[i] for i in sorted(below)]
+
+    def trial(self) -> None:
+        """Derive every derived predicate (before flight), each stratum with the whole bound of :attr:`budget`, and
+        raise :class:`EvaluationRefused` for the first that would pass it when asked first, from scratch: alone, or
+        with the strata it reads (each predicate is asked on its own in flight, not all of them in one step)."""
+        budget = self.budget
+        cost: dict[int, int] = {}
+        for layer in self._layers:  # lowest first: those it reads are done, its own work is measured alone
+            budget.spent = 0
+            self.ready(layer.stratum.predicates[:1])
+            cost[layer.stratum.index] = budget.spent
+            budget.spent = 0
+            if budget.work is None:
+                continue
+            total = sum(cost[below.stratum.index] for below in self._strata_of(layer.stratum.predicates[:1]))
+            if total > budget.work:
+                rule = _named(layer, layer.rules[0])
+                raise EvaluationRefused(f"asking {rule.head.name} evaluates its rules and those it reads in {total:,} "
+                                        f"units of work, more than {budget.work:,} in one ask{budget.why}: refused",
+                                        rule.file, rule.line)
+
+    def _invalidate(self, layer: _Layer) -> None:
+        """``layer`` and every stratum reading it, evaluated again from scratch when next asked (a stratum that
+        stopped half-way never hands half its changes on)."""
+        todo = [layer]
+        while todo:
+            current = todo.pop()
+            if current.valid or current is layer:
+                current.valid = False
+                current.pending = {}
+                todo.extend(current.readers)
 
     def rows(self, signature: Signature) -> Relation:
         """The derived relation of ``signature``, up to date."""
@@ -218,6 +273,9 @@ class RuleBook:
         pending, layer.pending = layer.pending, {}
         stratum = layer.stratum
         if not layer.valid or stratum.volatile or any(s in stratum.negated for s in pending):
+            if layer.valid:  # what it held, to tell the strata above what changed (a copy: counted as work)
+                self.budget.charge(sum(len(self.derived[p].rows) for p in stratum.predicates), _named(
+                    layer, layer.rules[0]))
             before = {p: dict(self.derived[p].rows) for p in stratum.predicates} if layer.valid else None
             self._compute(layer)
             layer.valid = True
@@ -236,7 +294,7 @@ class RuleBook:
         for signature, (added, removed) in changes.items():
             if added or removed:
                 self._resized(signature)
-                for other in self._layers[stratum.index + 1:]:
+                for other in layer.readers:
                     if other.valid and signature in other.stratum.reads:
                         other.pending.setdefault(signature, Delta()).merge(added, removed)
 
@@ -249,7 +307,7 @@ class RuleBook:
         found: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
         for i, rule in enumerate(layer.rules):
             found[rule.head.signature].update(dict.fromkeys(
-                evaluate(self._variant(layer, i, None), self.view, rule)))
+                evaluate(self._variant(layer, i, None), self.view, rule, self.budget, _named(layer, rule))))
         self._saturate(layer, found, None)
 
     def _seeds(self, layer: _Layer, inputs: dict[Signature, dict]) -> dict[Signature, dict[tuple, None]]:
@@ -266,7 +324,8 @@ class RuleBook:
                 for j, signature in _positive_goals(rule):
                     if signature in inputs:
                         new.update(dict.fromkeys(filterfalse(
-                            rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule))))
+                            rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule, self.budget,
+                                     _named(layer, rule)))))
         return found
 
     def _saturate(self, layer: _Layer, delta: dict[Signature, dict[tuple, None]],
@@ -280,6 +339,12 @@ class RuleBook:
                     rel = self.derived[signature]
                     rows = dict.fromkeys(filterfalse(rel.rows.__contains__, rows))
                     delta[signature] = rows
+                    self.budget.charge(len(rows), _rule_of(layer, signature))  # stored and indexed
+                    if len(rel.rows) + len(rows) > MAX_DERIVED:
+                        rule = _rule_of(layer, signature)
+                        raise EvaluationRefused(f"the rules of {signature[0]} derive more than {MAX_DERIVED:,} beliefs "
+                                                f"(the limit of one derived predicate, for memory): refused",
+                                                rule.file, rule.line)
                     rel.insert_new(rows)
                     if changes is not None:
                         added, removed = changes[signature]
@@ -322,6 +387,7 @@ class RuleBook:
         for i, rule in enumerate(layer.rules):
             signature = rule.head.signature
             query = self._variant(layer, i, None)
+            self.budget.charge(len(gone[signature]) * EACH_COST, _named(layer, rule))
             for row in gone[signature]:
                 bindings: dict = {}
                 if match(rule.head.args, row, bindings) and query.first(self.view, bindings) is not None:
@@ -343,7 +409,8 @@ class RuleBook:
                 rel = self.derived[signature]
                 for j, goal in _positive_goals(rule):
                     if goal in inputs:
-                        for row in evaluate(self._variant(layer, i, j, exclusive=False), self.view, rule):
+                        for row in evaluate(self._variant(layer, i, j, exclusive=False), self.view, rule,
+                                            self.budget, _named(layer, rule)):
                             if row in rel.rows and row not in gone[signature]:
                                 gone[signature][row] = None
                                 found[signature][row] = None
@@ -377,6 +444,16 @@ class RuleBook:
         size = len(self.derived[signature].rows)
         if not size & (size - 1):
             self._epoch += 1
+
+
+def _named(layer: _Layer, rule: Rule) -> Rule:
+    """The rule a refusal names: ``rule`` itself, or for the internal ``p :- p#stored`` one a rule written for p."""
+    return rule if rule.file or rule.line else _rule_of(layer, rule.head.signature)
+
+
+def _rule_of(layer: _Layer, signature: Signature) -> Rule:
+    """The first rule of ``layer`` deriving ``signature`` (named when storing its beliefs is refused)."""
+    return next((r for r in layer.rules if r.head.signature == signature and r.file), layer.rules[0])
 
 
 def _version(rel: Relation) -> int:

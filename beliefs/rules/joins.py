@@ -10,11 +10,12 @@ solved answer by answer with the query's own steps.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from itertools import product, starmap
 from operator import add, itemgetter
 from typing import Any
 
-from aeroexec.beliefs.errors import BeliefError
+from aeroexec.beliefs.errors import EvaluationRefused
 from aeroexec.beliefs.expression import Rule
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import is_number
@@ -24,53 +25,115 @@ from aeroexec.beliefs.terms import Struct, Var, is_ground, match, substitute, va
 Rows = list[tuple]
 #: Most partial answers one evaluation of a rule's body may build
 MAX_ROWS = 5_000_000
+#: Most memory the partial answers of one rule's body may take, estimated before they are built (a row of N values
+#: is a tuple of about ROW_BYTES + 8 * N bytes, and its place in a list)
+MAX_ANSWER_BYTES = 256 * 1024 * 1024
+ROW_BYTES = 64
+#: Work units of a goal solved answer by answer (its own query's steps), per row tried and per answer found
+#: (twice each: a row in and a row out); and of one rule evaluated
+EACH_COST = 8
+CALL_COST = 40
+
+
+@dataclass
+class Budget:
+    """What evaluating rules may spend in one ask: ``work`` units (a partial answer built or a derived belief
+    stored is one; see :data:`EACH_COST`, :data:`CALL_COST`), None for no bound. An evaluation that would pass it
+    is refused (:class:`EvaluationRefused`) before it builds what it cannot afford."""
+
+    work: int | None = None
+    spent: int = 0
+    why: str = ""  # what the bound is for, said in a refusal
+    #: renewed at every ask; False: renewed by its owner (an engine, at each step: the bound is per step)
+    per_ask: bool = True
+
+    def left(self) -> int:
+        return MAX_ROWS if self.work is None else max(0, self.work - self.spent)  # MAX_ROWS: more than ever fits
+
+    def charge(self, units: int, rule: Rule) -> None:
+        self.spent += units
+        if self.work is not None and self.spent > self.work:
+            raise _refused(rule, self)
+
+
+def _refused(rule: Rule, budget: Budget) -> EvaluationRefused:
+    return EvaluationRefused(f"evaluating the rule {rule} takes more than {budget.work:,} units of work in one "
+                             f"{'ask' if budget.per_ask else 'engine step'}{budget.why}: refused", rule.file,
+                             rule.line)
 
 _ORDER: dict[str, Callable[[Any, Any], bool]] = {
     "<": lambda a, b: a < b, ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
 }
 
 
-def evaluate(query: CompiledQuery, relations: Any, rule: Rule) -> Iterable[tuple]:
+def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | None = None,
+             named: Rule | None = None) -> Iterable[tuple]:
     """The arguments of the rule's head for every unification of ``query`` (its body; duplicates possible).
 
-    Raises :class:`BeliefError` when the partial answers grow past :data:`MAX_ROWS` (a join of goals that share
-    no variable, over many beliefs): an answer that large would stall the engine.
+    Raises :class:`EvaluationRefused` (naming the rule's file:line) before building partial answers that would
+    take more than :data:`MAX_ANSWER_BYTES` (a join of goals that share no variable, over many beliefs: their
+    size is estimated from the relations' sizes first), or more work than ``budget`` has left.
     """
+    budget = budget or Budget()
+    rule, head = named or rule, rule.head  # named: the rule a refusal names (the one written, for an internal one)
+    budget.charge(CALL_COST, rule)
     schema: list[Var] = []
     rows: Rows = [()]
     try:
         for step in query._order(relations, {}):
-            schema, rows = _apply(step, schema, rows, relations, query.ranges)
+            fits = _fits(len(schema) + 4)  # the rows its memory allows, a few new values each
+            limit = min(budget.left(), fits)
+            schema, rows, cost = _apply(step, schema, rows, relations, query.ranges, limit)
+            budget.charge(cost, rule)
             if not rows:
                 return ()
-            if len(rows) > MAX_ROWS:
-                raise _Overflow
-    except _Overflow:
-        raise BeliefError(f"{rule.where}: the rule {rule} builds more than {MAX_ROWS:,} partial answers "
-                          "(goals that share no variable?)") from None
-    return _project(rule.head, schema, rows)
+    except _Overflow as overflow:
+        if budget.work is None or fits <= budget.left():  # the memory bound, not the work, was the nearer
+            width = len(schema) + 4
+            raise EvaluationRefused(
+                f"the rule {rule} would build about {overflow.rows:,} partial answers (about "
+                f"{overflow.rows * (ROW_BYTES + 8 * width) // 2 ** 20:,} MiB), more than the limit of "
+                f"{MAX_ANSWER_BYTES // 2 ** 20} MiB (goals that share no variable?): refused before building them",
+                rule.file, rule.line) from None
+        raise _refused(rule, budget) from None
+    return _project(head, schema, rows)
+
+
+def _fits(width: int) -> int:
+    """Most rows of ``width`` values that fit in :data:`MAX_ANSWER_BYTES`."""
+    return min(MAX_ROWS, MAX_ANSWER_BYTES // (ROW_BYTES + 8 * width))
 
 
 class _Overflow(Exception):
-    """The partial answers of a rule's body grew past MAX_ROWS."""
+    """The partial answers of a step would pass the rows it may build (``rows``: how many it would, at least)."""
+
+    def __init__(self, rows: int) -> None:
+        super().__init__(rows)
+        self.rows = rows
 
 
-def _apply(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict) -> tuple[list[Var], Rows]:
+def _apply(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict,
+           limit: int) -> tuple[list[Var], Rows, int]:
+    """The step applied to every row: the new schema, the new rows, and the work it took."""
     kind = type(step)
     if kind is FactStep and step.flat:
-        return _join(step, schema, rows, relations)
+        before = len(rows)
+        schema, rows = _join(step, schema, rows, relations, limit)
+        return schema, rows, len(rows) + before  # each row grouped or tested, each answer built
     if kind is ComparisonStep and step.op != "=":
         test = _filter(step, schema)
         if test is not None:
-            return schema, [row for row in rows if test(row)]
+            return schema, [row for row in rows if test(row)], len(rows)
     if kind is NegationStep:
         absent = _anti(step, schema, relations)
         if absent is not None:
-            return schema, [row for row in rows if absent(row)]
-    return _each(step, schema, rows, relations, ranges)
+            return schema, [row for row in rows if absent(row)], len(rows)
+    before = len(rows)
+    schema, rows = _each(step, schema, rows, relations, ranges, limit)
+    return schema, rows, (len(rows) + before) * EACH_COST // 2
 
 
-def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tuple[list[Var], Rows]:
+def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: int) -> tuple[list[Var], Rows]:
     rel = relations.get(step.signature)
     if rel is None or not rel.rows:
         return schema, []
@@ -84,11 +147,11 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tupl
     whole = positions == list(range(len(step.pattern)))  # the rows as they are
     if not shared:  # no value in common: the goal's own answers, times every row so far
         candidates = _matching(rel, constants)
+        if len(rows) * len(candidates) > limit:  # estimated from the sizes, before anything is built
+            raise _Overflow(len(rows) * len(candidates))
         found = list(candidates) if whole else list(map(take, candidates))
         if rows == [()]:
             return new_schema, found
-        if len(rows) * len(found) > MAX_ROWS:
-            raise _Overflow
         return new_schema, list(starmap(add, product(rows, found)))
     if not fresh:  # every argument known: a membership test per row
         positions = sorted([*((p, None, c) for p, c in constants), *((p, i, None) for p, i in shared)])
@@ -128,14 +191,14 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any) -> tupl
                       and all(r[p] == value[j] for p, j in others)]
             if not bucket:
                 continue
+        if len(out) + len(group) * len(bucket) > limit:  # estimated before the group's answers are built
+            raise _Overflow(len(out) + len(group) * len(bucket))
         found = list(bucket) if whole else list(map(take, bucket))
         if len(group) == 1:
             first = group[0]
             extend([first + f for f in found])
         else:
             extend(starmap(add, product(group, found)))
-        if len(out) > MAX_ROWS:
-            raise _Overflow
     return new_schema, out
 
 
@@ -158,7 +221,11 @@ def _getter(positions: list[int]) -> Callable[[tuple], tuple]:
 
 
 def _builder(positions: list[tuple[int, int | None, Any]]) -> Callable[[tuple], tuple]:
-    """A function from a row of answers to the stored row a goal asks for (positions: (place, column, constant))."""
+    """A function from a row of answers to the stored row a goal asks for (positions: (place, column, constant)).
+
+    A goal without arguments (``d1``) asks for the empty row."""
+    if not positions:
+        return lambda row: ()
     if len(positions) == 1 and positions[0][1] is not None:
         i = positions[0][1]
         return lambda row: (row[i],)
@@ -215,12 +282,17 @@ def _anti(step: NegationStep, schema: list[Var], relations: Any) -> Callable[[tu
     return lambda row: build(row) not in stored
 
 
-def _each(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict) -> tuple[list[Var], Rows]:
-    """Any step, answer by answer, through its own ``solve`` (nested terms, computed predicates, belong, =)."""
+def _each(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict,
+          limit: int) -> tuple[list[Var], Rows]:
+    """Any step, answer by answer, through its own ``solve`` (nested terms, computed predicates, belong, =); each
+    answer tried costs :data:`EACH_COST` of ``limit``."""
     known = set(schema)
     fresh = [v for v in dict.fromkeys(_step_vars(step)) if v not in known]
     new_schema = schema + fresh
     out: Rows = []
+    if len(rows) * EACH_COST // 2 > limit:
+        raise _Overflow(len(rows) * EACH_COST // 2)
+    left = (limit - len(rows) * EACH_COST // 2) * 2 // EACH_COST
     for row in rows:
         bindings = dict(zip(schema, row, strict=True))
         for extended in step.solve(relations, bindings, ranges):
@@ -228,6 +300,8 @@ def _each(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dict
                 out.append(row + tuple(extended[v] for v in fresh))
             else:
                 out.append(row)
+            if len(out) > left:
+                raise _Overflow((len(out) + len(rows)) * EACH_COST // 2)
     return new_schema, out
 
 
@@ -254,4 +328,4 @@ def _project(head: Struct, schema: list[Var], rows: Rows) -> Iterable[tuple]:
     return [tuple(substitute(a, dict(zip(schema, row, strict=True))) for a in args) for row in rows]
 
 
-__all__ = ["evaluate"]
+__all__ = ["MAX_ANSWER_BYTES", "Budget", "evaluate"]

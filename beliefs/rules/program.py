@@ -78,6 +78,11 @@ def check(rules: list[Rule], vocabulary: Vocabulary) -> list[RuleProblem]:
             elif rule.head.signature in computed:
                 problems.append(_problem(rule, f"the fact {rule} names {rule.head.name}, which is computed by the "
                                                "engine: it cannot be stored"))
+            elif vocabulary.stored.get(rule.head.name, rule.head.arity) != rule.head.arity:
+                takes = vocabulary.stored[rule.head.name]
+                problems.append(_problem(rule, f"The predicate {rule.head.name}/{rule.head.arity} of the fact {rule} "
+                                               f"does not exist ({rule.head.name} takes {takes} argument"
+                                               f"{'s' if takes != 1 else ''})"))
             continue
         problems.extend(_unknown(rule, derived, computed, vocabulary))
         problems.extend(_unsafe(rule, computed))

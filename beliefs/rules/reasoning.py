@@ -9,10 +9,11 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-from aeroexec.beliefs.errors import RuleError
+from aeroexec.beliefs.errors import EvaluationRefused, RuleError, RuleProblem
 from aeroexec.beliefs.expression import Conjunction, Goal, Rule
 from aeroexec.beliefs.parser import parse_rules
 from aeroexec.beliefs.rules.derivation import RuleBook
+from aeroexec.beliefs.rules.joins import Budget
 from aeroexec.beliefs.rules.program import Vocabulary, check, stratify
 from aeroexec.beliefs.rules.proofs import Proof, Prover
 from aeroexec.beliefs.spellings import respell
@@ -23,6 +24,7 @@ class Reasoning:
     """Rules of a belief memory (mixed into :class:`~aeroexec.beliefs.memory.BeliefMemory`)."""
 
     _rulebook: RuleBook | None
+    _rule_budget: Budget
     _vocabulary: dict[str, int]
     _computed: dict
     _answered: dict  # computed predicates and shared beliefs: what changes without this memory's writes
@@ -42,7 +44,10 @@ class Reasoning:
         book = self._rulebook
         program = [*(book.rules if book else ()), *(r for r in rules if r.body.literals)]
         derived = {r.head.name for r in program}
-        told = {r.head.name: r.head.arity for r in rules if not r.body.literals and r.head.name not in derived}
+        told: dict[str, int] = {}  # the first fact of a predicate declares it; another arity is refused
+        for r in rules:
+            if not r.body.literals and r.head.name not in derived:
+                told.setdefault(r.head.name, r.head.arity)
         vocabulary = Vocabulary({**told, **self._vocabulary},  # the facts given with the rules declare theirs
                                 {s: inputs for s, (_, inputs) in self._computed.items()}, bool(self._vocabulary))
         problems = check(program, vocabulary) + check([r for r in rules if not r.body.literals], vocabulary)
@@ -52,6 +57,7 @@ class Reasoning:
         if book is None:
             book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._answered,
                                              lambda body: respell(body, self._spellings))
+            book.budget = self._rule_budget
         self._multivalued |= derived  # a derived predicate holds a set of beliefs
         for (name, _), rel in self._relations.items():
             if name in derived:
@@ -70,6 +76,33 @@ class Reasoning:
                         rel.by_key = None
                 self.add(fact.head)
         return rules
+
+    def limit_rules(self, work: int | None, why: str = "", per_step: bool = False) -> None:
+        """Bound the work one ask may spend evaluating rules (``work`` units: a partial answer built or a derived
+        belief stored is one; None: no bound). Past it the ask raises :class:`EvaluationRefused` naming the rule's
+        file:line, having built no more than that; asked again while the beliefs the rules read are the same, it
+        is refused at once. ``why`` is said in the refusal (`` (rules in flight ...)``). ``per_step``: the bound
+        holds for every ask between two calls of :meth:`renew_rules` together (an engine's step), not per ask."""
+        budget = self._rule_budget
+        budget.work, budget.why, budget.per_ask, budget.spent = work, why, not per_step, 0
+
+    def renew_rules(self) -> None:
+        """A new step: the work of :meth:`limit_rules` (``per_step``) may be spent again."""
+        self._rule_budget.spent = 0
+
+    def try_rules(self) -> list[RuleProblem]:
+        """Derive every derived predicate from the beliefs held now, within the bound of :meth:`limit_rules`, each
+        as if asked first and alone: the evaluations refused, as problems with their rule's file and line (empty
+        when all fit). A rules file is tried so before flight, with its facts."""
+        book = self._rulebook
+        if book is None or not book.derived:
+            return []
+        try:
+            book.trial()
+        except EvaluationRefused as refused:
+            return [RuleProblem(f"{refused.detail} before flight, with the facts given", refused.file,
+                                refused.line)]
+        return []
 
     @property
     def rules(self) -> tuple[Rule, ...]:

@@ -12,25 +12,28 @@ from typing import Any
 
 import yaml
 from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction, Rule, RuleError, RuleProblem, parse_rules
-from aeroexec.beliefs.terms import is_ground
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.yaml_nodes import NodeReader
 
+from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY
+
 
 def check_rules(predicates: Mapping[str, PredicateDeclaration], rules: Iterable[Rule]) -> list[RuleProblem]:
-    """Every problem of ``rules`` against the declared ``predicates`` (derived declarations left out)."""
+    """Every problem of ``rules`` against the declared ``predicates`` (derived declarations left out), and the
+    evaluations that would pass the bound of rules in flight (:data:`~aeroexec.limits.RULES_WORK_PER_STEP`) over
+    the facts given with them."""
     rules = list(rules)
     stored = {p.name: p.arity for p in predicates.values() if not p.computed and not p.derived}
     memory = BeliefMemory(predicates=stored)
     for p in predicates.values():
         if p.computed:
             memory.register(p.name, p.arity, _never, inputs=max(0, p.arity - 1))
-    try:
-        memory.add_rules([r for r in rules if r.body.literals])
+    try:  # the facts too: a fact declares its predicate (zone(z1). makes zone/1 known to the rules)
+        memory.add_rules(rules)
     except RuleError as error:
         return error.problems
-    return [RuleProblem(f"the fact {r} holds variables: a fact is ground", r.file, r.line)
-            for r in rules if not r.body.literals and not _ground(r)]
+    memory.limit_rules(RULES_WORK_PER_STEP, RULES_WORK_WHY)  # what flies is tried as it will fly, with the facts
+    return memory.try_rules()
 
 
 def derived_declarations(rules: Iterable[Rule], predicates: Mapping[str, PredicateDeclaration]
@@ -50,10 +53,6 @@ def derived_declarations(rules: Iterable[Rule], predicates: Mapping[str, Predica
 
 def _never(*args: object) -> None:
     return None
-
-
-def _ground(rule: Rule) -> bool:
-    return is_ground(rule.head)
 
 
 class VocabularySections:

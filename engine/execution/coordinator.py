@@ -17,6 +17,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from aeroexec.beliefs import EvaluationRefused
 from aeroexec.engine.catalog import BehaviorSpecialist
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE, GOAL_BASED, HIGHER, LOWER, RECURRENT, ReactiveRule
 from aeroexec.engine.catalog.world_check import clearance_note
@@ -227,7 +228,11 @@ class BehaviorCoordinator:
             return True
         bindings = {f"?{key}": value for key, value in activation.process.arguments.items()}
         bindings.update(activation.process.bindings)
-        return self.context.memory.query(preconditions, bindings) is not None
+        try:
+            return self.context.memory.query(preconditions, bindings) is not None
+        except EvaluationRefused as refused:  # rules past the bound of a step: they do not hold now
+            logger.warning("the preconditions of %s: %s", activation.process.name, refused)
+            return False
 
     def _check_situation(self, process: BehaviorProcess, check_preconditions: bool = True
                          ) -> tuple[Outcome, str] | None:
@@ -244,6 +249,8 @@ class BehaviorCoordinator:
                     why += f" ({note})" if note else ""
                     return Outcome.FAILED_PRECONDITIONS, f"{failed_preconditions_message(name)} {why}"
             situation = process.check_situation()
+        except EvaluationRefused as refused:  # preconditions over rules past the bound of a step: the reason, no trace
+            return Outcome.FAILED_PRECONDITIONS, f"{failed_preconditions_message(name)} {refused}"
         except Exception as exc:
             logger.exception("the situation check of %s failed", name)
             return Outcome.FAILED_PRECONDITIONS, (f"{failed_preconditions_message(name)} Its situation check "
@@ -363,6 +370,9 @@ class BehaviorCoordinator:
             return True
         try:
             return self.context.memory.query(rule.condition) is not None
+        except EvaluationRefused as refused:  # rules past the bound of a step: one line, not a traceback
+            logger.warning("the condition of the reactive rule for %s: %s", rule.behavior, refused)
+            return False
         except Exception:
             logger.exception("the condition of the reactive rule for %s failed", rule.behavior)
             return False

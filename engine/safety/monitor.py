@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from aeroexec.beliefs import Conjunction, format_term
+from aeroexec.beliefs import Conjunction, EvaluationRefused, format_term
 from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.safety_rules import ALWAYS, LAND, WITHIN, Contingency, SafetyRule
 from aeroexec.engine.safety.compliance import SafetyStatus
@@ -284,6 +284,9 @@ class SafetyMonitor:
                 evidence = found if found is not None else (memory.query(goal_literals(condition)) or {})
                 return found is not None, [], evidence
             return plan.verdict(plan.solve(memory), now, self.odometers.reading)
+        except EvaluationRefused as refused:  # rules past the bound of a step: one line, asked again soon
+            logger.warning("a safety condition could not be evaluated now: %s: %s", condition.text, refused)
+            return False, [(TIME, now + 0.5)], {}
         except Exception:
             logger.exception("a safety condition failed to evaluate: %s", condition.text)
             return False, [(TIME, now + 0.5)], {}

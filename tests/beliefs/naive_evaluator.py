@@ -56,3 +56,24 @@ def solve(literals, facts, bindings=None):
 
 def facts_of(memory):
     return [Struct(b.name, b.args) for b in memory]
+
+
+def derive(rules, facts, level_of):
+    """Every fact ``rules`` derive from ``facts`` (a list of :class:`Struct`), bottom-up and naively: level by level
+    (``level_of``: a derived predicate's level; a rule negates only lower ones), each level's rules applied to
+    everything known until nothing new comes."""
+    known = list(facts)
+    seen = set(known)
+    for level in sorted(set(level_of.values())):
+        group = [rule for rule in rules if level_of[rule.head.name] == level]
+        changed = True
+        while changed:
+            changed = False
+            for rule in group:
+                for bindings in list(solve(list(rule.body.literals), known)):
+                    fact = substitute(rule.head, bindings)
+                    if fact not in seen:
+                        seen.add(fact)
+                        known.append(fact)
+                        changed = True
+    return known

@@ -26,6 +26,7 @@ class Program:
     rules: list[tuple[str, str]] = field(default_factory=list)  # (aeroexec text, prolog text)
     facts: list[tuple[str, tuple]] = field(default_factory=list)
     changes: list[tuple[bool, str, tuple]] = field(default_factory=list)  # (added?, predicate, row)
+    levels: dict[str, int] = field(default_factory=dict)  # derived predicate -> its level (negates only lower ones)
 
     def prefix(self, name: str) -> str:
         return f"g{self.number}_{name}"
@@ -39,16 +40,24 @@ def _fmt(value) -> str:
     return str(value)
 
 
-def generate(number: int, rng: random.Random) -> Program:
-    stored = {f"e{i}": tuple(rng.choice("ai") for _ in range(rng.randint(1, 3))) for i in range(rng.randint(2, 4))}
+def _call(name: str, args: list[str]) -> str:
+    """``name(a, b)``, or ``name`` alone for a predicate without arguments (Prolog's ``p()`` is not ``p``)."""
+    return f"{name}({', '.join(args)})" if args else name
+
+
+def generate(number: int, rng: random.Random, nullary: bool = False) -> Program:
+    """Program ``number``; ``nullary``: predicates without arguments too (``d1 :- e0(?X, zzz).``, ``d4 :- not(d1).``),
+    drawn from ``rng`` only then, so the programs of a seed stay the same without it."""
+    low = 0 if nullary else 1
+    stored = {f"e{i}": tuple(rng.choice("ai") for _ in range(rng.randint(low, 3))) for i in range(rng.randint(2, 4))}
     levels = rng.randint(1, 3)
     derived: dict[str, tuple[str, ...]] = {}
     level_of: dict[str, int] = {}
     for i in range(rng.randint(2, 5)):
         name = f"p{i}"
-        derived[name] = tuple(rng.choice("ai") for _ in range(rng.randint(0, 3) or 1))
+        derived[name] = tuple(rng.choice("ai") for _ in range(rng.randint(0, 3) or (0 if nullary else 1)))
         level_of[name] = min(levels - 1, i * levels // 5)
-    program = Program(number, stored, derived)
+    program = Program(number, stored, derived, levels=level_of)
     for name in derived:
         for _ in range(rng.randint(1, 3)):
             rule = _rule(program, name, level_of, rng)
@@ -104,8 +113,8 @@ def _rule(program: Program, head: str, level_of: dict[str, int], rng: random.Ran
     for _ in range(rng.randint(1, 3)):
         name = rng.choice(positive)
         args = [argument(t, True) for t in types[name]]
-        ours.append(f"{name}({', '.join(a for a, _ in args)})")
-        theirs.append(f"{program.prefix(name)}({', '.join(b for _, b in args)})")
+        ours.append(_call(name, [a for a, _ in args]))
+        theirs.append(_call(program.prefix(name), [b for _, b in args]))
     if rng.random() < 0.4:  # a comparison
         ints = [v for v, t in variables.items() if t == "i"]
         anything = list(variables)
@@ -127,7 +136,8 @@ def _rule(program: Program, head: str, level_of: dict[str, int], rng: random.Ran
                 other = _fmt(_value(variables[a], rng))
                 ours.append(f"?{a} {op} {other}")
             theirs.append(f"{a} {_PROLOG_EQUALITY[op]} {other}")
-    if rng.random() < 0.45 and variables:  # a negation of a stored or lower derived predicate
+    # a negation of a stored or lower derived predicate
+    if rng.random() < 0.45 and (variables or any(not types[n] for n in negative)):
         name = rng.choice(negative)
         args = []
         for t in types[name]:
@@ -141,8 +151,8 @@ def _rule(program: Program, head: str, level_of: dict[str, int], rng: random.Ran
                 args.append((value, value))
             else:
                 args.append(("?", "_"))
-        ours.append(f"not({name}({', '.join(a for a, _ in args)}))")
-        call = f"{program.prefix(name)}({', '.join(b for _, b in args)})"
+        ours.append(f"not({_call(name, [a for a, _ in args])})")
+        call = _call(program.prefix(name), [b for _, b in args])
         tabled = name in program.derived and all(b != "_" for _, b in args)
         theirs.append(f"tnot({call})" if tabled else f"\\+ {call}")
     head_args = []
@@ -154,8 +164,8 @@ def _rule(program: Program, head: str, level_of: dict[str, int], rng: random.Ran
         else:
             value = _fmt(_value(t, rng))
             head_args.append((value, value))
-    ours_text = f"{head}({', '.join(a for a, _ in head_args)}) :- {', '.join(ours)}."
-    theirs_text = f"{program.prefix(head)}({', '.join(b for _, b in head_args)}) :- {', '.join(theirs)}."
+    ours_text = f"{_call(head, [a for a, _ in head_args])} :- {', '.join(ours)}."
+    theirs_text = f"{_call(program.prefix(head), [b for _, b in head_args])} :- {', '.join(theirs)}."
     return ours_text, theirs_text
 
 
@@ -168,11 +178,11 @@ def prolog(programs: list[Program]) -> str:
         for name, types in program.derived.items():
             out.append(f":- table {program.prefix(name)}/{len(types)}.")
         for name, row in program.facts:
-            out.append(f"{program.prefix(name)}({', '.join(map(_fmt, row))}).")
+            out.append(f"{_call(program.prefix(name), list(map(_fmt, row)))}.")
         for _, theirs in program.rules:
             out.append(theirs)
         for name, types in program.derived.items():  # a derived predicate without a rule that applies is empty
-            out.append(f"{program.prefix(name)}({', '.join('_' for _ in types)}) :- fail.")
+            out.append(f"{_call(program.prefix(name), ['_' for _ in types])} :- fail.")
     out.append("show(N, Phase, Name, Arity, Pred) :- length(Args, Arity), Goal =.. [Pred|Args],")
     out.append("    findall(Args, Goal, All), sort(All, Sorted),")
     out.append("    forall(member(A, Sorted), (atomic_list_concat(A, ',', Text), format('~w ~w ~w ~w~n', "
@@ -184,7 +194,7 @@ def prolog(programs: list[Program]) -> str:
                 out.append(f"    show({program.number}, {phase}, {name}, {len(types)}, {program.prefix(name)}),")
             if phase == 0:
                 for added, name, row in program.changes:
-                    fact = f"{program.prefix(name)}({', '.join(map(_fmt, row))})"
+                    fact = _call(program.prefix(name), list(map(_fmt, row)))
                     out.append(f"    {'assertz' if added else 'retract'}({fact}),")
                 out.append("    abolish_all_tables,")
     out.append("    true.")

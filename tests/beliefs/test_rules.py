@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
-from aeroexec.beliefs import BeliefMemory, RuleError, Struct, parse_rules
+from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, Struct, parse_rules
 from aeroexec.beliefs.rules import joins
 
 ZONES = """% where a drone may land
@@ -113,6 +115,10 @@ def test_aliases_and_spellings_apply_inside_rules():
                                                        "next(?X, ?Y). could derive beliefs without end"),
     ("n(?X) :- q(?X).\nn((?X, 1)) :- n(?X), q(?X).", "its head builds the new term (?X, 1)"),
     ("p(?X) :- q(?X)\nq(?X) :- r(?X).", "rules.pl:2:1: The format of the rule"),
+    ("q(a).\ncode(m1, 1e400).", "rules.pl:2: The value 1e400 of code(m1, 1e400). is not correct (a finite number "
+                                "is expected)"),
+    ("p(?X) :- q(?X), pair(?X, ?V), ?V < -1e999.", "rules.pl:1: The value -1e999 of p(?X) :- q(?X), pair(?X, ?V), "
+                                                   "?V < -1e999. is not correct (a finite number is expected)"),
 ])
 def test_each_mistake_is_told_with_its_line(rules, message):
     memory = BeliefMemory(predicates={"q": 1, "r": 1, "charge": 2, "pair": 2})
@@ -148,3 +154,28 @@ def test_a_derived_predicate_may_also_hold_beliefs_told_by_others(memory):
     assert str(memory.why("safe_zone(z7)")[0]) == "safe_zone(z7)  <- a belief"
     memory.remove("safe_zone(z7)")
     assert answers(memory, "safe_zone(?Z)") == [("z1",)]
+
+
+def test_a_number_beyond_a_float_is_a_wrong_value_as_a_belief_too():
+    memory = BeliefMemory()
+    with pytest.raises(BeliefError, match="the value 1e400 is not correct \\(a finite number is expected\\)"):
+        memory.add("code(m1, 1e400)")
+    memory.add("code(m1, 1e308)")
+    assert memory.query_all("code(m1, ?V)") == [{"?V": 1e308}]
+
+
+def test_rules_longer_than_the_limit_are_refused_with_the_readme_words(tmp_path):
+    from aeroexec.beliefs import read_rules
+    from aeroexec.beliefs.parser import MAX_RULES_LENGTH
+    assert MAX_RULES_LENGTH == 2_000_000  # the README's limits table says so
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    assert "| 2,000,000 characters | `file: the rules are N characters, more than the limit of 2,000,000` |" in readme
+    path = tmp_path / "big.rules"
+    comment = "% " + "x" * 97 + "\n"  # 100 characters a line: a file of comments is read quickly
+    text = comment * (MAX_RULES_LENGTH // len(comment) - 1) + "zone(z1).\n".ljust(100, " ")
+    path.write_text(text)
+    assert len(text) == MAX_RULES_LENGTH and [str(r) for r in read_rules(path)] == ["zone(z1)."]
+    path.write_text(text + "z.")
+    with pytest.raises(RuleError) as caught:
+        read_rules(path)
+    assert str(caught.value) == f"{path}: the rules are 2,000,002 characters, more than the limit of 2,000,000"

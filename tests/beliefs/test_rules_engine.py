@@ -137,3 +137,53 @@ def test_a_tree_adds_rules_with_an_add_rule_node(tmp_path, capsys):
     assert main(["verify", str(mission)]) == 1
     assert (f"{mission}:4: error: WRONG_FORMAT: AddRule: The rule landing_pad(?P, ?X, ?Y) :- pad(?P, (?X, ?Y)), "
             "not(blocked(?Q)). is not safe: ?Q appears only in a negation") in capsys.readouterr().out
+
+
+CHECK = """<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <TAKE_OFF ALTITUDE="3"/>
+      <CheckBelief belief="{belief}"/>
+      <LAND/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def readme_rules() -> str:
+    """The rules example of the README's "Rules: derived beliefs" section, as written there."""
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("## Rules: derived beliefs"):]
+    return section[section.index("```prolog\n") + len("```prolog\n"):section.index("```\n", section.index("```prolog"))]
+
+
+def test_the_readme_rules_example_is_verified_and_flown_as_written(tmp_path, capsys):
+    rules = tmp_path / "zones.rules"
+    rules.write_text(readme_rules())
+    assert "zone(z1)." in rules.read_text() and "safe_zone(?Z) :- zone(?Z)" in rules.read_text()
+    mission = tmp_path / "zones.xml"
+    mission.write_text(CHECK.format(belief="safe_zone(z1), not(safe_zone(z2)), reachable(wp1, wp2)"))
+    assert main(["verify", str(mission), "--rules", str(rules)]) == 0
+    assert "ready to fly" in capsys.readouterr().out
+    assert main(["run", str(mission), "--rules", str(rules), "--plain", "--output", str(tmp_path / "out")]) == 0
+    assert "run_ended: completed" in capsys.readouterr().out
+    rules.write_text("zone(z1).\nsafe_zone(?Z) :- zone(?Z).\nzone(z2, big).\n")
+    assert main(["verify", str(mission), "--rules", str(rules)]) == 1
+    assert capsys.readouterr().out.splitlines()[0] == (
+        f"{rules}:3: The predicate zone/2 of the fact zone(z2, big). does not exist (zone takes 1 argument)")
+    rules.write_text("object(a).\nsafe_zone(?Z) :- zone(?Z).\nzone(z1).\n")
+    assert main(["verify", str(mission), "--rules", str(rules)]) == 1
+    assert (f"{rules}:1: The predicate object/1 of the fact object(a). does not exist (object takes 2 arguments)"
+            in capsys.readouterr().out)
+
+
+def test_a_negated_predicate_without_arguments_is_asked_in_flight(tmp_path, capsys):
+    rules = tmp_path / "d.rules"
+    rules.write_text("d1 :- object(?C, zzz).\nd4 :- not(d1).\n")
+    mission = tmp_path / "d.xml"
+    mission.write_text(CHECK.format(belief="d4"))
+    assert main(["verify", str(mission), "--rules", str(rules)]) == 0
+    assert main(["run", str(mission), "--rules", str(rules), "--plain", "--output", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "run_ended: completed" in out and "itemgetter" not in out
