@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.cli.main import main
+from aeroexec.engine.catalog import default_catalog, engine_behaviors
 from aeroexec.engine.catalog.contingencies import BUILT_IN, contingency_kinds
 
 from aeroexec.plugins import installed
@@ -175,3 +176,11 @@ def test_the_readme_lists_the_contingencies_of_the_table():
     table = text.split("<!-- contingencies -->\n")[1].split("\n\n")[0]
     rows = re.findall(r"^\| `([^`]+)` \| (.+?) \|$", table, re.M)
     assert rows == [(kind.syntax, kind.description) for kind in BUILT_IN]
+
+
+def test_the_behaviors_the_engine_requests_by_itself_are_the_aerial_catalogs():
+    """A contingency flies, hovers and lands by the names in engine_behaviors.py: each is a behavior of the
+    catalog, or a hold would be refused in flight and the drone would land instead."""
+    catalog = default_catalog()
+    missing = [name for name in engine_behaviors.__all__ if getattr(engine_behaviors, name) not in catalog]
+    assert not missing, f"not in the aerial catalog: {missing}"
