@@ -114,7 +114,7 @@ class ContingencyKind:
     def parse(self, arguments: list[str], names: ContingencyNames) -> Contingency | str:
         """The contingency of ``arguments`` (the words after the name), or what is wrong with them, in words."""
         if arguments:
-            return f"{self.name} takes no argument (not {' '.join(arguments)!r})"
+            return f"the contingency {self.name} takes no argument (not {' '.join(arguments)!r})"
         return Contingency(self.name)
 
     def label(self, contingency: Contingency) -> str:
@@ -161,7 +161,7 @@ class Return(ContingencyKind):
             return Contingency(self.name)
         if [a.lower() for a in arguments] == ["home"]:
             return Contingency(self.name, home=True)
-        return f"return takes nothing or home (not {' '.join(arguments)!r})"
+        return f"the contingency return takes nothing or home (not {' '.join(arguments)!r})"
 
     def label(self, contingency: Contingency) -> str:
         return "return home" if contingency.home else "return"
@@ -197,7 +197,8 @@ class _HandOver(ContingencyKind):
 
     def parse(self, arguments: list[str], names: ContingencyNames) -> Contingency | str:
         if len(arguments) != 1:
-            return f"{self.syntax} names one {self.what} (not {' '.join(arguments) or 'none'})"
+            given = f", not {' '.join(arguments)!r}" if arguments else ""
+            return f"the contingency {self.name} takes the name of one {self.what} ({self.syntax}{given})"
         known = self._known(names)
         if known is not None and arguments[0] not in known:
             return (f"the contingency names the {self.what} {arguments[0]}, which the mission does not have"

@@ -15,6 +15,7 @@ import pytest
 from aeroexec.cli.main import main
 from aeroexec.engine.catalog import default_catalog, engine_behaviors
 from aeroexec.engine.catalog.contingencies import BUILT_IN, contingency_kinds
+from aeroexec.engine.catalog.safety_rules import read_safety_rules_text, rule_vocabulary
 
 from aeroexec.plugins import installed
 
@@ -149,6 +150,23 @@ def test_a_contingency_that_fails_lands_the_drone_and_says_why(toy_contingency, 
     landing = next(i for i, r in enumerate(records) if r["kind"] == "activated" and r.get("behavior") == "LAND")
     assert records[landing]["data"]["source"] == "safety", "the contingency's own landing, not the run's end"
     assert kinds.index("safety_violated") < kinds.index("mission_completed") and "drone_landed" in kinds
+
+
+@pytest.mark.parametrize("contingency, words", [
+    ("retrun home", "unknown contingency 'retrun home' (did you mean return?) (one of hold, return [home], land, "
+                    "subtree ID, call FUNCTION)"),
+    ("hold here", "the contingency hold takes no argument (not 'here')"),
+    ("return away", "the contingency return takes nothing or home (not 'away')"),
+    ("subtree", "the contingency subtree takes the name of one subtree (subtree ID)"),
+    ("subtree Dock", "the contingency names the subtree Dock, which the mission does not have"),
+    ("call go home", "the contingency call takes the name of one mission function (call FUNCTION, not 'go home')"),
+], ids=["unknown", "hold", "return", "subtree", "no such subtree", "call"])
+def test_a_built_in_contingency_with_wrong_arguments_is_refused_at_its_line(contingency, words):
+    found = read_safety_rules_text(RULES.format(contingency=contingency), "field.yaml", rule_vocabulary(
+        {"position": 2}), subtrees=["Main"], functions=["go_home"])
+    assert not found.rules
+    assert [(p.file, p.line, p.message) for p in found.problems] == [
+        ("field.yaml", 4, f"safety rule fence: {words}")]
 
 
 def test_a_plugin_cannot_replace_a_built_in_contingency(tmp_path, monkeypatch):
