@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.drones import geodesy
+from aeroexec.engine.catalog.contingencies import contingency_syntax
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.engine.robots import robot_kind_hint
@@ -50,7 +51,8 @@ def add_safety_rules_argument(parser: argparse.ArgumentParser) -> None:
     """``--safety-rules FILE``: safety rules to watch besides the catalog's and the mission's (run and verify)."""
     parser.add_argument("--safety-rules", action="append", default=[], metavar="FILE",
                         help="safety rules (YAML) to check before flight and watch in flight, besides the catalog's "
-                             "and the mission's own (repeatable)")
+                             f"and the mission's own (repeatable); a rule's contingency is one of: "
+                             f"{contingency_syntax()}")
 
 
 def parse_home(text: str) -> tuple[float, float, float | None]:

@@ -17,17 +17,17 @@ others. Providers are found by name, never imported by the engine's core:
 
 from __future__ import annotations
 
-import functools
 import importlib
 import logging
 from collections.abc import Iterable, Mapping
-from importlib.metadata import EntryPoints, entry_points
 from typing import Any
 
 from aeroexec.beliefs import BeliefUpdater
 from aeroexec.drones import Drone
 from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.resources import ProcessRegistry
+
+from aeroexec.plugins import plugins as _plugins
 
 logger = logging.getLogger(__name__)
 
@@ -92,24 +92,6 @@ def processes_of(provider: Any, origin: str) -> dict[str, Any]:
     if isinstance(produced, Mapping):
         return dict(produced)
     raise LibraryError(f"{origin} gives no processes (a ProcessRegistry or a mapping of names is expected)")
-
-
-@functools.cache
-def _installed() -> EntryPoints:
-    """Every installed package's entry points, read once a process: reading them scans every installed package
-    (~5 ms each time), and a flight asks for four groups (behaviors, processes, updaters, drones)."""
-    return entry_points()
-
-
-def _plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
-    """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``."""
-    found = []
-    for point in sorted(_installed().select(group=group), key=lambda p: p.name):
-        try:
-            found.append((point.name if named else f"entry point {point.name} = {point.value}", point.load()))
-        except Exception as exc:  # a broken plugin is reported, never takes the engine down
-            logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, point.name, point.value, exc)
-    return found
 
 
 def default_library(extra: Iterable[str] = ()) -> BehaviorLibrary:

@@ -1,9 +1,10 @@
 """The end of a flight: reach the drone again if its link is down (for a grace time, while the autopilot's own
 failsafe acts), land it if it is in the air, confirm it disarmed, and say what went wrong.
 
-A safety rule's ``hold`` or ``return`` in effect when the mission ends is never undone by the end: the drone first
-finishes the contingency's flight (to where the rule last held, or to the return point), then a hold lands where
-it holds and a return lands where it returned.
+A safety rule's contingency in effect when the mission ends that the table of contingencies says to finish first
+(``hold``, ``return``: ``finish_before_landing``) is never undone by the end: the drone first finishes the
+contingency's flight (to where the rule last held, or to the return point), then a hold lands where it holds and a
+return lands where it returned.
 
 :class:`FlightEnding` does this one engine period at a time, so one run (:func:`end_flight`) and a fleet of
 drones in lockstep end their flights the same way. A run whose link was lost in flight, whose final landing
@@ -17,7 +18,7 @@ import logging
 from typing import Any
 
 from aeroexec.drones import Drone, LandedState
-from aeroexec.engine.catalog.safety_rules import HOLD, RETURN
+from aeroexec.engine.catalog.contingencies import contingency_kinds
 from aeroexec.engine.supervision.supervisor import LAND_BEHAVIOR, LANDING_TIMEOUT, is_flying, start_landing
 from aeroexec.flight.spec import LINK_GRACE
 
@@ -112,7 +113,7 @@ class FlightEnding:
                     self._held = True
                     engine.log.record("ending_held", detail=f"the mission ended while safety rule {rule.name} "
                                                             f"({rule.contingency}) is in effect: the drone finishes it "
-                                                            f"and lands where it {_WHERE[rule.contingency.kind]}",
+                                                            f"and lands where it {_lands_where(rule)}",
                                       rule=rule.name, contingency=str(rule.contingency))
                 if contingency_flight(engine) is not None:
                     return  # still flying to where the rule holds it (its own timeout bounds the wait)
@@ -120,7 +121,7 @@ class FlightEnding:
             self._since = engine.now()  # the landing's time from now, after a contingency's flight
             start_landing(engine, self.reason if rule is None else
                           f"the mission ended; safety rule {rule.name} ({rule.contingency}): landing where it "
-                          f"{_WHERE[rule.contingency.kind]}")
+                          f"{_lands_where(rule)}")
             return
         still = landing or (is_flying(engine) and engine.drone.telemetry().landed_state is LandedState.LANDING)
         if still and self._elapsed() < self.landing_timeout:
@@ -159,14 +160,19 @@ class FlightEnding:
             self._enter(DONE)
 
 
-_WHERE = {HOLD: "holds", RETURN: "returned"}
+def _lands_where(rule: Any) -> str:
+    """Where the drone lands once ``rule``'s contingency is finished, in words: "holds", "returned"."""
+    kind = contingency_kinds().get(rule.contingency.kind)
+    return kind.lands_where if kind is not None and kind.lands_where else "is"
 
 
 def contingency_in_effect(engine: Any) -> Any:
-    """The safety rule whose ``hold`` or ``return`` is in effect (None when none is)."""
+    """The safety rule in effect whose contingency the end of the mission finishes before landing (a ``hold``, a
+    ``return``: the table's ``finish_before_landing``); None when none is."""
     safety = getattr(engine, "safety", None)
     rule = safety.contingencies.active if safety is not None else None
-    return rule if rule is not None and rule.contingency.kind in (HOLD, RETURN) else None
+    kind = contingency_kinds().get(rule.contingency.kind) if rule is not None else None
+    return rule if kind is not None and kind.finish_before_landing else None
 
 
 def contingency_flight(engine: Any) -> Any:

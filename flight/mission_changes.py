@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from aeroexec.engine.catalog.contingencies import Call, Subtree
 from aeroexec.engine.errors import WRONG_SEQUENCE, Problem
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.missions.bridge import MissionPreempted
@@ -267,7 +268,7 @@ def contingency_handlers(session: Any) -> dict[str, Callable[[str, Any], bool]]:
         session.engine.bridge.preempt(MissionPreempted(function, f"safety rule {rule.name}: call {name}"))
         return True
 
-    return {"subtree": subtree, "call": call}
+    return {Subtree.name: subtree, Call.name: call}
 
 
 def _flying(engine: Any) -> bool:

@@ -1,12 +1,13 @@
 """Safety rules as the operator writes them: a condition in the belief language, a temporal form (``always``,
 ``never``, ``within T s after`` a trigger), a contingency (``hold``, ``return``, ``land``, a named subtree or
-mission function) and a priority; read from a YAML list with the file and line of every problem.
+mission function, or a plugin's: each read by its entry in :mod:`aeroexec.engine.catalog.contingencies`) and a
+priority; read from a YAML list with the file and line of every problem.
 
 One rule is one YAML record::
 
     - rule: return_margin                     # its name, in events and reports
       always: return_margin(self, ?m), ?m >= 20
-      contingency: return                     # hold | return | return home | land | subtree ID | call FUNCTION
+      contingency: return                     # hold | return [home] | land | subtree ID | call FUNCTION
       priority: 10                            # higher wins when several are broken at once (default 0)
     - rule: link_loss
       within: 30                              # seconds
@@ -26,28 +27,12 @@ from dataclasses import dataclass, field
 
 import yaml
 from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
+from aeroexec.engine.catalog.contingencies import Contingency, ContingencyNames, contingency_syntax, parse_contingency
 from aeroexec.engine.errors import Problem
-from aeroexec.engine.yaml_nodes import NodeReader, suggestion
+from aeroexec.engine.yaml_nodes import NodeReader
 
 ALWAYS, NEVER, WITHIN = "always", "never", "within"
-HOLD, RETURN, LAND, SUBTREE, CALL = "hold", "return", "land", "subtree", "call"
-CONTINGENCIES = (HOLD, RETURN, "return home", LAND, SUBTREE, CALL)
 RULE_KEYS = ("rule", ALWAYS, NEVER, WITHIN, "after", "ensure", "contingency", "priority", "description")
-
-
-@dataclass(frozen=True, slots=True)
-class Contingency:
-    """What the engine does when a rule is broken: ``kind`` is hold, return, land, subtree or call; ``target``
-    the subtree's ID or the function's name; ``home``: a return goes home, not to the nearest rally point."""
-
-    kind: str
-    target: str = ""
-    home: bool = False
-
-    def __str__(self) -> str:
-        if self.target:
-            return f"{self.kind} {self.target}"
-        return "return home" if self.home else self.kind
 
 
 @dataclass(frozen=True)
@@ -189,7 +174,7 @@ def _rule(r: NodeReader, item: yaml.Node, vocabulary: BeliefMemory, subtrees: It
                 r.error(e[key][0], f"safety rule {name}: {key} goes with within, not {form}")
         condition = _condition(r, e[form][1], vocabulary, f"safety rule {name}: {form}")
     if "contingency" not in e:
-        r.error(item, f"safety rule {name} needs the key contingency ({', '.join(CONTINGENCIES)})")
+        r.error(item, f"safety rule {name} needs the key contingency (one of {contingency_syntax()})")
         return None
     contingency = _contingency(r, e["contingency"][1], name, subtrees, functions)
     priority = 0
@@ -214,26 +199,17 @@ def _condition(r: NodeReader, node: yaml.Node, vocabulary: BeliefMemory, what: s
 
 def _contingency(r: NodeReader, node: yaml.Node, rule: str, subtrees: Iterable[str] | None,
                  functions: Iterable[str] | None) -> Contingency | None:
+    """The rule's contingency, read by its entry in the table of contingencies; what is wrong, at its line."""
     text = r.text(node, f"safety rule {rule}: contingency")
     if text is None:
         return None
-    words = text.split()
-    kind = words[0].lower() if words else ""
-    if kind in (HOLD, LAND) and len(words) == 1:
-        return Contingency(kind)
-    if kind == RETURN and (len(words) == 1 or (len(words) == 2 and words[1].lower() == "home")):
-        return Contingency(RETURN, home=len(words) == 2)
-    if kind in (SUBTREE, CALL) and len(words) == 2:
-        names = subtrees if kind == SUBTREE else functions
-        if names is not None and words[1] not in set(names):
-            what = "subtree" if kind == SUBTREE else "mission function"
-            r.error(node, f"safety rule {rule}: the contingency names the {what} {words[1]}, which the mission "
-                          f"does not have{suggestion(words[1], names)}")
-            return None
-        return Contingency(kind, words[1])
-    r.error(node, f"safety rule {rule}: unknown contingency {text!r}{suggestion(kind, CONTINGENCIES)} (one of "
-                  f"hold, return, return home, land, subtree ID, call FUNCTION)")
-    return None
+    names = ContingencyNames(None if subtrees is None else frozenset(subtrees),
+                             None if functions is None else frozenset(functions))
+    found = parse_contingency(text, names)
+    if isinstance(found, str):
+        r.error(node, f"safety rule {rule}: {found}")
+        return None
+    return found
 
 
 def rule_vocabulary(predicates: Mapping[str, int]) -> BeliefMemory:
@@ -241,5 +217,5 @@ def rule_vocabulary(predicates: Mapping[str, int]) -> BeliefMemory:
     return BeliefMemory(predicates=dict(predicates))
 
 
-__all__ = ["ALWAYS", "CALL", "CONTINGENCIES", "HOLD", "LAND", "NEVER", "RETURN", "SUBTREE", "WITHIN", "Contingency",
-           "RuleSet", "SafetyRule", "read_safety_rules", "read_safety_rules_text", "rule_vocabulary"]
+__all__ = ["ALWAYS", "NEVER", "WITHIN", "Contingency", "RuleSet", "SafetyRule", "read_safety_rules",
+           "read_safety_rules_text", "rule_vocabulary"]

@@ -18,6 +18,7 @@ from aeroexec.beliefs import BeliefMemory
 from aeroexec.drones import Drone, Telemetry
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
+from aeroexec.engine.catalog.engine_behaviors import KEEP_HOVERING
 from aeroexec.engine.events import EventLog, Outcome
 
 logger = logging.getLogger(__name__)
@@ -36,7 +37,7 @@ class EngineSettings:
     cruise_speed: float = 5.0  # m/s the travel-time estimate assumes
     climb_rate: float = 1.5  # m/s a take-off climbs at (PX4's MPC_TKO_SPEED): its timeout grows with the altitude
     descent_rate: float = 0.7  # m/s the slowest landing descends at (MPC_LAND_SPEED): LAND's timeout grows with it
-    hold_behavior: str = "KEEP_HOVERING"  # what holds the robot where it is while the operator pauses
+    hold_behavior: str = KEEP_HOVERING  # what holds the robot where it is while the operator pauses
     extra: dict[str, Any] = field(default_factory=dict)
 
 

@@ -18,7 +18,8 @@ from typing import Any
 
 from aeroexec.beliefs import Conjunction, EvaluationRefused, format_term
 from aeroexec.drones.vehicle import VehicleModel
-from aeroexec.engine.catalog.safety_rules import ALWAYS, LAND, WITHIN, Contingency, SafetyRule
+from aeroexec.engine.catalog.contingencies import LAND_CONTINGENCY
+from aeroexec.engine.catalog.safety_rules import ALWAYS, WITHIN, SafetyRule
 from aeroexec.engine.safety.compliance import SafetyStatus
 from aeroexec.engine.safety.contingency import Contingencies
 from aeroexec.engine.safety.odometers import Odometers, floats
@@ -306,8 +307,8 @@ class SafetyMonitor:
 
     def _act(self, watch: _Watch, escalate: bool = False) -> str:
         rule = watch.rule
-        if escalate and rule.contingency.kind != LAND:  # a deadline missed: land
-            rule = replace(rule, contingency=Contingency(LAND))
+        if escalate and rule.contingency != LAND_CONTINGENCY:  # a deadline missed: land
+            rule = replace(rule, contingency=LAND_CONTINGENCY)
         contingencies = self.contingencies
         if not (escalate or contingencies.outranks(rule)):
             return f"the contingency of {contingencies.active.name} stays in effect"

@@ -42,6 +42,7 @@ from typing import Any, Protocol
 
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
+from aeroexec.engine.catalog.engine_behaviors import LAND
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.supervision.changes import (
     CHANGES,
@@ -54,7 +55,7 @@ from aeroexec.engine.supervision.operator import operator_of
 
 logger = logging.getLogger(__name__)
 
-LAND_BEHAVIOR = "LAND"
+LAND_BEHAVIOR = LAND  # the landing that ends a run
 LANDING_TIMEOUT = 180.0  # s of engine time to land after the mission
 COMMANDS = ("pause", "resume", "abort", "suspend", "inhibit", "answer", "add", "remove", "status", "query", "items",
             *CHANGES)

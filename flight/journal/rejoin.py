@@ -23,13 +23,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.drones import LandedState
+from aeroexec.engine.catalog.engine_behaviors import GO_TO_POINT, LAND, TAKE_OFF
 from aeroexec.engine.events import Outcome
 
 logger = logging.getLogger(__name__)
 
 NEAR = 1.0  # m: a drone this close to where the mission left it is there
 KNOWN = 15.0  # s of engine time a vehicle may take to say where it is (landed state; armed when in the air)
-TAKE_OFF, LAND, GO_TO_POINT = "TAKE_OFF", "LAND", "GO_TO_POINT"
 LOWEST, HIGHEST = 0.5, 50.0  # m: the take-off heights the catalog allows
 #: Landed states of a drone in the air (landing too: it is still up there).
 FLYING = (LandedState.IN_AIR.value, LandedState.TAKING_OFF.value, LandedState.LANDING.value)
