@@ -32,7 +32,7 @@ def tree(case: Case) -> str:
 @pytest.mark.parametrize("name", sorted(ONE_FEATURE))
 def test_one_feature_tree_runs_as_in_btcpp(name, tmp_path):
     case = ONE_FEATURE[name]
-    compare(tree(case), case.scripts, case.ticks, tmp_path, case.between, case.blackboard)
+    compare(tree(case), case.scripts, case.ticks, tmp_path, case.between, case.blackboard, case.since_4_10)
 
 
 @pytest.mark.parametrize("name", sorted(LENIENT))
