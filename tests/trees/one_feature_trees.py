@@ -1,5 +1,6 @@
 """The one-feature trees: one small tree per built-in node, port, value conversion and rule of BehaviorTree.CPP v4,
-each run in BT.CPP (behaviortreepy, BT.CPP 4.8.2) and in aeroexec by ``test_btcpp_one_feature``.
+each run in BT.CPP (behaviortreepy, BT.CPP 4.8.2) and in aeroexec by ``test_btcpp_one_feature``. The reference is
+BT.CPP 4.10: where it gives another result than 4.8.2, the case's ``since_4_10`` holds both.
 
 A case is ``(body, scripts, ticks, between, blackboard, subtrees)``: the main tree's body, the scripted leaves'
 statuses (``A``, ``B``... answer theirs in turn), the ticks to compare, the seconds between ticks (timers), the

@@ -1,4 +1,6 @@
-"""BehaviorTree.CPP itself (behaviortreepy embeds BT.CPP 4.8.2) as the judge of aeroexec's tree runtime.
+"""BehaviorTree.CPP itself as the judge of aeroexec's tree runtime. The reference is BT.CPP 4.10; the live oracle is
+behaviortreepy, which embeds 4.8.2: where 4.10 changed a result, the case records 4.8.2's and 4.10's
+(``SINCE_4_10``, ``btcpp_harness.as_4_10``), and the trees only 4.10 runs are checked against 4.10's source.
 
 Every tree runs in both with scripted leaves, and what each tick does to every node (the status it returned,
 a halt, or nothing) is the same, tick after tick; ``btcpp_harness`` says exactly what is compared and why.
