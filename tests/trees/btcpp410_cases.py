@@ -1,0 +1,49 @@
+"""The one-feature set as the cases BehaviorTree.CPP 4.10's traces were recorded from (``data/btcpp410``).
+
+``cases()`` gives each tree as the C++ driver (``data/btcpp410/trace_driver.cpp``) reads it: name, XML, the
+scripted leaves, ticks, seconds between ticks and the blackboard set before the first tick -- the trees of
+``one_feature_trees`` (ONE_FEATURE, LENIENT), ``test_btcpp_parity.HAND_WRITTEN`` and the 4.10-only trees.
+``python btcpp410_cases.py data/btcpp410/cases.json`` writes them (see data/btcpp410/SOURCES.md).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from typing import Any
+
+from one_feature_trees import DATA, LENIENT, ONE_FEATURE
+from test_btcpp_one_feature import ONLY_4_10, tree
+from test_btcpp_parity import BLACKBOARDS, HAND_WRITTEN, SUBTREES
+from test_btcpp_parity import tree as parity_tree
+
+S, F, R = "SUCCESS", "FAILURE", "RUNNING"
+#: The 4.10-only trees' leaves (TryCatch: behaviortreepy's 4.8.2 lacks it)
+_ONLY_4_10_SCRIPTS = {"TryCatch catch_on_halt": ({"A": [R], "B": [S]}, 3),
+                      "TryCatch": ({"A": [S], "B": [R, F], "C": [R, S]}, 5)}
+
+
+def cases() -> list[dict[str, Any]]:
+    out = []
+    for name, case in sorted(ONE_FEATURE.items()):
+        out.append({"name": f"one feature: {name}", "xml": tree(case), "scripts": case.scripts, "ticks": case.ticks,
+                    "between": case.between, "blackboard": case.blackboard or {}})
+    for name, (body, scripts) in sorted(HAND_WRITTEN.items()):
+        out.append({"name": f"hand written: {name}", "xml": parity_tree(body, *SUBTREES.get(name, [])),
+                    "scripts": scripts, "ticks": 8, "between": 0.2 if name in ("Sleep", "Timeout", "Delay") else 0.0,
+                    "blackboard": BLACKBOARDS.get(name) or {}})
+    for name, (scripts, blackboard) in sorted(LENIENT.items()):
+        out.append({"name": f"lenient: {name}", "xml": (DATA / name).read_text(), "scripts": scripts, "ticks": 6,
+                    "between": 0.0, "blackboard": blackboard or {}})
+    bodies = {**ONLY_4_10, "TryCatch": "<TryCatch><A/><B/><C/></TryCatch>"}
+    for name, body in sorted(bodies.items()):
+        scripts, ticks = _ONLY_4_10_SCRIPTS[name]
+        out.append({"name": f"4.10 only: {name}", "xml": parity_tree(body), "scripts": scripts, "ticks": ticks,
+                    "between": 0.0, "blackboard": {}})
+    return out
+
+
+if __name__ == "__main__":
+    with open(sys.argv[1], "w", encoding="utf-8") as file:
+        json.dump(cases(), file, indent=1, sort_keys=True)
+        file.write("\n")
