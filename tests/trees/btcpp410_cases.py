@@ -2,8 +2,8 @@
 
 ``cases()`` gives each tree as the C++ driver (``data/btcpp410/trace_driver.cpp``) reads it: name, XML, the
 scripted leaves, ticks, seconds between ticks and the blackboard set before the first tick -- the trees of
-``one_feature_trees`` (ONE_FEATURE, LENIENT), ``test_btcpp_parity.HAND_WRITTEN`` and the 4.10-only trees.
-``python btcpp410_cases.py data/btcpp410/cases.json`` writes them (see data/btcpp410/SOURCES.md).
+``one_feature_trees`` (ONE_FEATURE, LENIENT), ``test_btcpp_parity.HAND_WRITTEN`` and the 4.10-only trees; ``generated_cases()`` draws trees from the parity
+test's generators. ``python btcpp410_cases.py data/btcpp410/cases.json`` writes both (data/btcpp410/SOURCES.md).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Any
 
 from one_feature_trees import DATA, LENIENT, ONE_FEATURE
 from test_btcpp_one_feature import ONLY_4_10, tree
-from test_btcpp_parity import BLACKBOARDS, HAND_WRITTEN, SUBTREES
+from test_btcpp_parity import BLACKBOARDS, HAND_WRITTEN, SUBTREES, generated, generated_with_conditions
 from test_btcpp_parity import tree as parity_tree
 
 S, F, R = "SUCCESS", "FAILURE", "RUNNING"
@@ -43,7 +43,31 @@ def cases() -> list[dict[str, Any]]:
     return out
 
 
+def generated_cases(plain: int = 120, scripted: int = 80) -> list[dict[str, Any]]:
+    """Trees drawn (derandomized) from the parity test's generators: controls and decorators with edge counts, and
+    trees whose leaves carry pre- and post-conditions, Switch and Precondition on a tick counter. Recorded with their
+    traces: the records hold the trees, so a new hypothesis version draws no other ones for the test."""
+    from hypothesis import HealthCheck, given, settings
+
+    out: list[dict[str, Any]] = []
+    boards = {"plain": {}, "scripted": {"t": 0, "ok": 0, "ko": 0, "all": 0, "halts": 0}}
+    for kind, strategy, count in (("plain", generated(), plain), ("scripted", generated_with_conditions(), scripted)):
+        drawn: list[tuple[str, dict[str, list[str]]]] = []
+
+        @settings(max_examples=count, database=None, derandomize=True, deadline=None,
+                  suppress_health_check=list(HealthCheck))
+        @given(strategy)
+        def collect(case: tuple[str, dict[str, list[str]]]) -> None:
+            if case not in drawn:  # noqa: B023 (run at once, in this iteration)
+                drawn.append(case)  # noqa: B023
+
+        collect()
+        out += [{"name": f"generated {kind} {i}", "xml": xml, "scripts": scripts, "ticks": 8, "between": 0.0,
+                 "blackboard": boards[kind]} for i, (xml, scripts) in enumerate(drawn, 1)]
+    return out
+
+
 if __name__ == "__main__":
     with open(sys.argv[1], "w", encoding="utf-8") as file:
-        json.dump(cases(), file, indent=1, sort_keys=True)
+        json.dump(cases() + generated_cases(), file, indent=1, sort_keys=True)
         file.write("\n")
