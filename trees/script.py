@@ -114,7 +114,7 @@ def _binary(op: str, left: Any, right: Any) -> Any:
                                   "bool") from None
             return float(a and b) if op == "&&" else float(a or b)
         if op in ("&", "|", "^"):
-            if left != int(left) or right != int(right):
+            if not (math.isfinite(left) and math.isfinite(right)) or left != int(left) or right != int(right):
                 raise ScriptError("Binary operators are not allowed if one of the operands is not an integer")
             return float({"&": operator.and_, "|": operator.or_, "^": operator.xor}[op](int(left), int(right)))
         a, b = float(left), float(right)
@@ -135,6 +135,8 @@ def _unary(op: str, value: Any) -> float:
         raise ScriptError("Invalid operator for std::string")
     if not _is_number(value):
         raise ScriptError("ExprUnaryArithmetic: undefined")
+    if op == "~" and not -2.0 ** 63 <= value <= 2.0 ** 63 - 1:  # nan fails both tests
+        raise ScriptError("Number out of range for bitwise operation")
     return float(-value) if op == "-" else float(not value) if op == "!" else float(~int(value))
 
 

@@ -197,6 +197,16 @@ def test_nested_conditionals_without_parentheses_run_as_in_btcpp_4_10(tmp_path):
     assert run.error_at is None and run.blackboard == {"x": "3", "y": "5"}
 
 
+def test_bit_operators_on_an_infinity_throw_as_in_btcpp_4_10_not_crash():
+    """4.10 (operators.hpp): ``|`` on a number that is no int64 throws "Binary operators are not allowed...", ``~``
+    out of int64's range "Number out of range for bitwise operation"; both end the run naming the Script."""
+    for code, message in (("r := (1 / 0) | 1", "Binary operators are not allowed if one of the operands is not an "
+                                                "integer"),
+                          ("r := ~(1 / 0)", "Number out of range for bitwise operation")):
+        run = run_aeroexec(tree(f'<Script code="{code}"/>'), {}, 1)
+        assert run.error_at == 0 and run.error.endswith(message) and "Script" in run.error
+
+
 def test_a_single_behavior_tree_without_id_runs_as_in_btcpp(tmp_path):
     xml = '<root BTCPP_format="4"><BehaviorTree><Sequence><A/><B/></Sequence></BehaviorTree></root>'
     compare(xml, {"A": [S, F], "B": [R, S]}, 6, tmp_path)
