@@ -3,13 +3,14 @@
 ``cases()`` gives each tree as the C++ driver (``data/btcpp410/trace_driver.cpp``) reads it: name, XML, the scripted
 leaves, ticks, seconds between ticks and the blackboard set before the first tick -- the trees of
 ``one_feature_trees`` (ONE_FEATURE, LENIENT), ``test_btcpp_parity.HAND_WRITTEN`` and the 4.10-only trees;
-``generated_cases()`` draws trees from the parity test's generators. ``python btcpp410_cases.py
+``generated_cases()`` draws trees from the parity test's generators, ``generated_scripts()`` script expressions. ``python btcpp410_cases.py
 data/btcpp410/cases.json`` writes both (data/btcpp410/SOURCES.md).
 """
 
 from __future__ import annotations
 
 import json
+import random
 import sys
 from typing import Any
 
@@ -68,7 +69,50 @@ def generated_cases(plain: int = 120, scripted: int = 80) -> list[dict[str, Any]
     return out
 
 
+_OPERATORS = ("+", "-", "*", "/", "..", "&", "|", "^", "&&", "||", "==", "!=", "<", ">", "<=", ">=")
+_OPERANDS = ("1", "2", "0", "3", "2.5", "0.5", "true", "false", "'x'", "'3'", "a", "b", "s", "0x10", "7")
+
+
+def generated_scripts(count: int = 300, seed: int = 44) -> list[dict[str, Any]]:
+    """Script expressions over every operator (binary, prefix ``- ! ~`` repeated, ``?:`` nested, parentheses) on
+    integers, doubles, text, booleans and the entries ``a`` (int), ``b`` (double), ``s`` (text): each tree assigns one
+    to ``r`` in one tick, so the record holds its value or where it threw."""
+    rng = random.Random(seed)
+
+    def atom(depth: int) -> str:
+        pick = rng.random()
+        if depth > 2 or pick < 0.45:
+            return rng.choice(_OPERANDS)
+        if pick < 0.55:
+            return rng.choice(("-", "!", "~", "- -")) + atom(depth + 1)
+        if pick < 0.65:
+            return "(" + expression(depth + 1) + ")"
+        if pick < 0.72:
+            return f"{expression(depth + 1)} ? {expression(depth + 1)} : {expression(depth + 1)}"
+        return expression(depth + 1)
+
+    def expression(depth: int = 0) -> str:
+        text = atom(depth)
+        for _ in range(rng.randint(0, 2)):
+            text += f" {rng.choice(_OPERATORS)} {atom(depth + 1)}"
+        return text
+
+    out: list[dict[str, Any]] = []
+    seen: set[str] = set()
+    while len(out) < count:
+        text = expression()
+        if text in seen:
+            continue
+        seen.add(text)
+        code = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+        xml = parity_tree(f'<Sequence><Script code="a := 3; b := 2.5; s := \'x\'"/><Script code="r := {code}"/>'
+                          "</Sequence>")
+        out.append({"name": f"generated script {len(out) + 1}: {text}", "xml": xml, "scripts": {}, "ticks": 1,
+                    "between": 0.0, "blackboard": {}})
+    return out
+
+
 if __name__ == "__main__":
     with open(sys.argv[1], "w", encoding="utf-8") as file:
-        json.dump(cases() + generated_cases(), file, indent=1, sort_keys=True)
+        json.dump(cases() + generated_cases() + generated_scripts(), file, indent=1, sort_keys=True)
         file.write("\n")
