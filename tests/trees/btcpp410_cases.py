@@ -3,8 +3,8 @@
 ``cases()`` gives each tree as the C++ driver (``data/btcpp410/trace_driver.cpp``) reads it: name, XML, the scripted
 leaves, ticks, seconds between ticks and the blackboard set before the first tick -- the trees of
 ``one_feature_trees`` (ONE_FEATURE, LENIENT), ``test_btcpp_parity.HAND_WRITTEN`` and the 4.10-only trees;
-``generated_cases()`` draws trees from the parity test's generators, ``generated_scripts()`` script expressions. ``python btcpp410_cases.py
-data/btcpp410/cases.json`` writes both (data/btcpp410/SOURCES.md).
+``generated_cases()`` draws trees from the parity test's generators, ``generated_scripts()`` script expressions.
+``python btcpp410_cases.py data/btcpp410/cases.json`` writes both (data/btcpp410/SOURCES.md).
 """
 
 from __future__ import annotations
