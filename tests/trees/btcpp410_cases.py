@@ -3,8 +3,9 @@
 ``cases()`` gives each tree as the C++ driver (``data/btcpp410/trace_driver.cpp``) reads it: name, XML, the scripted
 leaves, ticks, seconds between ticks and the blackboard set before the first tick -- the trees of
 ``one_feature_trees`` (ONE_FEATURE, LENIENT), ``test_btcpp_parity.HAND_WRITTEN`` and the 4.10-only trees;
-``generated_cases()`` draws trees from the parity test's generators, ``generated_scripts()`` script expressions.
-``python btcpp410_cases.py data/btcpp410/cases.json`` writes both (data/btcpp410/SOURCES.md).
+``generated_cases()`` draws trees from the parity test's generators, ``generated_scripts()`` script expressions,
+``generated_remaps()`` SubTrees three levels deep. ``python btcpp410_cases.py data/btcpp410/cases.json`` writes both
+(data/btcpp410/SOURCES.md).
 """
 
 from __future__ import annotations
@@ -112,7 +113,37 @@ def generated_scripts(count: int = 300, seed: int = 44) -> list[dict[str, Any]]:
     return out
 
 
+def generated_remaps(count: int = 80, seed: int = 3) -> list[dict[str, Any]]:
+    """SubTrees three levels deep, each passing ports down by ``{key}`` remaps, ``{=}``, literals (numbers and text)
+    or ``_autoremap``, with scripts at each level reading and writing remapped, literal, ``_private`` and
+    ``@root`` keys: the record holds the root blackboard after two ticks, or where a read threw."""
+    rng = random.Random(seed)
+    writes = ("x := 4", "y := 2.5", "z := 'q'", "_p := 1", "@top := 7", "v := 2", "w := 1", "w := x .. y",
+              "n := @top", "m := _p", "k := x + 1")
+
+    def ports() -> str:
+        chosen = [rng.choice(('x="{x}"', 'x="{a}"', 'x="{=}"', 'x="3"', 'x="2.5"', "")),
+                  rng.choice(('y="{y}"', 'y="{b}"', 'y="4"', "")), rng.choice(('z="{z}"', 'z="t"', 'z="{=}"', "")),
+                  rng.choice(('_autoremap="true"', "", ""))]
+        return " ".join(p for p in chosen if p)
+
+    out = []
+    for index in range(1, count + 1):
+        levels = []
+        for level in range(1, 4):
+            script = "; ".join(rng.sample(writes, rng.randint(1, 3)))
+            inner = f'<SubTree ID="L{level + 1}" {ports()}/>' if level < 3 else "<A/>"
+            levels.append(f'<BehaviorTree ID="L{level}"><Sequence><Script code="{script}"/>{inner}</Sequence>'
+                          "</BehaviorTree>")
+        xml = parity_tree(f'<Sequence><Script code="a := 1; b := 2; x := 5; y := 6; z := \'s\'"/>'
+                          f'<SubTree ID="L1" {ports()}/></Sequence>', *levels)
+        out.append({"name": f"generated remap {index}", "xml": xml, "scripts": {"A": [S]}, "ticks": 2,
+                    "between": 0.0, "blackboard": {}})
+    return out
+
+
 if __name__ == "__main__":
     with open(sys.argv[1], "w", encoding="utf-8") as file:
-        json.dump(cases() + generated_cases() + generated_scripts(), file, indent=1, sort_keys=True)
+        everything = cases() + generated_cases() + generated_scripts() + generated_remaps()
+        json.dump(everything, file, indent=1, sort_keys=True)
         file.write("\n")

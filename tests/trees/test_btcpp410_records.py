@@ -1,9 +1,9 @@
-"""aeroexec against BehaviorTree.CPP 4.10's own traces of the one-feature set, of 182 generated trees and 300 script
-expressions, recorded from 4.10 built from its source (``data/btcpp410``: the driver, the cases, the traces, and in
-SOURCES.md the commit and the commands). CI cannot fetch or build BT.CPP: the records are the reference there. Every
-recorded case runs in aeroexec and is the same tick for tick (roots, every node, halts, where it stopped on an
-error, the readable blackboard), except the differences aeroexec keeps on purpose (``DELIBERATE``), each of which
-must still differ so the list stays true.
+"""aeroexec against BehaviorTree.CPP 4.10's own traces of the one-feature set, of 182 generated trees, 300 script
+expressions and 80 SubTree trees three levels deep, recorded from 4.10 built from its source (``data/btcpp410``: the
+driver, the cases, the traces, and in SOURCES.md the commit and the commands). CI cannot fetch or build BT.CPP: the
+records are the reference there. Every recorded case runs in aeroexec and is the same tick for tick (roots, every
+node, halts, where it stopped on an error, the readable blackboard), except the differences aeroexec keeps on
+purpose (``DELIBERATE``), each of which must still differ so the list stays true.
 """
 
 from __future__ import annotations
