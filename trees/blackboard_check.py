@@ -47,7 +47,7 @@ class _Scope:
             return id(root), key[1:]
         if key in self.remap and self.parent is not None:
             return self.parent.resolve(self.remap[key])
-        if key in self.literals or not self.autoremap or self.parent is None:
+        if key in self.literals or not self.autoremap or self.parent is None or key[:1] == "_":  # private
             return id(self), key
         return self.parent.resolve(key)
 

@@ -2,12 +2,12 @@
 
 ``compile_script(text)`` returns a :class:`Script`; ``script.run(blackboard, beliefs)`` runs its statements and
 returns the last one's value. Values are as in BT.CPP: numbers (integer literals stay integers, arithmetic gives
-floats), strings; ``true``/``false`` are 1/0; comparisons and ``&& || !`` give 1.0/0.0; ``==`` between numbers
-allows a float epsilon. Types are BT.CPP's: arithmetic needs numbers (``'3' + 1`` is refused), a comparison reads a
-string against a number as a number, an entry keeps its type (``n := 1; n = 'abc'`` is refused), a condition is a
-double or the integers 0 and 1. ``:=`` creates a key, ``=`` needs an existing one. ``belief("...")`` (aeroexec's one
-extension, not portable) is 1.0 when the belief expression holds. What fails raises :class:`ScriptError` with
-BT.CPP's message.
+floats), strings; ``true``/``false`` are 1.0/0.0 (BT.CPP 4.10); comparisons and ``&& || !`` give 1.0/0.0; ``==``
+between numbers allows a float epsilon. Types are BT.CPP's: arithmetic needs numbers (``'3' + 1`` is refused), a
+comparison reads a string against a number as a number, an entry keeps its type (``n := 1; n = 'abc'`` is refused),
+a condition is a double or the integers 0 and 1. ``:=`` creates a key, ``=`` needs an existing one.
+``belief("...")`` (aeroexec's one extension, not portable) is 1.0 when the belief expression holds. What fails
+raises :class:`ScriptError` with BT.CPP's message.
 """
 
 from __future__ import annotations
@@ -114,7 +114,7 @@ def _binary(op: str, left: Any, right: Any) -> Any:
                                   "bool") from None
             return float(a and b) if op == "&&" else float(a or b)
         if op in ("&", "|", "^"):
-            if left != int(left) or right != int(right):
+            if not (math.isfinite(left) and math.isfinite(right)) or left != int(left) or right != int(right):
                 raise ScriptError("Binary operators are not allowed if one of the operands is not an integer")
             return float({"&": operator.and_, "|": operator.or_, "^": operator.xor}[op](int(left), int(right)))
         a, b = float(left), float(right)
@@ -135,6 +135,8 @@ def _unary(op: str, value: Any) -> float:
         raise ScriptError("Invalid operator for std::string")
     if not _is_number(value):
         raise ScriptError("ExprUnaryArithmetic: undefined")
+    if op == "~" and not -2.0 ** 63 <= value <= 2.0 ** 63 - 1:  # nan fails both tests
+        raise ScriptError("Number out of range for bitwise operation")
     return float(-value) if op == "-" else float(not value) if op == "!" else float(~int(value))
 
 
@@ -221,6 +223,7 @@ class ScriptCompiler(Transformer):
             if op != ":=" and not has_entry(name):
                 raise ScriptError(f"The blackboard entry [{name}] doesn't exist, yet. If you want to create a new "
                                   "one, use the operator [:=] instead of [=]")
+            created = op == ":=" and not has_entry(name)
             result = value(board, beliefs)
             type_of = getattr(board, "type_of", None)
             result = _assigned(name, op, board.get(name), result, type_of(name) if type_of is not None else None)
@@ -228,6 +231,8 @@ class ScriptCompiler(Transformer):
                 board[name] = result
             except conversions.ConversionError as error:
                 raise ScriptError(f"Error assigning a value to entry [{name}]: {error}") from None
+            if created and hasattr(board, "made_by_script"):
+                board.made_by_script(name)
             return board[name]
 
         return assign
@@ -273,10 +278,10 @@ class ScriptCompiler(Transformer):
         return belief
 
     def true(self, children: list) -> Evaluator:
-        return _constant(1)
+        return _constant(1.0)  # BT.CPP 4.10's Boolean literal is a double (4.8.2's was an integer)
 
     def false(self, children: list) -> Evaluator:
-        return _constant(0)
+        return _constant(0.0)
 
     def string(self, children: list) -> Evaluator:
         return _constant(str(children[0])[1:-1])

@@ -1,5 +1,8 @@
 """Run one XML tree in BehaviorTree.CPP (through behaviortreepy) and in aeroexec's runtime, tick by tick.
 
+The reference is BT.CPP 4.10; behaviortreepy embeds 4.8.2. Where 4.10 changed a result, the case says so
+(``since_4_10``: 4.8.2's value and 4.10's) and 4.8.2's run is turned into 4.10's before the comparison.
+
 Leaves are scripted: each leaf type named in ``scripts`` answers the statuses of its script in turn (cycling),
 RUNNING included, in both runtimes (in BT.CPP a stateful action when its script has RUNNING, else a condition;
 a py_trees leaf here); BT.CPP's halts are recorded through ``on_halted``. One BT.CPP behaviour is left out on
@@ -383,10 +386,46 @@ def _shown(run: Run, unreadable: set[str]) -> tuple:
     return run.roots, run.ticks, run.halts, run.error_at, board
 
 
+#: What stands for where a run stopped in a ``since_4_10`` record (the other names are blackboard keys).
+ERROR_AT = "<error_at>"
+#: What stands for the whole run, when 4.8.2 stops on an error (the record's old value: where) and 4.10 runs
+RUN = "<run>"
+
+
+@dataclass
+class Expected:
+    """A run as BT.CPP 4.10 gives it, read off its source, where 4.8.2 stops on an error: each tick's root status
+    and node observations, and the final blackboard (no halts)."""
+
+    roots: list[str]
+    ticks: list[list[str]]
+    blackboard: dict[str, str]
+
+
+def as_4_10(theirs: Run, since_4_10: dict[str, tuple[Any, Any]]) -> None:
+    """Turn BT.CPP 4.8.2's run (behaviortreepy) into 4.10's, where 4.10 changed the result: ``since_4_10`` maps a
+    blackboard key (or ``ERROR_AT``) to (what 4.8.2 gives, what 4.10 gives). 4.8.2 must give what the record says,
+    so a record that stopped being true fails the test instead of hiding a difference."""
+    for what, (old, new) in since_4_10.items():
+        seen = theirs.error_at if what in (ERROR_AT, RUN) else theirs.blackboard.get(what)
+        assert seen == old, f"BT.CPP 4.8.2 gives {what} = {seen!r}, the record says {old!r}"
+        if what == RUN:
+            theirs.roots, theirs.ticks, theirs.blackboard = new.roots, new.ticks, dict(new.blackboard)
+            theirs.halts, theirs.error_at, theirs.error = [[] for _ in new.roots], None, ""
+        elif what == ERROR_AT:
+            theirs.error_at = new
+        else:
+            theirs.blackboard[what] = new
+
+
 def compare(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path, between: float = 0.0,
-            blackboard: dict[str, Any] | None = None) -> tuple[Run, Run]:
-    """Both runs; an AssertionError showing both tables when they differ."""
+            blackboard: dict[str, Any] | None = None,
+            since_4_10: dict[str, tuple[Any, Any]] | None = None) -> tuple[Run, Run]:
+    """Both runs; an AssertionError showing both tables when they differ. ``since_4_10``: where BT.CPP 4.10 (the
+    reference) gives another result than the 4.8.2 that behaviortreepy embeds (``as_4_10``)."""
     theirs = run_btcpp(xml, scripts, ticks, folder, between, blackboard)
+    if since_4_10:
+        as_4_10(theirs, since_4_10)
     ours = run_aeroexec(xml, scripts, ticks, between, blackboard)
     if _shown(theirs, theirs.unreadable) != _shown(ours, theirs.unreadable):
         raise AssertionError(f"BehaviorTree.CPP and aeroexec differ on\n{xml}\nscripts {scripts}\n"

@@ -1,5 +1,6 @@
 """The one-feature trees: one small tree per built-in node, port, value conversion and rule of BehaviorTree.CPP v4,
-each run in BT.CPP (behaviortreepy, BT.CPP 4.8.2) and in aeroexec by ``test_btcpp_one_feature``.
+each run in BT.CPP (behaviortreepy, BT.CPP 4.8.2) and in aeroexec by ``test_btcpp_one_feature``. The reference is
+BT.CPP 4.10: where it gives another result than 4.8.2, the case's ``since_4_10`` holds both.
 
 A case is ``(body, scripts, ticks, between, blackboard, subtrees)``: the main tree's body, the scripted leaves'
 statuses (``A``, ``B``... answer theirs in turn), the ticks to compare, the seconds between ticks (timers), the
@@ -14,8 +15,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from btcpp_harness import ERROR_AT, RUN, Expected
+
 S, F, R = "SUCCESS", "FAILURE", "RUNNING"
 DATA = Path(__file__).parent / "data" / "btcpp_tests"
+#: ``x := true`` as BT.CPP 4.10 stores it: its script parser reads ``true`` as the double 1.0 (4.8.2: an integer)
+TRUE_4_10 = "1.000000"
 
 
 class Case(NamedTuple):
@@ -25,6 +30,8 @@ class Case(NamedTuple):
     between: float = 0.0
     blackboard: dict[str, Any] | None = None
     subtrees: tuple[str, ...] = ()
+    #: where BT.CPP 4.10 gives another result than 4.8.2 (``btcpp_harness.as_4_10``): key -> (4.8.2's, 4.10's)
+    since_4_10: dict[str, tuple[Any, Any]] | None = None
 
 
 def _sub(tree_id: str, body: str) -> str:
@@ -227,7 +234,7 @@ CONVERSIONS = {
         "<Sequence><Script code=\"k := 'x'\"/><Repeat num_cycles=\"{k}\"><A/></Repeat></Sequence>", {"A": [S]}),
     "then_skip from a script's true": Case(
         '<Sequence><Script code="k := true"/><RunOnce then_skip="{k}"><A/></RunOnce><B/></Sequence>',
-        {"A": [F], "B": [S]}),
+        {"A": [F], "B": [S]}, since_4_10={"k": ("1", TRUE_4_10)}),
     "msec from a script's negative number throws": Case(
         '<Sequence><Script code="t := -3"/><Timeout msec="{t}"><A/></Timeout></Sequence>', {"A": [S]}),
     "two ports of different types on one entry are refused at load": Case(
@@ -267,7 +274,7 @@ RULES = {
     "SubTree _skipIf (BT.CPP's SkipSubtree test)": Case(
         '<Sequence><A/><Script code=" data:=true "/><SubTree ID="sub" _skipIf="data"/></Sequence>', {"A": [S],
                                                                                                    "B": [S]},
-        subtrees=(_sub("sub", "<B/>"),)),
+        subtrees=(_sub("sub", "<B/>"),), since_4_10={"data": ("1", TRUE_4_10)}),
     "SubTree literal port read as a number": Case(
         '<SubTree ID="Sub" limit="3"/>', {"A": [S], "B": [F]},
         subtrees=(_sub("Sub", '<Fallback><ScriptCondition code="limit &gt; 2"/><B/></Fallback>'),)),
@@ -291,4 +298,37 @@ LENIENT = {
     "subtree_models.xml": ({}, None),
 }
 
-ONE_FEATURE: dict[str, Case] = {**CONTROLS, **DECORATORS, **ACTIONS, **CONVERSIONS, **RULES}
+#: Corners where aeroexec differed from BT.CPP (issue 44), each giving 4.10's result now.
+CORNERS = {
+    "_autoremap keeps a _private key in the subtree": Case(
+        '<Sequence><SubTree ID="Sub" _autoremap="true"/><Script code="seen := q"/></Sequence>', {},
+        subtrees=(_sub("Sub", '<Script code="_p := 1; q := 2"/>'),)),
+    "script prefix operators repeat": Case('<Script code="a := - -3; b := !!1; c := -(-2)"/>', {}),
+    "script .. and + are one level": Case("<Script code=\"x := 'v' .. 1 + 2\"/>", {}, since_4_10={
+        ERROR_AT: (-1, 0)}),  # 4.8.2 refuses it as it loads; 4.10 parses ('v' .. 1) + 2, which throws at the tick
+    "script && binds tighter than ||": Case('<Script code="x := 1 || 0 &amp;&amp; 0; y := 0 &amp;&amp; 0 || 1"/>',
+                                            {}, since_4_10={"x": ("0.000000", "1.000000")}),
+    "script true is a double": Case("<Script code=\"x := 'x' .. true; y := true\"/>", {},
+                                    since_4_10={"x": ("x1", "x1.000000"), "y": ("1", TRUE_4_10)}),
+    "Repeat num_cycles -2 at run time ends at once": Case(
+        '<Sequence><Script code="n := -2"/><Repeat num_cycles="{n}"><A/></Repeat><B/></Sequence>',
+        {"A": [S], "B": [S]}, ticks=2),
+    "RetryUntilSuccessful num_attempts -2 at run time ends at once": Case(
+        '<Sequence><Script code="n := -2"/><RetryUntilSuccessful num_attempts="{n}"><A/></RetryUntilSuccessful>'
+        '</Sequence>', {"A": [F]}, ticks=2),
+    "SetBlackboard text over a script's entry empties it": Case(
+        '<Sequence><Script code="x := 3"/><SetBlackboard output_key="x" value="abc"/><Script code="y := x"/>'
+        '</Sequence>', {}),
+    "SetBlackboard text over an emptied entry throws": Case(
+        '<Sequence><Script code="x := 3"/><SetBlackboard output_key="x" value="abc"/></Sequence>', {}, ticks=2),
+    "XML undefined entity in an attribute is its text": Case("<Script code=\"x := 'a&y;b'\"/>", {}, ticks=1),
+    "XML raw newline and tab in an attribute are kept": Case("<Script code=\"x := 'a\nb\tc'\"/>", {}, ticks=1),
+    "XML &amp;& in an attribute as tinyxml2 reads it": Case("<Script code=\"x := 'a&amp;&b'\"/>", {}, ticks=1),
+    "SubTree literal ports keep their number": Case(
+        '<SubTree ID="Sub" int_val="42" dbl_val="3.14" str_val="hello" r="{r}"/>', {}, ticks=1,
+        subtrees=(_sub("Sub", '<Sequence><ScriptCondition code="int_val + 1 == 43"/><ScriptCondition '
+                              'code="dbl_val &gt; 3.0"/><Script code="r := str_val .. (int_val + 1)"/></Sequence>'),),
+        since_4_10={RUN: (0, Expected([S], [[S] * 5], {"r": "hello43.000000"}))}),
+}
+
+ONE_FEATURE: dict[str, Case] = {**CONTROLS, **DECORATORS, **ACTIONS, **CONVERSIONS, **RULES, **CORNERS}

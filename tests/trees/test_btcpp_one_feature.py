@@ -1,4 +1,5 @@
-"""The one-feature trees (``one_feature_trees``) run in BehaviorTree.CPP (behaviortreepy, 4.8.2) and in aeroexec:
+"""The one-feature trees (``one_feature_trees``) run in BehaviorTree.CPP (behaviortreepy, 4.8.2; the reference is 4.10,
+whose changes each case records in ``since_4_10``) and in aeroexec:
 every tick of every node, every halt, the blackboard and where a run stops on an error (refused at load, thrown at a
 tick) are the same; BT.CPP's own lenient-XML test trees run; and the set holds a tree for every built-in node and
 every port BT.CPP declares on it.
@@ -32,7 +33,7 @@ def tree(case: Case) -> str:
 @pytest.mark.parametrize("name", sorted(ONE_FEATURE))
 def test_one_feature_tree_runs_as_in_btcpp(name, tmp_path):
     case = ONE_FEATURE[name]
-    compare(tree(case), case.scripts, case.ticks, tmp_path, case.between, case.blackboard)
+    compare(tree(case), case.scripts, case.ticks, tmp_path, case.between, case.blackboard, case.since_4_10)
 
 
 @pytest.mark.parametrize("name", sorted(LENIENT))

@@ -1,4 +1,6 @@
-"""BehaviorTree.CPP itself (behaviortreepy embeds BT.CPP 4.8.2) as the judge of aeroexec's tree runtime.
+"""BehaviorTree.CPP itself as the judge of aeroexec's tree runtime. The reference is BT.CPP 4.10; the live oracle is
+behaviortreepy, which embeds 4.8.2: where 4.10 changed a result, the case records 4.8.2's and 4.10's
+(``SINCE_4_10``, ``btcpp_harness.as_4_10``), and the trees only 4.10 runs are checked against 4.10's source.
 
 Every tree runs in both with scripted leaves, and what each tick does to every node (the status it returned,
 a halt, or nothing) is the same, tick after tick; ``btcpp_harness`` says exactly what is compared and why.
@@ -13,10 +15,11 @@ import os
 import random
 
 import pytest
-from btcpp_harness import compare, run_aeroexec
+from btcpp_harness import compare, run_aeroexec, run_btcpp
 from depth import examples
 from hypothesis import HealthCheck, assume, given, seed, settings
 from hypothesis import strategies as st
+from one_feature_trees import TRUE_4_10
 
 #: The generated trees' seed: fixed, so CI runs the same trees every time; PARITY_SEED=N (or "random") explores.
 SEED = int(random.randrange(1 << 30) if os.environ.get("PARITY_SEED") == "random"
@@ -142,12 +145,17 @@ SUBTREES = {"SubTree literal port": [LEG], "@key: the root blackboard": [SUBTREE
             "SubTree": ['<BehaviorTree ID="Sub"><Fallback><AlwaysFailure/><B/></Fallback></BehaviorTree>']}
 
 
+#: Where BT.CPP 4.10 (the reference) gives another result than the embedded 4.8.2: key -> (4.8.2's, 4.10's).
+SINCE_4_10 = {"Script": {"d": ("1", TRUE_4_10)}}
+
+
 @pytest.mark.parametrize("case", sorted(HAND_WRITTEN))
 def test_built_in_node_ticks_as_in_btcpp(case, tmp_path):
     body, scripts = HAND_WRITTEN[case]
     # time runs on the wall clock in BT.CPP, on the engine clock here: ticks 0.2 s apart, timers of 0.3 s
     between = 0.2 if case in ("Sleep", "Timeout", "Delay") else 0.0
-    compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, between, BLACKBOARDS.get(case))
+    compare(tree(body, *SUBTREES.get(case, [])), scripts, 8, tmp_path, between, BLACKBOARDS.get(case),
+            SINCE_4_10.get(case))
 
 
 def test_try_catch_ticks_as_btcpp_4_10_documents_it():
@@ -171,6 +179,32 @@ def test_try_catch_all_succeeding_succeeds_and_catch_on_halt_runs_the_catch_chil
                            {"A": [R], "C": [S, F]}, 2)
     assert halting.ticks[1][:4] == [F, F, "HALTED", "HALTED"]
     assert halting.blackboard == {"caught": "1"}  # halted in its try-block: the catch child ran
+
+
+def test_a_script_error_in_a_try_block_escapes_the_tick_as_in_btcpp_4_10():
+    """4.10's TryCatch catches a child's FAILURE, not an exception (try_catch_node.cpp has no try/catch): a script
+    error in the try-block throws out of the tick, and the catch child does not run."""
+    run = run_aeroexec(tree('<TryCatch><Script code="y := missing"/><Script code="caught := 1"/></TryCatch>'), {}, 2)
+    assert run.error_at == 0 and "Variable not found: missing" in run.error and run.blackboard == {}
+
+
+def test_nested_conditionals_without_parentheses_run_as_in_btcpp_4_10(tmp_path):
+    """4.10's Pratt parser (script_parser.cpp: parseTernary) takes a ``?:`` in either branch; 4.8.2 refused it as
+    the tree loaded, which behaviortreepy still shows."""
+    xml = tree('<Script code="x := 0 ? 1 : 0 ? 2 : 3; y := 1 ? 0 ? 4 : 5 : 6"/>')
+    assert run_btcpp(xml, {}, 1, tmp_path).error_at == -1  # 4.8.2 (behaviortreepy): refused as it loads
+    run = run_aeroexec(xml, {}, 1)
+    assert run.error_at is None and run.blackboard == {"x": "3", "y": "5"}
+
+
+def test_bit_operators_on_an_infinity_throw_as_in_btcpp_4_10_not_crash():
+    """4.10 (operators.hpp): ``|`` on a number that is no int64 throws "Binary operators are not allowed...", ``~``
+    out of int64's range "Number out of range for bitwise operation"; both end the run naming the Script."""
+    for code, message in (("r := (1 / 0) | 1", "Binary operators are not allowed if one of the operands is not an "
+                                                "integer"),
+                          ("r := ~(1 / 0)", "Number out of range for bitwise operation")):
+        run = run_aeroexec(tree(f'<Script code="{code}"/>'), {}, 1)
+        assert run.error_at == 0 and run.error.endswith(message) and "Script" in run.error
 
 
 def test_a_single_behavior_tree_without_id_runs_as_in_btcpp(tmp_path):

@@ -169,6 +169,35 @@ def test_strict_btcpp_refuses_a_tree_named_after_a_node_type(tmp_path):
         (2, "The attribute [ID] of tag <SubTree> must not use the name of a registered Node (Sequence)")]
 
 
+def test_strict_btcpp_refuses_what_btcpp_4_10_refuses_in_models_and_ids_as_written(tmp_path, capsys):
+    """xml_parsing.cpp of 4.10: loadSubtreeModel throws on a model <SubTree> without ID, VerifyXML on a second
+    <TreeNodesModel>, and validateModelName checks an ID as written (not stripped: " S" holds a space)."""
+    mission = tmp_path / "models.xml"
+    mission.write_text('<root BTCPP_format="4" main_tree_to_execute="M">\n'
+                       '<BehaviorTree ID="M"><Sequence><SubTree ID=" S"/><SubTree ID="S"/></Sequence></BehaviorTree>\n'
+                       '<BehaviorTree ID="S"><AlwaysSuccess/></BehaviorTree>\n'
+                       '<TreeNodesModel><SubTree><input_port name="x"/></SubTree></TreeNodesModel>\n'
+                       '<TreeNodesModel/>\n</root>')
+    assert main(["verify", str(mission)]) == 0  # aeroexec reads it, with warnings
+    capsys.readouterr()
+    assert main(["verify", "--strict-btcpp", str(mission)]) == 1
+    out = capsys.readouterr().out
+    assert f"{mission}:2: error: NOT_PORTABLE: Model name ' S' contains forbidden character ' '" in out
+    assert f"{mission}:4: error: NOT_PORTABLE: Missing attribute 'ID' in SubTree element within TreeNodesModel" in out
+    assert f"{mission}:5: error: NOT_PORTABLE: Only a single node <TreeNodesModel> is supported" in out
+    assert out.count("NOT_PORTABLE") == 3
+
+
+def test_an_undefined_entity_is_read_as_its_text_with_a_warning_and_lines_stay_right(tmp_path, capsys):
+    mission = tmp_path / "entity.xml"  # strict XML refused &y;, tinyxml2 keeps it; a raw newline stays one
+    mission.write_text('<root BTCPP_format="4">\n<BehaviorTree ID="M"><Sequence><Script code="x := 1;\ny := 2"/>\n'
+                       '<Script code="s := \'a&y;b\'"/>\n<Bogus/></Sequence></BehaviorTree></root>\n')
+    assert main(["verify", str(mission)]) == 1
+    out = capsys.readouterr().out
+    assert f"{mission}:4: warning: WRONG_FORMAT: an attribute holds an undefined entity (read as its text)" in out
+    assert f"{mission}:5: error: WRONG_FORMAT: The behavior Bogus does not exist" in out
+
+
 def test_raw_lt_and_ampersands_in_attributes_are_read_with_a_warning_and_flagged_by_strict_btcpp(tmp_path, capsys):
     mission = tmp_path / "raw.xml"
     mission.write_text('<root BTCPP_format="4">\n<BehaviorTree ID="M"><Sequence><Script code="value := 10"/>\n'

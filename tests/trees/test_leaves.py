@@ -75,13 +75,16 @@ def test_subtree_ports_remap_keys_and_set_literals(engine):
 def test_blackboard_remapping_and_autoremap():
     parent = Blackboard(values={"goal": (1, 2, 3), "shared": 1})
     isolated = Blackboard.for_subtree(parent, {"ID": "X", "target": "{goal}", "speed": "1.5"})
-    assert isolated["target"] == (1, 2, 3) and isolated["speed"] == "1.5" and "shared" not in isolated
+    assert isolated["target"] == (1, 2, 3) and isolated["speed"] == 1.5 and "shared" not in isolated  # 4.10: a number
     isolated["target"] = (4, 5, 6)
     isolated["local"] = True
     assert parent["goal"] == (4, 5, 6) and "local" not in parent
     shared = Blackboard.for_subtree(parent, {"ID": "X", "_autoremap": "true"})
     shared["result"] = 42
     assert shared["shared"] == 1 and parent["result"] == 42
+    shared["_private"] = 7  # BT.CPP: an underscore-prefixed key stays the subtree's own under _autoremap
+    assert "_private" not in parent and shared["_private"] == 7 and list(shared) == ["_private", "goal", "result",
+                                                                                      "shared"]
 
 
 def test_ask_behavior_puts_a_deliberative_result_on_the_blackboard(engine):
@@ -183,16 +186,18 @@ def test_a_script_failing_in_flight_fails_the_mission_naming_its_node_and_line(e
     assert "Script failed at mission.xml:3" in failed.detail and "Variable not found: missing" in failed.detail
 
 
-def test_a_try_catch_catches_a_script_failing_in_its_try_block(engine):
+def test_a_script_failing_in_a_try_block_fails_the_mission_as_btcpp_4_10_lets_it_escape(engine):
+    """BT.CPP 4.10's TryCatch catches a child's FAILURE, not an exception: the error escapes the tick."""
     mission = run(engine, N("Fallback", N("TryCatch", N("Precondition", N("AlwaysSuccess"), line=4,
                                                         **{"if": "nothing > 1"}),
                                           N("Script", code="caught := 1")),
                             N("Script", code="handled := 1")))
-    assert mission.status == Status.SUCCESS
-    assert mission.blackboard["caught"] == 1 and mission.blackboard["handled"] == 1
+    assert mission.status != Status.SUCCESS
+    assert "caught" not in mission.blackboard and "handled" not in mission.blackboard
     assert [e.detail for e in engine.log.events(kind="tree_error")] == [
-        "mission.xml:4: Precondition: Error in script [nothing > 1]: Variable not found: nothing (caught by TryCatch "
-        "TryCatch)"]
+        "mission.xml:4: Precondition: Error in script [nothing > 1]: Variable not found: nothing"]
+    [failed] = engine.log.events(kind="mission_failed")
+    assert "Precondition failed at mission.xml:4" in failed.detail
 
 
 def test_a_script_failing_while_a_node_is_halted_is_recorded_and_the_halt_goes_on(engine):

@@ -208,6 +208,9 @@ class _XmlReader:
             elif element.tag == "include":
                 self.read_include(element, file, stack)
             elif element.tag == "TreeNodesModel":
+                if any(other.tag == "TreeNodesModel" for other in root.children[:root.children.index(element)]):
+                    self.not_portable.append((file, element.line, refused("Only a single node <TreeNodesModel> is "
+                                                                          "supported")))
                 self.read_models(element, file)
             elif element.tag == "SafetyRules":
                 pass  # the operator's safety rules, read by engine/safety/declared.py (BT.CPP ignores it)
@@ -234,6 +237,9 @@ class _XmlReader:
     def read_models(self, element: _Element, file: str) -> None:
         """The ports of the SubTrees the palette declares, with their defaults (BehaviorTree.CPP applies them)."""
         for model in element.children:
+            if model.tag == "SubTree" and not model.attrs.get("ID"):  # BT.CPP 4.10's loadSubtreeModel throws
+                self.not_portable.append((file, model.line, refused("Missing attribute 'ID' in SubTree element "
+                                                                    "within TreeNodesModel")))
             if model.tag == "SubTree" and model.attrs.get("ID", "").strip():
                 for port in model.children:
                     problem = port_name_problem(port.attrs.get("name", "")) if port.tag.endswith("_port") else None
@@ -251,7 +257,8 @@ class _XmlReader:
             self.error(file, element.line, "a <BehaviorTree> needs ID=\"...\" (only a file's one tree may go "
                                            "without)")
             return None
-        problem = model_name_problem(tree_id) if element.attrs.get("ID", "").strip() else None
+        written = element.attrs.get("ID", "")  # BT.CPP checks the ID as written: ID=" M" holds a space
+        problem = model_name_problem(written) if written else None
         if problem is not None:
             self.not_portable.append((file, element.line, refused(problem)))
         nodes = [self.node(child, file) for child in element.children]
@@ -277,7 +284,7 @@ class _XmlReader:
         node_type, problem = resolve_type(element.tag, ports)
         if problem:
             self.error(file, element.line, problem)
-        named = ports.get("ID", "").strip() if node_type == "SubTree" else element.tag
+        named = ports.get("ID", "") if node_type == "SubTree" else element.tag  # as written (BT.CPP does not strip)
         problem = model_name_problem(named) if named and element.tag not in EXPLICIT_TAGS else None
         if problem is not None:
             self.not_portable.append((file, element.line, refused(problem)))

@@ -20,6 +20,7 @@ from aeroexec.trees.runtime.nodes.decorators import SubTree
 from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
 from aeroexec.trees.runtime.nodes.registry import BUILT_IN
 from aeroexec.trees.runtime.ports import NodeConfig, PortError
+from aeroexec.trees.script import ScriptError
 from py_trees.behaviour import Behaviour
 
 #: A leaf type registered by the caller, as BehaviorTree.CPP's factory registers nodes: model node, blackboard -> leaf.
@@ -77,6 +78,8 @@ class TreeBuilder:
             return cls.build(config, children)  # type: ignore[attr-defined]
         except PortError as error:
             raise TreeBuildError(str(error)) from None
+        except ScriptError as error:  # a script that does not parse: BT.CPP refuses the tree as it loads
+            raise TreeBuildError(f"{model.where}: {kind}: {error}") from None
 
     def _subtree(self, model: TreeNode, board: Blackboard, stack: tuple[str, ...]) -> Behaviour:
         tree_id = model.ports.get("ID", "").strip()

@@ -3,7 +3,7 @@ AlwaysFailure, Script, ScriptCondition, SetBlackboard, UnsetBlackboard, Sleep an
 :class:`Leaf`, the base of every leaf, the engine's included.
 
 A script that fails while it runs (a variable nothing wrote, a type mismatch) raises :class:`TickError` out of
-the tick, naming the node, as BT.CPP throws: the run fails unless a TryCatch around it catches it.
+the tick, naming the node, as BT.CPP throws: the run fails (a TryCatch around it too, as in 4.10).
 """
 
 from __future__ import annotations
@@ -104,7 +104,9 @@ class ScriptCondition(Script):
 
 class SetBlackboard(Leaf):
     """``output_key`` gets ``value`` (a ``{key}`` value copies that key's value; FAILURE when it holds none, as in
-    BT.CPP); text written to a typed entry is converted to its type."""
+    BT.CPP); text written to a typed entry is converted to its type; text over an entry a script created leaves it
+    empty, as BT.CPP's does (no converter for an entry of no type: the next read of it fails), and over such an
+    emptied entry throws (``Blackboard.text_over_untyped``)."""
 
     manifest = MANIFESTS["SetBlackboard"]
 
@@ -122,6 +124,11 @@ class SetBlackboard(Leaf):
             value = self.blackboard[source]
         else:
             value = self.value.value if self.value.value is not None else ""
+            done = self.blackboard.text_over_untyped(self.key)  # over an entry a script made: as BT.CPP
+            if done == "empty":
+                return SUCCESS
+            if done == "refuse":
+                raise TickError(self.source, f"Can't convert string [{value}] to type [BT::Any]")
         try:
             self.blackboard[self.key] = value
         except ConversionError as error:

@@ -144,8 +144,10 @@ class TryCatch(Control):
     """BT.CPP 4.10's TryCatch: children 1..N-1 as a Sequence; when one fails the last child runs (its result is
     ignored) and the node fails. ``catch_on_halt``: a halt during the try-block runs the catch child too.
 
-    aeroexec's addition: a node of the try-block that cannot tick (a script error, a port it cannot read), which
-    BT.CPP throws out of the whole tree, fails the try-block instead; the error is recorded (``tree_error``)."""
+    As in 4.10, a node of the try-block that cannot tick (a script error, a port it cannot read) throws out of the
+    whole tree: TryCatch catches failures, not exceptions. One deliberate difference: the catch child run by a halt
+    (``catch_on_halt``) that cannot tick is recorded (``tree_error``) and the halt goes on, where BT.CPP's
+    exception would leave the halt half done (a halt may come from the run ending, which must land the drone)."""
 
     manifest = MANIFESTS["TryCatch"]
 
@@ -159,11 +161,7 @@ class TryCatch(Control):
         if self.status is not RUNNING:
             self.skipped_count, self.catching = 0, False
         while not self.catching and self.index < tries:
-            try:
-                result = self.tick_index(self.index)
-            except TickError as error:  # aeroexec's: a node of the try-block that cannot tick fails it
-                self.caught(error)
-                result = FAILURE
+            result = self.tick_index(self.index)  # a node that cannot tick throws out of the tick, as in 4.10
             if result is RUNNING:
                 return RUNNING
             if result is FAILURE:
@@ -199,7 +197,7 @@ class TryCatch(Control):
     def caught(self, error: TickError) -> None:
         context = self.config.context
         if context is not None:
-            context.record("tree_error", f"{error} (caught by TryCatch {self.name})",
+            context.record("tree_error", f"{error} (the catch child of TryCatch {self.name}, run by its halt)",
                            node=getattr(error.node, "name", ""), line=getattr(error.node, "line", 0))
 
     def _catches_on_halt(self) -> bool:

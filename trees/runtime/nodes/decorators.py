@@ -117,7 +117,8 @@ class ForceFailure(ForceSuccess):
 
 
 class Repeat(Decorator):
-    """The child again while it succeeds, ``num_cycles`` times (-1: forever); its first FAILURE ends the node."""
+    """The child again while it succeeds, ``num_cycles`` times (-1: forever; another negative count, read at run time,
+    ends the node at once as BT.CPP does); its first FAILURE ends the node."""
 
     manifest = MANIFESTS["Repeat"]
     counted = SUCCESS  # the result that counts a cycle; the other one ends the node with it
@@ -130,7 +131,7 @@ class Repeat(Decorator):
 
     def run(self) -> Result:
         cycles = self.cycles_port.get()  # a ``{key}`` port is read on every tick, as BT.CPP does
-        while cycles < 0 or self.count < cycles:
+        while cycles == -1 or self.count < cycles:  # BT.CPP: only -1 is forever; -2 ends at once
             before = self.decorated.status
             result = self.decorated.step()
             if result is RUNNING:
@@ -144,7 +145,7 @@ class Repeat(Decorator):
                 return result
             self.count += 1
             halt(self.decorated)
-            if before is not RUNNING and (cycles < 0 or self.count < cycles):
+            if before is not RUNNING and (cycles == -1 or self.count < cycles):
                 return RUNNING  # completed on its first tick: go on at the next tick
         self.count = 0
         return self.counted
