@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import logging
 import os
+import shutil
 import tempfile
 import time
 from collections.abc import Callable, Iterable
@@ -57,6 +58,8 @@ def judge(case: Case, keep: Path | None = None) -> CaseResult:
     """Fly ``case`` (its files in ``keep``, else thrown away) and check every invariant."""
     with tempfile.TemporaryDirectory(prefix="aeroexec-campaign-", dir=_scratch_root()) as scratch:
         where = Path(keep) if keep is not None else Path(scratch)
+        if keep is not None and where.exists():  # a replay starts from nothing, as the campaign's case did
+            shutil.rmtree(where)
         where.mkdir(parents=True, exist_ok=True)
         flown = fly_case(case, where)
         violations = check(flown)
