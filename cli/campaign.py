@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     if args.seed is not None:
         case = draw(args.seed, frozenset(extra))
         keep = Path(args.output) / f"seed-{args.seed}"
-        result = judge(case, keep)
+        result = judge(case, keep, extra)
         result.extra = extra
         print(case.describe())
         print(f"ended {result.ended} in {result.parts} part{'s' if result.parts != 1 else ''}; files in {keep}")
@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
             return 0
         for violation in result.violations:
             print(f"violated {violation}")
-        smaller = shrink(case, result.violations[0].invariant)
+        smaller = shrink(case, result.violations[0].invariant, extra=extra)
         if smaller.dropped:
             print(f"still violated by the smaller case:\n{smaller.describe()}")
         return 1

@@ -19,9 +19,14 @@ from aeroexec.rehearsal.simulation.missions import Mission, draw_mission
 GATED = {
     "edited_resume": "resume after kill -9 with the mission's waypoint edited (the tree's shape alone is compared)",
     "foreign_journal": "resume a journal copied from another run's folder",
-    "rules_blowup": "rules files that blow up in flight (negation over an empty join, a transitive closure)",
+    "rules_negation": "a rule negating a predicate without arguments asked in flight (calm :- not(low), up.: "
+                      "TypeError in the rules' anti-join)",
+    "rules_blowup": "rules files that blow up in flight (a negation over a join with nothing in it, a transitive "
+                    "closure over a few hundred facts: a step of 150 ms and more)",
     "edit_running": "live edits at the running item (insert before a running Repeat is accepted, then fails)",
     "odd_update": "ctl update with an odd item number (a superscript digit, 5,000 digits) or no fragment",
+    "crash_after_end": "kill -9 after the mission ended, while the flight ends (landing, disarming): --resume "
+                       "flies the whole mission again",
     "disk_full": "a full disk at a random byte of the event log (the last line and the exit status disagree)",
 }
 #: Operator commands drawn, with their weights.
@@ -38,7 +43,9 @@ class Action:
     argument: str = ""
 
     def __str__(self) -> str:
-        return f"t={self.time:g} ctl {self.command}{' ' + self.argument if self.argument else ''}"
+        argument = self.argument if len(self.argument) <= 80 else f"{self.argument[:60]}... ({len(self.argument)} " \
+                                                                  f"characters)"
+        return f"t={self.time:g} ctl {self.command}{' ' + argument if argument else ''}"
 
 
 @dataclass(frozen=True)
@@ -119,20 +126,25 @@ def _edit(rng: random.Random, mission: Mission, extra: frozenset[str]) -> tuple[
     return "delete", target
 
 
-def _rules(rng: random.Random, extra: frozenset[str]) -> str:
-    """A --rules file: derived beliefs over what the drone believes, used by no leaf, or one that blows up."""
-    if "rules_blowup" in extra and rng.random() < 0.3:
-        return ("d1 :- object(?C, zzz).\nd4 :- not(d1).\n" if rng.random() < 0.5 else
-                "reach(?A, ?B) :- object(?A, ?B).\nreach(?A, ?C) :- reach(?A, ?B), object(?B, ?C).\n")
-    pieces = ["high :- charge(battery, ?C), ?C > 50.",
-              "low :- charge(battery, ?C), ?C < 20.",
-              "up :- flight_state(self, ?S), belong(?S, [hovering, moving]).",
-              "calm :- not(low), up.",
-              "far(?D) :- position(self, ?P), distance(?P, (0, 0, 0), ?D), ?D > 3."]
+def _rules(rng: random.Random, extra: frozenset[str]) -> tuple[str, tuple[str, ...]]:
+    """A --rules file over what the drone believes, and the questions over what it derives the mission asks; with
+    ``rules_blowup``, sometimes one that blows up (a negation over a join with nothing in it, a transitive closure
+    over a few hundred facts)."""
+    if "rules_blowup" in extra and rng.random() < 0.4:
+        if rng.random() < 0.5:
+            return "d1 :- object(?C, zzz).\nd4 :- not(d1).\n", ("d4",)
+        facts = "".join(f"object(n{i}, n{i + 1}).\n" for i in range(rng.choice([150, 250, 400])))
+        return (facts + "reach(?A, ?B) :- object(?A, ?B).\nreach(?A, ?C) :- reach(?A, ?B), object(?B, ?C).\n",
+                ("reach(n1, ?X)", "reach(?X, n3)"))
+    pieces = [("high :- charge(battery, ?C), ?C > 50.", "high"),
+              ("low :- charge(battery, ?C), ?C < 20.", "not(low)"),
+              ("up :- flight_state(self, ?S), belong(?S, [hovering, moving]).", "up"),
+              ("calm :- not(low), up.", "calm" if "rules_negation" in extra else "up"),
+              ("far(?D) :- position(self, ?P), distance(?P, (0, 0, 0), ?D), ?D > 3.", "far(?D)")]
     chosen = sorted(rng.sample(range(len(pieces)), rng.randint(1, len(pieces))))
     if 3 in chosen:  # calm reads low and up
         chosen = sorted({*chosen, 1, 2})
-    return "\n".join(pieces[i] for i in chosen) + "\n"
+    return "\n".join(pieces[i][0] for i in chosen) + "\n", tuple(pieces[i][1] for i in chosen)
 
 
 def _safety_rules(rng: random.Random) -> str:
@@ -153,7 +165,8 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
     """The case of ``seed``: what it flies, what the operator does and when, what goes wrong."""
     extra = frozenset(extra)
     rng = random.Random(seed)
-    mission = draw_mission(rng, kinds)
+    rules, questions = _rules(rng, extra) if rng.random() < 0.25 else (None, ())
+    mission = draw_mission(rng, kinds, questions=questions)
     horizon = 3.0 + 2.5 * mission.leaves  # s: about how long the mission flies
     actions: list[Action] = []
     commands, weights = zip(*COMMANDS.items(), strict=True)
@@ -181,21 +194,21 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
         faults.append(Fault("link_drop", round(rng.choice([0.0, rng.uniform(0.0, horizon)]), 2),
                             round(rng.uniform(0.5, 8.0), 1)))
     roll = rng.random()
+    killed = round(rng.uniform(1.0, max(2.0, 0.7 * horizon)), 2)  # while the mission flies, mostly
     if roll < 0.12:
-        faults.append(Fault("crash", round(rng.uniform(1.0, horizon), 2)))
+        faults.append(Fault("crash", killed))
     elif roll < 0.16:
         faults.append(Fault("sigterm", round(rng.uniform(0.0, horizon), 2)))
     elif roll < 0.18:
         faults.append(Fault("sighup", round(rng.uniform(0.0, horizon), 2)))
     elif roll < 0.2 and "edited_resume" in extra and mission.kind == "tree" and mission.points:
-        faults.append(Fault("edited_resume", round(rng.uniform(1.0, horizon), 2)))
+        faults.append(Fault("edited_resume", killed))
     elif roll < 0.22 and "foreign_journal" in extra:
-        faults.append(Fault("foreign_journal", round(rng.uniform(1.0, horizon), 2)))
+        faults.append(Fault("foreign_journal", killed))
     elif roll < 0.26 and "disk_full" in extra:
         faults.append(Fault("disk_full", size=rng.randint(200, 40_000)))
     elif roll < 0.28:
         faults.append(Fault("slow_disk"))
-    rules = _rules(rng, extra) if rng.random() < 0.2 else None
     safety = _safety_rules(rng) if rng.random() < 0.15 else None
     return Case(seed, mission, tuple(sorted(actions, key=lambda a: a.time)), tuple(faults), rules, safety,
                 subprocess=rng.random() < subprocess_share)

@@ -45,6 +45,7 @@ class Part:
     outcome: Any = None  # its FlightOutcome
     error: str | None = None  # an exception no one caught (an internal error)
     longest_step: float = 0.0  # CPU s of the loop's thread
+    longest_at: float = 0.0  # when (engine time)
     steps: int = 0
     armed: bool = False
     altitude: float = 0.0
@@ -137,18 +138,28 @@ class _Operator:
     """A tick callback: each action at its simulated time, submitted to the supervisor as the control socket does
     (their answers kept); each fault of the loop (kill -9, SIGTERM, SIGHUP) raised at its time."""
 
-    def __init__(self, engine: Any, actions: list[Action], faults: list[Fault], part: Part) -> None:
+    def __init__(self, engine: Any, actions: list[Action], faults: list[Fault], part: Part,
+                 mission_done: Any = lambda: False, after_end: bool = False) -> None:
         self.engine, self.actions, self.faults, self.part = engine, actions, faults, part
+        self.mission_done, self.after_end = mission_done, after_end
         self.tickets: list[tuple[Action, Any]] = []
 
     def __call__(self) -> None:
         now = self.engine.now()
         while self.actions and self.actions[0].time <= now:
             action = self.actions.pop(0)
-            self.tickets.append((action, self.engine.supervisor.submit(action.command, action.argument, "ctl")))
+            try:
+                ticket = self.engine.supervisor.submit(action.command, action.argument, "ctl")
+            except Exception as error:  # noqa: BLE001 - the control socket would log it and close with no answer
+                self.part.answers.append((str(action), False, f"submit raised {type(error).__name__}: {error}; "
+                                                              f"the connection closes unanswered: please report it"))
+                continue
+            self.tickets.append((action, ticket))
         while self.faults and self.faults[0].time <= now:
             fault = self.faults.pop(0)
             if fault.kind in ("crash", "edited_resume", "foreign_journal"):
+                if self.mission_done() and not self.after_end:  # the flight is ending: see GATED crash_after_end
+                    continue
                 raise Killed(fault.kind)
             from aeroexec.flight.signals import Interrupted
 
@@ -174,7 +185,7 @@ def _timed(engine: Any, part: Part) -> None:
             took = time.thread_time() - began
             part.steps += 1
             if took > part.longest_step:
-                part.longest_step = took
+                part.longest_step, part.longest_at = took, engine.now()
 
     engine.tick = timed
 
@@ -206,7 +217,7 @@ def _drone_state(session: Any, part: Part) -> None:
 
 
 def fly_part(case: Case, spec: Any, actions: list[Action], faults: list[Fault], robot: Any = None,
-             world: Any = None) -> tuple[Part, Any]:
+             world: Any = None, extra: frozenset[str] = frozenset()) -> tuple[Part, Any]:
     """One process's part of the run: set up, fly, end (or be killed); the part and its session."""
     from aeroexec.flight.session import FlightSession
     from aeroexec.flight.spec import FlightError
@@ -223,7 +234,8 @@ def fly_part(case: Case, spec: Any, actions: list[Action], faults: list[Fault], 
         session.close()
         return part, session
     _timed(session.engine, part)
-    operator = _Operator(session.engine, actions, faults, part)
+    operator = _Operator(session.engine, actions, faults, part, lambda: session.mission_done,
+                         "crash_after_end" in extra)
     session.engine.tick_callbacks.append(operator)
     try:
         part.outcome = session.fly()
@@ -236,7 +248,7 @@ def fly_part(case: Case, spec: Any, actions: list[Action], faults: list[Fault], 
         session.close()
     else:
         _drone_state(session, part)
-    part.answers = operator.answers()
+    part.answers += operator.answers()
     return part, session
 
 
@@ -266,8 +278,9 @@ def _edit_points(action: Action) -> set[tuple[float, ...]]:
     return found
 
 
-def fly_case(case: Case, scratch: Path) -> Flown:
-    """Fly ``case`` with its files in ``scratch`` (its run folder: ``scratch/run``)."""
+def fly_case(case: Case, scratch: Path, extra: frozenset[str] = frozenset()) -> Flown:
+    """Fly ``case`` with its files in ``scratch`` (its run folder: ``scratch/run``); ``extra``: the gated kinds
+    asked for (:data:`~aeroexec.rehearsal.simulation.cases.GATED`)."""
     from aeroexec.drones.sim import SimulatedDrone
     from aeroexec.drones.sim.config import SimConfig
     from aeroexec.flight.journal import resume_spec
@@ -297,14 +310,15 @@ def fly_case(case: Case, scratch: Path) -> Flown:
         robot = SimulatedDrone(world, config=SimConfig(link_loss=(drop.time, drop.length)), seed=case.seed)
     with _errors_logged() as errors, _disk(disk):
         remaining = list(actions)
-        part, session = fly_part(case, spec, remaining, list(loop_faults[:1]), robot, world)
+        part, session = fly_part(case, spec, remaining, list(loop_faults[:1]), robot, world, extra)
         flown.parts.append(part)
         if part.crashed:
             killed = loop_faults[0]
-            if killed.kind == "edited_resume":  # the mission's first point moved after the crash
-                old = case.mission.points[0]
-                moved = f"{old[0] + 7.5}, {old[1]}, {old[2]}"
-                mission_path.write_text(case.mission.text.replace(f"{old[0]}, {old[1]}, {old[2]}", moved, 1))
+            if killed.kind == "edited_resume":  # every point of the mission 1.5 m further east after the crash
+                text = case.mission.text
+                for x, y, z in case.mission.points:
+                    text = text.replace(f'"{x}, {y}, {z}"', f'"{round(x + 1.5, 1)}, {y}, {z}"')
+                mission_path.write_text(text)
             elif killed.kind == "foreign_journal":  # another run's journal copied into this folder
                 other = scratch / "other"
                 other.mkdir()
@@ -323,7 +337,7 @@ def fly_case(case: Case, scratch: Path) -> Flown:
                 resumed = Part(refused=str(error)) if isinstance(error, JournalError) else Part(
                     error=f"resume_spec raised {type(error).__name__}: {error}")
             else:
-                resumed, _ = fly_part(case, again, [a for a in remaining], list(loop_faults[1:]))
+                resumed, _ = fly_part(case, again, list(remaining), list(loop_faults[1:]), extra=extra)
             flown.parts.append(resumed)
         flown.logged = list(errors.found)
     flown.peak_memory = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0

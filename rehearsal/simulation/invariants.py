@@ -235,8 +235,9 @@ def no_internal_error(flown: Flown, records: list[dict[str, Any]]) -> list[str]:
 
 
 def step_bound(flown: Flown, records: list[dict[str, Any]]) -> list[str]:
-    return [f"an engine step of part {n} took {part.longest_step * 1000:.0f} ms of CPU (bound "
-            f"{STEP_BOUND * 1000:.0f} ms)" for n, part in enumerate(flown.parts, 1) if part.longest_step > STEP_BOUND]
+    return [f"an engine step of part {n} at t={part.longest_at:.2f} s took {part.longest_step * 1000:.0f} ms of CPU "
+            f"(bound {STEP_BOUND * 1000:.0f} ms)" for n, part in enumerate(flown.parts, 1)
+            if part.longest_step > STEP_BOUND]
 
 
 def contingency_kept(flown: Flown, records: list[dict[str, Any]]) -> list[str]:

@@ -42,8 +42,8 @@ def _point(rng: random.Random) -> tuple[float, float, float]:
 class _TreeDraw:
     """One tree's draws: leaves counted, points and loops noted."""
 
-    def __init__(self, rng: random.Random) -> None:
-        self.rng = rng
+    def __init__(self, rng: random.Random, questions: tuple[str, ...] = ()) -> None:
+        self.rng, self.questions = rng, questions
         self.points: list[tuple[float, float, float]] = []
         self.repeats = False
         self.leaves = 0
@@ -52,6 +52,8 @@ class _TreeDraw:
         rng = self.rng
         self.leaves += 1
         roll = rng.random()
+        if self.questions and rng.random() < 0.25:  # what the rules file derives
+            return f'<ForceSuccess><CheckBelief belief="{rng.choice(self.questions)}"/></ForceSuccess>'
         if roll < 0.45:
             point = _point(rng)
             self.points.append(point)
@@ -106,12 +108,15 @@ class _TreeDraw:
                 f"<Sequence>{children}</Sequence>{self.flight_leaf()}</IfThenElse>")
 
 
-def tree_mission(rng: random.Random, airborne: bool = False) -> Mission:
+def tree_mission(rng: random.Random, airborne: bool = False, questions: tuple[str, ...] = ()) -> Mission:
     """A behavior tree: TAKE_OFF (none when ``airborne``: a mission loaded in flight), a random body of controls,
     decorators and leaves, and (mostly) LAND."""
-    draw = _TreeDraw(rng)
+    draw = _TreeDraw(rng, questions)
     altitude = rng.choice([1.5, 2, 3, 4])
     body = "".join(draw.body(rng.randint(1, 3)) for _ in range(rng.randint(1, 3)))
+    if questions:  # the rules are asked in the air at least once
+        body = f'<ForceSuccess><CheckBelief belief="{rng.choice(questions)}"/></ForceSuccess>{body}'
+        draw.leaves += 1
     land = "<LAND/>" if rng.random() < 0.85 else ""  # else the end of the flight lands it
     take_off = "" if airborne else f'<TAKE_OFF ALTITUDE="{altitude}"/>'
     text = (f'<root BTCPP_format="4" main_tree_to_execute="Main">\n  <BehaviorTree ID="Main">\n'
@@ -120,7 +125,7 @@ def tree_mission(rng: random.Random, airborne: bool = False) -> Mission:
     return Mission("tree", text, ".xml", tuple(draw.points), draw.repeats, draw.leaves + 2)
 
 
-def python_mission(rng: random.Random, airborne: bool = False) -> Mission:
+def python_mission(rng: random.Random, airborne: bool = False, questions: tuple[str, ...] = ()) -> Mission:
     """A Python mission through ``aeroexec.engine.api``: take off, go to points (some that fail), wait, ask
     beliefs, land; some raise, some catch what failed."""
     points = [_point(rng) for _ in range(rng.randint(1, 4))]
@@ -140,6 +145,8 @@ def python_mission(rng: random.Random, airborne: bool = False) -> Mission:
             lines.append(f"    api.add_belief('visited(p{rng.randint(1, 3)})')")
         elif roll < 0.45:
             lines.append("    api.execute_behavior('ROTATE', angle=90)")
+        elif roll < 0.6 and questions:
+            lines.append(f"    api.consult_belief({rng.choice(questions)!r})")
     if rng.random() < 0.1:
         lines.append("    raise RuntimeError('the mission gives up')")
     if rng.random() < 0.85:
@@ -190,14 +197,14 @@ def plan_mission(rng: random.Random) -> Mission:
 
 
 def draw_mission(rng: random.Random, kinds: tuple[str, ...] = ("tree", "python", "plan"),
-                 airborne: bool = False) -> Mission:
+                 airborne: bool = False, questions: tuple[str, ...] = ()) -> Mission:
     """A mission of one of ``kinds``: trees the most, then Python missions, then plans (``airborne``: one loaded
-    in flight, without a take-off)."""
+    in flight, without a take-off; ``questions``: what a rules file derives, for the mission to ask)."""
     weights = {"tree": 6, "python": 3, "plan": 2}
     kind = rng.choices(kinds, [weights[k] for k in kinds])[0]
     if kind == "plan":
         return plan_mission(rng)
-    return {"tree": tree_mission, "python": python_mission}[kind](rng, airborne)
+    return {"tree": tree_mission, "python": python_mission}[kind](rng, airborne, questions)
 
 
 __all__ = ["HOME", "PLAN_ITEMS", "Mission", "draw_mission", "plan_mission", "python_mission", "tree_mission"]

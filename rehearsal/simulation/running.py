@@ -4,6 +4,8 @@ dropped one at a time while the same invariant still fails), and the one command
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import logging
 import os
 import shutil
@@ -54,20 +56,37 @@ class CaseResult:
         return "\n".join(lines)
 
 
-def judge(case: Case, keep: Path | None = None) -> CaseResult:
-    """Fly ``case`` (its files in ``keep``, else thrown away) and check every invariant."""
+def judge(case: Case, keep: Path | None = None, extra: Iterable[str] = ()) -> CaseResult:
+    """Fly ``case`` (its files in ``keep``, else thrown away) and check every invariant (``extra``: the gated kinds
+    asked for)."""
+    extra = frozenset(extra)
+    warm_up()
     with tempfile.TemporaryDirectory(prefix="aeroexec-campaign-", dir=_scratch_root()) as scratch:
         where = Path(keep) if keep is not None else Path(scratch)
         if keep is not None and where.exists():  # a replay starts from nothing, as the campaign's case did
             shutil.rmtree(where)
         where.mkdir(parents=True, exist_ok=True)
-        flown = fly_case(case, where)
+        flown = fly_case(case, where, extra)
         violations = check(flown)
+    if any(v.invariant == "step_bound" for v in violations) and keep is None:
+        violations = _again(case, violations, extra)
     last = flown.parts[-1] if flown.parts else None
     ended = ("refused" if last is None or last.refused is not None else "killed" if last.crashed
              else "error" if last.error else last.outcome.status.word)
     return CaseResult(case.seed, violations, ended, len(flown.parts), round(flown.wall, 3), round(flown.cpu, 3),
                       max((p.longest_step for p in flown.parts), default=0.0), flown.peak_memory, case.describe())
+
+
+def _again(case: Case, violations: list[Violation], extra: frozenset[str]) -> list[Violation]:
+    """A long step is flown again: a shared machine (another process, a virtual machine's stolen time) may charge
+    one step of a run with CPU it did not use, but a step that does too much is long every time it is flown."""
+    with tempfile.TemporaryDirectory(prefix="aeroexec-campaign-", dir=_scratch_root()) as scratch:
+        again = [v for v in check(fly_case(case, Path(scratch), extra)) if v.invariant == "step_bound"]
+    kept = [v for v in violations if v.invariant != "step_bound"]
+    if again:
+        kept += [Violation("step_bound", f"{v.detail}; flown again: {a.detail}")
+                 for v, a in zip([v for v in violations if v.invariant == "step_bound"], again, strict=False)]
+    return kept
 
 
 def _scratch_root() -> str | None:
@@ -77,12 +96,12 @@ def _scratch_root() -> str | None:
 
 def run_case(seed: int, extra: tuple[str, ...] = (), keep: str | None = None) -> CaseResult:
     """The case of ``seed`` drawn, flown and judged."""
-    result = judge(draw(seed, frozenset(extra)), Path(keep) if keep else None)
+    result = judge(draw(seed, frozenset(extra)), Path(keep) if keep else None, extra)
     result.extra = tuple(sorted(extra))
     return result
 
 
-def shrink(case: Case, invariant: str, budget: int = 12) -> Case:
+def shrink(case: Case, invariant: str, budget: int = 12, extra: Iterable[str] = ()) -> Case:
     """``case`` with as few actions, faults and rules as still fail ``invariant`` (one dropped at a time, at most
     ``budget`` flights)."""
     flights = 0
@@ -94,14 +113,33 @@ def shrink(case: Case, invariant: str, budget: int = 12) -> Case:
                 break
             smaller = case.without(part)
             flights += 1
-            if any(v.invariant == invariant for v in judge(smaller).violations):
+            if any(v.invariant == invariant for v in judge(smaller, extra=extra).violations):
                 case, progress = smaller, True
                 break
     return case
 
 
+WARM_UP = (1, 3, 6, 15)  # seeds of a tree, a Python mission, a plan and a link drop: the modules they load, loaded
+_warm: list[bool] = []
+
+
+def warm_up() -> None:
+    """Fly a few cases once per process, unjudged, then freeze what they left (``gc.freeze``, as ``aeroexec run``
+    does after its imports): an engine step is timed for what it does, not for a module imported the first time
+    a process meets a behavior, nor a collection walking what the imports made."""
+    if _warm:
+        return
+    _warm.append(True)
+    for seed in WARM_UP:
+        with contextlib.suppress(Exception), tempfile.TemporaryDirectory(dir=_scratch_root()) as scratch:
+            fly_case(draw(seed), Path(scratch))
+    gc.collect()
+    gc.freeze()
+
+
 def _worker(arguments: tuple) -> CaseResult:
     logging.getLogger("aeroexec").setLevel(logging.ERROR)  # what a run logs below an error stays in the run
+    warm_up()
     seed, extra = arguments
     try:
         return run_case(seed, extra)
