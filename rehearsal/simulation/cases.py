@@ -29,6 +29,8 @@ GATED = {
                        "flies the whole mission again",
     "disk_full": "a full disk at a random byte of the event log (the last line and the exit status disagree)",
 }
+#: The share of cases flown by real ``aeroexec run`` processes (the others in the campaign's process).
+SUBPROCESS_SHARE = 0.03
 #: Operator commands drawn, with their weights.
 COMMANDS = {"pause": 5, "resume": 3, "abort": 1, "suspend": 1, "status": 2, "items": 1, "query": 1, "add": 1,
             "remove": 1, "skip": 1, "edit": 3, "load": 1}
@@ -161,7 +163,7 @@ def _safety_rules(rng: random.Random) -> str:
 
 
 def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
-         kinds: tuple[str, ...] = ("tree", "python", "plan"), subprocess_share: float = 0.0) -> Case:
+         kinds: tuple[str, ...] = ("tree", "python", "plan"), subprocess_share: float = SUBPROCESS_SHARE) -> Case:
     """The case of ``seed``: what it flies, what the operator does and when, what goes wrong."""
     extra = frozenset(extra)
     rng = random.Random(seed)
@@ -210,8 +212,16 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
     elif roll < 0.28:
         faults.append(Fault("slow_disk"))
     safety = _safety_rules(rng) if rng.random() < 0.15 else None
+    process = rng.random() < subprocess_share
+    if process:  # a real process: its faults are signals and a full disk; no commands at simulated times
+        actions = []
+        faults = [f for f in faults if f.kind in ("crash", "sigterm", "sighup", "disk_full")]
+        if not faults and rng.random() < 0.7:
+            faults = [Fault(rng.choice(["crash", "sigterm", "sighup"]), killed)]
+        if "disk_full" in extra and rng.random() < 0.4:
+            faults = [Fault("disk_full", size=rng.randint(2_000, 40_000))]
     return Case(seed, mission, tuple(sorted(actions, key=lambda a: a.time)), tuple(faults), rules, safety,
-                subprocess=rng.random() < subprocess_share)
+                subprocess=process)
 
 
 __all__ = ["COMMANDS", "GATED", "Action", "Case", "Fault", "draw"]

@@ -82,7 +82,7 @@ def landed_and_disarmed(flown: Flown, records: list[dict[str, Any]]) -> list[str
     last = flown.parts[-1] if flown.parts else None
     if last is None or last.refused is not None or last.crashed or last.error is not None:
         return []
-    if not last.link_ok or last.crashed_drone:
+    if not last.link_ok or last.crashed_drone or not last.state_known:
         return []
     if last.armed or last.altitude > GROUND:
         return [f"the drone ended {'armed' if last.armed else 'disarmed'} at {last.altitude:.2f} m "

@@ -13,7 +13,7 @@ import tempfile
 import time
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from aeroexec.rehearsal.simulation.cases import Case, draw
@@ -72,7 +72,7 @@ def judge(case: Case, keep: Path | None = None, extra: Iterable[str] = ()) -> Ca
         violations = _again(case, violations, extra)
     last = flown.parts[-1] if flown.parts else None
     ended = ("refused" if last is None or last.refused is not None else "killed" if last.crashed
-             else "error" if last.error else last.outcome.status.word)
+             else "error" if last.error or last.outcome is None else last.outcome.status.word)
     return CaseResult(case.seed, violations, ended, len(flown.parts), round(flown.wall, 3), round(flown.cpu, 3),
                       max((p.longest_step for p in flown.parts), default=0.0), flown.peak_memory, case.describe())
 
@@ -132,7 +132,7 @@ def warm_up() -> None:
     _warm.append(True)
     for seed in WARM_UP:
         with contextlib.suppress(Exception), tempfile.TemporaryDirectory(dir=_scratch_root()) as scratch:
-            fly_case(draw(seed), Path(scratch))
+            fly_case(replace(draw(seed), subprocess=False), Path(scratch))
     gc.collect()
     gc.freeze()
 
