@@ -59,16 +59,19 @@ def run(args: argparse.Namespace) -> int:
         print("--flights must be at least 1", file=sys.stderr)
         return 2
     seeds = range(args.first, args.first + args.flights)
-    done = [0]
+    done, failed = [0], [0]
+    began = time.perf_counter()
 
     def progress(result) -> None:  # noqa: ANN001
         done[0] += 1
+        failed[0] += result.failed
         if result.violations:
             print(result.report(), flush=True)
-        elif done[0] % 500 == 0:
-            print(f"{done[0]} flights", file=sys.stderr, flush=True)
+        if done[0] % 250 == 0:
+            wall = time.perf_counter() - began
+            print(f"{done[0]} flights in {wall:.0f} s: {done[0] / wall * 60:.0f} flights per minute, "
+                  f"{failed[0]} violation{'s' if failed[0] != 1 else ''}", file=sys.stderr, flush=True)
 
-    began = time.perf_counter()
     results = run_campaign(seeds, extra, args.workers, args.scheduler, args.dask, progress)
     found = figures(results, time.perf_counter() - began)
     ended = ", ".join(f"{n} {word}" for word, n in sorted(found.ended.items(), key=lambda item: -item[1]))
