@@ -23,12 +23,17 @@ GATED = {
                       "TypeError in the rules' anti-join)",
     "rules_blowup": "rules files that blow up in flight (a negation over a join with nothing in it, a transitive "
                     "closure over a few hundred facts: a step of 150 ms and more)",
-    "edit_running": "live edits at the running item (insert before a running Repeat is accepted, then fails)",
+    "edit_running": "LAND inserted before the running item (before a running Repeat it is accepted, the drone "
+                    "lands and the mission fails)",
     "odd_update": "ctl update with an odd item number (a superscript digit, 5,000 digits) or no fragment",
     "crash_after_end": "kill -9 after the mission ended, while the flight ends (landing, disarming): --resume "
                        "flies the whole mission again",
+    "contingency_undone": "a geofence whose contingency is return or hold, crossed by a plan: the plan fails when "
+                          "its waypoint is preempted and the end-of-flight LAND lands the drone outside the fence",
     "disk_full": "a full disk at a random byte of the event log (the last line and the exit status disagree)",
 }
+#: An edit's target that is the item running when the command is sent (``ctl items`` says which).
+RUNNING = "@running"
 #: The share of cases flown by real ``aeroexec run`` processes (the others in the campaign's process).
 SUBPROCESS_SHARE = 0.03
 #: Operator commands drawn, with their weights.
@@ -114,11 +119,13 @@ def _edit(rng: random.Random, mission: Mission, extra: frozenset[str]) -> tuple[
     if mission.kind == "python":
         return "skip", ""
     last = max(2, min(mission.leaves - 1, 5))  # items are numbered from 1 (TAKE_OFF); the last few are at the end
-    target = str(rng.randint(2, last))
+    target = RUNNING if rng.random() < 0.35 else str(rng.randint(2, last))
     point = f'GO_TO_POINT COORDINATES="{rng.randint(-5, 5)}, {rng.randint(-5, 5)}, {rng.randint(1, 4)}"'
     roll = rng.random()
     if "odd_update" in extra and roll < 0.15:
         return "update", rng.choice(["INSERT \u00b2 LAND", "INSERT " + "9" * 5000 + " LAND", "INSERT"])
+    if "edit_running" in extra and roll < 0.2:
+        return "insert", f"before {RUNNING} 'LAND'"
     if roll < 0.4:
         return "insert", f"{rng.choice(['before', 'after'])} {target} '{point}'"
     if roll < 0.6:
@@ -149,13 +156,17 @@ def _rules(rng: random.Random, extra: frozenset[str]) -> tuple[str, tuple[str, .
     return "\n".join(pieces[i][0] for i in chosen) + "\n", tuple(pieces[i][1] for i in chosen)
 
 
-def _safety_rules(rng: random.Random) -> str:
-    """A --safety-rules file: a geofence or a battery rule with a land, hold or return contingency."""
+def _safety_rules(rng: random.Random, extra: frozenset[str]) -> str:
+    """A --safety-rules file: a geofence (a plan's waypoints may cross it) or a battery rule, with a land, hold or
+    return contingency."""
     rules = []
     if rng.random() < 0.5:
         radius = rng.choice([12, 30])
+        contingency = rng.choice(['land', 'return', 'hold'])
+        if contingency != "land" and "contingency_undone" not in extra:
+            contingency = "land"
         rules.append(f"- rule: fence\n  never: position(self, ?p), distance(?p, (0, 0, 0), ?d), ?d > {radius}\n"
-                     f"  contingency: {rng.choice(['land', 'return', 'hold'])}\n")
+                     f"  contingency: {contingency}\n")
     if rng.random() < 0.5 or not rules:
         rules.append(f"- rule: battery\n  never: charge(battery, ?c), ?c < {rng.choice([20, 99.9, 99.8])}\n"
                      f"  contingency: {rng.choice(['land', 'return', 'hold'])}\n")
@@ -211,7 +222,7 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
         faults.append(Fault("disk_full", size=rng.randint(200, 40_000)))
     elif roll < 0.28:
         faults.append(Fault("slow_disk"))
-    safety = _safety_rules(rng) if rng.random() < 0.15 else None
+    safety = _safety_rules(rng, extra) if rng.random() < 0.15 else None
     process = rng.random() < subprocess_share
     if process:  # a real process: its faults are signals and a full disk; no commands at simulated times
         actions = []
@@ -224,4 +235,4 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
                 subprocess=process)
 
 
-__all__ = ["COMMANDS", "GATED", "Action", "Case", "Fault", "draw"]
+__all__ = ["COMMANDS", "GATED", "RUNNING", "Action", "Case", "Fault", "draw"]

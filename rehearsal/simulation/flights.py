@@ -24,7 +24,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from aeroexec.rehearsal.simulation.cases import Action, Case, Fault
+from aeroexec.rehearsal.simulation.cases import RUNNING, Action, Case, Fault
 from aeroexec.rehearsal.simulation.missions import draw_mission
 
 logger = logging.getLogger(__name__)
@@ -149,6 +149,8 @@ class _Operator:
         now = self.engine.now()
         while self.actions and self.actions[0].time <= now:
             action = self.actions.pop(0)
+            if RUNNING in action.argument:
+                action = self._at_running(action)
             try:
                 ticket = self.engine.supervisor.submit(action.command, action.argument, "ctl")
             except Exception as error:  # noqa: BLE001 - the control socket would log it and close with no answer
@@ -165,6 +167,14 @@ class _Operator:
             from aeroexec.flight.signals import Interrupted
 
             raise Interrupted(fault.kind.upper())
+
+    def _at_running(self, action: Action) -> Action:
+        """The edit's target: the item running now, as ``ctl items`` says (the end's, when none runs)."""
+        listed = self.engine.supervisor.execute("items", origin="ctl")
+        items = listed.data.get("items", []) if listed.ok else []
+        running = [item for item in items if item.get("status") == "running"]
+        chosen = running[-1] if running else items[-1] if items else {"item": 1}
+        return replace(action, argument=action.argument.replace(RUNNING, str(chosen.get("item", 1))))
 
     def answers(self) -> list[tuple[str, bool, str]]:
         found = []
