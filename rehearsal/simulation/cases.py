@@ -30,6 +30,8 @@ GATED = {
                        "flies the whole mission again",
     "contingency_undone": "a geofence whose contingency is return or hold, crossed by a plan: the plan fails when "
                           "its waypoint is preempted and the end-of-flight LAND lands the drone outside the fence",
+    "photo_enospc": "the disk full when a photo is written, from the Nth photo on (the plan fails and the drone "
+                    "lands where it is)",
     "disk_full": "a full disk at a random byte of the event log (the last line and the exit status disagree)",
 }
 #: An edit's target that is the item running when the command is sent (``ctl items`` says which).
@@ -58,7 +60,8 @@ class Action:
 @dataclass(frozen=True)
 class Fault:
     """A fault at ``time``: ``kind`` is link_drop (``length`` s), crash (kill -9 then --resume), sigterm, sighup,
-    disk_full (``size``: bytes of the event log written before the disk is full), slow_disk."""
+    disk_full (``size``: bytes of the event log written before the disk is full), slow_disk, photo_enospc (``size``:
+    photos written before the disk is full); the gated kinds of :data:`GATED`."""
 
     kind: str
     time: float = 0.0
@@ -222,6 +225,9 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
         faults.append(Fault("disk_full", size=rng.randint(200, 40_000)))
     elif roll < 0.28:
         faults.append(Fault("slow_disk"))
+    elif roll < 0.34 and "photo_enospc" in extra and ("TAKE_PHOTO" in mission.text or "\t2000\t" in mission.text
+                                                      or "\t206\t" in mission.text):
+        faults.append(Fault("photo_enospc", size=rng.randint(0, 2)))
     safety = _safety_rules(rng, extra) if rng.random() < 0.15 else None
     process = rng.random() < subprocess_share
     if process:  # a real process: its faults are signals and a full disk; no commands at simulated times

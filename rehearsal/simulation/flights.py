@@ -135,6 +135,41 @@ def _disk(fault: Fault | None) -> Iterator[None]:
         flight_log.os = real
 
 
+class _FullPhoto:
+    """Where a photo would go on a full disk: writing it fails with ENOSPC."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def write_bytes(self, data: bytes) -> int:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(self.path))
+
+    def __str__(self) -> str:
+        return str(self.path)
+
+
+@contextlib.contextmanager
+def _photos(fault: Fault | None) -> Iterator[None]:
+    """Photos written until ``fault.size`` of them were, then ENOSPC."""
+    from aeroexec.engine.behaviors import recording
+
+    if fault is None:
+        yield
+        return
+    real, written = recording.next_path, [0]
+
+    def next_path(*args: Any, **kwargs: Any) -> Any:
+        path = real(*args, **kwargs)
+        written[0] += 1
+        return path if written[0] <= fault.size else _FullPhoto(path)
+
+    recording.next_path = next_path
+    try:
+        yield
+    finally:
+        recording.next_path = real
+
+
 class _Operator:
     """A tick callback: each action at its simulated time, submitted to the supervisor as the control socket does
     (their answers kept); each fault of the loop (kill -9, SIGTERM, SIGHUP) raised at its time."""
@@ -328,7 +363,7 @@ def fly_case(case: Case, scratch: Path, extra: frozenset[str] = frozenset()) -> 
     if drop is not None:
         world = load_world(None, default=True, mission=mission_path)
         robot = SimulatedDrone(world, config=SimConfig(link_loss=(drop.time, drop.length)), seed=case.seed)
-    with _errors_logged() as errors, _disk(disk):
+    with _errors_logged() as errors, _disk(disk), _photos(case.fault("photo_enospc")):
         remaining = list(actions)
         part, session = fly_part(case, spec, remaining, list(loop_faults[:1]), robot, world, extra)
         flown.parts.append(part)

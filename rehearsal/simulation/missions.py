@@ -72,8 +72,10 @@ class _TreeDraw:
             return f'<AddBelief belief="visited(p{rng.randint(1, 3)})"/>'
         if roll < 0.94:
             return f'<Sleep msec="{rng.choice([100, 500, 1500])}"/>'
-        if roll < 0.97:
+        if roll < 0.96:
             return "<AlwaysFailure/>"
+        if roll < 0.98:
+            return "<TAKE_PHOTO/>"
         return "<AlwaysSuccess/>"
 
     def body(self, depth: int) -> str:

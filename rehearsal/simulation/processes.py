@@ -72,7 +72,8 @@ def _grown_to(folder: Path, seconds: float, process: subprocess.Popen) -> None:
         time.sleep(0.02)
 
 
-def _part(folder: Path, process: subprocess.Popen, err: str, killed: bool) -> tuple[Part, int | None, str]:
+def _part(folder: Path, process: Any, err: str, killed: bool, parts_before: int = 0
+          ) -> tuple[Part, int | None, str]:
     from aeroexec.flight.run_status import EXIT_STATUS, FlightOutcome, RunStatus, last_part
 
     part = Part(crashed=killed)
@@ -88,7 +89,8 @@ def _part(folder: Path, process: subprocess.Popen, err: str, killed: bool) -> tu
         part.altitude = part.position[2]
     if killed:
         return part, None, last
-    if not ended and not states and process.returncode in (1, 2):
+    parts = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))
+    if parts <= parts_before and process.returncode in (1, 2):  # refused: nothing of it in the log
         part.refused = last
         return part, process.returncode, last
     incomplete = next((line.split("(", 1)[1].split(")", 1)[0] for line in lines
@@ -144,9 +146,10 @@ def fly_process(case: Case, scratch: Path, mission: Path, options: list[str]) ->
     flown.parts.append(part)
     flown.exit_status, flown.last_line = status, last
     if killed:
+        before = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))
         again = subprocess.run([*head, "run", "--resume", str(folder), "--quiet"], capture_output=True, text=True,
                                cwd=scratch, timeout=LIMIT)
-        part, status, last = _part(folder, again, again.stderr, False)
+        part, status, last = _part(folder, again, again.stderr, False, before)
         flown.parts.append(part)
         flown.exit_status, flown.last_line = status, last
     flown.wall = time.perf_counter() - began
