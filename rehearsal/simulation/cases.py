@@ -12,7 +12,7 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass, field, replace
 
-from aeroexec.rehearsal.simulation.missions import Mission, draw_mission
+from aeroexec.rehearsal.simulation.missions import Mission, draw_mission, tree_mission
 
 #: Fault kinds drawn only when asked for (``--with KIND``): each finds a defect of issue 40 that another change
 #: fixes; once it is merged the kind joins the default draws.
@@ -38,6 +38,8 @@ GATED = {
 RUNNING = "@running"
 #: The share of cases flown by real ``aeroexec run`` processes (the others in the campaign's process).
 SUBPROCESS_SHARE = 0.03
+#: The share of cases flown by a fleet of 2 to 5 drones.
+FLEET_SHARE = 0.02
 #: Operator commands drawn, with their weights.
 COMMANDS = {"pause": 5, "resume": 3, "abort": 1, "suspend": 1, "status": 2, "items": 1, "query": 1, "add": 1,
             "remove": 1, "skip": 1, "edit": 3, "load": 1}
@@ -84,6 +86,7 @@ class Case:
     rules: str | None = None  # a --rules file's text
     safety_rules: str | None = None  # a --safety-rules file's text
     subprocess: bool = False  # flown by a real ``aeroexec run`` process
+    fleet: tuple[Mission, ...] = ()  # flown by a fleet of these drones' missions (``aeroexec fleet``)
     dropped: tuple[str, ...] = field(default_factory=tuple)  # what shrinking took out, in words
 
     def without(self, what: Action | Fault | str) -> Case:
@@ -104,7 +107,8 @@ class Case:
 
     def describe(self) -> str:
         lines = [f"seed {self.seed}: a {self.mission.kind} mission of {self.mission.leaves} items"
-                 + (" (a real aeroexec run process)" if self.subprocess else "")]
+                 + (" (a real aeroexec run process)" if self.subprocess else "")
+                 + (f" (a fleet of {len(self.fleet)} drones: aeroexec fleet)" if self.fleet else "")]
         lines += [f"  {part}" for part in (*self.actions, *self.faults)]
         if self.rules:
             lines.append(f"  rules: {self.rules.strip().splitlines()[0]} ...")
@@ -237,8 +241,12 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
             faults = [Fault(rng.choice(["crash", "sigterm", "sighup"]), killed)]
         if "disk_full" in extra and rng.random() < 0.4:
             faults = [Fault("disk_full", size=rng.randint(2_000, 40_000))]
+    fleet: tuple[Mission, ...] = ()
+    if not process and rng.random() < FLEET_SHARE:  # drones flying tree missions together, each its own
+        fleet = tuple(tree_mission(rng) for _ in range(rng.randint(2, 5)))
+        mission, actions, faults, rules, safety = fleet[0], [], [], None, None
     return Case(seed, mission, tuple(sorted(actions, key=lambda a: a.time)), tuple(faults), rules, safety,
-                subprocess=process)
+                subprocess=process, fleet=fleet)
 
 
 __all__ = ["COMMANDS", "GATED", "RUNNING", "Action", "Case", "Fault", "draw"]

@@ -33,6 +33,7 @@ HOME_RADIUS = 3.0  # m: a return contingency brought the drone home
 HOLD_RADIUS = 3.0  # m: a hold contingency landed the drone where it held
 GROUND = 0.3  # m: on the ground
 LOG_KINDS = ("log_started", "log_resumed", "log_closed")
+MOTION = ("position(", "speed(", "orientation(", "velocity(")
 
 
 @dataclass(frozen=True)
@@ -151,6 +152,14 @@ def _key(record: dict[str, Any]) -> tuple:
             str(record.get("detail", "")), record.get("belief"))
 
 
+def _compared(record: dict[str, Any]) -> bool:
+    """A record both the journal and the event log hold: not a part's first or last line, a state sample or a
+    drone's motion (each keeps those its own way)."""
+    if record.get("kind") in LOG_KINDS or record.get("kind") == "state":
+        return False
+    return not str(record.get("belief") or "").startswith(MOTION)
+
+
 def journal_agrees_with_log(flown: Flown, records: list[dict[str, Any]]) -> list[str]:
     from aeroexec.flight.journal import Journal, is_journal
 
@@ -162,8 +171,8 @@ def journal_agrees_with_log(flown: Flown, records: list[dict[str, Any]]) -> list
     log_parts, journal_parts = _segments(records), _segments(held)
     incomplete = any(p.outcome is not None and p.outcome.log_incomplete for p in flown.parts)
     for number, (ours, theirs) in enumerate(zip(log_parts, journal_parts, strict=False), 1):
-        logged = [_key(r) for r in ours if r.get("kind") not in LOG_KINDS and r.get("kind") != "state"]
-        journaled = [_key(r) for r in theirs if r.get("kind") not in LOG_KINDS and r.get("kind") != "state"]
+        logged = [_key(r) for r in ours if _compared(r)]
+        journaled = [_key(r) for r in theirs if _compared(r)]
         places: dict[tuple, list[int]] = {}
         for i, key in enumerate(logged):
             places.setdefault(key, []).append(i)

@@ -66,8 +66,13 @@ def judge(case: Case, keep: Path | None = None, extra: Iterable[str] = ()) -> Ca
         if keep is not None and where.exists():  # a replay starts from nothing, as the campaign's case did
             shutil.rmtree(where)
         where.mkdir(parents=True, exist_ok=True)
-        flown = fly_case(case, where, extra)
-        violations = check(flown)
+        if case.fleet:
+            from aeroexec.rehearsal.simulation.fleets import fly_fleet
+
+            flown, violations = fly_fleet(case, where)
+        else:
+            flown = fly_case(case, where, extra)
+            violations = check(flown)
     if any(v.invariant == "step_bound" for v in violations) and keep is None:
         violations = _again(case, violations, extra)
     last = flown.parts[-1] if flown.parts else None
@@ -132,7 +137,7 @@ def warm_up() -> None:
     _warm.append(True)
     for seed in WARM_UP:
         with contextlib.suppress(Exception), tempfile.TemporaryDirectory(dir=_scratch_root()) as scratch:
-            fly_case(replace(draw(seed), subprocess=False), Path(scratch))
+            fly_case(replace(draw(seed), subprocess=False, fleet=()), Path(scratch))
     gc.collect()
     gc.freeze()
 
