@@ -23,8 +23,6 @@ GATED = {
                       "TypeError in the rules' anti-join)",
     "rules_blowup": "rules files that blow up in flight (a negation over a join with nothing in it, a transitive "
                     "closure over a few hundred facts: a step of 150 ms and more)",
-    "edit_running": "LAND inserted before the running item (before a running Repeat it is accepted, the drone "
-                    "lands and the mission fails)",
     "odd_update": "ctl update with an odd item number (a superscript digit, 5,000 digits) or no fragment",
     "crash_after_end": "kill -9 after the mission ended, while the flight ends (landing, disarming): --resume "
                        "flies the whole mission again",
@@ -37,9 +35,9 @@ GATED = {
 #: An edit's target that is the item running when the command is sent (``ctl items`` says which).
 RUNNING = "@running"
 #: The share of cases flown by real ``aeroexec run`` processes (the others in the campaign's process).
-SUBPROCESS_SHARE = 0.03
+SUBPROCESS_SHARE = 0.02
 #: The share of cases flown by a fleet of 2 to 5 drones.
-FLEET_SHARE = 0.02
+FLEET_SHARE = 0.015
 #: Operator commands drawn, with their weights.
 COMMANDS = {"pause": 5, "resume": 3, "abort": 1, "suspend": 1, "status": 2, "items": 1, "query": 1, "add": 1,
             "remove": 1, "skip": 1, "edit": 3, "load": 1}
@@ -131,7 +129,7 @@ def _edit(rng: random.Random, mission: Mission, extra: frozenset[str]) -> tuple[
     roll = rng.random()
     if "odd_update" in extra and roll < 0.15:
         return "update", rng.choice(["INSERT \u00b2 LAND", "INSERT " + "9" * 5000 + " LAND", "INSERT"])
-    if "edit_running" in extra and roll < 0.2:
+    if roll < 0.1:
         return "insert", f"before {RUNNING} 'LAND'"
     if roll < 0.4:
         return "insert", f"{rng.choice(['before', 'after'])} {target} '{point}'"

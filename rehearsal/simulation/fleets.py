@@ -1,18 +1,20 @@
-"""A case flown by a fleet of 2 to 5 drones in this process, as ``aeroexec fleet FILE`` flies it (one session per
-drone in lockstep on one clock, linked over Zenoh on loopback): each drone's files judged by the invariants of one
-run, and the fleet's exit status against its drones' (0 only when every drone's flight completed)."""
+"""A case flown by a fleet of 2 to 5 drones: a real ``aeroexec fleet FILE`` process (one session per drone in
+lockstep on one clock, linked over Zenoh on loopback); each drone's files judged by the invariants of one run, and
+the fleet's exit status against its drones' (0 only when every drone's flight completed)."""
 
 from __future__ import annotations
 
 import contextlib
-import io
 import json
+import subprocess
+import sys
 import time
 from pathlib import Path
 
 from aeroexec.rehearsal.simulation.cases import Case
 from aeroexec.rehearsal.simulation.flights import Flown, Part
 from aeroexec.rehearsal.simulation.invariants import Violation, check
+from aeroexec.rehearsal.simulation.processes import LIMIT, _records
 
 #: Where each drone of a fleet takes off (x, y in the built-in field, metres from its home): 6 m apart along the
 #: south of the field, clear of its trees and walls.
@@ -31,7 +33,6 @@ def shifted(text: str, points: tuple[tuple[float, float, float], ...], home: tup
 def _member(folder: Path, name: str, case: Case) -> Flown:
     """One drone's part, read from its files (its last state sample, its run_ended)."""
     from aeroexec.flight.run_status import FlightOutcome, RunStatus, last_part
-    from aeroexec.rehearsal.simulation.processes import _records
 
     flown = Flown(case, folder)
     part = Part()
@@ -53,8 +54,6 @@ def _member(folder: Path, name: str, case: Case) -> Flown:
 
 def fly_fleet(case: Case, scratch: Path) -> tuple[Flown, list[Violation]]:
     """Fly ``case``'s fleet; the first drone's files as the case's, and every violation of every drone (named)."""
-    from aeroexec.cli.main import main
-
     began = time.perf_counter()
     names = [f"d{i + 1}" for i in range(len(case.fleet))]
     lines = ["fleet: campaign", "world: default", "drones:"]
@@ -65,11 +64,13 @@ def fly_fleet(case: Case, scratch: Path) -> tuple[Flown, list[Violation]]:
     fleet_file = scratch / "fleet.yaml"
     fleet_file.write_text("\n".join(lines) + "\n")
     output = scratch / "run"
-    err = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        status = main(["fleet", str(fleet_file), "--quiet", "--workers", "1", "--output", str(output),
-                       "--max-time", "300"])
-    said = [line for line in err.getvalue().splitlines() if line.strip()]
+    try:
+        process = subprocess.run([sys.executable, "-m", "aeroexec.cli.main", "fleet", str(fleet_file), "--quiet",
+                                  "--workers", "1", "--output", str(output), "--max-time", "300"],
+                                 capture_output=True, text=True, cwd=scratch, timeout=LIMIT)
+        status, said = process.returncode, [line for line in process.stderr.splitlines() if line.strip()]
+    except subprocess.TimeoutExpired:
+        status, said = None, [f"the fleet did not end within {LIMIT:g} s"]
     violations: list[Violation] = []
     flowns = []
     for name in names:
@@ -80,7 +81,7 @@ def fly_fleet(case: Case, scratch: Path) -> tuple[Flown, list[Violation]]:
         violations += [Violation(v.invariant, f"drone {name}: {v.detail}") for v in check(flown)
                        if v.invariant not in ("goals_at_most_once", "flies_the_journaled_mission")]
     first = flowns[0][1] if flowns else Flown(case, output, [Part(refused=said[-1] if said else "refused")])
-    if status == 70 or any("please report it" in line for line in said):
+    if status in (70, None) or any("please report it" in line for line in said):
         violations.append(Violation("no_internal_error", f"the fleet exited {status}: {said[-1] if said else ''}"))
     words = {}
     with contextlib.suppress(OSError, ValueError):

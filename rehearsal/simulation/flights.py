@@ -344,15 +344,6 @@ def fly_case(case: Case, scratch: Path, extra: frozenset[str] = frozenset()) -> 
     for action in actions:
         flown.allowed_points |= _edit_points(action)
     horizon = 60.0 + 10.0 * case.mission.leaves
-    if case.subprocess:
-        from aeroexec.rehearsal.simulation.processes import fly_process
-
-        options = ["--seed", str(case.seed), "--max-time", f"{horizon:g}", "--link-grace", "10"]
-        options += [w for path in rules for w in ("--rules", path)]
-        options += [w for path in safety for w in ("--safety-rules", path)]
-        flown = fly_process(case, scratch, mission_path, options)
-        flown.cpu = time.process_time() - cpu
-        return flown
     spec = FlightSpec(mission=mission_path, output=str(folder), register=False, seed=case.seed, max_time=horizon,
                       rules=rules, safety_rules=safety, link_grace=10.0)
     loop_faults = sorted((f for f in case.faults if f.kind in ("crash", "sigterm", "sighup", "edited_resume",

@@ -116,8 +116,16 @@ def case_name(folder: Path) -> str:
     return next((p.name for p in folder.parent.glob("mission.*")), "mission")
 
 
-def fly_process(case: Case, scratch: Path, mission: Path, options: list[str]) -> Flown:
-    """Fly ``case`` by ``aeroexec run`` processes (``options``: its rules files, time limit, seed)."""
+def fly_process(case: Case, scratch: Path) -> Flown:
+    """Fly ``case`` by ``aeroexec run`` processes, its files in ``scratch``."""
+    mission = scratch / f"mission{case.mission.suffix}"
+    mission.write_text(case.mission.text)
+    options = ["--seed", str(case.seed), "--max-time", f"{60.0 + 10.0 * case.mission.leaves:g}", "--link-grace", "10"]
+    for name, text, flag in (("rules.txt", case.rules, "--rules"), ("safety.yaml", case.safety_rules,
+                                                                     "--safety-rules")):
+        if text:
+            (scratch / name).write_text(text)
+            options += [flag, str(scratch / name)]
     folder = scratch / "run"
     flown = Flown(case, folder)
     flown.allowed_points.update(tuple(round(v, 1) for v in p) for p in case.mission.points)

@@ -70,6 +70,11 @@ def judge(case: Case, keep: Path | None = None, extra: Iterable[str] = ()) -> Ca
             from aeroexec.rehearsal.simulation.fleets import fly_fleet
 
             flown, violations = fly_fleet(case, where)
+        elif case.subprocess:
+            from aeroexec.rehearsal.simulation.processes import fly_process
+
+            flown = fly_process(case, where)
+            violations = check(flown)
         else:
             flown = fly_case(case, where, extra)
             violations = check(flown)

@@ -37,6 +37,8 @@ def test_a_fixed_seed_campaign_of_300_flights_keeps_every_invariant():
     ended = {r.ended for r in results}
     assert {"completed", "failed", "aborted"} <= ended  # the campaign reaches more than one way to end
     assert sum(r.parts == 2 for r in results) >= 10  # killed and resumed runs among them
+    assert sum("a real aeroexec run process" in r.description for r in results) >= 3
+    assert sum("aeroexec fleet" in r.description for r in results) >= 3
 
 
 def test_the_same_seed_draws_the_same_case_and_others_differ():
