@@ -37,6 +37,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from aeroexec.rehearsal.simulation import draw, figures, judge, replay_command, run_campaign, shrink
+    from aeroexec.rehearsal.simulation.running import Interrupted
 
     extra = tuple(sorted(set(args.extra)))
     if args.seed is not None:
@@ -72,7 +73,12 @@ def run(args: argparse.Namespace) -> int:
             print(f"{done[0]} flights in {wall:.0f} s: {done[0] / wall * 60:.0f} flights per minute, "
                   f"{failed[0]} violation{'s' if failed[0] != 1 else ''}", file=sys.stderr, flush=True)
 
-    results = run_campaign(seeds, extra, args.workers, args.scheduler, args.dask, progress)
+    interrupted = False
+    try:
+        results = run_campaign(seeds, extra, args.workers, args.scheduler, args.dask, progress)
+    except Interrupted as interrupt:  # Ctrl-C: the figures of what was flown
+        results, interrupted = interrupt.results, True
+        print(f"interrupted after {len(results)} of {args.flights} flights", file=sys.stderr)
     found = figures(results, time.perf_counter() - began)
     ended = ", ".join(f"{n} {word}" for word, n in sorted(found.ended.items(), key=lambda item: -item[1]))
     print(f"{found.flights} flights in {found.wall:.1f} s: {found.per_minute:.0f} flights per minute; {ended}")
@@ -82,4 +88,4 @@ def run(args: argparse.Namespace) -> int:
               f"{replay_command(next(r.seed for r in results if r.failed), extra)}")
         return 1
     print("0 violations")
-    return 0
+    return 130 if interrupted else 0

@@ -190,11 +190,24 @@ def run_campaign(seeds: Iterable[int], extra: tuple[str, ...] = (), workers: int
             results.append(_worker(job))
             progress(results[-1])
         return results
-    with ProcessPoolExecutor(max_workers=min(workers, max(len(jobs), 1)), mp_context=_clean_start()) as pool:
+    pool = ProcessPoolExecutor(max_workers=min(workers, max(len(jobs), 1)), mp_context=_clean_start())
+    try:
         for result in pool.map(_worker, jobs, chunksize=4):
             progress(result)
             results.append(result)
+    except KeyboardInterrupt:  # Ctrl-C: what was flown is kept, the rest dropped; the workers end their cases
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise Interrupted(results) from None
+    pool.shutdown()
     return results
+
+
+class Interrupted(KeyboardInterrupt):
+    """A campaign interrupted (Ctrl-C): ``results`` holds the cases flown before."""
+
+    def __init__(self, results: list[CaseResult]) -> None:
+        super().__init__("interrupted")
+        self.results = results
 
 
 @dataclass
@@ -226,5 +239,5 @@ def timed_campaign(seeds: Iterable[int], **options) -> tuple[list[CaseResult], F
     return results, figures(results, time.perf_counter() - began)
 
 
-__all__ = ["CaseResult", "Figures", "figures", "judge", "replay_command", "run_campaign", "run_case", "shrink",
-           "timed_campaign"]
+__all__ = ["CaseResult", "Figures", "Interrupted", "figures", "judge", "replay_command", "run_campaign", "run_case",
+           "shrink", "timed_campaign"]
