@@ -109,3 +109,24 @@ def test_sigterm_while_the_flight_ends_lands_the_drone(tmp_path):
     telemetry = session.robot.telemetry()
     assert not telemetry.armed and telemetry.position[2] < 0.3
     assert outcome.status.word == "aborted" and not outcome.faults
+
+
+def test_a_second_signal_while_the_flight_ends_leaves_the_drone_as_it_is(tmp_path):
+    mission = tmp_path / "no_landing.xml"
+    mission.write_text('<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'
+                       '<TAKE_OFF ALTITUDE="3"/><GO_TO_POINT COORDINATES="2, 1, 3"/></Sequence></BehaviorTree></root>')
+    session = FlightSession(FlightSpec(mission=mission, output=str(tmp_path / "run"), register=False),
+                            notify=lambda text: None)
+    session.open()
+    signalled = []
+
+    def twice_while_landing() -> None:
+        if len(signalled) < 2 and session.engine.log.events("landing"):
+            signalled.append(session.engine.now())
+            raise Interrupted("SIGTERM")
+
+    session.engine.tick_callbacks.append(twice_while_landing)
+    outcome = session.fly()
+    assert len(signalled) == 2
+    assert session.robot.telemetry().position[2] > 1.0  # left where it was
+    assert outcome.status.word == "failed" and "the drone was left as it was" in outcome.faults[0]
