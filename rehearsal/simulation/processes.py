@@ -150,6 +150,8 @@ def fly_process(case: Case, scratch: Path) -> Flown:
         _, err = process.communicate()
         flown.parts.append(Part(error=f"the process did not end within {LIMIT:g} s"))
         return flown
+    if killed and any(r.get("kind") == "log_closed" for r in _records(folder)):
+        killed = False  # the run had ended (its log closed) when kill -9 reached the process: nothing to resume
     part, status, last = _part(folder, process, err, killed)
     flown.parts.append(part)
     flown.exit_status, flown.last_line = status, last
