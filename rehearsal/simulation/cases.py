@@ -30,6 +30,8 @@ GATED = {
                           "its waypoint is preempted and the end-of-flight LAND lands the drone outside the fence",
     "photo_enospc": "the disk full when a photo is written, from the Nth photo on (the plan fails and the drone "
                     "lands where it is)",
+    "process_signal": "SIGTERM or SIGHUP sent to a real aeroexec run process (it lands wherever the process is: "
+                      "once, a drone_landed event reached the journal and not the event log)",
     "disk_full": "a full disk at a random byte of the event log (the last line and the exit status disagree)",
 }
 #: An edit's target that is the item running when the command is sent (``ctl items`` says which).
@@ -237,6 +239,8 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
         faults = [f for f in faults if f.kind in ("crash", "sigterm", "sighup", "disk_full")]
         if not faults and rng.random() < 0.7:
             faults = [Fault(rng.choice(["crash", "sigterm", "sighup"]), killed)]
+        if "process_signal" not in extra:  # a signal to a process lands anywhere: see GATED
+            faults = [f if f.kind not in ("sigterm", "sighup") else replace(f, kind="crash") for f in faults]
         if "disk_full" in extra and rng.random() < 0.4:
             faults = [Fault("disk_full", size=rng.randint(2_000, 40_000))]
     fleet: tuple[Mission, ...] = ()
