@@ -42,6 +42,7 @@ def _member(folder: Path, name: str, case: Case) -> Flown:
     if states:
         part.armed, part.position = bool(states[-1].get("armed")), tuple(states[-1].get("position", (0, 0, 0)))
         part.altitude = part.position[2]
+        part.landed_state = str(states[-1].get("landed_state", ""))
     part.state_known = bool(states)
     if ended:
         status = RunStatus(ended[-1]["detail"], list((ended[-1].get("data") or {}).get("reasons", [])))

@@ -49,6 +49,7 @@ class Part:
     steps: int = 0
     armed: bool = False
     altitude: float = 0.0
+    landed_state: str = ""  # as the autopilot reports it (on_ground: landed, on the ground or on a deck)
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
     link_ok: bool = True
     crashed_drone: str | None = None  # the vehicle crashed (the simulator says why)
@@ -257,6 +258,7 @@ def _drone_state(session: Any, part: Part) -> None:
     telemetry = robot.telemetry()
     part.armed, part.position = telemetry.armed, tuple(telemetry.position)
     part.altitude = telemetry.position[2]
+    part.landed_state = getattr(telemetry.landed_state, "value", str(telemetry.landed_state))
     link = getattr(robot, "link_ok", None)
     part.link_ok = link(session.engine.now()) if callable(link) and session.engine is not None else True
     part.crashed_drone = getattr(robot, "crashed", None)

@@ -85,7 +85,8 @@ def landed_and_disarmed(flown: Flown, records: list[dict[str, Any]]) -> list[str
         return []
     if not last.link_ok or last.crashed_drone or not last.state_known:
         return []
-    if last.armed or last.altitude > GROUND:
+    on_ground = last.landed_state == "on_ground" if last.landed_state else last.altitude <= GROUND  # or a deck
+    if last.armed or not on_ground:
         return [f"the drone ended {'armed' if last.armed else 'disarmed'} at {last.altitude:.2f} m "
                 f"({last.outcome.status.word if last.outcome else 'no outcome'})"]
     return []

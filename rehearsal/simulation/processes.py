@@ -87,6 +87,7 @@ def _part(folder: Path, process: Any, err: str, killed: bool, parts_before: int 
     if states:
         part.armed, part.position = bool(states[-1].get("armed")), tuple(states[-1].get("position", (0, 0, 0)))
         part.altitude = part.position[2]
+        part.landed_state = str(states[-1].get("landed_state", ""))
     if killed:
         return part, None, last
     parts = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))
