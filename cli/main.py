@@ -29,6 +29,8 @@ COMMANDS = {
     "verify": ("verify", "check missions without flying: every error with file:line"),
     "rehearse": ("rehearse", "fly a mission many times in the simulator with wind, battery, noise and link "
                              "variations, on every core or a Dask cluster; an HTML report"),
+    "campaign": ("campaign", "fly a seeded campaign of whole flights (missions, operator commands, faults, rules) "
+                             "in the simulator and check the invariants every run must keep; replay a seed"),
     "convert": ("convert", "write a mission tree (a plan, a waypoint file, YAML, XML) as BehaviorTree.CPP v4 XML, "
                            "a QGroundControl .plan or a .waypoints file (--to, or -o's extension)"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),

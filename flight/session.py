@@ -335,6 +335,7 @@ class FlightSession:
         flight: land, disarm, record how it ended. Call from the thread that may get KeyboardInterrupt."""
         self.open()
         engine = self.engine
+        interrupted = False
         try:
             try:
                 self.start_mission()
@@ -342,7 +343,16 @@ class FlightSession:
                     self.time_limit()
             except KeyboardInterrupt as interrupt:
                 self.interrupted(getattr(interrupt, "signal_name", "Ctrl-C"))
-            faults = end_flight(engine, link_grace=self.spec.link_grace)
+                interrupted = True
+            faults = None
+            while faults is None:
+                try:
+                    faults = end_flight(engine, link_grace=self.spec.link_grace)
+                except KeyboardInterrupt as interrupt:  # the first one while the flight ends: it goes on landing
+                    if interrupted:
+                        raise
+                    self.interrupted(getattr(interrupt, "signal_name", "Ctrl-C"))
+                    interrupted = True
         except KeyboardInterrupt:
             self.notify("interrupted again: leaving the drone as it is")
             faults = ["the operator interrupted the end of the flight: the drone was left as it was"]

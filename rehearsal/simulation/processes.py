@@ -1,0 +1,170 @@
+"""A case flown by real ``aeroexec run`` processes: what the operator sees (the exit status, the last line) against
+what the run's files say. Faults are those of a process: SIGTERM, or ``kill -9`` then ``aeroexec run --resume``,
+sent once the event log has grown to the fault's time (a process is watched through its files, never timed), and a
+full disk (the event log's writer given a disk that fills after a number of bytes)."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from aeroexec.rehearsal.simulation.cases import Case
+from aeroexec.rehearsal.simulation.flights import Flown, Part
+
+LIMIT = 300.0  # wall seconds a process may take before it is called hung (a violation, never a wait that fails)
+FULL_DISK = """
+import errno, os, sys
+from aeroexec.flight import flight_log
+
+
+class FullDisk:
+    room = int(sys.argv[1])
+
+    def __getattr__(self, name):
+        return getattr(os, name)
+
+    def write(self, fd, data):
+        if self.room <= 0:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        part = bytes(data[:self.room])
+        self.room -= len(part)
+        return os.write(fd, part)
+
+
+flight_log.os = FullDisk()
+from aeroexec.cli.main import main
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+def _records(folder: Path) -> list[dict[str, Any]]:
+    path = folder / "events.jsonl"
+    found = []
+    if path.is_file():
+        for line in path.read_bytes().splitlines():
+            with contextlib.suppress(ValueError):
+                found.append(json.loads(line))
+    return found
+
+
+def _grown_to(folder: Path, seconds: float, process: subprocess.Popen) -> None:
+    """Wait until the run's event log reaches ``seconds`` of engine time (or the process ends)."""
+    path = folder / "events.jsonl"
+    while process.poll() is None:
+        if path.is_file():
+            with open(path, "rb") as file:
+                file.seek(max(0, os.path.getsize(path) - 4096))
+                tail = file.read().splitlines()
+            for line in reversed(tail[1:] if len(tail) > 1 else tail):
+                try:
+                    if float(json.loads(line).get("time", 0.0)) >= seconds:
+                        return
+                    break
+                except ValueError:
+                    continue
+        time.sleep(0.02)
+
+
+def _part(folder: Path, process: Any, err: str, killed: bool, parts_before: int = 0
+          ) -> tuple[Part, int | None, str]:
+    from aeroexec.flight.run_status import EXIT_STATUS, FlightOutcome, RunStatus, last_part
+
+    part = Part(crashed=killed)
+    lines = [line for line in err.splitlines() if line.strip()]
+    last = lines[-1] if lines else ""
+    if "please report it" in err or process.returncode == 70:
+        part.error = f"exit status {process.returncode}: {last}"
+    records = last_part(_records(folder))
+    ended = [r for r in records if r.get("kind") == "run_ended"]
+    states = [r for r in records if r.get("kind") == "state"]
+    if states:
+        part.armed, part.position = bool(states[-1].get("armed")), tuple(states[-1].get("position", (0, 0, 0)))
+        part.altitude = part.position[2]
+        part.landed_state = str(states[-1].get("landed_state", ""))
+    if killed:
+        return part, None, last
+    parts = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))
+    if parts <= parts_before and process.returncode in (1, 2):  # refused: nothing of it in the log
+        part.refused = last
+        return part, process.returncode, last
+    incomplete = next((line.split("(", 1)[1].split(")", 1)[0] for line in lines
+                       if line.startswith("the event log is incomplete")), None)
+    faults = [line.removeprefix("failed: ") for line in lines if line.startswith("failed: ")]
+    part.state_known = incomplete is None and bool(states)
+    said = next((line.split(": ", 1)[1].split(" at t=", 1)[0] for line in lines
+                 if line.startswith(f"{case_name(folder)}: ") and " at t=" in line), None)
+    if ended:
+        status = RunStatus(ended[-1]["detail"], list((ended[-1].get("data") or {}).get("reasons", [])))
+        part.outcome = FlightOutcome(status, faults, incomplete, folder)
+    elif said in EXIT_STATUS:  # the log stopped short (a full disk): the run's summary says how it ended
+        part.outcome = FlightOutcome(RunStatus(said), faults, incomplete, folder)
+    else:
+        part.error = f"exit status {process.returncode} without saying how the run ended: {last}"
+    link = [r for r in records if r.get("kind", "").startswith("drone_ground_link")]
+    part.link_ok = not link or link[-1]["kind"] != "drone_ground_link_lost"
+    return part, process.returncode, last
+
+
+def case_name(folder: Path) -> str:
+    """The mission's name in the run's lines (its file name, beside the run's folder)."""
+    return next((p.name for p in folder.parent.glob("mission.*")), "mission")
+
+
+def fly_process(case: Case, scratch: Path) -> Flown:
+    """Fly ``case`` by ``aeroexec run`` processes, its files in ``scratch``."""
+    mission = scratch / f"mission{case.mission.suffix}"
+    mission.write_text(case.mission.text)
+    options = ["--seed", str(case.seed), "--max-time", f"{60.0 + 10.0 * case.mission.leaves:g}", "--link-grace", "10"]
+    for name, text, flag in (("rules.txt", case.rules, "--rules"), ("safety.yaml", case.safety_rules,
+                                                                     "--safety-rules")):
+        if text:
+            (scratch / name).write_text(text)
+            options += [flag, str(scratch / name)]
+    folder = scratch / "run"
+    flown = Flown(case, folder)
+    flown.allowed_points.update(tuple(round(v, 1) for v in p) for p in case.mission.points)
+    disk = case.fault("disk_full")
+    killer = next((f for f in case.faults if f.kind in ("crash", "sigterm", "sighup")), None)
+    command = ["run", str(mission), "--quiet", "--output", str(folder), *options]
+    head = [sys.executable, "-c", FULL_DISK, str(disk.size)] if disk else [sys.executable, "-m", "aeroexec.cli.main"]
+    began = time.perf_counter()
+    process = subprocess.Popen([*head, *command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                               cwd=scratch)
+    killed = False
+    if killer is not None:
+        _grown_to(folder, killer.time, process)
+        if process.poll() is None:
+            process.send_signal(signal.SIGKILL if killer.kind == "crash" else
+                                signal.SIGTERM if killer.kind == "sigterm" else signal.SIGHUP)
+            killed = killer.kind == "crash"
+    try:
+        _, err = process.communicate(timeout=LIMIT)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        _, err = process.communicate()
+        flown.parts.append(Part(error=f"the process did not end within {LIMIT:g} s"))
+        return flown
+    if killed and any(r.get("kind") == "log_closed" for r in _records(folder)):
+        killed = False  # the run had ended (its log closed) when kill -9 reached the process: nothing to resume
+    part, status, last = _part(folder, process, err, killed)
+    flown.parts.append(part)
+    flown.exit_status, flown.last_line = status, last
+    if killed:
+        before = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))
+        again = subprocess.run([*head, "run", "--resume", str(folder), "--quiet"], capture_output=True, text=True,
+                               cwd=scratch, timeout=LIMIT)
+        part, status, last = _part(folder, again, again.stderr, False, before)
+        flown.parts.append(part)
+        flown.exit_status, flown.last_line = status, last
+    flown.wall = time.perf_counter() - began
+    return flown
+
+
+__all__ = ["fly_process"]

@@ -1,0 +1,132 @@
+"""The simulation campaign (``aeroexec campaign``): a fixed-seed campaign of whole flights keeps every invariant;
+each invariant says its name when it fails; a failing case is replayed from its seed by the command it prints and
+shrinks; and what the campaign found, fixed."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+from pathlib import Path
+
+from aeroexec.cli.main import main
+from aeroexec.flight.session import FlightSession
+from aeroexec.flight.signals import Interrupted
+from aeroexec.flight.spec import FlightSpec
+from aeroexec.rehearsal.simulation import (
+    Action,
+    Fault,
+    check,
+    draw,
+    invariants,
+    replay_command,
+    run_campaign,
+    shrink,
+)
+from aeroexec.rehearsal.simulation.flights import fly_case
+
+ROOT = Path(__file__).parents[2]
+FIGURE10 = ROOT / "missions" / "figure10.xml"
+FLIGHTS = 300  # the suite's campaign: seeds 0 to 299
+
+
+def test_a_fixed_seed_campaign_of_300_flights_keeps_every_invariant():
+    results = run_campaign(range(FLIGHTS), workers=os.cpu_count() or 2)
+    assert len(results) == FLIGHTS
+    failed = [r.report() for r in results if r.violations]
+    assert not failed, "\n\n".join(failed)
+    ended = {r.ended for r in results}
+    assert {"completed", "failed", "aborted"} <= ended  # the campaign reaches more than one way to end
+    assert sum(r.parts == 2 for r in results) >= 10  # killed and resumed runs among them
+    assert sum("a real aeroexec run process" in r.description for r in results) >= 3
+    assert sum("aeroexec fleet" in r.description for r in results) >= 3
+
+
+def test_the_same_seed_draws_the_same_case_and_others_differ():
+    assert draw(41) == draw(41)
+    assert len({draw(seed).mission.text for seed in range(20)}) == 20
+    kinds = {draw(seed).mission.kind for seed in range(60)}
+    assert kinds == {"tree", "python", "plan"}
+
+
+def _case_with(seed: int, **changes):  # noqa: ANN003
+    return replace(draw(seed), **changes)
+
+
+def test_a_broken_invariant_is_named_with_the_command_that_replays_it(tmp_path, monkeypatch):
+    monkeypatch.setattr(invariants, "STEP_BOUND", 0.0)  # every step is now too long
+    case = _case_with(3, actions=(), faults=(), rules=None, safety_rules=None)
+    found = check(fly_case(case, tmp_path))
+    assert [v.invariant for v in found] == ["step_bound"]
+    assert str(found[0]).startswith("step_bound: an engine step of part 1 at t=")
+    assert replay_command(3, ("disk_full",)) == "aeroexec campaign --seed 3 --with disk_full"
+
+
+def test_an_event_log_cut_mid_line_and_a_drone_left_armed_are_violations(tmp_path):
+    case = _case_with(3, actions=(), faults=(), rules=None, safety_rules=None)
+    flown = fly_case(case, tmp_path)
+    log = flown.folder / "events.jsonl"
+    log.write_bytes(log.read_bytes() + b'{"time": 1, "kind": "torn')
+    flown.parts[-1].armed = True
+    names = {v.invariant for v in check(flown)}
+    assert {"event_log_whole", "landed_and_disarmed"} <= names
+
+
+def test_a_failing_case_shrinks_to_what_still_fails_it(monkeypatch):
+    monkeypatch.setattr(invariants, "STEP_BOUND", 0.0)
+    case = _case_with(5, actions=(Action(1.0, "status"), Action(2.0, "pause"), Action(3.0, "resume")),
+                      faults=(Fault("link_drop", 2.0, 1.0),))
+    smaller = shrink(case, "step_bound")
+    assert smaller.actions == () and smaller.faults == ()
+    assert "t=2 ctl pause" in smaller.describe() and "shrunk" in smaller.describe()
+
+
+def test_one_seed_is_replayed_by_one_command_with_its_files_kept(tmp_path, capsys):
+    assert main(["campaign", "--seed", "7", "--output", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("seed 7: a ") and "every invariant held" in out
+    assert (tmp_path / "seed-7" / "run" / "events.jsonl").is_file()
+
+
+def test_sigterm_while_the_flight_ends_lands_the_drone(tmp_path):
+    """Found by the campaign (seed 26): one SIGTERM while the end of the flight was landing the drone left it in the
+    air, armed, as a second one should (the run 'failed: the operator interrupted the end of the flight')."""
+    mission = tmp_path / "no_landing.xml"
+    mission.write_text('<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'
+                       '<TAKE_OFF ALTITUDE="3"/><GO_TO_POINT COORDINATES="2, 1, 3"/></Sequence></BehaviorTree></root>')
+    session = FlightSession(FlightSpec(mission=mission, output=str(tmp_path / "run"), register=False),
+                            notify=lambda text: None)
+    session.open()
+    signalled = []
+
+    def signal_while_landing() -> None:  # as the handler raises it in the loop's thread
+        if not signalled and session.engine.log.events("landing"):
+            signalled.append(session.engine.now())
+            raise Interrupted("SIGTERM")
+
+    session.engine.tick_callbacks.append(signal_while_landing)
+    outcome = session.fly()
+    assert signalled
+    telemetry = session.robot.telemetry()
+    assert not telemetry.armed and telemetry.position[2] < 0.3
+    assert outcome.status.word == "aborted" and not outcome.faults
+
+
+def test_a_second_signal_while_the_flight_ends_leaves_the_drone_as_it_is(tmp_path):
+    mission = tmp_path / "no_landing.xml"
+    mission.write_text('<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence>'
+                       '<TAKE_OFF ALTITUDE="3"/><GO_TO_POINT COORDINATES="2, 1, 3"/></Sequence></BehaviorTree></root>')
+    session = FlightSession(FlightSpec(mission=mission, output=str(tmp_path / "run"), register=False),
+                            notify=lambda text: None)
+    session.open()
+    signalled = []
+
+    def twice_while_landing() -> None:
+        if len(signalled) < 2 and session.engine.log.events("landing"):
+            signalled.append(session.engine.now())
+            raise Interrupted("SIGTERM")
+
+    session.engine.tick_callbacks.append(twice_while_landing)
+    outcome = session.fly()
+    assert len(signalled) == 2
+    assert session.robot.telemetry().position[2] > 1.0  # left where it was
+    assert outcome.status.word == "failed" and "the drone was left as it was" in outcome.faults[0]
