@@ -1,6 +1,5 @@
 """aeroexec.trees"""
 
-from aeroexec.trees.mission_file import MISSION_EXTENSIONS as MISSION_EXTENSIONS
 from aeroexec.trees.mission_file import load_mission_tree as load_mission_tree
 from aeroexec.trees.mission_file import read_mission_tree as read_mission_tree
 from aeroexec.trees.model import TreeDocument as TreeDocument
