@@ -3,15 +3,16 @@ describes or completes mission files (``trees.mission_file``, ``flight.missions`
 ``run``/``verify``/``convert`` commands and their help, the fuzz suite).
 
 A :class:`MissionFormat` says a format's name, its file suffixes, how a file of a shared suffix is recognised from
-its text (``.xml``, ``.yaml``, ``.mission``), how it is read (into the tree model, into MAVLink mission items, or,
+its text (``.yaml``, ``.mission``), how it is read (into the tree model, into MAVLink mission items, or,
 for a program, checked), and whether ``convert`` can write it. Readers, recognisers and writers are
 ``module:function`` references, imported when a file of that format is read: the table imports no reader.
 
-Other packages add formats through the entry-point group ``aeroexec.mission_formats`` (a :class:`MissionFormat`, a
-list of them, or a callable returning either), loaded as the behaviors' entry points are
-(:mod:`aeroexec.engine.library`). A tree format's reader is ``(data: str | bytes, file: str, home) ->
-TreeDocument`` raising :class:`~aeroexec.trees.model.TreeFormatError` with ``(file, line, message)`` problems;
-its writer ``(tree, catalog, home) -> str``.
+Other packages add tree formats through the entry-point group ``aeroexec.mission_formats`` (a :class:`MissionFormat`,
+a list of them, or a callable returning either), loaded as the behaviors' entry points are (:mod:`aeroexec.plugins`);
+they come after the built-in ones, so a suffix they share is theirs only for the files their recogniser takes. A
+tree format's reader is ``(data: str | bytes, file: str, home) -> TreeDocument`` raising
+:class:`~aeroexec.trees.model.TreeFormatError` with ``(file, line, message)`` problems; its writer
+``(tree, catalog, home) -> str``.
 """
 
 from __future__ import annotations
@@ -107,15 +108,18 @@ def formats() -> tuple[MissionFormat, ...]:
     found = list(BUILT_IN)
     for origin, provided in installed_plugins(ENTRY_POINT_GROUP):
         try:
-            provided = provided() if callable(provided) and not isinstance(provided, MissionFormat) else provided
+            provided = provided() if callable(provided) else provided
         except Exception as exc:  # a broken plugin is reported, never takes the command down
             logger.error("the mission format of %s cannot be made: %s", origin, exc)
             continue
         for fmt in [provided] if isinstance(provided, MissionFormat) else list(provided or ()):
-            if isinstance(fmt, MissionFormat) and all(s.startswith(".") for s in fmt.suffixes):
-                found.append(fmt)
-            else:
+            if not isinstance(fmt, MissionFormat) or not fmt.suffixes or not all(s.startswith(".") for s in
+                                                                                 fmt.suffixes):
                 logger.error("%s is not a MissionFormat with suffixes such as .ext: %r", origin, fmt)
+            elif not fmt.tree:  # a program flies as a Python mission: the table cannot say how another would
+                logger.error("%s: %s is not a tree format; only tree formats can be added", origin, fmt.name)
+            else:
+                found.append(fmt)
     return tuple(found)
 
 
@@ -156,17 +160,15 @@ def expected(tree: bool | None = None) -> str:
 
 def complete_mission_files(prefix: str, **_: Any) -> list[str]:
     """Shell completion (argcomplete) of a mission argument: folders, and files of a mission format's suffix."""
-    folder, _sep, start = prefix.rpartition("/")
-    base = Path(folder or ".") if not (prefix.startswith("/") and not folder) else Path("/")
+    head, slash, start = prefix.rpartition("/")
+    shown = head + slash  # "", "folder/" or "/"
     try:
-        entries = sorted(base.iterdir())
+        entries = sorted(Path(shown or ".").iterdir())
     except OSError:
         return []
     known = suffixes()
-    shown = f"{folder}/" if folder or prefix.startswith("/") else ""
     return [f"{shown}{p.name}/" if p.is_dir() else f"{shown}{p.name}" for p in entries
             if p.name.startswith(start) and (p.is_dir() or p.name.lower().endswith(known))]
-
 
 __all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "MissionFormat", "complete_mission_files", "described", "expected",
            "format_of", "formats", "suffixes", "writable"]
