@@ -50,7 +50,8 @@ OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot", "mcap": "
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The command line's parser. Given ``argv``, only the sub-command it names is imported (none for
-    ``aeroexec --help``), so a command loads what it uses and nothing more; without, every sub-command is."""
+    ``aeroexec --help``, which lists the mission formats from their table and nothing more), so a command loads what
+    it uses and nothing more; without, every sub-command is."""
     wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     parser = CommandLine(prog="aeroexec", description="An execution engine for aerial robot missions.",
                          epilog=" ".join([*([] if wanted else [mission_formats()]),

@@ -1,5 +1,5 @@
-"""Reading and checking a mission file of any kind: a Python program, a behavior tree (BehaviorTree.CPP XML,
-YAML, Aerostack's ``nodes:``), a TML mission or a QGroundControl plan.
+"""Reading and checking a mission file of any format of the table (``trees/formats.py``): a Python program, a
+behavior tree (BehaviorTree.CPP XML, YAML, Aerostack's ``nodes:``), a TML mission or a QGroundControl plan.
 
 ``check_mission(path, catalog)`` returns what would fly (the mission function or the tree document) and every
 problem found before flight, each naming the file and line; ``load_mission`` is what a flight flies, or the
