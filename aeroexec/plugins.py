@@ -1,13 +1,11 @@
-"""Entry points: how every table open to other packages (behaviors, processes, updaters, drone adapters,
-contingencies) finds what an installed distribution adds, read once a process and loaded by group.
-
-It imports nothing of aeroexec, so any layer may use it (the behavior library's registry, the catalog's table of
-contingencies).
-"""
+"""Plugins: objects named ``module:attribute`` and the installed packages' entry points, loaded one way for every
+group (behaviors, processes, updaters, drones in :mod:`aeroexec.engine.library`; mission formats in
+:mod:`aeroexec.trees.formats`). Imports nothing of aeroexec, so a table of plugins costs no engine to read."""
 
 from __future__ import annotations
 
 import functools
+import importlib
 import logging
 from importlib.metadata import EntryPoints, entry_points
 from typing import Any
@@ -15,24 +13,45 @@ from typing import Any
 logger = logging.getLogger(__name__)
 
 
+class PluginError(ValueError):
+    """A ``module:attribute`` reference that names nothing."""
+
+
+def load_reference(reference: str, error: type[ValueError] = PluginError) -> Any:
+    """The object named by ``module:attribute`` (``module.sub:obj.attr`` reads attributes in turn); ``error`` is
+    raised, with what is wrong, when it names nothing."""
+    module_name, sep, attribute = reference.partition(":")
+    if not sep or not module_name or not attribute:
+        raise error(f"{reference!r} is not a reference of the form module:attribute")
+    try:
+        target: Any = importlib.import_module(module_name)
+    except ImportError as exc:
+        raise error(f"{reference}: cannot import {module_name} ({exc})") from None
+    for part in attribute.split("."):
+        try:
+            target = getattr(target, part)
+        except AttributeError:
+            raise error(f"{reference}: {module_name} has no attribute {attribute}") from None
+    return target
+
+
 @functools.cache
 def installed() -> EntryPoints:
     """Every installed package's entry points, read once a process: reading them scans every installed package
-    (~5 ms each time), and a flight asks for several groups (behaviors, processes, updaters, drones,
-    contingencies). ``installed.cache_clear()`` reads them again (a distribution added to ``sys.path``)."""
+    (~5 ms each time), and a flight asks for several groups (behaviors, processes, updaters, drones, formats)."""
     return entry_points()
 
 
-def plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
-    """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``, by name; one
-    that cannot be loaded is logged and left out, never takes the engine down."""
+def installed_plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
+    """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``; one that cannot
+    be loaded is logged and left out."""
     found = []
     for point in sorted(installed().select(group=group), key=lambda p: p.name):
         try:
             found.append((point.name if named else f"entry point {point.name} = {point.value}", point.load()))
-        except Exception as exc:
+        except Exception as exc:  # a broken plugin is reported, never takes the engine down
             logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, point.name, point.value, exc)
     return found
 
 
-__all__ = ["installed", "plugins"]
+__all__ = ["PluginError", "installed", "installed_plugins", "load_reference"]

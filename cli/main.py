@@ -31,8 +31,7 @@ COMMANDS = {
                              "variations, on every core or a Dask cluster; an HTML report"),
     "campaign": ("campaign", "fly a seeded campaign of whole flights (missions, operator commands, faults, rules) "
                              "in the simulator and check the invariants every run must keep; replay a seed"),
-    "convert": ("convert", "write a mission tree (a plan, a waypoint file, YAML, XML) as BehaviorTree.CPP v4 XML, "
-                           "a QGroundControl .plan or a .waypoints file (--to, or -o's extension)"),
+    "convert": ("convert", "write a mission tree in another format (--to, or -o's extension)"),
     "groot-model": ("groot", "write the catalog's node palette (TreeNodesModel) for Groot2"),
     "catalog": ("catalog", "list a behavior catalog, or check a catalog file"),
     "sim": ("sim", "run the simulated drone behind a MAVLink endpoint (PX4 or ArduPilot) for MAVSDK or QGroundControl"),
@@ -53,13 +52,15 @@ OPTION_EXTRAS = {"fleet": "fleet", "web": "console", "groot": "groot", "mcap": "
 
 def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The command line's parser. Given ``argv``, only the sub-command it names is imported (none for
-    ``aeroexec --help``), so a command loads what it uses and nothing more; without, every sub-command is."""
+    ``aeroexec --help``, which lists the mission formats from their table and nothing more), so a command loads what
+    it uses and nothing more; without, every sub-command is."""
+    wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     parser = CommandLine(prog="aeroexec", description="An execution engine for aerial robot missions.",
-                         epilog='shell completion: eval "$(register-python-argcomplete aeroexec)"')
+                         epilog=" ".join([*([] if wanted else [mission_formats()]),
+                                          'shell completion: eval "$(register-python-argcomplete aeroexec)"']))
     parser.add_argument("--version", action="version", version=f"aeroexec {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
-    wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     for name, (module_name, help_text) in COMMANDS.items():
         sub = commands.add_parser(name, help=help_text, description=help_text)
         parser.commands[name] = sub
@@ -68,6 +69,15 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
             module.add_arguments(sub)
             sub.set_defaults(run=module.run, sub_command=name)  # ``command`` may be a sub-command's own argument
     return parser
+
+
+def mission_formats() -> str:
+    """The mission formats (``aeroexec.trees.formats``) as the top-level help lists them: read, and written."""
+    from aeroexec.trees import formats
+
+    written = ", ".join(f"{fmt.summary} ({', '.join(fmt.suffixes)}; --to {word})"
+                        for word, fmt in formats.writable().items())
+    return f"Mission formats (run, verify, convert): {formats.described()}. convert writes {written}."
 
 
 def command_line(argv: list[str]) -> argparse.ArgumentParser:

@@ -29,6 +29,7 @@ from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession
 from aeroexec.flight.signals import ending_signals
 from aeroexec.flight.spec import LINK_GRACE, MAX_TIME, READY_TIMEOUT, FleetJoin, FlightError, FlightSpec
+from aeroexec.trees import formats
 
 EXIT_HELP = ("exit status: 0 completed, 3 completed with refused requests, 1 failed (a safety rule broken too), "
              "4 aborted (the operator, Ctrl-C, SIGTERM, SIGHUP), 5 suspended (a safety reaction such as LAND on low "
@@ -37,11 +38,11 @@ EXIT_HELP = ("exit status: 0 completed, 3 completed with refused requests, 1 fai
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mission", nargs="?",
-                        help="the mission: a Python program with a mission() or runMission() function "
-                             "(.py), a behavior tree (BehaviorTree.CPP XML .xml, or YAML .yaml/.yml), "
-                             "a TML mission (.tml.xml) or a QGroundControl plan (.plan); with --resume, the "
-                             "interrupted run's unless given")
+    mission = parser.add_argument(
+        "mission", nargs="?", help=f"the mission: a Python program with a mission() or runMission() function, or a "
+                                   f"behavior tree, in one of the formats {formats.described()}; with --resume, "
+                                   f"the interrupted run's unless given")
+    mission.completer = formats.complete_mission_files  # type: ignore[attr-defined]  # argcomplete
     parser.add_argument("--resume", metavar="RUN_DIR",
                         help="go on with the interrupted run in RUN_DIR (killed, suspended, aborted) from where its "
                              "journal says it stopped: as it was flown (mission, drone, world, catalog, plugins, "

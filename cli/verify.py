@@ -24,14 +24,16 @@ from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
 from aeroexec.flight.robot import load_world, robot_choice, with_rule_files
 from aeroexec.flight.spec import FlightError
+from aeroexec.trees import formats
 
 from aeroexec.limits import InputError, read_text
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("missions", nargs="+", metavar="MISSION",
-                        help="missions: Python (.py), behavior trees (.xml, .yaml, .yml), TML (.tml.xml), "
-                             "QGroundControl plans (.plan, .mission), waypoint files (.waypoints, .txt)")
+    missions = parser.add_argument("missions", nargs="+", metavar="MISSION",
+                                   help=f"missions, each a Python program or a behavior tree in one of the formats "
+                                        f"{formats.described()}")
+    missions.completer = formats.complete_mission_files  # type: ignore[attr-defined]  # argcomplete
     parser.add_argument("--catalog", metavar="FILE", help="the behavior catalog (default: the robot kind's)")
     parser.add_argument("--robot", default="drone", metavar="KIND",
                         help="the kind of robot: drone (default), or one an installed plugin adds, e.g. rover")

@@ -17,7 +17,6 @@ others. Providers are found by name, never imported by the engine's core:
 
 from __future__ import annotations
 
-import importlib
 import logging
 from collections.abc import Iterable, Mapping
 from typing import Any
@@ -27,7 +26,7 @@ from aeroexec.drones import Drone
 from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.resources import ProcessRegistry
 
-from aeroexec.plugins import plugins as _plugins
+from aeroexec import plugins
 
 logger = logging.getLogger(__name__)
 
@@ -39,25 +38,13 @@ AERIAL_BEHAVIORS = "aeroexec.engine.behaviors:aerial_behaviors"
 AERIAL_PROCESSES = "aeroexec.engine.behaviors:aerial_processes"
 
 
-class LibraryError(ValueError):
+class LibraryError(plugins.PluginError):
     """A ``module:attribute`` reference or a plugin that does not give behaviors or processes."""
 
 
 def load_reference(reference: str) -> Any:
     """The object named by ``module:attribute`` (``module.sub:obj.attr`` reads attributes in turn)."""
-    module_name, sep, attribute = reference.partition(":")
-    if not sep or not module_name or not attribute:
-        raise LibraryError(f"{reference!r} is not a reference of the form module:attribute")
-    try:
-        target: Any = importlib.import_module(module_name)
-    except ImportError as exc:
-        raise LibraryError(f"{reference}: cannot import {module_name} ({exc})") from None
-    for part in attribute.split("."):
-        try:
-            target = getattr(target, part)
-        except AttributeError:
-            raise LibraryError(f"{reference}: {module_name} has no attribute {attribute}") from None
-    return target
+    return plugins.load_reference(reference, LibraryError)
 
 
 def _produce(provider: Any, origin: str) -> Any:
@@ -97,7 +84,7 @@ def processes_of(provider: Any, origin: str) -> dict[str, Any]:
 def default_library(extra: Iterable[str] = ()) -> BehaviorLibrary:
     """The aerial behaviors, every installed plugin's, then those of ``extra`` references (later names win)."""
     library = BehaviorLibrary()
-    providers = [(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS)), *_plugins(BEHAVIORS_GROUP)]
+    providers = [(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS)), *plugins.installed_plugins(BEHAVIORS_GROUP)]
     providers += [(reference, load_reference(reference)) for reference in extra]
     for origin, provider in providers:
         for cls in behaviors_of(provider, origin):
@@ -108,7 +95,7 @@ def default_library(extra: Iterable[str] = ()) -> BehaviorLibrary:
 def default_processes(extra: Iterable[str] = ()) -> ProcessRegistry:
     """The aerial capability processes, every installed plugin's, then those of ``extra`` references."""
     registry = ProcessRegistry()
-    providers = [(AERIAL_PROCESSES, load_reference(AERIAL_PROCESSES)), *_plugins(PROCESSES_GROUP)]
+    providers = [(AERIAL_PROCESSES, load_reference(AERIAL_PROCESSES)), *plugins.installed_plugins(PROCESSES_GROUP)]
     providers += [(reference, load_reference(reference)) for reference in extra]
     for origin, provider in providers:
         for name, factory in processes_of(provider, origin).items():
@@ -136,13 +123,14 @@ def updaters_of(provider: Any, drone: Drone, origin: str) -> list[BeliefUpdater]
 
 def default_updaters(drone: Drone, extra: Iterable[str] = ()) -> list[BeliefUpdater]:
     """Every installed plugin's belief updaters, then those of ``extra`` references, for ``drone``."""
-    providers = [*_plugins(UPDATERS_GROUP), *((reference, load_reference(reference)) for reference in extra)]
+    providers = [*plugins.installed_plugins(UPDATERS_GROUP),
+                 *((reference, load_reference(reference)) for reference in extra)]
     return [updater for origin, provider in providers for updater in updaters_of(provider, drone, origin)]
 
 
 def drone_adapters() -> dict[str, Any]:
     """The installed drone adapters by scheme name (``aeroexec.drones`` entry points): ``(address) -> Drone``."""
-    return dict(_plugins(DRONES_GROUP, named=True))
+    return dict(plugins.installed_plugins(DRONES_GROUP, named=True))
 
 
 def make_drone(scheme: str, address: str) -> Drone:

@@ -1,5 +1,5 @@
-"""Reading and checking a mission file of any kind: a Python program, a behavior tree (BehaviorTree.CPP XML,
-YAML, Aerostack's ``nodes:``), a TML mission or a QGroundControl plan.
+"""Reading and checking a mission file of any format of the table (``trees/formats.py``): a Python program, a
+behavior tree (BehaviorTree.CPP XML, YAML, Aerostack's ``nodes:``), a TML mission or a QGroundControl plan.
 
 ``check_mission(path, catalog)`` returns what would fly (the mission function or the tree document) and every
 problem found before flight, each naming the file and line; ``load_mission`` is what a flight flies, or the
@@ -21,8 +21,8 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.spec import FlightError
-from aeroexec.trees import MISSION_EXTENSIONS, TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.items import is_item_file
+from aeroexec.trees import TreeDocument, TreeFormatError, load_mission_tree
+from aeroexec.trees.formats import described, format_of, suffixes
 
 from aeroexec.limits import InputError, read_text
 
@@ -50,12 +50,9 @@ class CheckedMission:
 
 
 def is_tree(path: Path) -> bool:
-    return path.suffix.lower() in MISSION_EXTENSIONS
-
-
-def is_plan(path: Path) -> bool:
-    """A mission-item file (QGroundControl plan or .mission, waypoint file), placed from a world's home."""
-    return is_item_file(path)
+    """A mission of a tree format of the table (trees/formats.py): behavior trees, TML, mission items."""
+    fmt = format_of(path)
+    return fmt is not None and fmt.tree
 
 
 def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
@@ -63,15 +60,20 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     """Read and check a mission without flying it (against ``world``'s bounds and obstacles when given);
     raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan and GPS points
     of Aerostack2's missions (default: ``world``'s home, else the default simulated world's)."""
-    if home is None and world is not None and is_tree(path):  # plans and Aerostack2's GPS nodes are placed from it
+    fmt = format_of(path)
+    if home is None and world is not None and fmt is not None and fmt.tree:  # plans, Aerostack2's GPS nodes
         home = world.home
     if path.is_dir():
         inside = sorted(p.name for p in path.iterdir()
-                        if p.suffix.lower() in {".py", *MISSION_EXTENSIONS} and not p.name.startswith(("_", ".")))
+                        if p.name.lower().endswith(suffixes()) and not p.name.startswith(("_", ".")))
         some = f" (missions in it: {', '.join(inside[:4])}{', ...' if len(inside) > 4 else ''})" if inside else ""
         raise MissionFileError(f"{path}: it is a directory, not a mission file: give the mission's file{some}")
     checked = CheckedMission(path)
-    if is_tree(path):
+    if fmt is None:
+        what = "no such file" if not path.exists() else "not a mission file"
+        raise MissionFileError(f"{path}: {what}: a mission is a Python program or a behavior tree, in one of the "
+                               f"formats {described()}")
+    if fmt.tree:
         # here, not at the top: a Python mission needs none of tree verification (its checks, the format readers)
         from aeroexec.trees.route import estimate_route
         from aeroexec.trees.tml.verify import verify_mission_document
@@ -84,7 +86,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems += verify_leaves(error.leaves, catalog, str(path))  # the catalog's word as well
             checked.problems.sort(key=lambda p: (p.file, p.line))
             return checked
-        plan = is_plan(path)  # read as a PlanDocument: its items, numbered
+        plan = fmt.items  # read as a PlanDocument: its items, numbered
         if plan and not checked.tree.root.children:
             checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
             return checked
@@ -96,20 +98,14 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
         checked.problems.sort(key=lambda p: (p.file, p.line))
         return checked
-    if path.suffix.lower() != ".py":
-        what = "no such file" if not path.exists() else "not a mission file"
-        raise MissionFileError(f"{path}: {what}: a mission is a Python program (.py), a behavior tree (.xml, .yaml, "
-                               f".yml), a TML mission (.tml.xml) or a mission plan (.plan, .mission, .waypoints, "
-                               f".txt)")
     try:
         checked.source = read_text(path, what="the mission")
     except InputError as exc:
         raise MissionFileError(str(exc)) from None
-    # here, not at the top: a tree mission needs none of the Python mission's checks
-    from aeroexec.engine.missions.check import check_mission_source
-
-    checked.problems = check_mission_source(checked.source, str(path), catalog, world)
+    # the format's check, imported here: a tree mission needs none of the Python mission's checks
+    checked.problems = fmt.reader()(checked.source, str(path), catalog, world)
     return checked
+
 
 
 def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,

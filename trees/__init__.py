@@ -1,8 +1,17 @@
-"""aeroexec.trees"""
+"""aeroexec.trees
 
-from aeroexec.trees.mission_file import MISSION_EXTENSIONS as MISSION_EXTENSIONS
-from aeroexec.trees.mission_file import load_mission_tree as load_mission_tree
-from aeroexec.trees.mission_file import read_mission_tree as read_mission_tree
-from aeroexec.trees.model import TreeDocument as TreeDocument
-from aeroexec.trees.model import TreeFormatError as TreeFormatError
-from aeroexec.trees.model import TreeNode as TreeNode
+Each name is imported from its module when first used (``aeroexec.lazy``): the table of mission formats
+(``aeroexec.trees.formats``), which ``aeroexec --help`` lists, loads no reader and no YAML.
+"""
+
+from typing import TYPE_CHECKING
+
+from aeroexec.lazy import lazy_names
+
+__all__ = ["TreeDocument", "TreeFormatError", "TreeNode", "load_mission_tree", "read_mission_tree"]
+__getattr__ = lazy_names(__name__, {"load_mission_tree": "mission_file", "read_mission_tree": "mission_file",
+                                    "TreeDocument": "model", "TreeFormatError": "model", "TreeNode": "model"})
+
+if TYPE_CHECKING:
+    from aeroexec.trees.mission_file import load_mission_tree, read_mission_tree
+    from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode

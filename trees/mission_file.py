@@ -1,79 +1,121 @@
-"""Reading a behavior-tree mission file of any supported kind: the format is chosen by the file's extension.
+"""Reading a behavior-tree mission file of any format of the table (:mod:`aeroexec.trees.formats`): its suffix, and
+for a suffix several formats share its text, choose the format, whose reader makes it a
+:class:`~aeroexec.trees.model.TreeDocument`.
 
-``load_mission_tree(path)`` reads ``.xml`` (BehaviorTree.CPP v4, :mod:`aeroexec.trees.loaders.xml_loader`, or a TML
-mission when the document element is ``<mission>``, :mod:`aeroexec.trees.tml.compiler`; Aerostack2's behavior-tree
-nodes are mapped onto the catalog, :mod:`aeroexec.trees.loaders.aerostack2_nodes`), ``.yaml``/``.yml`` (the nested
-form or Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`), Aerostack2's interpreter missions in
-``.json``, ``.yaml`` or ``.yml`` (``{target, plan}``, :mod:`aeroexec.trees.loaders.aerostack2_loader`) and the
-mission-item files (:mod:`aeroexec.trees.items`): ``.plan`` and ``.mission`` (QGroundControl), ``.waypoints`` and
-``.txt`` (QGC WPL 110), placed from ``home`` (the world's home point; default: the mission's own) into a
-:class:`~aeroexec.trees.model.TreeDocument`. Every problem, whatever the format, is raised as one
-:class:`~aeroexec.trees.model.TreeFormatError` listing ``(file, line, message)`` (a mission-item file's
+The built-in formats' readers are here, each importing its loader when a file of its format is read: ``.xml``
+(BehaviorTree.CPP v4, :mod:`aeroexec.trees.loaders.xml_loader`, or a TML mission when the document element is
+``<mission>``, :mod:`aeroexec.trees.tml.compiler`; Aerostack2's behavior-tree nodes are mapped onto the catalog,
+:mod:`aeroexec.trees.loaders.aerostack2_nodes`), ``.yaml``/``.yml`` (the nested form or Aerostack's ``nodes:``
+list, :mod:`aeroexec.trees.loaders.yaml_loader`), Aerostack2's interpreter missions (``{target, plan}``,
+:mod:`aeroexec.trees.loaders.aerostack2_loader`) and the mission-item files (:mod:`aeroexec.trees.items`), placed
+from ``home`` (the world's home point; default: the mission's own). Every problem, whatever the format, is raised
+as one :class:`~aeroexec.trees.model.TreeFormatError` listing ``(file, line, message)`` (a mission-item file's
 problems are on its :class:`~aeroexec.trees.items.PlanDocument`, each with its item number).
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
+from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic
-from aeroexec.trees.items.readers import ITEM_EXTENSIONS
+from aeroexec.trees.formats import MissionFormat, expected, format_of
 from aeroexec.trees.model import TreeDocument, TreeFormatError
 
-from aeroexec.limits import InputError, read_text
-
-# Each format's reader is imported when a file of that format is read: one command reads one kind of file (the XML
-# reader alone pulls in the SAX parser and urllib; the mission items, the simulator's geofences).
-
-MISSION_EXTENSIONS = (".xml", ".yaml", ".yml", ".json", *ITEM_EXTENSIONS)
-_EXPECTED = "expected .xml, .yaml, .yml, .json, .plan, .mission, .waypoints or .txt"
+from aeroexec.limits import InputError, decode, read_bytes
 
 
 def load_mission_tree(path: str | Path, home: Geodetic | None = None) -> TreeDocument:
-    """The behavior-tree mission in ``path`` (see the module's docstring for the extensions)."""
-    suffix = Path(path).suffix.lower()
-    if suffix in ITEM_EXTENSIONS:
-        from aeroexec.trees.items.behaviors import items_document
-        from aeroexec.trees.items.readers import load_item_mission
-
-        return items_document(load_item_mission(path), home)
-    if suffix == ".xml":
-        from aeroexec.trees.loaders.aerostack2_nodes import aerostack2_tree
-        from aeroexec.trees.tml.compiler import load_xml_mission
-
-        return aerostack2_tree(load_xml_mission(path), home)
-    if suffix in (".yaml", ".yml", ".json"):
-        try:
-            text = read_text(path)
-        except InputError as exc:
-            raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
-        return read_mission_tree(text, str(path), home)
-    raise TreeFormatError([(str(path), 0, f"unknown mission file type {suffix or '(no extension)'}: {_EXPECTED}")])
+    """The behavior-tree mission in ``path``, read by its format (:func:`~aeroexec.trees.formats.format_of`)."""
+    _tree_format(str(path), None)  # an unknown suffix is said before the file is opened
+    try:
+        data = read_bytes(path)
+    except InputError as exc:
+        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
+    return read_mission_tree(data, str(path), home)
 
 
 def read_mission_tree(text: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
-    """A mission from text; ``file`` (its extension chooses the format) names it in problems."""
-    suffix = Path(file).suffix.lower()
-    if suffix in ITEM_EXTENSIONS:
+    """A mission from text; ``file`` (its suffix, and for a shared suffix the text, choose the format) names it."""
+    fmt = _tree_format(file, text)
+    if fmt.items:
         from aeroexec.trees.items.behaviors import items_document
         from aeroexec.trees.items.readers import read_item_mission
 
         return items_document(read_item_mission(text, file), home)
-    if suffix == ".xml":
-        from aeroexec.trees.loaders.aerostack2_nodes import aerostack2_tree
-        from aeroexec.trees.tml.compiler import read_xml_mission
+    return fmt.reader()(text, file, home)
 
-        return aerostack2_tree(read_xml_mission(text, file), home)
-    if suffix in (".yaml", ".yml", ".json"):
-        try:
-            text = text.decode("utf-8") if isinstance(text, bytes) else text
-        except UnicodeDecodeError as exc:
-            raise TreeFormatError([(file, 0, f"cannot read the file: {exc}")]) from None
-        from aeroexec.trees.loaders.aerostack2_loader import is_aerostack2_plan, read_aerostack2_plan
 
-        if suffix == ".json" or is_aerostack2_plan(text):
-            return read_aerostack2_plan(text, file, home)
-        from aeroexec.trees.loaders.yaml_loader import read_yaml
+def _tree_format(file: str, text: str | bytes | None) -> MissionFormat:
+    fmt = format_of(file, text)
+    if fmt is None or not fmt.tree:
+        suffix = Path(file).suffix.lower()
+        what = f"a {fmt.name[:-1] if fmt.name.endswith('s') else fmt.name} file is not a behavior tree" if fmt \
+            else f"unknown mission file type {suffix or '(no extension)'}"
+        raise TreeFormatError([(file, 0, f"{what}: {expected(tree=True)}")])
+    return fmt
 
-        return read_yaml(text, file)
-    raise TreeFormatError([(file, 0, f"unknown mission file type {suffix or '(no extension)'}: {_EXPECTED}")])
+
+def text_of(data: str | bytes, file: str) -> str:
+    """UTF-8 text of a file's bytes; a byte that is not UTF-8 is a :class:`TreeFormatError` with its line."""
+    if isinstance(data, str):
+        return data
+    try:
+        return decode(data, file)
+    except InputError as exc:
+        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
+
+
+# The built-in formats' readers, recognisers and writers, as the table (trees/formats.py) names them.
+
+def read_xml_tree(data: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
+    """BehaviorTree.CPP v4 XML, Aerostack2's nodes mapped onto the catalog, or TML (its document element)."""
+    from aeroexec.trees.loaders.aerostack2_nodes import aerostack2_tree
+    from aeroexec.trees.tml.compiler import read_xml_mission
+
+    return aerostack2_tree(read_xml_mission(data, file), home)
+
+
+def read_yaml_tree(data: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
+    """A behavior tree in YAML: the nested form or Aerostack's ``nodes:`` list."""
+    from aeroexec.trees.loaders.yaml_loader import read_yaml
+
+    return read_yaml(text_of(data, file), file)
+
+
+def read_aerostack2_tree(data: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
+    """Aerostack2's mission interpreter plan (JSON or YAML)."""
+    from aeroexec.trees.loaders.aerostack2_loader import read_aerostack2_plan
+
+    return read_aerostack2_plan(text_of(data, file), file, home)
+
+
+def is_aerostack_nodes(text: str) -> bool:
+    """Aerostack's behavior tree interpreter YAML: a top-level ``nodes:`` list."""
+    return re.search(r"^nodes\s*:", text, re.MULTILINE) is not None
+
+
+def is_legacy_mission(text: str) -> bool:
+    """A ``.mission`` of QGroundControl's legacy JSON, not QGC WPL as PX4's own tests write it."""
+    from aeroexec.trees.items.wpl import is_wpl
+
+    return not is_wpl(text)
+
+
+def write_xml_tree(tree: TreeDocument, catalog: Any, home: Geodetic | None = None) -> str:
+    from aeroexec.trees.loaders.xml_writer import write_xml
+
+    return write_xml(tree, catalog)
+
+
+def write_plan_file(tree: TreeDocument, catalog: Any, home: Geodetic) -> str:
+    from aeroexec.trees.items.writer import write_plan
+
+    return write_plan(tree, home)
+
+
+def write_waypoints_file(tree: TreeDocument, catalog: Any, home: Geodetic) -> str:
+    from aeroexec.trees.items.writer import write_waypoints
+
+    return write_waypoints(tree, home)

@@ -28,7 +28,7 @@ from typing import Any, ClassVar, Protocol
 from aeroexec.engine.catalog.engine_behaviors import KEEP_HOVERING, LAND
 from aeroexec.engine.yaml_nodes import suggestion
 
-from aeroexec.plugins import plugins
+from aeroexec.plugins import installed_plugins as plugins
 
 logger = logging.getLogger(__name__)
 

@@ -146,11 +146,13 @@ def route_of(mission: Path, start: tuple[float, float]) -> list[tuple[float, flo
 
     from aeroexec.drones.vehicle import VehicleModel
     from aeroexec.engine.safety.static import route
+    from aeroexec.trees.formats import format_of
 
     from aeroexec.limits import InputError, read_text
 
+    fmt = format_of(mission)
     try:
-        if mission.suffix.lower() == ".py":
+        if fmt is not None and not fmt.tree:  # a program: its requests in the order written
             document: Any = read_text(mission, what="the mission")
         else:
             from aeroexec.trees import load_mission_tree

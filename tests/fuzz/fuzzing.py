@@ -26,7 +26,7 @@ from aeroexec.drones.sim import WorldError, load_world
 from aeroexec.engine.catalog.behavior_catalog import default_catalog, load_catalog
 from aeroexec.engine.errors import CatalogError
 from aeroexec.flight.missions import MissionFileError, check_mission
-from aeroexec.trees.items import is_item_file
+from aeroexec.trees import formats as mission_formats
 from aeroexec.trees.mission_world import mission_world
 
 ROOT = Path(__file__).parents[2]
@@ -105,7 +105,8 @@ def _mission(path: Path) -> list[str]:
     global _catalog
     _catalog = _catalog or default_catalog()
     try:  # a mission planned on a map is checked in the world generated around it, as verify does
-        checked = check_mission(path, _catalog, mission_world(path) if is_item_file(path) else None)
+        fmt = mission_formats.format_of(path)
+        checked = check_mission(path, _catalog, mission_world(path) if fmt is not None and fmt.items else None)
     except MissionFileError as error:
         return [str(error)]
     return [str(p) for p in checked.errors]
@@ -313,31 +314,32 @@ def _files(*patterns: str) -> tuple[Path, ...]:
     return tuple(sorted(p for pattern in patterns for p in ROOT.glob(pattern)))
 
 
+#: The seed files of each mission format of the table (aeroexec.trees.formats), by the format's name: every
+#: format of the table is fuzzed (a format without seeds here fails ``test_every_mission_format_is_fuzzed``).
+MISSION_SEEDS = {
+    "BehaviorTree.CPP XML": _files("missions/figure10.xml", "missions/iarc7.xml", "tests/trees/data/inspection.xml",
+                         # and Aerostack2's, mapped at load
+                         "tests/aerostack/data/aerostack2_trees/as2_RTL_test_2.xml",
+                         "tests/aerostack/data/aerostack2_trees/gazebo_square.xml"),
+    "TML": _files("missions/*.tml.xml"),
+    "QGroundControl plans": _files("missions/*.plan", f"{REAL}/sky_mission/*.plan",
+                                   f"{REAL}/qgroundcontrol/SectionTest.plan"),
+    "QGroundControl legacy missions": _files(f"{REAL}/qgroundcontrol/OldFileFormat.mission"),
+    "QGC WPL 110 waypoint files": _files(f"{REAL}/ardupilot/copter_mission.txt",
+                                         f"{REAL}/qgroundcontrol/MissionPlanner.waypoints"),
+    "Python missions": _files("missions/inspection.py", "missions/square_patrol.py", "missions/marker_search.py",
+                              # and Aerostack2's scripts
+                              "tests/aerostack/data/aerostack2_scripts/as2_example1.py",
+                              "tests/aerostack/data/aerostack2_scripts/gazebo_mission_swarm.py"),
+    "YAML trees": _files("missions/square_patrol.yaml", "missions/iarc7.yaml", "tests/trees/data/inspection.yaml"),
+    "Aerostack2 interpreter plans": _files("tests/aerostack/data/aerostack2_plans/*.yaml",
+                                           "tests/aerostack/data/aerostack2_plans/*.json"),
+    "Aerostack nodes: YAML": _files("tests/trees/data/inspection_aerostack.yaml",
+                                    "tests/trees/data/aerostack_tower_inspection.yaml"),
+}
+
 FORMATS = {f.name: f for f in [
-    Format("BT.CPP XML", ".xml", _files("missions/figure10.xml", "missions/iarc7.xml",
-                                        "tests/trees/data/inspection.xml",  # and Aerostack2's, mapped at load
-                                        "tests/aerostack/data/aerostack2_trees/as2_RTL_test_2.xml",
-                                        "tests/aerostack/data/aerostack2_trees/gazebo_square.xml"), _mission),
-    Format("TML", ".tml.xml", _files("missions/*.tml.xml"), _mission),
-    Format("QGroundControl plans", ".plan",
-           _files("missions/*.plan", f"{REAL}/sky_mission/*.plan", f"{REAL}/qgroundcontrol/SectionTest.plan"),
-           _mission),
-    Format("QGroundControl legacy missions", ".mission",
-           _files(f"{REAL}/qgroundcontrol/OldFileFormat.mission"), _mission),
-    Format("QGC WPL 110 waypoint files", ".waypoints",
-           _files(f"{REAL}/ardupilot/copter_mission.txt", f"{REAL}/qgroundcontrol/MissionPlanner.waypoints"),
-           _mission),
-    Format("Python missions", ".py", _files("missions/inspection.py", "missions/square_patrol.py",
-                                            "missions/marker_search.py",  # and Aerostack2's scripts
-                                            "tests/aerostack/data/aerostack2_scripts/as2_example1.py",
-                                            "tests/aerostack/data/aerostack2_scripts/gazebo_mission_swarm.py"),
-           _mission),
-    Format("YAML trees", ".yaml", _files("missions/square_patrol.yaml", "missions/iarc7.yaml",
-                                         "tests/trees/data/inspection.yaml",  # and Aerostack2's interpreter plans
-                                         "tests/aerostack/data/aerostack2_plans/*.yaml"),  # (.json: the same reader)
-           _mission),
-    Format("Aerostack nodes: YAML", ".yaml", _files("tests/trees/data/inspection_aerostack.yaml",
-                                                    "tests/trees/data/aerostack_tower_inspection.yaml"), _mission),
+    *(Format(m.name, m.suffixes[0], MISSION_SEEDS.get(m.name, ()), _mission) for m in mission_formats.formats()),
     Format("catalogs", ".yaml", _files("catalogs/aerial.yaml"), _catalog_file),
     Format("world files", ".yaml", _files("drones/sim/default_world.yaml"), _world),
     Format("belief expressions", ".txt", _files("tests/fuzz/seeds/*.belief"), _belief),
@@ -425,5 +427,5 @@ def scratch() -> tempfile.TemporaryDirectory:
     return tempfile.TemporaryDirectory(prefix="aeroexec-fuzz-")
 
 
-__all__ = ["FORMATS", "KINDS", "PAYLOADS", "Edit", "Format", "Verdict", "apply", "format_of", "judge", "keep",
-           "placed", "scratch"]
+__all__ = ["FORMATS", "KINDS", "MISSION_SEEDS", "PAYLOADS", "Edit", "Format", "Verdict", "apply", "format_of", "judge",
+           "keep", "placed", "scratch"]

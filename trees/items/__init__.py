@@ -11,13 +11,13 @@ from typing import TYPE_CHECKING
 
 from aeroexec.lazy import lazy_names
 
-__all__ = ["ITEM_EXTENSIONS", "ItemMission", "MissionItem", "PlanDocument", "is_item_file", "items_document",
+__all__ = ["ItemMission", "MissionItem", "PlanDocument", "is_item_file", "items_document",
            "read_item_mission"]
 __getattr__ = lazy_names(__name__, {"PlanDocument": "behaviors", "items_document": "behaviors",
-                                    "ItemMission": "model", "MissionItem": "model", "ITEM_EXTENSIONS": "readers",
+                                    "ItemMission": "model", "MissionItem": "model",
                                     "is_item_file": "readers", "read_item_mission": "readers"})
 
 if TYPE_CHECKING:
     from aeroexec.trees.items.behaviors import PlanDocument, items_document
     from aeroexec.trees.items.model import ItemMission, MissionItem
-    from aeroexec.trees.items.readers import ITEM_EXTENSIONS, is_item_file, read_item_mission
+    from aeroexec.trees.items.readers import is_item_file, read_item_mission
