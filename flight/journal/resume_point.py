@@ -103,6 +103,13 @@ def _read(journal: Journal, folder: Path, period: float) -> ResumePoint:
     if journal.rows("SELECT 1 FROM events WHERE segment = ? AND kind = 'mission_completed'", (segment.segment,)):
         raise JournalError(f"{folder}: the run completed: nothing is left to do")
     stopped = journal.progress(segment.segment, "stop")
+    if stopped is None and segment.status is None:  # killed while the flight ended: its mission had failed already
+        failed = journal.rows("SELECT detail FROM events WHERE segment = ? AND kind = 'mission_failed'",
+                              (segment.segment,))
+        if failed:
+            raise JournalError(f"{folder}: the mission had ended failed by itself ({failed[0][0] or 'no reason'}) "
+                               f"before the run was stopped while it landed: a run resumes from a stop (a crash, a "
+                               f"suspension, an abort), not from a failure; run the mission again")
     if stopped is None and segment.status is not None:
         reasons = "; ".join(segment.reasons[:2]) or segment.status
         raise JournalError(f"{folder}: the mission ended {segment.status} by itself ({reasons}): a run resumes from "

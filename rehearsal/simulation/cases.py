@@ -3,8 +3,8 @@ through the supervisor as ``aeroexec ctl`` sends them), faults (a link drop, ``k
 SIGTERM or SIGHUP, a full disk at a byte, a slow disk) and rules files. The same seed gives the same case, on any
 machine; :meth:`Case.without` drops one of its actions or faults (shrinking).
 
-Some fault kinds find defects being fixed elsewhere (issue 40); they are drawn only when named in ``extra``
-(``aeroexec campaign --with KIND``): :data:`GATED` says which and why.
+Some fault kinds find defects not fixed yet; they are drawn only when named in ``extra`` (``aeroexec campaign --with
+KIND``): :data:`GATED` says which and why. Those that found the defects of issue 40 (:data:`FOUND`) are drawn always.
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from dataclasses import dataclass, field, replace
 
 from aeroexec.rehearsal.simulation.missions import Mission, draw_mission, tree_mission
 
-#: Fault kinds drawn only when asked for (``--with KIND``): each finds a defect of issue 40 that another change
-#: fixes; once it is merged the kind joins the default draws.
-GATED = {
+#: Fault kinds that found defects of issue 40 while those were being fixed; fixed now, they are drawn in every
+#: campaign (what each found, for the record).
+FOUND = {
     "edited_resume": "resume after kill -9 with the mission's waypoint edited (the tree's shape alone is compared)",
     "foreign_journal": "resume a journal copied from another run's folder",
     "rules_negation": "a rule negating a predicate without arguments asked in flight (calm :- not(low), up.: "
@@ -30,10 +30,20 @@ GATED = {
                           "its waypoint is preempted and the end-of-flight LAND lands the drone outside the fence",
     "photo_enospc": "the disk full when a photo is written, from the Nth photo on (the plan fails and the drone "
                     "lands where it is)",
-    "process_signal": "SIGTERM or SIGHUP sent to a real aeroexec run process (it lands wherever the process is: "
-                      "once, a drone_landed event reached the journal and not the event log)",
     "disk_full": "a full disk at a random byte of the event log (the last line and the exit status disagree)",
 }
+#: Fault kinds drawn only when asked for (``--with KIND``): each finds a defect not fixed yet.
+GATED = {
+    "process_signal": "SIGTERM or SIGHUP sent to a real aeroexec run process (it lands wherever the process is: "
+                      "once, a drone_landed event reached the journal and not the event log)",
+}
+
+
+def drawn_kinds(extra: frozenset[str] | tuple[str, ...] = ()) -> frozenset[str]:
+    """The fault kinds a campaign draws: every one of :data:`FOUND` and the gated ones asked for."""
+    return frozenset(extra) | frozenset(FOUND)
+
+
 #: An edit's target that is the item running when the command is sent (``ctl items`` says which).
 RUNNING = "@running"
 #: The share of cases flown by real ``aeroexec run`` processes (the others in the campaign's process).
@@ -183,7 +193,7 @@ def _safety_rules(rng: random.Random, extra: frozenset[str]) -> str:
 def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
          kinds: tuple[str, ...] = ("tree", "python", "plan"), subprocess_share: float = SUBPROCESS_SHARE) -> Case:
     """The case of ``seed``: what it flies, what the operator does and when, what goes wrong."""
-    extra = frozenset(extra)
+    extra = drawn_kinds(extra)
     rng = random.Random(seed)
     rules, questions = _rules(rng, extra) if rng.random() < 0.25 else (None, ())
     mission = draw_mission(rng, kinds, questions=questions)
@@ -251,4 +261,4 @@ def draw(seed: int, extra: frozenset[str] | tuple[str, ...] = frozenset(),
                 subprocess=process, fleet=fleet)
 
 
-__all__ = ["COMMANDS", "GATED", "RUNNING", "Action", "Case", "Fault", "draw"]
+__all__ = ["COMMANDS", "FOUND", "GATED", "RUNNING", "Action", "Case", "Fault", "draw", "drawn_kinds"]

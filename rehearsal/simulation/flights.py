@@ -24,7 +24,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from aeroexec.rehearsal.simulation.cases import RUNNING, Action, Case, Fault
+from aeroexec.rehearsal.simulation.cases import RUNNING, Action, Case, Fault, drawn_kinds
 from aeroexec.rehearsal.simulation.missions import draw_mission
 
 logger = logging.getLogger(__name__)
@@ -145,6 +145,10 @@ class _FullPhoto:
     def write_bytes(self, data: bytes) -> int:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(self.path))
 
+    def unlink(self, missing_ok: bool = False) -> None:
+        """What was written of it is removed (nothing was)."""
+        self.path.unlink(missing_ok=missing_ok)
+
     def __str__(self) -> str:
         return str(self.path)
 
@@ -197,7 +201,7 @@ class _Operator:
         while self.faults and self.faults[0].time <= now:
             fault = self.faults.pop(0)
             if fault.kind in ("crash", "edited_resume", "foreign_journal"):
-                if self.mission_done() and not self.after_end:  # the flight is ending: see GATED crash_after_end
+                if self.mission_done() and not self.after_end:  # the flight is ending: see FOUND crash_after_end
                     continue
                 raise Killed(fault.kind)
             from aeroexec.flight.signals import Interrupted
@@ -328,7 +332,8 @@ def _edit_points(action: Action) -> set[tuple[float, ...]]:
 
 def fly_case(case: Case, scratch: Path, extra: frozenset[str] = frozenset()) -> Flown:
     """Fly ``case`` with its files in ``scratch`` (its run folder: ``scratch/run``); ``extra``: the gated kinds
-    asked for (:data:`~aeroexec.rehearsal.simulation.cases.GATED`)."""
+    asked for (:data:`~aeroexec.rehearsal.simulation.cases.GATED`; those of ``FOUND`` are always drawn)."""
+    extra = drawn_kinds(extra)
     from aeroexec.drones.sim import SimulatedDrone
     from aeroexec.drones.sim.config import SimConfig
     from aeroexec.flight.journal import resume_spec

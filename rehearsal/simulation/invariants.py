@@ -106,10 +106,13 @@ def exit_status_agrees(flown: Flown, records: list[dict[str, Any]]) -> list[str]
         stated = (ended[-1].get("data") or {}).get("exit_status")
         if word != outcome.status.word:
             found.append(f"run_ended says {word!r}, the run ended {outcome.status.word!r}")
-        if word in EXIT_STATUS and stated != EXIT_STATUS[word]:
-            found.append(f"run_ended says {word!r} with exit status {stated}, which is {EXIT_STATUS[word]}")
-        if word in EXIT_STATUS and outcome.exit_status != exit_status(RunStatus(word), outcome.log_incomplete
-                                                                      is not None):
+        # an output lost (the event log cut short, photos a full disk did not take) makes a run that neither failed
+        # nor was aborted exit 6, run_ended says so
+        lost = outcome.log_incomplete is not None or any(r.get("kind") == "photo_not_saved" for r in records)
+        expected = exit_status(RunStatus(word), lost) if word in EXIT_STATUS else None
+        if expected is not None and stated != expected:
+            found.append(f"run_ended says {word!r} with exit status {stated}, which is {expected}")
+        if expected is not None and outcome.exit_status != expected:
             found.append(f"exit status {outcome.exit_status} for a run_ended {word!r}")
     elif outcome.log_incomplete is None:
         found.append("the event log has no run_ended line though it is whole")
@@ -166,6 +169,8 @@ def journal_agrees_with_log(flown: Flown, records: list[dict[str, Any]]) -> list
 
     if not _flew(flown) or not is_journal(flown.folder):
         return []
+    if any(f.kind == "foreign_journal" for f in flown.case.faults) and flown.parts[-1].refused:
+        return []  # the folder's journal is another run's, copied over this one's, and its resume was refused
     with Journal(flown.folder) as journal:
         held = journal.records()
     found = []

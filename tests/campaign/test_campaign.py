@@ -4,6 +4,7 @@ shrinks; and what the campaign found, fixed."""
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import replace
 from pathlib import Path
@@ -23,6 +24,7 @@ from aeroexec.rehearsal.simulation import (
     shrink,
 )
 from aeroexec.rehearsal.simulation.flights import fly_case
+from aeroexec.rehearsal.simulation.missions import Mission
 
 ROOT = Path(__file__).parents[2]
 FIGURE10 = ROOT / "missions" / "figure10.xml"
@@ -58,7 +60,7 @@ def test_a_broken_invariant_is_named_with_the_command_that_replays_it(tmp_path, 
     found = check(fly_case(case, tmp_path))
     assert [v.invariant for v in found] == ["step_bound"]
     assert str(found[0]).startswith("step_bound: an engine step of part 1 at t=")
-    assert replay_command(3, ("disk_full",)) == "aeroexec campaign --seed 3 --with disk_full"
+    assert replay_command(3, ("process_signal",)) == "aeroexec campaign --seed 3 --with process_signal"
 
 
 def test_an_event_log_cut_mid_line_and_a_drone_left_armed_are_violations(tmp_path):
@@ -130,3 +132,20 @@ def test_a_second_signal_while_the_flight_ends_leaves_the_drone_as_it_is(tmp_pat
     assert len(signalled) == 2
     assert session.robot.telemetry().position[2] > 1.0  # left where it was
     assert outcome.status.word == "failed" and "the drone was left as it was" in outcome.faults[0]
+
+
+def test_a_run_killed_while_landing_after_its_mission_failed_is_not_flown_again(tmp_path):
+    """Found by the campaign (seed 177 with crash_after_end): kill -9 while the end of the flight landed the drone,
+    after the tree had failed, then --resume flew the whole tree again (each goal reached twice over the run)."""
+    text = ('<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>'
+            '<TAKE_OFF ALTITUDE="3"/><GO_TO_POINT COORDINATES="2, 1, 3"/><AlwaysFailure/><LAND/>'
+            '</Sequence></BehaviorTree></root>')
+    mission = Mission("tree", text, ".xml", ((2.0, 1.0, 3.0),), False, 4)
+    case = _case_with(5, mission=mission, actions=(), faults=(Fault("crash", 7.0),), rules=None, safety_rules=None)
+    flown = fly_case(case, tmp_path)
+    assert [v.invariant for v in check(flown)] == []
+    first, resumed = flown.parts
+    assert first.crashed
+    assert resumed.refused and "had ended failed by itself" in resumed.refused
+    records = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").read_text().splitlines()]
+    assert [r["kind"] for r in records].count("mission_started") == 1  # the mission flew once
