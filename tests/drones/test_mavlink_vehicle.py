@@ -9,6 +9,7 @@ import pytest
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.mavlink.telemetry import px4_custom_mode
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle, MavlinkVehicleError, normalize_url
+from patience import hang_guard
 from pymavlink import mavutil
 from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
@@ -34,8 +35,9 @@ def link():
 
 
 def wait_for(client, kind: str, predicate=lambda m: True, timeout: float = TIMEOUT):
-    """The first ``kind`` message satisfying ``predicate``; fails the test after ``timeout`` seconds."""
-    deadline = time.monotonic() + timeout
+    """The first ``kind`` message satisfying ``predicate``; fails the test after ``timeout`` seconds (stretched on a
+    loaded machine)."""
+    deadline = time.monotonic() + hang_guard(timeout)
     while time.monotonic() < deadline:
         msg = client.recv_match(type=kind, blocking=True, timeout=0.1)
         if msg is not None and predicate(msg):
@@ -47,7 +49,7 @@ def command(client, cmd: int, *params: float, texts: list | None = None) -> int:
     """Send a COMMAND_LONG and return the final COMMAND_ACK result; STATUSTEXTs before it go to ``texts``."""
     p = list(params) + [0.0] * (7 - len(params))
     client.mav.command_long_send(1, 1, cmd, 0, *p)
-    deadline = time.monotonic() + TIMEOUT
+    deadline = time.monotonic() + hang_guard(TIMEOUT)
     while time.monotonic() < deadline:
         msg = client.recv_match(type=["COMMAND_ACK", "STATUSTEXT"], blocking=True, timeout=0.1)
         if msg is None:

@@ -23,7 +23,7 @@ pytestmark = pytest.mark.mavsdk
 
 
 def wait_until(condition, timeout: float, what: str) -> None:
-    deadline = time.monotonic() + timeout
+    deadline = time.monotonic() + hang_guard(timeout)
     while not condition():
         if time.monotonic() > deadline:
             pytest.fail(f"{what} did not happen within {timeout:g} s")
@@ -44,7 +44,7 @@ def test_a_link_drop_before_the_mission_is_one_warning_and_the_run_completes(tmp
         # the adapter asks for the home position last, each request once the one before was answered: by then
         # it has heard the vehicle, the link is up
         wait_until(lambda: vehicle.streams.interval_us(MAVLINK_MSG_ID_HOME_POSITION) not in (None, -1),
-                   hang_guard(60), "MAVSDK asking for the home position stream")
+                   60, "MAVSDK asking for the home position stream")
         assert vehicle.telemetry().landed_state == LandedState.ON_GROUND
         vehicle.cut_link()
         run.wait_for("link to the vehicle lost")
