@@ -60,3 +60,24 @@ def test_in_ci_a_browser_test_that_did_not_run_fails_the_run(tmp_path):
 def test_the_suite_prints_its_slowest_tests():
     options = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["pytest"]["ini_options"]["addopts"]
     assert "--durations=" in options
+
+
+def test_hang_guards_stretch_with_the_load_and_in_ci(monkeypatch):
+    """A wait for an event fails as hung only after its guard, stretched by the load per core, at least 3x in CI,
+    and never more than 10x (a real hang still ends the test); AEROEXEC_TEST_PATIENCE sets the factor."""
+    import patience
+
+    monkeypatch.delenv("AEROEXEC_TEST_PATIENCE", raising=False)
+    monkeypatch.delenv("CI", raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(os, "getloadavg", lambda: (0.5, 0.5, 0.5))
+    assert patience.hang_guard(10) == 10  # an idle machine: as written
+    monkeypatch.setattr(os, "getloadavg", lambda: (14.0, 12.0, 10.0))
+    assert patience.hang_guard(10) == 70  # 7 runnable per core
+    monkeypatch.setattr(os, "getloadavg", lambda: (60.0, 60.0, 60.0))
+    assert patience.hang_guard(10) == 100
+    monkeypatch.setattr(os, "getloadavg", lambda: (0.5, 0.5, 0.5))
+    monkeypatch.setenv("CI", "true")
+    assert patience.hang_guard(10) == 30
+    monkeypatch.setenv("AEROEXEC_TEST_PATIENCE", "5")
+    assert patience.hang_guard(10) == 50
