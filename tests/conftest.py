@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 
 import pytest
 
@@ -21,6 +22,14 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                           "bench/fuzz.py runs for minutes and prints the table")
     parser.addoption("--refresh-docs", action="store_true",
                      help="write the pictures of the docs the browser tests take (docs/console.png)")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """A suite started with SIGINT ignored (a background job of a script, ``nohup``) would hand that on to every
+    process it starts, and the tests that press Ctrl-C on a run would wait for an end that never comes: the
+    suite's processes take Python's own Ctrl-C back, so theirs have it too."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture

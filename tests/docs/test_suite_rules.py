@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tomllib
@@ -81,3 +82,27 @@ def test_hang_guards_stretch_with_the_load_and_in_ci(monkeypatch):
     assert patience.hang_guard(10) == 30
     monkeypatch.setenv("AEROEXEC_TEST_PATIENCE", "5")
     assert patience.hang_guard(10) == 50
+
+
+CTRL_C = """import signal
+import subprocess
+import sys
+
+
+def test_a_run_started_by_the_suite_takes_ctrl_c():
+    child = subprocess.run([sys.executable, "-c", "import signal; print(signal.getsignal(signal.SIGINT))"],
+                           capture_output=True, text=True)
+    assert "default_int_handler" in child.stdout, child.stdout
+"""
+
+
+def test_a_suite_started_with_ctrl_c_ignored_gives_its_runs_ctrl_c(tmp_path):
+    """A background job of a script (or nohup) starts with SIGINT ignored and its children inherit that: the
+    tests that press Ctrl-C on an ``aeroexec run`` then failed, waiting for an end that never came."""
+    shutil.copy(ROOT / "tests" / "conftest.py", tmp_path / "conftest.py")
+    (tmp_path / "test_ctrl_c.py").write_text(CTRL_C)
+    (tmp_path / "pytest.ini").write_text("[pytest]\naddopts = -ra\nmarkers =\n    browser: a browser test\n")
+    result = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-q"], cwd=tmp_path,
+                            capture_output=True, text=True, timeout=120,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    assert result.returncode == 0, result.stdout
