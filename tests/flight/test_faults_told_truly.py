@@ -66,8 +66,11 @@ def test_a_link_drop_before_the_mission_is_one_warning_and_the_run_completes(tmp
 
 def test_a_low_battery_landing_ends_suspended_naming_the_battery(tmp_path):
     port = free_udp_port()
-    drone = SimulatedDrone(config=SimConfig(initial_battery_percent=11.0, battery_hover_minutes=2.0))
-    vehicle = MavlinkVehicle(drone, connect=f"udpout://127.0.0.1:{port}", speed=4.0, autopilot="ardupilot")
+    # from 10.5% the run's LAND on low battery (below 10%) comes as the flight starts, and must come before the
+    # vehicle's own failsafe (7%): the charge the run sees comes once a second; at 2x, with 4 minutes of hover, that
+    # gap lasts 3.6 s of wall time (at 4x and 2 minutes, 0.9 s: on a loaded machine the failsafe landed first)
+    drone = SimulatedDrone(config=SimConfig(initial_battery_percent=10.5, battery_hover_minutes=4.0))
+    vehicle = MavlinkVehicle(drone, connect=f"udpout://127.0.0.1:{port}", speed=2.0, autopilot="ardupilot")
     vehicle.start()
     try:
         run = Command(tmp_path, "run", FIGURE10, "--plain", "--drone", f"mavsdk:udpin://127.0.0.1:{port}",
