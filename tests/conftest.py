@@ -2,7 +2,8 @@
 ``--refresh-docs`` (the browser tests write docs/console.png), a
 per-test runtime directory where runs list themselves (never the user's), and the browser tests' rule: without
 Chromium and its driver they are skipped with the reason, except in CI (``CI=true``), where a skipped browser test
-fails the run."""
+fails the run. A suite started with SIGINT ignored gives its processes Ctrl-C back. The hang guards of waits
+(stretched on a loaded machine) are in ``patience.py``, which test modules import (this file cannot be)."""
 
 from __future__ import annotations
 
