@@ -53,11 +53,11 @@ def main() -> None:
                         fuzzing.keep(fmt, data, verdict)
             rows.append((name, sum(counts.values()), counts["uncaught"], counts["hang"], counts["unplaced"]))
             print(f"  {name}: {rows[-1][1]} inputs", file=sys.stderr)
-    print(f"| {'format':24} | {'inputs':>7} | {'uncaught exceptions':>19} | {'hangs (> 10 s)':>14} "
+    print(f"| {'format':24} | {'inputs':>7} | {'uncaught exceptions':>19} | {'hangs (> 10 s CPU)':>18} "
           f"| {'errors without file:line':>24} |")
-    print(f"|{'-' * 26}|{'-' * 9}|{'-' * 21}|{'-' * 16}|{'-' * 26}|")
+    print(f"|{'-' * 26}|{'-' * 9}|{'-' * 21}|{'-' * 20}|{'-' * 26}|")
     for name, total, uncaught, hangs, unplaced in rows:
-        print(f"| {name:24} | {total:7} | {uncaught:19} | {hangs:14} | {unplaced:24} |")
+        print(f"| {name:24} | {total:7} | {uncaught:19} | {hangs:18} | {unplaced:24} |")
     for name, found in examples.items():
         print(f"\n{name}: first of {len(found)} failures")
         for line in found[:5]:

@@ -28,11 +28,12 @@ def mission():
         api.wait(1)
         waited += 1
     api.inhibit_behavior("PAY_ATTENTION_TO_VISUAL_MARKERS")
+    known = api.true_belief("code(?M, 3)")  # now: what another drone said expires once it landed and went quiet
     seen, marker = api.consult_belief("code(?M, 3), position(?M, (?X, ?Y, ?Z))")  # where: only the finder knows
     if seen and not api.true_belief("message(?D, ?Text)"):  # nobody said it yet
         api.execute_behavior("BROADCAST_MESSAGE",
                              message=f"marker 3 found at ({marker['X']:.0f}, {marker['Y']:.0f})")
     api.execute_behavior("GO_TO_POINT", coordinates=[x, y, ALTITUDE])
     api.execute_behavior("LAND")
-    if not api.true_belief("code(?M, 3)"):
+    if not known:
         raise RuntimeError("marker 3 is known to nobody in the fleet")

@@ -2,12 +2,14 @@
 ``--refresh-docs`` (the browser tests write docs/console.png), a
 per-test runtime directory where runs list themselves (never the user's), and the browser tests' rule: without
 Chromium and its driver they are skipped with the reason, except in CI (``CI=true``), where a skipped browser test
-fails the run."""
+fails the run. A suite started with SIGINT ignored gives its processes Ctrl-C back. The hang guards of waits
+(stretched on a loaded machine) are in ``patience.py``, which test modules import (this file cannot be)."""
 
 from __future__ import annotations
 
 import os
 import shutil
+import signal
 
 import pytest
 
@@ -21,6 +23,14 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                           "bench/fuzz.py runs for minutes and prints the table")
     parser.addoption("--refresh-docs", action="store_true",
                      help="write the pictures of the docs the browser tests take (docs/console.png)")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """A suite started with SIGINT ignored (a background job of a script, ``nohup``) would hand that on to every
+    process it starts, and the tests that press Ctrl-C on a run would wait for an end that never comes: the
+    suite's processes take Python's own Ctrl-C back, so theirs have it too."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture

@@ -325,8 +325,16 @@ class MavsdkSession:
             self._finish(handle, failure, f"{handle.command} failed: {why}")
 
     async def _watchdog(self) -> None:
+        """Check the link every period. A check that comes late means this loop itself was held up (a loaded
+        machine, a pause of the process): the adapter was not listening, so that time is not counted as the
+        vehicle's silence."""
+        last = time.monotonic()
         while True:
             await asyncio.sleep(_WATCHDOG_PERIOD)
+            now = time.monotonic()
+            if now - last > 2 * _WATCHDOG_PERIOD:
+                self.cache.not_listening(now - last - _WATCHDOG_PERIOD)
+            last = now
             if self.cache.check_link(self.link_timeout):
                 logger.warning("link to the vehicle lost: no telemetry for %.1f s", self.link_timeout)
                 self._fail_all(Failure.LINK_LOST, "the link to the vehicle was lost")

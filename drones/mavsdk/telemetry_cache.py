@@ -44,6 +44,7 @@ class TelemetryCache:
         self.status_text = ""
         self._status_time = -1e9
         self._last_rx: float | None = None
+        self._deaf = 0.0  # s since the last telemetry during which the adapter's loop was held up, not listening
         self._linked_once = False
         self._events: list[DroneEvent] = []
 
@@ -63,7 +64,7 @@ class TelemetryCache:
                     and old in (LandedState.IN_AIR, LandedState.LANDING)
                 ):
                     self._event("landed")
-            self._last_rx = now
+            self._last_rx, self._deaf = now, 0.0
             if not self.link_ok and self.connected:
                 self._restore()
 
@@ -71,7 +72,7 @@ class TelemetryCache:
         with self._lock:
             self.status_text = text
             self._status_time = time.monotonic()
-            self._last_rx = self._status_time
+            self._last_rx, self._deaf = self._status_time, 0.0
             if severity in _EVENT_SEVERITIES:
                 self._event("status_text", text, {"severity": severity})
 
@@ -82,7 +83,7 @@ class TelemetryCache:
         limit, that report is about a drop the watchdog already counted (and saw end), not a new one."""
         with self._lock:
             self.connected = connected
-            recent = self._last_rx is not None and time.monotonic() - self._last_rx <= self.silence_limit
+            recent = self._last_rx is not None and time.monotonic() - self._last_rx - self._deaf <= self.silence_limit
             if not connected and self.link_ok and not recent:
                 self._lose(detail or "MAVSDK reports the vehicle disconnected")
                 return True
@@ -90,14 +91,20 @@ class TelemetryCache:
                 self._restore()
             return False
 
+    def not_listening(self, seconds: float) -> None:
+        """The adapter's loop was held up for ``seconds`` (a loaded machine): no telemetry could be read then, so
+        that time does not count as the vehicle's silence."""
+        with self._lock:
+            self._deaf += seconds
+
     def check_link(self, silence_limit: float) -> bool:
-        """The watchdog: declare the link lost once no telemetry came for ``silence_limit`` seconds.
+        """The watchdog: declare the link lost once no telemetry came for ``silence_limit`` seconds of listening.
 
         True when this call declared it lost.
         """
         with self._lock:
             if self.link_ok and self._last_rx is not None:
-                age = time.monotonic() - self._last_rx
+                age = time.monotonic() - self._last_rx - self._deaf
                 if age > silence_limit:
                     self._lose(f"no telemetry for {age:.1f} s")
                     return True

@@ -112,6 +112,7 @@ class Supervisor:
         self._missions: list[SupervisedMission] = []
         #: (activation, its on_end listeners, whether its preconditions held when paused), in order
         self._suspended: list[tuple[Any, list, bool]] = []
+        self._hold_before: tuple[Any, int] | None = None  # the hold behavior active before a pause, its priority
         #: What checks and makes the changes of the running mission (the flight's ``MissionChanges``: ``prepare``,
         #: ``change``, ``items``); a bare engine has none, and takes a Python mission's skip only.
         self.changes: Any = None
@@ -215,6 +216,8 @@ class Supervisor:
                 self._suspended.append((activation, listeners, coordinator.preconditions_hold(activation)))
                 coordinator.stop(name, "paused by the operator")
                 stopped.append(name)
+            before = coordinator.active().get(hold_behavior)  # already hovering (a reaction): the pause raises it
+            self._hold_before = (before, before.priority) if before is not None else None
             hold = coordinator.activate(hold_behavior, priority="higher", source="operator")
             holding = f"; {hold_behavior} holds the drone" if hold.accepted else \
                 f"; {hold_behavior} cannot start: {hold.message}"
@@ -231,8 +234,11 @@ class Supervisor:
         self.state = RUNNING
         coordinator = self.engine.coordinator
         held = coordinator.active().get(hold_behavior)
-        if held is not None and held.source == "operator":
+        if held is not None and self._hold_before is not None and held is self._hold_before[0]:
+            held.priority = self._hold_before[1]  # hovering before the pause: as before, the mission's next may go
+        elif held is not None and held.source == "operator":
             coordinator.stop(hold_behavior, "resumed by the operator")
+        self._hold_before = None
         again, done, refused = [], [], []
         for activation, listeners, held in self._suspended:
             result = self._request_again(activation, listeners, held)

@@ -15,6 +15,7 @@ from aeroexec.drones.interface import LandedState
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
 from free_ports import free_udp_port
+from patience import hang_guard
 
 pytestmark = pytest.mark.mavsdk
 
@@ -44,7 +45,7 @@ class Run:
             self.lines.put(line.rstrip("\n"))
 
     def wait_for(self, text: str, timeout: float = 60.0) -> str:
-        deadline = time.monotonic() + timeout
+        deadline = time.monotonic() + hang_guard(timeout)
         while time.monotonic() < deadline:
             try:
                 line = self.lines.get(timeout=0.1)

@@ -27,6 +27,7 @@ from aeroexec.engine.supervision.operator import RemoteOperator
 from aeroexec.flight.control import CONTROL_FILE, ControlServer, read_control_file, send_command
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.runtime.runner import TreeMission
+from patience import hang_guard
 from rich.console import Console
 
 ROOT = Path(__file__).parents[2]
@@ -34,7 +35,7 @@ WAIT = 60.0  # wall seconds any condition may take on a loaded machine
 
 
 def until(condition: Callable[[], object], timeout: float = WAIT) -> object:
-    end = time.monotonic() + timeout
+    end = time.monotonic() + hang_guard(timeout)
     while time.monotonic() < end:
         value = condition()
         if value:

@@ -12,6 +12,7 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from patience import hang_guard
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.select import Select
 from selenium.webdriver.support.ui import WebDriverWait
@@ -27,14 +28,14 @@ pytestmark = pytest.mark.browser
 class Run:
     """``aeroexec run MISSION --web 0`` in a subprocess; ``url`` is the console's address with its token."""
 
-    def __init__(self, mission, output, *options):
+    def __init__(self, mission, output, *options, held=False):
         self.output = output
         self.process = subprocess.Popen(
             [sys.executable, "-m", "aeroexec.cli.main", "run", str(mission), "--plain", "--web", "--output",
              str(output), *options], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
             env={**os.environ, "PYTHONUNBUFFERED": "1"})
         self.url = None
-        deadline = time.monotonic() + 60
+        deadline = time.monotonic() + hang_guard(60)
         while self.url is None and time.monotonic() < deadline:
             line = self.process.stderr.readline()
             if not line:
@@ -42,9 +43,21 @@ class Run:
             if line.startswith("web console: "):
                 self.url = line.split(": ", 1)[1].strip()
         assert self.url, "aeroexec run printed no web console URL"
+        if held:
+            self.hold()
+
+    def hold(self):
+        """Pause the mission over the console's socket at once: the page, slow to load on a loaded machine, then
+        sees the mission where it was held rather than after the node the test looks at ended."""
+        base, token = self.url.split("?")
+        with connect(base.replace("http", "ws") + "ws?" + token, open_timeout=hang_guard(10)) as ws:
+            ws.send(json.dumps({"id": 1, "drone": "drone", "command": "pause", "argument": ""}))
+            while (reply := json.loads(ws.recv(timeout=hang_guard(10))))["type"] != "result":
+                pass
+        assert reply["ok"], reply
 
     def wait(self, timeout=120):
-        code = self.process.wait(timeout=timeout)
+        code = self.process.wait(timeout=hang_guard(timeout))
         return code, self.process.stderr.read()
 
     def events(self):
@@ -58,7 +71,7 @@ class Run:
 
 
 def wait_for(driver, condition, timeout=30, what="the page"):
-    return WebDriverWait(driver, timeout, poll_frequency=0.1).until(lambda d: condition(d),
+    return WebDriverWait(driver, hang_guard(timeout), poll_frequency=0.1).until(lambda d: condition(d),
                                                                     message=f"waiting for {what}")
 
 
@@ -79,12 +92,20 @@ def shown(driver, element_id):
 
 
 def test_a_tree_mission_seen_live_nodes_turn_running_then_success_and_the_drone_moves(browser, tmp_path):
-    run = Run("missions/figure10.xml", tmp_path / "out", "--speed", "1")
+    run = Run("missions/figure10.xml", tmp_path / "out", "--speed", "1", held=True)
     try:
         browser.get(run.url)
         wait_for(browser, lambda d: shown(d, "link") == "online", what="the socket")
-        wait_for(browser, lambda d: node_status(d, "TAKE_OFF") == "RUNNING", what="TAKE_OFF RUNNING")
-        wait_for(browser, lambda d: node_status(d, "TAKE_OFF") == "SUCCESS", what="TAKE_OFF SUCCESS")
+        wait_for(browser, lambda d: shown(d, "state") == "paused", what="the held mission")
+        # the behavior the pause held RUNNING: TAKE_OFF (or, on a slow start, the one flying then)
+        held = browser.execute_script("""const r = [...document.querySelectorAll('#mission .node')].find(n =>
+            n.dataset.status === "RUNNING" && ["TAKE_OFF", "GO_TO_POINT", "LAND"].includes(n.dataset.name));
+            return r ? r.dataset.name : null;""")
+        browser.find_element(By.ID, "resume").click()
+        if held is None:  # held before the first tick: TAKE_OFF runs once resumed
+            held = "TAKE_OFF"
+            wait_for(browser, lambda d: node_status(d, held) == "RUNNING", what=f"{held} RUNNING")
+        wait_for(browser, lambda d: node_status(d, held) == "SUCCESS", what=f"{held} SUCCESS")
         first = wait_for(browser, drone_position, what="the drone on the map")
         wait_for(browser, lambda d: (p := drone_position(d)) and abs(p[0] - first[0]) + abs(p[1] - first[1]) > 1.0,
                  what="the drone to move on the map")
@@ -215,9 +236,13 @@ def test_a_fleet_shows_every_drone_on_one_map_with_a_drone_selector(browser, tmp
 
 
 def test_the_mission_is_changed_from_the_page_and_a_refused_change_says_why(browser, tmp_path):
-    run = Run(ROOT / "tests" / "changes" / "data" / "patrol.xml", tmp_path / "out", "--speed", "2")
+    # held at the start until the page is there; at half speed corner A flies for 5 s, time to pause it from the
+    # page even on a loaded machine (at 2x its 1.3 s were over before a slow page showed it)
+    run = Run(ROOT / "tests" / "changes" / "data" / "patrol.xml", tmp_path / "out", "--speed", "0.5", held=True)
     try:
         browser.get(run.url)
+        wait_for(browser, lambda d: shown(d, "state") == "paused", what="the held mission")
+        browser.find_element(By.ID, "resume").click()
         wait_for(browser, lambda d: node_status(d, "corner A") == "RUNNING", timeout=60, what="corner A RUNNING")
         browser.find_element(By.ID, "pause").click()
         wait_for(browser, lambda d: shown(d, "state") == "paused", what="PAUSED")

@@ -23,6 +23,7 @@ from aeroexec.engine.supervision.operator import (
     ScriptedOperator,
     make_operator,
 )
+from patience import hang_guard
 
 ROOT = Path(__file__).parents[2]
 PNG = b"\x89PNG\r\n\x1a\nfake camera frame"
@@ -173,7 +174,7 @@ def console():
 
 def tick_until(engine, condition, wall=3.0):
     """Tick while a thread of this process works: bounded in wall time."""
-    deadline = time.monotonic() + wall
+    deadline = time.monotonic() + hang_guard(wall)
     while not condition() and time.monotonic() < deadline:
         engine.step(0.05)
         time.sleep(0.005)
@@ -308,7 +309,7 @@ def fake_tts(tmp_path, monkeypatch):
 
 
 def wait_for_file(path, lines, wall=5.0):
-    deadline = time.monotonic() + wall
+    deadline = time.monotonic() + hang_guard(wall)
     while time.monotonic() < deadline:
         if path.exists() and len(path.read_text().splitlines()) >= lines:
             return path.read_text().splitlines()

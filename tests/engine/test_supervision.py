@@ -75,6 +75,28 @@ def test_pause_holds_the_drone_and_the_mission_and_resume_goes_on(engine):
     assert engine.log.events(kind="INTERRUPTED", behavior="GO_TO_POINT")[0].detail == "paused by the operator"
 
 
+def test_a_pause_while_hovering_by_reaction_lets_the_next_request_go_after_resume(engine):
+    """A pause that comes as TAKE_OFF ends finds KEEP_HOVERING already hovering by reaction: the pause raised it to
+    its own priority and resume left it there, so the mission's next GO_TO_POINT was refused ("KEEP_HOVERING has a
+    higher priority") and the mission failed (the browser test hit it on a loaded machine)."""
+    results: list = []
+
+    def mission() -> None:
+        results.append(api.execute_behavior("TAKE_OFF", altitude=3))
+        api.wait(1.0)
+        results.append(api.execute_behavior("GO_TO_POINT", coordinates=FAR))
+
+    engine.start_mission(mission)
+    hovering = engine.coordinator.active
+    assert engine.run_until(lambda: getattr(hovering().get("KEEP_HOVERING"), "source", None) == "reactive", 60)
+    assert engine.supervisor.execute("pause", origin="test").ok
+    engine.step(2.0)
+    assert engine.supervisor.execute("resume").ok
+    assert engine.run_until(lambda: len(results) == 2, 120)
+    assert results == [Outcome.GOAL_ACHIEVED] * 2
+    assert not engine.log.events(kind="rejected", behavior="GO_TO_POINT")
+
+
 def test_a_paused_python_mission_does_not_call_the_engine(engine):
     calls = []
 

@@ -6,6 +6,8 @@ import sys
 import threading
 from pathlib import Path
 
+from patience import hang_guard
+
 MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 TOKEN = "t0k3n"
 HOVER = '''"""Take off, hover until someone says "go home" (or 600 s), land."""
@@ -71,7 +73,7 @@ def wait_for_line(process: subprocess.Popen, text: str, timeout: float) -> list[
                 return
 
     threading.Thread(target=read, daemon=True).start()
-    if not found.wait(timeout):
+    if not found.wait(hang_guard(timeout)):
         process.kill()
         raise AssertionError(f"{text!r} not seen in {timeout:g} s: {''.join(lines)[-3000:]}")
     return lines

@@ -15,6 +15,7 @@ from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import encode, tick
 from aeroexec.fleet.refusals import Refusals
 from aeroexec.fleet.transport import free_endpoint, open_session
+from patience import hang_guard
 
 
 @pytest.fixture
@@ -38,7 +39,7 @@ def say(session, drone: str, *messages: tuple[str, dict]) -> None:
 
 
 def settle(engine: Engine, until, wall: float = 5.0) -> bool:
-    end = time.monotonic() + wall
+    end = time.monotonic() + hang_guard(wall)
     while time.monotonic() < end:
         engine.step(0.05)
         if until():

@@ -16,6 +16,7 @@ from aeroexec.cli.main import main
 from aeroexec.fleet.credentials import Authority
 from aeroexec.fleet.payloads import tick
 from aeroexec.fleet.transport import config, free_endpoint
+from patience import hang_guard
 from processes import MISSIONS, aeroexec, stop, wait_for_line
 
 FLOOD = 100_000
@@ -186,9 +187,11 @@ def test_a_fleet_across_two_processes_and_routers_flies_the_search_with_its_cred
                           str(tmp_path / "router2"), cwd=tmp_path)
         processes.append(linked)
         wait_for_line(linked, "listening on", 30)
+        # d3 flies before the pair's process is up (seconds on a loaded machine) and waits 120 s of its time for
+        # their news: at 2x that wait outlasts their start and the flood on the router (at 8x it ran out first)
         d3 = aeroexec("run", str(MISSIONS / "fleet_search.py"), "--fleet", "search", "--name", "d3", "--connect",
                       other, "--credentials", str(tmp_path / "creds" / "d3.pem"), "--share", "object", "--share",
-                      "code", "--speed", "8", "--plain", "--output", str(tmp_path / "d3"), cwd=tmp_path)
+                      "code", "--speed", "2", "--plain", "--output", str(tmp_path / "d3"), cwd=tmp_path)
         processes.append(d3)
         before = wait_for_line(d3, "joined fleet search", 30)
         pair = aeroexec("fleet", str(path), "--connect", endpoint, "--speed", "8", "--plain", "--output",
@@ -197,9 +200,9 @@ def test_a_fleet_across_two_processes_and_routers_flies_the_search_with_its_cred
         flying = wait_for_line(pair, "drones here", 30)
         rogue = Rogue(endpoint, tmp_path / "creds", stranger, impostor=False)
         rogue.start()
-        pair_out, _ = pair.communicate(timeout=120)
-        d3_out, _ = d3.communicate(timeout=120)
-        rogue.join(30)
+        pair_out, _ = pair.communicate(timeout=hang_guard(120))
+        d3_out, _ = d3.communicate(timeout=hang_guard(120))
+        rogue.join(hang_guard(30))
     finally:
         stop(*processes)
     d3_out, pair_out = "".join(before) + d3_out, "".join(flying) + pair_out

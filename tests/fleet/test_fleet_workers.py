@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.cli.main import main
+from patience import hang_guard
 
 # each drone waits until the drone it follows is in the air (its position, shared over the fleet link), then takes
 # off, says so and lands: a cascade over the whole fleet, across the workers
@@ -102,7 +103,7 @@ def _fly(tmp_path: Path, n: int) -> subprocess.Popen:
 
 
 def _wait_until_all_up(tmp_path: Path, n: int, process: subprocess.Popen, timeout: float = 90.0) -> None:
-    deadline = time.monotonic() + timeout
+    deadline = time.monotonic() + hang_guard(timeout)
     while time.monotonic() < deadline:
         logs = [tmp_path / "out" / f"d{i}" / "events.jsonl" for i in range(1, n + 1)]
         if all(p.exists() and '"BROADCAST_MESSAGE"' in p.read_text() for p in logs):

@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from patience import hang_guard
 
 ROOT = Path(__file__).parents[2]
 MISSIONS = ROOT / "missions"
@@ -40,7 +41,7 @@ class Command:
 
     def wait_for(self, text: str, timeout: float = 60.0) -> str:
         """The first line (stdout or stderr) holding ``text``; fails the test when none comes in time."""
-        deadline = time.monotonic() + timeout
+        deadline = time.monotonic() + hang_guard(timeout)
         while time.monotonic() < deadline:
             try:
                 line = self.lines.get(timeout=0.1)
@@ -58,7 +59,7 @@ class Command:
     def finish(self, timeout: float = RUN_S) -> tuple[int, str, str]:
         """Exit status, stdout and stderr once the process ended."""
         try:
-            self.process.wait(timeout=timeout)
+            self.process.wait(timeout=hang_guard(timeout))
         except subprocess.TimeoutExpired:
             self.process.kill()
             pytest.fail("the command did not end:\n" + "\n".join(self.out[-20:] + self.err[-20:]))

@@ -377,16 +377,18 @@ def placed(message: str, path: Path, fmt: Format) -> bool:
 
 @contextlib.contextmanager
 def time_limit(seconds: float) -> Iterator[None]:
+    """A hang is ``seconds`` of this process's CPU time, not of the wall clock: a loaded machine (other processes
+    on the cores) makes a reader slower, never a hang; a reader stuck in a loop spends CPU and is stopped."""
     def expired(signum, frame):  # noqa: ANN001, ARG001
         raise _Hang()
 
-    previous = signal.signal(signal.SIGALRM, expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    previous = signal.signal(signal.SIGPROF, expired)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
     try:
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, previous)
 
 
 def judge(fmt: Format, data: bytes, folder: Path, seconds: float = HANG_SECONDS) -> Verdict:
@@ -397,7 +399,7 @@ def judge(fmt: Format, data: bytes, folder: Path, seconds: float = HANG_SECONDS)
         with time_limit(seconds):
             messages = fmt.read(path)
     except _Hang:
-        return Verdict("hang", f"more than {seconds:g} s")
+        return Verdict("hang", f"more than {seconds:g} s of CPU")
     except Exception as error:
         return Verdict("uncaught", f"{type(error).__name__}: {str(error)[:300]}")
     unplaced = [m for m in messages if not placed(m, path, fmt)]

@@ -76,3 +76,15 @@ def test_the_judge_tells_an_escape_a_hang_and_a_lost_place_from_a_placed_error(t
     assert {name: v.outcome for name, v in verdicts.items()} == {
         "escapes": "uncaught", "hangs": "hang", "loses_its_place": "unplaced", "places": "ok"}
     assert verdicts["escapes"].detail == "KeyError: 'no such key'"
+    assert verdicts["hangs"].detail == "more than 0.5 s of CPU"
+
+
+def test_a_reader_slowed_by_a_loaded_machine_is_not_a_hang(tmp_path):
+    """The hang limit is the reader's CPU time: waiting on other processes (a loaded CI) does not count. On the wall
+    clock a slow, correct reader on a loaded machine was judged a hang ("hang: more than 10 s")."""
+    def waits(path):  # off the CPU for twice the limit, as a reader is when the cores are busy elsewhere
+        time.sleep(1.0)
+        return []
+
+    verdict = fuzzing.judge(fuzzing.Format("t", ".txt", (), waits), b"x", tmp_path, seconds=0.5)
+    assert verdict.outcome == "ok", verdict.detail

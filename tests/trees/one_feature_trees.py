@@ -103,12 +103,14 @@ DECORATORS = {
     "RetryUntilSuccessful num_attempts={n}": Case(
         '<Sequence><Script code="n := 2"/><RetryUntilSuccessful num_attempts="{n}"><A/></RetryUntilSuccessful>'
         '</Sequence>', {"A": [F, F, F, S]}),
-    "Timeout msec={t}": Case('<Sequence><Script code="t := 300"/><Fallback><Timeout msec="{t}"><A/></Timeout><B/>'
-                             '</Fallback></Sequence>', {"A": [R], "B": [S]}, between=0.2),
-    "Delay delay_msec={t}": Case('<Sequence><Script code="t := 300"/><Delay delay_msec="{t}"><A/></Delay></Sequence>',
-                                 {"A": [S]}, between=0.2),
-    "Sleep msec={t}": Case('<Sequence><SetBlackboard output_key="t" value="300"/><Sleep msec="{t}"/><A/></Sequence>',
-                           {"A": [S]}, between=0.2),
+    # timers end half-way between two ticks (0.3 s from each: BehaviorTree.CPP's timer thread on a loaded machine
+    # fired more than the 0.1 s late that 300 ms between ticks 0.2 s apart left)
+    "Timeout msec={t}": Case('<Sequence><Script code="t := 900"/><Fallback><Timeout msec="{t}"><A/></Timeout><B/>'
+                             '</Fallback></Sequence>', {"A": [R], "B": [S]}, between=0.6),
+    "Delay delay_msec={t}": Case('<Sequence><Script code="t := 900"/><Delay delay_msec="{t}"><A/></Delay></Sequence>',
+                                 {"A": [S]}, between=0.6),
+    "Sleep msec={t}": Case('<Sequence><SetBlackboard output_key="t" value="900"/><Sleep msec="{t}"/><A/></Sequence>',
+                           {"A": [S]}, between=0.6),
     "Sleep msec 0": Case('<Sequence><Sleep msec="0"/><A/></Sequence>', {"A": [S]}),
     "RunOnce then_skip={b} written by SetBlackboard": Case(
         '<Sequence><SetBlackboard output_key="b" value="false"/><RunOnce then_skip="{b}"><A/></RunOnce><B/>'
