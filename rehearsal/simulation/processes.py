@@ -151,11 +151,13 @@ def fly_process(case: Case, scratch: Path) -> Flown:
         _, err = process.communicate()
         flown.parts.append(Part(error=f"the process did not end within {LIMIT:g} s"))
         return flown
-    if killed and any(r.get("kind") == "log_closed" for r in _records(folder)):
+    after_end = killed and any(r.get("kind") == "log_closed" for r in _records(folder))
+    if after_end:
         killed = False  # the run had ended (its log closed) when kill -9 reached the process: nothing to resume
     part, status, last = _part(folder, process, err, killed)
     flown.parts.append(part)
-    flown.exit_status, flown.last_line = status, last
+    # a process killed after its run ended exits as the kill says (-9), not as its run did: nothing to compare
+    flown.exit_status, flown.last_line = (None, "") if after_end else (status, last)
     if killed:
         before = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))
         again = subprocess.run([*head, "run", "--resume", str(folder), "--quiet"], capture_output=True, text=True,
