@@ -52,6 +52,9 @@ class FlightEnding:
         self._contingency_time = 0.0 if flight is None or flight.timeout is None else max(
             0.0, flight.started_at + flight.timeout - engine.now())  # s its flight may still take
         engine.bridge.close()
+        supervisor = getattr(engine, "supervisor", None)
+        if supervisor is not None:
+            supervisor.flight_ending = True  # a pause now would stop the landing: refused
 
     @property
     def done(self) -> bool:

@@ -107,6 +107,8 @@ class Supervisor:
     def __init__(self, engine: Any) -> None:
         self.engine = engine
         self.state = RUNNING
+        #: The flight's end has begun (the mission is over): a pause would stop the landing, so it is refused.
+        self.flight_ending = False
         self._queue: deque[Ticket] = deque()
         self._lock = threading.Lock()
         self._missions: list[SupervisedMission] = []
@@ -196,6 +198,10 @@ class Supervisor:
     # -- the commands -------------------------------------------------------------------------------
     def _pause(self, _: str) -> CommandResult:
         hold_behavior = self.engine.settings.hold_behavior
+        if self.flight_ending:  # the mission is over: holding the drone would stop its landing (or its return)
+            return CommandResult(False, "the mission has ended and the flight is ending (the drone finishes a "
+                                        "safety rule's hold or return, then lands): it is not paused; abort lands "
+                                        "it now")
         if self.state != RUNNING:
             return CommandResult(False, f"the mission is already {self.state}")
         self.state = PAUSED
@@ -230,7 +236,8 @@ class Supervisor:
     def _resume(self, _: str) -> CommandResult:
         hold_behavior = self.engine.settings.hold_behavior
         if self.state != PAUSED:
-            return CommandResult(False, f"the mission is {self.state}, not paused")
+            return CommandResult(False, "the mission has ended and the flight is ending, nothing is paused"
+                                 if self.flight_ending else f"the mission is {self.state}, not paused")
         self.state = RUNNING
         coordinator = self.engine.coordinator
         held = coordinator.active().get(hold_behavior)

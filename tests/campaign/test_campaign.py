@@ -149,3 +149,22 @@ def test_a_run_killed_while_landing_after_its_mission_failed_is_not_flown_again(
     assert resumed.refused and "had ended failed by itself" in resumed.refused
     records = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").read_text().splitlines()]
     assert [r["kind"] for r in records].count("mission_started") == 1  # the mission flew once
+
+
+def test_a_pause_while_the_flight_ends_is_refused_and_the_drone_lands(tmp_path):
+    """Found by the campaign (seed 3913 of the 10,000): a pause after the mission had ended stopped the end of the
+    flight's return and then its LAND, and the run ended 'failed: the drone was left in the air at 5.7 m'."""
+    text = ('<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>'
+            '<TAKE_OFF ALTITUDE="3"/><GO_TO_POINT COORDINATES="2, 1, 3"/></Sequence></BehaviorTree></root>')
+    mission = Mission("tree", text, ".xml", ((2.0, 1.0, 3.0),), False, 2)
+    case = _case_with(5, mission=mission, actions=(Action(7.0, "pause"),), faults=(), rules=None, safety_rules=None)
+    flown = fly_case(case, tmp_path)
+    assert [v.invariant for v in check(flown)] == []
+    records = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").read_text().splitlines()]
+    kinds = [r["kind"] for r in records]
+    assert kinds.index("mission_completed") < kinds.index("drone_landed")
+    pause = next(r for r in records if r["kind"] == "operator_command")
+    assert pause["time"] > records[kinds.index("mission_completed")]["time"]
+    assert not pause["data"]["ok"] and "the flight is ending" in pause["detail"]
+    ended = records[kinds.index("run_ended")]
+    assert ended["detail"] == "completed"
