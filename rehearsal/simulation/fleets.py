@@ -14,7 +14,7 @@ from pathlib import Path
 from aeroexec.rehearsal.simulation.cases import Case
 from aeroexec.rehearsal.simulation.flights import Flown, Part
 from aeroexec.rehearsal.simulation.invariants import Violation, check
-from aeroexec.rehearsal.simulation.processes import LIMIT, _records
+from aeroexec.rehearsal.simulation.processes import LIMIT, _records, last_state
 
 #: Where each drone of a fleet takes off (x, y in the built-in field, metres from its home): 6 m apart along the
 #: south of the field, clear of its trees and walls.
@@ -39,10 +39,7 @@ def _member(folder: Path, name: str, case: Case) -> Flown:
     records = last_part(_records(folder))
     ended = [r for r in records if r.get("kind") == "run_ended"]
     states = [r for r in records if r.get("kind") == "state"]
-    if states:
-        part.armed, part.position = bool(states[-1].get("armed")), tuple(states[-1].get("position", (0, 0, 0)))
-        part.altitude = part.position[2]
-        part.landed_state = str(states[-1].get("landed_state", ""))
+    last_state(part, states)
     part.state_known = bool(states)
     if ended:
         status = RunStatus(ended[-1]["detail"], list((ended[-1].get("data") or {}).get("reasons", [])))

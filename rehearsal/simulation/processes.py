@@ -44,6 +44,14 @@ sys.exit(main(sys.argv[2:]))
 """
 
 
+def last_state(part: Part, states: list[dict]) -> None:
+    """``part``'s drone as its last ``state`` record leaves it (armed, where, landed or not)."""
+    if states:
+        part.armed, part.position = bool(states[-1].get("armed")), tuple(states[-1].get("position", (0, 0, 0)))
+        part.altitude = part.position[2]
+        part.landed_state = str(states[-1].get("landed_state", ""))
+
+
 def _records(folder: Path) -> list[dict[str, Any]]:
     path = folder / "events.jsonl"
     found = []
@@ -84,10 +92,7 @@ def _part(folder: Path, process: Any, err: str, killed: bool, parts_before: int 
     records = last_part(_records(folder))
     ended = [r for r in records if r.get("kind") == "run_ended"]
     states = [r for r in records if r.get("kind") == "state"]
-    if states:
-        part.armed, part.position = bool(states[-1].get("armed")), tuple(states[-1].get("position", (0, 0, 0)))
-        part.altitude = part.position[2]
-        part.landed_state = str(states[-1].get("landed_state", ""))
+    last_state(part, states)
     if killed:
         return part, None, last
     parts = sum(r.get("kind") in ("log_started", "log_resumed") for r in _records(folder))

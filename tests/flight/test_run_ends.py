@@ -86,29 +86,9 @@ def test_an_output_folder_that_cannot_be_used_is_refused_before_take_off(tmp_pat
     assert "activated" not in result.stdout and "internal error" not in result.stderr
 
 
-FULL_DISK = """
-import errno, os, sys
-from aeroexec.flight import flight_log
-
-
-class FullDisk:  # os for the event log writer, on a disk that fills after ROOM bytes: the write that crosses it is
-    room = int(sys.argv[1])  # cut short, every later one fails with ENOSPC
-
-    def __getattr__(self, name):
-        return getattr(os, name)
-
-    def write(self, fd, data):
-        if self.room <= 0:
-            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-        part = bytes(data[:self.room])
-        self.room -= len(part)
-        return os.write(fd, part)
-
-
-flight_log.os = FullDisk()
-from aeroexec.cli.main import main
-sys.exit(main(sys.argv[2:]))
-"""
+# python -c FULL_DISK ROOM ARGS...: aeroexec ARGS on a disk that fills after ROOM bytes of the event log (the write
+# that crosses it is cut short, every later one fails with ENOSPC); the campaign's own
+from aeroexec.rehearsal.simulation.processes import FULL_DISK  # noqa: E402
 
 
 def test_a_full_disk_leaves_whole_lines_a_flight_that_lands_and_says_so_once(tmp_path):
