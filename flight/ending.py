@@ -15,6 +15,7 @@ last line; a link lost on the ground before the mission started is a warning, no
 from __future__ import annotations
 
 import logging
+import math
 from typing import Any
 
 from aeroexec.drones import Drone, LandedState
@@ -27,6 +28,12 @@ logger = logging.getLogger(__name__)
 DISARM_TIMEOUT = 10.0  # s to wait for the drone to disarm on the ground (on its own, then by command)
 _AUTO_DISARM = 3.0  # s autopilots take to disarm on their own after touchdown before we command it
 _LOSSES = 3  # links lost during the final landing that are waited for again
+#: A safety rule's hold or return ends where the drone has stopped: it lands once its horizontal speed is below
+#: this (m/s), or after :data:`_SETTLE_TIME` s; stopped farther than :data:`_OFF_TARGET` m from where the rule holds
+#: it (a boundary crossed at speed), it is flown back there once first.
+_SETTLED_SPEED = 0.3
+_SETTLE_TIME = 10.0
+_OFF_TARGET = 1.0
 _LANDING_FAILED = ("WRONG_PROGRESS", "TIME_OUT", "FAILED_PRECONDITIONS", "failed_preconditions", "rejected")
 LINK, LAND, DISARM, DONE = "link", "land", "disarm", "done"
 
@@ -48,6 +55,8 @@ class FlightEnding:
         self._landing = False  # LAND was asked for
         self._disarm: Any = None  # the disarm command, once sent
         self._held = False  # the contingency in effect was announced
+        self._settling: float | None = None  # when the drone began to stop where a contingency holds it
+        self._flown_back = False  # a drone stopped off the contingency's target was flown back to it
         flight = contingency_flight(engine)
         self._contingency_time = 0.0 if flight is None or flight.timeout is None else max(
             0.0, flight.started_at + flight.timeout - engine.now())  # s its flight may still take
@@ -64,7 +73,7 @@ class FlightEnding:
     def deadline(self) -> float:
         """Engine seconds the whole ending may take at most (for a loop that drives it)."""
         return (self.link_grace + self.landing_timeout) * _LOSSES + _AUTO_DISARM + self.disarm_timeout + 1.0 + \
-            self._contingency_time
+            2 * self._contingency_time + 2 * _SETTLE_TIME
 
     def step(self) -> bool:
         """Advance by what the last engine period brought; True once the flight has ended."""
@@ -120,6 +129,8 @@ class FlightEnding:
                                       rule=rule.name, contingency=str(rule.contingency))
                 if contingency_flight(engine) is not None:
                     return  # still flying to where the rule holds it (its own timeout bounds the wait)
+                if self._settled(rule):
+                    return  # stopping where the rule holds it, or flown back there
             self._landing = True
             self._since = engine.now()  # the landing's time from now, after a contingency's flight
             start_landing(engine, self.reason if rule is None else
@@ -137,6 +148,27 @@ class FlightEnding:
             self._enter(LINK)
         else:
             self._enter(DONE)
+
+    def _settled(self, rule: Any) -> bool:
+        """Whether the ending still waits for the drone to stop where ``rule``'s contingency holds it (True), its
+        speed and its distance to the contingency's target checked once per period."""
+        engine = self.engine
+        if self._settling is None:
+            self._settling = engine.now()
+        telemetry = engine.drone.telemetry()
+        if math.hypot(*telemetry.velocity[:2]) > _SETTLED_SPEED and engine.now() - self._settling < _SETTLE_TIME:
+            return True
+        contingencies = engine.safety.contingencies
+        target = contingencies.target
+        if not self._flown_back and target is not None and math.dist(telemetry.position, target) > _OFF_TARGET:
+            self._flown_back, self._settling = True, None
+            engine.log.record("ending_held", detail=f"the drone stopped {math.dist(telemetry.position, target):.1f} m "
+                                                    f"from where safety rule {rule.name} holds it: flown back there "
+                                                    f"before it lands", rule=rule.name,
+                              contingency=str(rule.contingency))
+            contingencies.take_again()
+            return True
+        return False
 
     def _landed(self) -> None:
         if self._link_ok() and isinstance(self.engine.drone, Drone):

@@ -35,6 +35,15 @@ class Contingencies:
         self.position, self.rally, self.cruise_speed = position, rally, cruise_speed
         self.handlers: dict[str, Callable[[str, SafetyRule], bool]] = {}
         self.active: SafetyRule | None = None  # the rule whose contingency is in effect
+        #: Where the contingency in effect flies the drone to (a hold's boundary, a return's rally point), if it does.
+        self.target: tuple | None = None
+        self._boundary: tuple | None = None
+
+    def take_again(self) -> str:
+        """The contingency in effect taken again, from where the drone is now (a drone that crossed a hold's boundary
+        at speed stops metres past it: flown back)."""
+        assert self.active is not None
+        return self.take(self.active, self._boundary)
 
     def outranks(self, rule: SafetyRule) -> bool:
         """Whether ``rule``'s contingency takes over from the one in effect (if any)."""
@@ -46,7 +55,7 @@ class Contingencies:
     def take(self, rule: SafetyRule, boundary: tuple | None = None) -> str:
         """Take ``rule``'s contingency; what was done, in words. One that fails (a plugin's mistake) lands the
         drone where it is, and says why."""
-        self.active = rule
+        self.active, self.target, self._boundary = rule, None, boundary
         actions = Actions(self, rule, boundary)
         try:
             return _kind(rule).act(rule.contingency, actions)
@@ -93,6 +102,7 @@ class Actions:
 
     def fly_to(self, point: tuple, then: str) -> None:
         of, rule = self._of, self.rule
+        of.target = tuple(point)
         here = of.position() or point
         timeout = 30.0 + 2.0 * math.dist(here, point) / max(of.cruise_speed, 0.5)
 

@@ -5,6 +5,7 @@ shrinks; and what the campaign found, fixed."""
 from __future__ import annotations
 
 import json
+import math
 import os
 from dataclasses import replace
 from pathlib import Path
@@ -168,3 +169,22 @@ def test_a_pause_while_the_flight_ends_is_refused_and_the_drone_lands(tmp_path):
     assert not pause["data"]["ok"] and "the flight is ending" in pause["detail"]
     ended = records[kinds.index("run_ended")]
     assert ended["detail"] == "completed"
+
+
+def test_a_hold_crossed_at_speed_lands_where_the_rule_holds_not_past_it(tmp_path):
+    """Found by the campaign (seed 6121 of the 10,000): a plan crossed a hold fence at 5 m/s; the drone hovered where
+    it stopped, 4 m past the boundary, and the end of the flight landed it there, outside the fence."""
+    text = ('<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence>'
+            '<TAKE_OFF ALTITUDE="7"/><SetBlackboard output_key="far" value="8, -17.5, 7"/>'  # unseen before flight
+            '<GO_TO_POINT COORDINATES="{far}"/><LAND/></Sequence></BehaviorTree></root>')
+    fence = ("- rule: fence\n  never: position(self, ?p), distance(?p, (0, 0, 0), ?d), ?d > 12\n"
+             "  contingency: hold\n")
+    mission = Mission("tree", text, ".xml", ((8.0, -17.5, 7.0),), False, 3)
+    case = _case_with(5, mission=mission, actions=(), faults=(), rules=None, safety_rules=fence)
+    flown = fly_case(case, tmp_path)
+    assert flown.parts[0].refused is None
+    assert [v.invariant for v in check(flown)] == []
+    records = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").read_text().splitlines()]
+    landed = next(r for r in records if r["kind"] == "drone_landed")
+    assert math.dist(landed["data"]["position"][:2], (0.0, 0.0)) <= 12.5  # on the fence, not metres outside it
+    assert any("flown back there before it lands" in r.get("detail", "") for r in records)
