@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import logging
 import os
 import sys
 from collections.abc import Callable
@@ -27,9 +28,11 @@ from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession
-from aeroexec.flight.signals import ending_signals
+from aeroexec.flight.signals import ending_signals, interrupts_held
 from aeroexec.flight.spec import LINK_GRACE, MAX_TIME, READY_TIMEOUT, FleetJoin, FlightError, FlightSpec
 from aeroexec.trees import formats
+
+logger = logging.getLogger(__name__)
 
 EXIT_HELP = ("exit status: 0 completed, 3 completed with refused requests, 1 failed (a safety rule broken too), "
              "4 aborted (the operator, Ctrl-C, SIGTERM, SIGHUP), 5 suspended (a safety reaction such as LAND on low "
@@ -216,14 +219,24 @@ def run(args: argparse.Namespace) -> int:
             return 130
         say(f"commands: aeroexec ctl pause|resume|abort|suspend|inhibit|answer|add|remove|status (this run: "
             f"--run {session.folder})")
-        with contextlib.ExitStack() as output:
-            if live:
-                output.enter_context(LiveConsole(session.engine, spec.name, session.mission))
-            else:
-                output.enter_context(whole_lines())  # the mission's print() and the events never share a line
-                session.engine.log.subscribe(printer(None if args.quiet else sys.stdout))
-            outcome = session.fly()
-    return summary(session, outcome)
+        try:
+            with contextlib.ExitStack() as output:
+                if live:
+                    output.enter_context(LiveConsole(session.engine, spec.name, session.mission))
+                else:
+                    output.enter_context(whole_lines())  # the mission's print() and the events never share a line
+                    session.engine.log.subscribe(printer(None if args.quiet else sys.stdout))
+                session.fly()
+        except KeyboardInterrupt:
+            if session.outcome is None:
+                raise
+            logger.info("a signal came after the run ended: nothing was left to stop")
+        try:  # the run has ended: a signal now has nothing to stop, and the summary is printed whole
+            with interrupts_held():
+                return summary(session, session.outcome)
+        except KeyboardInterrupt:
+            logger.info("a signal came after the run ended: nothing was left to stop")
+            return session.outcome.exit_status
 
 
 def say(text: str) -> None:

@@ -143,11 +143,13 @@ def fly_process(case: Case, scratch: Path) -> Flown:
     process = subprocess.Popen([*head, *command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                                cwd=scratch)
     killed = False
+    sent: int | None = None  # the signal sent, if the process was still there to get it
     if killer is not None:
         _grown_to(folder, killer.time, process)
         if process.poll() is None:
-            process.send_signal(signal.SIGKILL if killer.kind == "crash" else
-                                signal.SIGTERM if killer.kind == "sigterm" else signal.SIGHUP)
+            sent = signal.SIGKILL if killer.kind == "crash" else \
+                signal.SIGTERM if killer.kind == "sigterm" else signal.SIGHUP
+            process.send_signal(sent)
             killed = killer.kind == "crash"
     try:
         _, err = process.communicate(timeout=LIMIT)
@@ -156,7 +158,10 @@ def fly_process(case: Case, scratch: Path) -> Flown:
         _, err = process.communicate()
         flown.parts.append(Part(error=f"the process did not end within {LIMIT:g} s"))
         return flown
-    after_end = killed and any(r.get("kind") == "log_closed" for r in _records(folder))
+    closed = any(r.get("kind") == "log_closed" for r in _records(folder))
+    # the process died of the signal itself with its run recorded whole: the signal came after the run had ended
+    # (its handlers gone, the process exiting), and the exit is the signal's, not the run's
+    after_end = closed and (killed or (sent is not None and process.returncode == -sent))
     if after_end:
         killed = False  # the run had ended (its log closed) when kill -9 reached the process: nothing to resume
     part, status, last = _part(folder, process, err, killed)

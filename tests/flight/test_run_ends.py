@@ -275,3 +275,24 @@ def test_an_interrupt_while_the_loop_serves_the_mission_is_the_loops_not_the_mis
         assert not engine.log.events(kind="mission_failed")
     finally:
         engine.stop()
+
+
+def test_a_signal_after_the_run_ended_leaves_its_exit_status_and_last_line(tmp_path, monkeypatch, capsys):
+    """Found by the campaign (SIGTERM/SIGHUP/Ctrl-C sent to a real process at random times): a signal that came
+    once the run had ended (while its summary was printed) made the process exit 130, 'aeroexec: interrupted',
+    though run_ended said 'completed' with exit status 0."""
+    from aeroexec.cli import run as run_command
+    from aeroexec.cli.main import main
+
+    printed = run_command.summary
+
+    def summary_when_a_signal_comes(session, outcome):  # noqa: ANN001, ANN202
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, as the run's own handler hears it
+        return printed(session, outcome)
+
+    monkeypatch.setattr(run_command, "summary", summary_when_a_signal_comes)
+    status = main(["run", FIGURE10_TREE, "--plain", "--quiet", "--output", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert status == 0, err
+    assert "figure10.xml: completed at t=" in err and "interrupted" not in err
+    assert ended(read_log(tmp_path / "out" / "events.jsonl"))["detail"] == "completed"
