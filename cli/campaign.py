@@ -29,8 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--dask", action="store_true", help="run on a Dask LocalCluster on this machine")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask scheduler at ADDRESS")
     parser.add_argument("--with", dest="extra", action="append", default=[], choices=sorted(GATED),
-                        metavar="KIND", help="also draw a fault kind that finds a defect being fixed: "
-                                             + "; ".join(f"{k}: {v}" for k, v in GATED.items()))
+                        metavar="KIND", help="also draw a fault kind that finds a defect not fixed yet: "
+                                             + ("; ".join(f"{k}: {v}" for k, v in GATED.items())
+                                                or "none now, every kind is drawn"))
     parser.add_argument("--output", metavar="DIR", default="aeroexec_campaign",
                         help="where a replayed case's files go (default aeroexec_campaign)")
 
