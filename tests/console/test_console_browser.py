@@ -245,6 +245,7 @@ def test_the_mission_is_changed_from_the_page_and_a_refused_change_says_why(brow
     run = Run(ROOT / "tests" / "changes" / "data" / "patrol.xml", tmp_path / "out", "--speed", "0.25", held=True)
     try:
         browser.get(run.url)
+        wait_for(browser, lambda d: shown(d, "link") == "online", what="the socket")  # else the click goes nowhere
         wait_for(browser, lambda d: shown(d, "state") == "paused", what="the held mission")
         browser.find_element(By.ID, "resume").click()
         wait_for(browser, lambda d: any(e.get("kind") == "node_status" and e["data"].get("node") == "corner A"
