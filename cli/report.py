@@ -25,6 +25,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the world flown in (default: the one the log names or describes, else the built-in "
                              "one)")
     parser.add_argument("--output", metavar="DIR", help="where the report goes (default: the log's folder)")
+    parser.add_argument("--autopilot-log", metavar="FILE", type=Path,
+                        help="the autopilot's own log of the flight (PX4 .ulg, ArduPilot DataFlash .bin): drawn "
+                             "on the mission's clock, its estimate and setpoints beside the behaviors")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,6 +52,10 @@ def run(args: argparse.Namespace) -> int:
     if isinstance(world, str):
         print(world, file=sys.stderr)
         return 1
+    autopilot = _autopilot_log(args.autopilot_log, summary) if args.autopilot_log else None
+    if isinstance(autopilot, str):
+        print(autopilot, file=sys.stderr)
+        return 1
     folder = Path(args.output) if args.output else log.parent
     folder.mkdir(parents=True, exist_ok=True)
     step(f"{len(records):,} records; drawing with matplotlib")
@@ -58,10 +65,15 @@ def run(args: argparse.Namespace) -> int:
     from aeroexec.cli.reporting.style import save
     from aeroexec.cli.reporting.timeline import timeline_figure
 
+    drawings = [("Path flown", lambda: path_figure(summary, world), "path.png"),
+                ("Altitude, speed and battery", lambda: flight_figure(summary), "flight.png"),
+                ("Timeline", lambda: timeline_figure(summary), "timeline.png")]
+    if autopilot is not None:
+        from aeroexec.cli.reporting.autopilot_chart import autopilot_figure
+
+        drawings.append(("The autopilot's log", lambda: autopilot_figure(summary, *autopilot), "autopilot.png"))
     images = []
-    for title, draw, name in (("Path flown", lambda: path_figure(summary, world), "path.png"),
-                              ("Altitude, speed and battery", lambda: flight_figure(summary), "flight.png"),
-                              ("Timeline", lambda: timeline_figure(summary), "timeline.png")):
+    for title, draw, name in drawings:
         step(f"drawing {name}")
         images.append(Image(title, folder / name, save(draw(), folder / name)))
     page = write_html(summary, images, folder / "report.html", __version__, flown_at(summary.meta, log), log)
@@ -76,13 +88,28 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _autopilot_log(path: Path, summary: Any) -> tuple[Any, Any] | str:
+    """The autopilot's log read and aligned with the run (printed), or why it cannot be."""
+    from aeroexec.cli.reporting.autopilot_log import AutopilotLogError, align, read_autopilot_log
+
+    step(f"reading the autopilot's log {path}")
+    try:
+        log = read_autopilot_log(path)
+        alignment = align(log, summary)
+    except AutopilotLogError as error:
+        return str(error)
+    print(f"{path}: {log.kind} of {log.system}: boot time = engine time + {alignment.offset:.3f} s "
+          f"({alignment.rms:.2f} m RMS over {alignment.samples} positions)", file=sys.stderr)
+    return log, alignment
+
+
 def flown_at(meta: dict[str, Any], log: Path) -> str:
     """When the run was flown: the log's wall-clock start, else (a simulated run's log carries no wall time, so
     replays stay identical) when the log was last written."""
     import datetime
 
     if meta.get("wall_time"):
-        return str(meta["wall_time"]).replace("T", " ")
+        return datetime.datetime.fromisoformat(str(meta["wall_time"])).isoformat(sep=" ", timespec="seconds")
     written = datetime.datetime.fromtimestamp(log.stat().st_mtime).astimezone()
     return f"{written:%Y-%m-%d %H:%M:%S %Z} (end of the log)"
 

@@ -57,6 +57,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulation's sensor noise (default 0)")
     parser.add_argument("--system-id", type=int, default=1, help="MAVLink system id of the vehicle (default 1)")
+    parser.add_argument("--logs", type=Path, metavar="DIR",
+                        help="write the vehicle's own flight log in DIR from each arming to disarming, as the "
+                             "autopilot does: a PX4 ULog (DIR/log/DATE/TIME.ulg) or an ArduPilot DataFlash log "
+                             "(DIR/logs/NNNNNNNN.BIN); `aeroexec report RUN_DIR --autopilot-log FILE` lays it beside "
+                             "the mission")
     parser.add_argument(
         "--autopilot",
         choices=AUTOPILOTS,
@@ -83,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     drone = SimulatedDrone(world, seed=args.seed)
     try:
         vehicle = MavlinkVehicle(drone, connect=args.connect, speed=args.speed, system_id=args.system_id,
-                                 autopilot=args.autopilot)
+                                 autopilot=args.autopilot, log_folder=args.logs)
         vehicle.start()
     except (MavlinkVehicleError, ValueError) as exc:
         print(f"aeroexec sim: {exc}", file=sys.stderr)

@@ -60,6 +60,7 @@ class Telemetry:
     wind: tuple[float, float] | None = None  # m/s east, north: the wind the vehicle estimates (None: not known)
     ground_link: bool | None = None  # the link to the ground station, when the engine flies on board (None: link_ok)
     position_accuracy: float | None = None  # m, horizontal, of the vehicle's own estimate (None: unknown or exact)
+    position_time: float | None = None  # when the position came from the vehicle, on the same clock (None: at time)
 
     @property
     def altitude(self) -> float:

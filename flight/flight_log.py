@@ -3,9 +3,9 @@ at most the tick it happened in.
 
 Every line has ``time`` (engine seconds) and ``kind``. The kinds:
 
-- ``log_started`` (first line): ``format``, ``clock`` (``simulated`` or ``wall``), ``wall_time`` (ISO 8601; only
-  on the wall clock, so a simulated run's log is the same in every replay) and what the run was given
-  (``mission``, ``world``, ``drone``...).
+- ``log_started`` (first line): ``format``, ``clock`` (``simulated`` or ``wall``), ``wall_time`` (ISO 8601 to the
+  millisecond, at the line's ``time``; only on the wall clock, so a simulated run's log is the same in every
+  replay) and what the run was given (``mission``, ``world``, ``drone``...).
 - an engine event (``activated``, ``GOAL_ACHIEVED``, ``rejected``, ``node_status``...): ``behavior``, ``detail``,
   and when the event has them ``arguments`` (of an activation), ``result`` (of a deliberative behavior),
   ``reason`` (why a behavior ended, was rejected or failed: the event's message); the rest of the event's data
@@ -89,7 +89,7 @@ class FlightLogWriter:
             header["clock"] = "simulated"
         else:
             header["clock"] = "wall"
-            header["wall_time"] = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
+            header["wall_time"] = datetime.datetime.now().astimezone().isoformat(timespec="milliseconds")
         self.header: dict[str, Any] = {**header, **{k: plain(v) for k, v in (meta or {}).items()}}  # the first line
         self._write(self.header)
         self.flush()
@@ -309,12 +309,17 @@ def event_record(event: EngineEvent) -> dict[str, Any]:
 
 
 def state_record(now: float, telemetry: Any) -> dict[str, Any]:
-    """A drone state sample as a log line's object."""
-    return {"time": round(now, 3), "kind": "state",
-            "position": [round(float(v), 3) for v in telemetry.position],
-            "velocity": [round(float(v), 3) for v in telemetry.velocity],
-            "yaw": round(float(telemetry.yaw), 2), "battery": round(float(telemetry.battery_percent), 2),
-            "armed": bool(telemetry.armed), "landed_state": plain(telemetry.landed_state)}
+    """A drone state sample as a log line's object; ``measured`` is when the position came from a vehicle that
+    reports it over a link (the engine reads it up to a stream period later)."""
+    record = {"time": round(now, 3), "kind": "state",
+              "position": [round(float(v), 3) for v in telemetry.position],
+              "velocity": [round(float(v), 3) for v in telemetry.velocity],
+              "yaw": round(float(telemetry.yaw), 2), "battery": round(float(telemetry.battery_percent), 2),
+              "armed": bool(telemetry.armed), "landed_state": plain(telemetry.landed_state)}
+    measured = getattr(telemetry, "position_time", None)
+    if measured is not None:
+        record["measured"] = round(float(measured), 3)
+    return record
 
 
 def plain(value: Any) -> Any:

@@ -37,7 +37,7 @@ def flight_figure(summary: FlightSummary, dpi: int = 100) -> Figure:
     start, end = summary.start, max(summary.end, summary.start + 1.0)
     behaviors_ax.set_xlim(start, end)
     series = summary.series()
-    segments = _behavior_segments(summary)
+    segments = behavior_segments(summary)
     names = list(dict.fromkeys(name for name, _, _ in segments))
     colors = {name: SHADES[i % len(SHADES)] for i, name in enumerate(names)}
     for ax, (key, label, color, min_span, always, floor, ceiling) in zip(plots, SERIES, strict=True):
@@ -55,9 +55,9 @@ def flight_figure(summary: FlightSummary, dpi: int = 100) -> Figure:
     plots[-1].set_xlabel("engine time (s)", fontsize=FONT + 1)
     fig.canvas.draw()
     placer = LabelPlacer(fig)
-    _strip(behaviors_ax, "behaviors", [(n, a, b, colors[n]) for n, a, b in segments], placer)
+    strip(behaviors_ax, "behaviors", [(n, a, b, colors[n]) for n, a, b in segments], placer)
     states = _state_segments(summary, end)
-    _strip(states_ax, "flight state", [(s, a, b, STATE_COLORS.get(s, "#dddddd")) for s, a, b in states], placer)
+    strip(states_ax, "flight state", [(s, a, b, STATE_COLORS.get(s, "#dddddd")) for s, a, b in states], placer)
     handles = [Patch(color="none", label="behaviors"), *(Patch(color=colors[n], label=n) for n in names),
                Patch(color="none", label=""), Patch(color="none", label="flight states"),
                *(Patch(color=STATE_COLORS.get(s, "#dddddd"), label=s) for s in dict.fromkeys(s for s, _, _ in states))]
@@ -77,7 +77,7 @@ def flight_figure(summary: FlightSummary, dpi: int = 100) -> Figure:
     return fig
 
 
-def _strip(ax: Any, title: str, spans: list[tuple[str, float, float, str]], placer: LabelPlacer) -> None:
+def strip(ax: Any, title: str, spans: list[tuple[str, float, float, str]], placer: LabelPlacer) -> None:
     """A row of colored spans, each named inside when the name fits."""
     ax.set_ylim(0, 1)
     ax.set_yticks([])
@@ -88,7 +88,7 @@ def _strip(ax: Any, title: str, spans: list[tuple[str, float, float, str]], plac
         placer.place_inside(ax, name, (left, 0, right, 1), fontsize=FONT - 0.5, color="#222222")
 
 
-def _behavior_segments(summary: FlightSummary) -> list[tuple[str, float, float]]:
+def behavior_segments(summary: FlightSummary) -> list[tuple[str, float, float]]:
     """The mission's behaviors as a sequence of (name, start, end), as a flight mode timeline: each one from its
     start until it ends or the next one starts (reactive behaviors are left out)."""
     spans = sorted((s for s in summary.behaviors if s.source != "reactive"), key=lambda s: s.start)

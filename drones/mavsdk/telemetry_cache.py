@@ -26,6 +26,7 @@ class TelemetryCache:
         self.silence_limit = silence_limit  # s without telemetry before the link counts as lost
         self._lock = threading.Lock()
         self.position: tuple[float, float, float] | None = None  # lat, lon, altitude AMSL
+        self.position_time: float | None = None  # the owner's time when the position last came
         self.velocity_ned = (0.0, 0.0, 0.0)
         self.heading = 90.0  # degrees, 0 = north, clockwise (ATTITUDE yaw)
         self.battery = (100.0, 16.8)  # percent, volts
@@ -52,7 +53,10 @@ class TelemetryCache:
     def set(self, **values) -> None:
         """Store new values; any of them proves the link is alive."""
         now = time.monotonic()
+        measured = self._clock() if "position" in values else None
         with self._lock:
+            if measured is not None:
+                self.position_time = measured
             for name, value in values.items():
                 old = getattr(self, name)
                 setattr(self, name, value)
@@ -190,4 +194,5 @@ class TelemetryCache:
                 link_ok=self.link_ok,
                 home=self.home,
                 position_accuracy=self.position_accuracy,
+                position_time=self.position_time,
             )

@@ -202,6 +202,12 @@ class SimulatedDrone(Drone):
             wind=v.wind if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0 else None,
         )
 
+    @_locked
+    def setpoint(self) -> Vector | None:
+        """The position (ENU, from home) the vehicle's flight controller steers to; None when it flies on
+        velocities, rests on the ground or falls."""
+        return self._vehicle.setpoint
+
     @property
     def crashed(self) -> str | None:
         """Why the drone crashed, or None while it is fine."""

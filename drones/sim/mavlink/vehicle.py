@@ -16,9 +16,11 @@ import logging
 import math
 import threading
 import time
+from pathlib import Path
 
 from aeroexec.drones.interface import LandedState, Telemetry
 from aeroexec.drones.sim.mavlink.ardupilot import (
+    COPTER_MODES,
     EKF_STATUS_REPORT,
     GUIDED_TIMEOUT_S,
     NEEDS_ORIGIN,
@@ -28,6 +30,7 @@ from aeroexec.drones.sim.mavlink.ardupilot import (
 from aeroexec.drones.sim.mavlink.commands import CommandHandler
 from aeroexec.drones.sim.mavlink.mission import MissionManager
 from aeroexec.drones.sim.mavlink.offboard import OffboardControl, setpoint_from_global_int, setpoint_from_local_ned
+from aeroexec.drones.sim.mavlink.onboard_log import OnboardLog, Sample, ned
 from aeroexec.drones.sim.mavlink.params import ParameterServer, px4_parameters
 from aeroexec.drones.sim.mavlink.streams import StreamScheduler
 from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ, TelemetryEncoder, VehicleState
@@ -85,7 +88,8 @@ class MavlinkVehicle:
     """A simulated drone behind a PX4- or ArduCopter-like MAVLink endpoint. ``start()`` it, ``stop()`` it.
 
     ``autopilot`` is ``px4`` or ``ardupilot``; ``ekf`` the simulated seconds after start at which an ArduCopter
-    passes its pre-arm checks and then gets its GPS origin and home.
+    passes its pre-arm checks and then gets its GPS origin and home. With ``log_folder``, the vehicle writes its own
+    flight log there from each arming to disarming, as the autopilot would (:mod:`.onboard_log`).
     """
 
     def __init__(
@@ -97,6 +101,7 @@ class MavlinkVehicle:
         component_id: int = 1,
         autopilot: str = "px4",
         ekf: tuple[float, float] = (2.0, 5.0),
+        log_folder: Path | None = None,
     ) -> None:
         if not speed > 0 or not math.isfinite(speed):
             raise ValueError(f"the simulation speed must be a positive number, not {speed}")
@@ -139,6 +144,13 @@ class MavlinkVehicle:
         self._yaw_rate = 0.0
         self._last_flags: tuple | None = None
         self._next_heartbeat = 0.0
+        self._boot_utc = 0.0  # the GPS's UTC when the vehicle's clock read 0 (set as the loop starts)
+        self.onboard_log: OnboardLog | None = None
+        if log_folder is not None:
+            from aeroexec import __version__
+
+            name = "aeroexec sim (PX4 personality)" if self.copter is None else "aeroexec sim (ArduCopter personality)"
+            self.onboard_log = OnboardLog(log_folder, autopilot, name, __version__)
 
     # --- public API --------------------------------------------------------------------------------
     def start(self) -> None:
@@ -169,6 +181,8 @@ class MavlinkVehicle:
             with contextlib.suppress(OSError):
                 self._link.close()
             self._link = None
+        if self.onboard_log is not None:
+            self.onboard_log.close(self.latest.time)
 
     def cut_link(self) -> None:
         """Go silent and deaf, as if the radio link dropped (for tests)."""
@@ -219,6 +233,7 @@ class MavlinkVehicle:
     def _run(self) -> None:
         wall_start = time.monotonic()
         sim_start = self.latest.time
+        self._boot_utc = time.time() - sim_start  # the simulated GPS's clock runs with the simulation's
         while not self._stop.is_set():
             try:
                 wall = time.monotonic()
@@ -350,6 +365,17 @@ class MavlinkVehicle:
             ekf_flags=ekf,
         )
 
+    def _log(self, state: VehicleState) -> None:
+        """The autopilot's own flight log: its estimate, its setpoint, its mode, on its boot clock."""
+        tel = state.telemetry
+        setpoint = self.drone.setpoint() if hasattr(self.drone, "setpoint") else None
+        mode_number = COPTER_MODES.get(state.mode, 0) if self.copter is not None else 0
+        self.onboard_log.record(Sample(
+            boot_s=tel.time, utc_s=self._boot_utc + tel.time, position=ned(tel.position), velocity=ned(tel.velocity),
+            heading=math.radians((90.0 - tel.yaw) % 360.0), setpoint=None if setpoint is None else ned(setpoint),
+            geodetic=state.geodetic, battery_remaining=tel.battery_percent / 100.0,
+            battery_voltage=tel.battery_voltage, mode=state.mode), tel.armed, mode_number)
+
     def _armable(self, tel: Telemetry) -> bool:
         """The pre-arm check: what the simulated drone's arm() would accept (battery above failsafe, not crashed)."""
         if getattr(self.drone, "crashed", None):
@@ -373,6 +399,8 @@ class MavlinkVehicle:
                 if flags[2] != self._last_flags[2] and tel.landed_state == LandedState.ON_GROUND:
                     self.statustext(mavlink.MAV_SEVERITY_INFO, "Landing detected")
             self._last_flags = flags
+        if self.onboard_log is not None:
+            self._log(state)
         for msg_id in self.streams.due(wall):
             if msg_id == mavlink.MAVLINK_MSG_ID_MISSION_CURRENT and not state.mission_total:
                 continue

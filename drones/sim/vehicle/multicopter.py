@@ -82,6 +82,11 @@ class Multicopter:
 
     # --- reported state -----------------------------------------------------------------------------
     @property
+    def setpoint(self) -> Vector | None:
+        """The position the flight controller steers to now; None when it flies on velocities or rests."""
+        return None if self.phase in (IDLE, VELOCITY, FALL) else self._target
+
+    @property
     def landed_state(self) -> LandedState:
         if not self.airborne:
             return LandedState.TAKING_OFF if self.phase == TAKEOFF else LandedState.ON_GROUND
