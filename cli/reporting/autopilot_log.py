@@ -150,9 +150,20 @@ def _read_dataflash(path: Path) -> AutopilotLog:
 def mission_path(summary: FlightSummary) -> tuple[Any, Any]:
     """The engine's samples as (times, N x 3 north-east-down), the autopilot's frame; a sample's time is when its
     position came from the vehicle when the log says (``measured``), else when the engine recorded it."""
-    times = np.array([float(s.get("measured", s["time"])) for s in summary.samples])
+    times = np.array([_measured(s) for s in summary.samples])
     ned = np.array([(p[1], p[0], -p[2]) for p in summary.path]).reshape(-1, 3)
-    return times, ned
+    order = np.argsort(times, kind="stable")
+    return times[order], ned[order]
+
+
+def _measured(sample: dict[str, Any]) -> float:
+    """When a sample's position was measured: its ``measured`` time when that is at most 2 s before the record (a
+    stale position, or one stamped on another clock, counts at the record's time)."""
+    recorded = float(sample["time"])
+    measured = sample.get("measured")
+    if isinstance(measured, int | float) and recorded - 2.0 <= measured <= recorded:
+        return float(measured)
+    return recorded
 
 
 def align(log: AutopilotLog, summary: FlightSummary) -> Alignment:
@@ -175,7 +186,11 @@ def align(log: AutopilotLog, summary: FlightSummary) -> Alignment:
         difference -= difference.mean(axis=0)  # a constant offset between the frames is not a misalignment
         return float(np.sqrt((difference ** 2).sum(axis=1).mean())), used
 
-    best = min(np.arange(low, high + 0.25, 0.25), key=lambda o: cost(float(o))[0])
+    candidates = np.arange(low, high + 0.25, 0.25)
+    if not len(candidates):
+        raise AutopilotLogError(f"{log.path}: the autopilot's log does not match this run's flight: no shift of its "
+                                "clock lays its positions over the run's (too little overlap)")
+    best = min(candidates, key=lambda o: cost(float(o))[0])
     for step, reach in ((0.01, 0.5), (0.001, 0.02)):
         best = min(np.arange(best - reach, best + reach + step, step), key=lambda o: cost(float(o))[0])
     rms, used = cost(float(best))

@@ -142,10 +142,12 @@ class TelemetryCache:
             self._events.append(DroneEvent(self._clock(), kind, detail, data or {}))
 
     def retime(self, owner_time: Callable[[float], float]) -> None:
-        """Restamp the events not yet read with ``owner_time(stamp)`` (when the owner's clock starts: events from
-        before it were stamped with the monotonic clock)."""
+        """Restamp the events not yet read, and when the position came, with ``owner_time(stamp)`` (when the owner's
+        clock starts: what came before it was stamped with the monotonic clock)."""
         with self._lock:
             self._events = [DroneEvent(owner_time(e.time), e.kind, e.detail, e.data) for e in self._events]
+            if self.position_time is not None:
+                self.position_time = owner_time(self.position_time)
 
     # --- readers --------------------------------------------------------------------------------------
     def events(self) -> list[DroneEvent]:

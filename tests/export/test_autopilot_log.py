@@ -158,3 +158,15 @@ def test_a_log_of_another_flight_or_no_log_at_all_is_one_clear_line(flown, tmp_p
         f"{text}: not an autopilot log this report reads (expected a PX4 ULog .ulg or an ArduPilot DataFlash .bin)")
     with pytest.raises(AutopilotLogError, match="cannot read"):
         read_autopilot_log(tmp_path / "missing.ulg")
+
+
+def test_a_position_that_came_before_the_engines_clock_started_is_stamped_on_the_engines_clock():
+    """The adapter stamps what comes before the engine's first tick on the monotonic clock; once the engine's clock
+    starts, the position's time moves to it, or the first state lines would say it was measured hours away."""
+    from aeroexec.drones.mavsdk.telemetry_cache import TelemetryCache
+
+    now = {"t": 5000.0}  # the monotonic clock, before the engine's clock starts
+    cache = TelemetryCache(lambda: now["t"])
+    cache.set(position=(47.0, 8.0, 500.0), home=(47.0, 8.0, 500.0))
+    cache.retime(lambda stamp: 0.0 - (5000.2 - stamp))  # the engine starts 0.2 s later at engine time 0
+    assert cache.snapshot().position_time == pytest.approx(-0.2)
