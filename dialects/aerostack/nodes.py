@@ -135,7 +135,29 @@ def _parameters(reader: NodeReader, value: yaml.Node, what: str) -> dict[str, st
 
 
 def _read_entry(reader: NodeReader, item: yaml.Node, index: int) -> _Entry | None:
-    what = f"nodes item {index + 1}"
+    """One item of the list: its place (node, parent, subtype), its keys checked against its subtype, then the node
+    it becomes with its ports."""
+    place = _read_place(reader, item, f"nodes item {index + 1}")
+    if place is None:
+        return None
+    entries, what, number, parent, subtype = place
+    _check_keys(reader, item, entries, what, subtype)
+    name = reader.text(entries["name"][1], f"{what}: name") if "name" in entries else None
+    node_type = _CONTROL.get(subtype) or _EXECUTION[subtype]
+    if subtype == "task" and "task" in entries:
+        node_type = (reader.text(entries["task"][1], f"{what}: task") or "").strip().upper()
+    ports, threshold = _read_ports(reader, entries, what, subtype)
+    node = TreeNode(node_type or "?", name or "", ports, [], reader.file, line_of(item))
+    return _Entry(number, parent, node, item, entries["parent"][1], subtype, threshold)
+
+
+_Entries = dict[str, tuple[yaml.Node, yaml.Node]]
+
+
+def _read_place(reader: NodeReader, item: yaml.Node, what: str
+                ) -> tuple[_Entries, str, int, int, str] | None:
+    """An item's keys, its name in messages (``node N``), its node number, its parent's and its subtype (lower
+    case, one of the known ones); None when one of them is missing or wrong (each said)."""
     entries = reader.mapping(item, what, known=_KEYS)
     if entries is None:
         return None
@@ -156,6 +178,11 @@ def _read_entry(reader: NodeReader, item: yaml.Node, index: int) -> _Entry | Non
         reader.error(entries["subtype"][1], f"{what}: unknown subtype {raw_subtype}{suggestion(subtype, known)} "
                                             f"(expected one of {', '.join(known)})")
         return None
+    return entries, what, number, parent, subtype
+
+
+def _check_keys(reader: NodeReader, item: yaml.Node, entries: _Entries, what: str, subtype: str) -> None:
+    """The item's ``type`` agrees with its subtype, and it has the keys its subtype takes and needs."""
     kind = "control_flow" if subtype in _CONTROL else "execution"
     if "type" in entries:
         declared = (reader.text(entries["type"][1], f"{what}: type") or "").strip().lower()
@@ -164,43 +191,55 @@ def _read_entry(reader: NodeReader, item: yaml.Node, index: int) -> _Entry | Non
                                              f"{kind} node, not {declared}")
     allowed = _ALLOWED.get(subtype, ())
     for key, (key_node, _) in entries.items():
-        if key in ("node", "name", "type", "subtype", "parent"):
-            continue
-        if key not in allowed:
+        if key not in ("node", "name", "type", "subtype", "parent") and key not in allowed:
             reader.error(key_node, f"{what}: a {subtype} node does not take {key}")
     for key in _REQUIRED.get(subtype, ()):
         if key not in entries:
             reader.error(item, f"{what}: a {subtype} node needs {key}")
-    name = reader.text(entries["name"][1], f"{what}: name") if "name" in entries else None
+
+
+def _read_ports(reader: NodeReader, entries: _Entries, what: str, subtype: str) -> tuple[dict[str, str], int | None]:
+    """The ports of the node an item becomes, and a parallel node's threshold (placed once its children are known)."""
+    if subtype == "task":
+        return _task_ports(reader, entries, what), None
+    if subtype in _EXECUTION:
+        return _belief_ports(reader, entries, what, subtype), None
     ports: dict[str, str] = {}
-    node_type = _CONTROL.get(subtype) or _EXECUTION[subtype]
-    threshold = None
-    if subtype == "task" and "task" in entries:
-        node_type = (reader.text(entries["task"][1], f"{what}: task") or "").strip().upper()
-    if "parameters" in entries and subtype == "task":
-        ports.update(_parameters(reader, entries["parameters"][1], f"{what}: parameters") or {})
-    elif "parameters" in entries and subtype in _EXECUTION:
-        belief = reader.text(entries["parameters"][1], f"{what}: parameters")
-        if belief is not None and not belief.strip():
-            reader.error(entries["parameters"][1], f"{what}: parameters must be a belief expression")
-        ports["belief"] = (belief or "").strip()
-    if "wait_for_completion" in entries and subtype == "task":
-        wait = reader.flag(entries["wait_for_completion"][1], f"{what}: wait_for_completion")
-        if wait is False:
-            ports["_wait_for_completion"] = "false"
-    if "multivalued" in entries and subtype == "add_belief":
-        multivalued = reader.flag(entries["multivalued"][1], f"{what}: multivalued")
-        if multivalued is not None:
-            ports["multivalued"] = "true" if multivalued else "false"
     if "times" in entries and subtype == "repeater":
         times = reader.integer(entries["times"][1], f"{what}: times", minimum=1)
         if times is not None:
             ports["num_cycles"] = str(times)
+    threshold = None
     if "threshold" in entries and subtype == "parallel":
         threshold = reader.integer(entries["threshold"][1], f"{what}: threshold", minimum=1)
-    line = line_of(item)
-    node = TreeNode(node_type or "?", name or "", ports, [], reader.file, line)
-    return _Entry(number, parent, node, item, entries["parent"][1], subtype, threshold)
+    return ports, threshold
+
+
+def _task_ports(reader: NodeReader, entries: _Entries, what: str) -> dict[str, str]:
+    """A task's behavior arguments (``parameters``) and whether the mission waits for it."""
+    ports: dict[str, str] = {}
+    if "parameters" in entries:
+        ports.update(_parameters(reader, entries["parameters"][1], f"{what}: parameters") or {})
+    if "wait_for_completion" in entries:
+        wait = reader.flag(entries["wait_for_completion"][1], f"{what}: wait_for_completion")
+        if wait is False:
+            ports["_wait_for_completion"] = "false"
+    return ports
+
+
+def _belief_ports(reader: NodeReader, entries: _Entries, what: str, subtype: str) -> dict[str, str]:
+    """A belief node's expression (``parameters``) and, for add_belief, ``multivalued``."""
+    ports: dict[str, str] = {}
+    if "parameters" in entries:
+        belief = reader.text(entries["parameters"][1], f"{what}: parameters")
+        if belief is not None and not belief.strip():
+            reader.error(entries["parameters"][1], f"{what}: parameters must be a belief expression")
+        ports["belief"] = (belief or "").strip()
+    if "multivalued" in entries and subtype == "add_belief":
+        multivalued = reader.flag(entries["multivalued"][1], f"{what}: multivalued")
+        if multivalued is not None:
+            ports["multivalued"] = "true" if multivalued else "false"
+    return ports
 
 
 def _assemble(reader: NodeReader, entries: list[_Entry], nodes_key: yaml.Node, complete: bool) -> TreeNode | None:
