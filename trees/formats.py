@@ -12,7 +12,7 @@ a list of them, or a callable returning either), loaded as the behaviors' entry 
 the foreign dialects (``aeroexec.dialects``: TML, Aerostack's nodes, Aerostack2's plans) are added so. They come after
 the built-in ones (or ``before`` the format they name), so a suffix they share is theirs only for the files their
 recogniser takes. A format read through the XML or YAML reader adds what makes a document its own through the
-readers' groups (:data:`XML_DOCUMENTS`, :data:`YAML_FORMS`, :data:`TREE_MAPPINGS`). A
+readers' groups (:data:`XML_DOCUMENTS`, :data:`YAML_FORMS`, :data:`TREE_MAPPINGS`, :data:`TREE_VERIFIERS`). A
 tree format's reader is ``(data: str | bytes, file: str, home) -> TreeDocument`` raising
 :class:`~aeroexec.trees.model.TreeFormatError` with ``(file, line, message)`` problems; its writer
 ``(tree, catalog, home) -> str``.
