@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from aeroexec.aerostack import executive_engine_api as levant
+from aeroexec.dialects.aerostack import executive_engine_api as levant
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine import api
 from aeroexec.engine.engine import Engine

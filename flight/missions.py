@@ -22,7 +22,7 @@ from aeroexec.engine.errors import Problem
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import TreeDocument, TreeFormatError, load_mission_tree
-from aeroexec.trees.formats import described, format_of, suffixes
+from aeroexec.trees.formats import TREE_VERIFIERS, described, format_of, readers, suffixes
 
 from aeroexec.limits import InputError, read_text
 
@@ -76,8 +76,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     if fmt.tree:
         # here, not at the top: a Python mission needs none of tree verification (its checks, the format readers)
         from aeroexec.trees.route import estimate_route
-        from aeroexec.trees.tml.verify import verify_mission_document
-        from aeroexec.trees.verify import verify_leaves
+        from aeroexec.trees.verify import verify_document, verify_leaves
 
         try:
             checked.tree = load_mission_tree(path, home)
@@ -90,7 +89,10 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         if plan and not checked.tree.root.children:
             checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
             return checked
-        checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
+        own = (found for _, verify in sorted(readers(TREE_VERIFIERS).items())  # a dialect's: a TML mission's
+               if (found := verify(checked.tree, catalog, world)) is not None)
+        problems = next(own, None)
+        checked.problems = problems if problems is not None else verify_document(checked.tree, catalog, world=world)
         checked.route = estimate_route(checked.tree, world) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
@@ -128,14 +130,14 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
 def mission_function(path: Path) -> Callable[[], Any]:
     """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
     script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
-    from aeroexec.engine.missions import ros, standins
+    from aeroexec.engine.missions import standins
     from aeroexec.engine.missions.script import is_script, script_mission
     from aeroexec.engine.missions.source import parse_source
 
     source = read_text(path, what="the mission")
     if is_script(parse_source(source, str(path))):
         return script_mission(path, source)
-    ros.install()  # a ROS module the mission imports and never uses imports as a stand-in
+    standins.install_finders()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     module.__builtins__ = standins.mission_builtins()  # its imports of Aerostack's APIs get aeroexec's

@@ -9,7 +9,10 @@ for a program, checked), and whether ``convert`` can write it. Readers, recognis
 
 Other packages add tree formats through the entry-point group ``aeroexec.mission_formats`` (a :class:`MissionFormat`,
 a list of them, or a callable returning either), loaded as the behaviors' entry points are (:mod:`aeroexec.plugins`);
-they come after the built-in ones, so a suffix they share is theirs only for the files their recogniser takes. A
+the foreign dialects (``aeroexec.dialects``: TML, Aerostack's nodes, Aerostack2's plans) are added so. They come after
+the built-in ones (or ``before`` the format they name), so a suffix they share is theirs only for the files their
+recogniser takes. A format read through the XML or YAML reader adds what makes a document its own through the
+readers' groups (:data:`XML_DOCUMENTS`, :data:`YAML_FORMS`, :data:`TREE_MAPPINGS`, :data:`TREE_VERIFIERS`). A
 tree format's reader is ``(data: str | bytes, file: str, home) -> TreeDocument`` raising
 :class:`~aeroexec.trees.model.TreeFormatError` with ``(file, line, message)`` problems; its writer
 ``(tree, catalog, home) -> str``.
@@ -54,6 +57,7 @@ class MissionFormat:
     write: str | None = None
     writes_as: str = ""
     summary: str = ""  # what it is, in a few words: "BehaviorTree.CPP v4 XML"
+    before: str = ""  # an added format's place in the table (and the help's lists): before the format of this name
 
     def matched(self, name: str) -> int:
         """The length of the longest of this format's suffixes ``name`` ends with (0: none)."""
@@ -76,6 +80,20 @@ class MissionFormat:
         return f"{self.name} ({', '.join(self.suffixes)})"
 
 
+#: The entry-point group of readers of XML documents by their document element: ``(root, raw, file, lenient) ->
+#: TreeDocument | None`` (None: not theirs), asked before the BehaviorTree.CPP reader (TML's ``<mission>``).
+XML_DOCUMENTS = "aeroexec.xml_documents"
+#: The entry-point group of the forms of a YAML mission by their top-level key, ``name = key``:
+#: ``(reader: NodeReader, root, leaves) -> TreeDocument | None`` (Aerostack's ``nodes:``).
+YAML_FORMS = "aeroexec.yaml_forms"
+#: The entry-point group of mappings of an XML tree's nodes onto the catalog's: ``(document, home) -> document``
+#: (itself when it has none of theirs: Aerostack2's behavior-tree nodes).
+TREE_MAPPINGS = "aeroexec.tree_mappings"
+
+#: The entry-point group of verifiers of documents of their own before flight: ``(document, catalog, world) ->
+#: list[Problem] | None`` (None: not theirs, the tree checks verify it: a TML mission's own checks).
+TREE_VERIFIERS = "aeroexec.tree_verifiers"
+
 _HERE = "aeroexec.trees.mission_file"
 _ITEMS = "aeroexec.trees.items"
 
@@ -83,14 +101,8 @@ _ITEMS = "aeroexec.trees.items"
 BUILT_IN: tuple[MissionFormat, ...] = (
     MissionFormat("Python missions", (".py",), "aeroexec.engine.missions.check:check_mission_source", tree=False,
                   summary="a Python program with a mission() or runMission() function, or an Aerostack2 script"),
-    MissionFormat("TML", (".tml.xml",), f"{_HERE}:read_xml_tree", summary="a TML mission"),
     MissionFormat("BehaviorTree.CPP XML", (".xml",), f"{_HERE}:read_xml_tree", write=f"{_HERE}:write_xml_tree",
                   writes_as="xml", summary="BehaviorTree.CPP v4 XML"),
-    MissionFormat("Aerostack2 interpreter plans", (".json", ".yaml", ".yml"), f"{_HERE}:read_aerostack2_tree",
-                  recognise="aeroexec.trees.loaders.aerostack2_loader:is_aerostack2_plan",
-                  summary="Aerostack2's mission interpreter plans ({target, plan})"),
-    MissionFormat("Aerostack nodes: YAML", (".yaml", ".yml"), f"{_HERE}:read_yaml_tree",
-                  recognise=f"{_HERE}:is_aerostack_nodes", summary="Aerostack's behavior tree interpreter nodes:"),
     MissionFormat("YAML trees", (".yaml", ".yml"), f"{_HERE}:read_yaml_tree", summary="a behavior tree in YAML"),
     MissionFormat("QGroundControl plans", (".plan",), f"{_ITEMS}.plan:read_plan", items=True,
                   write=f"{_HERE}:write_plan_file", writes_as="plan", summary="a QGroundControl plan"),
@@ -119,8 +131,17 @@ def formats() -> tuple[MissionFormat, ...]:
             elif not fmt.tree:  # a program flies as a Python mission: the table cannot say how another would
                 logger.error("%s: %s is not a tree format; only tree formats can be added", origin, fmt.name)
             else:
-                found.append(fmt)
+                place = next((i for i, known in enumerate(found) if fmt.before and known.name == fmt.before),
+                             len(found))
+                found.insert(place, fmt)
     return tuple(found)
+
+
+@functools.cache
+def readers(group: str) -> dict[str, Any]:
+    """The loaded entry points of one of the readers' groups (:data:`XML_DOCUMENTS`, :data:`YAML_FORMS`,
+    :data:`TREE_MAPPINGS`, :data:`TREE_VERIFIERS`), by name."""
+    return dict(installed_plugins(group, named=True))
 
 
 def suffixes(tree: bool | None = None) -> tuple[str, ...]:
@@ -170,5 +191,6 @@ def complete_mission_files(prefix: str, **_: Any) -> list[str]:
     return [f"{shown}{p.name}/" if p.is_dir() else f"{shown}{p.name}" for p in entries
             if p.name.startswith(start) and (p.is_dir() or p.name.lower().endswith(known))]
 
-__all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "MissionFormat", "complete_mission_files", "described", "expected",
-           "format_of", "formats", "suffixes", "writable"]
+__all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "TREE_MAPPINGS", "TREE_VERIFIERS", "XML_DOCUMENTS", "YAML_FORMS",
+           "MissionFormat", "complete_mission_files", "described", "expected", "format_of", "formats", "readers",
+           "suffixes", "writable"]

@@ -3,24 +3,23 @@ for a suffix several formats share its text, choose the format, whose reader mak
 :class:`~aeroexec.trees.model.TreeDocument`.
 
 The built-in formats' readers are here, each importing its loader when a file of its format is read: ``.xml``
-(BehaviorTree.CPP v4, :mod:`aeroexec.trees.loaders.xml_loader`, or a TML mission when the document element is
-``<mission>``, :mod:`aeroexec.trees.tml.compiler`; Aerostack2's behavior-tree nodes are mapped onto the catalog,
-:mod:`aeroexec.trees.loaders.aerostack2_nodes`), ``.yaml``/``.yml`` (the nested form or Aerostack's ``nodes:``
-list, :mod:`aeroexec.trees.loaders.yaml_loader`), Aerostack2's interpreter missions (``{target, plan}``,
-:mod:`aeroexec.trees.loaders.aerostack2_loader`) and the mission-item files (:mod:`aeroexec.trees.items`), placed
-from ``home`` (the world's home point; default: the mission's own). Every problem, whatever the format, is raised
-as one :class:`~aeroexec.trees.model.TreeFormatError` listing ``(file, line, message)`` (a mission-item file's
-problems are on its :class:`~aeroexec.trees.items.PlanDocument`, each with its item number).
+(BehaviorTree.CPP v4, :mod:`aeroexec.trees.loaders.xml_loader`, or a document a dialect reads by its document element,
+TML's ``<mission>``; a dialect's nodes mapped onto the catalog, Aerostack2's: the readers' groups of
+:mod:`aeroexec.trees.formats`), ``.yaml``/``.yml`` (the nested form, or a dialect's form by its top-level key,
+Aerostack's ``nodes:`` list, :mod:`aeroexec.trees.loaders.yaml_loader`) and the mission-item files
+(:mod:`aeroexec.trees.items`), placed from ``home`` (the world's home point; default: the mission's own). Every
+problem, whatever the format, is raised as one :class:`~aeroexec.trees.model.TreeFormatError` listing
+``(file, line, message)`` (a mission-item file's problems are on its :class:`~aeroexec.trees.items.PlanDocument`,
+each with its item number).
 """
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic
-from aeroexec.trees.formats import MissionFormat, expected, format_of
+from aeroexec.trees.formats import TREE_MAPPINGS, XML_DOCUMENTS, MissionFormat, expected, format_of, readers
 from aeroexec.trees.model import TreeDocument, TreeFormatError
 
 from aeroexec.limits import InputError, decode, read_bytes
@@ -70,30 +69,27 @@ def text_of(data: str | bytes, file: str) -> str:
 # The built-in formats' readers, recognisers and writers, as the table (trees/formats.py) names them.
 
 def read_xml_tree(data: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
-    """BehaviorTree.CPP v4 XML, Aerostack2's nodes mapped onto the catalog, or TML (its document element)."""
-    from aeroexec.trees.loaders.aerostack2_nodes import aerostack2_tree
-    from aeroexec.trees.tml.compiler import read_xml_mission
+    """BehaviorTree.CPP v4 XML, or a document a dialect reads by its document element (TML's ``<mission>``); the
+    dialects' nodes mapped onto the catalog (Aerostack2's)."""
+    from aeroexec.trees.loaders.xml_loader import parse_xml, read_xml
 
-    return aerostack2_tree(read_xml_mission(data, file), home)
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    lenient: list[tuple[str, int, str]] = []
+    root = parse_xml(raw, file, lenient)  # as BehaviorTree.CPP reads it (a raw < in an attribute)
+    document = next((found for _, read in sorted(readers(XML_DOCUMENTS).items())
+                     if (found := read(root, raw, file, lenient)) is not None), None)
+    if document is None:
+        document = read_xml(raw, file)
+    for _, mapping in sorted(readers(TREE_MAPPINGS).items()):
+        document = mapping(document, home)
+    return document
 
 
 def read_yaml_tree(data: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
-    """A behavior tree in YAML: the nested form or Aerostack's ``nodes:`` list."""
+    """A behavior tree in YAML: the nested form or a dialect's form (Aerostack's ``nodes:`` list)."""
     from aeroexec.trees.loaders.yaml_loader import read_yaml
 
     return read_yaml(text_of(data, file), file)
-
-
-def read_aerostack2_tree(data: str | bytes, file: str, home: Geodetic | None = None) -> TreeDocument:
-    """Aerostack2's mission interpreter plan (JSON or YAML)."""
-    from aeroexec.trees.loaders.aerostack2_loader import read_aerostack2_plan
-
-    return read_aerostack2_plan(text_of(data, file), file, home)
-
-
-def is_aerostack_nodes(text: str) -> bool:
-    """Aerostack's behavior tree interpreter YAML: a top-level ``nodes:`` list."""
-    return re.search(r"^nodes\s*:", text, re.MULTILINE) is not None
 
 
 def is_legacy_mission(text: str) -> bool:

@@ -1,7 +1,13 @@
-"""Reading a behavior catalog file (paper Appendix B) into descriptors, with file and line for every problem."""
+"""Reading a behavior catalog file (paper Appendix B) into descriptors, with file and line for every problem.
+
+A catalog written for another system is refused in one line naming its format: the dialects recognise theirs
+through the entry-point group ``aeroexec.catalog_dialects`` (``(root: yaml.Node) -> str | None``: Aerostack's
+Sirocco and Auster/Libeccio catalogs).
+"""
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -22,10 +28,11 @@ from aeroexec.engine.catalog.descriptors import (
     ReactiveRule,
     Transition,
 )
-from aeroexec.engine.catalog.dialects import catalog_dialect
 from aeroexec.engine.catalog.safety_rules import SafetyRule, read_safety_rules
 from aeroexec.engine.catalog.vocabulary import VocabularySections
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
+
+from aeroexec.plugins import installed_plugins
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
             "capability_descriptors", "behavior_transitions", "phenomena", "predicates", "vehicle_limits", "rules",
@@ -60,6 +67,20 @@ class CatalogContent:
     vehicle_limits: dict[str, float] = field(default_factory=dict)
     # where each name was written, for the cross-reference checks
     references: list[tuple[str, str, str, yaml.Node]] = field(default_factory=list)
+
+
+#: The entry-point group of the recognisers of catalogs written for other systems.
+CATALOG_DIALECTS = "aeroexec.catalog_dialects"
+
+
+@functools.cache
+def _recognisers() -> tuple[Any, ...]:
+    return tuple(recogniser for _, recogniser in installed_plugins(CATALOG_DIALECTS) if callable(recogniser))
+
+
+def catalog_dialect(root: yaml.Node) -> str | None:
+    """One line naming the format of a catalog written for another system (a dialect's); None for Appendix B's."""
+    return next((line for recognise in _recognisers() if (line := recognise(root))), None)
 
 
 def _peek(node: yaml.Node, key: str) -> str:

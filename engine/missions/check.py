@@ -27,21 +27,20 @@ from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.catalog.world_check import WorldMap
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, MissionProblem, Problem, SpecificationError
 from aeroexec.engine.missions.api_modules import (
-    AEROSTACK_MODULES,
     API_FUNCTIONS,
-    API_MODULES,
     BELIEF,
     NAME_ONLY,
     RUN,
     SEQUENCE,
     api_bindings,
+    api_modules,
+    foreign,
     module_label,
     offers,
 )
-from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants
-from aeroexec.engine.missions.drone_objects import DroneObjects, Unknown
+from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants, Unknown
+from aeroexec.engine.missions.dialect_checks import program_objects, program_problems
 from aeroexec.engine.missions.imports import missing_imports
-from aeroexec.engine.missions.ros import ros_problems
 from aeroexec.engine.missions.script import is_script
 from aeroexec.engine.missions.sequence import SequenceWalker
 from aeroexec.engine.missions.source import parse_source
@@ -69,7 +68,7 @@ class MissionChecker:
         for node in self.nodes:
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
                 self.functions.setdefault(node.name, []).append(node)
-        self.drones = DroneObjects(self)
+        self.objects = program_objects(self)  # a dialect's objects that run behaviors: Aerostack2's drones
         self.effectful_functions, self._effectful = self._effects()
         self.vocabulary, self.open_vocabulary = self._vocabulary()
 
@@ -127,7 +126,7 @@ class MissionChecker:
     def api_member(self, node: ast.AST) -> tuple[str, str] | None:
         """The API module and the name an expression has there when it is ``api.X`` or an imported ``X``."""
         path = self.dotted(node)
-        for module in API_MODULES:
+        for module in api_modules():
             if path and path.startswith(module + ".") and "." not in path[len(module) + 1:]:
                 return module, path[len(module) + 1:]
         return None
@@ -138,11 +137,11 @@ class MissionChecker:
 
     def api_function(self, node: ast.AST) -> str | None:
         member = self.api_member(node)
-        return API_MODULES[member[0]].get(member[1]) if member else None
+        return api_modules()[member[0]].get(member[1]) if member else None
 
-    def aerostack_call(self, call: ast.Call) -> bool:
+    def foreign_call(self, call: ast.Call) -> bool:
         member = self.api_member(call.func)
-        return member is not None and member[0] in AEROSTACK_MODULES
+        return member is not None and foreign(member[0])
 
     # -- request checks ----------------------------------------------------------------
     def check_program(self) -> None:
@@ -152,16 +151,17 @@ class MissionChecker:
                 if member is not None and not offers(*member):
                     module, name = member
                     self.report(node, f"The function {name} does not exist in the mission API{module_label(module)}"
-                                      f"{suggestion(name, API_MODULES[module])}", WRONG_FORMAT)
-            elif isinstance(node, ast.ImportFrom) and node.module in API_MODULES:
+                                      f"{suggestion(name, api_modules()[module])}", WRONG_FORMAT)
+            elif isinstance(node, ast.ImportFrom) and node.module in api_modules():
                 for alias in node.names:
                     if alias.name != "*" and not offers(node.module, alias.name):
-                        known = API_MODULES[node.module]
+                        known = api_modules()[node.module]
                         self.report(node, f"The function {alias.name} does not exist in the mission API"
                                           f"{module_label(node.module)}{suggestion(alias.name, known)}", WRONG_FORMAT)
             elif isinstance(node, ast.Call):
                 function = self.api_function(node.func)
-                self.drones.check(node)
+                for objects in self.objects:
+                    objects.check(node)
                 if function in RUN or function in NAME_ONLY:
                     self.check_behavior_call(node, function)
                 elif function in BELIEF:
@@ -176,7 +176,7 @@ class MissionChecker:
         """The argument naming the behavior: the first, or ``name=``; for Aerostack's inhibit and deactivate,
         which also take the uid an activation returned, the first text literal (None: stopped by uid)."""
         function = self.api_function(call.func)
-        if function == "inhibit_behavior" and self.aerostack_call(call):
+        if function == "inhibit_behavior" and self.foreign_call(call):
             given = [*call.args, *(k.value for k in call.keywords if k.arg in ("name", "behavior", "task"))]
             return next((n for n in given if isinstance(self.value(n), str)), None)
         keywords = ("name", "behavior", "task", "planner")
@@ -185,7 +185,7 @@ class MissionChecker:
     def behavior_name(self, call: ast.Call) -> str | None:
         """The literal behavior name of a call, upper-cased as the API does; None when it cannot be known."""
         node = self.name_node(call)
-        if node is None and self.api_function(call.func) == "inhibit_behavior" and self.aerostack_call(call):
+        if node is None and self.api_function(call.func) == "inhibit_behavior" and self.foreign_call(call):
             return None  # stopped by the uid its activation returned
         if node is None:
             self.report(call, f"{ast.unparse(call.func)}() needs the name of a behavior", WRONG_FORMAT)
@@ -227,7 +227,7 @@ class MissionChecker:
         if descriptor is None:
             self.report(name_node, f"The behavior {name} does not exist{self.catalog.suggest(name)}", WRONG_FORMAT)
             return
-        if len(call.args) > 1 and not (function in NAME_ONLY and self.aerostack_call(call)):
+        if len(call.args) > 1 and not (function in NAME_ONLY and self.foreign_call(call)):
             self.report(call.args[1], f"{ast.unparse(call.func)}() takes the behavior name, then its arguments "
                                       f"by name (argument=value)", WRONG_FORMAT)
         if function in NAME_ONLY:
@@ -288,7 +288,7 @@ class MissionChecker:
         names of those not known (``**`` for ``**kwargs``); empty for any other call."""
         function = self.api_function(call.func)
         if function not in SEQUENCE:
-            return self.drones.sequence_requests(call)
+            return [request for objects in self.objects for request in objects.sequence_requests(call)]
         node = self.name_node(call)
         name = self.value(node) if node is not None else NOT_CONSTANT
         if not isinstance(name, str):
@@ -314,7 +314,8 @@ class MissionChecker:
         """The names of the program's functions that run or inhibit behaviors, directly or through each other,
         and every node that holds such a call (in one pass over the program, then up the parents)."""
         calls = [n for n in self.nodes if isinstance(n, ast.Call)]
-        direct = [c for c in calls if self.api_function(c.func) in SEQUENCE or self.drones.as2_call(c) is not None]
+        direct = [c for c in calls if self.api_function(c.func) in SEQUENCE
+                  or any(objects.runs_behaviors(c) for objects in self.objects)]
         within: dict[int, list[str]] = {}  # id(call) -> the names of the functions around it
 
         def functions_around(call: ast.Call) -> list[str]:
@@ -354,14 +355,14 @@ class MissionChecker:
     def sequence_checkable(self) -> bool:
         """False when behaviors may run through a reference the checker cannot follow (stored, passed, getattr),
         or on several drones (each has its own flight)."""
-        if self.drones.several:
+        if any(objects.several for objects in self.objects):
             return False
         followed = {id(n.func) for n in self.nodes if isinstance(n, ast.Call)}
         followed |= {id(n.value) for n in self.nodes if isinstance(n, ast.Attribute)}
         for node in self.nodes:
             if isinstance(node, ast.Name | ast.Attribute) and id(node) not in followed:
                 function = self.api_function(node)
-                if function in SEQUENCE or self.dotted(node) in API_MODULES:
+                if function in SEQUENCE or self.dotted(node) in api_modules():
                     return False
                 if isinstance(node, ast.Name) and node.id in self.effectful_functions:
                     return False
@@ -391,12 +392,12 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     for statement, module in missing_imports(tree, filename):
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
                        WRONG_FORMAT)
-    for node, severity, message in ros_problems(checker.nodes, checker.dotted):
+    for node, severity, message in program_problems(checker.nodes, checker.dotted):  # a dialect's: ROS used
         checker.report(node, message, WRONG_FORMAT if severity == "error" else "", severity)
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)
-    if entry is None and is_script(tree, checker.nodes):  # an Aerostack2 script: it runs whole, from its start
+    if entry is None and is_script(tree, checker.nodes):  # a script (Aerostack2's): it runs whole, from its start
         if checker.sequence_checkable():
             SequenceWalker(checker).check_body(tree.body)
     elif entry is None:

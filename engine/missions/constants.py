@@ -18,6 +18,13 @@ _MAX_ITEMS = 10_000  # a constant list longer than this is left to the run
 _SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
 
 
+class Unknown:
+    """A value the check cannot know (not a constant): never judged."""
+
+    def __repr__(self) -> str:
+        return "<not a constant>"
+
+
 def _bound_names(target: ast.AST) -> list[str]:
     return [n.id for n in ast.walk(target) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store | ast.Del)]
 
@@ -140,4 +147,4 @@ def _number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
-__all__ = ["NOT_CONSTANT", "Constants"]
+__all__ = ["NOT_CONSTANT", "Constants", "Unknown"]

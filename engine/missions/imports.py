@@ -1,8 +1,8 @@
 """The modules a Python mission imports that cannot be found: the mission would stop at its import.
 
 Only absolute imports outside ``try`` blocks are judged (a mission may guard an optional import), by their
-top-level package, without importing anything of the mission's. ROS modules are judged by their use
-(:func:`aeroexec.engine.missions.ros.ros_problems`).
+top-level package, without importing anything of the mission's. The modules a dialect serves, or judges by their
+use (ROS modules), are left to it (:mod:`.standins`).
 """
 
 from __future__ import annotations
@@ -11,8 +11,7 @@ import ast
 import importlib.util
 from pathlib import Path
 
-from aeroexec.engine.missions.ros import is_ros
-from aeroexec.engine.missions.standins import stands_in
+from aeroexec.engine.missions.standins import judged_by_use, stands_in
 
 
 def _statements(body: list[ast.stmt]):
@@ -43,8 +42,8 @@ def missing_imports(tree: ast.Module, filename: str) -> list[tuple[ast.stmt, str
             top = name.split(".")[0]
             if stands_in(name):
                 continue  # aeroexec's own, as the mission imports it (standins)
-            if is_ros(name):
-                continue  # judged by what the mission uses of it (ros.ros_problems)
+            if judged_by_use(name):
+                continue  # judged by what the mission uses of it (a dialect's check: ROS's)
             if not _found(top, here):
                 missing.append((statement, top))
     return missing

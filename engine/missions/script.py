@@ -1,15 +1,16 @@
-"""Missions that are scripts: a program with no ``mission()`` function, written for Aerostack2 (``rclpy.init()``,
-``DroneInterface("drone0")``, ``if __name__ == '__main__':``), run whole as ``__main__`` on the mission's thread.
+"""Missions that are scripts: a program with no ``mission()`` function that imports an API a dialect runs whole
+(Aerostack2's: ``rclpy.init()``, ``DroneInterface("drone0")``, ``if __name__ == '__main__':``), run whole as
+``__main__`` on the mission's thread.
 
 The script runs unchanged; what it takes from its surroundings is the engine's. ``time.sleep``, ``time.time``
 and ``time.monotonic`` (as the script imports them) wait on and read the engine's clock, so a simulated run is
 paced by simulated time and a ``while ...: sleep(0.1)`` loop sees the world move; ``sys.argv`` holds the script
 alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; its threads
 (``threading.Thread``) are the mission's (:class:`MissionThread`); ``input()`` is a question for the operator
-(:func:`ask_operator`); ``exit(0)`` ends it completed, another status fails it; ROS
-modules it imports and never uses import as stand-ins (:mod:`.ros`). Each ``DroneInterface`` binds to a drone by
-its namespace (:func:`drone_engine`); a script several drones of a fleet name flies them all
-(:func:`fly_together`).
+(:func:`ask_operator`); ``exit(0)`` ends it completed, another status fails it; the dialects' import finders are
+installed (ROS modules it imports and never uses import as stand-ins: :mod:`.standins`). Each ``DroneInterface``
+(Aerostack2's) binds to a drone by its namespace (:func:`drone_engine`); a script several drones of a fleet name
+flies them all (:func:`fly_together`).
 """
 
 from __future__ import annotations
@@ -30,12 +31,7 @@ from typing import Any
 
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted
-from aeroexec.engine.missions import ros, standins
-
-#: The modules whose import makes a program without ``mission()`` an Aerostack2 script.
-SCRIPT_APIS = ("as2_python_api", "rclpy")
-#: The variable Aerostack2's simulation launch sets to the simulated drone's namespace (its examples read it).
-DRONE_ID_VARIABLE = "AEROSTACK2_SIMULATION_DRONE_ID"
+from aeroexec.engine.missions import standins
 
 _lock = threading.RLock()
 _claimed: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()  # engine -> the namespace it flies as
@@ -51,14 +47,15 @@ class DroneNotFound(LookupError):
 
 
 def is_script(tree: ast.Module, nodes: Iterable[ast.AST] | None = None) -> bool:
-    """True for an Aerostack2 script: no ``mission()``/``runMission()`` at top level, and an import of its API
-    (among ``nodes``, the program's when already walked)."""
+    """True for a script: no ``mission()``/``runMission()`` at top level, and an import of an API a dialect runs
+    whole (Aerostack2's: :func:`.standins.script_names`), among ``nodes`` (the program's when already walked)."""
+    names_run_whole = standins.script_names()
     if any(isinstance(n, ast.FunctionDef) and n.name in ("mission", "runMission") for n in tree.body):
         return False
     for node in ast.walk(tree) if nodes is None else nodes:
         names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                  [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level else [])
-        if any(name.split(".")[0] in SCRIPT_APIS for name in names):
+        if any(name.split(".")[0] in names_run_whole for name in names):
             return True
     return False
 
@@ -201,14 +198,16 @@ class ScriptMission:
         self.code = compile(source, str(path), "exec")
 
     def __call__(self) -> None:
-        ros.install()
+        standins.install_finders()
         folder = str(self.path.resolve().parent)
         scope = {"__name__": "__main__", "__file__": str(self.path), "__builtins__": _builtins(_EngineTime())}
-        saved = sys.argv, list(sys.path), os.environ.get(DRONE_ID_VARIABLE)
+        environment = standins.script_environment()  # Aerostack2's: the simulated drone's namespace
+        saved = sys.argv, list(sys.path), {key: os.environ.get(key) for key in environment}
         sys.argv = [str(self.path)]
         if folder not in sys.path:
             sys.path.insert(0, folder)
-        os.environ.setdefault(DRONE_ID_VARIABLE, "drone0")
+        for key, value in environment.items():
+            os.environ.setdefault(key, value)
         try:
             exec(self.code, scope)
         except SystemExit as end:
@@ -216,8 +215,9 @@ class ScriptMission:
                 raise ScriptExit(f"the script exited with status {end.code}") from None
         finally:
             sys.argv, sys.path[:] = saved[0], saved[1]
-            if saved[2] is None:
-                os.environ.pop(DRONE_ID_VARIABLE, None)
+            for key, value in saved[2].items():
+                if value is None:
+                    os.environ.pop(key, None)
 
 
 def script_mission(path: Path, source: str) -> ScriptMission:
@@ -248,5 +248,5 @@ def fly_together(engines: Mapping[str, Any], mission: Callable[[], Any], name: s
     return first.start_mission(run, name)
 
 
-__all__ = ["DRONE_ID_VARIABLE", "DroneNotFound", "MissionThread", "ScriptExit", "ScriptMission", "ask_operator",
+__all__ = ["DroneNotFound", "MissionThread", "ScriptExit", "ScriptMission", "ask_operator",
            "drone_engine", "fly_together", "flying_fleet", "is_script", "script_mission"]

@@ -134,7 +134,8 @@ class Resumption:
 
     def check_program(self, path: Path) -> None:
         """FlightError for a Python mission whose calls cannot be replayed: one that flies through Aerostack2's Python
-        API, whose behavior runs (``engine/missions/behavior_runs.py``) are not journaled calls of the mission API."""
+        API, whose behavior runs (``dialects/aerostack2/behavior_runs.py``) are not journaled calls of the mission
+        API."""
         from aeroexec.engine.missions.source import parse_source
 
         from aeroexec.limits import read_text

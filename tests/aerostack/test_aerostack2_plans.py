@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ElementTree
 import behaviortreepy as bt
 import pytest
 from aeroexec.cli.main import main
-from aeroexec.trees.loaders.aerostack2_loader import read_aerostack2_plan
+from aeroexec.dialects.aerostack2.plans import read_aerostack2_plan
 from aeroexec.trees.model import TreeFormatError
 from flying import PLANS, fly
 

@@ -7,9 +7,9 @@ from __future__ import annotations
 import re
 
 import pytest
+from aeroexec.dialects.aerostack2.tree_nodes import PORTS
 from aeroexec.drones.sim import SimulatedDrone, load_world
 from aeroexec.engine.engine import Engine
-from aeroexec.trees.loaders.aerostack2_nodes import PORTS
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.runtime.runner import TreeMission

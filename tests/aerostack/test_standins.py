@@ -1,5 +1,6 @@
-"""Installing aeroexec takes no name of ROS's or Aerostack's: its mission APIs are ``aeroexec.aerostack.<name>``,
-and only the missions aeroexec loads import them as ``rclpy``, ``as2_python_api``, ``executive_engine_api``...
+"""Installing aeroexec takes no name of ROS's or Aerostack's: its mission APIs are
+``aeroexec.dialects.<dialect>.<name>``, and only the missions aeroexec loads import them as ``rclpy``,
+``as2_python_api``, ``executive_engine_api``...
 An environment with ROS 2 keeps its own ``rclpy`` for every other program, and for the program embedding aeroexec."""
 
 from __future__ import annotations
@@ -31,9 +32,10 @@ def test_the_wheel_holds_every_module_of_the_source_and_nothing_outside_the_aero
     wheel, = (tmp_path / "dist").glob("aeroexec-*.whl")
     files = zipfile.ZipFile(wheel).namelist()
     assert {f.split("/")[0] for f in files} == {"aeroexec", wheel.name.split("-py")[0] + ".dist-info"}
-    for name in ("rclpy/__init__.py", "as2_python_api/drone_interface.py", "as2_msgs/msg.py",
-                 "executive_engine_api.py", "mission_execution_control.py"):
-        assert f"aeroexec/aerostack/{name}" in files
+    for name in ("aerostack2/rclpy/__init__.py", "aerostack2/as2_python_api/drone_interface.py",
+                 "aerostack2/as2_msgs/msg.py", "aerostack/executive_engine_api.py",
+                 "aerostack/mission_execution_control.py"):
+        assert f"aeroexec/dialects/{name}" in files
     setuptools = project["tool"]["setuptools"]
     data = setuptools["package-data"]
     missing = []

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from aeroexec.aerostack import executive_engine_api as api
+from aeroexec.dialects.aerostack import executive_engine_api as api
 from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.catalog import default_catalog, load_catalog, parse_catalog
 from aeroexec.engine.engine import Engine

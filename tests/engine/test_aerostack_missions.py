@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from aeroexec.aerostack import executive_engine_api, mission_execution_control
+from aeroexec.dialects.aerostack import executive_engine_api, mission_execution_control
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.missions.bridge import POLLING_REPORT
@@ -302,7 +302,7 @@ def mission():
 
 
 def test_verify_knows_every_function_the_aerostack_modules_offer():
-    from aeroexec.engine.missions.api_modules import API_MODULES
+    from aeroexec.dialects.aerostack.api_modules import API_MODULES
 
     for module in (executive_engine_api, mission_execution_control):
         functions = {name for name in module.__all__ if callable(getattr(module, name))}

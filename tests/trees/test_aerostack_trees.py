@@ -7,12 +7,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from aeroexec.dialects.aerostack.nodes import split_parameters
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.engine import Engine
 from aeroexec.flight.missions import check_mission
 from aeroexec.flight.robot import chosen_catalog
 from aeroexec.trees import TreeFormatError, load_mission_tree, read_mission_tree
-from aeroexec.trees.loaders.aerostack_loader import split_parameters
 from aeroexec.trees.runtime.runner import TreeMission
 from py_trees.common import Status
 

@@ -19,14 +19,14 @@ from pathlib import Path
 import behaviortreepy as bt
 import pytest
 from aeroexec.cli.main import main
+from aeroexec.dialects.aerostack2.tree_nodes import is_aerostack2
+from aeroexec.dialects.tml.compiler import load_xml_mission
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.trees.groot.palette import palette_ports
-from aeroexec.trees.loaders.aerostack2_nodes import is_aerostack2
 from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.mission_file import load_mission_tree
 from aeroexec.trees.model import TreeFormatError
 from aeroexec.trees.portability import portability_problems
-from aeroexec.trees.tml.compiler import load_xml_mission
 from aeroexec.trees.verify import verify_document
 
 ROOT = Path(__file__).resolve().parents[2]

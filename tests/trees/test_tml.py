@@ -8,14 +8,14 @@ import sys
 from pathlib import Path
 
 import pytest
+from aeroexec.dialects.tml.compiler import TmlDocument, read_tml_document
+from aeroexec.dialects.tml.verify import verify_tml
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
 from aeroexec.engine.catalog import default_catalog
 from aeroexec.engine.engine import Engine
 from aeroexec.flight.missions import check_mission
 from aeroexec.trees import TreeFormatError, load_mission_tree, read_mission_tree
 from aeroexec.trees.runtime.runner import TreeMission
-from aeroexec.trees.tml.compiler import TmlDocument, read_tml_document
-from aeroexec.trees.tml.verify import verify_tml
 from py_trees.common import Status
 
 ROOT = Path(__file__).parents[2]

@@ -1,8 +1,8 @@
 """Reading behavior-tree missions written in YAML into a TreeDocument, with the line of every node.
 
-Two forms are read. A file with a ``nodes:`` list is Aerostack's behavior_tree_interpreter format
-(see :mod:`aeroexec.trees.loaders.aerostack_loader`). Otherwise it is the nested form, the XML format's
-tree written as YAML::
+Two forms are read. A file whose top-level mapping has the key of a dialect's form is read by that form (the
+entry-point group ``aeroexec.yaml_forms``: Aerostack's behavior_tree_interpreter ``nodes:`` list, read by
+``aeroexec.dialects.aerostack``). Otherwise it is the nested form, the XML format's tree written as YAML::
 
     main_tree_to_execute: Mission        # optional when there is one tree
     trees:                               # or `tree: <node>` for a single tree (its ID is MainTree)
@@ -37,7 +37,7 @@ from pathlib import Path
 
 import yaml
 from aeroexec.engine.yaml_nodes import MAP, SEQ, NodeReader, line_of, suggestion
-from aeroexec.trees.loaders.aerostack_loader import read_flat
+from aeroexec.trees.formats import YAML_FORMS, readers
 from aeroexec.trees.loaders.common import BELIEF_LEAVES, errors_of, port_text, resolve_type
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 
@@ -195,8 +195,9 @@ def _read_document(reader: NodeReader, leaves: list[TreeNode]) -> TreeDocument |
                            f"not {reader.shown(root)}")
         return None
     keys = [str(k.value) for k, _ in root.value if isinstance(k, yaml.ScalarNode)]
-    if "nodes" in keys:
-        return read_flat(reader, root, leaves)
+    form = next((readers(YAML_FORMS)[key] for key in keys if key in readers(YAML_FORMS)), None)
+    if form is not None:  # a dialect's: Aerostack's nodes:
+        return form(reader, root, leaves)
     if "tree" not in keys and "trees" not in keys:
         reader.error(root, "not a behavior-tree mission: expected tree: (one tree), trees: (trees by ID) "
                            "or Aerostack's nodes: list")

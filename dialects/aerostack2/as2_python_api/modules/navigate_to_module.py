@@ -1,0 +1,10 @@
+"""Aerostack2's ``navigate_to`` module: its methods and the catalog requests they stand for are in
+:data:`aeroexec.dialects.aerostack2.behaviors.MODULES`."""
+
+from aeroexec.dialects.aerostack2.as2_python_api.modules.module_base import ModuleBase
+
+
+class NavigateToModule(ModuleBase):
+    """navigate_to module."""
+
+    __alias__ = "navigate_to"

@@ -1,0 +1,28 @@
+"""Aerostack2 registered with the core, as another package would be (pyproject.toml's entry points): its mission
+interpreter's plans in the table of mission formats, its Python API served under the names its scripts import
+(``as2_python_api``, ``as2_msgs``, ``rclpy``; a program importing ``as2_python_api`` or ``rclpy`` is a script run
+whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check.
+(Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
+
+from __future__ import annotations
+
+from aeroexec.engine.missions.dialect_checks import DialectChecks
+from aeroexec.engine.missions.standins import StandIns
+from aeroexec.trees.formats import MissionFormat
+
+_HERE = "aeroexec.dialects.aerostack2"
+
+FORMATS = (
+    MissionFormat("Aerostack2 interpreter plans", (".json", ".yaml", ".yml"), f"{_HERE}.plans:read_plan_tree",
+                  recognise=f"{_HERE}.plans:is_aerostack2_plan",
+                  summary="Aerostack2's mission interpreter plans ({target, plan})", before="Aerostack nodes: YAML"),
+)
+IMPORTS = StandIns(
+    names={name: f"{_HERE}.{name}" for name in ("rclpy", "as2_python_api", "as2_msgs")},
+    scripts=("as2_python_api", "rclpy"),
+    # the variable Aerostack2's simulation launch sets to the simulated drone's namespace (its examples read it)
+    environment={"AEROSTACK2_SIMULATION_DRONE_ID": "drone0"},
+)
+CHECKS = DialectChecks(objects=f"{_HERE}.drone_objects:DroneObjects")
+
+__all__ = ["CHECKS", "FORMATS", "IMPORTS"]

@@ -1,0 +1,223 @@
+"""ROS in a mission: which modules a mission imports are ROS's, what of them aeroexec stands in for, and the
+stand-ins that let a mission import a ROS module it never uses.
+
+A mission written for Aerostack (ROS 1) or Aerostack2 (ROS 2) imports ROS modules. aeroexec provides the parts
+that are the drone interface (:data:`PROVIDED`: ``rclpy.init``/``ok``/``shutdown``, Aerostack2's
+``as2_python_api`` and the constants of ``as2_msgs.msg``); any other ROS module imports as a stand-in whose every
+use raises :class:`RosFeatureError`, naming what was used and that the mission uses ROS beyond the drone
+interface. The static check (:mod:`aeroexec.engine.missions.check`) says the same before flight: a use is an error
+at its line, an import never used a warning. Registered with the core through entry points (:data:`IMPORTS`: the
+finder and the imports judged by use; :data:`CHECKS`: the check of a program's ROS uses).
+"""
+
+from __future__ import annotations
+
+import importlib.abc
+import importlib.machinery
+import importlib.util
+import sys
+import threading
+import types
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine import api
+from aeroexec.engine.missions import standins
+from aeroexec.engine.missions.dialect_checks import DialectChecks
+from aeroexec.engine.missions.standins import StandIns
+
+#: ROS 1 packages (Aerostack's missions): their use is refused in ROS 1's words.
+ROS1_PACKAGES = frozenset({"rospy", "roslib", "rosbag", "rosgraph", "rosnode", "rosservice", "rostopic",
+                           "actionlib", "tf", "dynamic_reconfigure", "mavros", "message_filters", "cv_bridge",
+                           "image_transport", "aerostack_msgs", "droneMsgsROS"})
+#: ROS 2 packages that are no message packages.
+ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "rosidl_runtime_py", "launch",
+                           "launch_ros", "ament_index_python", "tf2_ros", "tf2_py", "tf2_geometry_msgs",
+                           "tf_transformations", "python_interface", "as2_core", "as2_motion_reference_handlers"})
+#: What aeroexec provides of ROS modules, by module: the names a mission may use (``*``: the whole module).
+PROVIDED: dict[str, frozenset[str]] = {
+    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok"}),
+    "as2_msgs": frozenset({"msg"}),
+    "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent"}),
+    "as2_python_api": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
+                                 "drone_interface_teleop", "modules", "behavior_actions", "mission_interpreter"}),
+    "as2_python_api.modules": frozenset({
+        "module_base", "takeoff_module", "land_module", "go_to_module", "follow_path_module", "rtl_module",
+        "navigate_to_module", "go_to_gps_module", "follow_path_gps_module", "point_gimbal_module",
+        "follow_reference_module", "gps_module", "motion_reference_handler_module"}),
+    "as2_python_api.behavior_actions": frozenset({"behavior_handler"}),
+    "as2_python_api.mission_interpreter": frozenset({"mission", "mission_interpreter"}),
+}
+#: The words of every refusal.
+ROS2_BEYOND = "this mission uses ROS 2 beyond the drone interface"
+ROS1_BEYOND = "this mission uses ROS beyond Aerostack's mission API"
+
+
+class RosFeatureError(RuntimeError):
+    """A mission used a part of ROS that aeroexec does not provide."""
+
+
+def is_ros(module: str) -> bool:
+    """True for a module of a ROS package (ROS 1 or 2; message, service and action packages included)."""
+    top = module.split(".")[0]
+    return (top in ROS1_PACKAGES or top in ROS2_PACKAGES or top.endswith(("_msgs", "_srvs", "_interfaces"))
+            or top.startswith("as2_"))
+
+
+#: The modules of Aerostack's (ROS 1) mission APIs: a mission importing them uses ROS 1's message packages.
+AEROSTACK_APIS = ("executive_engine_api", "mission_execution_control")
+
+
+def beyond(module: str, ros1: bool = False) -> str:
+    """The refusal's words for a use of ``module`` (a message package's in ROS 1's words when ``ros1``)."""
+    top = module.split(".")[0]
+    if top in ROS1_PACKAGES or (ros1 and top not in ROS2_PACKAGES and not top.startswith("as2_")):
+        return ROS1_BEYOND
+    return ROS2_BEYOND
+
+
+def provided(path: str) -> bool:
+    """True when ``path`` (``module`` or ``module.name``) is something aeroexec provides."""
+    if path in PROVIDED:
+        return True
+    module, _, name = path.rpartition(".")
+    while module:
+        names = PROVIDED.get(module)
+        if names is not None:
+            return "*" in names or name in names
+        module, _, name = module.rpartition(".")
+    return False
+
+
+class Refused:
+    """What a mission gets for a ROS name aeroexec does not provide: any use of it raises RosFeatureError."""
+
+    def __init__(self, name: str) -> None:
+        object.__setattr__(self, "_name", name)
+
+    def _refuse(self, *args: Any, **kwargs: Any) -> Any:
+        name = object.__getattribute__(self, "_name")
+        raise RosFeatureError(f"{name}: {beyond(name)}")
+
+    def __getattr__(self, attribute: str) -> Any:
+        if attribute.startswith("__") and attribute.endswith("__"):
+            raise AttributeError(attribute)
+        return Refused(f"{object.__getattribute__(self, '_name')}.{attribute}")
+
+    __call__ = __setattr__ = __iter__ = __getitem__ = __bool__ = __len__ = __eq__ = __hash__ = _refuse
+
+    def __mro_entries__(self, bases: tuple) -> tuple:  # class Mine(Node): ... uses ROS
+        self._refuse()
+        return ()
+
+    def __repr__(self) -> str:
+        return f"<{object.__getattribute__(self, '_name')}: not available without ROS>"
+
+
+def refusing_module(name: str) -> types.ModuleType:
+    """A module every attribute of which is :class:`Refused` (a submodule is a module like it)."""
+    module = types.ModuleType(name, f"aeroexec's stand-in for {name}: {beyond(name)}")
+    module.__path__ = []  # a package: its submodules are stand-ins too
+    module.__getattr__ = lambda attribute: (Refused(f"{name}.{attribute}") if not attribute.startswith("__")
+                                            else _no_attribute(attribute))
+    return module
+
+
+def _no_attribute(attribute: str) -> Any:
+    raise AttributeError(attribute)
+
+
+class _StandInLoader(importlib.abc.Loader):
+    def __init__(self, name: str) -> None:
+        self.name = name  # the module as the mission named it
+
+    def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
+        return refusing_module(self.name)
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        return None
+
+
+class RosStandIns(importlib.abc.MetaPathFinder):
+    """Found last on ``sys.meta_path``: a ROS module nothing else provides imports as a refusing stand-in (a
+    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.node``, aeroexec.dialects.aerostack2.rclpy.node)."""
+
+    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
+        name = _as_imported(fullname)
+        if not is_ros(name) or name == fullname and standins.stands_in(name):
+            return None  # rclpy, as2_msgs...: a mission's are aeroexec's (standins), nobody else's are stand-ins
+        return importlib.machinery.ModuleSpec(fullname, _StandInLoader(name), is_package=True)
+
+
+def _as_imported(fullname: str) -> str:
+    """A module of a package serving a mission's import, under the name the mission imports it by."""
+    for top, package in standins.served().items():
+        if fullname == package or fullname.startswith(package + "."):
+            return top + fullname[len(package):]
+    return fullname
+
+
+FINDER = RosStandIns()
+# The stand-ins here (and the dialects' APIs beside them) are aeroexec's code: a place in a message is the mission's.
+api.add_library_folder(Path(__file__).resolve().parent)
+_lock = threading.Lock()
+
+
+def install() -> None:
+    """Let missions import ROS modules they never use (idempotent; the finder comes after every other one)."""
+    with _lock:
+        if FINDER not in sys.meta_path:
+            sys.meta_path.append(FINDER)
+
+
+
+
+def ros_problems(nodes: list[Any], dotted: Any) -> list[tuple[Any, str, str]]:
+    """``(node, severity, message)`` for the ROS a program uses beyond what aeroexec provides: an error at each
+    line that uses it, a warning at an import nothing uses. ``nodes`` are the program's AST nodes,
+    ``dotted(node)`` the checker's dotted path of an expression (``rospy.init_node``) through its imports."""
+    import ast
+
+    imports: list[tuple[ast.stmt, str]] = []  # (statement, imported path)
+    modules: set[str] = set()
+    for node in nodes:
+        if isinstance(node, ast.Import):
+            imports += [(node, a.name) for a in node.names if is_ros(a.name)]
+            modules |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            modules.add(node.module.split(".")[0])
+            if is_ros(node.module):
+                imports += [(node, f"{node.module}.{a.name}") for a in node.names if a.name != "*"]
+    if not imports:
+        return []
+    ros1 = bool(modules & ROS1_PACKAGES) or bool(modules & set(AEROSTACK_APIS))
+    problems: list[tuple[Any, str, str]] = []
+    used: set[str] = set()  # imported paths something uses
+    seen: set[tuple[int, str]] = set()
+    outermost = {id(n.value) for n in nodes if isinstance(n, ast.Attribute)}
+    for node in nodes:
+        if not isinstance(node, ast.Name | ast.Attribute) or id(node) in outermost:
+            continue
+        if isinstance(node, ast.Name) and not isinstance(node.ctx, ast.Load):
+            continue
+        path = dotted(node)
+        if not path or not is_ros(path):
+            continue
+        for _, imported in imports:
+            if path == imported or path.startswith(imported + ".") or imported.startswith(path + "."):
+                used.add(imported)
+        if not provided(path) and (node.lineno, path) not in seen:
+            seen.add((node.lineno, path))
+            problems.append((node, "error", f"{path}: {beyond(path, ros1)}"))
+    for statement, imported in imports:
+        if imported not in used and not provided(imported):
+            problems.append((statement, "warning", f"{imported} is imported but never used: the mission runs "
+                                                   f"without it (a use would be refused: {beyond(imported, ros1)})"))
+    return problems
+
+
+IMPORTS = StandIns(finders=("aeroexec.dialects.ros:FINDER",), judged_by_use="aeroexec.dialects.ros:is_ros")
+CHECKS = DialectChecks(problems="aeroexec.dialects.ros:ros_problems")
+
+__all__ = ["CHECKS", "FINDER", "IMPORTS", "PROVIDED", "ROS1_BEYOND", "ROS2_BEYOND", "Refused", "RosFeatureError",
+           "beyond", "install", "is_ros", "provided", "refusing_module", "ros_problems"]
