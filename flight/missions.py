@@ -91,7 +91,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
             checked.problems = list(checked.tree.problems)  # no item flies: the items' problems say why
             return checked
         checked.problems = verify_mission_document(checked.tree, catalog, world)  # TML missions too
-        checked.route = estimate_route(checked.tree, world) if world is not None else None
+        checked.route = estimate_route(checked.tree, world, catalog=catalog) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
         if plan:  # items without a behavior, each message with its item number

@@ -14,6 +14,7 @@ from dataclasses import replace
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, Rule, RuleError
 from aeroexec.engine.catalog.descriptors import (
@@ -88,10 +89,10 @@ class BehaviorCatalog:
     def served_by(self, implemented: Iterable[str], reference: BehaviorCatalog | None = None) -> BehaviorCatalog:
         """This catalog as a library serves it: behaviors without an implementation are marked unsupported, and a
         behavior described without ``arguments:`` takes the arguments its implementation is described with in
-        ``reference`` (a thin catalog's GO_TO_POINT gets COORDINATES...); one_of groups of ``reference`` apply to
-        the arguments a catalog declares, so a request the implementation cannot serve is refused before flight;
-        predicates the catalog does not declare are taken from ``reference``. Returns ``self`` when nothing
-        changes."""
+        ``reference`` (a thin catalog's GO_TO_POINT gets COORDINATES...), one that says nothing of its timing and
+        motion takes its implementation's (``motion``, ``duration``, ``beside``); one_of groups of ``reference`` apply
+        to the arguments a catalog declares, so a request the implementation cannot serve is refused before flight;
+        predicates the catalog does not declare are taken from ``reference``. Returns ``self`` when nothing changes."""
         implemented = set(implemented)
         unsupported = frozenset(name for name in self.behaviors if name not in implemented)
         behaviors = dict(self.behaviors)
@@ -99,13 +100,18 @@ class BehaviorCatalog:
             own = reference.behavior(name) if reference is not None and name in implemented else None
             if own is None or own is descriptor:
                 continue
+            changes: dict[str, Any] = {}
             if not descriptor.arguments and own.arguments:
-                behaviors[name] = replace(descriptor, arguments=dict(own.arguments), one_of=own.one_of)
+                changes.update(arguments=dict(own.arguments), one_of=own.one_of)
             elif not descriptor.one_of and own.one_of:
                 groups = tuple(g for g in (tuple(a for a in group if a in descriptor.arguments)
                                            for group in own.one_of) if g)
                 if groups:
-                    behaviors[name] = replace(descriptor, one_of=groups)
+                    changes.update(one_of=groups)
+            if _timing(descriptor) == _NO_TIMING and _timing(own) != _NO_TIMING:  # how its implementation moves
+                changes.update(zip(("motion", "duration", "beside"), _timing(own), strict=True))
+            if changes:
+                behaviors[name] = replace(descriptor, **changes)
         predicates = dict(self.predicates)  # what the implementations write, when the catalog does not say
         for name, declared in (reference.predicates.items() if reference is not None else ()):
             predicates.setdefault(name, declared)
@@ -160,6 +166,13 @@ class BehaviorCatalog:
                                            for y in b.capabilities):
                     pairs.add(frozenset((a.name, b.name)))
         return pairs
+
+
+_NO_TIMING = ("", None, False)
+
+
+def _timing(descriptor: BehaviorDescriptor) -> tuple[str, float | str | None, bool]:
+    return descriptor.motion, descriptor.duration, descriptor.beside
 
 
 def _phenomena(content: CatalogContent) -> dict[str, Phenomenon]:
