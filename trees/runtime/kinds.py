@@ -67,7 +67,10 @@ _FROM_IDLE_LOG = Btlog("idle", resets_child=True)
 @dataclass(frozen=True)
 class NodeKind:
     """One node kind, as every pass asks it (see the module): name, manifest, runtime class, memory, flow, route,
-    change rule, ``.btlog`` rule, and the port naming the catalog behavior it runs (AskBehavior's ``behavior``)."""
+    change rule, ``.btlog`` rule, the port naming the catalog behavior it runs (AskBehavior's ``behavior``) and the
+    ports that count its children (Parallel's), whether its children run together, and the bidirectional ports it
+    only writes. What its ports' texts are written in is the manifest's (``Port``'s
+    ``language``: scripts, belief expressions, rules), which verification checks."""
 
     name: str
     manifest: NodeManifest
@@ -78,6 +81,9 @@ class NodeKind:
     btlog: Btlog | None = None  # default: by the manifest's kind
     jumps_inside: bool = True  # a live change may jump to a node inside it (False: it chooses what it ticks)
     behavior_port: str = ""  # the port naming the catalog behavior it runs
+    counts_children: tuple[str, ...] = ()  # ports counting its children (negative n: all but -1 - n), checked
+    concurrent: bool = False  # its children run together (the blackboard check: no order among their writes)
+    writes_only: tuple[str, ...] = ()  # bidirectional ports it only writes (SetBlackboard's output_key)
     origin: str = "aeroexec"  # the package that adds it
 
     def __post_init__(self) -> None:
@@ -99,6 +105,10 @@ class NodeKind:
     @property
     def ports(self) -> dict[str, Port]:
         return {port.name: port for port in self.manifest.ports}
+
+    def ports_in(self, *languages: str) -> tuple[str, ...]:
+        """Its ports written in one of ``languages`` (``Port.language``: script, belief, query, new_belief, rules)."""
+        return tuple(port.name for port in self.manifest.ports if port.language in languages)
 
     @property
     def class_name(self) -> str:
@@ -136,8 +146,9 @@ BUILT_IN: tuple[NodeKind, ...] = (
     _kind("AsyncFallback", "controls", memory=_SEQUENCE_MEMORY),
     _kind("ReactiveFallback", "controls", flow="reactive_fallback", jumps_inside=False,
           btlog=Btlog("tick", halts_others=True)),
-    _kind("Parallel", "parallels", memory=("completed", "successes", "failures"), flow="parallel", route="parallel"),
-    _kind("ParallelAll", "parallels", memory=("completed", "failures")),
+    _kind("Parallel", "parallels", memory=("completed", "successes", "failures"), flow="parallel", route="parallel",
+          counts_children=("success_count", "failure_count"), concurrent=True),
+    _kind("ParallelAll", "parallels", memory=("completed", "failures"), concurrent=True),
     _kind("IfThenElse", "branches", memory=("branch",), flow="if_then_else", jumps_inside=False,
           btlog=Btlog("tick", bare_condition=True)),
     _kind("WhileDoElse", "branches", flow="while_do_else", jumps_inside=False, btlog=Btlog("tick", other_branch=True)),
@@ -164,7 +175,7 @@ BUILT_IN: tuple[NodeKind, ...] = (
     _kind("AlwaysFailure", "actions", flow="fail"),
     _kind("Script", "actions"),
     _kind("ScriptCondition", "actions"),
-    _kind("SetBlackboard", "actions"),
+    _kind("SetBlackboard", "actions", writes_only=("output_key",)),
     _kind("UnsetBlackboard", "actions"),
     _kind("Sleep", "actions", memory=("seconds", "started_at")),
     _kind("WasEntryUpdated", "actions", memory=("seen",)),
@@ -215,10 +226,22 @@ def added() -> list[NodeKind]:
     return [kind for kind in kinds().values() if kind.name not in _BUILT_IN_NAMES]
 
 
+def is_subtree(name: str) -> bool:
+    """Whether a node named ``name`` is a SubTree: its child is the tree its ``ID`` names."""
+    kind = kinds().get(name)
+    return kind is not None and kind.subtree
+
+
+def ports_in(name: str, *languages: str) -> tuple[str, ...]:
+    """The ports of the node kind ``name`` written in one of ``languages`` (none for any other node)."""
+    kind = kinds().get(name)
+    return kind.ports_in(*languages) if kind is not None else ()
+
+
 def memory_by_class() -> dict[str, tuple[str, ...]]:
     """What each kind's class remembers, by class name (``tree_state`` looks a class's up along its bases)."""
     return {kind.class_name: kind.memory for kind in kinds().values() if kind.memory}
 
 
-__all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "Btlog", "NodeKind", "added", "kind_of", "kinds", "memory_by_class",
-           "ports_of"]
+__all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "Btlog", "NodeKind", "added", "is_subtree", "kind_of", "kinds",
+           "memory_by_class", "ports_in", "ports_of"]
