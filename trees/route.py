@@ -137,7 +137,7 @@ class _Flight:
         if kind is not None:
             self.through(node, kind.route)
             return
-        behavior = self.catalog.behavior(node.type)
+        behavior = self.catalog.timed(node.type)
         if behavior is None:
             raise NoRoute(node.type)
         motion = _MOTIONS.get(behavior.motion)
@@ -172,7 +172,7 @@ class _Flight:
             raise NoRoute(node.type)
 
     def beside(self, node: TreeNode) -> bool:
-        behavior = self.catalog.behavior(node.type)
+        behavior = self.catalog.timed(node.type)
         return behavior is not None and behavior.beside
 
     # -- the motions of the catalog's behaviors (``motion:``) -----------------------------------------------------

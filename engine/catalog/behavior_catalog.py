@@ -70,6 +70,31 @@ class BehaviorCatalog:
     def behavior(self, name: str) -> BehaviorDescriptor | None:
         return self.behaviors.get(name)
 
+    def timed(self, name: str) -> BehaviorDescriptor | None:
+        """The behavior ``name`` with its timing and motion (``motion:``, ``duration:``, ``beside:``): its own, or,
+        when the catalog says nothing of them (the paper's format), those of the aerial catalog's behavior of the same
+        name."""
+        descriptor = self.behaviors.get(name)
+        if descriptor is None or _timing(descriptor) != _NO_TIMING:
+            return descriptor
+        reference = default_catalog().behaviors.get(name)
+        if reference is None or reference is descriptor or _timing(reference) == _NO_TIMING:
+            return descriptor
+        return replace(descriptor, **dict(zip(("motion", "duration", "beside"), _timing(reference), strict=True)))
+
+    def motion_of(self, name: str) -> str:
+        """How the behavior ``name`` moves the robot (its ``motion:``, see :meth:`timed`; "" when it does not)."""
+        descriptor = self.timed(name)
+        return descriptor.motion if descriptor is not None else ""
+
+    def with_motion(self, motion: str, preferred: str) -> str:
+        """The behavior that moves the robot by ``motion`` (``descriptors.MOTIONS``): ``preferred`` (the engine's
+        name for it, ``engine_behaviors``) when the catalog has it, else the first behavior whose ``motion:`` says
+        so, else ``preferred``."""
+        if preferred in self.behaviors:
+            return preferred
+        return next((d.name for d in self.behaviors.values() if d.motion == motion), preferred)
+
     def suggest(self, name: str) -> str:
         """`` (did you mean X?)`` for a misspelt behavior name."""
         return suggestion(name, self.behaviors)

@@ -13,10 +13,11 @@ RECURRENT = "recurrent"
 DELIBERATIVE = "deliberative"
 CATEGORIES = (GOAL_BASED, RECURRENT, DELIBERATIVE)
 
-#: How a behavior moves the robot (a catalog's ``motion:``), as the route estimate flies it: ``climb`` (vertically, by
-#: its ALTITUDE), ``fly_to`` (to its COORDINATES or by its RELATIVE_COORDINATES, at its SPEED), ``descend`` (lands
-#: where it is), ``follow_path`` (along points the estimate does not read).
-MOTIONS = ("climb", "fly_to", "descend", "follow_path")
+#: How a behavior moves the robot (a catalog's ``motion:``), as the route estimate, the contingencies and the resume
+#: read it: ``climb`` (vertically, by its ALTITUDE), ``fly_to`` (to its COORDINATES or by its RELATIVE_COORDINATES,
+#: at its SPEED), ``descend`` (lands where it is), ``follow_path`` (along points the estimate does not read),
+#: ``hover`` (holds where it is until stopped).
+MOTIONS = ("climb", "fly_to", "descend", "follow_path", "hover")
 
 LOWER = "lower"
 HIGHER = "higher"
