@@ -37,6 +37,11 @@ from aeroexec.plugins import installed_plugins, load_reference
 logger = logging.getLogger(__name__)
 
 ENTRY_POINT_GROUP = "aeroexec.node_kinds"
+#: The words of ``flow`` and ``route`` (see the module).
+FLOWS = ("sequence", "sequence_with_memory", "reactive_sequence", "fallback", "reactive_fallback", "parallel",
+         "if_then_else", "while_do_else", "decorator", "invert", "force_success", "force_failure", "repeat", "retry",
+         "keep_running_until_failure", "run_once", "subtree", "ask", "consult", "pass", "succeed", "fail", "opaque")
+ROUTES = ("", "series", "repeat", "parallel")
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,6 +97,10 @@ class NodeKind:
         if self.btlog is None:
             by_kind = {CONTROL: _CONTROL_LOG, DECORATOR: _DECORATOR_LOG, SUBTREE: _FROM_IDLE_LOG}
             object.__setattr__(self, "btlog", by_kind.get(self.manifest.kind, _LEAF_LOG))
+        if self.flow not in FLOWS:
+            raise ValueError(f"the node kind {self.name}: flow {self.flow!r} is none of {', '.join(FLOWS)}")
+        if self.route not in ROUTES:
+            raise ValueError(f"the node kind {self.name}: route {self.route!r} is none of {', '.join(ROUTES[1:])}")
 
     @property
     def subtree(self) -> bool:
@@ -243,5 +252,5 @@ def memory_by_class() -> dict[str, tuple[str, ...]]:
     return {kind.class_name: kind.memory for kind in kinds().values() if kind.memory}
 
 
-__all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "Btlog", "NodeKind", "added", "is_subtree", "kind_of", "kinds",
-           "memory_by_class", "ports_in", "ports_of"]
+__all__ = ["BUILT_IN", "ENTRY_POINT_GROUP", "FLOWS", "ROUTES", "Btlog", "NodeKind", "added", "is_subtree", "kind_of",
+           "kinds", "memory_by_class", "ports_in", "ports_of"]
