@@ -56,7 +56,7 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     it uses and nothing more; without, every sub-command is."""
     wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     parser = CommandLine(prog="aeroexec", description="An execution engine for aerial robot missions.",
-                         epilog=" ".join([*([] if wanted else [mission_formats()]),
+                         epilog=" ".join([*([] if wanted else [mission_formats(), *node_kinds()]),
                                           'shell completion: eval "$(register-python-argcomplete aeroexec)"']))
     parser.add_argument("--version", action="version", version=f"aeroexec {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
@@ -78,6 +78,15 @@ def mission_formats() -> str:
     written = ", ".join(f"{fmt.summary} ({', '.join(fmt.suffixes)}; --to {word})"
                         for word, fmt in formats.writable().items())
     return f"Mission formats (run, verify, convert): {formats.described()}. convert writes {written}."
+
+
+def node_kinds() -> list[str]:
+    """The tree node kinds installed packages add (``aeroexec.trees.runtime.kinds``), as the top-level help lists
+    them; none when no package adds one."""
+    from aeroexec.trees.runtime.kinds import added
+
+    shown = [f"{kind.name} ({kind.manifest.kind.lower()}, {kind.origin})" for kind in added()]
+    return [f"Tree node kinds added by installed packages: {', '.join(shown)}."] if shown else []
 
 
 def command_line(argv: list[str]) -> argparse.ArgumentParser:

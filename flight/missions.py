@@ -93,7 +93,7 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
                if (found := verify(checked.tree, catalog, world)) is not None)
         problems = next(own, None)
         checked.problems = problems if problems is not None else verify_document(checked.tree, catalog, world=world)
-        checked.route = estimate_route(checked.tree, world) if world is not None else None
+        checked.route = estimate_route(checked.tree, world, catalog=catalog) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
         if plan:  # items without a behavior, each message with its item number

@@ -22,12 +22,11 @@ from aeroexec.engine.errors import WRONG_FORMAT
 from aeroexec.trees.conversions import ANY, compatible, type_conflict
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, output_key, template_keys
-from aeroexec.trees.runtime.manifests import LOOPING, ports_of
+from aeroexec.trees.runtime.kinds import kind_of, ports_in
 from aeroexec.trees.script import Script, ScriptError, compile_script
 
 Key = tuple[int, str]  # (scope, name) as resolved
 Report = Callable[..., None]  # report(node, message, kind, severity)
-_SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
 
 
 @dataclass
@@ -108,9 +107,10 @@ class BlackboardChecker:
             self.writes.extend((here, scope.resolve(name)) for name in script.writes)
         self.writes.extend((here, scope.resolve(key)) for key in self.port_writes(node))
         span: list[tuple[int, int]] = loops
-        if node.type in LOOPING or node.type == "Parallel":
+        kind = kind_of(node.type)
+        if kind is not None and (kind.loops or kind.concurrent):
             span = [*loops, [here, 0]]  # type: ignore[list-item]
-        if node.type == "SubTree":
+        if kind is not None and kind.subtree:
             target = node.ports.get("ID", "").strip()
             if target in self.document.trees and target not in stack:
                 inner = _Scope.of_subtree(node, scope)
@@ -123,9 +123,10 @@ class BlackboardChecker:
 
     def check_types(self, node: TreeNode, scope: _Scope) -> None:
         """BT.CPP types an entry after the first typed port that uses it, and refuses a second of another type."""
-        for name, port in ports_of(node.type).items():
+        kind = kind_of(node.type)
+        for name, port in kind.ports.items() if kind is not None and not kind.subtree else ():
             key = bare_key(node.ports.get(name) or "")
-            if key is None or port.type == ANY or node.type == "SubTree":
+            if key is None or port.type == ANY:
                 continue
             resolved = scope.resolve(key)
             known = self.types.get(resolved)
@@ -136,8 +137,8 @@ class BlackboardChecker:
     @staticmethod
     def scripts(node: TreeNode) -> list[Script]:
         found = []
-        for port in ("code", "if", *PRECONDITIONS, *POSTCONDITIONS):
-            if port in node.ports and (port not in ("code", "if") or node.type in _SCRIPT_NODES):
+        for port in (*ports_in(node.type, "script"), *PRECONDITIONS, *POSTCONDITIONS):
+            if port in node.ports:
                 with contextlib.suppress(ScriptError):  # reported by verification
                     found.append(compile_script(node.ports[port]))
         return found
@@ -145,22 +146,23 @@ class BlackboardChecker:
     @staticmethod
     def port_reads(node: TreeNode) -> list[str]:
         keys: list[str] = []
-        declared = ports_of(node.type)
+        kind = kind_of(node.type)
+        declared = kind.ports if kind is not None else {}
         for port, text in node.ports.items():
-            if node.type == "SubTree" and port not in PRECONDITIONS:
+            if kind is not None and kind.subtree and port not in PRECONDITIONS:
                 continue
-            if port in declared and not declared[port].reads:
-                continue
-            if (node.type, port) == ("SetBlackboard", "output_key"):
+            if port in declared and (not declared[port].reads or port in kind.writes_only):  # type: ignore[union-attr]
                 continue
             keys += template_keys(text)
         return keys
 
     @staticmethod
     def port_writes(node: TreeNode) -> list[str]:
-        keys = [output_key(node.ports[name]) for name, port in ports_of(node.type).items()
-                if (port.direction == "output" or (node.type, name) == ("SetBlackboard", "output_key"))
-                and node.ports.get(name, "").strip()]
-        if node.type == "QueryBelief":
-            keys += [v.lstrip("?") for v in re.findall(r"\?[A-Za-z_][A-Za-z0-9_]*", node.ports.get("belief", ""))]
+        kind = kind_of(node.type)
+        if kind is None:
+            return []
+        keys = [output_key(node.ports[name]) for name, port in kind.ports.items()
+                if (port.direction == "output" or name in kind.writes_only) and node.ports.get(name, "").strip()]
+        for port in kind.ports_in("query"):  # a query's variables
+            keys += [v.lstrip("?") for v in re.findall(r"\?[A-Za-z_][A-Za-z0-9_]*", node.ports.get(port, ""))]
         return keys

@@ -273,7 +273,7 @@ def _route(document: TreeDocument, root: TreeNode | None, world: Any, config: An
         vehicle = SimConfig()
     battery = float(engine.drone.telemetry().battery_percent)
     vehicle = dataclasses.replace(vehicle, initial_battery_percent=battery)
-    estimate = estimate_route(_document(document, root), world, vehicle, drone_start(engine, world))
+    estimate = estimate_route(_document(document, root), world, vehicle, drone_start(engine, world), engine.catalog)
     if estimate is None:
         return [], None
     return [p for p in estimate.problems if p.severity == "error"], estimate

@@ -20,11 +20,11 @@ from aeroexec.engine.errors import MissionProblem
 from aeroexec.trees.groot.palette import palette_ports
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
 from aeroexec.trees.ports import bare_key, template_keys
-from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.kinds import kind_of, kinds, ports_in
+from aeroexec.trees.runtime.manifests import CONDITION
 from aeroexec.trees.script import ScriptError, compile_script
 
 KIND = "NOT_PORTABLE"
-_SCRIPTED = ("code", "if", *PRECONDITIONS, *POSTCONDITIONS)
 
 
 def _problem(node: TreeNode | None, document: TreeDocument, message: str) -> MissionProblem:
@@ -34,12 +34,12 @@ def _problem(node: TreeNode | None, document: TreeDocument, message: str) -> Mis
 
 def _node_problems(node: TreeNode, palette: dict[str, set[str]]) -> list[str]:
     found: list[str] = []
-    if node.type == "Condition" and node.tag == "Condition":
+    if node.tag == CONDITION and node.type == node.tag:  # the node type's word as a tag, as BT.CPP reads it
         found.append("<Condition belief=...> is refused by BehaviorTree.CPP and Groot2 (<Condition> needs an ID): "
                      "write <CheckBelief belief=\"...\"/>")
+    scripted = (*ports_in(node.type, "script"), *PRECONDITIONS, *POSTCONDITIONS)
     for port, text in node.ports.items():
-        if port in _SCRIPTED and (port not in ("code", "if") or node.type in ("Script", "ScriptCondition",
-                                                                               "Precondition")):
+        if port in scripted:
             try:
                 script = compile_script(text)
             except ScriptError:
@@ -69,7 +69,7 @@ def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> li
         return [_problem(None, document, "not a BehaviorTree.CPP file: only its v4 XML is portable")]
     palette = palette_ports(catalog)
     problems = [MissionProblem("error", message, file, line, KIND) for file, line, message in document.not_portable]
-    registered = {*MANIFESTS, *palette}
+    registered = {*kinds(), *palette}
     for tree_id in document.trees:
         if tree_id in registered:  # BT.CPP 4.10
             problems.append(MissionProblem("error", "The attribute [ID] of tag <BehaviorTree> must not use the name "
@@ -78,7 +78,8 @@ def portability_problems(document: TreeDocument, catalog: BehaviorCatalog) -> li
     for root in document.trees.values():
         for node in root.walk():
             problems.extend(_problem(node, document, message) for message in _node_problems(node, palette))
-            if node.type == "SubTree" and node.ports.get("ID", "").strip() in registered:
+            kind = kind_of(node.type)
+            if kind is not None and kind.subtree and node.ports.get("ID", "").strip() in registered:
                 problems.append(_problem(node, document, "The attribute [ID] of tag <SubTree> must not use the name "
                                                          f"of a registered Node ({node.ports['ID'].strip()})"))
     return problems

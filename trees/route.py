@@ -4,8 +4,10 @@ route's length, its duration at the planned speeds, and the battery left at land
 A mission whose tree is a flight through known places (Sequences, Repeats, Parallels of behaviors that fly to
 literal points, take off, land, wait, turn, take photos: every plan and waypoint file, most hand-written
 sequences) has a route; others (fallbacks, conditions, points read from the blackboard) have none, and nothing
-is said of them. Each leg is costed by the vehicle model (:class:`aeroexec.drones.vehicle.VehicleModel`, the one
-the safety rules' return estimates use: the simulated multicopter's figures and its battery's drain). A route the
+is said of them. The node kinds say how the route goes through them (``route``: ``trees.runtime.kinds``), the
+catalog how each behavior moves and how long it takes (its ``motion``, ``duration`` and ``beside``). Each leg is
+costed by the vehicle model (:class:`aeroexec.drones.vehicle.VehicleModel`, the one the safety rules' return
+estimates use: the simulated multicopter's figures and its battery's drain). A route the
 battery cannot finish above the failsafe threshold is an error at the item where the charge runs out, saying how
 much is missing.
 """
@@ -22,12 +24,9 @@ from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.errors import WRONG_VALUE, MissionProblem
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.ports import parse_value
+from aeroexec.trees.runtime.kinds import kind_of
 
 Vector = tuple[float, float, float]
-QUICK = {"TAKE_PHOTO": 1.0, "LOOK_AT_A_POINT": 3.0, "ROTATE": 4.0, "DROP_ITEM": 1.0, "TURN_LIGHTS": 0.0,
-         "NOTIFY_OPERATOR": 0.0, "BROADCAST_MESSAGE": 0.0}  # s of hovering the behaviors that do not fly take
-BESIDE = {"TRIGGER_CAMERA", "RECORD_VIDEO", "KEEP_LOITERING", "PAY_ATTENTION_TO_VISUAL_MARKERS",
-          "PAY_ATTENTION_TO_COLORS", "PAY_ATTENTION_TO_SHAPES", "DISPLAY_CAMERA_IMAGE", "SPEAK_UP"}
 _ITEM = re.compile(r"item (\d+) ")
 FENCE_STEP = 2.0  # m between the points of a leg checked against the geofence
 RESERVE = 20.0  # %: landing with less than this is a warning
@@ -58,9 +57,9 @@ class RouteEstimate:
 class _Flight:
     """Flies the tree on paper with the vehicle's model."""
 
-    def __init__(self, document: TreeDocument, world: Any, config: Any, start: tuple[Vector, bool] | None = None
-                 ) -> None:
-        self.document, self.world, self.config = document, world, config
+    def __init__(self, document: TreeDocument, world: Any, config: Any, start: tuple[Vector, bool] | None = None,
+                 catalog: Any = None) -> None:
+        self.document, self.world, self.config, self.catalog = document, world, config, catalog
         self.model = VehicleModel(config)
         self.estimate = RouteEstimate(battery=config.initial_battery_percent,
                                       failsafe=config.failsafe_battery_percent,
@@ -130,53 +129,73 @@ class _Flight:
                     break
         if getattr(world, "obstacles", ()) and not world.segment_clear(a, b):
             self.problem(node, f"the straight flight from ({_fmt(a)}) to ({_fmt(b)}) crosses an obstacle: "
-                               f"GO_TO_POINT flies around it, longer than estimated", severity="warning")
+                               f"{node.type} flies around it, longer than estimated", severity="warning")
 
     # -- the tree ----------------------------------------------------------------------------------------------
     def run(self, node: TreeNode) -> None:
-        kind = node.type
-        if kind in ("Sequence", "SequenceWithMemory"):
+        kind = kind_of(node.type)
+        if kind is not None:
+            self.through(node, kind.route)
+            return
+        behavior = self.catalog.timed(node.type)
+        if behavior is None:
+            raise NoRoute(node.type)
+        motion = _MOTIONS.get(behavior.motion)
+        if motion is not None:
+            motion(self, node)
+        elif isinstance(behavior.duration, str):  # the argument that says how long
+            if behavior.duration not in node.ports:
+                raise NoRoute(f"{node.type} without {behavior.duration}")
+            self.spend(node, self.number(node, behavior.duration, 0.0))
+        elif behavior.duration is not None:
+            self.spend(node, behavior.duration)
+        else:
+            raise NoRoute(node.type)
+
+    def through(self, node: TreeNode, route: str) -> None:
+        """A node of a kind: its ``route`` word says how the route goes through it."""
+        if route == "series":
             for child in node.children:
                 self.run(child)
-        elif kind == "Repeat":
+        elif route == "repeat":
             cycles = self.number(node, "num_cycles", 1)
             if cycles < 0:
-                raise NoRoute("a Repeat without end")
+                raise NoRoute(f"a {node.type} without end")
             for _ in range(int(min(cycles, 1000))):
                 self.run(node.children[0])
-        elif kind == "Parallel":
-            flights = [c for c in node.children if c.type not in BESIDE]
+        elif route == "parallel":
+            flights = [c for c in node.children if not self.beside(c)]
             if len(flights) != 1:
-                raise NoRoute("a Parallel of several flights")
+                raise NoRoute(f"a {node.type} of several flights")
             self.run(flights[0])
-        elif kind == "TAKE_OFF":
-            altitude = self.number(node, "ALTITUDE", 2.0)
-            self.flying = True
-            self.spend(node, *self.model.take_off(altitude))
-            self.estimate.length += altitude
-            self.position = (self.position[0], self.position[1], self.position[2] + altitude)
-            why = self.world.why_outside(self.position) if hasattr(self.world, "why_outside") else None
-            if why:  # the points flown to are the specialist's to check; a take-off's height is this one's
-                self.problem(node, f"TAKE_OFF to {altitude:g} m climbs to ({_fmt(self.position)}), {why}")
-        elif kind == "GO_TO_POINT":
-            if "COORDINATES" in node.ports:
-                target = self.point(node, "COORDINATES")
-            else:
-                delta = self.point(node, "RELATIVE_COORDINATES")
-                target = tuple(p + d for p, d in zip(self.position, delta, strict=True))
-            self.fly(node, target, self.number(node, "SPEED", self.config.cruise_speed))
-        elif kind == "FOLLOW_PATH":
-            raise NoRoute("FOLLOW_PATH")  # its points' form varies: not estimated
-        elif kind == "LAND":
-            self.land(node)
-        elif kind == "WAIT":
-            if "DURATION" not in node.ports:
-                raise NoRoute("a WAIT for a marker")
-            self.spend(node, self.number(node, "DURATION", 0.0))
-        elif kind in QUICK:
-            self.spend(node, QUICK[kind])
         else:
-            raise NoRoute(kind)
+            raise NoRoute(node.type)
+
+    def beside(self, node: TreeNode) -> bool:
+        behavior = self.catalog.timed(node.type)
+        return behavior is not None and behavior.beside
+
+    # -- the motions of the catalog's behaviors (``motion:``) -----------------------------------------------------
+    def climb(self, node: TreeNode) -> None:
+        altitude = self.number(node, "ALTITUDE", 2.0)
+        self.flying = True
+        self.spend(node, *self.model.take_off(altitude))
+        self.estimate.length += altitude
+        self.position = (self.position[0], self.position[1], self.position[2] + altitude)
+        why = self.world.why_outside(self.position) if hasattr(self.world, "why_outside") else None
+        if why:  # the points flown to are the specialist's to check; a take-off's height is this one's
+            self.problem(node, f"{node.type} to {altitude:g} m climbs to ({_fmt(self.position)}), {why}")
+
+    def fly_to(self, node: TreeNode) -> None:
+        if "COORDINATES" in node.ports:
+            target = self.point(node, "COORDINATES")
+        else:
+            delta = self.point(node, "RELATIVE_COORDINATES")
+            target = tuple(p + d for p, d in zip(self.position, delta, strict=True))
+        self.fly(node, target, self.number(node, "SPEED", self.config.cruise_speed))
+
+    def follow_path(self, node: TreeNode) -> None:
+        raise NoRoute(node.type)  # its points' form varies: not estimated
 
     def land(self, node: TreeNode) -> None:
         height = max(self.position[2], 0.0)
@@ -186,18 +205,25 @@ class _Flight:
         self.flying = False
 
 
+_MOTIONS = {"climb": _Flight.climb, "fly_to": _Flight.fly_to, "descend": _Flight.land,
+            "follow_path": _Flight.follow_path}
+
+
 def _fmt(point: Vector) -> str:
     return ", ".join(f"{round(v, 1):g}" for v in point)
 
 
 def estimate_route(document: TreeDocument, world: Any = None, config: Any = None,
-                   start: tuple[Vector, bool] | None = None) -> RouteEstimate | None:
+                   start: tuple[Vector, bool] | None = None, catalog: Any = None) -> RouteEstimate | None:
     """The route of ``document`` in ``world`` flown by the vehicle of ``config`` (default: the simulated
     multicopter's, its battery ``initial_battery_percent`` full), from ``start`` (where the drone is and whether it
-    flies; default: home, on the ground); None when the tree is not a flight through known places."""
+    flies; default: home, on the ground), its behaviors' motions and durations ``catalog``'s (default: the aerial
+    one); None when the tree is not a flight through known places."""
     from aeroexec.drones.sim import SimConfig
+    from aeroexec.engine.catalog import default_catalog
 
-    flight = _Flight(document, world, config or SimConfig(), start)
+    flight = _Flight(document, world, config or SimConfig(), start, catalog if catalog is not None else
+                     default_catalog())
     try:
         flight.run(document.root)
     except (NoRoute, ValueError, KeyError, IndexError):

@@ -28,8 +28,8 @@ from collections.abc import Callable
 from aeroexec.engine.catalog.specialist import BehaviorSpecialist, PhenomenonState, Request
 from aeroexec.engine.errors import WRONG_SEQUENCE
 from aeroexec.trees.model import PRECONDITIONS, TreeDocument, TreeNode
-from aeroexec.trees.ports import parse_number, request_from_ports, template_keys
-from aeroexec.trees.runtime.manifests import DECORATORS, LOOPING, MANIFESTS
+from aeroexec.trees.ports import OPTIONS, parse_number, request_from_ports, template_keys
+from aeroexec.trees.runtime.kinds import NodeKind, kind_of
 
 State = dict[str, PhenomenonState | None]  # None: unknown
 Exits = tuple[State | None, State | None]  # after SUCCESS, after FAILURE; None when it cannot end that way
@@ -83,13 +83,14 @@ class SequenceChecker:
         """Every phenomenon a behavior anywhere below ``node`` (subtrees included) may change."""
         found: set[str] = set()
         for n in node.walk():
-            if n.type == "SubTree":
+            kind = kind_of(n.type)
+            if kind is not None and kind.subtree:
                 tree = n.ports.get("ID", "").strip()
                 if tree in self.document.trees and tree not in seen:
                     found |= self.touched(self.document.trees[tree], (*seen, tree))
-            name = n.ports.get("behavior", "").strip() if n.type == "AskBehavior" else n.type
+            name = _behavior_name(n, kind)
             found |= {t.phenomenon for t in self.catalog.transitions if name in t.behaviors}
-            if n.type not in MANIFESTS and n.type not in self.catalog:
+            if kind is None and n.type not in self.catalog:
                 found |= set(self.unknown)
         return found
 
@@ -131,39 +132,126 @@ class SequenceChecker:
         return join(success, entry), join(failure, entry)
 
     def node(self, node: TreeNode, state: State, looping: bool) -> Exits:
-        kind = node.type
-        children = node.children
-        looping = looping or kind in LOOPING
-        if kind in ("Sequence", "SequenceWithMemory", "ReactiveSequence"):
-            if kind == "ReactiveSequence":
-                return self.loop(state, lambda s: self.series(children, s, False, True))
-            return self.series(children, state, False, looping, looping and kind == "SequenceWithMemory")[0]
-        if kind in ("Fallback", "ReactiveFallback"):
-            if kind == "ReactiveFallback":
-                return self.loop(state, lambda s: self.series(children, s, True, True))
-            return self.series(children, state, True, looping)[0]
-        if kind == "Parallel":
-            return self.parallel(children, state, looping)
-        if kind == "IfThenElse" and len(children) in (2, 3):
-            return self.branches(children, state, looping)[0]
-        if kind == "WhileDoElse" and len(children) in (2, 3):
-            return self.loop(state, lambda s: self.branches(children, s, True))
-        if kind in DECORATORS and len(children) == 1:
-            return self.decorator(node, state, looping)
-        if kind == "SubTree":
-            return self.subtree(node, state, looping)
-        if kind in ("Condition", "CheckBelief", "QueryBelief"):
-            after = self.forget(state, self.related(node.ports.get("belief", "")))
-            return after, after
-        if kind in ("AddBelief", "RemoveBelief", "AlwaysSuccess", "AlwaysFailure"):
-            return (None if kind == "AlwaysFailure" else state), (None if kind == "AlwaysSuccess" else state)
-        behavior = node.ports.get("behavior", "").strip() if kind == "AskBehavior" else kind
-        if behavior in self.catalog and not children:
-            return self.behavior(node, behavior, state)
+        kind = kind_of(node.type)
+        if kind is None:  # a catalog behavior, or a node nothing knows
+            if node.type in self.catalog and not node.children:
+                return self.behavior(node, node.type, state)
+            return self.opaque(node, state, looping)
+        looping = looping or kind.loops
+        flow = self.flows.get(kind.flow, SequenceChecker.opaque)
+        exits = flow(self, node, state, looping, kind)
+        return exits if exits is not None else self.opaque(node, state, looping)
+
+    def opaque(self, node: TreeNode, state: State, looping: bool, kind: NodeKind | None = None) -> Exits:
+        """A node the check cannot follow: what the behaviors below it change is unknown after it."""
         opaque = self.forget(state, self.touched(node))
-        for child in children:  # an unknown node: still look inside it
+        for child in node.children:  # still look inside it
             self.flow(child, dict(self.unknown), looping)
         return opaque, opaque
+
+    # -- the flows the node kinds name (``trees.runtime.kinds``); None: the node is followed as opaque ----------
+    def _sequence(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.series(node.children, state, False, looping)[0]
+
+    def _sequence_with_memory(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.series(node.children, state, False, looping, looping)[0]
+
+    def _reactive_sequence(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.loop(state, lambda s: self.series(node.children, s, False, True))
+
+    def _fallback(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.series(node.children, state, True, looping)[0]
+
+    def _reactive_fallback(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.loop(state, lambda s: self.series(node.children, s, True, True))
+
+    def _parallel(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.parallel(node.children, state, looping)
+
+    def _if_then_else(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        return self.branches(node.children, state, looping)[0] if len(node.children) in (2, 3) else None
+
+    def _while_do_else(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        children = node.children
+        return self.loop(state, lambda s: self.branches(children, s, True)) if len(children) in (2, 3) else None
+
+    def _subtree(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return self.subtree(node, state, looping)
+
+    def _consult(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        after = self.forget(state, self.related(node.ports.get("belief", "")))
+        return after, after
+
+    def _pass(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return state, state
+
+    def _succeed(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return state, None
+
+    def _fail(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits:
+        return None, state
+
+    def _ask(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        behavior = _behavior_name(node, kind)
+        return self.behavior(node, behavior, state) if behavior in self.catalog and not node.children else None
+
+    def _decorated(self, node: TreeNode, state: State, looping: bool) -> Exits | None:
+        return self.flow(node.children[0], state, looping) if len(node.children) == 1 else None
+
+    def _decorator(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        return self._decorated(node, state, looping)
+
+    def _invert(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        exits = self._decorated(node, state, looping)
+        return None if exits is None else (exits[1], exits[0])
+
+    def _force_success(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        exits = self._decorated(node, state, looping)
+        return None if exits is None else (join(*exits), None)
+
+    def _force_failure(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        exits = self._decorated(node, state, looping)
+        return None if exits is None else (None, join(*exits))
+
+    def _run_once(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        exits = self._decorated(node, state, looping)
+        if exits is None or not looping:
+            return exits
+        return join(exits[0], state), exits[1]
+
+    def _repeat(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        if len(node.children) != 1:
+            return None
+        if parse_number(node.ports.get("num_cycles", "")) == 0:
+            return state, None
+        return self._again_after_success(node, state)
+
+    def _keep_running_until_failure(self, node: TreeNode, state: State, looping: bool, kind: NodeKind
+                                    ) -> Exits | None:
+        if len(node.children) != 1:
+            return None
+        return None, self._again_after_success(node, state)[1]
+
+    def _again_after_success(self, node: TreeNode, state: State) -> Exits:
+        child = node.children[0]
+        return self.loop(state, lambda s: (lambda e: (e, e[0]))(self.flow(child, s, True)))
+
+    def _retry(self, node: TreeNode, state: State, looping: bool, kind: NodeKind) -> Exits | None:
+        if len(node.children) != 1:
+            return None
+        child = node.children[0]
+        return self.loop(state, lambda s: (lambda e: (e, e[1]))(self.flow(child, s, True)))
+
+    flows: dict[str, Callable[..., Exits | None]] = {
+        "sequence": _sequence, "sequence_with_memory": _sequence_with_memory,
+        "reactive_sequence": _reactive_sequence, "fallback": _fallback, "reactive_fallback": _reactive_fallback,
+        "parallel": _parallel, "if_then_else": _if_then_else, "while_do_else": _while_do_else,
+        "subtree": _subtree, "consult": _consult, "pass": _pass, "succeed": _succeed, "fail": _fail, "ask": _ask,
+        "decorator": _decorator, "invert": _invert, "force_success": _force_success,
+        "force_failure": _force_failure, "run_once": _run_once, "repeat": _repeat, "retry": _retry,
+        "keep_running_until_failure": _keep_running_until_failure, "opaque": opaque,
+    }
+    """What each ``flow`` word of a node kind means to the check."""
 
     def series(self, children: list[TreeNode], state: State, fallback: bool, looping: bool,
                resume: bool = False) -> tuple[Exits, State | None]:
@@ -206,26 +294,6 @@ class SequenceChecker:
             merged[phenomenon] = before if not changed else join(*({phenomenon: c} for c in changed))[phenomenon]  # type: ignore[index]
         return merged, merged
 
-    def decorator(self, node: TreeNode, state: State, looping: bool) -> Exits:
-        kind, child = node.type, node.children[0]
-        if kind == "Repeat" or kind == "KeepRunningUntilFailure":
-            if kind == "Repeat" and parse_number(node.ports.get("num_cycles", "")) == 0:
-                return state, None
-            exits = self.loop(state, lambda s: (lambda e: (e, e[0]))(self.flow(child, s, True)))
-            return (exits[0] if kind == "Repeat" else None), exits[1]
-        if kind == "RetryUntilSuccessful":
-            return self.loop(state, lambda s: (lambda e: (e, e[1]))(self.flow(child, s, True)))
-        success, failure = self.flow(child, state, looping)
-        if kind == "Inverter":
-            return failure, success
-        if kind == "ForceSuccess":
-            return join(success, failure), None
-        if kind == "ForceFailure":
-            return None, join(success, failure)
-        if kind == "RunOnce" and looping:
-            return join(success, state), failure
-        return success, failure
-
     def subtree(self, node: TreeNode, state: State, looping: bool) -> Exits:
         tree = node.ports.get("ID", "").strip()
         if tree not in self.document.trees or tree in self.stack:
@@ -244,7 +312,9 @@ class SequenceChecker:
 
     def behavior(self, node: TreeNode, behavior: str, state: State) -> Exits:
         descriptor = self.catalog.behavior(behavior)
-        skip = ("behavior", "result") if node.type == "AskBehavior" else ()
+        kind = kind_of(node.type)
+        # the kind's own ports are no arguments (the options, ``timeout``, go to the behavior)
+        skip = tuple(p for p in kind.ports if p not in OPTIONS) if kind is not None else ()
         arguments, _ = request_from_ports(descriptor, node.ports, None, skip)
         uncertain = {name for name, value in arguments.items() if isinstance(value, str) and template_keys(value)}
         transitions = [t for t in self.catalog.transitions if behavior in t.behaviors]
@@ -265,6 +335,13 @@ class SequenceChecker:
                 finals = {t.final_state for t in mine if t.applies(behavior, arguments)}
                 success[phenomenon] = PhenomenonState(finals.pop(), behavior) if len(finals) == 1 else None
         return success, self.forget(state, touched)
+
+
+def _behavior_name(node: TreeNode, kind: NodeKind | None) -> str:
+    """The catalog behavior a node runs: its own name, or the one its kind's ``behavior_port`` names."""
+    if kind is not None and kind.behavior_port:
+        return node.ports.get(kind.behavior_port, "").strip()
+    return node.type
 
 
 def _words(text: str) -> list[str]:

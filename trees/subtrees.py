@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runtime.kinds import is_subtree
 
 from aeroexec.limits import MAX_NESTING, MAX_TREE_NODES
 
@@ -15,7 +16,7 @@ Report = Callable[..., None]  # report(node, message): a problem at a node
 
 def subtree_ids(root: TreeNode) -> list[str]:
     """The trees a tree's SubTree nodes name."""
-    return [n.ports.get("ID", "").strip() for n in root.walk() if n.type == "SubTree"]
+    return [n.ports.get("ID", "").strip() for n in root.walk() if is_subtree(n.type)]
 
 
 def check_subtree_paths(document: TreeDocument, report: Report) -> None:
@@ -25,9 +26,9 @@ def check_subtree_paths(document: TreeDocument, report: Report) -> None:
 
     def walk(node: TreeNode, path: str, stack: tuple[str, ...]) -> None:
         uid[0] += 1
-        if node.type == "SubTree":
+        if is_subtree(node.type):
             target = node.ports.get("ID", "").strip()
-            inner = (f"{path}/" if path else "") + (node.name if node.named and node.name != "SubTree"
+            inner = (f"{path}/" if path else "") + (node.name if node.named and node.name != node.type
                                                       else f"{target}::{uid[0]}")
             if inner in seen:
                 report(node, f"Duplicate SubTree path detected: '{inner}'. Multiple SubTree nodes with the "
@@ -62,7 +63,7 @@ def check_expansion(document: TreeDocument, report: Report) -> bool:
         size, deepest, nodes = 0, 0, [(trees[tree], 1)]
         while nodes:
             node, depth = nodes.pop()
-            used = measures.get(node.ports.get("ID", "").strip(), (0, 0)) if node.type == "SubTree" else (0, 0)
+            used = measures.get(node.ports.get("ID", "").strip(), (0, 0)) if is_subtree(node.type) else (0, 0)
             size, deepest = min(size + 1 + used[0], 10 * MAX_TREE_NODES), max(deepest, depth + used[1])
             nodes.extend((child, depth + 1) for child in node.children)
         measures[tree] = (size, deepest)

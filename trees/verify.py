@@ -25,8 +25,9 @@ from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.blackboard_check import BlackboardChecker
 from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING, UNSIGNED, ConversionError, convert, queue_items
 from aeroexec.trees.model import COMMON_ATTRIBUTES, POSTCONDITIONS, PRECONDITIONS, TreeDocument, TreeNode
-from aeroexec.trees.ports import bare_key, port_errors
-from aeroexec.trees.runtime.manifests import ACTION, MANIFESTS, NodeManifest, Port, ports_of
+from aeroexec.trees.ports import OPTIONS, bare_key, port_errors
+from aeroexec.trees.runtime.kinds import NodeKind, kind_of, kinds
+from aeroexec.trees.runtime.manifests import ACTION, NodeManifest, Port
 from aeroexec.trees.script import ScriptError, compile_script
 from aeroexec.trees.sequence_check import SequenceChecker
 from aeroexec.trees.subtrees import check_expansion, check_subtree_paths
@@ -39,9 +40,6 @@ Problem = MissionProblem
 _MINIMUM = {"num_cycles": -1, "num_attempts": -1}
 _STATUS_PORTS = {"else": ("SUCCESS", "FAILURE", "SKIPPED", "RUNNING"), "if_empty": ("SUCCESS", "FAILURE", "SKIPPED")}
 _EXPECTED = {INT: "an integer", UNSIGNED: "an integer of at least 0", DOUBLE: "a number", BOOL: "true or false"}
-_SCRIPT_PORTS = ("code", "if", *POSTCONDITIONS)
-_SCRIPT_NODES = ("Script", "ScriptCondition", "Precondition")
-BELIEF_LEAF_TYPES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
 
 
 class TreeVerifier:
@@ -55,16 +53,18 @@ class TreeVerifier:
         self.known_keys = set(known_keys)
         self.problems: list[Problem] = []
         self._seen: set[tuple[str, int, str]] = set()
-        self._node_types = sorted({*MANIFESTS, *self.catalog.behaviors})
+        self._node_types = sorted({*kinds(), *self.catalog.behaviors})
         self.vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
         for root in document.trees.values():  # AddBelief declares the predicates the catalog does not know
             for node in root.walk():
-                if node.type == "AddBelief":
-                    self.vocabulary.update(_new_predicates(node.ports.get("belief", ""), self.vocabulary))
-                elif node.type == "AddRule":  # what its rules derive, and its facts' predicates
-                    with contextlib.suppress(BeliefError):
-                        self.vocabulary.update({r.head.name: r.head.arity
-                                                for r in parse_rules(node.ports.get("rule", ""))})
+                kind = kind_of(node.type)
+                for port in kind.manifest.ports if kind is not None else ():
+                    if port.language == "new_belief":
+                        self.vocabulary.update(_new_predicates(node.ports.get(port.name, ""), self.vocabulary))
+                    elif port.language == "rules":  # what its rules derive, and its facts' predicates
+                        with contextlib.suppress(BeliefError):
+                            self.vocabulary.update({r.head.name: r.head.arity
+                                                    for r in parse_rules(node.ports.get(port.name, ""))})
 
     def report(self, node: TreeNode | None, message: str, kind: str = WRONG_FORMAT, severity: str = "error") -> None:
         file = (node.file if node is not None else "") or self.document.file
@@ -94,58 +94,58 @@ class TreeVerifier:
 
     # -- one node ------------------------------------------------------------------------------
     def check_node(self, node: TreeNode) -> None:
-        kind = node.type
-        manifest = MANIFESTS.get(kind)
-        behavior = self.catalog.behavior(kind)
-        if manifest is None and behavior is None:
-            self.report(node, f"The behavior {kind} does not exist{suggestion(kind, self._node_types)}")
+        kind = kind_of(node.type)
+        behavior = self.catalog.behavior(node.type)
+        if kind is None and behavior is None:
+            self.report(node, f"The behavior {node.type} does not exist{suggestion(node.type, self._node_types)}")
         else:
-            shape = manifest if manifest is not None else NodeManifest(ACTION)  # a catalog behavior is a leaf
+            shape = kind.manifest if kind is not None else NodeManifest(ACTION)  # a catalog behavior is a leaf
             self.check_children(node, shape.min_children, shape.max_children, shape.children_text())
         for attribute in PRECONDITIONS:
             if attribute in node.ports:
                 self.check_condition(node, attribute, node.ports[attribute])
-        if "belief" in node.ports and kind in BELIEF_LEAF_TYPES:
-            self.check_expression(node, "belief", node.ports["belief"])
-        if kind == "AddRule":
-            self.check_rules(node, node.ports.get("rule", ""))
-        for attribute in _SCRIPT_PORTS:
-            if attribute in node.ports and (attribute in POSTCONDITIONS or kind in _SCRIPT_NODES):
+        written = [p for p in kind.manifest.ports if p.language and p.name in node.ports] if kind is not None else []
+        for port in written:  # what the kind's ports are written in: belief expressions, rules, then scripts
+            if port.language in ("belief", "query", "new_belief"):
+                self.check_expression(node, port.name, node.ports[port.name], new=port.language == "new_belief")
+            elif port.language == "rules":
+                self.check_rules(node, node.ports[port.name])
+        for port in written:
+            if port.language == "script":
+                self.check_script(node, port.name, node.ports[port.name])
+        for attribute in POSTCONDITIONS:
+            if attribute in node.ports:
                 self.check_script(node, attribute, node.ports[attribute])
-        if manifest is not None:
-            self.check_built_in(node)
+        if kind is not None:
+            self.check_built_in(node, kind)
         elif behavior is not None:
-            self.request_problems(node, port_errors(self.specialist, kind, node.ports))
+            self.request_problems(node, port_errors(self.specialist, node.type, node.ports))
 
     def check_children(self, node: TreeNode, low: int, high: int | None, text: str) -> None:
         count = len(node.children)
         if count < low or (high is not None and count > high):
             self.report(node, f"The node {node.type} must have {text}, not {count}")
 
-    def check_built_in(self, node: TreeNode) -> None:
-        kind = node.type
-        declared = ports_of(kind)
-        extra = () if kind != "AskBehavior" else tuple(self._ask_arguments(node))
+    def check_built_in(self, node: TreeNode, kind: NodeKind) -> None:
+        declared = kind.ports
+        asked = node.ports.get(kind.behavior_port, "").strip() if kind.behavior_port else ""
+        extra = () if not kind.behavior_port else tuple(p for p in node.ports if p not in declared)
         for port in node.ports:
-            if port in COMMON_ATTRIBUTES or port in declared or port in extra or kind == "SubTree":
+            if port in COMMON_ATTRIBUTES or port in declared or port in extra or kind.subtree:
                 continue
-            self.report(node, f"The port {port} of node {kind} does not exist"
+            self.report(node, f"The port {port} of node {node.type} does not exist"
                               f"{suggestion(port, declared) if declared else ' (it has no ports)'}")
         for port in declared.values():
             self.check_port(node, port)
-        if kind == "Parallel":
-            self.check_parallel(node)
-        if kind == "SubTree":
+        if kind.counts_children:
+            self.check_counts(node, kind)
+        if kind.subtree:
             tree = node.ports.get("ID", "").strip()
             if tree and tree not in self.document.trees:
                 self.report(node, f"The tree {tree} does not exist{suggestion(tree, self.document.trees)}")
-        if kind == "AskBehavior":
-            name = node.ports.get("behavior", "").strip()
-            if name:
-                self.request_problems(node, port_errors(self.specialist, name, node.ports, ("behavior", "result")))
-
-    def _ask_arguments(self, node: TreeNode) -> list[str]:
-        return [p for p in node.ports if p not in ("behavior", "result")]
+        if asked:
+            own = tuple(p for p in declared if p not in OPTIONS)  # its own ports; the options go to the behavior
+            self.request_problems(node, port_errors(self.specialist, asked, node.ports, own))
 
     def check_port(self, node: TreeNode, port: Port) -> None:
         """A built-in node's port: written when it must be, its text of the port's type (as BT.CPP converts it when
@@ -177,27 +177,30 @@ class TreeVerifier:
                               f"(BehaviorTree.CPP reads the integer the text starts with)", WRONG_VALUE, "warning")
 
     def check_queue(self, node: TreeNode, text: str) -> None:
-        item = node.type[4:].lower() if node.type != "LoopString" else "string"
+        value = kind.ports.get("value") if (kind := kind_of(node.type)) is not None else None
+        item = value.type if value is not None and value.type in (INT, DOUBLE, BOOL) else STRING  # the items' type
         try:
-            queue_items(text, {"int": INT, "double": DOUBLE, "bool": BOOL}.get(item, STRING))
+            queue_items(text, item)
         except ConversionError as error:
             self.report(node, f"The value {text} of port queue of node {node.type} is not correct ({item} items "
                               f"separated by ; are expected: {error})", WRONG_VALUE)
 
-    def check_parallel(self, node: TreeNode) -> None:
+    def check_counts(self, node: TreeNode, kind: NodeKind) -> None:
+        """The ports that count a node's children (a Parallel's success_count, failure_count) against them."""
         count = len(node.children)
-        for port, default in (("success_count", "-1"), ("failure_count", "1")):
-            text = node.ports.get(port, default)
+        for port in kind.counts_children:
+            text = node.ports.get(port, kind.ports[port].default or "")
             try:
                 value = convert(text, INT)
             except ConversionError:
                 continue  # reported by check_port
             needed = max(count + value + 1, 0) if value < 0 else value
             if needed > count or needed == 0:
-                self.report(node, f"The value {text} of port {port} of node Parallel is not correct "
+                self.report(node, f"The value {text} of port {port} of node {node.type} is not correct "
                                   f"(it has {count} children)", WRONG_VALUE)
 
-    def check_expression(self, node: TreeNode, attribute: str, text: str) -> None:
+    def check_expression(self, node: TreeNode, attribute: str, text: str, new: bool = False) -> None:
+        """A belief expression (``new``: a belief the node adds, whose values nothing needs to write)."""
         if not text.strip():
             self.report(node, f"The {attribute} of node {node.type} is empty (a belief expression is expected)")
             return
@@ -206,7 +209,7 @@ class TreeVerifier:
         except BeliefError as error:
             self.report(node, error.message, WRONG_FORMAT)
             return
-        if node.type != "AddBelief":
+        if not new:
             for message in self.specialist.unwritten_values(expression):
                 self.report(node, message, WRONG_VALUE, "warning")
 
@@ -250,7 +253,7 @@ class TreeVerifier:
         def visit(tree: str, path: tuple[str, ...]) -> None:
             visited.add(tree)
             for node in self.document.trees[tree].walk():
-                if node.type != "SubTree":
+                if (kind := kind_of(node.type)) is None or not kind.subtree:
                     continue
                 target = node.ports.get("ID", "").strip()
                 if target == tree_id:

@@ -43,7 +43,7 @@ from aeroexec.drones.geodesy import Geodetic, geodetic_to_enu
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from aeroexec.trees.ports import bare_key, parse_number
-from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.kinds import kind_of
 
 #: The ports of Aerostack2's nodes (``as2_behavior_tree``), besides those every action has.
 PORTS: dict[str, tuple[str, ...]] = {
@@ -129,7 +129,7 @@ class _Mapper:
                                    f"{suggestion(port, PORTS[node.type])}")
             return mapper(self, node, children)
         ports = {V3_PORTS.get(k, k): v for k, v in node.ports.items()}
-        if node.type not in MANIFESTS:
+        if kind_of(node.type) is None:
             bound = next((p for p in node.ports if p.endswith(_ROS_PORT_ENDINGS)), None)
             if bound is not None:
                 self.problem(node, f"The node {node.type} is bound to the ROS 2 {_what(bound)} "

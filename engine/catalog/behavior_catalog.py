@@ -14,6 +14,7 @@ from dataclasses import replace
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, Rule, RuleError
 from aeroexec.engine.catalog.descriptors import (
@@ -69,6 +70,31 @@ class BehaviorCatalog:
     def behavior(self, name: str) -> BehaviorDescriptor | None:
         return self.behaviors.get(name)
 
+    def timed(self, name: str) -> BehaviorDescriptor | None:
+        """The behavior ``name`` with its timing and motion (``motion:``, ``duration:``, ``beside:``): its own, or,
+        when the catalog says nothing of them (the paper's format), those of the aerial catalog's behavior of the same
+        name."""
+        descriptor = self.behaviors.get(name)
+        if descriptor is None or _timing(descriptor) != _NO_TIMING:
+            return descriptor
+        reference = default_catalog().behaviors.get(name)
+        if reference is None or reference is descriptor or _timing(reference) == _NO_TIMING:
+            return descriptor
+        return replace(descriptor, **dict(zip(("motion", "duration", "beside"), _timing(reference), strict=True)))
+
+    def motion_of(self, name: str) -> str:
+        """How the behavior ``name`` moves the robot (its ``motion:``, see :meth:`timed`; "" when it does not)."""
+        descriptor = self.timed(name)
+        return descriptor.motion if descriptor is not None else ""
+
+    def with_motion(self, motion: str, preferred: str) -> str:
+        """The behavior that moves the robot by ``motion`` (``descriptors.MOTIONS``): ``preferred`` (the engine's
+        name for it, ``engine_behaviors``) when the catalog has it, else the first behavior whose ``motion:`` says
+        so, else ``preferred``."""
+        if preferred in self.behaviors:
+            return preferred
+        return next((d.name for d in self.behaviors.values() if d.motion == motion), preferred)
+
     def suggest(self, name: str) -> str:
         """`` (did you mean X?)`` for a misspelt behavior name."""
         return suggestion(name, self.behaviors)
@@ -88,10 +114,10 @@ class BehaviorCatalog:
     def served_by(self, implemented: Iterable[str], reference: BehaviorCatalog | None = None) -> BehaviorCatalog:
         """This catalog as a library serves it: behaviors without an implementation are marked unsupported, and a
         behavior described without ``arguments:`` takes the arguments its implementation is described with in
-        ``reference`` (a thin catalog's GO_TO_POINT gets COORDINATES...); one_of groups of ``reference`` apply to
-        the arguments a catalog declares, so a request the implementation cannot serve is refused before flight;
-        predicates the catalog does not declare are taken from ``reference``. Returns ``self`` when nothing
-        changes."""
+        ``reference`` (a thin catalog's GO_TO_POINT gets COORDINATES...), one that says nothing of its timing and
+        motion takes its implementation's (``motion``, ``duration``, ``beside``); one_of groups of ``reference`` apply
+        to the arguments a catalog declares, so a request the implementation cannot serve is refused before flight;
+        predicates the catalog does not declare are taken from ``reference``. Returns ``self`` when nothing changes."""
         implemented = set(implemented)
         unsupported = frozenset(name for name in self.behaviors if name not in implemented)
         behaviors = dict(self.behaviors)
@@ -99,13 +125,18 @@ class BehaviorCatalog:
             own = reference.behavior(name) if reference is not None and name in implemented else None
             if own is None or own is descriptor:
                 continue
+            changes: dict[str, Any] = {}
             if not descriptor.arguments and own.arguments:
-                behaviors[name] = replace(descriptor, arguments=dict(own.arguments), one_of=own.one_of)
+                changes.update(arguments=dict(own.arguments), one_of=own.one_of)
             elif not descriptor.one_of and own.one_of:
                 groups = tuple(g for g in (tuple(a for a in group if a in descriptor.arguments)
                                            for group in own.one_of) if g)
                 if groups:
-                    behaviors[name] = replace(descriptor, one_of=groups)
+                    changes.update(one_of=groups)
+            if _timing(descriptor) == _NO_TIMING and _timing(own) != _NO_TIMING:  # how its implementation moves
+                changes.update(zip(("motion", "duration", "beside"), _timing(own), strict=True))
+            if changes:
+                behaviors[name] = replace(descriptor, **changes)
         predicates = dict(self.predicates)  # what the implementations write, when the catalog does not say
         for name, declared in (reference.predicates.items() if reference is not None else ()):
             predicates.setdefault(name, declared)
@@ -160,6 +191,13 @@ class BehaviorCatalog:
                                            for y in b.capabilities):
                     pairs.add(frozenset((a.name, b.name)))
         return pairs
+
+
+_NO_TIMING = ("", None, False)
+
+
+def _timing(descriptor: BehaviorDescriptor) -> tuple[str, float | str | None, bool]:
+    return descriptor.motion, descriptor.duration, descriptor.beside
 
 
 def _phenomena(content: CatalogContent) -> dict[str, Phenomenon]:

@@ -13,6 +13,12 @@ RECURRENT = "recurrent"
 DELIBERATIVE = "deliberative"
 CATEGORIES = (GOAL_BASED, RECURRENT, DELIBERATIVE)
 
+#: How a behavior moves the robot (a catalog's ``motion:``), as the route estimate, the contingencies and the resume
+#: read it: ``climb`` (vertically, by its ALTITUDE), ``fly_to`` (to its COORDINATES or by its RELATIVE_COORDINATES,
+#: at its SPEED), ``descend`` (lands where it is), ``follow_path`` (along points the estimate does not read),
+#: ``hover`` (holds where it is until stopped).
+MOTIONS = ("climb", "fly_to", "descend", "follow_path", "hover")
+
 LOWER = "lower"
 HIGHER = "higher"
 
@@ -32,6 +38,13 @@ class BehaviorDescriptor:
     description: str = ""
     service_calls: tuple[str, ...] = ()  # the paper's ROS_service_calls, kept for adapters that need them
     line: int = 0
+    motion: str = ""  # how it moves the robot (MOTIONS); "" : it does not move it
+    duration: float | str | None = None  # s it takes in place, or the argument saying so; None: not known
+    beside: bool = False  # it runs beside the flight (a camera, a watch), taking none of its time
+
+    @property
+    def moves(self) -> bool:
+        return bool(self.motion)
 
     @property
     def precondition_text(self) -> str:

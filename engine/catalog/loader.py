@@ -20,6 +20,7 @@ from aeroexec.engine.catalog.descriptors import (
     GOAL_BASED,
     HIGHER,
     LOWER,
+    MOTIONS,
     RECURRENT,
     BehaviorDescriptor,
     CapabilityDescriptor,
@@ -42,7 +43,8 @@ VEHICLE_LIMITS = {"max_altitude": "m above (or below) home", "max_distance": "m 
                   "max_speed": "m/s horizontally", "max_flight_time": "s a full battery keeps the vehicle flying"}
 WORLD = "WORLD"  # allowed_values of a place: in the world's bounds (the vehicle's reach without a world)
 BEHAVIOR_KEYS = ("behavior", "category", "timeout", "incompatible_lists", "capabilities", "required_capabilities",
-                 "incompatibilities", "arguments", "preconditions", "description", "one_of", "ROS_service_calls")
+                 "incompatibilities", "arguments", "preconditions", "description", "one_of", "ROS_service_calls",
+                 "motion", "duration", "beside")
 ARGUMENT_KEYS = ("argument", "allowed_values", "dimensions", "type", "required", "default", "description",
                  "aliases")
 TRANSITION_KEYS = ("behavior", "behaviors", "physical_phenomenon", "argument", "argument_value",
@@ -329,7 +331,39 @@ class CatalogReader(VocabularySections):
         calls = self.r.names(e["ROS_service_calls"][1], "ROS_service_calls") if "ROS_service_calls" in e else []
         return BehaviorDescriptor(
             name, category, timeout, tuple(n for n, _ in lists), tuple(c for c, _ in capabilities), arguments,
-            tuple(one_of), preconditions, self._description(e), tuple(c for c, _ in calls), item.start_mark.line + 1)
+            tuple(one_of), preconditions, self._description(e), tuple(c for c, _ in calls), item.start_mark.line + 1,
+            **self._timing(e, name, arguments))
+
+    def _timing(self, e: dict, name: str, arguments: dict[str, ArgumentDescriptor]) -> dict[str, Any]:
+        """A behavior's motion (``motion:``), time in place (``duration:`` seconds, or the argument saying so) and
+        whether it runs beside the flight (``beside: yes``): read by the route estimate."""
+        found: dict[str, Any] = {}
+        if "motion" in e:
+            motion = self.r.text(e["motion"][1], f"the motion of {name}")
+            if motion is not None and motion not in MOTIONS:
+                self.r.error(e["motion"][1], f"the motion of {name} must be one of {', '.join(MOTIONS)}, not "
+                                             f"{motion!r}{suggestion(motion, MOTIONS)}")
+            elif motion is not None:
+                found["motion"] = motion
+        if "duration" in e:
+            node = e["duration"][1]
+            if isinstance(node, yaml.ScalarNode) and isinstance(self.r.value(node), str):
+                if node.value in arguments:
+                    found["duration"] = node.value
+                else:
+                    self.r.error(node, f"the duration of {name} must be seconds or one of its arguments, not "
+                                       f"{node.value!r}{suggestion(node.value, arguments)}")
+            else:
+                seconds = self.r.number(node, f"the duration of {name}")
+                if seconds is not None and seconds < 0:
+                    self.r.error(node, f"the duration of {name} must be at least 0 seconds, not {seconds:g}")
+                elif seconds is not None:
+                    found["duration"] = float(seconds)
+        if "beside" in e:
+            beside = self.r.flag(e["beside"][1], f"beside of {name}")
+            if beside is not None:
+                found["beside"] = beside
+        return found
 
     def _argument(self, node: yaml.Node, behavior: str) -> ArgumentDescriptor | None:
         e = self.r.mapping(node, f"argument {_peek(node, 'argument')} of {behavior}", ARGUMENT_KEYS,

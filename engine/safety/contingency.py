@@ -33,6 +33,11 @@ class Contingencies:
                  rally: Callable[[tuple, bool], tuple], cruise_speed: float) -> None:
         self.coordinator, self.log = coordinator, log
         self.position, self.rally, self.cruise_speed = position, rally, cruise_speed
+        catalog = getattr(coordinator, "catalog", None)
+        #: The catalog's behavior for each the engine requests (the one whose ``motion:`` is the same as the aerial
+        #: catalog's of that name, when the catalog has no behavior of that name).
+        self.named = {word: catalog.with_motion(motion, word) if catalog is not None else word
+                      for word, motion in ((GO_TO_POINT, "fly_to"), (LAND, "descend"), (KEEP_HOVERING, "hover"))}
         self.handlers: dict[str, Callable[[str, SafetyRule], bool]] = {}
         self.active: SafetyRule | None = None  # the rule whose contingency is in effect
         #: Where the contingency in effect flies the drone to (a hold's boundary, a return's rally point), if it does.
@@ -124,16 +129,17 @@ class Actions:
 
     def _activate(self, behavior: str, arguments: dict, timeout: float | None = None,
                   on_end: Callable | None = None) -> None:
-        coordinator = self._of.coordinator
-        result = coordinator.activate(behavior, arguments, priority="higher", source="safety", timeout=timeout,
-                                      on_end=on_end, check_preconditions=False)
+        coordinator, named = self._of.coordinator, self._of.named
+        result = coordinator.activate(named.get(behavior, behavior), arguments, priority="higher", source="safety",
+                                      timeout=timeout, on_end=on_end, check_preconditions=False)
         if not result.accepted and behavior == GO_TO_POINT and result.outcome is Outcome.GOAL_ACHIEVED \
                 and on_end is not None:
             on_end(Outcome.GOAL_ACHIEVED, result.message, None)  # already there: what comes after
             return
         if not result.accepted and behavior != LAND:
-            logger.warning("safety rule %s: %s refused (%s); landing", self.rule.name, behavior, result.message)
-            coordinator.activate(LAND, {}, priority="higher", source="safety", check_preconditions=False)
+            logger.warning("safety rule %s: %s refused (%s); landing", self.rule.name, named.get(behavior, behavior),
+                           result.message)
+            coordinator.activate(named[LAND], {}, priority="higher", source="safety", check_preconditions=False)
 
 
 def _kind(rule: SafetyRule) -> ContingencyKind:

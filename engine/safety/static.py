@@ -71,7 +71,7 @@ def route(mission: Any, file: str, model: VehicleModel, catalog: BehaviorCatalog
         for point in _destinations(catalog, behavior, arguments, here):
             if point is None:
                 continue
-            if len(point) == 1:  # TAKE_OFF: the altitude above where it is
+            if len(point) == 1:  # a climb (TAKE_OFF): the altitude above where it is
                 point = (here[0], here[1], point[0])
                 leg_seconds, used = model.take_off(point[2] - here[2])
             else:
@@ -91,7 +91,7 @@ def _destinations(catalog: BehaviorCatalog, behavior: str, given: Mapping[str, A
         return []
     known = {alias.upper(): a.name for a in descriptor.arguments.values() for alias in (a.name, *a.aliases)}
     arguments = {known.get(str(k).upper(), str(k).upper()): v for k, v in given.items()}
-    if descriptor.name == "TAKE_OFF":
+    if catalog.motion_of(descriptor.name) == "climb":  # a take-off (the catalog's motion: climb)
         return [_numbers(arguments["ALTITUDE"])] if "ALTITUDE" in arguments else []
     found: list[tuple[float, ...] | None] = []
     for name, value in arguments.items():

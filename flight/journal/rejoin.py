@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from aeroexec.drones import LandedState
-from aeroexec.engine.catalog.engine_behaviors import GO_TO_POINT, LAND, TAKE_OFF
+from aeroexec.engine.catalog.engine_behaviors import GO_TO_POINT, TAKE_OFF
 from aeroexec.engine.events import Outcome
 
 logger = logging.getLogger(__name__)
@@ -57,19 +57,23 @@ class Rejoin:
         catalog = self.engine.catalog
         steps: list[tuple[str, dict[str, Any]]] = []
         x, y, z = self.place
-        if LAND in self.under_way and not flying:
-            self.settled.append((LAND, "the drone is on the ground"))
-        elif TAKE_OFF in self.under_way and flying:
-            height = float(self.under_way[TAKE_OFF].get("ALTITUDE") or max(z, LOWEST))
+        # the behaviors under way that land or take off, and those that fly and climb: the catalog's motions
+        landing = next((n for n in self.under_way if catalog.motion_of(n) == "descend"), None)
+        taking_off = next((n for n in self.under_way if catalog.motion_of(n) == "climb"), None)
+        fly, climb = catalog.with_motion("fly_to", GO_TO_POINT), catalog.with_motion("climb", TAKE_OFF)
+        if landing is not None and not flying:
+            self.settled.append((landing, "the drone is on the ground"))
+        elif taking_off is not None and flying:
+            height = float(self.under_way[taking_off].get("ALTITUDE") or max(z, LOWEST))
             here = telemetry.position
             if abs(here[2] - height) > NEAR / 2:
-                steps.append((GO_TO_POINT, {"COORDINATES": (here[0], here[1], height)}))
-            self.settled.append((TAKE_OFF, f"the drone flies at {height:g} m"))
-        elif self.was_flying and TAKE_OFF not in self.under_way and LAND not in self.under_way:
+                steps.append((fly, {"COORDINATES": (here[0], here[1], height)}))
+            self.settled.append((taking_off, f"the drone flies at {height:g} m"))
+        elif self.was_flying and taking_off is None and landing is None:
             if not flying:
-                steps.append((TAKE_OFF, {"ALTITUDE": min(HIGHEST, max(LOWEST, round(z, 2)))}))
+                steps.append((climb, {"ALTITUDE": min(HIGHEST, max(LOWEST, round(z, 2)))}))
             if not flying or math.dist(telemetry.position, self.place) > NEAR:
-                steps.append((GO_TO_POINT, {"COORDINATES": (round(x, 3), round(y, 3), round(z, 3))}))
+                steps.append((fly, {"COORDINATES": (round(x, 3), round(y, 3), round(z, 3))}))
         return [(name, arguments) for name, arguments in steps if name in catalog]
 
     def start(self, done: Callable[[str | None], None]) -> None:
@@ -110,7 +114,7 @@ class Rejoin:
             return
         name, arguments = self._steps.pop(0)
         result = self.engine.coordinator.activate(name, arguments, source="resume", on_end=self._ended,
-                                                  check_preconditions=name != GO_TO_POINT)
+                                                  check_preconditions=self.engine.catalog.motion_of(name) != "fly_to")
         if result.accepted:
             return
         if result.outcome is Outcome.GOAL_ACHIEVED:  # there already

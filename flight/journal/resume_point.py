@@ -28,13 +28,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from aeroexec.engine.catalog.engine_behaviors import LAND, TAKE_OFF
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES
 from aeroexec.engine.missions.replay import RecordedCall
 from aeroexec.engine.missions.values import canonical, encode
 from aeroexec.flight.journal.identity import check_time
 from aeroexec.flight.journal.reader import Journal
-from aeroexec.flight.journal.rejoin import LAND, TAKE_OFF
 from aeroexec.flight.journal.schema import JournalError, is_flying
 
 #: Events that say a behavior's work is done though its GOAL_ACHIEVED may not have been kept (event -> behavior:

@@ -190,9 +190,10 @@ class Resumption:
         except (TreeStateError, ValueError) as error:
             raise FlightError(f"{mission}: it is not the tree the interrupted run flew ({error}); run it from the "
                               f"start, or resume with the mission as it was") from None
-        for _, node in walk(tree.root):  # the rules the tree added before live in the memory: added again
-            if type(node).__name__ == "AddRule" and getattr(node, "added", False):
-                tree.engine.memory.add_rules(node.rule, node.file or node.name, node.line)
+        for _, node in walk(tree.root):  # what a node put in the engine before (AddRule's rules): put back
+            resumed = getattr(node, "resumed", None)
+            if callable(resumed):
+                resumed(tree.engine)
         running = [node for _, node in walk(tree.root)
                    if isinstance(node, BehaviorLeaf) and node.status.name == "RUNNING"]
         self._leaves = {leaf.behavior: leaf for leaf in running}

@@ -39,7 +39,7 @@ from typing import Any
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.trees.groot.tree_xml import tree_xml
 from aeroexec.trees.runtime.builder import model_of
-from aeroexec.trees.runtime.manifests import CONTROLS, DECORATORS
+from aeroexec.trees.runtime.kinds import Btlog, kind_of
 from aeroexec.trees.runtime.ticking import status_name
 from py_trees.behaviour import Behaviour
 
@@ -52,10 +52,7 @@ PROTOCOL = 1
 RECORD = 9
 STATUS_CODES = {"IDLE": 0, "RUNNING": 1, "SUCCESS": 2, "FAILURE": 3, "SKIPPED": 4}
 STATUS_NAMES = {code: name for name, code in STATUS_CODES.items()}
-#: Decorators that go RUNNING only when ticked from IDLE (the others on every tick, as control nodes do).
-RUNNING_FROM_IDLE = ("SubTree", "Timeout", "Delay")
-#: Control nodes that halt every other child while one is RUNNING (those that completed go back to IDLE).
-REACTIVE = ("ReactiveSequence", "ReactiveFallback")
+_LEAF = Btlog()  # a catalog behavior's leaf: its own result says
 
 
 class BtlogError(ValueError):
@@ -98,7 +95,7 @@ class TransitionTracker:
         self.root = mission.root
         self.mission_nodes = mission.nodes
         self.results: dict[int, str] = {}
-        self.kinds = {id(node): getattr(model_of(node), "type", "") for _, node in mission.nodes}
+        self.rules = {id(node): _rule(getattr(model_of(node), "type", "")) for _, node in mission.nodes}
         for _, node in mission.nodes:
             self.children[id(node)] = self._visible(node.children)
 
@@ -141,12 +138,11 @@ class TransitionTracker:
             self._halt(node)
 
     def _tick(self, node: Behaviour, seen: set[int]) -> None:
-        kind = self.kinds[id(node)]
+        rule = self.rules[id(node)]  # how BT.CPP logs the node's kind (trees.runtime.kinds)
         uid = self.uids[id(node)]
-        every_tick = kind in CONTROLS or (kind in DECORATORS and kind not in RUNNING_FROM_IDLE)
-        if every_tick or (kind in RUNNING_FROM_IDLE and self.status[uid] == "IDLE"):
+        if rule.running == "tick" or (rule.running == "idle" and self.status[uid] == "IDLE"):
             self._set(node, "RUNNING")
-        decorator = kind in DECORATORS or kind == "SubTree"
+        decorator = rule.resets_child
         children = self.children[id(node)]
         for index, child in enumerate(children):
             if id(child) not in seen:
@@ -155,17 +151,17 @@ class TransitionTracker:
             state = self.status[self.uids[id(child)]]
             if decorator and state != "RUNNING":
                 self._reset(child)  # a decorator resets its child as soon as it completes
-            if kind == "WhileDoElse" and index == 0 and len(children) == 3 and state in ("SUCCESS", "FAILURE"):
+            if rule.other_branch and index == 0 and len(children) == 3 and state in ("SUCCESS", "FAILURE"):
                 self._reset(children[2 if state == "SUCCESS" else 1])  # the other branch, before this one ticks
         result = self.results.get(id(node)) or status_name(node)
         if result == "IDLE":  # not ticked after all
             self._reset(node)
             return
-        reactive = kind in REACTIVE
+        reactive = rule.halts_others
         first = 0
-        if kind == "SequenceWithMemory" and result == "FAILURE":  # it keeps the children that succeeded
+        if rule.keeps_succeeded and result == "FAILURE":  # it keeps the children that succeeded
             first = max((i for i, child in enumerate(children) if id(child) in seen), default=0)
-        if kind == "IfThenElse" and len(children) == 2 and result == "FAILURE" and id(children[1]) not in seen:
+        if rule.bare_condition and len(children) == 2 and result == "FAILURE" and id(children[1]) not in seen:
             first = len(children)  # a failed condition without an else: BT.CPP resets nothing
         for child in children[first:]:
             state = self.status[self.uids[id(child)]]
@@ -175,6 +171,11 @@ class TransitionTracker:
                     or (state == "RUNNING" and id(child) not in seen and status_name(child) == "IDLE")):
                 self._reset(child)  # completed (children reset), reactive, or a running child our runtime halted
         self._set(node, result)
+
+
+def _rule(name: str) -> Btlog:
+    kind = kind_of(name)
+    return kind.btlog if kind is not None and kind.btlog is not None else _LEAF
 
 
 # -- writing -------------------------------------------------------------------------------------------------

@@ -16,12 +16,13 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
 from aeroexec.engine.catalog.descriptors import DELIBERATIVE
 from aeroexec.trees.conversions import ANY, BOOL, DOUBLE, INT, STRING
-from aeroexec.trees.runtime.manifests import MANIFESTS
+from aeroexec.trees.runtime.kinds import added, kind_of
 
 ANY_TYPE = "BT::AnyTypeAllowed"
 _TYPES = {"NUMBER": "double", "INTEGER": "int", "BOOLEAN": "bool", "TEXT": "std::string", "BELIEF": "std::string"}
 
-#: The engine's leaves that are not catalog behaviors, as the palette lists them (kind and ports: their manifests).
+#: The engine's leaves that are not catalog behaviors, as the palette lists them (kind and ports: their manifests),
+#: then the node kinds other packages add (``trees.runtime.kinds``).
 ENGINE_LEAVES = ("CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief", "AddRule", "AskBehavior")
 #: C++ types of the runtime's port types.
 _CPP_TYPES = {STRING: "std::string", BOOL: "bool", INT: "int", DOUBLE: "double", ANY: ANY_TYPE}
@@ -62,15 +63,15 @@ def tree_nodes_model(catalog: BehaviorCatalog) -> str:
         if "timeout" not in behavior.arguments:
             ElementTree.SubElement(action, "input_port", name="timeout", type="double").text = (
                 "seconds before the behavior times out (overrides the catalog's)")
-    for identifier in ENGINE_LEAVES:
-        manifest = MANIFESTS[identifier]
-        leaf = ElementTree.SubElement(model, manifest.kind, ID=identifier)
+    for kind in [*(kind_of(name) for name in ENGINE_LEAVES), *added()]:
+        manifest = kind.manifest  # type: ignore[union-attr]
+        leaf = ElementTree.SubElement(model, manifest.kind, ID=kind.name)  # type: ignore[union-attr]
         for port in manifest.ports:
             ElementTree.SubElement(leaf, f"{port.direction}_port", name=port.name,
-                                   type=_CPP_TYPES[port.type]).text = port.description
-        if identifier == "AskBehavior":
+                                   type=_CPP_TYPES.get(port.type, ANY_TYPE)).text = port.description
+        if kind.behavior_port:  # type: ignore[union-attr]
             for argument in asked.values():
-                if argument.name not in ("behavior", "result", "timeout"):
+                if argument.name not in kind.ports:  # type: ignore[union-attr]
                     _argument_port(leaf, argument)
     ElementTree.indent(root)
     return ElementTree.tostring(root, encoding="unicode", xml_declaration=False) + "\n"

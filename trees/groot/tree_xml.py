@@ -16,6 +16,7 @@ from typing import Any
 import defusedxml.ElementTree as SafeElementTree
 from aeroexec.trees.groot.palette import tree_nodes_model
 from aeroexec.trees.runtime.builder import model_of
+from aeroexec.trees.runtime.kinds import is_subtree
 from py_trees.behaviour import Behaviour
 
 PRE_CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")  # BehaviorTree.CPP's order in the XML
@@ -88,9 +89,9 @@ def tree_xml(mission: Any, catalog: Any = None) -> str:
         kind = getattr(model, "type", type(node).__name__)
         ports = dict(getattr(model, "ports", {}))
         used.add(kind)
-        if kind == "SubTree":
+        if is_subtree(kind):
             tree_id = ports.get("ID", "")
-            named = getattr(model, "named", True) and node.name not in ("", "SubTree")
+            named = getattr(model, "named", True) and node.name not in ("", kind)
             instance = node.name if named else tree_id
             suffix = f"::{uid}" if instance == tree_id else ""
             inner_path = (f"{path}/" if path else "") + (node.name if named else f"{tree_id}::{uid}")

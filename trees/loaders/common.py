@@ -16,11 +16,10 @@ import re
 
 import yaml
 from aeroexec.engine.yaml_nodes import MAP, SEQ, NodeReader
+from aeroexec.trees.runtime.manifests import ACTION, CONDITION, CONTROL, DECORATOR
 
 #: Node tags that name their type in an ``ID`` attribute, as BehaviorTree.CPP writes them.
-EXPLICIT_TAGS = ("Action", "Condition", "Control", "Decorator")
-#: Leaf types whose one value, when given alone, is a belief expression.
-BELIEF_LEAVES = ("Condition", "CheckBelief", "QueryBelief", "AddBelief", "RemoveBelief")
+EXPLICIT_TAGS = (ACTION, CONDITION, CONTROL, DECORATOR)  # BT.CPP's node types, as tags with an ID
 
 _QUOTE_IN_LIST = re.compile(r"[,\[\]{}:#'\"]")
 _VARIABLE = re.compile(r"\+([A-Za-z_]\w*)")
@@ -38,7 +37,7 @@ def resolve_type(tag: str, ports: dict[str, str]) -> tuple[str, str | None]:
     node_id = ports.pop("ID", "").strip()
     if node_id:
         return node_id, None
-    if tag == "Condition":
+    if tag == CONDITION:
         if "belief" in ports:
             return tag, None
         return tag, "a Condition needs belief=\"...\" (a belief expression) or ID=\"...\" (a registered condition)"

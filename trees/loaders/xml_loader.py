@@ -41,6 +41,8 @@ from aeroexec.trees.loaders.btcpp_names import model_name_problem, port_name_pro
 from aeroexec.trees.loaders.common import EXPLICIT_TAGS, resolve_type
 from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
+from aeroexec.trees.runtime.kinds import is_subtree
+from aeroexec.trees.runtime.manifests import CONDITION, SUBTREE
 from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
 
 from aeroexec.limits import MAX_NESTING, InputError, read_bytes
@@ -237,10 +239,10 @@ class _XmlReader:
     def read_models(self, element: _Element, file: str) -> None:
         """The ports of the SubTrees the palette declares, with their defaults (BehaviorTree.CPP applies them)."""
         for model in element.children:
-            if model.tag == "SubTree" and not model.attrs.get("ID"):  # BT.CPP 4.10's loadSubtreeModel throws
+            if model.tag == SUBTREE and not model.attrs.get("ID"):  # BT.CPP 4.10's loadSubtreeModel throws
                 self.not_portable.append((file, model.line, refused("Missing attribute 'ID' in SubTree element "
                                                                     "within TreeNodesModel")))
-            if model.tag == "SubTree" and model.attrs.get("ID", "").strip():
+            if model.tag == SUBTREE and model.attrs.get("ID", "").strip():
                 for port in model.children:
                     problem = port_name_problem(port.attrs.get("name", "")) if port.tag.endswith("_port") else None
                     if problem is not None:
@@ -284,15 +286,16 @@ class _XmlReader:
         node_type, problem = resolve_type(element.tag, ports)
         if problem:
             self.error(file, element.line, problem)
-        named = ports.get("ID", "") if node_type == "SubTree" else element.tag  # as written (BT.CPP does not strip)
+        subtree = is_subtree(node_type)
+        named = ports.get("ID", "") if subtree else element.tag  # as written (BT.CPP does not strip)
         problem = model_name_problem(named) if named and element.tag not in EXPLICIT_TAGS else None
         if problem is not None:
             self.not_portable.append((file, element.line, refused(problem)))
-        if node_type == "SubTree":
+        if subtree:
             if not ports.get("ID", "").strip():
                 self.error(file, element.line, "a <SubTree> needs ID=\"...\", the BehaviorTree it runs")
             name = name or ports.get("ID", "")
-        if node_type == "Condition" and element.tag == "Condition":
+        if element.tag == CONDITION and node_type == element.tag:  # the node type's word as a tag
             self.warnings.append((file, element.line, "<Condition belief=...> is aeroexec's old spelling, refused "
                                                       "by BehaviorTree.CPP and Groot2: write <CheckBelief "
                                                       "belief=\"...\"/>"))
@@ -305,7 +308,7 @@ def _apply_subtree_models(reader: _XmlReader) -> None:
     """Ports a SubTree leaves out take their ``<TreeNodesModel>`` default (a port without one must be given)."""
     for root in reader.trees.values():
         for node in root.walk():
-            model = reader.subtree_models.get(node.ports.get("ID", "").strip()) if node.type == "SubTree" else None
+            model = reader.subtree_models.get(node.ports.get("ID", "").strip()) if is_subtree(node.type) else None
             if not model or node.ports.get("_autoremap", "").strip().lower() == "true":
                 continue
             for port, default in model.items():

@@ -2,8 +2,8 @@
 
 ``write_xml(document, catalog)`` writes every tree of the document in the compact form (``<GO_TO_POINT
 COORDINATES="..."/>``, ``<SubTree ID="..."/>``), the main one named by ``main_tree_to_execute``, and a
-``<TreeNodesModel>`` with the models of the catalog behaviors it uses, their ports and defaults, so Groot2 shows
-them and BehaviorTree.CPP knows their ports.
+``<TreeNodesModel>`` with the models of the catalog behaviors it uses (and of the node kinds other packages add),
+their ports and defaults, so Groot2 shows them and BehaviorTree.CPP knows their ports.
 """
 
 from __future__ import annotations
@@ -14,17 +14,19 @@ import defusedxml.ElementTree as SafeElementTree
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.trees.groot.palette import tree_nodes_model
 from aeroexec.trees.model import TreeDocument, TreeNode
+from aeroexec.trees.runtime.kinds import added, is_subtree
 
 
 def _element(node: TreeNode, used: set[str]) -> ElementTree.Element:
     attributes: dict[str, str] = {}
-    if node.type == "SubTree":
+    subtree = is_subtree(node.type)
+    if subtree:
         attributes["ID"] = node.ports.get("ID", "")
-        if node.named and node.name not in ("", "SubTree"):
+        if node.named and node.name not in ("", node.type):
             attributes["name"] = node.name
     elif node.name and node.name != node.type:
         attributes["name"] = node.name
-    attributes.update({k: v for k, v in node.ports.items() if not (node.type == "SubTree" and k == "ID")})
+    attributes.update({k: v for k, v in node.ports.items() if not (subtree and k == "ID")})
     used.add(node.type)
     element = ElementTree.Element(node.type, attributes)
     for child in node.children:
@@ -41,8 +43,9 @@ def write_xml(document: TreeDocument, catalog: BehaviorCatalog | None = None) ->
         tree.append(_element(document.trees[tree_id], used))
     if catalog is not None:
         models = ElementTree.SubElement(root, "TreeNodesModel")
+        modelled = {*catalog.behaviors, *(kind.name for kind in added())}  # BT.CPP knows the rest
         for model in SafeElementTree.fromstring(tree_nodes_model(catalog)).iter():
-            if model.get("ID") in used and model.get("ID") in catalog.behaviors:
+            if model.get("ID") in used and model.get("ID") in modelled:
                 models.append(model)
     ElementTree.indent(root, space="    ")
     return ElementTree.tostring(root, encoding="unicode") + "\n"

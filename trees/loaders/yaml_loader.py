@@ -38,8 +38,9 @@ from pathlib import Path
 import yaml
 from aeroexec.engine.yaml_nodes import MAP, SEQ, NodeReader, line_of, suggestion
 from aeroexec.trees.formats import YAML_FORMS, readers
-from aeroexec.trees.loaders.common import BELIEF_LEAVES, errors_of, port_text, resolve_type
+from aeroexec.trees.loaders.common import errors_of, port_text, resolve_type
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
+from aeroexec.trees.runtime.kinds import is_subtree, ports_in
 
 from aeroexec.limits import InputError, read_text
 
@@ -77,9 +78,10 @@ class _NestedReader:
         elif body.tag == SEQ:
             children = self.children(body.value, node_type)
         elif isinstance(body, yaml.ScalarNode):
-            if node_type in BELIEF_LEAVES:
-                ports["belief"] = str(body.value)
-            elif node_type == "SubTree":
+            beliefs = ports_in(node_type, "belief", "query", "new_belief")  # its one port, written alone
+            if beliefs:
+                ports[beliefs[0]] = str(body.value)
+            elif is_subtree(node_type):
                 ports["ID"] = str(body.value)
             else:
                 reader.error(body, f"{node_type}: give its ports as a mapping (`{node_type}: {{PORT: value}}`), "
@@ -119,7 +121,7 @@ class _NestedReader:
         node_type, problem = resolve_type(node_type, ports)
         if problem:
             self.reader.error(where, problem)
-        if node_type == "SubTree":
+        if is_subtree(node_type):
             if not ports.get("ID", "").strip():
                 self.reader.error(where, "a SubTree needs ID, the tree it runs")
             named, name = bool(name), name or ports.get("ID", "")

@@ -1,6 +1,6 @@
 """A verified :class:`TreeDocument` as a ``py_trees`` tree that runs on the engine.
 
-Each model node becomes the behaviour its type names in the registration table (``runtime.nodes.registry``), else a
+Each model node becomes the behaviour of the node kind its type names (``runtime.kinds``, ``nodes.registry``), else a
 leaf type the caller registered, else a catalog behavior's leaf; ``source`` is the model node, for file:line in
 events. A node with pre- or post-conditions (``_skipIf``, ``_onSuccess``...) is wrapped in
 :class:`NodeConditions`, which takes its place in the tree (the wrapped node is marked ``hidden``: the wrapper
@@ -18,7 +18,7 @@ from aeroexec.trees.runtime.context import TreeContext
 from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.nodes.decorators import SubTree
 from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
-from aeroexec.trees.runtime.nodes.registry import BUILT_IN
+from aeroexec.trees.runtime.nodes.registry import node_class
 from aeroexec.trees.runtime.ports import NodeConfig, PortError
 from aeroexec.trees.script import ScriptError
 from py_trees.behaviour import Behaviour
@@ -59,7 +59,7 @@ class TreeBuilder:
 
     def _make(self, model: TreeNode, board: Blackboard, stack: tuple[str, ...]) -> Behaviour:
         kind = model.type
-        cls = BUILT_IN.get(kind)
+        cls = node_class(kind)
         if cls is SubTree:
             return self._subtree(model, board, stack)
         config = NodeConfig(model, board, self.context)

@@ -44,10 +44,11 @@ from aeroexec.trees.runtime.change_targets import (
     place,
     walk,
 )
-from aeroexec.trees.runtime.manifests import ports_of
+from aeroexec.trees.runtime.kinds import kind_of, ports_of
 from aeroexec.trees.runtime.nodes.behavior_leaves import BehaviorLeaf
 from aeroexec.trees.runtime.nodes.controls import Control, Sequence
 from aeroexec.trees.runtime.nodes.decorators import Decorator, SubTree
+from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
 from aeroexec.trees.runtime.nodes.parallels import Parallel, ParallelAll
 from aeroexec.trees.runtime.ticking import FAILURE, INVALID, RUNNING, SUCCESS, attach
 from py_trees.behaviour import Behaviour
@@ -195,7 +196,7 @@ class TreeChanges:
         plan = ChangePlan(change, f"the mission goes on from {label(target)}")
         for ancestor, child in zip(path, path[1:], strict=False):
             inner = ancestor
-            if isinstance(inner, Control) and not isinstance(inner, (Sequence, Parallel, ParallelAll)):
+            if not _jumps_inside(inner):
                 raise ChangeError(f"{label(target)} is inside {label(ancestor)} ({type(ancestor).__name__}), which "
                                   f"chooses for itself what it ticks: jump to {label(ancestor)} instead")
             if not isinstance(inner, Sequence):
@@ -408,6 +409,17 @@ def _model_at(document: Any, tree: str, path: str) -> TreeNode:
 # -- helpers ----------------------------------------------------------------------------------------------------
 def _running_leaves(node: Behaviour) -> list[BehaviorLeaf]:
     return [n for n in walk(node) if isinstance(n, BehaviorLeaf) and n.status is RUNNING]
+
+
+def _jumps_inside(node: Behaviour) -> bool:
+    """Whether a jump may land inside ``node``: its kind says (``jumps_inside``); a control node no kind describes
+    (a dialect's) only when it is a sequence or a parallel."""
+    if isinstance(node, NodeConditions):
+        return True
+    kind = kind_of(getattr(model_of(node), "type", ""))
+    if kind is not None and kind.node_class() is type(node):
+        return kind.jumps_inside
+    return not isinstance(node, Control) or isinstance(node, (Sequence, Parallel, ParallelAll))
 
 
 __all__ = ["ChangePlan", "Splice", "TreeChanges", "replay_edits"]

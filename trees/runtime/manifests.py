@@ -20,8 +20,11 @@ ACTION, CONDITION, CONTROL, DECORATOR, SUBTREE = "Action", "Condition", "Control
 @dataclass(frozen=True, slots=True)
 class Port:
     """One port of a node type (BT.CPP's ``PortInfo``): its name, type (``trees.conversions``), direction, default
-    text, whether the XML must write it (BT.CPP then fails at the first read of a port left out without a default)
-    and whether an empty value means something there."""
+    text, whether the XML must write it (BT.CPP then fails at the first read of a port left out without a default),
+    whether an empty value means something there, and the language its text is written in, which verification checks
+    (``script``: BT.CPP's scripts; ``belief``: a belief expression it consults; ``query``: one whose variables it
+    writes to the blackboard; ``new_belief``: a belief it adds, whose predicates the mission then knows; ``rules``:
+    rules and facts)."""
 
     name: str
     type: str = STRING
@@ -30,6 +33,7 @@ class Port:
     required: bool = False
     description: str = ""
     empty: bool = False  # an empty value means something (an empty queue, an empty text)
+    language: str = ""  # script, belief, query, new_belief, rules; "" : a value of its type
 
     @property
     def reads(self) -> bool:
@@ -41,9 +45,9 @@ class Port:
 
 
 def InputPort(name: str, type: str = STRING, default: str | None = None, description: str = "",  # noqa: N802
-              required: bool = False, empty: bool = False) -> Port:
+              required: bool = False, empty: bool = False, language: str = "") -> Port:
     """BT.CPP's ``InputPort<T>(name, default, description)``."""
-    return Port(name, type, "input", default, required, description, empty)
+    return Port(name, type, "input", default, required, description, empty, language)
 
 
 def OutputPort(name: str, type: str = ANY, description: str = "", required: bool = False) -> Port:  # noqa: N802
@@ -105,8 +109,12 @@ def _loop(item: str) -> NodeManifest:
                      OutputPort("value", item, "the current item"), loops=True)
 
 
-def _belief(meaning: str) -> Port:
-    return InputPort("belief", STRING, required=True, description=meaning)
+def _belief(meaning: str, language: str = "belief") -> Port:
+    return InputPort("belief", STRING, required=True, description=meaning, language=language)
+
+
+def _script(port: str, meaning: str = "the script") -> Port:
+    return InputPort(port, STRING, required=True, description=meaning, language="script")
 
 
 _ENTRY = InputPort("entry", ANY, required=True, description="the blackboard entry to watch")
@@ -143,7 +151,7 @@ MANIFESTS: dict[str, NodeManifest] = {
     "Delay": decorator(InputPort("delay_msec", UNSIGNED, required=True,
                                  description="milliseconds before the child is ticked")),
     "RunOnce": decorator(InputPort("then_skip", BOOL, "true", "after the first run: SKIPPED, else its result again")),
-    "Precondition": decorator(InputPort("if", STRING, required=True, description="a script"),
+    "Precondition": decorator(_script("if", "a script"),
                               InputPort("else", STATUS, "FAILURE", "the result when the script does not hold")),
     "LoopInt": _loop(INT),
     "LoopDouble": _loop(DOUBLE),
@@ -156,8 +164,8 @@ MANIFESTS: dict[str, NodeManifest] = {
     # actions and conditions
     "AlwaysSuccess": action(),
     "AlwaysFailure": action(),
-    "Script": action(InputPort("code", STRING, required=True, description="the script")),
-    "ScriptCondition": condition(InputPort("code", STRING, required=True, description="the script")),
+    "Script": action(_script("code")),
+    "ScriptCondition": condition(_script("code")),
     "SetBlackboard": action(InputPort("value", ANY, required=True, description="the value to write", empty=True),
                             BidirectionalPort("output_key", ANY, "the blackboard entry it writes", required=True)),
     "UnsetBlackboard": action(InputPort("key", STRING, required=True, description="the entry to remove")),
@@ -170,13 +178,13 @@ MANIFESTS: dict[str, NodeManifest] = {
                           InputPort("timeout", DOUBLE, description="seconds before the behavior times out")),
     "CheckBelief": _CHECK_BELIEF,
     "Condition": _CHECK_BELIEF,
-    "QueryBelief": action(_belief("a belief expression; its variables go to the blackboard")),
-    "AddBelief": action(_belief("a ground belief to add"),
+    "QueryBelief": action(_belief("a belief expression; its variables go to the blackboard", "query")),
+    "AddBelief": action(_belief("a ground belief to add", "new_belief"),
                         InputPort("multivalued", BOOL, "false", "a predicate the catalog does not declare may hold "
                                                                 "several values at once (default false)")),
     "RemoveBelief": action(_belief("a belief pattern; matching beliefs are removed")),
     "AddRule": action(InputPort("rule", STRING, required=True,
-                                description="rules deriving beliefs (head :- body.) and facts")),
+                                description="rules deriving beliefs (head :- body.) and facts", language="rules")),
 }
 
 #: The built-ins by kind, as BehaviorTree.CPP's manifests say it (Groot2's palette, the .btlog's tree).

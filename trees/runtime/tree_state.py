@@ -17,9 +17,10 @@ The flight journal keeps the last state of a tree mission so that a resumed run 
   their status, so a sequence's index skips them. :func:`restore_mission` does it for a
   :class:`~aeroexec.trees.runtime.runner.TreeMission` (its reported statuses too, so nothing is reported twice).
 
-What a node remembers is :data:`MEMORY` (class name -> attributes, looked up along the class's bases); a node class
-of another package says it with a ``memory`` class attribute. Values are kept by
-:mod:`aeroexec.engine.missions.values` (a tuple stays a tuple); a status as its name; a node as its path.
+What a node remembers is its kind's ``memory`` (``trees.runtime.kinds``; :data:`MEMORY`: class name -> attributes,
+looked up along the class's bases); a node class of another package may say it with a ``memory`` class attribute.
+Values are kept by :mod:`aeroexec.engine.missions.values` (a tuple stays a tuple); a status as its name; a node as
+its path.
 """
 
 from __future__ import annotations
@@ -31,28 +32,14 @@ from typing import Any
 
 from aeroexec.engine.missions.values import decode, encode
 from aeroexec.trees.runtime.blackboard import Blackboard
+from aeroexec.trees.runtime.kinds import memory_by_class
 from aeroexec.trees.runtime.ticking import SKIPPED, status_name
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
-#: What each node class remembers between ticks besides its status (class name -> attributes).
-MEMORY: dict[str, tuple[str, ...]] = {
-    "Sequence": ("index", "skipped_count"),  # and Fallback, SequenceWithMemory, the Async ones
-    "TryCatch": ("index", "skipped_count", "catching"),
-    "IfThenElse": ("branch",),
-    "Switch": ("running",),
-    "Parallel": ("completed", "successes", "failures"),
-    "ParallelAll": ("completed", "failures"),
-    "Repeat": ("count",),  # and RetryUntilSuccessful's attempts
-    "Timed": ("seconds", "started_at"),  # Timeout, Delay
-    "RunOnce": ("first",),
-    "Precondition": ("running",),
-    "Loop": ("queue", "child_running"),
-    "SkipUnlessUpdated": ("seen", "executing"),  # and WaitValueUpdate
-    "Sleep": ("seconds", "started_at"),
-    "WasEntryUpdated": ("seen",),
-    "AddRule": ("added",),  # its rules are the memory's: a resume adds them again (flight/journal/resumption.py)
-}
+#: What each node class remembers between ticks besides its status (class name -> attributes): each node kind's
+#: ``memory`` (``trees.runtime.kinds``), by the name of the class that runs it.
+MEMORY: dict[str, tuple[str, ...]] = memory_by_class()
 _PLAIN = frozenset({int, float, bool, type(None)})
 _STATUS = {"IDLE": Status.INVALID, "RUNNING": Status.RUNNING, "SUCCESS": Status.SUCCESS,
            "FAILURE": Status.FAILURE, "SKIPPED": Status.SUCCESS}

@@ -8,6 +8,7 @@ key ``P``). An expression that cannot be read makes the node FAILURE, with a ``t
 from __future__ import annotations
 
 import abc
+from typing import Any
 
 from aeroexec.beliefs import BeliefError, parse_belief, to_python
 from aeroexec.trees.ports import MissingKey, substitute
@@ -136,3 +137,8 @@ class AddRule(Leaf):
                 return self.error(f"AddRule: {error}")
             self.added = True
         return Status.SUCCESS
+
+    def resumed(self, engine: Any) -> None:
+        """A resumed run: the rules it added before live in the memory, so they are added again."""
+        if self.added:
+            engine.memory.add_rules(self.rule, self.file or self.name, self.line)
