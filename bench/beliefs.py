@@ -27,7 +27,7 @@ from aeroexec.beliefs import BeliefMemory, Struct, parse_expression
 from provenance import load, measured_at
 
 COLORS = ("red", "green", "blue", "yellow", "white", "black", "orange")
-README = Path(__file__).resolve().parent.parent / "README.md"
+README = Path(__file__).resolve().parent.parent / "docs" / "performance.md"  # the tables moved there from README.md
 MARKS = ("<!-- bench/beliefs.py: start -->", "<!-- bench/beliefs.py: end -->")
 
 

@@ -17,7 +17,8 @@ def commit() -> str:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
                               check=True).stdout.strip()
         changed = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
-                                  ":(exclude)README.md"], cwd=ROOT, capture_output=True, text=True,
+                                  ":(exclude)README.md", ":(exclude)docs/performance.md"], cwd=ROOT,
+                                 capture_output=True, text=True,
                                  check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "(not a git checkout)"

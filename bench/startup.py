@@ -25,7 +25,7 @@ from provenance import load as load_average
 from provenance import measured_at
 
 ROOT = Path(__file__).resolve().parents[1]
-README = ROOT / "README.md"
+README = ROOT / "docs" / "performance.md"  # the tables moved there from README.md
 AEROEXEC = [sys.executable, "-m", "aeroexec.cli.main"]
 #: name, arguments, the most it may cost as a multiple of `python -c pass` (issue 36)
 COMMANDS = (("aeroexec --help", ["--help"], 3.0),
