@@ -5,6 +5,7 @@ reference pages say what the code says."""
 
 from __future__ import annotations
 
+import ast
 import re
 import shlex
 import shutil
@@ -179,3 +180,40 @@ def test_the_messages_page_has_the_sentences_the_engine_writes():
                      str(BeliefSyntaxError("<x>")), str(UnknownPredicateError("<x>", "<y>")),
                      events.time_out_message("<x>", 1.0).replace("(1 seconds)", "(<y> seconds)")):
         assert f"| {sentence} |" in page, sentence
+
+
+def python_block(page: str, starts: str) -> str:
+    return next(text for language, text, _line in blocks(DOCS / page) if language == "python" and starts in text)
+
+
+def test_the_belief_memory_example_answers_what_its_comments_say():
+    """docs/beliefs.md's example, line by line: an expression followed by ``# LITERAL`` gives that value."""
+    namespace: dict = {}
+    checked = 0
+    for line in python_block("beliefs.md", "BeliefMemory(").splitlines():
+        code, _, comment = line.partition(" # ")
+        try:
+            expected = ast.literal_eval(comment.strip())
+        except (ValueError, SyntaxError):
+            exec(code, namespace)
+            continue
+        assert eval(code, namespace) == expected, line
+        checked += 1
+    assert checked == 4
+
+
+def test_the_specialist_example_raises_and_returns_what_its_comments_say():
+    from aeroexec.engine.errors import SpecificationError
+
+    text = python_block("behaviors.md", "BehaviorSpecialist()")
+    shown = re.search(r"# SpecificationError WRONG_VALUE: (.*?)\n(?!#)", text, re.S).group(1)
+    namespace: dict = {}
+    exec(text.split("specialist.check_request")[0], namespace)
+    specialist = namespace["specialist"]
+    with pytest.raises(SpecificationError) as caught:
+        specialist.check_request("GO_TO_POINT", {"COORDINATES": (1, 2)})
+    assert caught.value.kind == "WRONG_VALUE"
+    assert caught.value.message == " ".join(part.strip("# ") for part in shown.splitlines())
+    kind, message = re.search(r"# \[(\w+): (.*?) \(\.\.\.\)\]", text).groups()
+    errors = specialist.check_sequence(["TAKE_OFF", "LAND", "LAND"])
+    assert [e.kind for e in errors] == [kind] and errors[0].message.startswith(message + " (")
