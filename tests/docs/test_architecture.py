@@ -162,3 +162,32 @@ def test_where_to_add_names_each_thing_a_contributor_adds():
     for thing in ("A behavior", "A built-in tree node", "A mission format", "A contingency", "A drone adapter",
                   "A dialect"):
         assert any(e.startswith(thing) for e in entries), thing
+
+
+#: Names of BehaviorTree.CPP's that the text compares aeroexec's parts to.
+BTCPP = {"TreeNodeManifest", "WriteTreeToXML", "Groot2Publisher"}
+
+
+def test_every_code_name_it_names_is_defined():
+    """``FlightSession.open``, ``tree_state.Capture``, ``Roster.trust``...: the last name of each is defined (a
+    class, a function, an assignment, an attribute) in the package's code, or the rest is a module's path."""
+    source = "\n".join((ROOT / f).read_text() for f in TRACKED if f.endswith(".py") and not f.startswith("tests/"))
+    names = set()
+    for token in re.findall(r"`([^`\n]+)`", TEXT):
+        token = token.split("(")[0]
+        suffix = token.rsplit(".", 1)[-1]
+        dotted = re.fullmatch(r"[A-Za-z_]\w*(\.[A-Za-z_]\w*)+", token) and not token.startswith("aeroexec") and \
+            suffix not in {"py", "lark", "yaml", "toml", "md", "json", "jsonl", "btlog", "plan", "pem", "key", "sqlite",
+                           "xml", "txt", "waypoints", "mission"}
+        if dotted or re.fullmatch(r"[A-Z][a-z]+[A-Z]\w*", token):
+            names.add(token)
+    assert len(names) > 50
+    undefined = []
+    for name in sorted(names - BTCPP):
+        last = re.escape(name.split(".")[-1])
+        module = ROOT / name.replace(".", "/")
+        if module.is_dir() or module.with_suffix(".py").is_file():
+            continue
+        if not re.search(rf"(class|def)\s+{last}\b|\b{last}\s*(:\s*[\w\[\]., |]+)?\s*=|self\.{last}\b", source):
+            undefined.append(name)
+    assert undefined == []
