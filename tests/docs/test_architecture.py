@@ -191,3 +191,12 @@ def test_every_code_name_it_names_is_defined():
         if not re.search(rf"(class|def)\s+{last}\b|\b{last}\s*(:\s*[\w\[\]., |]+)?\s*=|self\.{last}\b", source):
             undefined.append(name)
     assert undefined == []
+
+
+def test_every_table_or_constant_it_names_is_assigned():
+    """``MANIFESTS``, ``BUILT_IN``, ``MEMORY``, ``CALLS_PER_TICK``, ``MISSION_SEEDS`` (of the fuzz suite)...: each is
+    assigned somewhere in the repository's code."""
+    source = "\n".join((ROOT / f).read_text() for f in TRACKED if f.endswith(".py"))
+    constants = {t for t in re.findall(r"`([A-Z][A-Z0-9_]{2,})`", TEXT)}
+    assert len(constants) > 5
+    assert sorted(c for c in constants if not re.search(rf"\b{c}\s*(:\s*[^=\n]+)?=", source)) == []
