@@ -196,7 +196,7 @@ def test_every_code_name_it_names_is_defined():
 def test_every_table_or_constant_it_names_is_assigned():
     """``MANIFESTS``, ``BUILT_IN``, ``MEMORY``, ``CALLS_PER_TICK``, ``MISSION_SEEDS`` (of the fuzz suite)...: each is
     assigned somewhere in the repository's code."""
-    source = "\n".join((ROOT / f).read_text() for f in TRACKED if f.endswith(".py"))
-    constants = {t for t in re.findall(r"`([A-Z][A-Z0-9_]{2,})`", TEXT)}
+    source = "\n".join((ROOT / f).read_text(errors="replace") for f in TRACKED if f.endswith(".py"))
+    constants = set(re.findall(r"`([A-Z][A-Z0-9_]{2,})`", TEXT))
     assert len(constants) > 5
     assert sorted(c for c in constants if not re.search(rf"\b{c}\s*(:\s*[^=\n]+)?=", source)) == []
