@@ -4,7 +4,7 @@ Every reader of a user's file goes through :func:`read_bytes` / :func:`read_text
 most :data:`MAX_FILE_BYTES`, never a FIFO or a device, UTF-8 with the line of a bad byte) and, for YAML,
 :func:`compose_yaml` (nesting, node count and number length bounded, every problem with its line), so a
 bad input ends as one :class:`InputError` naming the file and line instead of a traceback or a hang.
-The README's "Limits of the readers" lists these numbers; tests check each one.
+docs/reference/limits.md lists these numbers; tests check each one.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Belief memory speed at 1,000, 10,000 and 100,000 objects, beside a plain Python store and SWI-Prolog.
 
 Run ``python bench/beliefs.py`` (``--sizes 1000 10000`` to choose sizes, ``--readme`` to write the table
-into README.md). It loads, for each object oK: object(oK, class_{K mod 6}), code(oK, K), color(oK, <7
+into docs/performance.md). It loads, for each object oK: object(oK, class_{K mod 6}), code(oK, K), color(oK, <7
 colors>), position(oK, (x, y, z)) and visible(oK) when K mod 5 = 0, then times each query of issue 2:
 
 - ``first`` (the first answer) solved every time (the standing-answers cache off) and as the engine asks
@@ -27,7 +27,7 @@ from aeroexec.beliefs import BeliefMemory, Struct, parse_expression
 from provenance import load, measured_at
 
 COLORS = ("red", "green", "blue", "yellow", "white", "black", "orange")
-README = Path(__file__).resolve().parent.parent / "README.md"
+README = Path(__file__).resolve().parent.parent / "docs" / "performance.md"  # the tables moved there from README.md
 MARKS = ("<!-- bench/beliefs.py: start -->", "<!-- bench/beliefs.py: end -->")
 
 
@@ -278,7 +278,7 @@ SIZES = [1_000, 10_000, 100_000]
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=SIZES)
-    parser.add_argument("--readme", action="store_true", help="write the table into README.md")
+    parser.add_argument("--readme", action="store_true", help="write the table into docs/performance.md")
     args = parser.parse_args()
     sizes = args.sizes
     began = load()

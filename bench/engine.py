@@ -210,7 +210,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="fewer missions and shorter runs")
     parser.add_argument("--only", choices=["step", "missions", "planning", "trees"])
-    parser.add_argument("--readme", action="store_true", help="rewrite the README's tree-tick table (with trees)")
+    parser.add_argument("--readme", action="store_true", help="rewrite docs/performance.md's tree-tick table")
     options = parser.parse_args()
     logging_quiet()
     parts = {"step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),

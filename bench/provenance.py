@@ -1,5 +1,5 @@
 """Where a bench's figures were measured: the commit of the code and the machine's load, said beside every table a
-bench writes into the README (which figures come from which code, under what load)."""
+bench writes into docs/performance.md (which figures come from which code, under what load)."""
 
 from __future__ import annotations
 
@@ -11,13 +11,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit() -> str:
-    """The short hash of the checked-out commit, with ``+ changes`` when files other than the README differ from it
-    (the README is what the benches rewrite)."""
+    """The short hash of the checked-out commit, with ``+ changes`` when files other than the README and
+    docs/performance.md (what the benches rewrite) differ from it."""
     try:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
                               check=True).stdout.strip()
         changed = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
-                                  ":(exclude)README.md"], cwd=ROOT, capture_output=True, text=True,
+                                  ":(exclude)README.md", ":(exclude)docs/performance.md"], cwd=ROOT,
+                                 capture_output=True, text=True,
                                  check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "(not a git checkout)"

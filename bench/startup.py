@@ -1,7 +1,7 @@
 """Start-up of the ``aeroexec`` command: CPU time and peak memory of ``--help``, ``verify`` and an empty run, each
 as a ratio to ``python -c pass`` measured in the same run.
 
-Run ``python bench/startup.py`` (``--repeat N``, 7 by default; ``--readme`` rewrites the README's start-up table
+Run ``python bench/startup.py`` (``--repeat N``, 7 by default; ``--readme`` rewrites docs/performance.md's table
 with what it measured, between its ``startup-table`` markers: the table is regenerated, never edited by hand).
 The commands run interleaved (one of each per round, so a machine whose load changes slows them alike), each after
 a warm-up run, with bytecode caching on as an installed package runs (``PYTHONDONTWRITEBYTECODE`` removed). A
@@ -25,7 +25,7 @@ from provenance import load as load_average
 from provenance import measured_at
 
 ROOT = Path(__file__).resolve().parents[1]
-README = ROOT / "README.md"
+README = ROOT / "docs" / "performance.md"  # the tables moved there from README.md
 AEROEXEC = [sys.executable, "-m", "aeroexec.cli.main"]
 #: name, arguments, the most it may cost as a multiple of `python -c pass` (issue 36)
 COMMANDS = (("aeroexec --help", ["--help"], 3.0),
@@ -60,7 +60,7 @@ def measure(repeat: int) -> dict[str, list[tuple[float, float, float]]]:
 
 
 def table(results: dict[str, list[tuple[float, float, float]]], load: float) -> str:
-    """The README's table: median CPU, its ratio to the baseline, the goal, peak memory."""
+    """The start-up table: median CPU, its ratio to the baseline, the goal, peak memory."""
     base = statistics.median(cpu for cpu, _, _ in results["python -c pass"])
     rows = ["| command | CPU (median) | ratio to `python -c pass` | goal | peak memory |",
             "|---|---:|---:|---:|---:|",

@@ -18,7 +18,7 @@ from provenance import load, measured_at
 
 from engine import cpu_per_call, line, spread, verdict
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[1] / "docs" / "performance.md"  # the tables moved there from README.md
 BEGIN, END = "<!-- tree-ticks: begin (python bench/engine.py --only trees --readme) -->", "<!-- tree-ticks: end -->"
 
 

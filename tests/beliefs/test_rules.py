@@ -167,8 +167,8 @@ def test_a_number_beyond_a_float_is_a_wrong_value_as_a_belief_too():
 def test_rules_longer_than_the_limit_are_refused_with_the_readme_words(tmp_path):
     from aeroexec.beliefs import read_rules
     from aeroexec.beliefs.parser import MAX_RULES_LENGTH
-    assert MAX_RULES_LENGTH == 2_000_000  # the README's limits table says so
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    assert MAX_RULES_LENGTH == 2_000_000  # the limits table (docs/reference/limits.md) says so
+    readme = (Path(__file__).resolve().parents[2] / "docs" / "reference" / "limits.md").read_text()
     assert "| 2,000,000 characters | `file: the rules are N characters, more than the limit of 2,000,000` |" in readme
     path = tmp_path / "big.rules"
     comment = "% " + "x" * 97 + "\n"  # 100 characters a line: a file of comments is read quickly

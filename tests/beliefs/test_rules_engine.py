@@ -152,8 +152,8 @@ CHECK = """<root BTCPP_format="4" main_tree_to_execute="Main">
 
 
 def readme_rules() -> str:
-    """The rules example of the README's "Rules: derived beliefs" section, as written there."""
-    text = (ROOT / "README.md").read_text()
+    """The rules example of the "Rules: derived beliefs" section (docs/beliefs.md), as written there."""
+    text = (ROOT / "docs" / "beliefs.md").read_text()
     section = text[text.index("## Rules: derived beliefs"):]
     return section[section.index("```prolog\n") + len("```prolog\n"):section.index("```\n", section.index("```prolog"))]
 

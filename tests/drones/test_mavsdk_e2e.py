@@ -225,12 +225,13 @@ def test_a_port_in_use_is_a_connection_error_and_commands_fail_link_lost():
 
 
 def test_the_readme_snippet_flies_what_it_says():
-    """Issue 18, point 5: the README's MavsdkDrone snippet, run as written against the simulated vehicle: it
+    """Issue 18, point 5: the MavsdkDrone snippet of docs/simulator.md (once the README's), run as written against
+    the simulated vehicle: it
     takes off, reaches (10, 0, 3) before landing, and lands."""
     import re
     from pathlib import Path
 
-    readme = (Path(__file__).parents[2] / "README.md").read_text()
+    readme = (Path(__file__).parents[2] / "docs" / "simulator.md").read_text()
     snippet = next(block for block in re.findall(r"```python\n(.*?)```", readme, re.S) if "MavsdkDrone(" in block)
     port = free_udp_port()
     snippet = snippet.replace("udpin://0.0.0.0:14540", f"udpin://127.0.0.1:{port}")
@@ -251,7 +252,7 @@ def test_the_readme_snippet_flies_what_it_says():
 
         watcher = threading.Thread(target=watch, daemon=True)
         watcher.start()
-        exec(compile(snippet, "README.md", "exec"), {"__name__": "readme_snippet"})
+        exec(compile(snippet, "docs/simulator.md", "exec"), {"__name__": "readme_snippet"})
         done.set()
         watcher.join(2)
         final = vehicle.telemetry()

@@ -1,4 +1,4 @@
-"""The README's fleet over several machines, on one host: credentials made once (``--make-credentials``), the
+"""The fleet over several machines of docs/fleets.md, on one host: credentials made once (``--make-credentials``), the
 fleet's router (``fleet --router --listen tls/...``), two drones joining it from one process (``fleet --connect``),
 one from its own (``run --fleet``), and the operator (``ctl --fleet``) on the router's endpoint with the operator's
 identity, or from a member's output folder alone (``--run DIR``: its ``fleet.json``)."""

@@ -1,4 +1,4 @@
-"""The README's fleet over several machines, on hosts of their own (network namespaces on one switch,
+"""The fleet over several machines of docs/fleets.md, on hosts of their own (network namespaces on one switch,
 :mod:`testbed`): a router on each host, the second linked to the first (``--router --connect``), a drone on each
 host joined through its own host's router (``run --fleet``), the operator (``ctl --fleet``) on a host: under packet
 loss, with a host cut off and healed, with a router killed and started again."""

@@ -1,4 +1,4 @@
-"""The readers' documented limits (README, "Limits of the readers"): at the limit an input is read, one past it
+"""The readers' documented limits (docs/reference/limits.md): at the limit an input is read, one past it
 is refused with the file and line; special files are refused unread; anonymous variables cannot be written."""
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Contingencies are one table (issue 41): a contingency from outside the package (one class, registered by an
 ``aeroexec.contingencies`` entry point of a distribution on ``sys.path``) is read from a rules file, checked by
 ``verify`` with the file and line of a mistake, named in ``--help``, and taken in a simulated flight, whose end
-finishes it before landing; the README's list of contingencies is the table's."""
+finishes it before landing; the docs' list of contingencies (docs/safety.md) is the table's."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from aeroexec.engine.catalog.safety_rules import read_safety_rules_text, rule_vo
 
 from aeroexec.plugins import installed
 
-README = Path(__file__).resolve().parents[2] / "README.md"
+PAGE = Path(__file__).resolve().parents[2] / "docs" / "safety.md"
 
 TOY = '''
 """CLIMB METERS: a toy contingency from outside aeroexec: climb that much above where the drone is, and hover."""
@@ -189,8 +189,8 @@ def test_a_plugin_cannot_replace_a_built_in_contingency(tmp_path, monkeypatch):
 
 
 def test_the_readme_lists_the_contingencies_of_the_table():
-    """The README's table of contingencies is the built-in table: every word, its form and what it does."""
-    text = README.read_text()
+    """The table of contingencies (docs/safety.md) is the built-in table: every word, its form and what it does."""
+    text = PAGE.read_text()
     table = text.split("<!-- contingencies -->\n")[1].split("\n\n")[0]
     rows = re.findall(r"^\| `([^`]+)` \| (.+?) \|$", table, re.M)
     assert rows == [(kind.syntax, kind.description) for kind in BUILT_IN]

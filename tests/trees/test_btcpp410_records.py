@@ -18,7 +18,8 @@ from btcpp_harness import Run, run_aeroexec
 RECORDS = Path(__file__).parent / "data" / "btcpp410"
 RECORDED_CASES = {case["name"]: case for case in json.loads((RECORDS / "cases.json").read_text())}
 TRACES = json.loads((RECORDS / "traces.json").read_text())
-#: Where aeroexec does not follow 4.10 on purpose (README, "What stays deliberately different"): name -> why.
+#: Where aeroexec does not follow 4.10 on purpose (docs/missions/behavior-trees.md, "What stays deliberately
+#: different"): name -> why.
 _LOOP_FROM_TEXT = ("4.10 regression: its Loop throws on a queue SetBlackboard wrote as text (\"Any::cast failed "
                    "because it is empty\"); aeroexec loops over the text's items as 4.8.2 did and as 4.10's "
                    "loop_node.h means to (\"Accept string values\", its comment citing BT.CPP issue #1065)")
