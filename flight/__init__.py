@@ -12,15 +12,17 @@ from typing import TYPE_CHECKING
 
 from aeroexec.lazy import lazy_names
 
-__all__ = ["FleetFlight", "FleetJoin", "FlightError", "FlightOutcome", "FlightSession", "FlightSpec", "Interrupted",
-           "WorkerFleet", "ending_signals", "fleet_exit_status"]
+__all__ = ["FleetFlight", "FleetJoin", "FleetSession", "FlightError", "FlightOutcome", "FlightSession", "FlightSpec",
+           "Interrupted", "WorkerFleet", "ending_signals", "fleet_exit_status"]
 __getattr__ = lazy_names(__name__, {"FleetFlight": "fleet.fleet_flight", "fleet_exit_status": "fleet.status",
+                                    "FleetSession": "fleet.session",
                                     "WorkerFleet": "fleet.workers", "FlightOutcome": "run_status",
                                     "FlightSession": "session", "Interrupted": "signals", "ending_signals": "signals",
                                     "FleetJoin": "spec", "FlightError": "spec", "FlightSpec": "spec"})
 
 if TYPE_CHECKING:
     from aeroexec.flight.fleet.fleet_flight import FleetFlight
+    from aeroexec.flight.fleet.session import FleetSession
     from aeroexec.flight.fleet.status import fleet_exit_status
     from aeroexec.flight.fleet.workers import WorkerFleet
     from aeroexec.flight.run_status import FlightOutcome
