@@ -5,12 +5,14 @@ drone shares in, the whole fleet set up (output folder, token, the fleet's route
 from __future__ import annotations
 
 import json
+import re
+import shutil
 from pathlib import Path
 
 import pytest
 from aeroexec.fleet.fleet_file import load_fleet
 from aeroexec.flight import FleetSession, FlightError, FlightSpec, fleet_exit_status
-from flight_runs import MISSIONS, ended, read_log
+from flight_runs import MISSIONS, ROOT, ended, read_log
 
 
 def pair(tmp_path: Path) -> Path:
@@ -60,3 +62,16 @@ def test_a_fleet_whose_mission_cannot_fly_closes_its_router_and_its_fleet_file(t
         fleet.open()
     assert fleet.membership is not None and not (tmp_path / "out" / "fleet.json").exists()
     assert fleet.membership.session.is_closed()
+
+
+def test_the_embedding_page_flies_a_fleet_as_written(tmp_path, monkeypatch, capsys):
+    page = (ROOT / "docs" / "embedding.md").read_text()
+    snippet, = [block for block in re.findall(r"```python\n(.*?)```", page, re.S) if "FleetSession" in block]
+    (tmp_path / "missions").mkdir()
+    for name in ("relay.yaml", "relay_scout.py", "relay_carrier.py"):
+        shutil.copy(MISSIONS / name, tmp_path / "missions" / name)
+    monkeypatch.chdir(tmp_path)  # the page's paths are the repository's; its output folder is made here
+    exec(compile(snippet, "embedding.md", "exec"), {"__name__": "embedding_page"})
+    status, *summaries = capsys.readouterr().out.splitlines()
+    assert status == "0" and [line.split(":")[0] for line in summaries] == ["scout", "carrier"]
+    assert all(" completed at " in line for line in summaries), summaries
