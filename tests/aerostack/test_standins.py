@@ -22,7 +22,7 @@ def test_the_wheel_holds_every_module_of_the_source_and_nothing_outside_the_aero
     source = tmp_path / "src"
     source.mkdir()
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())
-    for name in ("pyproject.toml", "setup.py", "README.md", "LICENSE"):
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
         shutil.copy(ROOT / name, source / name)
     for folder in set(project["tool"]["setuptools"]["package-dir"].values()):
         shutil.copytree(ROOT / folder, source / folder, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))

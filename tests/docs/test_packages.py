@@ -1,24 +1,19 @@
-"""The packages: found by the build from pyproject.toml's folder mapping alone (setup.py), never from a hand-kept
-list; every package's face (its ``__init__.py``) in one style."""
+"""The packages: found by the build from pyproject.toml's folder mapping alone (setuptools' discovery of an explicit
+``package-dir`` layout), never from a hand-kept list; every package's face (its ``__init__.py``) in one style."""
 
 from __future__ import annotations
 
 import ast
 import importlib
-import importlib.util
 import pkgutil
 import subprocess
 import sys
+import tomllib
+import zipfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def _setup_module():
-    spec = importlib.util.spec_from_file_location("aeroexec_setup", ROOT / "setup.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)  # not __main__: nothing is built
-    return module
+PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
 
 
 def _write(path: Path, text: str = "") -> None:
@@ -26,29 +21,33 @@ def _write(path: Path, text: str = "") -> None:
     path.write_text(text)
 
 
-def test_a_new_folder_with_an_init_ships_from_the_mapping_alone(tmp_path):
-    _write(tmp_path / "pyproject.toml", '[tool.setuptools.package-dir]\n"aeroexec" = "aeroexec"\n'
+def test_no_package_is_listed_by_hand():
+    setuptools = PROJECT["tool"]["setuptools"]
+    assert "packages" not in setuptools and not (ROOT / "setup.py").exists()
+    assert setuptools["package-dir"]["aeroexec.flight"] == "flight"
+
+
+def test_a_new_mapped_folder_ships_with_its_packages_from_the_mapping_alone(tmp_path):
+    """What the build relies on, as this setuptools does it: a project mapped as aeroexec's is (a top-level folder
+    to ``aeroexec.<name>``, nothing listed) ships every package under the folder, a data folder's files too."""
+    _write(tmp_path / "pyproject.toml", '[build-system]\nrequires = ["setuptools>=77"]\n'
+                                        'build-backend = "setuptools.build_meta"\n'
+                                        '[project]\nname = "mapped"\nversion = "1.0"\n'
+                                        '[tool.setuptools.package-dir]\n"aeroexec" = "aeroexec"\n'
                                         '"aeroexec.dialects" = "dialects"\n'
                                         '[tool.setuptools.package-data]\n"aeroexec.dialects.tml.static" = ["*.js"]\n')
     _write(tmp_path / "aeroexec" / "__init__.py")
     _write(tmp_path / "dialects" / "__init__.py")
     _write(tmp_path / "dialects" / "tml" / "__init__.py")
-    _write(tmp_path / "dialects" / "tml" / "reader" / "__init__.py")
-    _write(tmp_path / "dialects" / "tml" / "static" / "page.js")  # a data folder package-data names
-    _write(tmp_path / "dialects" / "notes" / "deep" / "__init__.py")  # under a folder that is no package
-    _write(tmp_path / "dialects" / "__pycache__" / "x.pyc")
-    assert _setup_module().mapped_packages(tmp_path) == [
-        "aeroexec", "aeroexec.dialects", "aeroexec.dialects.tml", "aeroexec.dialects.tml.reader",
-        "aeroexec.dialects.tml.static"]
-
-
-def test_the_build_finds_every_package_of_the_repository():
-    found = set(_setup_module().mapped_packages(ROOT))
-    assert {"aeroexec", "aeroexec.flight.journal", "aeroexec.trees.runtime.nodes", "aeroexec.console.static"} <= found
-    outside = {".venv", "tests", "examples", "bench", "tools", "docs", "build"}
-    folders = {init.parent for init in ROOT.rglob("__init__.py")
-               if not outside & set(init.relative_to(ROOT).parts) and ".egg-info" not in str(init)}
-    assert len(found) == len(folders) + 1  # and console/static, a data folder
+    _write(tmp_path / "dialects" / "tml" / "journal" / "__init__.py")
+    _write(tmp_path / "dialects" / "tml" / "journal" / "reader.py")
+    _write(tmp_path / "dialects" / "tml" / "static" / "page.js")
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "--no-build-isolation", str(tmp_path),
+                    "-w", str(tmp_path / "dist")], check=True, capture_output=True, timeout=300)
+    wheel, = (tmp_path / "dist").glob("mapped-*.whl")
+    files = set(zipfile.ZipFile(wheel).namelist())
+    assert {"aeroexec/__init__.py", "aeroexec/dialects/__init__.py", "aeroexec/dialects/tml/__init__.py",
+            "aeroexec/dialects/tml/journal/reader.py", "aeroexec/dialects/tml/static/page.js"} <= files
 
 
 # Packages whose faces are not aeroexec's to shape: Aerostack's and Aerostack2's APIs as those projects have them
@@ -59,16 +58,13 @@ LATER = ("aeroexec.beliefs",)
 
 
 def _faces() -> dict[str, Path]:
-    """Every package of the build with an ``__init__.py``: its name -> that file."""
-    setup = _setup_module()
+    """Every package under the mapped folders (a folder with an ``__init__.py``): its name -> that file."""
     faces = {}
-    for package in setup.mapped_packages(ROOT):
-        if package.startswith(FOREIGN + LATER):
-            continue
-        folder = setup._folder(ROOT, setup.tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-                                     ["package-dir"], package)
-        if (folder / "__init__.py").is_file():
-            faces[package] = folder / "__init__.py"
+    for package, folder in PROJECT["tool"]["setuptools"]["package-dir"].items():
+        for init in sorted((ROOT / folder).rglob("__init__.py")):
+            name = ".".join([package, *init.parent.relative_to(ROOT / folder).parts])
+            if not name.startswith(FOREIGN + LATER):
+                faces[name] = init
     return faces
 
 
