@@ -5,8 +5,4 @@ The subpackages live in the repository's top-level folders (``beliefs/``,
 by ``pyproject.toml``; ``docs/ARCHITECTURE.md`` describes the parts and layers.
 """
 
-from aeroexec import _moved
-
-__version__ = "0.2.0"
-
-_moved.install()
+__version__ = "0.3.0"

@@ -1,6 +1,6 @@
-"""``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one world, linked over Zenoh: in one process (a
-:class:`~aeroexec.flight.FleetFlight`: one flight session per drone), or spread over worker processes in lockstep
-(``--workers N``, a :class:`~aeroexec.flight.WorkerFleet`; one per core for large fleets); ``aeroexec fleet
+"""``aeroexec fleet FLEET.yaml``: fly every drone of a fleet file in one world, linked over Zenoh, as one
+:class:`~aeroexec.flight.FleetSession` (set up, flown and closed there): in one process (one flight session per
+drone), or spread over worker processes in lockstep (``--workers N``; one per core for large fleets); ``aeroexec fleet
 FLEET.yaml --router``: the fleet's Zenoh router, for fleets that span processes and machines; ``aeroexec fleet
 FLEET.yaml --make-credentials DIR``: the fleet's CA and every identity, for several machines.
 
@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import secrets
 import signal
 import sys
 import threading
@@ -27,10 +26,10 @@ from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_argumen
 from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent
-from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
-from aeroexec.flight.fleet import STATUS_FILE, FleetFlight, drone_status, event_line, fleet_exit_status, summary_line
+from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE
+from aeroexec.flight.fleet import STATUS_FILE, FleetSession, event_line, fleet_exit_status
 from aeroexec.flight.output import prepare_output
-from aeroexec.flight.run_status import LOG_INCOMPLETE, FlightOutcome
+from aeroexec.flight.run_status import LOG_INCOMPLETE
 from aeroexec.flight.signals import ending_signals
 from aeroexec.flight.spec import FlightError, FlightSpec
 
@@ -130,9 +129,7 @@ def serve_router(spec: Any, listen: list[str], output: str | None, connect: list
 
 
 def fly_fleet(args: argparse.Namespace) -> int:
-    from aeroexec.fleet import members
     from aeroexec.fleet.fleet_file import FleetFileError, load_fleet
-    from aeroexec.fleet.transport import free_endpoint
 
     try:
         spec = load_fleet(args.fleet_file)
@@ -161,57 +158,40 @@ def fly_fleet(args: argparse.Namespace) -> int:
     workers = worker_count(args, len(spec.flown), live)
     if workers is None:
         return 2
+    if workers > 1 and live:
+        say(f"with {workers} workers, events print as lines (--workers 1 for the live view)")
+    fleet = FleetSession(spec, base, output=args.output, listen=args.listen or (), connect=args.connect or (),
+                         workers=workers, speed=args.speed or (1.0 if watched else None),
+                         token=os.environ.get(TOKEN_VARIABLE), remote_questions=args.web is not None,
+                         recording=args.mcap, quiet=args.quiet, verbose=args.verbose,
+                         lines=lambda line: print(line, flush=True), notify=say,
+                         report=lambda problem: print(problem, file=sys.stderr))
     with ending_signals():
         try:
-            folder = prepare_output(args.output)
+            fleet.open()
+            if args.web is not None:
+                fleet.serve_console(args.web, args.web_host)
         except FlightError as error:
             print(error, file=sys.stderr)
-            return 2
-        token = spec.token or os.environ.get(TOKEN_VARIABLE) or secrets.token_hex(16)
-        if args.connect:
-            membership = members.connect(spec, list(args.connect))
-        else:
-            membership = members.listen(spec, args.listen or [free_endpoint("tls")], folder)
-        endpoints = membership.endpoints
-        node = fleet = None
+            return 2 if error.usage else 1
+        except KeyboardInterrupt as interrupt:
+            print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
+                  file=sys.stderr)
+            return 130
         try:
-            write_fleet_file(folder, spec.name, endpoints, token, membership.operator, (d.name for d in spec.drones))
-            if workers > 1:
-                return fly_workers(args, spec, base, folder, endpoints[0], token, workers, watched)
-            node = membership.node(token)
-            fleet = FleetFlight(node, list(spec.flown), base, output=folder, speed=args.speed or (1.0 if watched
-                                                                                                 else None),
-                                telemetry_rate=spec.telemetry_rate, remote_questions=args.web is not None,
-                                notify=say, report=lambda problem: print(problem, file=sys.stderr),
-                                recording=args.mcap)
-            try:
-                fleet.open()
-                if args.web is not None:
-                    fleet.serve_console(args.web, args.web_host)
-            except FlightError as error:
-                print(error, file=sys.stderr)
-                return 2 if error.usage else 1
-            except KeyboardInterrupt as interrupt:
-                print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
-                      file=sys.stderr)
-                return 130
             elsewhere = [d.name for d in spec.drones if d.mission is None]
-            say(f"fleet {spec.name}: {len(spec.flown)} drones here"
-                + (f", {', '.join(elsewhere)} elsewhere" if elsewhere else "")
-                + f", link on {', '.join(endpoints)}; token, endpoint and operator credentials in "
-                  f"{folder / FLEET_FILE}")
-            outcomes = _fly(fleet, spec.name, live, args.quiet)
+            where = (f"{len(spec.flown)} drones in {len(fleet.worker_fleet.shares)} workers"
+                     if fleet.worker_fleet is not None else
+                     f"{len(spec.flown)} drones here" + (f", {', '.join(elsewhere)} elsewhere" if elsewhere else ""))
+            say(f"fleet {spec.name}: {where}, link on {', '.join(fleet.endpoints)}; token, endpoint and operator "
+                f"credentials in {fleet.folder / FLEET_FILE}")
+            drones = _fly(fleet, spec.name, live, args.quiet)
         finally:
-            if fleet is not None:
-                fleet.close()
-            if node is not None:
-                node.close()
-            membership.close()
-            (folder / FLEET_FILE).unlink(missing_ok=True)
-    for member in fleet.members:
-        print(summary_line(member, outcomes[member.name]), file=sys.stderr)
-    print(f"fleet {spec.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
-    status = fleet_exit_status({name: drone_status(outcome) for name, outcome in outcomes.items()})
+            fleet.close()
+    for record in drones.values():
+        print(record["summary"], file=sys.stderr)
+    print(f"fleet {spec.name}: the status of each drone is in {fleet.folder / STATUS_FILE}", file=sys.stderr)
+    status = fleet_exit_status(drones)
     if fleet.recording is not None:
         if fleet.recording.error is not None:
             print(f"fleet {spec.name}: the recording {args.mcap} is incomplete ({fleet.recording.error}): exit "
@@ -239,48 +219,14 @@ def worker_count(args: argparse.Namespace, drones: int, live: bool) -> int | Non
     return min(args.workers, drones)
 
 
-def fly_workers(args: argparse.Namespace, spec: object, base: FlightSpec, folder: Path, endpoint: str, token: str,
-                workers: int, watched: bool) -> int:
-    """Fly the fleet in ``workers`` processes through this process's router; the fleet's exit status."""
-    from aeroexec.fleet.members import credentials_folder
-    from aeroexec.flight.fleet.workers import WorkerFleet
-
-    if live_view_wanted(args):
-        say(f"with {workers} workers, events print as lines (--workers 1 for the live view)")
-    coordinator = WorkerFleet(spec, base, workers=workers, endpoint=endpoint, token=token,
-                              credentials=credentials_folder(spec, folder), output=folder,
-                              speed=args.speed or (1.0 if watched else None), quiet=args.quiet,
-                              verbose=args.verbose, lines=lambda line: print(line, flush=True), notify=say)
-    try:
-        coordinator.open()
-    except FlightError as error:
-        print(error, file=sys.stderr)
-        return 1
-    except KeyboardInterrupt as interrupt:
-        print(f"interrupted before take-off ({getattr(interrupt, 'signal_name', 'Ctrl-C')}): nothing flew",
-              file=sys.stderr)
-        coordinator.close()
-        return 130
-    try:
-        say(f"fleet {spec.name}: {len(spec.flown)} drones in {len(coordinator.shares)} workers, link on {endpoint}; "
-            f"token, endpoint and operator credentials in {folder / FLEET_FILE}")
-        records = coordinator.fly()
-    finally:
-        coordinator.close()
-    for record in records.values():
-        print(record["summary"], file=sys.stderr)
-    print(f"fleet {spec.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
-    return fleet_exit_status(records)
-
-
-def _fly(fleet: FleetFlight, name: str, live: bool, quiet: bool) -> dict[str, FlightOutcome]:
+def _fly(fleet: FleetSession, name: str, live: bool, quiet: bool) -> dict[str, dict[str, Any]]:
     view = None
-    if live:
+    if fleet.flight is not None and live:
         from aeroexec.cli.views.fleet_view import FleetView
 
-        view = FleetView(name, fleet.engines, {m.name: m.link for m in fleet.members}).start()
-    elif not quiet:
-        for drone, engine in fleet.engines.items():
+        view = FleetView(name, fleet.flight.engines, {m.name: m.link for m in fleet.flight.members}).start()
+    elif fleet.flight is not None and not quiet:
+        for drone, engine in fleet.flight.engines.items():
             engine.log.subscribe(prefixed(drone, sys.stdout))
     try:
         return fleet.fly()

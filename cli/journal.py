@@ -15,7 +15,8 @@ import json
 import sys
 from typing import Any
 
-from aeroexec.flight.journal import Journal, JournalError, resume_point
+from aeroexec.flight.journal import Journal, JournalError
+from aeroexec.flight.journal.resume_point import resume_point
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -4,45 +4,38 @@
 engine (docs/embedding.md); the names load when first used, so importing the package stays cheap.
 """
 
-from __future__ import annotations
+from typing import TYPE_CHECKING
 
-import importlib
-from typing import Any
+from aeroexec.lazy import lazy_names
 
-#: public name -> the module that defines it
-PUBLIC = {
-    "Engine": "aeroexec.engine.engine",
-    "EngineSettings": "aeroexec.engine.execution.process",
-    "BehaviorContext": "aeroexec.engine.execution.process",
-    "BehaviorLibrary": "aeroexec.engine.execution.process",
-    "BehaviorProcess": "aeroexec.engine.execution.process",
-    "Situation": "aeroexec.engine.execution.process",
-    "Process": "aeroexec.engine.execution.resources",
-    "ProcessRegistry": "aeroexec.engine.execution.resources",
-    "Outcome": "aeroexec.engine.events",
-    "EngineEvent": "aeroexec.engine.events",
-    "Clock": "aeroexec.engine.clock",
-    "SimulatedClock": "aeroexec.engine.clock",
-    "WallClock": "aeroexec.engine.clock",
-    "BehaviorCatalog": "aeroexec.engine.catalog",
-    "BehaviorSpecialist": "aeroexec.engine.catalog",
-    "CatalogError": "aeroexec.engine.catalog",
-    "load_catalog": "aeroexec.engine.catalog",
-    "RobotKind": "aeroexec.engine.robots",
-    "MissionChange": "aeroexec.engine.supervision.changes",
-}
+__all__ = ["BehaviorCatalog", "BehaviorContext", "BehaviorLibrary", "BehaviorProcess", "BehaviorSpecialist",
+           "CatalogError", "Clock", "Engine", "EngineEvent", "EngineSettings", "MissionChange", "Outcome", "Process",
+           "ProcessRegistry", "RobotKind", "SimulatedClock", "Situation", "WallClock", "load_catalog"]
+__getattr__ = lazy_names(__name__, {"BehaviorCatalog": "catalog.behavior_catalog",
+                                    "CatalogError": "catalog.behavior_catalog",
+                                    "load_catalog": "catalog.behavior_catalog",
+                                    "BehaviorSpecialist": "catalog.specialist", "Clock": "clock",
+                                    "SimulatedClock": "clock", "WallClock": "clock", "Engine": "engine",
+                                    "EngineEvent": "events", "Outcome": "events",
+                                    "BehaviorContext": "execution.process", "BehaviorLibrary": "execution.process",
+                                    "BehaviorProcess": "execution.process", "EngineSettings": "execution.process",
+                                    "Situation": "execution.process", "Process": "execution.resources",
+                                    "ProcessRegistry": "execution.resources", "RobotKind": "robots",
+                                    "MissionChange": "supervision.changes"})
 
-__all__ = sorted(PUBLIC)
-
-
-def __getattr__(name: str) -> Any:
-    module = PUBLIC.get(name)
-    if module is None:
-        raise AttributeError(f"module 'aeroexec.engine' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *PUBLIC])
+if TYPE_CHECKING:
+    from aeroexec.engine.catalog.behavior_catalog import BehaviorCatalog, CatalogError, load_catalog
+    from aeroexec.engine.catalog.specialist import BehaviorSpecialist
+    from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
+    from aeroexec.engine.engine import Engine
+    from aeroexec.engine.events import EngineEvent, Outcome
+    from aeroexec.engine.execution.process import (
+        BehaviorContext,
+        BehaviorLibrary,
+        BehaviorProcess,
+        EngineSettings,
+        Situation,
+    )
+    from aeroexec.engine.execution.resources import Process, ProcessRegistry
+    from aeroexec.engine.robots import RobotKind
+    from aeroexec.engine.supervision.changes import MissionChange

@@ -20,6 +20,7 @@ from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Rule
 from aeroexec.drones import Robot
+from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
 from aeroexec.engine.clock import Clock, SimulatedClock
 from aeroexec.engine.events import EventLog
@@ -30,7 +31,7 @@ from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap
 from aeroexec.engine.library import default_library, default_processes
 from aeroexec.engine.missions.bridge import DONE, MissionBridge, MissionPreempted
 from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorker
-from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates, VehicleModel
+from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates
 from aeroexec.engine.supervision.supervisor import Supervisor
 
 from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY

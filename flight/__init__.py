@@ -8,23 +8,24 @@ The names below are imported when first used, so a command that needs one module
 verify`` reads missions with :mod:`aeroexec.flight.missions`) does not load the others.
 """
 
-from __future__ import annotations
+from typing import TYPE_CHECKING
 
-import importlib
-from typing import Any
+from aeroexec.lazy import lazy_names
 
-_PUBLIC = {
-    "FleetFlight": "fleet", "fleet_exit_status": "fleet", "WorkerFleet": "fleet.workers",
-    "FlightOutcome": "run_status", "FlightSession": "session",
-    "Interrupted": "signals", "ending_signals": "signals",
-    "FleetJoin": "spec", "FlightError": "spec", "FlightSpec": "spec",
-}
+__all__ = ["FleetFlight", "FleetJoin", "FleetSession", "FlightError", "FlightOutcome", "FlightSession", "FlightSpec",
+           "Interrupted", "WorkerFleet", "ending_signals", "fleet_exit_status"]
+__getattr__ = lazy_names(__name__, {"FleetFlight": "fleet.fleet_flight", "fleet_exit_status": "fleet.status",
+                                    "FleetSession": "fleet.session",
+                                    "WorkerFleet": "fleet.workers", "FlightOutcome": "run_status",
+                                    "FlightSession": "session", "Interrupted": "signals", "ending_signals": "signals",
+                                    "FleetJoin": "spec", "FlightError": "spec", "FlightSpec": "spec"})
 
-
-def __getattr__(name: str) -> Any:
-    if name not in _PUBLIC:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f"{__name__}.{_PUBLIC[name]}"), name)
-
-
-__all__ = sorted(_PUBLIC)
+if TYPE_CHECKING:
+    from aeroexec.flight.fleet.fleet_flight import FleetFlight
+    from aeroexec.flight.fleet.session import FleetSession
+    from aeroexec.flight.fleet.status import fleet_exit_status
+    from aeroexec.flight.fleet.workers import WorkerFleet
+    from aeroexec.flight.run_status import FlightOutcome
+    from aeroexec.flight.session import FlightSession
+    from aeroexec.flight.signals import Interrupted, ending_signals
+    from aeroexec.flight.spec import FleetJoin, FlightError, FlightSpec

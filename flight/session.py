@@ -26,8 +26,9 @@ from aeroexec.engine.errors import Problem
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter, world_meta
-from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
+from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal
 from aeroexec.flight.journal.identity import FlightFile, flight_files, new_run_id
+from aeroexec.flight.journal.resume_point import resume_point
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
 from aeroexec.flight.missions import load_mission, watched_catalog
 from aeroexec.flight.output import NO_SPACE, no_space, prepare_output

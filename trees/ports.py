@@ -175,10 +175,6 @@ def argument_names(descriptor: BehaviorDescriptor) -> dict[str, str]:
     return names
 
 
-def is_argument_port(port: str) -> bool:
-    return port not in COMMON_ATTRIBUTES and port not in OPTIONS
-
-
 def request_from_ports(descriptor: BehaviorDescriptor, ports: Mapping[str, str],
                        blackboard: Mapping[str, Any] | None = None,
                        skip: tuple[str, ...] = ()) -> tuple[dict[str, Any], dict[str, Any]]:

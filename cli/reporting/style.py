@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import io
 import math
-import re
 from pathlib import Path
 
 from aeroexec.extras import require
@@ -72,6 +71,3 @@ def span_limits(low: float, high: float, min_span: float, floor: float | None = 
     return low, high
 
 
-def svg_ids(svg: str) -> set[str]:
-    """The ids an SVG defines (two images in one page must not share one)."""
-    return set(re.findall(r'\bid="([^"]+)"', svg))

@@ -64,18 +64,6 @@ def _point(value: Any) -> Point:
     return (x, y, z)
 
 
-def plan_route(context: BehaviorContext, destination: Any, start: Any = None) -> tuple[list[Point], str]:
-    """Waypoints from ``start`` (the drone's position by default; excluded) to ``destination`` avoiding the
-    context's obstacles with the planning margin, and a sentence saying what was found; ``[]`` when no path exists.
-
-    Without an obstacle map the route is the straight line ``[destination]``. This plans on the calling thread;
-    behaviors use :class:`RouteRequest`, which leaves grid searches to the planning worker.
-    """
-    request = RouteRequest(context, destination, start)
-    request.submit(inline=True)
-    return request.answer(context.now())  # type: ignore[return-value]
-
-
 class RouteRequest:
     """A route asked of the path planner. What a few distance queries decide is answered at once (no map, a clear
     straight line, a destination out of bounds or too near an obstacle); a grid search goes to the engine's planning
@@ -107,11 +95,11 @@ class RouteRequest:
         """A grid search is needed (or under way)."""
         return self._answer is None
 
-    def submit(self, inline: bool = False) -> None:
-        """Start the search on the planning worker (on this thread with ``inline`` or when the context has none)."""
+    def submit(self) -> None:
+        """Start the search on the planning worker (on this thread when the context has none)."""
         if self._answer is not None or self._job is not None:
             return
-        worker = None if inline else getattr(self.context, "planning", None)
+        worker = getattr(self.context, "planning", None)
         planner, start, destination = self.planner, self.start, self.destination
         if worker is None:
             self._answer = self._described(planner.plan(start, destination), planner.reason)

@@ -37,11 +37,6 @@ class ExplorationSettings:
         return max(0.1, self.footprint * (1.0 - self.overlap))
 
 
-def footprint_width(hfov_degrees: float, height: float) -> float:
-    """Ground width (m) a downward camera of horizontal field of view ``hfov_degrees`` sees from ``height`` m."""
-    return 2.0 * max(height, 0.0) * math.tan(math.radians(hfov_degrees) / 2.0)
-
-
 def region_key(region: Sequence[Sequence[float]]) -> tuple[Point, ...]:
     """A hashable name for a region (its corners rounded to the centimeter)."""
     return tuple((round(float(p[0]), 2), round(float(p[1]), 2), round(float(p[2]), 2)) for p in region)

@@ -32,12 +32,6 @@ class ObstacleMap(Protocol):
     def distance_to_obstacle(self, point: Point) -> float: ...
 
 
-class VectorObstacleMap(ObstacleMap, Protocol):
-    """A map that also answers many distances at once (an (N, 3) array in, an (N,) array out)."""
-
-    def distances_to_obstacle(self, points: Any) -> Any: ...
-
-
 @dataclass(frozen=True)
 class PlannerSettings:
     """``resolution``: grid cell (m); ``margin``: clearance to obstacles (drone radius + safety, m);

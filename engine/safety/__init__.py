@@ -1,8 +1,16 @@
 """Runtime assurance: the operator's safety rules watched every tick (monitors), the contingencies they take, the
-predicates computed from the vehicle model (``battery_to_home``...), and the checks a rule allows before flight."""
+predicates computed from the vehicle model (``battery_to_home``...), and the checks a rule allows before flight.
 
-from aeroexec.drones.vehicle import VehicleModel
-from aeroexec.engine.safety.monitor import SafetyMonitor
-from aeroexec.engine.safety.predicates import SafetyPredicates
+Each name is imported from its module when first used (``aeroexec.lazy``).
+"""
 
-__all__ = ["SafetyMonitor", "SafetyPredicates", "VehicleModel"]
+from typing import TYPE_CHECKING
+
+from aeroexec.lazy import lazy_names
+
+__all__ = ["SafetyMonitor", "SafetyPredicates"]
+__getattr__ = lazy_names(__name__, {"SafetyMonitor": "monitor", "SafetyPredicates": "predicates"})
+
+if TYPE_CHECKING:
+    from aeroexec.engine.safety.monitor import SafetyMonitor
+    from aeroexec.engine.safety.predicates import SafetyPredicates

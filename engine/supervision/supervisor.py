@@ -431,17 +431,3 @@ def start_landing(engine: Any, reason: str) -> str:
     return "landing" if result.accepted else f"cannot land: {result.message}"
 
 
-def land_if_flying(engine: Any, timeout: float = LANDING_TIMEOUT,
-                   reason: str = "the mission ended with the drone in the air") -> bool:
-    """Land the drone if it is in the air (or finish a landing under way), running the engine loop until LAND
-    ends or ``timeout`` engine seconds pass; call it from the thread that drives the loop, after the mission.
-    True when the drone is on the ground."""
-    if not is_flying(engine) and not engine.coordinator.is_active(LAND_BEHAVIOR):
-        return True
-    engine.bridge.close()
-    start_landing(engine, reason)
-    if engine.coordinator.is_active(LAND_BEHAVIOR):
-        engine.run_until(lambda: not engine.coordinator.is_active(LAND_BEHAVIOR), timeout)
-    elif engine.drone.telemetry().landed_state is LandedState.LANDING:  # landing on its own: wait for touchdown
-        engine.run_until(lambda: not is_flying(engine), timeout)
-    return not is_flying(engine)

@@ -10,16 +10,26 @@ in runs), ``reader.py`` (:class:`Journal`: questions over it, and the event log'
 interrupted run goes on from), ``identity.py`` (the run, folder and files a journal belongs to, checked before a
 resume), ``rejoin.py`` (the drone put back where the mission left it), ``resumption.py`` (a flight set up from a
 resume point).
+
+Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from __future__ import annotations
+from typing import TYPE_CHECKING
 
-from aeroexec.flight.journal.agreement import disagreements
-from aeroexec.flight.journal.reader import Journal, is_journal, read_records
-from aeroexec.flight.journal.resume_point import ResumePoint, resume_point, resume_spec
-from aeroexec.flight.journal.resumption import RejoinFailed, Resumption, open_journal
-from aeroexec.flight.journal.schema import NAME, JournalError
-from aeroexec.flight.journal.writer import JournalWriter
+from aeroexec.lazy import lazy_names
 
-__all__ = ["NAME", "Journal", "JournalError", "JournalWriter", "RejoinFailed", "ResumePoint", "Resumption",
-           "disagreements", "is_journal", "open_journal", "read_records", "resume_point", "resume_spec"]
+__all__ = ["Journal", "JournalError", "JournalWriter", "NAME", "RejoinFailed", "ResumePoint", "Resumption",
+           "disagreements", "is_journal", "open_journal", "read_records", "resume_spec"]
+__getattr__ = lazy_names(__name__, {"disagreements": "agreement", "Journal": "reader", "is_journal": "reader",
+                                    "read_records": "reader", "ResumePoint": "resume_point",
+                                    "resume_spec": "resume_point", "RejoinFailed": "resumption",
+                                    "Resumption": "resumption", "open_journal": "resumption", "JournalError": "schema",
+                                    "NAME": "schema", "JournalWriter": "writer"})
+
+if TYPE_CHECKING:
+    from aeroexec.flight.journal.agreement import disagreements
+    from aeroexec.flight.journal.reader import Journal, is_journal, read_records
+    from aeroexec.flight.journal.resume_point import ResumePoint, resume_spec
+    from aeroexec.flight.journal.resumption import RejoinFailed, Resumption, open_journal
+    from aeroexec.flight.journal.schema import NAME, JournalError
+    from aeroexec.flight.journal.writer import JournalWriter

@@ -5,5 +5,3 @@ rosbag2's ``ros2msg`` definitions, aeroexec's own records as JSON), from a finis
 which records go where, as which message), ``recorder.py`` (records in, encoded messages out to sinks),
 ``mcap_file.py`` (the MCAP sink), ``export.py`` (a finished run's folder recorded). Needs the ``ros`` extra.
 """
-
-from __future__ import annotations

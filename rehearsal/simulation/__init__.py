@@ -2,22 +2,36 @@
 trees, Python missions, plans), the operator's commands at random simulated times, faults (link drops, kill -9
 then --resume, SIGTERM, SIGHUP, a full or slow disk), rules and safety rules — flown in the simulator on its clock
 and judged after each by the invariants every run must keep (``invariants.py``); a failing case is replayed from
-its seed with one command and shrunk."""
+its seed with one command and shrunk.
 
-from aeroexec.rehearsal.simulation.cases import GATED, Action, Case, Fault, draw
-from aeroexec.rehearsal.simulation.invariants import INVARIANTS, MEMORY_BOUND, STEP_BOUND, Violation, check
-from aeroexec.rehearsal.simulation.running import (
-    CaseResult,
-    Figures,
-    figures,
-    judge,
-    replay_command,
-    run_campaign,
-    run_case,
-    shrink,
-    timed_campaign,
-)
+Each name is imported from its module when first used (``aeroexec.lazy``).
+"""
 
-__all__ = ["GATED", "INVARIANTS", "MEMORY_BOUND", "STEP_BOUND", "Action", "Case", "CaseResult", "Fault", "Figures",
+from typing import TYPE_CHECKING
+
+from aeroexec.lazy import lazy_names
+
+__all__ = ["Action", "Case", "CaseResult", "Fault", "Figures", "GATED", "INVARIANTS", "MEMORY_BOUND", "STEP_BOUND",
            "Violation", "check", "draw", "figures", "judge", "replay_command", "run_campaign", "run_case", "shrink",
            "timed_campaign"]
+__getattr__ = lazy_names(__name__, {"Action": "cases", "Case": "cases", "Fault": "cases", "GATED": "cases",
+                                    "draw": "cases", "INVARIANTS": "invariants", "MEMORY_BOUND": "invariants",
+                                    "STEP_BOUND": "invariants", "Violation": "invariants", "check": "invariants",
+                                    "CaseResult": "running", "Figures": "running", "figures": "running",
+                                    "judge": "running", "replay_command": "running", "run_campaign": "running",
+                                    "run_case": "running", "shrink": "running", "timed_campaign": "running"})
+
+if TYPE_CHECKING:
+    from aeroexec.rehearsal.simulation.cases import GATED, Action, Case, Fault, draw
+    from aeroexec.rehearsal.simulation.invariants import INVARIANTS, MEMORY_BOUND, STEP_BOUND, Violation, check
+    from aeroexec.rehearsal.simulation.running import (
+        CaseResult,
+        Figures,
+        figures,
+        judge,
+        replay_command,
+        run_campaign,
+        run_case,
+        shrink,
+        timed_campaign,
+    )

@@ -1,25 +1,26 @@
-"""Import paths of 0.1 keep working for one release, with a DeprecationWarning naming the new place."""
+"""The import paths of 0.1 forwarded for one release (0.2) are gone in 0.3: an old path is an ImportError naming
+it, never a module that warns, and the version says the release."""
 
 import importlib
-import sys
+import tomllib
+from pathlib import Path
 
 import pytest
 
-from aeroexec._moved import MOVED
+import aeroexec
+
+ROOT = Path(__file__).resolve().parents[2]
+OLD = ["aeroexec.engine.specialist", "aeroexec.engine.coordinator", "aeroexec.engine.mission_bridge",
+       "aeroexec.engine.supervision.flight_log", "aeroexec.drones.sim.mavlink_vehicle"]
 
 
-@pytest.mark.parametrize("old", sorted(MOVED))
-def test_an_old_path_forwards_to_the_new_module_with_a_warning(old):
-    sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=MOVED[old].replace(".", r"\.")):
-        module = importlib.import_module(old)
-    new = importlib.import_module(MOVED[old])
-    public = [n for n in vars(new) if not n.startswith("_")]
-    assert public and all(getattr(module, n) is getattr(new, n) for n in public)
+@pytest.mark.parametrize("old", OLD)
+def test_an_old_path_is_an_import_error_naming_it(old):
+    with pytest.raises(ModuleNotFoundError, match=old.replace(".", r"\.")):
+        importlib.import_module(old)
 
 
-def test_the_readme_specialist_import_of_0_1_still_works():
-    sys.modules.pop("aeroexec.engine.specialist", None)
-    with pytest.warns(DeprecationWarning):
-        from aeroexec.engine.specialist import BehaviorSpecialist
-    assert BehaviorSpecialist().check_sequence(["TAKE_OFF", "LAND", "LAND"])
+def test_the_version_is_the_release_without_the_old_paths():
+    declared = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    assert aeroexec.__version__ == declared
+    assert tuple(int(part) for part in declared.split(".")[:2]) >= (0, 3)

@@ -15,7 +15,6 @@ from aeroexec.drones.sim import SimulatedDrone, default_world
 from aeroexec.engine.behaviors.communication import describe_tasks
 from aeroexec.engine.engine import Engine
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.messages import MessageBus
 from aeroexec.engine.supervision.operator import (
     ConsoleOperator,
     LoggingOperator,
@@ -23,6 +22,7 @@ from aeroexec.engine.supervision.operator import (
     ScriptedOperator,
     make_operator,
 )
+from message_bus import MessageBus
 from patience import hang_guard
 
 ROOT = Path(__file__).parents[2]

@@ -196,7 +196,8 @@ def _control(path: Path) -> list[str]:
 def _journal(path: Path) -> list[str]:
     """A run's flight journal read as ``aeroexec journal`` and ``run --resume`` read it: answered, or refused
     naming the file (a damaged one too)."""
-    from aeroexec.flight.journal import Journal, JournalError, resume_point
+    from aeroexec.flight.journal import Journal, JournalError
+    from aeroexec.flight.journal.resume_point import resume_point
 
     try:
         with Journal(path) as journal:

@@ -8,7 +8,8 @@ import math
 
 import pytest
 from aeroexec.drones.sim import SimConfig, SimulatedDrone, default_world
-from aeroexec.flight.journal import Journal, JournalError, resume_point
+from aeroexec.flight.journal import Journal, JournalError
+from aeroexec.flight.journal.resume_point import resume_point
 from aeroexec.flight.run_status import SUSPENDED
 from journeys import MISSIONS, achieved, active, final_state, fly, fly_until, photos, resume, same_goals, spec
 

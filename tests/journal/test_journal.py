@@ -10,7 +10,8 @@ import time
 import pytest
 from aeroexec.cli.main import main
 from aeroexec.flight.flight_log import read_flight_log
-from aeroexec.flight.journal import Journal, JournalError, read_records, resume_point
+from aeroexec.flight.journal import Journal, JournalError, read_records
+from aeroexec.flight.journal.resume_point import resume_point
 from aeroexec.flight.journal.writer import MOTION
 from aeroexec.flight.replay import replay_of
 from aeroexec.flight.summary import summarize

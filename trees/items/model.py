@@ -74,12 +74,6 @@ REFUSED = {
 }
 
 
-def command_name(command: int) -> str:
-    """``NAV_WAYPOINT (16)`` style: the name QGroundControl and Mission Planner show, with its number."""
-    name = COMMANDS.get(command)
-    return f"{name} ({command})" if name else f"MAV_CMD {command}"
-
-
 def number(value: object) -> float:
     """A JSON or text parameter as a float; NaN for null and anything that is no finite number."""
     if isinstance(value, bool) or not isinstance(value, int | float):

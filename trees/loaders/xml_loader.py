@@ -32,7 +32,6 @@ import os
 import re
 import xml.sax
 from dataclasses import dataclass, field
-from pathlib import Path
 from xml.sax.xmlreader import InputSource
 
 import defusedxml.sax
@@ -358,10 +357,3 @@ def read_xml(data: bytes | str, file: str = "<xml>") -> TreeDocument:
     return TreeDocument(reader.trees, main, file, lines, reader.warnings, reader.not_portable)
 
 
-def load_xml(path: str | Path) -> TreeDocument:
-    """A mission from a BehaviorTree.CPP v4 XML file."""
-    try:
-        data = read_bytes(path)
-    except InputError as exc:
-        raise TreeFormatError([(exc.file, exc.line, exc.message)]) from None
-    return read_xml(data, str(path))

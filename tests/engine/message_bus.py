@@ -1,4 +1,5 @@
-"""The message bus of a run with several drones in one process: what one broadcasts, the others believe.
+"""A message bus between engines of one test process (the engine's ``bus``, as a fleet link is one in flight): what
+one broadcasts, the others believe. Drones of a run exchange messages over their fleet link (``aeroexec.fleet``).
 
 Each engine joins under a name with its belief memory (and event log); ``broadcast(sender, text)`` gives every
 other member the belief ``message(Sender, Text)`` (multi-valued) and a ``message_received`` event.
