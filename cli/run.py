@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
-from aeroexec.cli.verify import add_home_argument
+from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
 from aeroexec.cli.views.live import LiveConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
@@ -101,6 +101,7 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                                                         "against it (default: the robot kind's, an open field "
                                                         "around a plan or waypoint file, else the built-in one)")
     add_home_argument(parser)
+    add_vehicle_argument(parser)
     add_pacing_arguments(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--log", metavar="FILE",
@@ -175,7 +176,8 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                           credentials=args.credentials, trust=trust_arguments(getattr(args, "trust", None) or []))
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
-                      home=args.home, catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
+                      home=args.home, catalog=args.catalog, vehicle=getattr(args, "vehicle", None),
+                      rules=tuple(args.rules), library=tuple(args.library),
                       processes=tuple(args.processes), safety_rules=tuple(args.safety_rules),
                       updaters=tuple(args.updater), speed=args.speed or paced, seed=args.seed, max_time=args.max_time,
                       output=args.output, log=args.log, answers=args.answers,

@@ -38,6 +38,7 @@ from aeroexec.flight.robot import (
     make_engine,
     make_robot,
     robot_choice,
+    vehicle_config,
     with_rule_files,
 )
 from aeroexec.flight.run_status import FAILED, FlightOutcome, flight_status, record_run_status
@@ -67,6 +68,7 @@ class FlightSession:
         self.fleet_node = fleet_node  # a fleet's node in this process (the drone's link joins it)
         self.folder: Path | None = None
         self.catalog: BehaviorCatalog | None = None
+        self.vehicle: Any = None  # the SimConfig of the --vehicle profile (None: the simulated multicopter's)
         self.mission: Callable[[], Any] | TreeDocument | None = None
         self.engine: Engine | None = None
         self.tree: Any = None  # the TreeMission of a tree mission
@@ -129,15 +131,19 @@ class FlightSession:
                                     mission=Path(spec.mission), home=spec.home)  # a plan's open field, --home
         if self.control is not None:
             self.control.starting = "checking its mission"
+        self.vehicle = vehicle_config(spec.vehicle)  # --vehicle: the route, the simulator and the safety rules
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
-                                    verb="fly" if choice.kind is None else "run")  # a rover does not fly
+                                    verb="fly" if choice.kind is None else "run",  # a rover does not fly
+                                    vehicle=self.vehicle, max_time=spec.max_time)
         if self.resumption is not None and not isinstance(self.mission, TreeDocument):
             self.resumption.check_program(Path(spec.mission))
-        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
+        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report,
+                                       self.vehicle)
         if self.robot is None:
             if self.control is not None:
                 self.control.starting = "waiting for its vehicle"
-            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set, start)
+            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set, start,
+                                               self.vehicle)
             if self.resumption is not None:
                 self.resumption.place(self.robot)
         else:
@@ -208,7 +214,7 @@ class FlightSession:
         if self.operator is None:
             self.operator = flight_operator(spec)
         return make_engine(spec, choice, self.robot, catalog=self.catalog, clock=self.clock, world=self.world,
-                           operator=self.operator, folder=self.folder)
+                           operator=self.operator, folder=self.folder, vehicle=self.vehicle)
 
     def _open_journal(self, meta: dict[str, Any], files: list[FlightFile]) -> None:
         """The flight journal: a new one (``files``: those that shaped the flight, with their digests), or the
@@ -315,8 +321,17 @@ class FlightSession:
         self.engine.bridge.close()
 
     def time_limit(self) -> None:
-        """The mission ran out of time: say so, and halt it."""
-        self.engine.log.record("engine_time_limit", detail=f"{self.spec.max_time:g} s of engine time have passed")
+        """The mission ran out of time: say so, and halt it. A tree that patrols for ever (a Repeat of
+        num_cycles -1: DO_JUMP -1) is suspended by it (the way such a mission is meant to stop: exit 5, and
+        ``--resume`` patrols on); any other mission failed to finish in time."""
+        patrol = _patrol(self.tree.document if self.tree is not None else None)
+        if patrol is not None:
+            self.engine.log.record("mission_suspended", detail=f"the time limit (--max-time {self.spec.max_time:g} "
+                                                               f"s) stopped the patrol that repeats for ever: "
+                                                               f"{patrol}", time_limit=self.spec.max_time)
+        else:
+            self.engine.log.record("engine_time_limit",
+                                   detail=f"{self.spec.max_time:g} s of engine time have passed")
         self.halt_mission("time limit")
 
     def interrupted(self, how: str = "Ctrl-C") -> None:
@@ -453,6 +468,19 @@ class FlightSession:
                 _quietly(part.close)
         if self.robot is not None:
             _quietly(self.robot.close)
+
+
+def _patrol(document: Any) -> str | None:
+    """The name of a tree's Repeat for ever (a patrol: num_cycles -1), None when it has none."""
+    if document is None:
+        return None
+    stack = [document.root]
+    while stack:
+        node = stack.pop()
+        if node.type == "Repeat" and node.ports.get("num_cycles", "").strip() == "-1":
+            return node.name
+        stack.extend(node.children)
+    return None
 
 
 def _quietly(close: Callable[[], Any]) -> None:

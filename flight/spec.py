@@ -46,6 +46,7 @@ class FlightSpec:
     world: str | None = None  # the world file (None: the robot kind's, else the built-in field)
     home: tuple[float, float, float | None] | None = None  # --home LAT,LON[,ALT]: the world's home (take-off point)
     catalog: str | None = None  # the behavior catalog file (None: the robot kind's)
+    vehicle: str | None = None  # the vehicle profile file (``--vehicle``; None: the simulated multicopter's figures)
     library: tuple[str, ...] = ()  # behavior providers ``module:attribute``
     processes: tuple[str, ...] = ()  # capability process providers ``module:attribute``
     updaters: tuple[str, ...] = ()  # belief updater providers ``module:attribute``
