@@ -102,6 +102,13 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                                                         "around a plan or waypoint file, else the built-in one)")
     add_home_argument(parser)
     add_vehicle_argument(parser)
+    parser.add_argument("--event", action="append", default=[], metavar="TOPIC[=DATA]",
+                        help="an event given at launch: the belief event(TOPIC, DATA) (DATA empty without =), which "
+                             "Aerostack2's WaitForEvent TOPIC and a mission's queries see, as after aeroexec ctl add "
+                             "(repeatable), e.g. --event start=go")
+    parser.add_argument("--alert", action="append", default=[], metavar="TOPIC[=DATA]",
+                        help="an alert given at launch: the belief alert(TOPIC, DATA), which WaitForAlert TOPIC sees "
+                             "(repeatable)")
     add_pacing_arguments(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--log", metavar="FILE",
@@ -184,7 +191,33 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),
                       web=args.web, web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
                       ready_timeout=args.ready_timeout, fleet=fleet, mcap=getattr(args, "mcap", None),
-                      foxglove=getattr(args, "foxglove", None))
+                      foxglove=getattr(args, "foxglove", None), beliefs=launch_beliefs(args))
+
+
+def launch_beliefs(args: argparse.Namespace) -> tuple[str, ...]:
+    """``--event TOPIC[=DATA]`` and ``--alert TOPIC[=DATA]`` as the beliefs ``event(TOPIC, DATA)`` and
+    ``alert(TOPIC, DATA)`` (topic and data quoted: any text); FlightError (usage) naming one without a topic."""
+    from aeroexec.beliefs import BeliefError, parse_belief
+
+    beliefs = []
+    for kind in ("event", "alert"):
+        for word in getattr(args, kind, None) or ():
+            topic, _, data = word.partition("=")
+            topic = topic.strip().lstrip("/")
+            if not topic:
+                raise FlightError(f"--{kind} {word}: give TOPIC[=DATA], the topic its WaitFor{kind.title()} names, "
+                                  f"e.g. --{kind} start=go", usage=True)
+            text = f"{kind}({_quoted(topic)}, {_quoted(data.strip())})"
+            try:
+                parse_belief(text)
+            except (BeliefError, ValueError) as error:
+                raise FlightError(f"--{kind} {word}: {error}", usage=True) from None
+            beliefs.append(text)
+    return tuple(beliefs)
+
+
+def _quoted(text: str) -> str:
+    return "'" + text.replace("\\", "\\\\").replace("'", "\\'") + "'"
 
 
 def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:

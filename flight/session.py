@@ -259,6 +259,10 @@ class FlightSession:
         """Start the mission (a tree is ticked by the engine, a Python mission runs in its own thread)."""
         engine = self.engine
         self._mission_started_at = engine.now()
+        if self.resumption is None:  # --event, --alert: given at launch, as ``aeroexec ctl add`` gives them later
+            for belief in self.spec.beliefs:
+                said = engine.supervisor.execute("add", belief, origin="launch")
+                self.notify(f"at launch: {said.message}")
         if self.tree is not None and self.resumption is not None:
             self.resumption.start(self.journal, self._tree_rejoined)
         elif self.tree is not None:
@@ -321,13 +325,13 @@ class FlightSession:
         self.engine.bridge.close()
 
     def time_limit(self) -> None:
-        """The mission ran out of time: say so, and halt it. A tree that patrols for ever (a Repeat of
+        """The mission ran out of time: say so, and halt it. A tree that patrols forever (a Repeat of
         num_cycles -1: DO_JUMP -1) is suspended by it (the way such a mission is meant to stop: exit 5, and
         ``--resume`` patrols on); any other mission failed to finish in time."""
         patrol = _patrol(self.tree.document if self.tree is not None else None)
         if patrol is not None:
             self.engine.log.record("mission_suspended", detail=f"the time limit (--max-time {self.spec.max_time:g} "
-                                                               f"s) stopped the patrol that repeats for ever: "
+                                                               f"s) stopped the patrol that repeats forever: "
                                                                f"{patrol}", time_limit=self.spec.max_time)
         else:
             self.engine.log.record("engine_time_limit",
@@ -471,7 +475,7 @@ class FlightSession:
 
 
 def _patrol(document: Any) -> str | None:
-    """The name of a tree's Repeat for ever (a patrol: num_cycles -1), None when it has none."""
+    """The name of a tree's Repeat forever (a patrol: num_cycles -1), None when it has none."""
     if document is None:
         return None
     stack = [document.root]

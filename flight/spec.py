@@ -69,6 +69,7 @@ class FlightSpec:
     register: bool = True  # list the run in the user's runtime folder (``aeroexec ctl`` finds it)
     rules: tuple[str, ...] = ()  # rules files of the belief memory (derived beliefs)
     safety_rules: tuple[str, ...] = ()  # safety rules files (the catalog's and the mission's rules are watched too)
+    beliefs: tuple[str, ...] = ()  # beliefs the operator gives at launch (--event, --alert), added as it starts
     resume: bool = False  # go on with the interrupted run in ``output`` from where its journal says it stopped
     journal: bool = True  # keep the flight journal (journal.sqlite in the output folder)
 

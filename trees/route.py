@@ -47,11 +47,11 @@ class RouteEstimate:
     failsafe: float = 0.0
     hover_minutes: float = 0.0
     problems: list[MissionProblem] = field(default_factory=list)
-    forever: bool = False  # a Repeat for ever (DO_JUMP -1): the figures are of one round of it
+    forever: bool = False  # a Repeat forever (DO_JUMP -1): the figures are of one round of it
 
     def summary(self) -> str:
         minutes, seconds = divmod(round(self.duration), 60)
-        patrol = "a patrol repeated for ever, its first round: " if self.forever else ""
+        patrol = "a patrol repeated forever, its first round: " if self.forever else ""
         return (f"{patrol}route {self.length / 1000:.2f} km, {minutes} min {seconds:02d} s at the planned speeds; "
                 f"battery {max(self.battery, 0.0):.0f}% at landing (the vehicle's battery: {self.hover_minutes:g} "
                 f"min of hover on a full charge)")
@@ -146,7 +146,7 @@ class _Flight:
                 self.run(child)
         elif kind == "Repeat":
             cycles = self.number(node, "num_cycles", 1)
-            if cycles == -1:  # a patrol for ever: its route is one round, the time limit or the battery ends it
+            if cycles == -1:  # a patrol forever: its route is one round, the time limit or the battery ends it
                 self.estimate.forever = True
                 cycles = 1
             elif cycles < 0:

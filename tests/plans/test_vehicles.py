@@ -1,5 +1,5 @@
 """The vehicle a user flies: a profile (``--vehicle FILE``: endurance, speeds, rates, ceiling) used by verify's
-route, the simulator and the safety rules; and ArduPilot's patrol for ever (DO_JUMP repeat -1), flown until the
+route, the simulator and the safety rules; and ArduPilot's patrol forever (DO_JUMP repeat -1), flown until the
 mission is stopped."""
 
 from __future__ import annotations
@@ -93,13 +93,13 @@ def test_a_wrong_profile_is_refused_at_its_file_and_line(tmp_path, text, line, s
 def test_a_patrol_for_ever_verifies_with_a_warning_and_is_suspended_by_the_time_limit_landed(tmp_path):
     verified = aeroexec("verify", str(PATROL))
     assert verified.returncode == 0, verified.stdout
-    assert f"{PATROL}:7: warning: WRONG_SEQUENCE: item 5: DO_JUMP repeats items 1-4 for ever (repeat count -1): " \
+    assert f"{PATROL}:7: warning: WRONG_SEQUENCE: item 5: DO_JUMP repeats forever (repeat count -1) items 1-4: " \
            f"the drone patrols until the mission is stopped" in verified.stdout
-    assert "a patrol repeated for ever, its first round" in verified.stdout
+    assert "a patrol repeated forever, its first round" in verified.stdout
     run = aeroexec("run", str(PATROL), "--max-time", "900", "--quiet", "--output", str(tmp_path / "run"))
     assert run.returncode == 5, run.stderr[-2000:]  # suspended: not completed, and not a failure of the mission
     assert ": suspended at t=" in run.stderr
-    assert "the time limit (--max-time 900 s) stopped the patrol that repeats for ever" in run.stderr
+    assert "the time limit (--max-time 900 s) stopped the patrol that repeats forever" in run.stderr
     log = records(tmp_path / "run")
     rounds = [r for r in log if r["kind"] == "node_status" and r["data"]["node"] == "item 4 WAYPOINT"
               and r["data"]["new"] == "SUCCESS"]

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from aeroexec.trees.model import TreeNode
 
-FOREVER = -1  # DO_JUMP's repeat count for ever (ArduPilot's AP_MISSION_JUMP_REPEAT_FOREVER), Repeat's num_cycles
+FOREVER = -1  # DO_JUMP's repeat count forever (ArduPilot's AP_MISSION_JUMP_REPEAT_FOREVER), Repeat's num_cycles
 
 
 @dataclass
@@ -70,7 +70,7 @@ def _last(entry: Entry) -> int:
 
 def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
     """The entries with each jump's items folded into a block; ``problem(line, message[, severity])`` hears of jumps
-    that cannot be folded (forward, crossing another) and, as a warning, of one that repeats for ever."""
+    that cannot be folded (forward, crossing another) and, as a warning, of one that repeats forever."""
     entries = list(entries)
     while True:
         k = next((i for i, e in enumerate(entries) if isinstance(e, Jump)), None)
@@ -80,7 +80,7 @@ def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
         del entries[k]
         if jump.repeat < FOREVER:
             problem(jump.line, f"item {jump.seq}: DO_JUMP repeat count {jump.repeat}: a count is a number of "
-                               f"repeats, or -1 for ever")
+                               f"repeats, or -1 forever")
             continue
         if jump.target >= jump.seq:
             problem(jump.line, f"item {jump.seq}: DO_JUMP to item {jump.target}, which is not before it: aeroexec "
@@ -98,8 +98,8 @@ def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
             continue
         inner = entries[t:k]
         if jump.repeat == FOREVER:  # ArduPilot's patrol: until the mission is stopped
-            problem(jump.line, f"item {jump.seq}: DO_JUMP repeats items {jump.target}-{jump.seq - 1} for ever "
-                               f"(repeat count -1): the drone patrols until the mission is stopped (aeroexec ctl "
+            problem(jump.line, f"item {jump.seq}: DO_JUMP repeats forever (repeat count -1) items "
+                               f"{jump.target}-{jump.seq - 1}: the drone patrols until the mission is stopped (aeroexec ctl "
                                f"abort or suspend, the time limit --max-time, a safety rule such as low battery); "
                                f"the items after it never fly", "warning")
         block = _Block(inner, jump.repeat + 1 if jump.repeat != FOREVER else FOREVER, jump, _first(inner[0]),
@@ -122,7 +122,7 @@ def build(entries: list[Entry], file: str) -> list[TreeNode]:
         elif isinstance(entry, _Block):
             body = build(entry.entries, file)
             if body:
-                times = "for ever" if entry.cycles == FOREVER else f"{entry.cycles} times"
+                times = "forever" if entry.cycles == FOREVER else f"{entry.cycles} times"
                 name = f"items {entry.first}-{entry.last - 1} {times} (DO_JUMP item {entry.last})"
                 nodes.append(TreeNode("Repeat", name, {"num_cycles": str(entry.cycles)},
                                       [_sequence(f"items {entry.first}-{entry.last - 1}", body, file,
