@@ -100,7 +100,8 @@ def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
         if jump.repeat == FOREVER:  # ArduPilot's patrol: until the mission is stopped
             problem(jump.line, f"item {jump.seq}: DO_JUMP repeats forever (repeat count -1) items "
                                f"{jump.target}-{jump.seq - 1}: the drone patrols until the mission is stopped "
-                               f"(aeroexec ctl abort or suspend, the time limit --max-time, a safety rule such as low battery); "
+                               f"(aeroexec ctl abort or suspend, the time limit --max-time, a safety rule such as low "
+                               f"battery); "
                                f"the items after it never fly", "warning")
         block = _Block(inner, jump.repeat + 1 if jump.repeat != FOREVER else FOREVER, jump, _first(inner[0]),
                        jump.seq)
