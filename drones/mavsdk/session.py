@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import contextlib
+import json
 import logging
 import math
 import threading
@@ -22,6 +23,7 @@ from aeroexec.drones.interface import CommandHandle, Failure
 from aeroexec.drones.mavsdk.connection import (
     TelemetryRates,
     check_url,
+    copter_mode_of,
     flight_mode_name,
     forward_native_log,
     landed_state,
@@ -53,6 +55,7 @@ class MavsdkSession:
         self.link_timeout = link_timeout
         self.error: str | None = None  # why the connection could not be opened
         self.ardupilot = False
+        self.system_id = 1  # the autopilot's MAVLink system id, once found
         self.action: ActionAsync | None = None
         self.telemetry: TelemetryAsync | None = None
         self.offboard: OffboardAsync | None = None
@@ -246,6 +249,7 @@ class MavsdkSession:
         while system is None:
             system = await mavsdk.first_autopilot(timeout_s=1.0)
         self.ardupilot = (await system.autopilot_type()).name == "ARDUPILOT"
+        self.system_id = int(await system.get_system_id())
         self.action, self.telemetry, self.offboard = ActionAsync(system), TelemetryAsync(system), OffboardAsync(system)
         self.direct = MavlinkDirectAsync(system)
         logger.info("autopilot found on %s (%s)", self.url, "ArduPilot" if self.ardupilot else "PX4 or other")
@@ -275,6 +279,14 @@ class MavsdkSession:
             h = g.horizontal_uncertainty_m
             cache.set(position_accuracy=round(float(h), 2) if math.isfinite(h) and 0 < h < 1e4 else None)
 
+        def heartbeat(message):
+            try:
+                mode = copter_mode_of(json.loads(message.fields_json or "{}"))
+            except (ValueError, TypeError):
+                return
+            if mode is not None:
+                cache.set(flight_mode=mode)
+
         def health(h):
             cache.set(
                 armable=h.is_armable, global_position_ok=h.is_global_position_ok, home_position_ok=h.is_home_position_ok
@@ -294,6 +306,8 @@ class MavsdkSession:
             (telemetry.subscribe_battery(), battery),
             (telemetry.subscribe_armed(), lambda armed: cache.set(armed=armed)),
             (telemetry.subscribe_landed_state(), lambda s: cache.set(landed_state=landed_state(s))),
+            # an ArduPilot's mode from its heartbeat (MAVSDK says HOLD for both BRAKE and LOITER)
+            (self.direct.subscribe_message("HEARTBEAT"), heartbeat) if ardupilot else
             (telemetry.subscribe_flight_mode(), lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))),
             (telemetry.subscribe_health(), health),
             (telemetry.subscribe_raw_gps(), accuracy),

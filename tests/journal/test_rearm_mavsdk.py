@@ -1,0 +1,83 @@
+"""Arming again on a MAVLink vehicle through MAVSDK (``aeroexec sim``'s drone as PX4 and as ArduPilot): after a
+landing an ArduCopter stays in LAND, and MAVSDK's arm would switch it to Hold, which is BRAKE, where ArduCopter
+refuses to arm (``Arm: Brake mode not armable``); aeroexec sets GUIDED first, so a second run on the same vehicle and
+a battery-swap resume take off and fly again. Holds are in LOITER, the mode docs/real-vehicles.md names."""
+
+from __future__ import annotations
+
+import pytest
+from aeroexec.drones.interface import LandedState
+from aeroexec.drones.sim import SimulatedDrone
+from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
+from aeroexec.flight.ending import end_flight
+from aeroexec.flight.run_status import SUSPENDED
+from free_ports import free_udp_port
+from journeys import MISSIONS, achieved, active, fly, fly_until, resume, spec
+
+pytestmark = pytest.mark.mavsdk
+
+SPEED = 6.0  # simulated seconds per wall second
+
+
+@pytest.fixture(params=["px4", "ardupilot"])
+def vehicle(request):
+    port = free_udp_port()
+    simulated = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED,
+                               autopilot=request.param)
+    simulated.start()
+    try:
+        yield simulated, f"mavsdk:udpin://127.0.0.1:{port}"
+    finally:
+        simulated.stop()
+
+
+def test_a_second_run_on_the_same_vehicle_arms_takes_off_and_completes(vehicle, tmp_path):
+    simulated, drone = vehicle
+    for n in (1, 2):
+        session, outcome = fly(spec(MISSIONS / "figure10.py", tmp_path / f"run{n}", drone=drone, ready_timeout=60.0))
+        assert outcome.exit_status == 0, (n, outcome.status, outcome.faults)
+        assert [b for b, _ in achieved(tmp_path / f"run{n}")] == ["TAKE_OFF", "GO_TO_POINT", "GO_TO_POINT", "LAND"]
+        end = simulated.telemetry()
+        assert end.landed_state == LandedState.ON_GROUND and not end.armed
+        if simulated.copter is not None:
+            assert simulated.copter.mode == "LAND"  # where ArduCopter stays after a landing: not armable
+
+
+def test_a_battery_swap_resume_arms_and_flies_again(vehicle, tmp_path):
+    simulated, drone = vehicle
+    folder = tmp_path / "run"
+    run = fly_until(spec(MISSIONS / "figure10.py", folder, drone=drone, ready_timeout=60.0),
+                    active("GO_TO_POINT", 0.5))
+    ticket = run.engine.supervisor.submit("suspend", origin="ctl")
+    if not run.engine.run_until(lambda: run.mission_done, 600):
+        run.time_limit()
+    outcome = run.finish(end_flight(run.engine, link_grace=run.spec.link_grace))
+    assert ticket.result.ok and outcome.exit_status == 5 and outcome.status.word == SUSPENDED
+    landed = simulated.telemetry()
+    assert landed.landed_state == LandedState.ON_GROUND and not landed.armed  # the swap happens on the ground
+    session, outcome = resume(folder, ready_timeout=60.0)
+    assert outcome.exit_status == 0, (outcome.status, outcome.faults)
+    rejoin = [e.behavior for e in session.engine.log.events() if e.kind == "GOAL_ACHIEVED"
+              and e.data.get("source") == "resume"]
+    assert rejoin[:1] == ["TAKE_OFF"]  # it armed and took off again
+    assert [b for b, _ in achieved(folder)][-1] == "LAND"
+
+
+def test_an_ardupilot_holds_in_loiter_as_the_docs_say(tmp_path):
+    from aeroexec.drones.mavsdk import MavsdkDrone
+
+    port = free_udp_port()
+    simulated = MavlinkVehicle(SimulatedDrone(), connect=f"udpout://127.0.0.1:{port}", speed=SPEED,
+                               autopilot="ardupilot")
+    simulated.start()
+    drone = MavsdkDrone(f"udpin://127.0.0.1:{port}", ready_timeout=60.0)
+    try:
+        assert drone.wait_ready(60.0), drone.not_ready_because()
+        assert drone.takeoff(3.0).wait(60.0)
+        hold = drone.hold()
+        assert hold.wait(60.0) and hold.ok, hold
+        assert simulated.copter.mode == "LOITER"  # not BRAKE, MAVSDK's own hold on ArduCopter
+        assert drone.telemetry().flight_mode == "LOITER"
+    finally:
+        drone.close()
+        simulated.stop()
