@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from aeroexec.drones.interface import CAMERA_NONE
 from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
 from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine  # loaded with the session, before the run lists itself as starting
@@ -48,6 +49,8 @@ from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
 
 logger = logging.getLogger(__name__)
+
+CAMERA_WAIT = 3.0  # s (wall) a vehicle's camera may take to be heard (its heartbeat comes once a second)
 
 
 class FlightSession:
@@ -146,6 +149,7 @@ class FlightSession:
                                                self.vehicle)
             if self.resumption is not None:
                 self.resumption.place(self.robot)
+            self._check_camera()
         else:
             simulated = True
         if self._cancel.is_set():
@@ -206,6 +210,24 @@ class FlightSession:
             self._surfaces.add(serve_console({spec.robot: self.engine}, self.world,
                                              {spec.robot: None if self.tree is not None else spec.mission},
                                              port=spec.web, host=spec.web_host, notify=self.notify))
+
+    def _check_camera(self) -> None:
+        """A vehicle without a camera and a mission that takes photos: a warning before flight (the photos are
+        skipped, each behavior says so in the event log)."""
+        if not isinstance(self.mission, TreeDocument) or not callable(getattr(self.robot, "camera", None)):
+            return
+        photos = _photo_nodes(self.mission)
+        if not photos or self.robot.camera() != CAMERA_NONE:
+            return
+        wait = getattr(self.robot, "wait_camera", None)
+        if callable(wait) and wait(CAMERA_WAIT):  # a camera's heartbeat comes once a second
+            return
+        first = photos[0]
+        count = len(photos)
+        self.report(Problem("warning", f"the vehicle has no camera: the mission's {count} photo "
+                                       f"behavior{'s' if count != 1 else ''} (TAKE_PHOTO, TRIGGER_CAMERA) skip their "
+                                       f"photos, said in the event log (photo_skipped), and the mission goes on",
+                            first.file or str(self.spec.mission), first.line))
 
     def _engine(self, choice: RobotChoice, simulated: bool, start: float = 0.0) -> Engine:
         spec = self.spec
@@ -472,6 +494,17 @@ class FlightSession:
                 _quietly(part.close)
         if self.robot is not None:
             _quietly(self.robot.close)
+
+
+def _photo_nodes(document: Any) -> list[Any]:
+    """A tree's photo behaviors (TAKE_PHOTO, TRIGGER_CAMERA), in order."""
+    found, stack = [], [document.root]
+    while stack:
+        node = stack.pop()
+        if node.type in ("TAKE_PHOTO", "TRIGGER_CAMERA"):
+            found.append(node)
+        stack.extend(reversed(node.children))
+    return found
 
 
 def _patrol(document: Any) -> str | None:

@@ -13,7 +13,16 @@ import math
 import threading
 import time
 
-from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure, Telemetry, Vector
+from aeroexec.drones.interface import (
+    CAMERA_NONE,
+    CAMERA_VEHICLE,
+    CommandHandle,
+    Drone,
+    DroneEvent,
+    Failure,
+    Telemetry,
+    Vector,
+)
 from aeroexec.drones.mavsdk.connection import COPTER_MODE_NUMBERS, TelemetryRates
 from aeroexec.drones.mavsdk.errors import AdapterError
 from aeroexec.drones.mavsdk.frames import enu_to_geodetic, enu_to_ned, yaw_to_heading
@@ -31,6 +40,7 @@ ARDUCOPTER_ARMS_IN = ("GUIDED", "LOITER")
 #: The mode an ArduCopter holds in (docs/real-vehicles.md): MAVSDK's hold would put it in BRAKE.
 ARDUCOPTER_HOLD = "LOITER"
 _DO_SET_MODE = 176  # MAV_CMD_DO_SET_MODE
+_IMAGE_START_CAPTURE = 2000  # MAV_CMD_IMAGE_START_CAPTURE
 _CUSTOM_MODE_ENABLED = 1  # MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
 
 
@@ -68,6 +78,7 @@ class MavsdkDrone(Drone):
         self._session = MavsdkSession(url, clock=self._now, rates=rates or TelemetryRates(), link_timeout=link_timeout)
         self._yaw_task: asyncio.Task | None = None
         self._offboard = False  # we started offboard control and stream velocity setpoints
+        self._photos = 0  # photos asked of the vehicle's camera
         self._session.start()
 
     # --- state -------------------------------------------------------------------------------------
@@ -149,6 +160,44 @@ class MavsdkDrone(Drone):
             await s.call(s.action.takeoff())
 
         return self._submit("takeoff", body, self.ready_timeout + self.command_timeout)
+
+    def camera(self) -> str:
+        """The vehicle's camera (a MAVLink camera component heard on the link: PX4's, ArduPilot's, ``aeroexec sim
+        --camera``), else none."""
+        return CAMERA_VEHICLE if self._session.cache.camera_component is not None else CAMERA_NONE
+
+    def wait_camera(self, timeout: float) -> bool:
+        """Block until the vehicle's camera has been heard (its heartbeat comes once a second), False on timeout."""
+        deadline = time.monotonic() + timeout
+        while self._session.cache.camera_component is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        return self._session.cache.camera_component is not None
+
+    def take_photo(self) -> CommandHandle:
+        """One photo by the vehicle's camera: MAV_CMD_IMAGE_START_CAPTURE (one image) to its component, through
+        MAVLink direct; done when the camera acknowledges it."""
+        component = self._session.cache.camera_component
+        if component is None:
+            return CommandHandle.failed("take_photo", Failure.UNSUPPORTED, "the vehicle has no camera")
+        self._photos += 1
+        sequence = self._photos
+
+        async def body() -> None:
+            s = self._session
+            command = MavlinkMessage(message_name="COMMAND_LONG", system_id=0, component_id=0,
+                                     target_system_id=s.system_id, target_component_id=component,
+                                     fields_json=json.dumps({
+                                         "target_system": s.system_id, "target_component": component,
+                                         "command": _IMAGE_START_CAPTURE, "confirmation": 0, "param1": 0,
+                                         "param2": 0, "param3": 1, "param4": sequence, "param5": 0, "param6": 0,
+                                         "param7": 0}))
+            ack = await s.call(s.direct.send_command(command))
+            result = json.loads(ack.fields_json or "{}").get("result")
+            if result != 0:
+                raise AdapterError(Failure.DENIED, f"the vehicle's camera did not take photo {sequence} "
+                                                   f"(MAV_RESULT {result}{_said(s.cache)})")
+
+        return self._submit("take_photo", body)
 
     def land(self) -> CommandHandle:
         return self._submit("land", self._simple("land"))

@@ -38,6 +38,8 @@ from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
 
 logger = logging.getLogger(__name__)
 
+MAV_TYPE_CAMERA = 30  # a HEARTBEAT's type: the component is a camera
+
 _WATCHDOG_PERIOD = 0.1  # s between two link checks
 _DRAIN_LIMIT = 30.0  # s a shutdown waits for MAVSDK calls still in flight (MAVSDK bounds them itself)
 _RATE_RETRY = 5.0  # s without health or position reports before the rates are asked for again
@@ -281,9 +283,13 @@ class MavsdkSession:
 
         def heartbeat(message):
             try:
-                mode = copter_mode_of(json.loads(message.fields_json or "{}"))
-            except (ValueError, TypeError):
+                fields = json.loads(message.fields_json or "{}")
+                mode = copter_mode_of(fields) if ardupilot else None
+            except (ValueError, TypeError, AttributeError):
                 return
+            if fields.get("type") == MAV_TYPE_CAMERA and cache.camera_component is None:
+                cache.set(camera_component=int(message.component_id))
+                logger.info("the vehicle has a camera (component %d)", message.component_id)
             if mode is not None:
                 cache.set(flight_mode=mode)
 
@@ -306,9 +312,8 @@ class MavsdkSession:
             (telemetry.subscribe_battery(), battery),
             (telemetry.subscribe_armed(), lambda armed: cache.set(armed=armed)),
             (telemetry.subscribe_landed_state(), lambda s: cache.set(landed_state=landed_state(s))),
-            # an ArduPilot's mode from its heartbeat (MAVSDK says HOLD for both BRAKE and LOITER)
-            (self.direct.subscribe_message("HEARTBEAT"), heartbeat) if ardupilot else
-            (telemetry.subscribe_flight_mode(), lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))),
+            # a camera's heartbeat; an ArduPilot's mode (MAVSDK says HOLD for both BRAKE and LOITER)
+            (self.direct.subscribe_message("HEARTBEAT"), heartbeat),
             (telemetry.subscribe_health(), health),
             (telemetry.subscribe_raw_gps(), accuracy),
             # MAVSDK publishes its health flags even when no SYS_STATUS ever came; the message itself tells.
@@ -316,6 +321,9 @@ class MavsdkSession:
             (telemetry.subscribe_status_text(), lambda t: cache.set_status_text(t.type.name, t.text)),
             (system.is_connected_state(), self._connection_changed),
         ]
+        if not ardupilot:
+            streams.append((telemetry.subscribe_flight_mode(),
+                            lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))))
         for stream, store in streams:
             self.spawn(self._consume(stream, store))
 
