@@ -6,6 +6,7 @@ it skips them; QGroundControl's sample plan flies to completion either way."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 from aeroexec.cli.sim import sim_world
@@ -20,10 +21,11 @@ pytestmark = pytest.mark.mavsdk
 
 SPEED = 20.0  # simulated seconds per wall second
 SAMPLE = DATA / "mavsdk" / "qgroundcontrol_sample.plan"  # QGroundControl's own sample: photos, a survey's trigger
+SURVEY = Path(__file__).parents[2] / "missions" / "field_survey.plan"  # 6.8 km, a camera triggered by distance
 
 
-def fly_sample(tmp_path, autopilot: str, camera: bool):
-    home = json.loads(SAMPLE.read_text())["mission"]["plannedHomePosition"]
+def fly_sample(tmp_path, autopilot: str, camera: bool, plan: Path = SAMPLE):
+    home = json.loads(plan.read_text())["mission"]["plannedHomePosition"]
     port = free_udp_port()
     vehicle = MavlinkVehicle(SimulatedDrone(sim_world(None, tuple(home))), connect=f"udpout://127.0.0.1:{port}",
                              speed=SPEED, autopilot=autopilot, camera=camera,
@@ -31,7 +33,7 @@ def fly_sample(tmp_path, autopilot: str, camera: bool):
     vehicle.start()
     problems: list = []
     try:
-        spec = FlightSpec(mission=SAMPLE, drone=f"mavsdk:udpin://127.0.0.1:{port}", output=str(tmp_path / "run"),
+        spec = FlightSpec(mission=plan, drone=f"mavsdk:udpin://127.0.0.1:{port}", output=str(tmp_path / "run"),
                           register=False, ready_timeout=60.0)
         session = FlightSession(spec, notify=lambda text: None, report=problems.append)
         outcome = session.fly()
@@ -60,3 +62,12 @@ def test_without_a_camera_the_sample_plan_flies_with_a_warning_and_its_photos_sk
     assert len(warned) == 1 and warned[0].severity == "warning" and warned[0].line > 0
     assert [e for e in events if e.kind == "photo_skipped"]
     assert not [e for e in events if e.kind == "photo_taken"]
+
+
+@pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
+def test_a_survey_s_distance_trigger_takes_its_photos_through_the_vehicle_s_camera(tmp_path, autopilot):
+    outcome, events, problems, vehicle = fly_sample(tmp_path, autopilot, camera=True, plan=SURVEY)
+    assert outcome.exit_status == 0, (outcome.status, outcome.faults)
+    taken = [e for e in events if e.kind == "photo_taken" and e.behavior == "TRIGGER_CAMERA"]
+    assert len(taken) >= 20 and all(e.data.get("camera") == "vehicle" for e in taken)
+    assert len(vehicle.camera.images) == len([e for e in events if e.kind == "photo_taken"])
