@@ -18,6 +18,7 @@ its ceiling is the highest a route may climb. Keys (all optional; minutes, meter
     ceiling: 120           # m above home: no route climbs higher
     return_altitude: 30    # m: a return home climbs to it first
     failsafe_battery: 10   # %: at or below it the vehicle lands (no arming)
+    camera: false          # it has no camera: photo items are a warning before flight, and skipped in flight
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ FIGURES: dict[str, tuple[str, str, float]] = {
     "return_altitude": ("return_altitude", "m", 10000.0),
     "failsafe_battery": ("failsafe_battery_percent", "%", 99.0),
 }
-KEYS = {"name", "ceiling", *FIGURES}
+KEYS = {"name", "ceiling", "camera", *FIGURES}
 
 
 class VehicleProfileError(ValueError):
@@ -58,12 +59,13 @@ class VehicleProfile:
 
     figures: dict[str, float] = field(default_factory=dict)
     ceiling: float | None = None
+    camera: bool = True
     name: str = ""
     source: str = ""
 
     def config(self, base: SimConfig | None = None) -> SimConfig:
         """``base`` (default: the simulated multicopter's) with this profile's figures."""
-        return replace(base or SimConfig(), **self.figures, ceiling=self.ceiling)
+        return replace(base or SimConfig(), **self.figures, ceiling=self.ceiling, camera=self.camera)
 
     def described(self) -> str:
         """A short line: ``vehicle survey hexacopter (vehicle.yaml): 55 min of hover, ceiling 120 m``."""
@@ -94,7 +96,8 @@ def parse_vehicle_profile(text: str, source: str = "<vehicle>") -> VehicleProfil
         ceiling = reader.number(keys["ceiling"], "ceiling (m above home)", positive=True) \
             if "ceiling" in keys else None
         name = reader.string(keys["name"], "name") if "name" in keys else ""
-        profile = VehicleProfile(figures, ceiling, name, source)
+        camera = reader.boolean(keys["camera"], "camera") if "camera" in keys else True
+        profile = VehicleProfile(figures, ceiling, camera, name, source)
         try:
             config = profile.config()
         except ValueError as exc:

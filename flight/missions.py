@@ -97,6 +97,8 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
         checked.route = estimate_route(checked.tree, world, vehicle) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
+        if vehicle is not None and not getattr(vehicle, "camera", True):
+            checked.problems += no_camera(checked.tree, str(path))
         if plan:  # items without a behavior, each message with its item number
             checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
         checked.problems.sort(key=lambda p: (p.file, p.line))
@@ -109,6 +111,29 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     checked.problems = fmt.reader()(checked.source, str(path), catalog, world)
     return checked
 
+
+
+def photo_behaviors(document: TreeDocument) -> list[Any]:
+    """A tree's photo behaviors (TAKE_PHOTO, TRIGGER_CAMERA), in order."""
+    found, stack = [], [document.root]
+    while stack:
+        node = stack.pop()
+        if node.type in ("TAKE_PHOTO", "TRIGGER_CAMERA"):
+            found.append(node)
+        stack.extend(reversed(node.children))
+    return found
+
+
+def no_camera(document: TreeDocument, file: str) -> list[Problem]:
+    """The warning for a vehicle without a camera and a tree that takes photos (none when it takes none)."""
+    photos = photo_behaviors(document)
+    if not photos:
+        return []
+    count = len(photos)
+    return [Problem("warning", f"the vehicle has no camera: the mission's {count} photo behavior"
+                               f"{'s' if count != 1 else ''} (TAKE_PHOTO, TRIGGER_CAMERA) skip their photos, said in "
+                               f"the event log (photo_skipped), and the mission goes on",
+                    photos[0].file or file, photos[0].line)]
 
 
 def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,

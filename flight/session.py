@@ -30,7 +30,7 @@ from aeroexec.flight.flight_log import FlightLogWriter, world_meta
 from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal, resume_point
 from aeroexec.flight.journal.identity import FlightFile, flight_files, new_run_id
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
-from aeroexec.flight.missions import load_mission, watched_catalog
+from aeroexec.flight.missions import load_mission, no_camera, watched_catalog
 from aeroexec.flight.output import NO_SPACE, no_space, prepare_output
 from aeroexec.flight.robot import (
     RobotChoice,
@@ -214,20 +214,17 @@ class FlightSession:
     def _check_camera(self) -> None:
         """A vehicle without a camera and a mission that takes photos: a warning before flight (the photos are
         skipped, each behavior says so in the event log)."""
-        if not isinstance(self.mission, TreeDocument) or not callable(getattr(self.robot, "camera", None)):
+        if not isinstance(self.mission, TreeDocument) or not callable(getattr(self.robot, "photo_source", None)):
             return
-        photos = _photo_nodes(self.mission)
-        if not photos or self.robot.camera() != CAMERA_NONE:
+        warning = no_camera(self.mission, str(self.spec.mission))
+        if not warning or self.robot.photo_source() != CAMERA_NONE:
             return
+        if self.vehicle is not None and not self.vehicle.camera:
+            return  # the profile said so: the mission's check has warned already
         wait = getattr(self.robot, "wait_camera", None)
         if callable(wait) and wait(CAMERA_WAIT):  # a camera's heartbeat comes once a second
             return
-        first = photos[0]
-        count = len(photos)
-        self.report(Problem("warning", f"the vehicle has no camera: the mission's {count} photo "
-                                       f"behavior{'s' if count != 1 else ''} (TAKE_PHOTO, TRIGGER_CAMERA) skip their "
-                                       f"photos, said in the event log (photo_skipped), and the mission goes on",
-                            first.file or str(self.spec.mission), first.line))
+        self.report(warning[0])
 
     def _engine(self, choice: RobotChoice, simulated: bool, start: float = 0.0) -> Engine:
         spec = self.spec
@@ -494,17 +491,6 @@ class FlightSession:
                 _quietly(part.close)
         if self.robot is not None:
             _quietly(self.robot.close)
-
-
-def _photo_nodes(document: Any) -> list[Any]:
-    """A tree's photo behaviors (TAKE_PHOTO, TRIGGER_CAMERA), in order."""
-    found, stack = [], [document.root]
-    while stack:
-        node = stack.pop()
-        if node.type in ("TAKE_PHOTO", "TRIGGER_CAMERA"):
-            found.append(node)
-        stack.extend(reversed(node.children))
-    return found
 
 
 def _patrol(document: Any) -> str | None:

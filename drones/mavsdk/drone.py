@@ -161,7 +161,7 @@ class MavsdkDrone(Drone):
 
         return self._submit("takeoff", body, self.ready_timeout + self.command_timeout)
 
-    def camera(self) -> str:
+    def photo_source(self) -> str:
         """The vehicle's camera (a MAVLink camera component heard on the link: PX4's, ArduPilot's, ``aeroexec sim
         --camera``), else none."""
         return CAMERA_VEHICLE if self._session.cache.camera_component is not None else CAMERA_NONE

@@ -30,6 +30,7 @@ class SimConfig:
     acceptance_radius: float = 0.5  # m: a go-to has arrived within it (NAV_ACC_RAD is 2)
     return_altitude: float = 10.0  # m: return-to-launch climbs to it first (RTL_RETURN_ALT is 60)
     ceiling: float | None = None  # m above home the vehicle may climb to (a --vehicle profile's); None: no ceiling
+    camera: bool = True  # the vehicle has a camera (a --vehicle profile's camera: false: its photos are skipped)
 
     # Battery
     battery_hover_minutes: float = 20.0  # 100 % to 0 % hovering

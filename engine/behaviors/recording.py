@@ -114,9 +114,9 @@ def not_saved(process: BehaviorProcess, path: Path | None, error: OSError) -> No
 
 
 def camera_of(context: BehaviorContext) -> str:
-    """Where the drone's photos come from (``Robot.camera``): its images, its own camera, or none."""
-    camera = getattr(context.drone, "camera", None)
-    return camera() if callable(camera) else CAMERA_IMAGES
+    """Where the drone's photos come from (``Robot.photo_source``): its images, its own camera, or none."""
+    source = getattr(context.drone, "photo_source", None)
+    return source() if callable(source) else CAMERA_IMAGES
 
 
 def skip_photo(process: BehaviorProcess) -> None:

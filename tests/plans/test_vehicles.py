@@ -110,3 +110,19 @@ def test_a_patrol_for_ever_verifies_with_a_warning_and_is_suspended_by_the_time_
     assert last["landed_state"] == "on_ground" and not last["armed"]
     ended = next(r for r in log if r["kind"] == "run_ended")
     assert ended["detail"] == "suspended" and ended["data"]["exit_status"] == 5
+
+
+def test_a_vehicle_without_a_camera_is_a_verify_warning_and_its_photos_a_logged_skip(tmp_path):
+    sample = DATA / "real_missions" / "mavsdk" / "qgroundcontrol_sample.plan"  # QGroundControl's: a photo item
+    profile = tmp_path / "no_camera.yaml"
+    profile.write_text("name: mapping frame without its camera\ncamera: false\n")
+    verified = aeroexec("verify", str(sample), "--vehicle", str(profile))
+    assert verified.returncode == 0
+    assert f"{sample}:55: warning: item 3: the vehicle has no camera: the mission's 1 photo behavior" in verified.stdout
+    run = aeroexec("run", str(sample), "--vehicle", str(profile), "--quiet", "--output", str(tmp_path / "run"))
+    assert run.returncode == 0 and ": completed at t=" in run.stderr
+    log = records(tmp_path / "run")
+    assert [r["behavior"] for r in log if r["kind"] == "photo_skipped"] == ["TAKE_PHOTO"]
+    assert not [r for r in log if r["kind"] == "photo_taken"] and not list((tmp_path / "run").glob("photo_*.png"))
+    with_camera = aeroexec("run", str(sample), "--quiet", "--output", str(tmp_path / "camera"))
+    assert with_camera.returncode == 0 and list((tmp_path / "camera").glob("photo_*.png"))
