@@ -193,8 +193,8 @@ class Robot(abc.ABC):
         return CAMERA_IMAGES
 
     def take_photo(self) -> CommandHandle:
-        """A photo by the vehicle's own camera (when :meth:`photo_source` is :data:`CAMERA_VEHICLE`): the handle completes
-        when the camera says it took it."""
+        """A photo by the vehicle's own camera (when :meth:`photo_source` is :data:`CAMERA_VEHICLE`): the handle
+        completes when the camera says it took it."""
         return CommandHandle.failed("take_photo", Failure.UNSUPPORTED, "this robot has no camera of its own")
 
     def payload(self) -> list[str]:
