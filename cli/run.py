@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
-from aeroexec.cli.verify import add_home_argument
+from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
 from aeroexec.cli.views.live import LiveConsole
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
@@ -101,6 +101,14 @@ def add_flight_arguments(parser: argparse.ArgumentParser) -> None:
                                                         "against it (default: the robot kind's, an open field "
                                                         "around a plan or waypoint file, else the built-in one)")
     add_home_argument(parser)
+    add_vehicle_argument(parser)
+    parser.add_argument("--event", action="append", default=[], metavar="TOPIC[=DATA]",
+                        help="an event given at launch: the belief event(TOPIC, DATA) (DATA empty without =), which "
+                             "Aerostack2's WaitForEvent TOPIC and a mission's queries see, as after aeroexec ctl add "
+                             "(repeatable), e.g. --event start=go")
+    parser.add_argument("--alert", action="append", default=[], metavar="TOPIC[=DATA]",
+                        help="an alert given at launch: the belief alert(TOPIC, DATA), which WaitForAlert TOPIC sees "
+                             "(repeatable)")
     add_pacing_arguments(parser)
     parser.add_argument("--seed", type=int, default=0, help="seed of the simulated sensors")
     parser.add_argument("--log", metavar="FILE",
@@ -175,14 +183,41 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                           credentials=args.credentials, trust=trust_arguments(getattr(args, "trust", None) or []))
     paced = 1.0 if watched or fleet is not None else None
     return FlightSpec(mission=Path(args.mission), robot=args.robot, drone=args.drone, world=args.world,
-                      home=args.home, catalog=args.catalog, rules=tuple(args.rules), library=tuple(args.library),
+                      home=args.home, catalog=args.catalog, vehicle=getattr(args, "vehicle", None),
+                      rules=tuple(args.rules), library=tuple(args.library),
                       processes=tuple(args.processes), safety_rules=tuple(args.safety_rules),
                       updaters=tuple(args.updater), speed=args.speed or paced, seed=args.seed, max_time=args.max_time,
                       output=args.output, log=args.log, answers=args.answers,
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),
                       web=args.web, web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
                       ready_timeout=args.ready_timeout, fleet=fleet, mcap=getattr(args, "mcap", None),
-                      foxglove=getattr(args, "foxglove", None))
+                      foxglove=getattr(args, "foxglove", None), beliefs=launch_beliefs(args))
+
+
+def launch_beliefs(args: argparse.Namespace) -> tuple[str, ...]:
+    """``--event TOPIC[=DATA]`` and ``--alert TOPIC[=DATA]`` as the beliefs ``event(TOPIC, DATA)`` and
+    ``alert(TOPIC, DATA)`` (topic and data quoted: any text); FlightError (usage) naming one without a topic."""
+    from aeroexec.beliefs import BeliefError, parse_belief
+
+    beliefs = []
+    for kind in ("event", "alert"):
+        for word in getattr(args, kind, None) or ():
+            topic, _, data = word.partition("=")
+            topic = topic.strip().lstrip("/")
+            if not topic:
+                raise FlightError(f"--{kind} {word}: give TOPIC[=DATA], the topic its WaitFor{kind.title()} names, "
+                                  f"e.g. --{kind} start=go", usage=True)
+            text = f"{kind}({_quoted(topic)}, {_quoted(data.strip())})"
+            try:
+                parse_belief(text)
+            except (BeliefError, ValueError) as error:
+                raise FlightError(f"--{kind} {word}: {error}", usage=True) from None
+            beliefs.append(text)
+    return tuple(beliefs)
+
+
+def _quoted(text: str) -> str:
+    return "'" + text.replace("\\", "\\\\").replace("'", "\\'") + "'"
 
 
 def resumed_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:

@@ -70,6 +70,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "(ArduCopter) streams nothing until asked (SET_MESSAGE_INTERVAL, REQUEST_DATA_STREAM), uses Copter mode "
         "numbers and brings its EKF up in steps (armable first, then GPS origin and home)",
     )
+    parser.add_argument("--camera", nargs="?", const="", default=None, metavar="DIR",
+                        help="give the vehicle a camera component (MAVLink component 100: IMAGE_START_CAPTURE, "
+                             "CAMERA_IMAGE_CAPTURED), its photos the simulator's camera images, saved in DIR when "
+                             "given; without it the vehicle has no camera, as a SITL has none")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -88,7 +92,8 @@ def run(args: argparse.Namespace) -> int:
     drone = SimulatedDrone(world, seed=args.seed)
     try:
         vehicle = MavlinkVehicle(drone, connect=args.connect, speed=args.speed, system_id=args.system_id,
-                                 autopilot=args.autopilot, log_folder=args.logs)
+                                 autopilot=args.autopilot, log_folder=args.logs, camera=args.camera is not None,
+                                 camera_folder=Path(args.camera) if args.camera else None)
         vehicle.start()
     except (MavlinkVehicleError, ValueError) as exc:
         print(f"aeroexec sim: {exc}", file=sys.stderr)

@@ -17,12 +17,13 @@ from pathlib import Path
 from typing import Any
 
 from aeroexec.drones import geodesy
+from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.contingencies import contingency_syntax
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, default_library
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
-from aeroexec.flight.robot import load_world, robot_choice, with_rule_files
+from aeroexec.flight.robot import load_world, robot_choice, vehicle_config, with_rule_files
 from aeroexec.flight.spec import FlightError
 from aeroexec.trees import formats
 
@@ -43,6 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                             "at its home (default: an open field around a plan, else the simulator's)")
     world.add_argument("--no-world", action="store_true", help="do not check against any world")
     add_home_argument(parser)
+    add_vehicle_argument(parser)
     add_library_arguments(parser)
     add_safety_rules_argument(parser)
     parser.add_argument("--strict-btcpp", action="store_true",
@@ -72,6 +74,15 @@ def add_home_argument(parser: argparse.ArgumentParser) -> None:
                              "(default: the mission's home for a plan or waypoint file, else the world's)")
 
 
+def add_vehicle_argument(parser: argparse.ArgumentParser) -> None:
+    """``--vehicle FILE``: the vehicle's profile (endurance, speeds, rates, ceiling) (run, verify)."""
+    parser.add_argument("--vehicle", metavar="FILE",
+                        help="the vehicle's profile (YAML: endurance in minutes of hover, cruise_speed, max_speed, "
+                             "climb_rate, max_climb_rate, descent_rate, ceiling...; docs/vehicles.md): the route's "
+                             "battery check, the simulator and the safety rules use its figures (default: the "
+                             "simulated multicopter's, 20 min of hover)")
+
+
 def add_library_arguments(parser: argparse.ArgumentParser) -> None:
     """``--library`` and ``--processes``: plugins named ``module:attribute`` (run and verify)."""
     parser.add_argument("--library", action="append", default=[], metavar="MODULE:ATTR",
@@ -97,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
         world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
         library = choice.library() if choice.kind is not None else default_library(args.library)
         catalog = with_rule_files(catalog, args.rules)
+        vehicle = vehicle_config(args.vehicle)
     except (FlightError, LibraryError) as error:
         print(error)
         return 1
@@ -114,13 +126,14 @@ def run(args: argparse.Namespace) -> int:
         try:  # each mission in its own world: a plan's open field, at --home when given
             world = None if args.no_world else load_world(choice.world_file(args.world), mission=Path(name),
                                                            home=args.home)
-            checked = check_mission(Path(name), catalog, world)
+            checked = check_mission(Path(name), catalog, world, vehicle=vehicle)
         except (MissionFileError, FlightError) as error:
             print(error)
             failed = True
             continue
         checked.problems += unimplemented(catalog, library, Path(name))
-        checked.problems += safety_check(checked, catalog, args.safety_rules)[1]
+        checked.problems += safety_check(checked, catalog, args.safety_rules,
+                                         VehicleModel(vehicle) if vehicle is not None else None)[1]
         if args.strict_btcpp and checked.tree is not None:
             from aeroexec.trees.portability import portability_problems  # here: only --strict-btcpp needs it
 

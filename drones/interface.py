@@ -20,6 +20,8 @@ import threading
 from dataclasses import dataclass, field
 
 Vector = tuple[float, float, float]
+#: Where a robot's photos come from (:meth:`Robot.photo_source`).
+CAMERA_IMAGES, CAMERA_VEHICLE, CAMERA_NONE = "images", "vehicle", "none"
 
 
 class LandedState(enum.Enum):
@@ -184,6 +186,17 @@ class Robot(abc.ABC):
     def capture_image(self) -> bytes | None:
         """A PNG of what the camera sees now, or None when this robot has no camera it can read."""
         return None
+
+    def photo_source(self) -> str:
+        """Where this robot's photos come from: :data:`CAMERA_IMAGES` (the engine saves :meth:`capture_image`'s
+        image: the simulator), :data:`CAMERA_VEHICLE` (the vehicle's own camera takes them: :meth:`take_photo`), or
+        :data:`CAMERA_NONE` (the vehicle has none: a photo is skipped, said in the event log)."""
+        return CAMERA_IMAGES
+
+    def take_photo(self) -> CommandHandle:
+        """A photo by the vehicle's own camera (when :meth:`photo_source` is :data:`CAMERA_VEHICLE`): the handle
+        completes when the camera says it took it."""
+        return CommandHandle.failed("take_photo", Failure.UNSUPPORTED, "this robot has no camera of its own")
 
     def payload(self) -> list[str]:
         """The names of the items the robot carries now; empty when it carries nothing or cannot tell."""

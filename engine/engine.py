@@ -72,6 +72,8 @@ class Engine:
     arguments from it; default: the aerial catalog). ``rules`` derive beliefs besides the catalog's own
     ``rules:`` (``aeroexec.beliefs.read_rules(path)`` reads a rules file; ``catalog.with_rules(rules)`` is the same):
     checked against the catalog, they raise :class:`~aeroexec.beliefs.RuleError` with each problem's file and line.
+    ``vehicle``: the vehicle model the safety rules estimate with (default: the simulator's figures when the robot
+    is one, else the defaults; ``aeroexec run --vehicle FILE`` gives a profile's).
     """
 
     def __init__(self, drone: Robot, *, catalog: BehaviorCatalog | None = None,
@@ -81,7 +83,7 @@ class Engine:
                  capability_grace: float = 2.0, belief_period: float = 0.1, operator: Any = None,
                  bus: Any = None, output_dir: str | Path | None = None,
                  telemetry: BeliefUpdater | None = None, described_in: BehaviorCatalog | None = None,
-                 rules: Iterable[Rule] = ()) -> None:
+                 rules: Iterable[Rule] = (), vehicle: VehicleModel | None = None) -> None:
         if not rate > 0:
             raise ValueError(f"the engine rate must be positive, not {rate}")
         self.drone = self.robot = drone
@@ -102,8 +104,10 @@ class Engine:
             for name, arity in TELEMETRY_PREDICATES.items():
                 if name not in self.catalog.predicates:
                     self.memory.declare(name, arity)
-        register_computed(self.memory, drone, self.settings.cruise_speed, obstacles,
-                          self.catalog.vehicle_limits.get("max_flight_time"))
+        flight_time = self.catalog.vehicle_limits.get("max_flight_time")
+        if vehicle is not None:  # a vehicle profile: its endurance, not the catalog's documented one
+            flight_time = vehicle.config.battery_hover_minutes * 60.0
+        register_computed(self.memory, drone, self.settings.cruise_speed, obstacles, flight_time)
         # rules in flight are bounded: all the asks of one step together (renewed by tick) may spend so much, an
         # ask that would spend more is refused (the condition asking fails with the reason and the rule's line)
         self.memory.limit_rules(int(self.settings.extra.get("rules_work", RULES_WORK_PER_STEP)), RULES_WORK_WHY,
@@ -135,7 +139,7 @@ class Engine:
                                     lambda message: self.log.record("mission_polling", detail=message))
         self.timers = Timers(self.clock.now)
         #: The vehicle model and the predicates safety rules read (battery_to_home...); the rules' monitors.
-        self.vehicle_model = VehicleModel.of(drone)
+        self.vehicle_model = vehicle if vehicle is not None else VehicleModel.of(drone)
         self.safety_predicates = SafetyPredicates(self.memory, self.vehicle_model, self.clock.now,
                                                   lambda: drone.telemetry().velocity)
         self.safety_predicates.register()

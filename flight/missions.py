@@ -9,6 +9,7 @@ refusal.
 from __future__ import annotations
 
 import importlib.util
+import math
 import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
@@ -55,11 +56,13 @@ def is_tree(path: Path) -> bool:
     return fmt is not None and fmt.tree
 
 
-def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None
-                  ) -> CheckedMission:
+def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home: Geodetic | None = None,
+                  vehicle: Any = None) -> CheckedMission:
     """Read and check a mission without flying it (against ``world``'s bounds and obstacles when given);
     raises :class:`MissionFileError` when it cannot be read. ``home`` places a QGroundControl plan and GPS points
-    of Aerostack2's missions (default: ``world``'s home, else the default simulated world's)."""
+    of Aerostack2's missions (default: ``world``'s home, else the default simulated world's). ``vehicle``: the
+    :class:`~aeroexec.drones.sim.SimConfig` the route is costed with (a ``--vehicle`` profile's; default: the
+    simulated multicopter's)."""
     fmt = format_of(path)
     if home is None and world is not None and fmt is not None and fmt.tree:  # plans, Aerostack2's GPS nodes
         home = world.home
@@ -93,9 +96,11 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
                if (found := verify(checked.tree, catalog, world)) is not None)
         problems = next(own, None)
         checked.problems = problems if problems is not None else verify_document(checked.tree, catalog, world=world)
-        checked.route = estimate_route(checked.tree, world, catalog=catalog) if world is not None else None
+        checked.route = estimate_route(checked.tree, world, vehicle, catalog=catalog) if world is not None else None
         if checked.route is not None:
             checked.problems += checked.route.problems
+        if vehicle is not None and not getattr(vehicle, "camera", True):
+            checked.problems += no_camera(checked.tree, str(path))
         if plan:  # items without a behavior, each message with its item number
             checked.problems = checked.tree.numbered([*checked.tree.problems, *checked.problems])
         checked.problems.sort(key=lambda p: (p.file, p.line))
@@ -110,13 +115,42 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
 
 
 
+def photo_behaviors(document: TreeDocument) -> list[Any]:
+    """A tree's photo behaviors (TAKE_PHOTO, TRIGGER_CAMERA), in order."""
+    found, stack = [], [document.root]
+    while stack:
+        node = stack.pop()
+        if node.type in ("TAKE_PHOTO", "TRIGGER_CAMERA"):
+            found.append(node)
+        stack.extend(reversed(node.children))
+    return found
+
+
+def no_camera(document: TreeDocument, file: str) -> list[Problem]:
+    """The warning for a vehicle without a camera and a tree that takes photos (none when it takes none)."""
+    photos = photo_behaviors(document)
+    if not photos:
+        return []
+    count = len(photos)
+    return [Problem("warning", f"the vehicle has no camera: the mission's {count} photo behavior"
+                               f"{'s' if count != 1 else ''} (TAKE_PHOTO, TRIGGER_CAMERA) skip their photos, said in "
+                               f"the event log (photo_skipped), and the mission goes on",
+                    photos[0].file or file, photos[0].line)]
+
+
 def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
-                 report: Callable[[Problem], None] = lambda problem: None, verb: str = "fly"
-                 ) -> Callable[[], Any] | TreeDocument:
+                 report: Callable[[Problem], None] = lambda problem: None, verb: str = "fly",
+                 vehicle: Any = None, max_time: float | None = None) -> Callable[[], Any] | TreeDocument:
     """Check a mission before flight (against ``world`` when given), each problem to ``report``; the Python
     function or the tree to fly. Raises :class:`MissionFileError` when it has errors. ``verb``: what the robot
-    does (a rover does not fly)."""
-    checked = check_mission(path, catalog, world)
+    does (a rover does not fly); a route longer than ``max_time`` (the run's time limit) is a warning."""
+    checked = check_mission(path, catalog, world, vehicle=vehicle)
+    route = checked.route
+    if route is not None and max_time is not None and route.duration > max_time and not route.forever:
+        checked.problems.append(Problem(
+            "warning", f"the route takes about {route.duration / 60:.0f} min, longer than the run's time limit "
+                       f"of {max_time:g} s: the run stops there; give --max-time {60 * math.ceil(route.duration / 50)}",
+            str(path), 0))
     for problem in checked.problems:
         report(problem)
     if hint := robot_kind_hint(p.message for p in checked.problems):  # a rover's mission without --robot rover
@@ -221,7 +255,8 @@ def fleet_safety_check(path: Path, catalog: BehaviorCatalog, rules_files: Iterab
 
 
 def watched_catalog(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[str] = (), world: Any = None,
-                    report: Callable[[Problem], None] = lambda problem: None) -> BehaviorCatalog:
+                    report: Callable[[Problem], None] = lambda problem: None, vehicle: Any = None
+                    ) -> BehaviorCatalog:
     """The catalog a flight watches the safety rules of (:func:`safety_check`); raises :class:`MissionFileError`
     when a rule is wrong or the mission breaks one before flight."""
     from aeroexec.engine.safety.declared import mission_rules
@@ -229,8 +264,9 @@ def watched_catalog(path: Path, catalog: BehaviorCatalog, rules_files: Iterable[
     declared = mission_rules(path, catalog)
     if not (rules_files or catalog.safety_rules or declared.rules or declared.problems):
         return catalog  # no rules: nothing to check again
-    checked = check_mission(path, catalog, world)
-    watched, problems = safety_check(checked, catalog, rules_files)
+    checked = check_mission(path, catalog, world, vehicle=vehicle)
+    watched, problems = safety_check(checked, catalog, rules_files,
+                                     VehicleModel(vehicle) if vehicle is not None else None)
     for problem in problems:
         report(problem)
     errors = [p for p in problems if p.severity == "error"]

@@ -88,6 +88,19 @@ def robot_choice(name: str = DRONE) -> RobotChoice:
         raise FlightError(str(error), usage=True) from None
 
 
+def vehicle_config(path: str | None) -> Any:
+    """The :class:`~aeroexec.drones.sim.SimConfig` of the vehicle profile ``path`` (``--vehicle FILE``), None without
+    one; raises FlightError naming the file and line."""
+    if path is None:
+        return None
+    from aeroexec.drones.profile import VehicleProfileError, load_vehicle_profile
+
+    try:
+        return load_vehicle_profile(path).config()
+    except VehicleProfileError as error:
+        raise FlightError(f"--vehicle {error}") from None
+
+
 def load_world(path: str | None, default: bool = True, mission: Path | None = None,
                home: tuple | None = None) -> Any:
     """The world ``mission`` flies in (``trees.mission_world``): the world of ``path`` (at ``home`` when given);
@@ -103,8 +116,10 @@ def load_world(path: str | None, default: bool = True, mission: Path | None = No
 
 
 def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callable[[str], None] = logger.info,
-               cancelled: Callable[[], bool] = lambda: False, start_time: float = 0.0) -> tuple[Any, bool]:
-    """The robot a flight drives, and whether it runs on simulated time (from ``start_time``: a resumed run's).
+               cancelled: Callable[[], bool] = lambda: False, start_time: float = 0.0,
+               vehicle: Any = None) -> tuple[Any, bool]:
+    """The robot a flight drives, and whether it runs on simulated time (from ``start_time``: a resumed run's);
+    the simulator flies with the figures of ``vehicle`` (a profile's SimConfig) when given.
     A MAVSDK vehicle is waited for until it is ready to fly (at most ``spec.ready_timeout`` s, or until
     ``cancelled()``), saying so to ``notify``; raises FlightError."""
     kind = choice.kind
@@ -115,7 +130,7 @@ def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callab
     if spec.drone == "sim":
         from aeroexec.drones.sim import SimulatedDrone
 
-        return SimulatedDrone(world, seed=spec.seed, start_time=start_time), True
+        return SimulatedDrone(world, seed=spec.seed, start_time=start_time, config=vehicle), True
     if spec.drone.startswith("mavsdk:"):
         return _mavsdk_vehicle(spec, notify, cancelled), False
     scheme, _, address = spec.drone.partition(":")
@@ -127,9 +142,11 @@ def make_robot(spec: FlightSpec, choice: RobotChoice, world: Any, notify: Callab
 
 
 def make_engine(spec: FlightSpec, choice: RobotChoice, robot: Any, *, catalog: BehaviorCatalog, clock: Any,
-                world: Any, operator: Any, folder: Path | None) -> Engine:
+                world: Any, operator: Any, folder: Path | None, vehicle: Any = None) -> Engine:
     """The engine that flies ``robot``: its kind's behaviors, processes and settings (the drone's: the aerial library
-    with the flight's plugins) and own-state updaters, at :data:`RATE`; raises FlightError."""
+    with the flight's plugins) and own-state updaters, at :data:`RATE`; its safety rules estimate with ``vehicle``
+    (a profile's SimConfig) when given, else the robot's figures; raises FlightError."""
+    from aeroexec.drones.vehicle import VehicleModel
     from aeroexec.engine.engine import Engine
 
     try:
@@ -137,8 +154,12 @@ def make_engine(spec: FlightSpec, choice: RobotChoice, robot: Any, *, catalog: B
         options = choice.engine_options(robot, spec.library, spec.processes)
     except LibraryError as error:
         raise FlightError(str(error)) from None
+    model = None
+    if vehicle is not None:  # a profile: its figures (a real vehicle's home at 0, as without one)
+        model = VehicleModel.of(robot)
+        model = model if model.config is vehicle else VehicleModel(vehicle, model.home)
     return Engine(robot, catalog=catalog, clock=clock, rate=RATE, obstacles=world, operator=operator,
-                  output_dir=folder, updaters=updaters, **options)
+                  output_dir=folder, updaters=updaters, vehicle=model, **options)
 
 
 def flight_operator(spec: FlightSpec) -> Any:
@@ -181,4 +202,4 @@ def _mavsdk_vehicle(spec: FlightSpec, notify: Callable[[str], None], cancelled: 
 
 
 __all__ = ["DRONE", "RATE", "FlightError", "RobotChoice", "chosen_catalog", "flight_operator", "load_world",
-           "make_engine", "make_robot", "robot_choice"]
+           "make_engine", "make_robot", "robot_choice", "vehicle_config"]

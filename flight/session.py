@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from aeroexec.drones.interface import CAMERA_NONE
 from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
 from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine  # loaded with the session, before the run lists itself as starting
@@ -30,7 +31,7 @@ from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, ope
 from aeroexec.flight.journal.identity import FlightFile, flight_files, new_run_id
 from aeroexec.flight.journal.resume_point import resume_point
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
-from aeroexec.flight.missions import load_mission, watched_catalog
+from aeroexec.flight.missions import load_mission, no_camera, watched_catalog
 from aeroexec.flight.output import NO_SPACE, no_space, prepare_output
 from aeroexec.flight.robot import (
     RobotChoice,
@@ -39,6 +40,7 @@ from aeroexec.flight.robot import (
     make_engine,
     make_robot,
     robot_choice,
+    vehicle_config,
     with_rule_files,
 )
 from aeroexec.flight.run_status import FAILED, FlightOutcome, flight_status, record_run_status
@@ -48,6 +50,8 @@ from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
 
 logger = logging.getLogger(__name__)
+
+CAMERA_WAIT = 3.0  # s (wall) a vehicle's camera may take to be heard (its heartbeat comes once a second)
 
 
 class FlightSession:
@@ -68,6 +72,7 @@ class FlightSession:
         self.fleet_node = fleet_node  # a fleet's node in this process (the drone's link joins it)
         self.folder: Path | None = None
         self.catalog: BehaviorCatalog | None = None
+        self.vehicle: Any = None  # the SimConfig of the --vehicle profile (None: the simulated multicopter's)
         self.mission: Callable[[], Any] | TreeDocument | None = None
         self.engine: Engine | None = None
         self.tree: Any = None  # the TreeMission of a tree mission
@@ -130,17 +135,22 @@ class FlightSession:
                                     mission=Path(spec.mission), home=spec.home)  # a plan's open field, --home
         if self.control is not None:
             self.control.starting = "checking its mission"
+        self.vehicle = vehicle_config(spec.vehicle)  # --vehicle: the route, the simulator and the safety rules
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
-                                    verb="fly" if choice.kind is None else "run")  # a rover does not fly
+                                    verb="fly" if choice.kind is None else "run",  # a rover does not fly
+                                    vehicle=self.vehicle, max_time=spec.max_time)
         if self.resumption is not None and not isinstance(self.mission, TreeDocument):
             self.resumption.check_program(Path(spec.mission))
-        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report)
+        self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report,
+                                       self.vehicle)
         if self.robot is None:
             if self.control is not None:
                 self.control.starting = "waiting for its vehicle"
-            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set, start)
+            self.robot, simulated = make_robot(spec, choice, self.world, self.notify, self._cancel.is_set, start,
+                                               self.vehicle)
             if self.resumption is not None:
                 self.resumption.place(self.robot)
+            self._check_camera()
         else:
             simulated = True
         if self._cancel.is_set():
@@ -202,6 +212,21 @@ class FlightSession:
                                              {spec.robot: None if self.tree is not None else spec.mission},
                                              port=spec.web, host=spec.web_host, notify=self.notify))
 
+    def _check_camera(self) -> None:
+        """A vehicle without a camera and a mission that takes photos: a warning before flight (the photos are
+        skipped, each behavior says so in the event log)."""
+        if not isinstance(self.mission, TreeDocument) or not callable(getattr(self.robot, "photo_source", None)):
+            return
+        warning = no_camera(self.mission, str(self.spec.mission))
+        if not warning or self.robot.photo_source() != CAMERA_NONE:
+            return
+        if self.vehicle is not None and not self.vehicle.camera:
+            return  # the profile said so: the mission's check has warned already
+        wait = getattr(self.robot, "wait_camera", None)
+        if callable(wait) and wait(CAMERA_WAIT):  # a camera's heartbeat comes once a second
+            return
+        self.report(warning[0])
+
     def _engine(self, choice: RobotChoice, simulated: bool, start: float = 0.0) -> Engine:
         spec = self.spec
         if self.clock is None:
@@ -209,7 +234,7 @@ class FlightSession:
         if self.operator is None:
             self.operator = flight_operator(spec)
         return make_engine(spec, choice, self.robot, catalog=self.catalog, clock=self.clock, world=self.world,
-                           operator=self.operator, folder=self.folder)
+                           operator=self.operator, folder=self.folder, vehicle=self.vehicle)
 
     def _open_journal(self, meta: dict[str, Any], files: list[FlightFile]) -> None:
         """The flight journal: a new one (``files``: those that shaped the flight, with their digests), or the
@@ -254,6 +279,10 @@ class FlightSession:
         """Start the mission (a tree is ticked by the engine, a Python mission runs in its own thread)."""
         engine = self.engine
         self._mission_started_at = engine.now()
+        if self.resumption is None:  # --event, --alert: given at launch, as ``aeroexec ctl add`` gives them later
+            for belief in self.spec.beliefs:
+                said = engine.supervisor.execute("add", belief, origin="launch")
+                self.notify(f"at launch: {said.message}")
         if self.tree is not None and self.resumption is not None:
             self.resumption.start(self.journal, self._tree_rejoined)
         elif self.tree is not None:
@@ -316,8 +345,17 @@ class FlightSession:
         self.engine.bridge.close()
 
     def time_limit(self) -> None:
-        """The mission ran out of time: say so, and halt it."""
-        self.engine.log.record("engine_time_limit", detail=f"{self.spec.max_time:g} s of engine time have passed")
+        """The mission ran out of time: say so, and halt it. A tree that patrols forever (a Repeat of
+        num_cycles -1: DO_JUMP -1) is suspended by it (the way such a mission is meant to stop: exit 5, and
+        ``--resume`` patrols on); any other mission failed to finish in time."""
+        patrol = _patrol(self.tree.document if self.tree is not None else None)
+        if patrol is not None:
+            self.engine.log.record("mission_suspended", detail=f"the time limit (--max-time {self.spec.max_time:g} "
+                                                               f"s) stopped the patrol that repeats forever: "
+                                                               f"{patrol}", time_limit=self.spec.max_time)
+        else:
+            self.engine.log.record("engine_time_limit",
+                                   detail=f"{self.spec.max_time:g} s of engine time have passed")
         self.halt_mission("time limit")
 
     def interrupted(self, how: str = "Ctrl-C") -> None:
@@ -454,6 +492,19 @@ class FlightSession:
                 _quietly(part.close)
         if self.robot is not None:
             _quietly(self.robot.close)
+
+
+def _patrol(document: Any) -> str | None:
+    """The name of a tree's Repeat forever (a patrol: num_cycles -1), None when it has none."""
+    if document is None:
+        return None
+    stack = [document.root]
+    while stack:
+        node = stack.pop()
+        if node.type == "Repeat" and node.ports.get("num_cycles", "").strip() == "-1":
+            return node.name
+        stack.extend(node.children)
+    return None
 
 
 def _quietly(close: Callable[[], Any]) -> None:

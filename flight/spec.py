@@ -46,6 +46,7 @@ class FlightSpec:
     world: str | None = None  # the world file (None: the robot kind's, else the built-in field)
     home: tuple[float, float, float | None] | None = None  # --home LAT,LON[,ALT]: the world's home (take-off point)
     catalog: str | None = None  # the behavior catalog file (None: the robot kind's)
+    vehicle: str | None = None  # the vehicle profile file (``--vehicle``; None: the simulated multicopter's figures)
     library: tuple[str, ...] = ()  # behavior providers ``module:attribute``
     processes: tuple[str, ...] = ()  # capability process providers ``module:attribute``
     updaters: tuple[str, ...] = ()  # belief updater providers ``module:attribute``
@@ -68,6 +69,7 @@ class FlightSpec:
     register: bool = True  # list the run in the user's runtime folder (``aeroexec ctl`` finds it)
     rules: tuple[str, ...] = ()  # rules files of the belief memory (derived beliefs)
     safety_rules: tuple[str, ...] = ()  # safety rules files (the catalog's and the mission's rules are watched too)
+    beliefs: tuple[str, ...] = ()  # beliefs the operator gives at launch (--event, --alert), added as it starts
     resume: bool = False  # go on with the interrupted run in ``output`` from where its journal says it stopped
     journal: bool = True  # keep the flight journal (journal.sqlite in the output folder)
 

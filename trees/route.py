@@ -46,12 +46,14 @@ class RouteEstimate:
     failsafe: float = 0.0
     hover_minutes: float = 0.0
     problems: list[MissionProblem] = field(default_factory=list)
+    forever: bool = False  # a Repeat forever (DO_JUMP -1): the figures are of one round of it
 
     def summary(self) -> str:
         minutes, seconds = divmod(round(self.duration), 60)
-        return (f"route {self.length / 1000:.2f} km, {minutes} min {seconds:02d} s at the planned speeds; battery "
-                f"{max(self.battery, 0.0):.0f}% at landing (the simulated multicopter's: {self.hover_minutes:g} "
-                f"min of hover on a full battery)")
+        patrol = "a patrol repeated forever, its first round: " if self.forever else ""
+        return (f"{patrol}route {self.length / 1000:.2f} km, {minutes} min {seconds:02d} s at the planned speeds; "
+                f"battery {max(self.battery, 0.0):.0f}% at landing (the vehicle's battery: {self.hover_minutes:g} "
+                f"min of hover on a full charge)")
 
 
 class _Flight:
@@ -106,6 +108,10 @@ class _Flight:
 
     def fly(self, node: TreeNode, target: Vector, speed: float) -> None:
         start = self.position
+        ceiling = self.config.ceiling
+        if ceiling is not None and target[2] > ceiling + 1e-6:
+            self.problem(node, f"({_fmt(target)}) is {target[2]:g} m above home, higher than the vehicle's ceiling "
+                               f"of {ceiling:g} m (its profile, --vehicle)")
         self.check_leg(node, start, target)
         self.estimate.length += math.dist(start, target)
         self.spend(node, *self.model.fly(start, target, speed))
@@ -159,7 +165,10 @@ class _Flight:
                 self.run(child)
         elif route == "repeat":
             cycles = self.number(node, "num_cycles", 1)
-            if cycles < 0:
+            if cycles == -1:  # a patrol forever: its route is one round, the time limit or the battery ends it
+                self.estimate.forever = True
+                cycles = 1
+            elif cycles < 0:
                 raise NoRoute(f"a {node.type} without end")
             for _ in range(int(min(cycles, 1000))):
                 self.run(node.children[0])
@@ -213,6 +222,10 @@ def _fmt(point: Vector) -> str:
     return ", ".join(f"{round(v, 1):g}" for v in point)
 
 
+def _vehicle(config: Any) -> str:
+    return f"its battery: {config.battery_hover_minutes:g} min of hover on a full charge"
+
+
 def estimate_route(document: TreeDocument, world: Any = None, config: Any = None,
                    start: tuple[Vector, bool] | None = None, catalog: Any = None) -> RouteEstimate | None:
     """The route of ``document`` in ``world`` flown by the vehicle of ``config`` (default: the simulated
@@ -238,7 +251,8 @@ def estimate_route(document: TreeDocument, world: Any = None, config: Any = None
         flight.problem(flight.empty_at, f"the battery runs down to its {estimate.failsafe:g}% failsafe here: the "
                                         f"route ({estimate.length / 1000:.1f} km, {minutes:.0f} min) needs "
                                         f"{used + estimate.failsafe:.0f}% of a full battery, "
-                                        f"{need:.0f}% more than the drone has")
+                                        f"{need:.0f}% more than the drone has ({_vehicle(flight.config)}); "
+                                        f"a vehicle with more endurance: give its figures with --vehicle FILE")
     elif estimate.battery < RESERVE:
         flight.problem(document.root, f"the drone lands with {estimate.battery:.0f}% of its battery, below the "
                                       f"{RESERVE:g}% reserve pilots keep", severity="warning")

@@ -80,6 +80,24 @@ def landed_state(value) -> LandedState:
     return _LANDED.get(value, LandedState.UNKNOWN)
 
 
+#: ArduCopter's mode numbers (HEARTBEAT custom_mode, ArduCopter/mode.h): MAVSDK reports BRAKE and LOITER both as
+#: HOLD, so an ArduPilot's mode is read from its heartbeat.
+COPTER_MODES = {0: "STABILIZE", 1: "ACRO", 2: "ALT_HOLD", 3: "AUTO", 4: "GUIDED", 5: "LOITER", 6: "RTL", 7: "CIRCLE",
+                9: "LAND", 11: "DRIFT", 13: "SPORT", 14: "FLIP", 15: "AUTOTUNE", 16: "POSHOLD", 17: "BRAKE",
+                18: "THROW", 19: "AVOID_ADSB", 20: "GUIDED_NOGPS", 21: "SMART_RTL", 22: "FLOWHOLD", 23: "FOLLOW",
+                24: "ZIGZAG", 25: "SYSTEMID", 26: "AUTOROTATE", 27: "AUTO_RTL", 28: "TURTLE"}
+COPTER_MODE_NUMBERS = {name: number for number, name in COPTER_MODES.items()}
+_AUTOPILOT_INVALID = 8  # MAV_AUTOPILOT_INVALID: the heartbeat of a component that is no autopilot (a camera, a GCS)
+
+
+def copter_mode_of(fields: dict) -> str | None:
+    """The ArduCopter mode a HEARTBEAT's fields say, None for a heartbeat that is not an autopilot's."""
+    if fields.get("autopilot", _AUTOPILOT_INVALID) == _AUTOPILOT_INVALID:
+        return None
+    number = int(fields.get("custom_mode", -1))
+    return COPTER_MODES.get(number, f"MODE_{number}")
+
+
 def flight_mode_name(mode, ardupilot: bool) -> str:
     """The interface's flight-mode name: PX4's as MAVSDK says them (HOLD, OFFBOARD, RETURN...), ArduPilot's as
     ArduPilot does (MAVSDK reports GUIDED as OFFBOARD and LOITER as HOLD: we say GUIDED and LOITER)."""

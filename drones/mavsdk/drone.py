@@ -7,21 +7,47 @@ latest-value cache converted to local ENU meters from the vehicle's home positio
 from __future__ import annotations
 
 import asyncio
+import json
 import logging
 import math
 import threading
 import time
 
-from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure, Telemetry, Vector
-from aeroexec.drones.mavsdk.connection import TelemetryRates
+from aeroexec.drones.interface import (
+    CAMERA_NONE,
+    CAMERA_VEHICLE,
+    CommandHandle,
+    Drone,
+    DroneEvent,
+    Failure,
+    Telemetry,
+    Vector,
+)
+from aeroexec.drones.mavsdk.connection import COPTER_MODE_NUMBERS, TelemetryRates
 from aeroexec.drones.mavsdk.errors import AdapterError
 from aeroexec.drones.mavsdk.frames import enu_to_geodetic, enu_to_ned, yaw_to_heading
 from aeroexec.drones.mavsdk.session import MavsdkSession
+from mavsdk.asyncio.plugins.mavlink_direct import MavlinkMessage
 from mavsdk.asyncio.plugins.offboard import VelocityNedYaw
 
 logger = logging.getLogger(__name__)
 
 _YAW_STEP = 0.1  # s between two heading updates of a velocity setpoint with a yaw rate
+#: ArduCopter modes aeroexec arms in: GUIDED (its take-off, go-tos and setpoints), LOITER. After a landing the copter
+#: is in LAND, and MAVSDK's arm first switches it to Hold, which is BRAKE on ArduCopter, where it refuses to arm
+#: (``Arm: Brake mode not armable``): the adapter sets GUIDED before arming.
+ARDUCOPTER_ARMS_IN = ("GUIDED", "LOITER")
+#: The mode an ArduCopter holds in (docs/real-vehicles.md): MAVSDK's hold would put it in BRAKE.
+ARDUCOPTER_HOLD = "LOITER"
+_DO_SET_MODE = 176  # MAV_CMD_DO_SET_MODE
+_IMAGE_START_CAPTURE = 2000  # MAV_CMD_IMAGE_START_CAPTURE
+_CUSTOM_MODE_ENABLED = 1  # MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+
+
+def _said(cache) -> str:
+    """The autopilot's last words, when it said why (``: Flight mode change failed: ...``)."""
+    text = getattr(cache, "status_text", None)
+    return f": {text}" if text else ""
 
 
 class MavsdkDrone(Drone):
@@ -52,6 +78,7 @@ class MavsdkDrone(Drone):
         self._session = MavsdkSession(url, clock=self._now, rates=rates or TelemetryRates(), link_timeout=link_timeout)
         self._yaw_task: asyncio.Task | None = None
         self._offboard = False  # we started offboard control and stream velocity setpoints
+        self._photos = 0  # photos asked of the vehicle's camera
         self._session.start()
 
     # --- state -------------------------------------------------------------------------------------
@@ -134,6 +161,44 @@ class MavsdkDrone(Drone):
 
         return self._submit("takeoff", body, self.ready_timeout + self.command_timeout)
 
+    def photo_source(self) -> str:
+        """The vehicle's camera (a MAVLink camera component heard on the link: PX4's, ArduPilot's, ``aeroexec sim
+        --camera``), else none."""
+        return CAMERA_VEHICLE if self._session.cache.camera_component is not None else CAMERA_NONE
+
+    def wait_camera(self, timeout: float) -> bool:
+        """Block until the vehicle's camera has been heard (its heartbeat comes once a second), False on timeout."""
+        deadline = time.monotonic() + timeout
+        while self._session.cache.camera_component is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        return self._session.cache.camera_component is not None
+
+    def take_photo(self) -> CommandHandle:
+        """One photo by the vehicle's camera: MAV_CMD_IMAGE_START_CAPTURE (one image) to its component, through
+        MAVLink direct; done when the camera acknowledges it."""
+        component = self._session.cache.camera_component
+        if component is None:
+            return CommandHandle.failed("take_photo", Failure.UNSUPPORTED, "the vehicle has no camera")
+        self._photos += 1
+        sequence = self._photos
+
+        async def body() -> None:
+            s = self._session
+            command = MavlinkMessage(message_name="COMMAND_LONG", system_id=0, component_id=0,
+                                     target_system_id=s.system_id, target_component_id=component,
+                                     fields_json=json.dumps({
+                                         "target_system": s.system_id, "target_component": component,
+                                         "command": _IMAGE_START_CAPTURE, "confirmation": 0, "param1": 0,
+                                         "param2": 0, "param3": 1, "param4": sequence, "param5": 0, "param6": 0,
+                                         "param7": 0}))
+            ack = await s.call(s.direct.send_command(command))
+            result = json.loads(ack.fields_json or "{}").get("result")
+            if result != 0:
+                raise AdapterError(Failure.DENIED, f"the vehicle's camera did not take photo {sequence} "
+                                                   f"(MAV_RESULT {result}{_said(s.cache)})")
+
+        return self._submit("take_photo", body)
+
     def land(self) -> CommandHandle:
         return self._submit("land", self._simple("land"))
 
@@ -142,9 +207,11 @@ class MavsdkDrone(Drone):
 
     def hold(self) -> CommandHandle:
         async def body() -> None:
-            if await self._leave_offboard():
-                return  # leaving offboard puts the vehicle in HOLD
-            await self._session.call(self._session.action.hold())
+            left = await self._leave_offboard()  # leaving offboard puts the vehicle in HOLD (ArduCopter: BRAKE)
+            if self._session.ardupilot:  # ArduCopter holds in LOITER (MAVSDK's hold is BRAKE: it cannot arm there)
+                await self._copter_mode(ARDUCOPTER_HOLD, "to hold")
+            elif not left:
+                await self._session.call(self._session.action.hold())
 
         return self._submit("hold", body)
 
@@ -205,7 +272,30 @@ class MavsdkDrone(Drone):
         if not await s.wait_until(lambda: s.cache.ready() or s.cache.armed, self.ready_timeout):
             missing = ", ".join(s.cache.missing()) or "not ready"
             raise AdapterError(Failure.DENIED, f"the vehicle is not ready after {self.ready_timeout:g} s: {missing}")
+        if s.ardupilot and not s.cache.armed and s.cache.flight_mode not in ARDUCOPTER_ARMS_IN:
+            await self._copter_mode("GUIDED", "to arm")
         await s.call(s.action.arm())
+
+    async def _copter_mode(self, name: str, why: str) -> None:
+        """Put an ArduCopter in mode ``name`` (DO_SET_MODE through MAVLink direct), and wait until it says so."""
+        s = self._session
+        before = s.cache.flight_mode
+        command = MavlinkMessage(message_name="COMMAND_LONG", system_id=0, component_id=0,
+                                 target_system_id=s.system_id, target_component_id=1,
+                                 fields_json=json.dumps({
+                                     "target_system": s.system_id, "target_component": 1, "command": _DO_SET_MODE,
+                                     "confirmation": 0, "param1": _CUSTOM_MODE_ENABLED,
+                                     "param2": COPTER_MODE_NUMBERS[name], "param3": 0, "param4": 0, "param5": 0,
+                                     "param6": 0, "param7": 0}))
+        ack = await s.call(s.direct.send_command(command))
+        result = json.loads(ack.fields_json or "{}").get("result")
+        if result != 0:
+            raise AdapterError(Failure.DENIED, f"the vehicle did not switch from {before} to {name} {why} "
+                                               f"(MAV_RESULT {result}{_said(s.cache)})")
+        if not await s.wait_until(lambda: s.cache.flight_mode == name, self.command_timeout):
+            raise AdapterError(Failure.DENIED, f"the vehicle still says {s.cache.flight_mode} after switching to "
+                                               f"{name} {why}")
+        logger.info("%s: switched from %s to %s %s", s.url, before, name, why)
 
     async def _leave_offboard(self) -> bool:
         """Stop streaming velocity setpoints (the vehicle goes to HOLD); True when offboard was active."""

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import contextlib
+import json
 import logging
 import math
 import threading
@@ -22,6 +23,7 @@ from aeroexec.drones.interface import CommandHandle, Failure
 from aeroexec.drones.mavsdk.connection import (
     TelemetryRates,
     check_url,
+    copter_mode_of,
     flight_mode_name,
     forward_native_log,
     landed_state,
@@ -35,6 +37,8 @@ from mavsdk.asyncio.plugins.offboard import OffboardAsync
 from mavsdk.asyncio.plugins.telemetry import TelemetryAsync
 
 logger = logging.getLogger(__name__)
+
+MAV_TYPE_CAMERA = 30  # a HEARTBEAT's type: the component is a camera
 
 _WATCHDOG_PERIOD = 0.1  # s between two link checks
 _DRAIN_LIMIT = 30.0  # s a shutdown waits for MAVSDK calls still in flight (MAVSDK bounds them itself)
@@ -53,6 +57,7 @@ class MavsdkSession:
         self.link_timeout = link_timeout
         self.error: str | None = None  # why the connection could not be opened
         self.ardupilot = False
+        self.system_id = 1  # the autopilot's MAVLink system id, once found
         self.action: ActionAsync | None = None
         self.telemetry: TelemetryAsync | None = None
         self.offboard: OffboardAsync | None = None
@@ -246,6 +251,7 @@ class MavsdkSession:
         while system is None:
             system = await mavsdk.first_autopilot(timeout_s=1.0)
         self.ardupilot = (await system.autopilot_type()).name == "ARDUPILOT"
+        self.system_id = int(await system.get_system_id())
         self.action, self.telemetry, self.offboard = ActionAsync(system), TelemetryAsync(system), OffboardAsync(system)
         self.direct = MavlinkDirectAsync(system)
         logger.info("autopilot found on %s (%s)", self.url, "ArduPilot" if self.ardupilot else "PX4 or other")
@@ -275,6 +281,18 @@ class MavsdkSession:
             h = g.horizontal_uncertainty_m
             cache.set(position_accuracy=round(float(h), 2) if math.isfinite(h) and 0 < h < 1e4 else None)
 
+        def heartbeat(message):
+            try:
+                fields = json.loads(message.fields_json or "{}")
+                mode = copter_mode_of(fields) if ardupilot else None
+            except (ValueError, TypeError, AttributeError):
+                return
+            if fields.get("type") == MAV_TYPE_CAMERA and cache.camera_component is None:
+                cache.set(camera_component=int(message.component_id))
+                logger.info("the vehicle has a camera (component %d)", message.component_id)
+            if mode is not None:
+                cache.set(flight_mode=mode)
+
         def health(h):
             cache.set(
                 armable=h.is_armable, global_position_ok=h.is_global_position_ok, home_position_ok=h.is_home_position_ok
@@ -294,7 +312,8 @@ class MavsdkSession:
             (telemetry.subscribe_battery(), battery),
             (telemetry.subscribe_armed(), lambda armed: cache.set(armed=armed)),
             (telemetry.subscribe_landed_state(), lambda s: cache.set(landed_state=landed_state(s))),
-            (telemetry.subscribe_flight_mode(), lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))),
+            # a camera's heartbeat; an ArduPilot's mode (MAVSDK says HOLD for both BRAKE and LOITER)
+            (self.direct.subscribe_message("HEARTBEAT"), heartbeat),
             (telemetry.subscribe_health(), health),
             (telemetry.subscribe_raw_gps(), accuracy),
             # MAVSDK publishes its health flags even when no SYS_STATUS ever came; the message itself tells.
@@ -302,6 +321,9 @@ class MavsdkSession:
             (telemetry.subscribe_status_text(), lambda t: cache.set_status_text(t.type.name, t.text)),
             (system.is_connected_state(), self._connection_changed),
         ]
+        if not ardupilot:
+            streams.append((telemetry.subscribe_flight_mode(),
+                            lambda m: cache.set(flight_mode=flight_mode_name(m, ardupilot))))
         for stream, store in streams:
             self.spawn(self._consume(stream, store))
 

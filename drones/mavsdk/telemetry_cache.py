@@ -33,6 +33,7 @@ class TelemetryCache:
         self.armed = False
         self.landed_state = LandedState.UNKNOWN
         self.flight_mode = "UNKNOWN"
+        self.camera_component: int | None = None  # the MAVLink component id of the vehicle's camera, once heard
         self.home: tuple[float, float, float] | None = None
         self.position_accuracy: float | None = None  # m, horizontal (GPS_RAW_INT h_acc)
         self.armable = False

@@ -29,6 +29,8 @@ class SimConfig:
     default_takeoff_altitude: float = 2.5  # m, MIS_TAKEOFF_ALT
     acceptance_radius: float = 0.5  # m: a go-to has arrived within it (NAV_ACC_RAD is 2)
     return_altitude: float = 10.0  # m: return-to-launch climbs to it first (RTL_RETURN_ALT is 60)
+    ceiling: float | None = None  # m above home the vehicle may climb to (a --vehicle profile's); None: no ceiling
+    camera: bool = True  # the vehicle has a camera (a --vehicle profile's camera: false: its photos are skipped)
 
     # Battery
     battery_hover_minutes: float = 20.0  # 100 % to 0 % hovering
@@ -75,5 +77,7 @@ class SimConfig:
             raise ValueError("SimConfig.wind must be finite and wind_gust not negative")
         if self.link_loss is not None and not (self.link_loss[0] >= 0.0 and self.link_loss[1] > 0.0):
             raise ValueError(f"SimConfig.link_loss must be (at >= 0, for > 0) seconds, not {self.link_loss}")
+        if self.ceiling is not None and not self.ceiling > 0.0:
+            raise ValueError(f"SimConfig.ceiling must be positive, not {self.ceiling}")
         if self.position_noise_std < 0.0:
             raise ValueError("SimConfig.position_noise_std cannot be negative")

@@ -14,7 +14,17 @@ from collections.abc import Callable
 from functools import wraps
 from typing import TypeVar
 
-from aeroexec.drones.interface import CommandHandle, Drone, DroneEvent, Failure, Observation, Telemetry, Vector
+from aeroexec.drones.interface import (
+    CAMERA_IMAGES,
+    CAMERA_NONE,
+    CommandHandle,
+    Drone,
+    DroneEvent,
+    Failure,
+    Observation,
+    Telemetry,
+    Vector,
+)
 from aeroexec.drones.sim.airspace import Airspace
 from aeroexec.drones.sim.camera import Camera, merge_observations
 from aeroexec.drones.sim.config import SimConfig
@@ -405,6 +415,11 @@ class SimulatedDrone(Drone):
                             f"(one of {', '.join(MODES)})", Failure.UNSUPPORTED)
 
     # --- camera image and payload ---------------------------------------------------------------------
+    def photo_source(self) -> str:
+        """Its images (the engine saves them as photos), or none for a vehicle without a camera (``camera:
+        false`` in its profile)."""
+        return CAMERA_IMAGES if self.config.camera else CAMERA_NONE
+
     @_locked
     def capture_image(self, width: int = 640, height: int = 480) -> bytes | None:
         """A PNG of what the front camera sees now: the world rendered from the drone's true pose."""

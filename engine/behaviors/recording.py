@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from aeroexec.beliefs import Struct
+from aeroexec.drones.interface import CAMERA_IMAGES, CAMERA_NONE, CAMERA_VEHICLE, CommandHandle
 from aeroexec.engine.behaviors.manipulation import MANIPULATION_BEHAVIORS, MANIPULATION_PROCESSES
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess
@@ -112,26 +113,72 @@ def not_saved(process: BehaviorProcess, path: Path | None, error: OSError) -> No
                                    file=str(path) if path is not None else None)
 
 
+def camera_of(context: BehaviorContext) -> str:
+    """Where the drone's photos come from (``Robot.photo_source``): its images, its own camera, or none."""
+    source = getattr(context.drone, "photo_source", None)
+    return source() if callable(source) else CAMERA_IMAGES
+
+
+def skip_photo(process: BehaviorProcess) -> None:
+    """A photo asked of a vehicle without a camera: skipped, the mission goes on; said once per activation
+    (``photo_skipped``), counted in ``skipped``."""
+    process.skipped = getattr(process, "skipped", 0) + 1
+    if process.skipped == 1:
+        process.context.log.record("photo_skipped", process.name, "the vehicle has no camera: the photo is skipped "
+                                   "and the mission goes on (further photos of this behavior are skipped unsaid)")
+
+
+def vehicle_photo(process: BehaviorProcess, handle: CommandHandle) -> str:
+    """A photo the vehicle's camera was asked for, once its handle is done: said (``photo_taken``, ``photo(self,
+    vehicle:N)``) and "", or why it was not taken."""
+    if not handle.ok:
+        return f"the vehicle's camera did not take the photo: {handle.reason}"
+    found = recordings(process.context)
+    found.vehicle_photos += 1
+    name = f"vehicle:{found.vehicle_photos}"
+    process.result = name
+    process.memory.add(Struct("photo", ("self", name)))
+    process.context.log.record("photo_taken", process.name, f"photo {found.vehicle_photos} taken by the vehicle's "
+                               f"camera (kept on the vehicle)", camera="vehicle")
+    return ""
+
+
 class TakePhoto(BehaviorProcess):
     """TAKE_PHOTO: the camera's image now, as ``photo_N.png``; result and ``photo(self, File)`` name the file. A photo
-    that cannot be saved (a full disk) is logged once and its goal is achieved without a file: the flight goes on."""
+    that cannot be saved (a full disk) is logged once and its goal is achieved without a file: the flight goes on.
+    On a vehicle with its own camera (a MAVSDK vehicle's camera component) the vehicle takes it (``vehicle:N``); on
+    one without a camera the photo is skipped, said in the log."""
 
     behavior = "TAKE_PHOTO"
 
     def on_start(self) -> None:
-        self._error = take_photo(self)
+        self._error, self._handle = "", None
+        camera = camera_of(self.context)
+        if camera == CAMERA_NONE:
+            skip_photo(self)
+        elif camera == CAMERA_VEHICLE:
+            self._handle = self.drone.take_photo()
+        else:
+            self._error = take_photo(self)
 
     def on_run(self) -> Outcome | None:
+        if self._handle is not None:
+            if not self._handle.done:
+                return None
+            self._error, self._handle = vehicle_photo(self, self._handle), None
         return self.fail(self._error) if self._error else Outcome.GOAL_ACHIEVED
 
 
 class TriggerCamera(BehaviorProcess):
     """TRIGGER_CAMERA: a photo every DISTANCE meters the drone flies (or every INTERVAL seconds) until stopped, at
-    most COUNT of them; the first when it starts counting. A photo the camera cannot take fails it."""
+    most COUNT of them; the first when it starts counting. A photo the camera cannot take fails it. A vehicle with its
+    own camera takes them (MAV_CMD_IMAGE_START_CAPTURE each time the distance is flown); one without skips them."""
 
     behavior = "TRIGGER_CAMERA"
 
     def on_start(self) -> None:
+        self.camera = camera_of(self.context)
+        self.pending: list[CommandHandle] = []  # photos asked of the vehicle's camera, not yet answered
         self.distance = self.arguments.get("DISTANCE")
         self.interval = self.arguments.get("INTERVAL")
         self.count = self.arguments.get("COUNT")
@@ -141,6 +188,11 @@ class TriggerCamera(BehaviorProcess):
         self.shot_at = self.now()
 
     def on_run(self) -> Outcome | None:
+        for handle in [h for h in self.pending if h.done]:  # the vehicle's camera answered
+            self.pending.remove(handle)
+            error = vehicle_photo(self, handle)
+            if error:
+                return self.fail(error)
         if self.count is not None and self.taken >= self.count:
             return None
         due = False
@@ -154,9 +206,14 @@ class TriggerCamera(BehaviorProcess):
         if not due:
             return None
         self.travelled, self.shot_at = 0.0, self.now()
-        error = take_photo(self)
-        if error:
-            return self.fail(error)
+        if self.camera == CAMERA_NONE:
+            skip_photo(self)
+        elif self.camera == CAMERA_VEHICLE:
+            self.pending.append(self.drone.take_photo())
+        else:
+            error = take_photo(self)
+            if error:
+                return self.fail(error)
         self.taken += 1
         return None
 
@@ -225,6 +282,7 @@ class Recordings:
     map_file: Path | None = None  # where the map of the active BUILD_MAP is saved
     map_dimension: str = "THREE"
     unsaved_photos: int = 0  # photos that could not be written (a full disk)
+    vehicle_photos: int = 0  # photos the vehicle's own camera took
     map_saved_at: float | None = None
 
 

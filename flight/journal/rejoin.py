@@ -6,7 +6,10 @@ companion computer). When it was flying and the behavior under way does not need
 
 - on the ground now: TAKE_OFF to the height it flew at, then GO_TO_POINT back to the place;
 - in the air now (a real vehicle that held its position, or drifted): GO_TO_POINT back, when farther than
-  :data:`NEAR` (m); nothing when it is there already: no landing first.
+  :data:`NEAR` (m); nothing when it is there already: no landing first;
+- in the air now with a GO_TO_POINT under way (a real vehicle flies on to its target after the companion computer
+  is killed): nothing: the leg starts again toward its target from where the drone is, not from where the
+  journal last saw it.
 
 A TAKE_OFF under way whose drone is in the air now climbs to the TAKE_OFF's height (its goal is then reached, and
 said so); a LAND under way whose drone is on the ground now has reached its goal. These behaviors run with the
@@ -46,6 +49,7 @@ class Rejoin:
     was_flying: bool
     under_way: dict[str, dict[str, Any]] = field(default_factory=dict)
     settled: list[tuple[str, str]] = field(default_factory=list)  # (behavior, why its goal is reached)
+    flies_on: bool = False  # a leg under way goes on from where the drone is (no flight back first)
     _steps: list[tuple[str, dict[str, Any]]] = field(default_factory=list)
     _done: Callable[[str | None], None] | None = None
     _until: float = 0.0
@@ -72,7 +76,11 @@ class Rejoin:
         elif self.was_flying and taking_off is None and landing is None:
             if not flying:
                 steps.append((climb, {"ALTITUDE": min(HIGHEST, max(LOWEST, round(z, 2)))}))
-            if not flying or math.dist(telemetry.position, self.place) > NEAR:
+            if flying and any(catalog.motion_of(name) == "fly_to" for name in self.under_way):
+                # a leg under way, the drone still in the air (a real vehicle flew on after the crash): the leg
+                # goes on toward its target from where the drone is, never back to where the journal last saw it
+                self.flies_on = True
+            elif not flying or math.dist(telemetry.position, self.place) > NEAR:
                 steps.append((fly, {"COORDINATES": (round(x, 3), round(y, 3), round(z, 3))}))
         return [(name, arguments) for name, arguments in steps if name in catalog]
 
@@ -102,6 +110,11 @@ class Rejoin:
 
     def _go(self) -> None:
         self._steps = self.plan()
+        if self.flies_on:
+            x, y, z = self.engine.drone.telemetry().position
+            self.engine.log.record("rejoin", detail=f"the drone is in the air at ({x:.1f}, {y:.1f}, {z:.1f}): the leg "
+                                                    f"under way goes on toward its target from there",
+                                   place=list(self.place), steps=[])
         if self._steps:
             where = ", ".join(f"{name} {tuple(args.values())[0]}" for name, args in self._steps)
             self.engine.log.record("rejoin", detail=f"back to where the mission stopped: {where}",

@@ -300,7 +300,7 @@ def resume_spec(folder: str | Path, *, mission: str | Path | None = None, drone:
                              credentials or fleet.get("credentials"),
                              tuple((str(p), int(k)) for p, k in fleet.get("trust") or ()))
         return FlightSpec(mission=Path(mission), robot=str(asked["robot"]), drone=str(drone or asked["drone"]),
-                          world=asked.get("world"), catalog=asked.get("catalog"),
+                          world=asked.get("world"), catalog=asked.get("catalog"), vehicle=asked.get("vehicle"),
                           library=tuple(asked.get("library") or ()), processes=tuple(asked.get("processes") or ()),
                           updaters=tuple(asked.get("updaters") or ()), rules=tuple(asked.get("rules") or ()),
                           safety_rules=tuple(asked.get("safety_rules") or ()), seed=int(asked.get("seed", 0)),

@@ -283,7 +283,7 @@ def open_journal(engine: Any, spec: FlightSpec, folder: Path, log: dict[str, Any
     going on; a Python mission's calls go through a recorder (journaled, replayed on a resume). JournalError when
     it cannot be written."""
     asked = plain(dataclasses.asdict(spec))
-    for key in ("world", "catalog", "log", "answers"):  # files as paths a resume finds from any folder
+    for key in ("world", "catalog", "log", "answers", "vehicle"):  # files as paths a resume finds from any folder
         if asked.get(key):
             asked[key] = str(Path(asked[key]).resolve())
     for key in ("rules", "safety_rules"):

@@ -148,7 +148,10 @@ class _Converter(CommandItems):
         if self.position is None:
             self.problem(item, f"the mission flies to {item.name} from the ground: aeroexec takes off to "
                                f"{text(altitude)} m first", severity="warning")
-            self.node("TAKE_OFF", item, "take-off", ALTITUDE=text(max(altitude, 0.5)))
+            take_off = TreeNode("TAKE_OFF", f"item {item.seq} take-off", {"ALTITUDE": text(max(altitude, 0.5))},
+                                [], self.file, item.line)
+            # an entry of its own, before the item's: a DO_JUMP back to the item repeats the flight, not the take-off
+            self.entries.append(Step(item.seq - 0.5, [take_off]))  # type: ignore[arg-type]
             self.position = (*self.xy, altitude)
 
     def go_to(self, item: MissionItem, label: str, where: tuple[Vector, str], yaw: float = math.nan,
@@ -319,8 +322,8 @@ class _Converter(CommandItems):
                 "warning", f"item {last.seq}: the mission ends in the air (no NAV_LAND or NAV_RETURN_TO_LAUNCH): "
                            f"aeroexec lands the drone where it is when the mission ends", self.file, last.line))
 
-        def problem(line: int, message: str) -> None:
-            self.document.problems.append(MissionProblem("error", message, self.file, line, WRONG_SEQUENCE))
+        def problem(line: int, message: str, severity: str = "error") -> None:
+            self.document.problems.append(MissionProblem(severity, message, self.file, line, WRONG_SEQUENCE))
 
         return build(nest_jumps(self.entries, problem), self.file)
 

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 
 from aeroexec.trees.model import TreeNode
 
+FOREVER = -1  # DO_JUMP's repeat count forever (ArduPilot's AP_MISSION_JUMP_REPEAT_FOREVER), Repeat's num_cycles
+
 
 @dataclass
 class Step:
@@ -67,8 +69,8 @@ def _last(entry: Entry) -> int:
 
 
 def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
-    """The entries with each jump's items folded into a block; ``problem(line, message)`` hears of jumps that
-    cannot be folded (forward, forever, crossing another)."""
+    """The entries with each jump's items folded into a block; ``problem(line, message[, severity])`` hears of jumps
+    that cannot be folded (forward, crossing another) and, as a warning, of one that repeats forever."""
     entries = list(entries)
     while True:
         k = next((i for i, e in enumerate(entries) if isinstance(e, Jump)), None)
@@ -76,9 +78,9 @@ def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
             return entries
         jump = entries[k]
         del entries[k]
-        if jump.repeat < 0:
-            problem(jump.line, f"item {jump.seq}: DO_JUMP repeats forever (repeat count {jump.repeat}): the "
-                               f"mission would never end; give it a number of repeats")
+        if jump.repeat < FOREVER:
+            problem(jump.line, f"item {jump.seq}: DO_JUMP repeat count {jump.repeat}: a count is a number of "
+                               f"repeats, or -1 forever")
             continue
         if jump.target >= jump.seq:
             problem(jump.line, f"item {jump.seq}: DO_JUMP to item {jump.target}, which is not before it: aeroexec "
@@ -95,7 +97,14 @@ def nest_jumps(entries: list[Entry], problem) -> list[Entry]:
                                f"repeats: jumps that cross each other have no tree")
             continue
         inner = entries[t:k]
-        block = _Block(inner, jump.repeat + 1, jump, _first(inner[0]), jump.seq)
+        if jump.repeat == FOREVER:  # ArduPilot's patrol: until the mission is stopped
+            problem(jump.line, f"item {jump.seq}: DO_JUMP repeats forever (repeat count -1) items "
+                               f"{jump.target}-{jump.seq - 1}: the drone patrols until the mission is stopped "
+                               f"(aeroexec ctl abort or suspend, the time limit --max-time, a safety rule such as low "
+                               f"battery); "
+                               f"the items after it never fly", "warning")
+        block = _Block(inner, jump.repeat + 1 if jump.repeat != FOREVER else FOREVER, jump, _first(inner[0]),
+                       jump.seq)
         entries[t:k] = [block]
 
 
@@ -114,7 +123,8 @@ def build(entries: list[Entry], file: str) -> list[TreeNode]:
         elif isinstance(entry, _Block):
             body = build(entry.entries, file)
             if body:
-                name = f"items {entry.first}-{entry.last - 1} {entry.cycles} times (DO_JUMP item {entry.last})"
+                times = "forever" if entry.cycles == FOREVER else f"{entry.cycles} times"
+                name = f"items {entry.first}-{entry.last - 1} {times} (DO_JUMP item {entry.last})"
                 nodes.append(TreeNode("Repeat", name, {"num_cycles": str(entry.cycles)},
                                       [_sequence(f"items {entry.first}-{entry.last - 1}", body, file,
                                                  entry.jump.line)], file, entry.jump.line))

@@ -4,8 +4,9 @@ What differs from PX4, as ArduCopter 4.x does it: the heartbeat says ArduPilot (
 numbers; nothing but HEARTBEAT is streamed until a client asks (REQUEST_DATA_STREAM groups or
 SET_MESSAGE_INTERVAL); the EKF comes up in steps (pre-arm checks pass, then the GPS origin and home are set,
 announced once with HOME_POSITION); modes that navigate need that position; NAV_TAKEOFF only in GUIDED,
-armed and landed, with its altitude above home; offboard setpoints are GUIDED commands, and when they stop
-for GUID_TIMEOUT the copter stops where it is.
+armed and landed, with its altitude above home; it refuses to arm in a mode that does not allow it (BRAKE,
+LAND, RTL, SMART_RTL, CIRCLE, AUTO: ``Arm: Brake mode not armable``); offboard setpoints are GUIDED commands, and
+when they stop for GUID_TIMEOUT the copter stops where it is.
 """
 
 from __future__ import annotations
@@ -26,6 +27,8 @@ COPTER_MODE_NAMES = {number: name for name, number in COPTER_MODES.items()}
 NAVIGATING = {"AUTO", "GUIDED", "LOITER", "RTL", "CIRCLE", "POSHOLD", "BRAKE", "SMART_RTL", "FOLLOW", "ZIGZAG"}
 #: Modes the simulation can enter without a pilot on the sticks only while disarmed.
 PILOTED = {"STABILIZE", "ACRO", "ALT_HOLD", "POSHOLD", "SPORT", "DRIFT", "FLOWHOLD"}
+#: Modes ArduCopter refuses to arm in (their ``allows_arming`` is false: AUTO without AUTO_OPTIONS too).
+NOT_ARMABLE = {"BRAKE", "LAND", "RTL", "SMART_RTL", "CIRCLE", "AUTO"}
 _GUIDED_FLAG = {"AUTO", "RTL", "LOITER", "GUIDED", "CIRCLE", "POSHOLD", "BRAKE", "SMART_RTL", "FOLLOW"}
 
 M = mavlink
@@ -92,6 +95,8 @@ class ArduCopter:
         """Why ArduCopter would refuse to arm now (its STATUSTEXT), None when it may."""
         if not self.prearm_ok(now):
             return "PreArm: EKF3 waiting for GPS config data"
+        if self.mode in NOT_ARMABLE:  # as ArduCopter's mandatory checks say it (AP_Arming_Copter)
+            return f"Arm: {self.mode.capitalize()} mode not armable"
         if self.mode in NAVIGATING and not self.position_ok(now):
             return "PreArm: Need Position Estimate"
         return None

@@ -27,6 +27,8 @@ from aeroexec.drones.sim.mavlink.ardupilot import (
     ArduCopter,
     streamed_messages,
 )
+from aeroexec.drones.sim.mavlink.camera import COMPONENT as CAMERA
+from aeroexec.drones.sim.mavlink.camera import CameraComponent
 from aeroexec.drones.sim.mavlink.commands import CommandHandler
 from aeroexec.drones.sim.mavlink.mission import MissionManager
 from aeroexec.drones.sim.mavlink.offboard import OffboardControl, setpoint_from_global_int, setpoint_from_local_ned
@@ -102,6 +104,8 @@ class MavlinkVehicle:
         autopilot: str = "px4",
         ekf: tuple[float, float] = (2.0, 5.0),
         log_folder: Path | None = None,
+        camera: bool = False,
+        camera_folder: Path | None = None,
     ) -> None:
         if not speed > 0 or not math.isfinite(speed):
             raise ValueError(f"the simulation speed must be a positive number, not {speed}")
@@ -133,6 +137,8 @@ class MavlinkVehicle:
         self.offboard = OffboardControl()
         self.mission = MissionManager(self.mav, self.statustext, first=1 if self.copter is not None else 0)
         self.commands = CommandHandler(self)
+        #: the camera component (``camera``: the vehicle has one; photos saved in ``camera_folder`` when given)
+        self.camera = CameraComponent(self, _GatedWriter(self), camera_folder) if camera else None
         self.speed_override: float | None = None  # DO_CHANGE_SPEED / DO_REPOSITION speed
         self.last_goto: tuple[tuple[float, float, float], float | None] | None = None
         self.latest: Telemetry = drone.telemetry()
@@ -272,10 +278,13 @@ class MavlinkVehicle:
     def _for_us(self, msg) -> bool:
         target_system = getattr(msg, "target_system", 0)
         target_component = getattr(msg, "target_component", 0)
-        return target_system in (0, self.system_id) and target_component in (0, self.component_id)
+        components = (0, self.component_id, CAMERA) if self.camera is not None else (0, self.component_id)
+        return target_system in (0, self.system_id) and target_component in components
 
     def _dispatch(self, msg, wall: float) -> None:
         kind = msg.get_type()
+        if self.camera is not None and getattr(msg, "target_component", 0) == CAMERA and self.camera.handle(msg):
+            return
         if kind in ("COMMAND_LONG", "COMMAND_INT"):
             self.commands.handle(msg)
         elif kind == "SET_POSITION_TARGET_LOCAL_NED":
@@ -391,6 +400,8 @@ class MavlinkVehicle:
         flags = (tel.armed, state.mode, tel.landed_state)
         if flags != self._last_flags or wall >= self._next_heartbeat:
             self.encoder.heartbeat(state)
+            if self.camera is not None:
+                self.camera.heartbeat()
             self._next_heartbeat = wall + 1.0
             if self._last_flags is not None and flags != self._last_flags:
                 # State changed: tell now, not at the next stream slot (ArduCopter: only if it is streamed).
