@@ -15,7 +15,7 @@ from aeroexec.drones.mavsdk import MavsdkDrone
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.drones.sim.mavlink.vehicle import MavlinkVehicle
 from aeroexec.flight.ending import end_flight
-from aeroexec.flight.journal import resume_point
+from aeroexec.flight.journal.resume_point import resume_point
 from aeroexec.flight.run_status import SUSPENDED
 from free_ports import free_udp_port
 from journeys import MISSIONS, achieved, active, crash, fly, fly_until, resume, spec
