@@ -29,6 +29,10 @@ def test_with_two_live_runs_ctl_refuses_and_names_both(tmp_path):
         assert "2 live runs: name one with --run DIR|PID (nothing was sent)" in refused.stderr
         for run, name in zip(runs, ("first", "second"), strict=True):
             assert f"pid {run.process.pid}" in refused.stderr and str(tmp_path / name) in refused.stderr
+        # the second run holds until it is aborted: at 3x it would otherwise finish its patrol on a loaded machine
+        # before the first is done with (seen: "no live run found")
+        held = ctl(tmp_path, "pause", "--run", str(runs[1].process.pid))
+        assert held.returncode == 0, held.stderr
         aborted = ctl(tmp_path, "abort", "--run", str(runs[0].process.pid))
         assert aborted.returncode == 0, aborted.stderr
         assert aborted.stdout.startswith(f"square_patrol.py (pid {runs[0].process.pid}, {tmp_path / 'first'}): ")
