@@ -50,6 +50,7 @@ FAULTS = {
     "loss": Fault("loss 20 %", None, 20),
     "latency": Fault("latency 200±50 ms", Latency(200, 50, duplicate=1), 0),
     "latency+loss": Fault("latency 200±50 ms, loss 20 %", Latency(200, 50, duplicate=1), 20),
+    "half-latency+loss": Fault("latency 100±25 ms, loss 20 %", Latency(100, 25, duplicate=1), 20),
     "partition": Fault("latency+loss, host 3 cut 30 s", Latency(200, 50, duplicate=1), 20, "partition"),
     "restart": Fault("latency+loss, router 2 killed, restarted", Latency(200, 50, duplicate=1), 20, "restart"),
 }
