@@ -12,7 +12,7 @@ sent while the fault holds, then (for a partition or a router restart) the heal.
   (their drones' and router's messages, with TCP's acknowledgements and retransmissions) over the drones' count;
 - CPU per drone-second: the drone processes' CPU time over the window over (drones x window), and the routers'.
 
-    sudo python bench/fleet_network.py                      # every fault, about 6 minutes
+    sudo python bench/fleet_network.py                      # every fault, about 10 minutes
     sudo python bench/fleet_network.py --faults loss latency+loss --commands 20
 """
 

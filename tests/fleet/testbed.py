@@ -96,6 +96,10 @@ class Testbed:
 
     __test__ = False  # a fixture's helper, not a test class
     latency: Latency | None = None
+    #: Each host's ``net.ipv4.tcp_retries2`` (docs/fleet-testbed.md sets it on the routers' machines): a TCP link
+    #: whose other end is gone is dropped after about 13 s of retransmissions instead of about 15 minutes, so a
+    #: router relinks within seconds of a heal (the kernel's 15: 18 to 70 s). None: the kernel's.
+    tcp_retries2: int | None = 5
     prefix: str = field(default_factory=lambda: f"aex{os.getpid()}")
     hosts: list[Host] = field(default_factory=list)
     _made: list[str] = field(default_factory=list)
@@ -157,6 +161,8 @@ class Testbed:
     def host(self, name: str) -> Host:
         """A new host on the switch, at the network's next address."""
         namespace = self._namespace(name)
+        if self.tcp_retries2 is not None:
+            _run("ip", "netns", "exec", namespace, "sysctl", "-q", "-w", f"net.ipv4.tcp_retries2={self.tcp_retries2}")
         n = len(self.hosts) + 1
         host = Host(namespace, f"{NETWORK}.{n}", f"p{n}", name)
         self.hosts.append(host)
