@@ -219,8 +219,8 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
     from aeroexec.fleet.members import operator_identity
 
     try:
-        known = {} if args.connect and args.credentials and (args.token or os.environ.get(TOKEN_VARIABLE)) else \
-            read_fleet_file(args.fleet, args.run_dir)
+        given = args.connect and args.credentials and (args.token or os.environ.get(TOKEN_VARIABLE))
+        known = read_fleet_file(args.fleet, args.run_dir) if args.run_dir or not given else {}
         token = args.token or os.environ.get(TOKEN_VARIABLE) or known.get("token", "")
         credentials = args.credentials or known.get("credentials")
         if not credentials:

@@ -9,6 +9,7 @@ answer gets an answer of its own, ``{ok: false, answered: false}``."""
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Iterable
 from typing import Any
 
@@ -29,7 +30,9 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
     """Each drone's answer (``ok``, ``message`` or ``error``, ``status`` for status); ``identity``: the operator's
     (None only for a fleet without credentials); ``members``: the drones the caller knows of, each expected to
     answer a command to every drone (``drone`` ``*``). A drone expected that did not answer has
-    ``{ok: false, answered: false, error}``."""
+    ``{ok: false, answered: false, error}``. Each answer has ``reached``: the seconds from the command's sending to
+    its arrival at the drone (the operator's wall clock against the drone's: equal on one machine, as close as
+    their clocks are on two)."""
     check_name(fleet, "the fleet name")
     if drone != "*":
         check_name(drone, "the drone name")
@@ -42,7 +45,8 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
         raise FleetCommandError(str(error)) from None
     answers: dict[str, dict[str, Any]] = {}
     try:
-        request = json.dumps({"v": VERSION, "token": token, "command": command, "argument": argument})
+        request = json.dumps({"v": VERSION, "token": token, "command": command, "argument": argument,
+                              "sent": time.time()})
         for reply in session.get(key(fleet, drone, "command"), payload=request.encode(), timeout=timeout):
             sample = reply.ok if reply.ok is not None else reply.err
             try:

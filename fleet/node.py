@@ -95,7 +95,7 @@ class FleetNode:
         self._publishers: dict[tuple[str, str], Any] = {}
         self._queryables: dict[str, Any] = {}
         self._lock = threading.Lock()
-        self._answers: queue.Queue[tuple[Any, str, str, Any, float] | None] = queue.Queue()
+        self._answers: queue.Queue[tuple[Any, str, str, Any, float, float | None] | None] = queue.Queue()
         self._answering = threading.Thread(target=self._answer, name="aeroexec-fleet-commands", daemon=True)
         self._answering.start()
         self._closed = False
@@ -305,8 +305,11 @@ class FleetNode:
         link = self.links.get(drone)
         if link is None:
             return
+        sent = request.get("sent")  # the operator's wall clock: how long the command took to reach this drone
+        reached = round(time.time() - sent, 3) if isinstance(sent, (int, float)) and not isinstance(sent, bool) \
+            else None
         ticket = link.submit(request["command"], request.get("argument", ""))
-        self._answers.put((query, drone, request["command"], ticket, time.monotonic() + COMMAND_TIMEOUT))
+        self._answers.put((query, drone, request["command"], ticket, time.monotonic() + COMMAND_TIMEOUT, reached))
 
     def _request(self, query: Any) -> dict[str, Any]:
         try:
@@ -325,7 +328,7 @@ class FleetNode:
     def _answer(self) -> None:
         """Reply to each command once its drone's engine ran it (or it timed out); the tickets run side by side."""
         while (item := self._answers.get()) is not None:
-            query, name, command, ticket, deadline = item
+            query, name, command, ticket, deadline, reached = item
             result = ticket.wait(max(0.0, deadline - time.monotonic()))
             if result is None:
                 answer = {"ok": False, "error": f"{name} did not run the command within {COMMAND_TIMEOUT:g} s"}
@@ -335,6 +338,8 @@ class FleetNode:
                 if command == "status":
                     answer["status"] = result.data
                     answer["silent"] = sorted(getattr(self.links.get(name), "silent", ()))
+            if reached is not None:
+                answer["reached"] = reached
             with self._lock:
                 first = min(self.links, default=name)
             if name == first:  # one drone per process says who the operator should hear

@@ -26,6 +26,11 @@ logger = logging.getLogger(__name__)
 
 DEFAULT_ENDPOINT = "tls/127.0.0.1:7447"
 LEASE_MS = 2000  # a frozen process is dropped by the router after this (liveliness); telemetry says more
+#: The lease of a session with an endpoint off the loopback (another machine): Zenoh's default. Over a real network
+#: a link's keep-alives wait behind TCP's retransmissions; with 200 ms of latency and 20 % loss they came more than
+#: 2 s late, every link between hosts was closed and opened again, and what it carried then was lost (the
+#: operator's commands reached no drone: tests/fleet/test_fleet_network.py).
+NETWORK_LEASE_MS = 10000
 #: Bytes a Zenoh batch holds (Zenoh's default: 65535). A fleet puts its drones' ticks at the end of each period,
 #: a burst; in full-size batches the first tick waited for the next 150 to fill its batch (median put -> arrival
 #: 2 ms at 500 drones over 2 workers, 1.1 ms with 8 KB batches, the CPU the same: bench/fleet.py).
@@ -75,6 +80,13 @@ def endpoint_host(endpoint: str) -> str:
     return host[1:-1] if host.startswith("[") and host.endswith("]") else host
 
 
+def lease_ms(endpoints: list[str]) -> int:
+    """The lease of a session on ``endpoints``: :data:`LEASE_MS` on the loopback alone, else
+    :data:`NETWORK_LEASE_MS`."""
+    local = all(endpoint_host(e) in ("localhost", "::1") or endpoint_host(e).startswith("127.") for e in endpoints)
+    return LEASE_MS if local else NETWORK_LEASE_MS
+
+
 def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = (),
            identity: Material | None = None, access: dict[str, Any] | None = None) -> Any:
     """A ``zenoh.Config``: ``mode`` peer, client or router; every endpoint explicit; no multicast scouting;
@@ -94,7 +106,7 @@ def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[st
     c.insert_json5("scouting/delay", "0")
     c.insert_json5("listen/endpoints", json.dumps(list(listen)))
     c.insert_json5("connect/endpoints", json.dumps(list(connect)))
-    c.insert_json5("transport/link/tx/lease", str(LEASE_MS))
+    c.insert_json5("transport/link/tx/lease", str(lease_ms([*listen, *connect])))
     c.insert_json5("transport/link/tx/batch_size", str(TX_BATCH))
     if mode == "peer":
         c.insert_json5("scouting/gossip/enabled", "false")

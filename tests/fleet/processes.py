@@ -4,6 +4,7 @@ import os
 import subprocess
 import sys
 import threading
+import time
 from pathlib import Path
 
 from patience import hang_guard
@@ -84,6 +85,7 @@ class Output:
 
     def __init__(self, process: subprocess.Popen) -> None:
         self.process, self.lines = process, []
+        self.times: list[float] = []  # time.monotonic() when each line came
         self._changed = threading.Condition()
         self._reader = threading.Thread(target=self._read, daemon=True)
         self._reader.start()
@@ -92,6 +94,7 @@ class Output:
         for line in self.process.stdout:
             with self._changed:
                 self.lines.append(line)
+                self.times.append(time.monotonic())
                 self._changed.notify_all()
         with self._changed:
             self.lines.append("")  # the end

@@ -76,3 +76,23 @@ def test_the_operator_reaches_every_drone_of_a_router_and_members_fleet_and_name
         summary = next(line for line in pair_out.splitlines() if line.startswith(f"{drone}: hover.py"))
         assert "aborted" in summary and "landed at" in summary, summary
     assert "hover.py: aborted" in d3_out and "drone_disarmed" in d3_out, d3_out[-3000:]
+
+
+def test_the_operator_names_every_drone_of_the_routers_roster_that_did_not_answer_even_when_none_did(tmp_path):
+    """The operator's endpoint and identity given and the router's folder named (``--run``): the drones ctl expects
+    are the roster of the router's fleet.json, so with no drone flying yet each is named, not only 'none answered'."""
+    (tmp_path / "search.yaml").write_text("fleet: search\ncredentials: creds\ndrones:\n  - {name: d1}\n"
+                                          "  - {name: d2}\n")
+    endpoint = free_endpoint("tls")
+    assert main(["fleet", str(tmp_path / "search.yaml"), "--make-credentials", str(tmp_path / "creds"),
+                 "--listen", endpoint]) == 0
+    router = aeroexec("fleet", "search.yaml", "--router", "--listen", endpoint, "--output", "router", cwd=tmp_path)
+    try:
+        wait_for_line(router, "listening on", 60)
+        status = ctl("--fleet", "search", "status", "--credentials", "creds", "--connect", endpoint, "--run",
+                     "router", cwd=tmp_path, token=TOKEN)
+    finally:
+        stop(router)
+    assert status.returncode == 1, status.stdout + status.stderr
+    assert "d1: did not answer" in status.stderr and "d2: did not answer" in status.stderr, status.stderr
+    assert "no drone of fleet search answered" in status.stderr

@@ -6,12 +6,13 @@ loss, with a host cut off and healed, with a router killed and started again."""
 import os
 import signal
 import subprocess
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
 from processes import HOVER, TOKEN, Output, stop
-from testbed import Host, Testbed
+from testbed import Host, Latency, Testbed
 
 PORT = 7447  # each host has its own network stack: the README's port is free on every one
 
@@ -152,3 +153,69 @@ def test_a_router_killed_and_started_again_is_rejoined_by_its_drone_and_the_othe
     d2.wait(lambda lines: seen(lines, "d1 is heard again", killed), "d1 heard again by d2", 120)
     fleet.abort_both(fleet.a)
     assert_flew_on(d2, killed)
+
+
+ECHO = """import socket, sys
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.bind(("0.0.0.0", 9000))
+print("ready", flush=True)
+while True:
+    data, sender = s.recvfrom(100)
+    print(data.decode(), flush=True)
+"""
+SEND = """import socket, sys, time
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+for n in range(int(sys.argv[3]), int(sys.argv[3]) + int(sys.argv[2])):
+    s.sendto(str(n).encode(), (sys.argv[1], 9000))
+    time.sleep(0.002)
+s.sendto(b"end", (sys.argv[1], 9000))
+"""
+ROUND_TRIP = """import socket, sys, time
+started = time.monotonic()
+with socket.create_connection((sys.argv[1], 9001), timeout=30) as s:
+    s.sendall(b"x")
+    s.recv(1)
+print(time.monotonic() - started)
+"""
+SERVE = """import socket
+s = socket.socket()
+s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+s.bind(("0.0.0.0", 9001))
+s.listen()
+print("ready", flush=True)
+c, _ = s.accept()
+c.sendall(c.recv(1))
+"""
+
+
+def test_the_relay_holds_every_packet_reorders_duplicates_and_cuts_a_host(tmp_path):
+    """Hosts on the delaying relay: a TCP connection and one round trip (3 packets one way, 2 back at the least)
+    take at least 5 x 150 ms; of 300 datagrams sent 2 ms apart with 150 ms of jitter and 20 % duplicated, some
+    arrive twice and some before one sent earlier; a host cut off receives nothing until it is healed."""
+    with Testbed(Latency(200, 150, reorder=True, duplicate=20)) as bed:
+        a, b = bed.host("a"), bed.host("b")
+        server = subprocess.Popen(b.command(sys.executable, "-c", SERVE), stdout=subprocess.PIPE, text=True)
+        echo = subprocess.Popen(b.command(sys.executable, "-c", ECHO), stdout=subprocess.PIPE, text=True)
+        try:
+            assert server.stdout.readline().strip() == "ready" and echo.stdout.readline().strip() == "ready"
+            trip = a.run(sys.executable, "-c", ROUND_TRIP, b.address, cwd=tmp_path)
+            assert trip.returncode == 0, trip.stderr
+            assert float(trip.stdout) >= 5 * 0.150, trip.stdout
+            sent = a.run(sys.executable, "-c", SEND, b.address, "300", "0", cwd=tmp_path)
+            assert sent.returncode == 0, sent.stderr
+            got = Output(echo)
+            got.wait(lambda lines: seen(lines, "end"), "the datagrams", 60)
+            numbers = [int(line) for line in got.lines if line.strip().isdigit()]
+            assert len(numbers) > len(set(numbers)), "no datagram came twice"
+            assert any(later < earlier for earlier, later in zip(numbers, numbers[1:], strict=False)), \
+                "none overtook another"
+            bed.cut(b)
+            a.run(sys.executable, "-c", SEND, b.address, "20", "1000", cwd=tmp_path)  # 1000 to 1019: lost
+            bed.heal(b)
+            a.run(sys.executable, "-c", SEND, b.address, "1", "2000", cwd=tmp_path)
+            got.wait(lambda lines: seen(lines, "2000"), "the datagram after the heal", 60)
+            assert not any(1000 <= int(line) < 1020 for line in got.lines if line.strip().isdigit()), got.text
+        finally:
+            stop(server, echo)
+    assert not any(n.startswith(bed.prefix) for n in subprocess.run(
+        ["ip", "netns", "list"], capture_output=True, text=True).stdout.split()), "a namespace was left"

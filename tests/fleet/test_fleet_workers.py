@@ -153,6 +153,38 @@ def test_a_worker_that_dies_fails_its_drones_and_the_others_land(tmp_path):
         assert f"{drone}: " in err and "landed" in err.split(f"{drone}: m")[1].splitlines()[0]
 
 
+def test_a_worker_lost_mid_flight_is_reported_and_the_other_workers_drones_fly_their_missions_to_the_end(tmp_path):
+    """kill -9 of one worker and nothing else: its drones are reported failed with the reason, the other worker's
+    fly on to the end of their missions and land (completed), and the fleet's exit status (1) and status file say
+    that not every drone completed."""
+    fleet = cascade(tmp_path, 4, seconds=60)  # after the cascade, 60 s of flight left (15 s at --speed 4)
+    process = subprocess.Popen([sys.executable, "-m", "aeroexec", "fleet", str(fleet), "--workers", "2", "--speed",
+                                "4", "--plain", "--output", str(tmp_path / "out")], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        _wait_until_all_up(tmp_path, 4, process)
+        workers = _workers(process)
+        assert len(workers) == 2, workers
+        os.kill(max(workers), signal.SIGKILL)  # the second worker, flying d3 and d4
+        out, err = process.communicate(timeout=hang_guard(120))
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 1, err
+    assert "the worker flying d3, d4 ended unexpectedly (exit status -9): its drones are reported failed; the others " \
+           "fly on" in err, err
+    status = json.loads((tmp_path / "out" / "fleet_status.json").read_text())
+    assert status["exit_status"] == 1 and status["status"] == "mixed", status
+    for drone in ("d3", "d4"):
+        assert status["drones"][drone]["status"] == "failed", status["drones"][drone]
+        assert "its worker process ended unexpectedly (exit status -9)" in status["drones"][drone]["reasons"][0]
+    for drone in ("d1", "d2"):  # flew the rest of their missions: the wait, then LAND
+        assert status["drones"][drone]["status"] == "completed", status["drones"][drone]
+        log = events(tmp_path / "out", drone)
+        assert [e["landed_state"] for e in log if e["kind"] == "state"][-1] == "on_ground", drone
+        assert any(e["kind"] == "drone_disarmed" for e in log), drone
+
+
 def test_a_mission_a_worker_cannot_fly_is_named_with_its_line_and_nothing_flies(tmp_path):
     fleet = cascade(tmp_path, 4)
     (tmp_path / "m4.py").write_text("import aeroexec.engine.api as api\n\n\ndef mission(:\n    pass\n")

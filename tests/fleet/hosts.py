@@ -1,0 +1,157 @@
+"""A fleet over several hosts of the testbed, as docs/fleet-testbed.md deploys it: credentials made once, a router on
+each drone host (each after the first linked to the first: ``fleet --router --listen ... --connect ...``), drones
+joining their own host's router (``run --fleet``), the operator on a host of its own reaching the fleet through the
+first host's router (``ctl --fleet``). Used by tests/fleet/test_fleet_network.py and bench/fleet_network.py."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import signal
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from processes import HOVER, TOKEN, Output, stop
+from testbed import Host, Testbed
+
+PORT = 7447  # each host has its own network stack: the same port on every one
+HEARD = re.compile(r"fleet_drone_heard: (.+?)(?: and (\d+) more)? (?:is|are) in the fleet")
+
+
+@dataclass
+class Command:
+    """One ``ctl --fleet`` by the operator: its process's end, each drone's answer (``--json``)."""
+
+    done: subprocess.CompletedProcess
+    answers: dict[str, dict]
+
+    @property
+    def reached(self) -> dict[str, float]:
+        """Seconds from the command's sending to its arrival, for each drone it reached."""
+        return {d: a["reached"] for d, a in self.answers.items() if isinstance(a.get("reached"), (int, float))}
+
+
+@dataclass
+class FleetOfHosts:
+    """Fleet ``search`` of ``per_host`` drones on each of ``drone_hosts`` hosts of ``bed``, the operator on one more
+    host; :meth:`start` starts its routers and drones."""
+
+    bed: Testbed
+    folder: Path
+    drone_hosts: int = 3
+    per_host: int = 2
+    mission: str = HOVER
+    processes: list[subprocess.Popen] = field(default_factory=list)
+    commands: list[Command] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.hosts = [self.bed.host(f"h{n}") for n in range(1, self.drone_hosts + 1)]
+        self.operator = self.bed.host("op")
+        self.names = [f"d{n}" for n in range(1, self.drone_hosts * self.per_host + 1)]
+        self.host_of = {name: self.hosts[n // self.per_host] for n, name in enumerate(self.names)}
+        self.env = {**os.environ, "AEROEXEC_FLEET_TOKEN": TOKEN}
+        (self.folder / "hover.py").write_text(self.mission)
+        roster = "".join(f"  - {{name: {name}}}\n" for name in self.names)
+        (self.folder / "search.yaml").write_text(f"fleet: search\ncredentials: creds\nshare: [object]\n"
+                                                 f"drones:\n{roster}")
+        listen = [word for host in self.hosts for word in ("--listen", self.endpoint(host))]
+        made = self.hosts[0].run("aeroexec", "fleet", "search.yaml", "--make-credentials", "creds", *listen,
+                                 cwd=self.folder, env=self.env)
+        assert made.returncode == 0, made.stdout + made.stderr
+        self.routers: dict[str, Output] = {}
+        self.drones: dict[str, Output] = {}
+
+    @staticmethod
+    def endpoint(host: Host) -> str:
+        return f"tls/{host.address}:{PORT}"
+
+    def on(self, host: Host, *words: str) -> Output:
+        process = host.popen("aeroexec", *words, cwd=self.folder, env=self.env)
+        self.processes.append(process)
+        return Output(process)
+
+    def router(self, host: Host, timeout: float) -> Output:
+        """The fleet's router on ``host`` (linked to the first host's), once it listens."""
+        linked = ("--connect", self.endpoint(self.hosts[0])) if host is not self.hosts[0] else ()
+        out = self.on(host, "fleet", "search.yaml", "--router", "--listen", self.endpoint(host), *linked, "--output",
+                      f"router-{host.name}")
+        out.wait(lambda lines: seen(lines, "listening on"), f"the router on {host.name}", timeout)
+        self.routers[host.name] = out
+        return out
+
+    def start(self, timeout: float, loss: int = 0) -> None:
+        """Every router, then ``loss`` % of the packets reaching each host dropped, then every drone, once each
+        flies and has heard every other."""
+        for host in self.hosts:
+            self.router(host, timeout)
+        for host in self.bed.hosts:
+            self.bed.lose(host, loss)
+        for name in self.names:
+            host = self.host_of[name]
+            self.drones[name] = self.on(host, "run", "hover.py", "--fleet", "search", "--name", name, "--credentials",
+                                        "creds", "--connect", self.endpoint(host), "--share", "object", "--plain",
+                                        "--output", name)
+        mates = len(self.names) - 1
+        for name, drone in self.drones.items():
+            drone.wait(lambda lines: seen(lines, "drone_takeoff_complete") and mates_heard(lines) >= mates,
+                       f"{name} flying, hearing every other drone", timeout)
+
+    def ctl(self, *words: str) -> Command:
+        """``aeroexec ctl --fleet search WORDS --json`` by the operator on its own host, through the first router;
+        the roster from the first router's fleet.json."""
+        done = self.operator.run("aeroexec", "ctl", "--fleet", "search", *words, "--json", "--credentials", "creds",
+                                 "--connect", self.endpoint(self.hosts[0]), "--run", f"router-{self.hosts[0].name}",
+                                 cwd=self.folder, env=self.env)
+        try:
+            answers = json.loads(done.stdout) if done.stdout.strip() else {}
+        except ValueError:
+            answers = {}
+        command = Command(done, answers)
+        self.commands.append(command)
+        return command
+
+    def kill_router(self, host: Host) -> None:
+        process = self.routers.pop(host.name).process
+        process.send_signal(signal.SIGKILL)  # no goodbye
+        process.wait(30)
+
+    def ended(self, timeout: float) -> None:
+        """Every drone's process ended, its output read to the end."""
+        for drone in self.drones.values():
+            drone.process.wait(timeout)
+            drone.wait(lambda lines: lines[-1:] == [""], "the end of a drone's output", timeout)
+
+    def close(self) -> None:
+        stop(*self.processes)
+
+
+def seen(lines: list[str], text: str, after: int = 0) -> bool:
+    return any(text in line for line in lines[after:])
+
+
+def mates_heard(lines: list[str]) -> int:
+    """How many other drones a drone said it heard (``fleet_drone_heard: d2, d3 and 2 more are in the fleet``)."""
+    count = 0
+    for line in lines:
+        found = HEARD.search(line)
+        if found:
+            count += len(found.group(1).split(", ")) + int(found.group(2) or 0)
+    return count
+
+
+def when(out: Output, text: str, after: int = 0) -> float | None:
+    """time.monotonic() of the first line of ``out`` from line ``after`` on that holds ``text``, or None."""
+    return next((out.times[n] for n in range(after, len(out.times)) if text in out.lines[n]), None)
+
+
+def percentile(values: list[float], q: float) -> float:
+    """The ``q``-th percentile (nearest rank) of ``values``."""
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, round(q / 100 * len(ordered) + 0.5) - 1))]
+
+
+def since(start: float) -> float:
+    return time.monotonic() - start
