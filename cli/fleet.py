@@ -26,7 +26,7 @@ from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_argumen
 from aeroexec.cli.verify import add_home_argument
 from aeroexec.cli.views.live import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent
-from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE
+from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
 from aeroexec.flight.fleet import STATUS_FILE, FleetSession, event_line, fleet_exit_status
 from aeroexec.flight.output import prepare_output
 from aeroexec.flight.run_status import LOG_INCOMPLETE
