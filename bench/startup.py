@@ -13,7 +13,8 @@ Run ``python bench/startup.py`` (``--repeat N``, 7 by default; ``--docs`` rewrit
 never edited by hand). The commands run interleaved (one of each per round, so a machine whose load changes slows
 them alike), each after a warm-up run, with bytecode caching on as an installed package runs
 (``PYTHONDONTWRITEBYTECODE`` removed). A process's CPU time (user + system) is what a command costs; its wall time
-also counts the other processes that took the cores meanwhile. Where the time goes: ``VENV/bin/python -X importtime -m aeroexec.cli.main verify ...``.
+also counts the other processes that took the cores meanwhile. Where the time goes:
+``VENV/bin/python -X importtime -m aeroexec.cli.main verify ...``.
 """
 
 from __future__ import annotations
