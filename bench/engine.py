@@ -210,13 +210,14 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="fewer missions and shorter runs")
     parser.add_argument("--only", choices=["step", "missions", "planning", "trees"])
-    parser.add_argument("--readme", action="store_true", help="rewrite the README's tree-tick table (with trees)")
+    parser.add_argument("--docs", action="store_true",
+                        help="rewrite the tables of docs/performance/run.md (the engine step's and the tree ticks')")
     options = parser.parse_args()
     logging_quiet()
     parts = {"step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),
              "missions": lambda: longest_steps(options.quick),
              "planning": enclosed_goal,
-             "trees": lambda: tree_ticks().trees(options.repeat, options.quick, options.readme)}
+             "trees": lambda: tree_ticks().trees(options.repeat, options.quick, options.docs)}
     print(f"{'':52s}{'min / median':>22s}  {'ratio':>16s}")
     for name, part in parts.items():
         if options.only in (None, name):
