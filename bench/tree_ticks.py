@@ -76,7 +76,7 @@ def trees(repeat: int, quick: bool, docs: bool = False) -> None:
         def tick(self) -> bool:
             kind = self.kind
             if kind == "sequence":
-                for child in self.children:
+                for child in self.children:  # noqa: SIM110 (the floor: all() over a generator is ~30 % slower)
                     if not child.tick():
                         return False
                 return True
