@@ -13,7 +13,10 @@ import importlib.machinery
 import sys
 import types
 import warnings
-from typing import Any
+
+TYPE_CHECKING = False  # typing is not imported at run time: every command would pay for it (~3 ms)
+if TYPE_CHECKING:
+    from typing import Any
 
 MOVED = {
     "aeroexec.engine.specialist": "aeroexec.engine.catalog.specialist",

@@ -1,20 +1,23 @@
 """Plugins: objects named ``module:attribute`` and the installed packages' entry points, loaded one way for every
 group (behaviors, processes, updaters, drones in :mod:`aeroexec.engine.library`; mission formats in
-:mod:`aeroexec.trees.formats`). Imports nothing of aeroexec, so a table of plugins costs no engine to read."""
+:mod:`aeroexec.trees.formats`). Imports nothing of aeroexec but ``aeroexec.lazy``, so a table of plugins costs no
+engine to read."""
 
 from __future__ import annotations
 
 import functools
 import importlib
-import logging
 import os
 import sys
-from typing import TYPE_CHECKING, Any
 
+from aeroexec.lazy import lazy_logger
+
+TYPE_CHECKING = False  # typing and logging are not imported until needed: ``aeroexec --help`` reads plugins
 if TYPE_CHECKING:
     from importlib.metadata import EntryPoints
+    from typing import Any
 
-logger = logging.getLogger(__name__)
+logger = lazy_logger(__name__)
 
 
 class PluginError(ValueError):
