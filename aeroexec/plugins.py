@@ -78,6 +78,17 @@ def _groups_on_path(path: tuple[str, ...]) -> frozenset[str] | None:
     return frozenset(groups)
 
 
+def entry_points_of(group: str) -> list[Any]:
+    """The installed entry points of ``group``, read now (not loaded); none, without importing
+    :mod:`importlib.metadata`, when no installed package names the group."""
+    groups = _groups_on_path(tuple(sys.path))
+    if groups is not None and group not in groups:
+        return []
+    from importlib.metadata import entry_points
+
+    return list(entry_points(group=group))
+
+
 def installed_plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
     """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``; one that cannot
     be loaded is logged and left out."""
@@ -93,4 +104,4 @@ def installed_plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
     return found
 
 
-__all__ = ["PluginError", "installed", "installed_plugins", "load_reference"]
+__all__ = ["PluginError", "entry_points_of", "installed", "installed_plugins", "load_reference"]

@@ -54,3 +54,15 @@ def test_a_plugin_group_a_package_names_is_still_read(tmp_path):
         assert installed_plugins("aeroexec.toy_group", named=True) == [("answer", json.dumps)]
     """)
     assert "importlib.metadata" in modules
+
+
+def test_a_run_reads_its_declared_rules_and_robot_kind_without_the_web_or_package_metadata():
+    """The safety rules a mission declares are unescaped without ``xml.sax.saxutils`` (it imports urllib.request,
+    http.client and ssl), and the built-in drone is chosen without reading every installed package."""
+    modules = imported_after("""
+        from aeroexec.engine.robots import robot_kind
+        from aeroexec.engine.safety.declared import _unescape
+        assert robot_kind("drone") is None
+        assert _unescape("a &lt; b &amp;&amp; c &gt; &quot;d&apos; &amp;lt;") == "a < b && c > \\"d' &lt;"
+    """)
+    assert sorted(modules & {"xml.sax.saxutils", "urllib.request", "ssl", "importlib.metadata"}) == []
