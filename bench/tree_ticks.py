@@ -16,6 +16,7 @@ from __future__ import annotations
 import statistics
 import time
 from pathlib import Path
+from typing import Any
 
 from provenance import load, measured_at, write_section
 
@@ -110,17 +111,25 @@ def trees(repeat: int, quick: bool, docs: bool = False) -> None:
             bare, plain = bare_tree(groups, changing), plain_tree(groups, changing)
             ticks = 20 if groups > 500 or quick else 100
 
-            # interleaved tick by tick: each tick of aeroexec's tree is measured between a tick of the other two, so
-            # a load that comes and goes weighs on all three alike, and each pair's ratio is taken in the same moment
+            # interleaved tick by tick: aeroexec's tree and the plain recursion take turns (which goes first
+            # alternates), so a load that comes and goes weighs on both alike and each pair's ratio is taken in the
+            # same moment; bare py_trees (tens of times slower: it would flush the caches between them) is timed in
+            # a block of its own in every repeat
             times: list[list[float]] = [[], [], []]
-            clock = time.process_time
+
+            def timed(tick: Any, measured: list[float], changing: bool = changing) -> None:
+                change(changing)
+                began_at = time.process_time()
+                tick()
+                measured.append(time.process_time() - began_at)
+
             for _ in range(repeat):
-                for _ in range(ticks):
-                    for measured, tick in zip(times, (mission.tick, bare.tick_once, plain.tick), strict=True):
-                        change(changing)
-                        began_at = clock()
-                        tick()
-                        measured.append(clock() - began_at)
+                for _ in range(max(ticks // 5, 2)):
+                    timed(bare.tick_once, times[1])
+                for n in range(ticks):
+                    turns = ((mission.tick, times[0]), (plain.tick, times[2]))
+                    for tick, measured in turns if n % 2 else reversed(turns):
+                        timed(tick, measured)
             ours_t, py_t, plain_t = (spread(measured) for measured in times)
             pairs = sorted(o / p for o, p in zip(times[0], times[2], strict=True) if p > 0)
             nodes = len(mission.nodes)
@@ -144,7 +153,8 @@ def trees(repeat: int, quick: bool, docs: bool = False) -> None:
             mission.halt("bench")
     engine.stop()
     said = (f"Measured by `python bench/engine.py --only trees --repeat {repeat}{' --quick' if quick else ''} "
-            f"--docs` (CPU time of this process, each tick measured alone, the three interleaved tick by tick, "
+            f"--docs` (CPU time of this process, each tick measured alone, aeroexec's and the plain recursion's in "
+            f"turns, bare py_trees' in a block of its own in every repeat, "
             f"{repeat} repeats of {20 if quick else 100} ticks of each, 20 at 5,002 nodes) at {measured_at(began)}.")
     print(said)
     if docs:
