@@ -127,8 +127,11 @@ def table(results: dict[str, list[tuple[float, float, float]]], load: float, int
         label = f"`{label}`" + (" (an empty run: start-up only)" if name.startswith("an empty run") else "")
         rows.append(f"| {label} | {cpu * 1000:.0f} ms | {ratio:.1f}× | ≤ {goal:g}×: {verdict} | {memory:.0f} MB |")
     repeat = len(results["python -c pass"])
+    at = measured_at(load)
+    if not interpreter.startswith("a virtualenv"):  # another interpreter's aeroexec: not necessarily this checkout's
+        at = at.replace("commit ", "the checkout at commit ", 1) + " (the aeroexec measured is the interpreter's own)"
     rows.append(f"\nMeasured by `python bench/startup.py --docs` (CPU time, user + system; {repeat} interleaved runs "
-                f"of each, Python {sys.version_info.major}.{sys.version_info.minor}) at {measured_at(load)}.")
+                f"of each, Python {sys.version_info.major}.{sys.version_info.minor}) at {at}.")
     return "\n".join(rows)
 
 
