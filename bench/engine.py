@@ -24,6 +24,9 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
+PAGE = ROOT / "docs" / "performance" / "run.md"
+STEP_BEGIN = "<!-- engine-step: begin (python bench/engine.py --only step --docs) -->"
+STEP_END = "<!-- engine-step: end -->"
 MISSIONS = sorted(p for p in (ROOT / "missions").iterdir()
                   if p.suffix in (".py", ".xml", ".yaml") and p.name != "__init__.py")
 
@@ -50,11 +53,13 @@ def cpu_per_call(function: Callable[[], int], repeat: int) -> list[float]:
     return out
 
 
-def engine_step(repeat: int, seconds: float) -> None:
+def engine_step(repeat: int, seconds: float, docs: bool = False) -> None:
     from aeroexec.drones.sim import SimulatedDrone, default_world
     from aeroexec.engine.engine import Engine
+    from provenance import load, measured_at, write_section
 
     print("Engine step of a flying drone on the simulator (CPU per step; ratio to the bare drone's integration)")
+    began = load()
     world = default_world()
     corners = [(-10.0, -10.0, 3.0), (10.0, -10.0, 3.0), (10.0, -15.0, 3.0), (-10.0, -15.0, 3.0)]
 
@@ -75,9 +80,13 @@ def engine_step(repeat: int, seconds: float) -> None:
             drone.telemetry()
         return steps
 
-    engine = Engine(SimulatedDrone(world), obstacles=world)
-    engine.coordinator.activate("TAKE_OFF", {"ALTITUDE": 3.0})
-    engine.run_until(lambda: not engine.coordinator.is_active("TAKE_OFF"), 30.0)
+    def flying(engine: Engine) -> None:
+        engine.coordinator.activate("TAKE_OFF", {"ALTITUDE": 3.0})
+        engine.run_until(lambda: not engine.coordinator.is_active("TAKE_OFF"), 30.0)
+
+    engine, idle_engine = Engine(SimulatedDrone(world), obstacles=world), Engine(SimulatedDrone(world), obstacles=world)
+    flying(engine)
+    flying(idle_engine)  # then it hovers: nothing active, nothing changes
     state = {"leg": 0}
 
     def patrol() -> int:
@@ -90,13 +99,42 @@ def engine_step(repeat: int, seconds: float) -> None:
             steps += 1
         return steps
 
+    def idle() -> int:
+        steps, end = 0, idle_engine.now() + seconds
+        while idle_engine.now() < end:
+            idle_engine.step(idle_engine.period)
+            steps += 1
+        return steps
+
     patrol()
-    base = spread(cpu_per_call(bare, repeat))
-    step = spread(cpu_per_call(patrol, repeat))
+    idle()
+    times: list[list[float]] = [[], [], []]
+    for _ in range(repeat):  # interleaved: a load that comes and goes weighs on the three alike
+        for measured, function in zip(times, (bare, patrol, idle), strict=True):
+            measured += cpu_per_call(function, 1)
+    base, step, hover = (spread(t) for t in times)
     line("simulated drone alone: integrate + telemetry (baseline)", f"{base[0] * 1e6:.0f} / {base[1] * 1e6:.0f} us")
     line("engine step, GO_TO_POINT patrol", f"{step[0] * 1e6:.0f} / {step[1] * 1e6:.0f} us",
          f"{step[0] / base[0]:.1f}x / {step[1] / base[1]:.1f}x", verdict(step[1] * 1e6, 50))
+    line("engine step, hovering with nothing active", f"{hover[0] * 1e6:.0f} / {hover[1] * 1e6:.0f} us",
+         f"{hover[0] / base[0]:.1f}x / {hover[1] / base[1]:.1f}x")
     engine.stop()
+    idle_engine.stop()
+    said = (f"Measured by `python bench/engine.py --only step --repeat {repeat} --docs` ({seconds:g} simulated s "
+            f"of each per repeat, CPU time of this process, the three interleaved in every repeat) at "
+            f"{measured_at(began)}.")
+    print(said)
+    if docs:
+        rows = ["| engine period (20 Hz) | CPU per step (min / median) | ratio to the bare simulated drone (median) |",
+                "|---|---:|---:|",
+                f"| the bare simulated drone: integration + telemetry (the baseline) | {base[0] * 1e6:.0f} / "
+                f"{base[1] * 1e6:.0f} µs | 1× |",
+                f"| an engine flying a GO_TO_POINT patrol (monitors, telemetry beliefs, localization) | "
+                f"{step[0] * 1e6:.0f} / {step[1] * 1e6:.0f} µs | {step[1] / base[1]:.2f}× |",
+                f"| an engine hovering with nothing active | {hover[0] * 1e6:.0f} / {hover[1] * 1e6:.0f} µs | "
+                f"{hover[1] / base[1]:.2f}× |"]
+        write_section(PAGE, STEP_BEGIN, STEP_END, "\n".join([*rows, "", said]))
+        print(f"{PAGE}: engine step table rewritten")
 
 
 # -- longest engine steps -------------------------------------------------------------------------------------
@@ -210,13 +248,14 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="fewer missions and shorter runs")
     parser.add_argument("--only", choices=["step", "missions", "planning", "trees"])
-    parser.add_argument("--readme", action="store_true", help="rewrite docs/performance.md's tree-tick table")
+    parser.add_argument("--docs", action="store_true",
+                        help="rewrite the tables of docs/performance/run.md (the engine step's and the tree ticks')")
     options = parser.parse_args()
     logging_quiet()
-    parts = {"step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0),
+    parts = {"step": lambda: engine_step(options.repeat, 5.0 if options.quick else 20.0, options.docs),
              "missions": lambda: longest_steps(options.quick),
              "planning": enclosed_goal,
-             "trees": lambda: tree_ticks().trees(options.repeat, options.quick, options.readme)}
+             "trees": lambda: tree_ticks().trees(options.repeat, options.quick, options.docs)}
     print(f"{'':52s}{'min / median':>22s}  {'ratio':>16s}")
     for name, part in parts.items():
         if options.only in (None, name):

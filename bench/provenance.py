@@ -11,15 +11,15 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit() -> str:
-    """The short hash of the checked-out commit, with ``+ changes`` when files other than the README and
-    docs/performance.md (what the benches rewrite) differ from it."""
+    """The short hash of the checked-out commit, with ``+ changes`` when files other than the README and the
+    performance pages differ from it (docs/performance.md, docs/performance/: what the benches rewrite)."""
     try:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
                               check=True).stdout.strip()
         changed = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
-                                  ":(exclude)README.md", ":(exclude)docs/performance.md"], cwd=ROOT,
-                                 capture_output=True, text=True,
-                                 check=True).stdout.strip()
+                                  ":(exclude)README.md", ":(exclude)docs/performance.md",
+                                  ":(exclude)docs/performance"], cwd=ROOT,
+                                 capture_output=True, text=True, check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "(not a git checkout)"
     return f"{head} + uncommitted changes" if changed else head
@@ -33,3 +33,17 @@ def load() -> float:
 def measured_at(began: float) -> str:
     """``commit X, load average A when it began and B when it ended``."""
     return f"commit {commit()}, load average {began:.1f} when it began and {load():.1f} when it ended"
+
+
+def write_section(page: Path, begin: str, end: str, text: str) -> None:
+    """Put ``text`` between the ``begin`` and ``end`` markers of ``page`` (the markers are added at its end when the
+    page has none yet): a bench's table is regenerated, never edited by hand."""
+    old = page.read_text(encoding="utf-8") if page.exists() else ""
+    block = f"{begin}\n{text}\n{end}"
+    if begin in old and end in old:
+        head, rest = old.split(begin, 1)
+        new = head + block + rest.split(end, 1)[1]
+    else:
+        new = f"{old.rstrip()}\n\n{block}\n" if old else f"{block}\n"
+    page.parent.mkdir(parents=True, exist_ok=True)
+    page.write_text(new, encoding="utf-8")

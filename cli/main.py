@@ -11,14 +11,17 @@ import argparse
 import contextlib
 import gc
 import importlib
-import logging
 import os
 import re
 import sys
 import threading
-from typing import Any
 
 from aeroexec import __version__
+
+# typing and logging are imported when needed, not by ``aeroexec --help`` (~8 ms of its CPU: bench/startup.py)
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Exit statuses: 0 done, 1 refused or failed mission, 2 usage, 3 a run completed with refused requests, 4 a run
 #: aborted (engine/supervision/run_status.py), 70 internal error (EX_SOFTWARE), 130 interrupted.
@@ -117,6 +120,11 @@ class CommandLine(argparse.ArgumentParser):
         # alone takes only a plain negative number for one, and refused it as an unknown option.
         self._negative_number_matcher = re.compile(r"^-\d+$|^-\d*\.\d+$|^-\d*\.?\d+,")
 
+    def _get_formatter(self) -> argparse.HelpFormatter:
+        """argparse's formatter, told the terminal's width (argparse imports :mod:`shutil` to ask it, and shutil
+        imports bz2, lzma and zlib: ~3 ms of ``aeroexec --help``)."""
+        return self.formatter_class(prog=self.prog, width=terminal_columns() - 2)
+
     def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:  # type: ignore[override]
         parsed, unknown = self.parse_known_args(args, namespace)
         if unknown:
@@ -129,6 +137,21 @@ class CommandLine(argparse.ArgumentParser):
             hint = ", ".join(dict.fromkeys(g[0] for g in guesses if g))
             parser.error(f"unrecognized arguments: {' '.join(unknown)}" + (f" (did you mean {hint}?)" if hint else ""))
         return parsed
+
+
+def terminal_columns() -> int:
+    """The terminal's width as :func:`shutil.get_terminal_size` says it (``COLUMNS``, else standard output's
+    terminal, else 80), without importing shutil."""
+    try:
+        columns = int(os.environ.get("COLUMNS", "0"))
+    except ValueError:
+        columns = 0
+    if columns <= 0:
+        try:
+            columns = os.get_terminal_size(sys.__stdout__.fileno()).columns  # type: ignore[union-attr]
+        except (AttributeError, ValueError, OSError):
+            columns = 0
+    return columns or 80
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -162,8 +185,12 @@ def _main(argv: list[str], own_process: bool = False) -> int:
         argcomplete.autocomplete(build_parser())  # answers and exits
     parser = command_line(argv) if own_process else build_parser(argv)
     args = parser.parse_args(argv)
+    import logging
+
     quiet = logging.INFO if getattr(args, "sub_command", None) == "sim" else logging.WARNING  # run prints events
     handler = logging.StreamHandler(sys.stderr)
+    from aeroexec.cli.log_lines import OneLineFormatter
+
     handler.setFormatter(OneLineFormatter("%(levelname)s %(name)s: %(message)s", tracebacks=args.verbose))
     logging.basicConfig(level=logging.DEBUG if args.verbose else quiet, handlers=[handler])
     threading.excepthook = _thread_failed
@@ -207,25 +234,14 @@ def check_extras(args: argparse.Namespace) -> None:
             raise MissingExtra(extra, absent)
 
 
-class OneLineFormatter(logging.Formatter):
-    """Log lines without tracebacks (unless ``-v``): a failure inside a background task is one line with its reason."""
+def __getattr__(name: str) -> Any:
+    """:class:`~aeroexec.cli.log_lines.OneLineFormatter`, by its old place (made when first asked for: it needs
+    :mod:`logging`)."""
+    if name == "OneLineFormatter":
+        from aeroexec.cli.log_lines import OneLineFormatter
 
-    def __init__(self, fmt: str, tracebacks: bool = False) -> None:
-        super().__init__(fmt)
-        self.tracebacks = tracebacks
-
-    def format(self, record: logging.LogRecord) -> str:
-        if self.tracebacks or not record.exc_info or record.exc_info[1] is None:
-            return super().format(record)
-        error = record.exc_info[1]
-        saved = record.exc_info, record.exc_text
-        record.exc_info, record.exc_text = None, None
-        try:
-            line = super().format(record)
-        finally:
-            record.exc_info, record.exc_text = saved
-        detail = " ".join(str(error).split())[:200]
-        return f"{line} ({type(error).__name__}{': ' + detail if detail else ''}; -v shows the traceback)"
+        return OneLineFormatter
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def internal_error_message(error: BaseException, where: str = "") -> str:
@@ -241,6 +257,8 @@ def _thread_failed(hook: threading.ExceptHookArgs) -> None:
     """A background thread that dies says so in one logged line, never with a traceback on stderr."""
     if hook.exc_type is SystemExit or hook.exc_value is None:
         return
+    import logging
+
     logging.getLogger("aeroexec").debug("thread %s failed", getattr(hook.thread, "name", "?"),
                                         exc_info=(hook.exc_type, hook.exc_value, hook.exc_traceback))
     logging.getLogger("aeroexec").error("%s", internal_error_message(

@@ -3,9 +3,9 @@
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["CommandHandle", "Drone", "DroneEvent", "Failure", "LandedState", "Observation", "Robot", "Telemetry",
            "Vector"]

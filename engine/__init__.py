@@ -4,9 +4,9 @@
 engine (docs/embedding.md); the names load when first used, so importing the package stays cheap.
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["BehaviorCatalog", "BehaviorContext", "BehaviorLibrary", "BehaviorProcess", "BehaviorSpecialist",
            "CatalogError", "Clock", "Engine", "EngineEvent", "EngineSettings", "MissionChange", "Outcome", "Process",

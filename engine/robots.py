@@ -12,12 +12,13 @@ import logging
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from importlib.metadata import entry_points
 from pathlib import Path
 from typing import Any
 
 from aeroexec.engine.execution.process import BehaviorLibrary, EngineSettings
 from aeroexec.engine.execution.resources import ProcessRegistry
+
+from aeroexec.plugins import entry_points_of
 
 logger = logging.getLogger(__name__)
 
@@ -47,7 +48,7 @@ class RobotKind:
 def robot_kinds() -> dict[str, Callable[[], RobotKind]]:
     """Every robot kind installed, by name (``drone`` is built in)."""
     kinds: dict[str, Callable[[], RobotKind]] = {}
-    for point in sorted(entry_points(group=ROBOTS_GROUP), key=lambda p: p.name):
+    for point in sorted(entry_points_of(ROBOTS_GROUP), key=lambda p: p.name):
         kinds[point.name] = point.load
     return kinds
 

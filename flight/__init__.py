@@ -8,9 +8,9 @@ The names below are imported when first used, so a command that needs one module
 verify`` reads missions with :mod:`aeroexec.flight.missions`) does not load the others.
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["FleetFlight", "FleetJoin", "FleetSession", "FlightError", "FlightOutcome", "FlightSession", "FlightSpec",
            "Interrupted", "WorkerFleet", "ending_signals", "fleet_exit_status"]

@@ -74,6 +74,7 @@ class FlightLogWriter:
                                        (os.O_APPEND if resumed is not None else os.O_TRUNC), 0o644)
         self._end = os.lseek(self._fd, 0, os.SEEK_END)  # where the next line goes (the writer is alone)
         self._pending: list[bytes] = []  # the tick's lines, written at its end
+        self._texts: dict[str, tuple[tuple, str]] = {}  # predicate -> the arguments last added, and their text
         self._last_sample: float | None = None
         self.lines = 0
         #: Why records were lost (the write error), or None while every record is in the file.
@@ -103,7 +104,7 @@ class FlightLogWriter:
     def on_belief(self, change: BeliefChange) -> None:
         if change.reason == "shared":  # a fleet mate's position came or went: its fleet_drone_heard event says so
             return
-        self._write_line(belief_line(change))
+        self._write_line(belief_line(change, self._texts))
 
     def on_tick(self) -> None:
         now = self.engine.now()
@@ -257,15 +258,61 @@ def event_line(event: EngineEvent) -> str:
     return line
 
 
-def belief_line(change: BeliefChange) -> str:
-    """A belief change's line in the log (``belief_added`` / ``belief_removed``: the belief's text, the reason)."""
+def belief_line(change: BeliefChange, texts: dict[str, tuple[tuple, str]] | None = None) -> str:
+    """A belief change's line in the log (``belief_added`` / ``belief_removed``: the belief's text, the reason).
+    ``texts``: a writer's last added arguments and text of each predicate, so a value replaced (an exclusive
+    belief: a position, a speed) is removed with the text it was added with, not formatted again."""
     last, line = _LINES.belief
     if last is not change:
+        belief = change.belief
+        known = texts.get(belief.name) if texts is not None else None
+        if known is not None and known[0] is belief.args:
+            text = known[1]
+        else:
+            text = _text(flat_text(belief))
+            if texts is not None and change.kind == "added":
+                texts[belief.name] = (belief.args, text)
         # as _json writes the record, without building it: the log's most frequent line (ordered keys, compact)
-        line = (f'{{"time":{_number(round(float(change.time), 3))},"kind":{_text("belief_" + change.kind)},'
-                f'"belief":{_text(format_term(change.belief))},"reason":{_text(change.reason)}}}')
+        line = (f'{{"time":{_number(round(float(change.time), 3))},"kind":{_KINDS.get(change.kind) or _kind(change)},'
+                f'"belief":{text},"reason":{_REASONS.get(change.reason) or _text(change.reason)}}}')
         _LINES.belief = (change, line)
     return line
+
+
+def flat_text(term: Struct) -> str:
+    """:func:`~aeroexec.beliefs.format_term` of a belief, the same text, made faster for what telemetry writes:
+    arguments that are numbers, atoms and tuples of floats (anything else is formatted by ``format_term``)."""
+    args = term.args
+    if not args:
+        return format_term(term)
+    parts = []
+    for arg in args:
+        kind = type(arg)
+        if kind is float:
+            parts.append(repr(arg))
+        elif kind is int:
+            parts.append(str(arg))
+        elif kind is str:
+            atom = _ATOMS.get(arg)
+            if atom is None:
+                atom = format_term(arg)
+                if len(_ATOMS) < 4096:
+                    _ATOMS[arg] = atom
+            parts.append(atom)
+        elif kind is tuple and len(arg) > 1 and all(type(v) is float for v in arg):
+            parts.append("(" + ", ".join(map(repr, arg)) + ")")
+        else:
+            parts.append(format_term(arg))
+    return term.name + "(" + ", ".join(parts) + ")"
+
+
+_ATOMS: dict[str, str] = {}  # an atom's text (quoted when it must be), by the atom
+_KINDS = {"added": '"belief_added"', "removed": '"belief_removed"'}
+_REASONS = {reason: json.dumps(reason) for reason in ("add", "replaced", "remove", "expired", "clear")}
+
+
+def _kind(change: BeliefChange) -> str:
+    return _text("belief_" + change.kind)
 
 
 def state_line(now: float, telemetry: Any) -> str:

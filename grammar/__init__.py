@@ -5,9 +5,9 @@ cache folder.
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["lalr_parser"]
 __getattr__ = lazy_names(__name__, {"lalr_parser": "lalr"})

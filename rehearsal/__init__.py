@@ -4,9 +4,9 @@ the HTML report of the campaign (``aeroexec rehearse``).
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["RunResult", "Variation", "fly", "fly_dask", "fly_local", "seeds", "summary", "write_report"]
 __getattr__ = lazy_names(__name__, {"RunResult": "campaign", "Variation": "campaign", "fly": "campaign",

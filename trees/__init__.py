@@ -4,9 +4,9 @@ Each name is imported from its module when first used (``aeroexec.lazy``): the t
 (``aeroexec.trees.formats``), which ``aeroexec --help`` lists, loads no reader and no YAML.
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["TreeDocument", "TreeFormatError", "TreeNode", "load_mission_tree", "read_mission_tree"]
 __getattr__ = lazy_names(__name__, {"load_mission_tree": "mission_file", "read_mission_tree": "mission_file",

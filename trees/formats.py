@@ -21,23 +21,29 @@ tree format's reader is ``(data: str | bytes, file: str, home) -> TreeDocument``
 from __future__ import annotations
 
 import functools
-import logging
-from collections.abc import Callable
-from dataclasses import dataclass
-from pathlib import Path
-from typing import Any
+import os
+from collections import namedtuple
 
+from aeroexec.lazy import lazy_logger
 from aeroexec.plugins import installed_plugins, load_reference
 
-logger = logging.getLogger(__name__)
+TYPE_CHECKING = False  # typing, dataclasses, pathlib and logging are not imported: ``aeroexec --help`` reads this
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from pathlib import Path
+    from typing import Any
+
+logger = lazy_logger(__name__)
 
 #: The entry-point group other packages add mission formats through.
 ENTRY_POINT_GROUP = "aeroexec.mission_formats"
 
 
-@dataclass(frozen=True)
-class MissionFormat:
-    """One mission format. ``read``, ``recognise`` and ``write`` are ``module:function`` references.
+class MissionFormat(namedtuple("MissionFormat", ("name", "suffixes", "read", "tree", "items", "recognise", "write",
+                                                 "writes_as", "summary", "before"),
+                               defaults=(True, False, None, None, "", "", ""))):
+    """One mission format (an immutable record: a named tuple, which costs ``aeroexec --help`` no import, where a
+    dataclass's module costs it ~5 ms). ``read``, ``recognise`` and ``write`` are ``module:function`` references.
 
     ``tree``: read into the tree model (``read(data, file, home) -> TreeDocument``); else a program, whose
     ``read(source, file, catalog, world)`` checks it (``-> list[Problem]``) and which flies as a Python mission.
@@ -51,13 +57,15 @@ class MissionFormat:
     name: str
     suffixes: tuple[str, ...]
     read: str
-    tree: bool = True
-    items: bool = False
-    recognise: str | None = None
-    write: str | None = None
-    writes_as: str = ""
-    summary: str = ""  # what it is, in a few words: "BehaviorTree.CPP v4 XML"
-    before: str = ""  # an added format's place in the table (and the help's lists): before the format of this name
+    tree: bool
+    items: bool
+    recognise: str | None
+    write: str | None
+    writes_as: str
+    summary: str  # what it is, in a few words: "BehaviorTree.CPP v4 XML"
+    before: str  # an added format's place in the table (and the help's lists): before the format of this name
+
+    __slots__ = ()
 
     def matched(self, name: str) -> int:
         """The length of the longest of this format's suffixes ``name`` ends with (0: none)."""
@@ -184,7 +192,7 @@ def complete_mission_files(prefix: str, **_: Any) -> list[str]:
     head, slash, start = prefix.rpartition("/")
     shown = head + slash  # "", "folder/" or "/"
     try:
-        entries = sorted(Path(shown or ".").iterdir())
+        entries = sorted(os.scandir(shown or "."), key=lambda entry: entry.name)
     except OSError:
         return []
     known = suffixes()

@@ -3,9 +3,9 @@
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["MavsdkDrone", "TelemetryRates", "check_url"]
 __getattr__ = lazy_names(__name__, {"TelemetryRates": "connection", "check_url": "connection", "MavsdkDrone": "drone"})

@@ -3,9 +3,9 @@
 Each name is imported from its module when first used (``aeroexec.lazy``): a world is read without the drone.
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["Airspace", "Camera", "SimConfig", "SimulatedDrone", "World", "WorldError", "default_world", "load_world"]
 __getattr__ = lazy_names(__name__, {"Airspace": "airspace", "Camera": "camera", "SimConfig": "config",

@@ -8,9 +8,9 @@ listed by name in each module's ``*_PROCESSES`` mapping.
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["aerial_behaviors", "aerial_processes"]
 __getattr__ = lazy_names(__name__, {"aerial_behaviors": "aerial", "aerial_processes": "aerial"})

@@ -7,9 +7,9 @@ WRONG_VALUE) and sequences (WRONG_SEQUENCE) against it.
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["BehaviorCatalog", "BehaviorSpecialist", "CatalogError", "default_catalog", "default_catalog_path",
            "load_catalog", "parse_catalog"]

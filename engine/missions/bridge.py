@@ -206,6 +206,8 @@ class MissionBridge:
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
         if self._state == DONE and until_wall is None and self._queue.empty():
             return  # no mission, nothing queued: nothing to wait for (a call queued now is served next period)
+        if not lockstep and until_wall is None and (self._held or self._queue.empty()):
+            return  # nothing to serve now and nothing to wait for (a fleet's period asks every drone's mission)
         warned_at = time.monotonic() + _STALL_WARNING
         served = 0
         while True:

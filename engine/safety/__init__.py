@@ -4,9 +4,9 @@ predicates computed from the vehicle model (``battery_to_home``...), and the che
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["SafetyMonitor", "SafetyPredicates"]
 __getattr__ = lazy_names(__name__, {"SafetyMonitor": "monitor", "SafetyPredicates": "predicates"})

@@ -13,9 +13,9 @@ and on one simulated time, linked over the fleet's Zenoh router.
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["FleetFlight", "FleetSession", "Member", "STATUS_FILE", "drone_status", "event_line", "fleet_exit_status",
            "summary_line", "write_status"]

@@ -14,9 +14,9 @@ resume point).
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["Journal", "JournalError", "JournalWriter", "NAME", "RejoinFailed", "ResumePoint", "Resumption",
            "disagreements", "is_journal", "open_journal", "read_records", "resume_spec"]

@@ -7,9 +7,9 @@ its seed with one command and shrunk.
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["Action", "Case", "CaseResult", "Fault", "Figures", "GATED", "INVARIANTS", "MEMORY_BOUND", "STEP_BOUND",
            "Violation", "check", "draw", "figures", "judge", "replay_command", "run_campaign", "run_case", "shrink",

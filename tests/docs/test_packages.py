@@ -78,7 +78,7 @@ def _lazy_face(package: str, tree: ast.Module) -> dict[str, str] | None:
     if not body:
         return None
     shape = [ast.unparse(node).splitlines()[0] for node in body]
-    imports = ["from typing import TYPE_CHECKING", "from aeroexec.lazy import lazy_names"]
+    imports = ["from aeroexec.lazy import lazy_names", "TYPE_CHECKING = False"]  # typing costs --help its import
     assert len(body) == 5 and shape[:2] == imports, f"{package}: neither a docstring alone nor a lazy face: {shape}"
     names_node, getattr_node, checking = body[2], body[3], body[4]
     assert ast.unparse(names_node.targets[0]) == "__all__", f"{package}:{names_node.lineno}: __all__ first"

@@ -115,3 +115,22 @@ def test_a_belief_line_is_the_json_of_its_record(text, time):
     assert belief_line(change) == json.dumps(record, separators=(",", ":"))
     with pytest.raises(ValueError):
         belief_line(BeliefChange("added", parse_term(text), "add", float("nan")))
+
+
+@pytest.mark.parametrize("text", ["position(self, (1.5, -2.25, 3.0))", "speed(self, 0.1)", "orientation(self, -179)",
+                                  "charge(battery, 99)", "flight_state(self, 'taking off')", "p(1e+17, -0.0)",
+                                  "q((1.0,), (1, 2.5), [1.0, 2.0], f(x))", "r(1.0, true, ?X)",
+                                  'message(d1, "h\u00e9llo \\"x\\"")', "wind(self, (1e-07, 2.5e+300))"])
+def test_the_event_log_writes_a_belief_as_its_text_and_a_replaced_one_as_it_was_added(text):
+    """The log's fast text of a belief is the term's text; a value replaced is written removed with the text it
+    was added with (issue 45: one formatting per value, not two)."""
+    from aeroexec.beliefs import BeliefChange, format_term, parse_term
+    from aeroexec.flight.flight_log import belief_line, flat_text
+
+    term = parse_term(text)
+    assert flat_text(term) == format_term(term)
+    texts: dict = {}
+    added = json.loads(belief_line(BeliefChange("added", term, "add", 1.0), texts))
+    removed = json.loads(belief_line(BeliefChange("removed", type(term)(term.name, term.args), "replaced", 2.0), texts))
+    assert added["belief"] == removed["belief"] == format_term(term)
+    assert (removed["kind"], removed["reason"], removed["time"]) == ("belief_removed", "replaced", 2.0)

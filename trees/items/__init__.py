@@ -7,9 +7,9 @@ Each name is imported from its module when first used (``aeroexec.lazy``): a com
 is a plan loads no reader.
 """
 
-from typing import TYPE_CHECKING
-
 from aeroexec.lazy import lazy_names
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
 __all__ = ["ItemMission", "MissionItem", "PlanDocument", "is_item_file", "items_document",
            "read_item_mission"]

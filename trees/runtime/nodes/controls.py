@@ -175,19 +175,17 @@ class Sequence(Control):
 
     def step(self) -> Result:
         """Control.step and run() in one call for the sequences and fallbacks that are not asynchronous: they are
-        most of a tree's control nodes."""
+        most of a tree's control nodes. Their children are walked by a plain ``for`` loop (an index is only looked
+        for where a child stops the node), and a node that ends as it was is left with its tick number written."""
         if not self._fused:
             return Control.step(self)
-        old, old_skipped, tree = self.status, self.skipped, self.tree
-        children = self.children
-        count = len(children)
-        start, stop_on = self.index, self._stop_on  # start: where it starts again (restart_from)
+        tree, children = self.tree, self.children
+        old, start, stop_on = self.status, self.index, self._stop_on  # start: where it starts again (restart_from)
         skipped = self.skipped_count if old is RUNNING else 0
-        stale = old is not RUNNING
-        for index in range(start, count):
-            child = children[index]
+        for child in children[start:] if start else children:
             result = child.step()
             if result is RUNNING or result is stop_on:
+                index = children.index(child, start)
                 self.index, self.current_child, self.skipped_count = index, child, skipped
                 if result is stop_on:
                     if self.restart_on_stop:
@@ -195,27 +193,37 @@ class Sequence(Control):
                         self.index = 0
                     else:
                         self.reset_children(index + 1)
+                if old is not RUNNING and children[-1].ticked != tree.number:
+                    # started again: the children it did not tick are shown IDLE once the tick ends
+                    tree.stale.append((self, start))
                 break
             if result is SKIPPED:
                 skipped += 1
         else:  # every child from ``start`` on ticked: none is left to show IDLE
-            self.current_child = children[-1] if count else None
-            if start or skipped:
-                self.index = self.skipped_count = 0
-            result = SKIPPED if skipped == count else self._completed
-            stale = False
-        number = tree.number
-        if stale and not (count and number == children[-1].ticked):
-            tree.stale.append((self, start))
+            if not children:
+                self.current_child = None
+                result = SKIPPED
+            else:
+                self.current_child = children[-1]
+                if start or skipped:
+                    self.index = self.skipped_count = 0
+                result = SKIPPED if skipped == len(children) else self._completed
+            if result is old and not self.skipped:  # as it was: nothing changed (the common tick)
+                if self._terminates:
+                    self.terminate(result)
+                self.ticked = tree.number
+                if tree.visits is not None:
+                    tree.visits.append((self, result))
+                return result
         if result is SKIPPED:
             status, skipped_now = SUCCESS, True
         else:
             status, skipped_now = result, False
             if result is not RUNNING and self._terminates:
                 self.terminate(status)
-        if status is not old or skipped_now is not old_skipped:
+        if status is not old or skipped_now is not self.skipped:
             tree.changed.append(self)
-        self.status, self.skipped, self.ticked = status, skipped_now, number
+        self.status, self.skipped, self.ticked = status, skipped_now, tree.number
         if tree.visits is not None:
             tree.visits.append((self, result))
         return result

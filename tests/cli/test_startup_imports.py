@@ -1,0 +1,68 @@
+"""What a command imports before it does anything (issue 45): each module a start-up does not need is CPU every
+``aeroexec`` command pays, measured by ``bench/startup.py`` against the interpreter's own start."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+
+def imported_after(code: str) -> set[str]:
+    """The modules a fresh interpreter holds after running ``code`` (written to standard error at its end)."""
+    script = textwrap.dedent(code) + "\nimport sys\nprint('\\n'.join(sorted(sys.modules)), file=sys.stderr)\n"
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd="/")
+    return set(done.stderr.split())
+
+
+def test_the_top_level_help_imports_nothing_it_does_not_print_with():
+    """``aeroexec --help`` lists the sub-commands and the mission formats (built-in and plugins'): it needs neither
+    logging, typing, dataclasses, pathlib, shutil nor importlib.metadata (~20 ms of its CPU together)."""
+    bare = imported_after("")
+    helped = imported_after("""
+        import contextlib, io, sys
+        sys.argv = ["aeroexec", "--help"]
+        from aeroexec.cli.main import main
+        shown = io.StringIO()
+        with contextlib.redirect_stdout(shown), contextlib.suppress(SystemExit):
+            main()
+        assert "usage: aeroexec" in shown.getvalue() and "BehaviorTree.CPP XML (.xml)" in shown.getvalue()
+    """)
+    needless = {"logging", "typing", "dataclasses", "pathlib", "shutil", "importlib.metadata"}
+    assert sorted((helped - bare) & needless) == []
+
+
+def test_a_plugin_group_no_package_names_is_answered_without_reading_every_package():
+    modules = imported_after("""
+        from aeroexec.plugins import installed_plugins
+        assert installed_plugins("aeroexec.no-such-group") == []
+    """)
+    assert "importlib.metadata" not in modules
+
+
+def test_a_plugin_group_a_package_names_is_still_read(tmp_path):
+    site = tmp_path / "site"
+    (site / "toy_group-0.1.dist-info").mkdir(parents=True)
+    (site / "toy_group-0.1.dist-info" / "METADATA").write_text("Metadata-Version: 2.1\nName: toy-group\n"
+                                                                 "Version: 0.1\n")
+    (site / "toy_group-0.1.dist-info" / "entry_points.txt").write_text("[aeroexec.toy_group]\nanswer = json:dumps\n")
+    modules = imported_after(f"""
+        import sys
+        sys.path.insert(0, {str(site)!r})
+        import json
+        from aeroexec.plugins import installed_plugins
+        assert installed_plugins("aeroexec.toy_group", named=True) == [("answer", json.dumps)]
+    """)
+    assert "importlib.metadata" in modules
+
+
+def test_a_run_reads_its_declared_rules_and_robot_kind_without_the_web_or_package_metadata():
+    """The safety rules a mission declares are unescaped without ``xml.sax.saxutils`` (it imports urllib.request,
+    http.client and ssl), and the built-in drone is chosen without reading every installed package."""
+    modules = imported_after("""
+        from aeroexec.engine.robots import robot_kind
+        from aeroexec.engine.safety.declared import _unescape
+        assert robot_kind("drone") is None
+        assert _unescape("a &lt; b &amp;&amp; c &gt; &quot;d&apos; &amp;lt;") == "a < b && c > \\"d' &lt;"
+    """)
+    assert sorted(modules & {"xml.sax.saxutils", "urllib.request", "ssl", "importlib.metadata"}) == []
