@@ -21,6 +21,7 @@ import types
 from pathlib import Path
 from typing import Any
 
+from aeroexec.dialects.ros_messages import MESSAGES
 from aeroexec.engine import api
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.dialect_checks import DialectChecks
@@ -36,9 +37,10 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
                            "tf_transformations", "python_interface", "as2_core", "as2_motion_reference_handlers"})
 #: What aeroexec provides of ROS modules, by module: the names a mission may use (``*``: the whole module).
 PROVIDED: dict[str, frozenset[str]] = {
-    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok"}),
+    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging", "spin_once"}),
     "as2_msgs": frozenset({"msg"}),
-    "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent"}),
+    "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
+                               "PoseWithIDArray"}),
     "as2_python_api": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
                                  "drone_interface_teleop", "modules", "behavior_actions", "mission_interpreter"}),
     "as2_python_api.modules": frozenset({
@@ -47,6 +49,10 @@ PROVIDED: dict[str, frozenset[str]] = {
         "follow_reference_module", "gps_module", "motion_reference_handler_module"}),
     "as2_python_api.behavior_actions": frozenset({"behavior_handler"}),
     "as2_python_api.mission_interpreter": frozenset({"mission", "mission_interpreter"}),
+    # messages used as data (dialects/ros_messages.py): built, filled and read, never published
+    **{module.partition(".")[0]: frozenset({"msg"}) for module in MESSAGES},
+    **{module: frozenset(types) for module, types in MESSAGES.items()},
+    "rclpy.logging": frozenset({"get_logger"}),
 }
 #: The words of every refusal.
 ROS2_BEYOND = "this mission uses ROS 2 beyond the drone interface"
@@ -118,6 +124,8 @@ def refusing_module(name: str) -> types.ModuleType:
     """A module every attribute of which is :class:`Refused` (a submodule is a module like it)."""
     module = types.ModuleType(name, f"aeroexec's stand-in for {name}: {beyond(name)}")
     module.__path__ = []  # a package: its submodules are stand-ins too
+    for type_name, message_type in MESSAGES.get(name, {}).items():  # messages used as data are served
+        setattr(module, type_name, message_type)
     module.__getattr__ = lambda attribute: (Refused(f"{name}.{attribute}") if not attribute.startswith("__")
                                             else _no_attribute(attribute))
     return module
