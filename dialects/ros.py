@@ -37,7 +37,7 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
                            "tf_transformations", "python_interface", "as2_core", "as2_motion_reference_handlers"})
 #: What aeroexec provides of ROS modules, by module: the names a mission may use (``*``: the whole module).
 PROVIDED: dict[str, frozenset[str]] = {
-    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging", "spin_once"}),
+    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging"}),
     "as2_msgs": frozenset({"msg"}),
     "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
                                "PoseWithIDArray"}),
@@ -82,8 +82,11 @@ def beyond(module: str, ros1: bool = False) -> str:
     return ROS2_BEYOND
 
 
-def provided(path: str) -> bool:
-    """True when ``path`` (``module`` or ``module.name``) is something aeroexec provides."""
+def provided(path: str, ros1: bool = False) -> bool:
+    """True when ``path`` (``module`` or ``module.name``) is something aeroexec provides (ROS 2's messages as data
+    only to a ROS 2 mission: ``ros1`` False)."""
+    if ros1 and f"{path.partition('.')[0]}.msg" in MESSAGES:
+        return False
     if path in PROVIDED:
         return True
     module, _, name = path.rpartition(".")
@@ -214,11 +217,11 @@ def ros_problems(nodes: list[Any], dotted: Any) -> list[tuple[Any, str, str]]:
         for _, imported in imports:
             if path == imported or path.startswith(imported + ".") or imported.startswith(path + "."):
                 used.add(imported)
-        if not provided(path) and (node.lineno, path) not in seen:
+        if not provided(path, ros1) and (node.lineno, path) not in seen:
             seen.add((node.lineno, path))
             problems.append((node, "error", f"{path}: {beyond(path, ros1)}"))
     for statement, imported in imports:
-        if imported not in used and not provided(imported):
+        if imported not in used and not provided(imported, ros1):
             problems.append((statement, "warning", f"{imported} is imported but never used: the mission runs "
                                                    f"without it (a use would be refused: {beyond(imported, ros1)})"))
     return problems

@@ -1,5 +1,5 @@
 """A stand-in for ``rclpy`` in missions written for Aerostack2: what such scripts do with it (``init``, ``ok``,
-``shutdown``, ``spin_once``, ``logging.get_logger``) and nothing else. Any other use raises
+``shutdown``, ``logging.get_logger``) and nothing else. Any other use raises
 :class:`~aeroexec.dialects.ros.RosFeatureError`: this mission uses ROS 2 beyond the drone interface
 (``aeroexec verify`` says so before flight, at the line).
 """
@@ -36,14 +36,6 @@ def try_shutdown(*args: Any, **kwargs: Any) -> None:
     shutdown()
 
 
-def spin_once(node: Any = None, *, executor: Any = None, timeout_sec: float | None = None) -> None:
-    """Let the drone's world go on ``timeout_sec`` seconds (the engine's clock): nothing else is to be done, the
-    drone interface's state is always current."""
-    from aeroexec.engine import api
-
-    api.wait(max(0.0, float(timeout_sec)) if timeout_sec is not None else 0.05)
-
-
 def __getattr__(name: str) -> Any:
     if name.startswith("__"):
         raise AttributeError(name)
@@ -53,4 +45,4 @@ def __getattr__(name: str) -> Any:
 # rclpy.logging, as ROS 2 has it (imported by name: this module's __getattr__ would answer a from-import)
 logging = importlib.import_module(f"{__name__}.logging")
 
-__all__ = ["init", "logging", "ok", "shutdown", "spin_once", "try_shutdown"]
+__all__ = ["init", "logging", "ok", "shutdown", "try_shutdown"]
