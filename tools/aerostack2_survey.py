@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The held-back Aerostack2 missions (tests/aerostack/data/heldback/SOURCES.md) flown as their authors would fly
-them: ``aeroexec run FILE`` alone (no fleet file, no world, no flags), each in its own process with a time limit,
-and a table of how each ended: flew to completion, refused (with the reason the run gave), or failed.
+them: ``aeroexec run FILE`` alone (no fleet file, no world, no flags; ``python -m aeroexec`` of this Python),
+each in its own process with a time limit, and a table of how each ended: flew to completion, refused (with the
+reason the run gave), or failed.
 
     python tools/aerostack2_survey.py [--jobs 2] [--limit 300] [FILE...]
 
@@ -60,8 +61,8 @@ def fly(path: Path, limit: float) -> Outcome:
     name = str(path.relative_to(HELDBACK))
     with tempfile.TemporaryDirectory(prefix="as2survey") as folder:
         try:
-            done = subprocess.run(["aeroexec", "run", str(path)], cwd=folder, capture_output=True, text=True,
-                                  timeout=limit, stdin=subprocess.DEVNULL)
+            done = subprocess.run([sys.executable, "-m", "aeroexec", "run", str(path)], cwd=folder,
+                                  capture_output=True, text=True, timeout=limit, stdin=subprocess.DEVNULL)
         except subprocess.TimeoutExpired:
             return Outcome(name, "timeout", None, f"still running after {limit:.0f} s")
         outputs = sorted(Path(folder).rglob("events.jsonl"))
