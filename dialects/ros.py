@@ -114,6 +114,9 @@ class Refused:
         return Refused(f"{object.__getattribute__(self, '_name')}.{attribute}")
 
     __call__ = __setattr__ = __iter__ = __getitem__ = __bool__ = __len__ = __eq__ = __hash__ = _refuse
+    # a topic name built of it ('/' + ns + '/' + as2.topics...), a number read from it: the use is the refusal
+    __add__ = __radd__ = __sub__ = __mul__ = __truediv__ = __lt__ = __le__ = __gt__ = __ge__ = _refuse
+    __contains__ = __int__ = __float__ = __index__ = __format__ = __fspath__ = _refuse
 
     def __mro_entries__(self, bases: tuple) -> tuple:  # class Mine(Node): ... uses ROS
         self._refuse()

@@ -52,9 +52,10 @@ class MissionPreempted(Exception):
 
 
 class _Request:
-    __slots__ = ("function", "waits", "done", "value", "error")
+    __slots__ = ("function", "waits", "done", "value", "error", "thread")
 
     def __init__(self, function: Callable, waits: bool) -> None:
+        self.thread = threading.get_ident()  # the mission's thread that asks
         self.function = function
         self.waits = waits
         self.done = threading.Event()
@@ -102,6 +103,7 @@ class MissionBridge:
         self._now, self._world_version, self._report = now, world_version, report
         self._stalled = stalled
         self._stall: MissionStalled | None = None  # raised in the mission at its next call that does not wait
+        self._stalled_threads: set[int] = set()  # the mission's threads it was raised in (once in each)
         self._polls = 0  # calls without a wait since the last wait or change of the world
         self._poll_since: float | None = None
         self._poll_version: int | None = None
@@ -279,8 +281,9 @@ class MissionBridge:
         if request.waits:
             self._poll_since = None  # a wait ends a stretch of polling
         if not request.waits:
-            if self._stall is not None:
-                request.error, self._stall = self._stall, None
+            if self._stall is not None and request.thread not in self._stalled_threads:
+                self._stalled_threads.add(request.thread)  # each thread of the mission that polls on hears it once
+                request.error = self._stall
                 request.done.set()
                 return
             try:

@@ -34,6 +34,7 @@ from typing import Any
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted
 from aeroexec.engine.missions import standins
+from aeroexec.engine.missions.bridge import MissionStalled
 
 _lock = threading.RLock()
 _claimed: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()  # engine -> the namespace it flies as
@@ -149,8 +150,8 @@ class MissionThread(threading.Thread):
         api.bind(self._engine)
         try:
             super().run()
-        except MissionAborted:
-            pass  # the flight ended while this thread waited on it
+        except (MissionAborted, MissionStalled):
+            pass  # the flight ended while this thread waited on it; or it polled on as the mission's thread does
         finally:
             api.unbind()
             self._engine.bridge.thread_ended()
