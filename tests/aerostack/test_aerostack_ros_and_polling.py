@@ -92,3 +92,21 @@ def test_polling_for_a_belief_after_a_refused_behavior_ends_soon_with_the_reason
     assert flight.kinds("run_ended")[-1]["time"] < 60.0  # not the 1,800 s time limit
     states = [r for r in flight.records if r["kind"] == "state"]
     assert states[-1]["landed_state"] == "on_ground"
+
+
+def test_a_sirocco_task_that_ends_without_its_goal_fails_the_run(tmp_path, capsys):
+    path = tmp_path / "path_task.py"  # ours: a FOLLOW_PATH task that cannot end in time; the mission goes on
+    path.write_text(textwrap.dedent("""\
+        import mission_execution_control as mxc
+
+        def mission():
+            mxc.executeTask('TAKE_OFF')
+            mxc.executeTask('FOLLOW_PATH', path=[[0, 0, 2], [10, 0, 2]], timeout=1)
+            mxc.executeTask('LAND')
+        """))
+    flight = fly(path, tmp_path, capsys, world_file=None)
+    assert flight.status == 1, flight.err  # was 0: completed
+    ended = flight.kinds("run_ended")[-1]
+    assert ended["detail"] == "failed"
+    assert "FOLLOW_PATH ended with TIME_OUT" in " ".join(ended["data"]["reasons"])
+    assert [r["behavior"] for r in flight.kinds("GOAL_ACHIEVED")][-1] == "LAND"  # the mission went on and landed
