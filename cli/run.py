@@ -243,6 +243,9 @@ def run(args: argparse.Namespace) -> int:
     with ending_signals():  # SIGTERM and SIGHUP end the run as Ctrl-C does: abort, land, close the log
         try:
             spec = flight_spec(args, watched=live or args.web is not None or args.foxglove is not None)
+            drones = fleet_of_script(args, spec)
+            if drones:
+                return fly_script_fleet(args, spec, drones, live)
             session = FlightSession(spec, notify=say, report=lambda problem: print(problem, file=sys.stderr))
             session.open()
         except FlightError as error:
@@ -272,6 +275,74 @@ def run(args: argparse.Namespace) -> int:
         except KeyboardInterrupt:
             logger.info("a signal came after the run ended: nothing was left to stop")
             return session.outcome.exit_status
+
+
+def fleet_of_script(args: argparse.Namespace, spec: FlightSpec) -> tuple[str, ...]:
+    """The drones of a script that names several (an Aerostack2 swarm), when this run flies it on the simulator
+    from its start; empty otherwise (the run flies one drone)."""
+    from aeroexec.flight.fleet.script_fleet import script_drones
+    from aeroexec.flight.robot import robot_choice
+
+    if getattr(args, "resume", None) or spec.fleet is not None or spec.drone != "sim" or \
+            robot_choice(spec.robot).kind is not None:
+        return ()
+    drones = script_drones(spec.mission)
+    return drones if len(drones) > 1 else ()
+
+
+def fly_script_fleet(args: argparse.Namespace, spec: FlightSpec, drones: tuple[str, ...], live: bool) -> int:
+    """Fly the script ``spec`` names with a fleet made for it, one drone per name of ``drones``, in this process;
+    the fleet's exit status (0 only when every drone's flight completed)."""
+    from aeroexec.fleet.credentials import CredentialsError
+    from aeroexec.fleet.transport import TransportError
+    from aeroexec.flight.fleet import STATUS_FILE, drone_status, fleet_exit_status, summary_line
+    from aeroexec.flight.fleet.script_fleet import SPACING, open_script_fleet
+    from aeroexec.flight.output import prepare_output
+    from aeroexec.flight.robot import load_world, robot_choice
+
+    from aeroexec.extras import MissingExtra
+
+    for option, given in (("--web", args.web is not None), ("--groot", args.groot is not None),
+                          ("--mcap", getattr(args, "mcap", None) is not None),
+                          ("--foxglove", getattr(args, "foxglove", None) is not None), ("--log", bool(args.log))):
+        if given:
+            raise FlightError(f"{spec.mission}: the script flies {len(drones)} drones ({', '.join(drones)}); "
+                              f"{option} is for one drone: fly it with a fleet file (aeroexec fleet) for {option}",
+                              usage=True)
+    folder = prepare_output(args.output)
+    world = load_world(robot_choice(spec.robot).world_file(spec.world), mission=spec.mission, home=spec.home)
+    say(f"{spec.mission.name} flies {len(drones)} drones ({', '.join(drones)}), {SPACING:g} m apart, as a fleet "
+        f"in this process; each drone's files in {folder}/<drone>/")
+    try:
+        fleet = open_script_fleet(spec, drones, folder, world, notify=say,
+                                  report=lambda problem: print(problem, file=sys.stderr),
+                                  remote_questions=live)
+    except (MissingExtra, TransportError, CredentialsError) as error:
+        print(f"{spec.mission}: the script flies {len(drones)} drones ({', '.join(drones)}) as a fleet: {error}",
+              file=sys.stderr)
+        return 1
+    try:
+        if not args.quiet:
+            for drone, engine in fleet.flight.engines.items():
+                engine.log.subscribe(_prefixed(drone))
+        with whole_lines():
+            outcomes = fleet.flight.fly()
+    finally:
+        fleet.close()
+    for member in fleet.flight.members:
+        print(summary_line(member, outcomes[member.name]), file=sys.stderr)
+    print(f"{spec.mission.name}: the status of each drone is in {folder / STATUS_FILE}", file=sys.stderr)
+    return fleet_exit_status({name: drone_status(outcome) for name, outcome in outcomes.items()})
+
+
+def _prefixed(drone: str) -> Callable[[EngineEvent], None]:
+    from aeroexec.flight.fleet import event_line
+
+    def show(event: EngineEvent) -> None:
+        if (line := event_line(drone, event)) is not None:
+            print(line, flush=True)
+
+    return show
 
 
 def say(text: str) -> None:

@@ -21,6 +21,7 @@ import types
 from pathlib import Path
 from typing import Any
 
+from aeroexec.dialects.ros_messages import MESSAGES
 from aeroexec.engine import api
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.dialect_checks import DialectChecks
@@ -36,9 +37,10 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
                            "tf_transformations", "python_interface", "as2_core", "as2_motion_reference_handlers"})
 #: What aeroexec provides of ROS modules, by module: the names a mission may use (``*``: the whole module).
 PROVIDED: dict[str, frozenset[str]] = {
-    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok"}),
+    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging"}),
     "as2_msgs": frozenset({"msg"}),
-    "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent"}),
+    "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
+                               "PoseWithIDArray"}),
     "as2_python_api": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
                                  "drone_interface_teleop", "modules", "behavior_actions", "mission_interpreter"}),
     "as2_python_api.modules": frozenset({
@@ -47,6 +49,10 @@ PROVIDED: dict[str, frozenset[str]] = {
         "follow_reference_module", "gps_module", "motion_reference_handler_module"}),
     "as2_python_api.behavior_actions": frozenset({"behavior_handler"}),
     "as2_python_api.mission_interpreter": frozenset({"mission", "mission_interpreter"}),
+    # messages used as data (dialects/ros_messages.py): built, filled and read, never published
+    **{module.partition(".")[0]: frozenset({"msg"}) for module in MESSAGES},
+    **{module: frozenset(types) for module, types in MESSAGES.items()},
+    "rclpy.logging": frozenset({"get_logger"}),
 }
 #: The words of every refusal.
 ROS2_BEYOND = "this mission uses ROS 2 beyond the drone interface"
@@ -76,8 +82,11 @@ def beyond(module: str, ros1: bool = False) -> str:
     return ROS2_BEYOND
 
 
-def provided(path: str) -> bool:
-    """True when ``path`` (``module`` or ``module.name``) is something aeroexec provides."""
+def provided(path: str, ros1: bool = False) -> bool:
+    """True when ``path`` (``module`` or ``module.name``) is something aeroexec provides (ROS 2's messages as data
+    only to a ROS 2 mission: ``ros1`` False)."""
+    if ros1 and f"{path.partition('.')[0]}.msg" in MESSAGES:
+        return False
     if path in PROVIDED:
         return True
     module, _, name = path.rpartition(".")
@@ -105,6 +114,9 @@ class Refused:
         return Refused(f"{object.__getattribute__(self, '_name')}.{attribute}")
 
     __call__ = __setattr__ = __iter__ = __getitem__ = __bool__ = __len__ = __eq__ = __hash__ = _refuse
+    # a topic name built of it ('/' + ns + '/' + as2.topics...), a number read from it: the use is the refusal
+    __add__ = __radd__ = __sub__ = __mul__ = __truediv__ = __lt__ = __le__ = __gt__ = __ge__ = _refuse
+    __contains__ = __int__ = __float__ = __index__ = __format__ = __fspath__ = _refuse
 
     def __mro_entries__(self, bases: tuple) -> tuple:  # class Mine(Node): ... uses ROS
         self._refuse()
@@ -118,6 +130,8 @@ def refusing_module(name: str) -> types.ModuleType:
     """A module every attribute of which is :class:`Refused` (a submodule is a module like it)."""
     module = types.ModuleType(name, f"aeroexec's stand-in for {name}: {beyond(name)}")
     module.__path__ = []  # a package: its submodules are stand-ins too
+    for type_name, message_type in MESSAGES.get(name, {}).items():  # messages used as data are served
+        setattr(module, type_name, message_type)
     module.__getattr__ = lambda attribute: (Refused(f"{name}.{attribute}") if not attribute.startswith("__")
                                             else _no_attribute(attribute))
     return module
@@ -206,11 +220,11 @@ def ros_problems(nodes: list[Any], dotted: Any) -> list[tuple[Any, str, str]]:
         for _, imported in imports:
             if path == imported or path.startswith(imported + ".") or imported.startswith(path + "."):
                 used.add(imported)
-        if not provided(path) and (node.lineno, path) not in seen:
+        if not provided(path, ros1) and (node.lineno, path) not in seen:
             seen.add((node.lineno, path))
             problems.append((node, "error", f"{path}: {beyond(path, ros1)}"))
     for statement, imported in imports:
-        if imported not in used and not provided(imported):
+        if imported not in used and not provided(imported, ros1):
             problems.append((statement, "warning", f"{imported} is imported but never used: the mission runs "
                                                    f"without it (a use would be refused: {beyond(imported, ros1)})"))
     return problems

@@ -258,6 +258,15 @@ def run_behavior(name: str, **arguments: Any) -> tuple[bool, Outcome]:
     return bool(started and started[0]), outcome
 
 
+def task_failed(name: str, outcome: Any) -> None:
+    """Say that a task the mission waited for ended without its goal (``outcome``: TIME_OUT, WRONG_PROGRESS), for
+    APIs that hand the failure back as a value the mission may ignore (Aerostack's ``executeTask``): the run
+    fails with it (``task_failed``, flight/run_status.py)."""
+    engine = _engine()
+    engine.bridge.call(lambda: engine.log.record("task_failed", name, f"{name} ended with {outcome}",
+                                                 source="mission", outcome=str(outcome)))
+
+
 @journaled
 def start_behavior(name: str, **arguments: Any) -> tuple[bool, int]:
     """Activate a behavior and return at once: ``(accepted, uid)``; ``uid`` names this activation for
@@ -430,5 +439,6 @@ stopTask = inhibit_behavior
 __all__ = [
     "MissionAborted", "RequestRejected", "Unification", "activate_behavior", "add_belief", "add_rules", "ask_behavior",
     "consult_belief", "execute_behavior", "inhibit_behavior", "is_active_behavior", "now", "remove_belief",
-    "run_behavior", "start_behavior", "stop_activation", "stop_behavior", "true_belief", "wait", "why", "why_not",
+    "run_behavior", "start_behavior", "stop_activation", "stop_behavior", "task_failed", "true_belief", "wait", "why",
+    "why_not",
 ]

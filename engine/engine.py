@@ -136,7 +136,9 @@ class Engine:
         self.context.refresh = lambda: telemetry.refresh(self.memory, self.clock.now())
         memory = self.memory
         self.bridge = MissionBridge(self.clock.now, lambda: memory.changes,
-                                    lambda message: self.log.record("mission_polling", detail=message))
+                                    lambda message: self.log.record("mission_polling", detail=message),
+                                    self._mission_stalled)
+        self._last_refusal: str | None = None  # the last refused request of the mission (behavior: reason)
         self.timers = Timers(self.clock.now)
         #: The vehicle model and the predicates safety rules read (battery_to_home...); the rules' monitors.
         self.vehicle_model = vehicle if vehicle is not None else VehicleModel.of(drone)
@@ -144,6 +146,7 @@ class Engine:
                                                   lambda: drone.telemetry().velocity)
         self.safety_predicates.register()
         self.log.subscribe(self._mission_clock)
+        self.log.subscribe(self._mission_refusals)
         self.safety: SafetyMonitor | None = None
         if self.catalog.safety_rules:
             self.safety = SafetyMonitor(self, self.catalog.safety_rules, self.vehicle_model, self.safety_predicates)
@@ -190,6 +193,24 @@ class Engine:
                         callback()
                     except Exception:
                         logger.exception("a tick callback failed")
+
+    def _mission_refusals(self, event: Any) -> None:
+        """Remember the mission's last refused request until it starts a behavior again."""
+        source = getattr(event, "data", {}).get("source")
+        if event.kind in ("failed_preconditions", "rejected") and source == "mission":
+            self._last_refusal = f"{event.behavior or 'a request'} ({event.detail})" if event.detail else \
+                (event.behavior or "a request")
+        elif event.kind == "activated" and source == "mission":
+            self._last_refusal = None
+
+    def _mission_stalled(self) -> str | None:
+        """Why nothing will change what a polling mission waits for: its request was refused, and none of its
+        behaviors runs (None: something may still change it)."""
+        if self._last_refusal is None:
+            return None
+        if any(a.source == "mission" and name != "KEEP_HOVERING" for name, a in self.coordinator.active().items()):
+            return None
+        return f"its request {self._last_refusal} was refused, and none of its behaviors runs"
 
     def _mission_clock(self, event: Any) -> None:
         """``mission_time(T)`` counts from the mission's start."""

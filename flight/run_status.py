@@ -5,7 +5,8 @@ log, and the exit status ``aeroexec run`` returns for it.
 - completed with refused requests: the mission finished, but a request of it was refused on the way
   (FAILED_PRECONDITIONS, a rejected request the mission caught, a paused behavior the resume could not
   restart) (exit 3);
-- failed: the mission raised, a tree ended in FAILURE, or the time limit stopped it; or a safety rule was broken
+- failed: the mission raised, a tree ended in FAILURE, a task it waited for ended without its goal (Aerostack's
+  ``executeTask``: ``task_failed``), or the time limit stopped it; or a safety rule was broken
   (its contingency took the drone over: the reasons name the rule, when, and what it did); or the vehicle had a
   fault (the link was lost in flight, the landing failed, the drone was left armed or in the air) (exit 1);
 - aborted: the operator aborted the run (``ctl abort``, the ``a`` key, Ctrl-C, SIGTERM, SIGHUP) (exit 4);
@@ -49,8 +50,9 @@ LOG_INCOMPLETE = 6
 RUN_ENDED = "run_ended"
 #: Event kinds that are a request of the mission refused (with ``source`` mission).
 REFUSAL_KINDS = ("failed_preconditions", "rejected")
-#: Event kinds that make a run fail (the mission raised or its tree failed, the time limit stopped it).
-FAILURE_KINDS = ("mission_failed", "engine_time_limit")
+#: Event kinds that make a run fail (the mission raised or its tree failed, the time limit stopped it, a task it
+#: waited for ended without its goal: Aerostack's executeTask).
+FAILURE_KINDS = ("mission_failed", "engine_time_limit", "task_failed")
 #: Event kinds that are a safety rule broken (or a ``within`` obligation opened), its contingency taken.
 SAFETY_KINDS = ("safety_violated", "safety_triggered")
 #: The operator suspended the mission (``ctl suspend``): the event says where (``mission_stopped``, data ``suspend``).

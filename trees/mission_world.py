@@ -5,13 +5,20 @@
   item's place) flies in an open field generated around it (:func:`aeroexec.drones.sim.open_field.open_field`):
   the mission's places plus a margin, its geofence as the world's fences; ``--home`` places the field's home (the
   take-off point) elsewhere, the items keep their latitudes and longitudes.
+- A mission written for another system's world (an Aerostack2 script or tree, written for Gazebo's empty world)
+  flies in open ground like that world: a flat, obstacle-free field around the default world's home, or at the
+  GPS origin the mission names (``set_origin``, ``SetOrigin``, its first GPS point), as a plan flies at its home.
+  The dialects say which missions these are (entry-point group :data:`MISSION_GROUNDS`: :class:`MissionGround`);
+  one that needs the default field (its markers, its obstacles) is not among them.
 - A mission in local meters (Python, behavior trees, TML) keeps the default world (moved to ``--home`` if given).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +27,57 @@ from aeroexec.drones.sim.geofence import Fence
 from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, MISSION_FRAME, POSITIONAL, ItemMission
 from aeroexec.trees.items.readers import is_item_file, load_item_mission
 from aeroexec.trees.model import TreeFormatError
+
+from aeroexec.plugins import installed_plugins
+
+logger = logging.getLogger(__name__)
+
+#: The entry-point group of readers of the ground a mission was written for: ``(path) -> MissionGround | None``
+#: (None: not theirs, or a mission for the default field).
+MISSION_GROUNDS = "aeroexec.mission_grounds"
+#: Meters of open ground around the home (at the least) for a mission written for another system's world.
+OPEN_REACH = 100.0
+#: Meters above the home the open ground reaches up to (at the least).
+OPEN_CEILING = 50.0
+
+
+@dataclass(frozen=True)
+class MissionGround:
+    """Where a mission written for another system's world flies: ``written_for`` ("Gazebo's empty world"), the
+    GPS ``origin`` it names (None: the default world's home), and the ``places`` it names (ENU meters from there)."""
+
+    written_for: str
+    origin: Geodetic | None = None
+    places: tuple[tuple[float, float, float], ...] = ()
+
+
+def mission_ground(mission: Path) -> MissionGround | None:
+    """The ground ``mission`` was written for, as the first dialect that knows it says; None when none does."""
+    for origin, reader in installed_plugins(MISSION_GROUNDS):
+        try:
+            ground = reader(Path(mission))
+        except Exception as exc:  # a broken reader is reported, never takes the run down
+            logger.error("%s cannot read the ground of %s: %s", origin, mission, exc)
+            continue
+        if ground is not None:
+            return ground
+    return None
+
+
+def ground_world(ground: MissionGround, home: Geodetic | None = None) -> Any:
+    """Open ground like the world ``ground`` names: a flat field at ``home`` (default: its origin, else the default
+    world's home), :data:`OPEN_REACH` meters around it at the least."""
+    from aeroexec.drones.sim import default_world
+    from aeroexec.drones.sim.open_field import open_field
+
+    if home is None:
+        home = ground.origin or default_world().home
+    elif len(home) == 2 or home[2] is None:
+        home = (home[0], home[1], ground.origin[2] if ground.origin is not None else 0.0)
+    reach = [(-OPEN_REACH, -OPEN_REACH, 0.0), (OPEN_REACH, OPEN_REACH, OPEN_CEILING)]
+    return open_field(home, [*ground.places, *reach],
+                      name=f"open ground at {home[0]:.5f}, {home[1]:.5f} (as {ground.written_for})")
+
 
 _HEIGHTS = {*POSITIONAL, 22, 113}  # items whose altitude is flown at (a take-off's, a change of altitude's)
 GRIPPER_LOAD = "gripper_load"  # what the drone of a mission that opens its gripper carries
@@ -99,6 +157,9 @@ def mission_world(mission: Path | None, world_file: str | None = None, home: Geo
             generated = None  # the mission's check says why it cannot be read
         if generated is not None:
             return generated
+    ground = mission_ground(mission) if mission is not None else None
+    if ground is not None:
+        return ground_world(ground, home)
     if not default and home is None:
         return None
     world = default_world()
@@ -107,4 +168,5 @@ def mission_world(mission: Path | None, world_file: str | None = None, home: Geo
     return world
 
 
-__all__ = ["mission_places", "mission_world", "world_for"]
+__all__ = ["MISSION_GROUNDS", "OPEN_REACH", "MissionGround", "ground_world", "mission_ground", "mission_places",
+           "mission_world", "world_for"]

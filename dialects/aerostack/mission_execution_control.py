@@ -33,11 +33,14 @@ def startTask(task: str, **args: Any) -> bool:
 
 
 def executeTask(task: str, **args: Any) -> tuple[bool, str]:
-    """Execute a task and wait until it ends: ``(True, termination cause)``, or ``(False, 'ERROR')`` if refused."""
+    """Execute a task and wait until it ends: ``(True, termination cause)``, or ``(False, 'ERROR')`` if refused; a
+    task that ended without its goal (TIME_OUT, WRONG_PROGRESS) fails the run, whatever the mission does next."""
     try:
         started, outcome = api.run_behavior(task, **args)
     except api.RequestRejected:  # Aerostack's convention: refused is (False, 'ERROR'), not an exception
         return False, ERROR
+    if started and outcome in (Outcome.TIME_OUT, Outcome.WRONG_PROGRESS):
+        api.task_failed(task, outcome)  # the mission may ignore the result: the run does not
     return started or outcome is Outcome.GOAL_ACHIEVED, termination(started, outcome)
 
 

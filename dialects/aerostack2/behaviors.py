@@ -32,6 +32,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from aeroexec.dialects import ros_messages
 from aeroexec.dialects.ros import ROS2_BEYOND
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE
 
@@ -247,6 +248,7 @@ def _point(call: Method, bound: Mapping[str, Any]) -> Any:
 
 def _triple(call: Method, value: Any, what: str, expected: str) -> Any:
     """A list of three values as a tuple (anything else not known before flight passes through)."""
+    value = ros_messages.point(value)  # a geometry_msgs Point, Pose, PoseStamped: its position
     if not isinstance(value, list | tuple):
         return value
     if len(value) != 3:
@@ -284,6 +286,7 @@ def degrees(angle: float) -> float:
 
 
 def _path(call: Method, path: Any, home: Sequence[float] | None) -> Any:
+    path = ros_messages.points(path)  # a nav_msgs Path, a list of PoseStamped or PoseWithID: their positions
     if not isinstance(path, list | tuple):
         return path  # not known before flight (or a ROS message, refused by the API at run time)
     points = []

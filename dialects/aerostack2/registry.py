@@ -22,6 +22,7 @@ IMPORTS = StandIns(
     scripts=("as2_python_api", "rclpy"),
     # the variable Aerostack2's simulation launch sets to the simulated drone's namespace (its examples read it)
     environment={"AEROSTACK2_SIMULATION_DRONE_ID": "drone0"},
+    drones=f"{_HERE}.namespaces:script_namespaces",
 )
 CHECKS = DialectChecks(objects=f"{_HERE}.drone_objects:DroneObjects")
 

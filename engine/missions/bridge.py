@@ -38,6 +38,11 @@ CALLS_PER_TICK = 10
 POLLING_REPORT = 30.0
 
 
+class MissionStalled(RuntimeError):
+    """Raised in a Python mission that polls a world nothing will change: a request of it was refused and none of
+    its behaviors runs (the reason says which request, and why it was refused)."""
+
+
 class MissionPreempted(Exception):
     """Raised in a Python mission's thread when a safety rule hands the mission over to ``function``."""
 
@@ -47,9 +52,10 @@ class MissionPreempted(Exception):
 
 
 class _Request:
-    __slots__ = ("function", "waits", "done", "value", "error")
+    __slots__ = ("function", "waits", "done", "value", "error", "thread")
 
     def __init__(self, function: Callable, waits: bool) -> None:
+        self.thread = threading.get_ident()  # the mission's thread that asks
         self.function = function
         self.waits = waits
         self.done = threading.Event()
@@ -80,9 +86,12 @@ class MissionBridge:
     """Queues the mission thread's calls for the engine thread; tracks whether the mission runs or waits."""
 
     def __init__(self, now: Callable[[], float] | None = None, world_version: Callable[[], int] | None = None,
-                 report: Callable[[str], None] | None = None) -> None:
+                 report: Callable[[str], None] | None = None, stalled: Callable[[], str | None] | None = None
+                 ) -> None:
         """``now``, ``world_version`` (changes whenever a belief does) and ``report`` let the bridge tell of a
-        mission that polls a world that does not change."""
+        mission that polls a world that does not change; ``stalled`` says why nothing will change it (a request
+        of the mission was refused and none of its behaviors runs), and such a mission is then ended with that
+        reason (:class:`MissionStalled`) instead of polling until the time limit."""
         self._queue: queue.SimpleQueue[_Request] = queue.SimpleQueue()
         #: What each call is served within (the engine's period guard: Ctrl-C waits for the call's end).
         self.guard: Callable[[], contextlib.AbstractContextManager[Any]] = contextlib.nullcontext
@@ -92,6 +101,9 @@ class MissionBridge:
         self._closed_at = 0.0
         self._held = False
         self._now, self._world_version, self._report = now, world_version, report
+        self._stalled = stalled
+        self._stall: MissionStalled | None = None  # raised in the mission at its next call that does not wait
+        self._stalled_threads: set[int] = set()  # the mission's threads it was raised in (once in each)
         self._polls = 0  # calls without a wait since the last wait or change of the world
         self._poll_since: float | None = None
         self._poll_version: int | None = None
@@ -263,11 +275,19 @@ class MissionBridge:
             logger.warning(message)
             if self._report is not None:
                 self._report(message)
+            why = self._stalled() if self._stalled is not None else None
+            if why is not None:
+                self._stall = MissionStalled(f"the mission polls for something nothing is doing: {why}")
 
     def _execute(self, request: _Request) -> None:
         if request.waits:
             self._poll_since = None  # a wait ends a stretch of polling
         if not request.waits:
+            if self._stall is not None and request.thread not in self._stalled_threads:
+                self._stalled_threads.add(request.thread)  # each thread of the mission that polls on hears it once
+                request.error = self._stall
+                request.done.set()
+                return
             try:
                 request.value = request.function()
             except KeyboardInterrupt:  # Ctrl-C or SIGTERM reached the loop's thread: it is the loop's to handle

@@ -18,6 +18,8 @@ from __future__ import annotations
 import ast
 import builtins
 import contextlib
+import importlib.abc
+import importlib.machinery
 import os
 import re
 import sys
@@ -32,6 +34,7 @@ from typing import Any
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted
 from aeroexec.engine.missions import standins
+from aeroexec.engine.missions.bridge import MissionStalled
 
 _lock = threading.RLock()
 _claimed: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()  # engine -> the namespace it flies as
@@ -147,8 +150,8 @@ class MissionThread(threading.Thread):
         api.bind(self._engine)
         try:
             super().run()
-        except MissionAborted:
-            pass  # the flight ended while this thread waited on it
+        except (MissionAborted, MissionStalled):
+            pass  # the flight ended while this thread waited on it; or it polled on as the mission's thread does
         finally:
             api.unbind()
             self._engine.bridge.thread_ended()
@@ -189,6 +192,48 @@ def _builtins(engine_time: types.ModuleType) -> dict[str, Any]:
     return {**vars(builtins), "__import__": import_, "input": ask_operator}
 
 
+class _SiblingLoader(importlib.abc.Loader):
+    """Runs a module of the script's folder as the script runs: with the script's builtins (its imports served as
+    the script's are, its time and threads the engine's)."""
+
+    def __init__(self, loader: Any, scope_builtins: dict[str, Any]) -> None:
+        self.loader, self.scope_builtins = loader, scope_builtins
+
+    def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType | None:
+        return None
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        code = self.loader.get_code(module.__name__)
+        module.__dict__["__builtins__"] = self.scope_builtins
+        exec(code, module.__dict__)
+
+
+class SiblingModules(importlib.abc.MetaPathFinder):
+    """Finds the modules of a script's folder (``from mission import ...`` beside ``mission_swarm.py``) first, and
+    loads them as the script is run (:class:`_SiblingLoader`); :meth:`close` forgets the modules it loaded."""
+
+    def __init__(self, folder: str, scope_builtins: dict[str, Any]) -> None:
+        self.folder, self.scope_builtins = str(Path(folder).resolve()), scope_builtins
+        self.loaded: list[str] = []
+
+    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
+        if path is None and "." in fullname:
+            return None
+        spec = importlib.machinery.PathFinder.find_spec(fullname, [self.folder] if path is None else path)
+        if spec is None or not spec.origin or not spec.origin.endswith(".py") or \
+                not str(Path(spec.origin).resolve()).startswith(self.folder + os.sep):
+            return None
+        spec.loader = _SiblingLoader(spec.loader, self.scope_builtins)
+        self.loaded.append(fullname)
+        return spec
+
+    def close(self) -> None:
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(self)
+        for name in self.loaded:
+            sys.modules.pop(name, None)
+
+
 class ScriptMission:
     """The script in ``path`` as a mission function: calling it runs the script whole as ``__main__`` (see the
     module's docstring)."""
@@ -201,6 +246,8 @@ class ScriptMission:
         standins.install_finders()
         folder = str(self.path.resolve().parent)
         scope = {"__name__": "__main__", "__file__": str(self.path), "__builtins__": _builtins(_EngineTime())}
+        siblings = SiblingModules(folder, scope["__builtins__"])  # its modules import as under python3
+        sys.meta_path.insert(0, siblings)
         environment = standins.script_environment()  # Aerostack2's: the simulated drone's namespace
         saved = sys.argv, list(sys.path), {key: os.environ.get(key) for key in environment}
         sys.argv = [str(self.path)]
@@ -214,6 +261,7 @@ class ScriptMission:
             if end.code not in (None, 0):
                 raise ScriptExit(f"the script exited with status {end.code}") from None
         finally:
+            siblings.close()
             sys.argv, sys.path[:] = saved[0], saved[1]
             for key, value in saved[2].items():
                 if value is None:

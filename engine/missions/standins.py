@@ -16,6 +16,7 @@ environment holds, since a mission aeroexec flies talks to its engine, not to a 
 
 from __future__ import annotations
 
+import ast
 import builtins
 import functools
 import logging
@@ -42,6 +43,8 @@ class StandIns:
     missions run. ``judged_by_use``: ``(module) -> bool``, True for an import the static check does not require
     to be found (its uses are judged instead). ``scripts``: names whose import makes a program without
     ``mission()`` a script, run whole. ``environment``: variables a script is run with when not set already.
+    ``drones``: ``(tree: ast.Module) -> tuple[str, ...]``, the drones a script flies by the names it gives them
+    (Aerostack2's namespaces, from its code or its argparse defaults); several make ``aeroexec run`` fly a fleet.
     """
 
     names: Mapping[str, str] = field(default_factory=dict)
@@ -49,6 +52,7 @@ class StandIns:
     judged_by_use: str | None = None
     scripts: tuple[str, ...] = ()
     environment: Mapping[str, str] = field(default_factory=dict)
+    drones: str | None = None
 
 
 @functools.cache
@@ -89,6 +93,14 @@ def script_environment() -> dict[str, str]:
     return {key: value for s in declared() for key, value in s.environment.items()}
 
 
+def script_drones(tree: ast.Module) -> tuple[str, ...]:
+    """The drones the script ``tree`` flies, by the names it gives them, each once (empty: one drone, unnamed)."""
+    found: dict[str, None] = {}
+    for reference in (s.drones for s in declared() if s.drones is not None):
+        found.update(dict.fromkeys(load_reference(reference)(tree)))
+    return tuple(found)
+
+
 _lock = threading.Lock()
 
 
@@ -127,4 +139,4 @@ def mission_builtins() -> dict[str, Any]:
 
 
 __all__ = ["ENTRY_POINT_GROUP", "StandIns", "declared", "install_finders", "judged_by_use", "mission_builtins",
-           "mission_import", "script_environment", "script_names", "served", "stands_in"]
+           "mission_import", "script_drones", "script_environment", "script_names", "served", "stands_in"]

@@ -6,7 +6,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from aeroexec.cli.main import main
+from aeroexec.flight.fleet.script_fleet import script_drones
 from flying import EMPTY_WORLD, SCRIPTS
 
 
@@ -83,3 +85,38 @@ def test_a_script_naming_a_drone_the_fleet_does_not_have_fails_saying_which(tmp_
     failed = [r["detail"] for r in events(out, "other") if r["kind"] == "mission_failed"]
     assert failed and "DroneNotFound: no drone named drone_sim_1 in this fleet (its drones: drone_sim_0, other)" in \
         failed[0]
+
+
+def test_aeroexec_run_flies_a_swarm_script_as_a_fleet_made_for_it(tmp_path, capsys):
+    # `python3 mission_swarm.py` for an Aerostack2 user: here `aeroexec run mission_swarm.py`, no fleet file
+    replies = answers(tmp_path, {"Takeoff? (y/n):": "y", "Go to? (y/n):": "y", "Replay? (y/n):": "n",
+                                 "Land? (y/n):": "y"})
+    out = tmp_path / "out"
+    status = main(["run", str(SCRIPTS / "gazebo_mission_swarm.py"), "--plain", "--output", str(out),
+                   "--answers", str(replies)])
+    err = capsys.readouterr().err
+    assert status == 0, err
+    assert "gazebo_mission_swarm.py flies 3 drones (drone0, drone1, drone2), 2 m apart, as a fleet" in err
+    starts = set()
+    for drone in ("drone0", "drone1", "drone2"):
+        log = events(out, drone)
+        goals = [r["behavior"] for r in log if r["kind"] == "GOAL_ACHIEVED" and r["behavior"] in
+                 ("TAKE_OFF", "GO_TO_POINT", "LAND")]
+        assert goals[0] == "TAKE_OFF" and goals[-1] == "LAND" and goals.count("GO_TO_POINT") >= 9, (drone, goals)
+        assert f"{drone}: gazebo_mission_swarm.py completed at" in err
+        state = next(r for r in log if r["kind"] == "state")
+        starts.add((round(state["position"][0], 1), round(state["position"][1], 1)))
+    assert len(starts) == 3  # each drone from its own start, apart
+    assert json.loads((out / "fleet_status.json").read_text())["drones"].keys() == {"drone0", "drone1", "drone2"}
+
+
+@pytest.mark.parametrize("script, drones", [
+    ("as2_try_multiple_drone.py", ("drone_sim_0", "drone_sim_1")),  # DroneInterface('drone_sim_0')...
+    ("gazebo_mission_swarm.py", ("drone0", "drone1", "drone2")),  # argparse: --namespaces, its default list
+    ("crazyflie_mission_swarm.py", ("cf0", "cf1", "cf2")),
+    ("hands_on_mission.py", ("cf0", "cf1")),
+    ("rosconches24_mission_leader.py", ("drone0", "drone1", "drone2")),  # --leader_namespace, then --namespaces
+    ("gazebo_mission.py", ("drone0",)),  # one drone: the run flies it alone
+])
+def test_the_drones_a_script_flies_are_read_from_its_source(script, drones):
+    assert script_drones(SCRIPTS / script) == drones

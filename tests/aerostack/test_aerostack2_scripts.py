@@ -92,12 +92,24 @@ def test_motion_references_on_the_ground_are_refused_and_the_run_says_so(tmp_pat
     assert refused[0]["behavior"] == G and "?x1 = landed" in refused[0]["detail"]
 
 
-@pytest.mark.parametrize("script", ["as2_try_multiple_drone.py", "gazebo_mission_swarm.py",
-                                    "crazyflie_mission_swarm.py", "hands_on_mission.py",
-                                    "rosconches24_mission_leader.py"])
-def test_a_multi_drone_script_flown_alone_says_it_needs_a_fleet(script, tmp_path, capsys, monkeypatch):
+#: A swarm script whose drones' namespaces are made as it runs: its source names none of them.
+MADE_NAMES = """import rclpy
+from as2_python_api.drone_interface import DroneInterface
+
+rclpy.init()
+drones = [DroneInterface(f"uav{i}", verbose=False) for i in range(2)]
+for drone in drones:
+    drone.arm()
+"""
+
+
+def test_a_multi_drone_script_flown_alone_says_it_needs_a_fleet(tmp_path, capsys, monkeypatch):
+    # the scripts whose namespaces their source names fly as a fleet made for them (test_aerostack2_fleet.py);
+    # one that makes its namespaces as it runs still says what it needs
     monkeypatch.setattr("builtins.input", lambda prompt="": "y")
-    flight = fly(SCRIPTS / script, tmp_path, capsys)
+    script = tmp_path / "made_names.py"
+    script.write_text(MADE_NAMES)
+    flight = fly(script, tmp_path, capsys)
     assert flight.status == 1
     assert "and this run flies one drone: fly it as a fleet, one drone per namespace" in flight.err
     assert not [r for r in flight.kinds("activated") if r.get("source") == "mission"]  # nothing flew

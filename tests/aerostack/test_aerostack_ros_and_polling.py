@@ -69,3 +69,44 @@ def test_polling_a_refused_behavior_lets_time_pass_and_says_each_refusal_once_wi
     assert len(said) + sum(counted) <= 300 * 20
     lines = [line for line in flight.out.splitlines() if "failed_preconditions GO_TO_POINT" in line]
     assert len(lines) == len(refusals) < 20 and any("the same refusal" in line for line in lines)
+
+
+def test_polling_for_a_belief_after_a_refused_behavior_ends_soon_with_the_reason(tmp_path, capsys):
+    path = tmp_path / "search.py"  # ours, after the missions that search for object_1 in a loop
+    path.write_text(textwrap.dedent("""\
+        import executive_engine_api as api
+
+        def runMission():
+            api.executeBehavior('TAKE_OFF')
+            api.executeBehavior('LAND')  # as a low-battery reaction lands it
+            while not api.trueBelief('visible(object_1)'):
+                api.activateBehavior('GO_TO_POINT', coordinates=[4, -4, 3])  # refused: the drone is landed
+                while not api.trueBelief('visible(object_1)'):
+                    pass
+        """))
+    flight = fly(path, tmp_path, capsys, world_file=None)
+    assert flight.status == 1
+    failed = flight.kinds("mission_failed")
+    assert failed and "MissionStalled: the mission polls for something nothing is doing: its request GO_TO_POINT" \
+                      in failed[0]["detail"] and "was refused, and none of its behaviors runs" in failed[0]["detail"]
+    assert flight.kinds("run_ended")[-1]["time"] < 60.0  # not the 1,800 s time limit
+    states = [r for r in flight.records if r["kind"] == "state"]
+    assert states[-1]["landed_state"] == "on_ground"
+
+
+def test_a_sirocco_task_that_ends_without_its_goal_fails_the_run(tmp_path, capsys):
+    path = tmp_path / "path_task.py"  # ours: a FOLLOW_PATH task that cannot end in time; the mission goes on
+    path.write_text(textwrap.dedent("""\
+        import mission_execution_control as mxc
+
+        def mission():
+            mxc.executeTask('TAKE_OFF')
+            mxc.executeTask('FOLLOW_PATH', path=[[0, 0, 2], [10, 0, 2]], timeout=1)
+            mxc.executeTask('LAND')
+        """))
+    flight = fly(path, tmp_path, capsys, world_file=None)
+    assert flight.status == 1, flight.err  # was 0: completed
+    ended = flight.kinds("run_ended")[-1]
+    assert ended["detail"] == "failed"
+    assert "FOLLOW_PATH ended with TIME_OUT" in " ".join(ended["data"]["reasons"])
+    assert [r["behavior"] for r in flight.kinds("GOAL_ACHIEVED")][-1] == "LAND"  # the mission went on and landed

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from aeroexec.dialects import ros
+from aeroexec.dialects import ros, ros_messages
 from aeroexec.dialects.aerostack2 import behaviors as aerostack2
 
 
@@ -61,6 +61,10 @@ class AlertEvent:
 
     def __init__(self, alert: int = 0, description: str = "") -> None:
         self.alert, self.description = alert, description
+
+
+PoseWithID = ros_messages.PoseWithID  # as2_msgs/msg/PoseWithID.msg: a path's point (an id and a pose), as data
+PoseWithIDArray = ros_messages.PoseWithIDArray
 
 
 def __getattr__(name: str) -> Any:

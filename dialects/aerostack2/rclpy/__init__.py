@@ -1,11 +1,12 @@
 """A stand-in for ``rclpy`` in missions written for Aerostack2: what such scripts do with it (``init``, ``ok``,
-``shutdown``) and nothing else. Any other use raises
+``shutdown``, ``logging.get_logger``) and nothing else. Any other use raises
 :class:`~aeroexec.dialects.ros.RosFeatureError`: this mission uses ROS 2 beyond the drone interface
 (``aeroexec verify`` says so before flight, at the line).
 """
 
 from __future__ import annotations
 
+import importlib
 from typing import Any
 
 from aeroexec.dialects import ros
@@ -41,4 +42,7 @@ def __getattr__(name: str) -> Any:
     return ros.Refused(f"rclpy.{name}")
 
 
-__all__ = ["init", "ok", "shutdown", "try_shutdown"]
+# rclpy.logging, as ROS 2 has it (imported by name: this module's __getattr__ would answer a from-import)
+logging = importlib.import_module(f"{__name__}.logging")
+
+__all__ = ["init", "logging", "ok", "shutdown", "try_shutdown"]

@@ -1,0 +1,73 @@
+"""The drones an Aerostack2 script flies, by the namespaces it gives them, read from its source as
+``python3 script.py`` would run it (no arguments: its argparse defaults apply).
+
+A namespace is a string given as a drone interface's first argument (``DroneInterface('drone_sim_0')``,
+``DroneInterface(drone_id="cf0")``), the default of an argparse option whose name says it holds namespaces or drone
+names (``--namespaces`` with ``default=['drone0', 'drone1', 'drone2']``, ``--leader_namespace``), or a list of
+strings bound to such a name (``drones_namespaces = ['cf0', 'cf1']``). Several namespaces make ``aeroexec run`` fly
+the script as a fleet made for it, one drone per namespace.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+
+#: Names (of an option, a variable, a keyword) that hold drone namespaces.
+_NAMESPACE = re.compile(r"(namespace|^ns$|_ns$|^ns_|drone_?(id|name)s?$|^drones?$|^uavs?$|leader|follower)", re.I)
+_INTERFACES = ("DroneInterface", "DroneInterfaceBase", "DroneInterfaceGPS", "DroneInterfaceTeleop")
+_NAME_ARGUMENTS = ("drone_id", "namespace", "drone_name")
+
+
+def _strings(node: ast.AST | None) -> list[str]:
+    """The strings of a constant string or a list/tuple of them; empty for anything else."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return [node.value]
+    if isinstance(node, ast.List | ast.Tuple) and node.elts and all(
+            isinstance(e, ast.Constant) and isinstance(e.value, str) for e in node.elts):
+        return [e.value for e in node.elts]  # type: ignore[attr-defined]
+    return []
+
+
+def _called(node: ast.Call) -> str:
+    func = node.func
+    return func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+
+
+def _option(node: ast.Call) -> str:
+    """The option an ``add_argument`` call declares (its ``dest``, or its longest name)."""
+    for keyword in node.keywords:
+        if keyword.arg == "dest" and isinstance(keyword.value, ast.Constant):
+            return str(keyword.value.value)
+    names = [a.value for a in node.args if isinstance(a, ast.Constant) and isinstance(a.value, str)]
+    return max(names, key=len).lstrip("-") if names else ""
+
+
+def _namespace(text: str) -> bool:
+    return bool(text) and bool(re.fullmatch(r"[A-Za-z_][\w/]*", text)) and "/" not in text.strip("/")
+
+
+def script_namespaces(tree: ast.Module) -> tuple[str, ...]:
+    """The namespaces of the drones ``tree`` flies, in the order the script names them, each once."""
+    found: dict[str, None] = {}
+    own_classes = {n.name for n in ast.walk(tree) if isinstance(n, ast.ClassDef)
+                   and any(isinstance(b, ast.Name | ast.Attribute) and (getattr(b, "id", None) or
+                                                                       getattr(b, "attr", None)) in _INTERFACES
+                           for b in n.bases)}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            called = _called(node)
+            if called in (*_INTERFACES, *own_classes):
+                given = node.args[0] if node.args else next(
+                    (k.value for k in node.keywords if k.arg in _NAME_ARGUMENTS), None)
+                found.update(dict.fromkeys(s for s in _strings(given) if _namespace(s)))
+            elif called == "add_argument" and _NAMESPACE.search(_option(node)):
+                default = next((k.value for k in node.keywords if k.arg == "default"), None)
+                found.update(dict.fromkeys(s for s in _strings(default) if _namespace(s)))
+        elif isinstance(node, ast.Assign) and len(_strings(node.value)) > 1 and any(
+                isinstance(t, ast.Name) and _NAMESPACE.search(t.id) for t in node.targets):
+            found.update(dict.fromkeys(s for s in _strings(node.value) if _namespace(s)))
+    return tuple(found)
+
+
+__all__ = ["script_namespaces"]

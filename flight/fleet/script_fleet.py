@@ -1,0 +1,104 @@
+"""A fleet made for a script that drives several drones (an Aerostack2 swarm: ``DroneInterface`` objects of
+several namespaces), so that ``aeroexec run script.py`` flies it as ``python3 script.py`` would: every drone it
+names, in this process, one flight session each, on the fleet's one clock (:class:`~.fleet_flight.FleetFlight`),
+each drone's files in ``<output>/<drone>/``.
+
+The drones are named as the script names them (the dialects say which: ``StandIns.drones``) and start
+:data:`SPACING` meters apart on an east-west line through the world's home, as a simulator's swarm launch places
+them. :func:`open_script_fleet` sets the fleet up with its Zenoh router on the loopback and credentials made in
+the output folder (the ``fleet`` extra); the caller flies it and closes it.
+"""
+
+from __future__ import annotations
+
+import ast
+import logging
+import secrets
+from collections.abc import Callable
+from contextlib import ExitStack
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from aeroexec.engine.missions import standins
+from aeroexec.engine.missions.script import is_script
+from aeroexec.flight.fleet.fleet_flight import FleetFlight
+from aeroexec.flight.spec import FlightSpec
+
+logger = logging.getLogger(__name__)
+
+#: Meters between two drones' starts.
+SPACING = 2.0
+
+
+def script_drones(mission: Path) -> tuple[str, ...]:
+    """The drones the Python script ``mission`` flies, by the names it gives them; empty for a mission that is not
+    such a script (or that cannot be read: its check says why)."""
+    if Path(mission).suffix != ".py":
+        return ()
+    try:
+        tree = ast.parse(Path(mission).read_text(encoding="utf-8"), str(mission))
+    except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
+        return ()
+    return standins.script_drones(tree) if is_script(tree) else ()
+
+
+def homes(count: int) -> list[tuple[float, float]]:
+    """Where ``count`` drones start (east, north meters from the world's home): :data:`SPACING` apart on a line
+    centred on the home."""
+    return [(round(SPACING * (i - (count - 1) / 2), 3), 0.0) for i in range(count)]
+
+
+@dataclass
+class ScriptFleet:
+    """The fleet made for a script: its name, its drones, and what flies them (closed by :meth:`close`)."""
+
+    name: str
+    drones: tuple[str, ...]
+    flight: FleetFlight
+    endpoints: list[str]
+    _stack: ExitStack = field(default_factory=ExitStack)
+
+    def close(self) -> None:
+        self._stack.close()
+
+
+def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, world: Any, *,
+                      notify: Callable[[str], None] = logger.info, report: Callable[[Any], None] = logger.warning,
+                      remote_questions: bool = False) -> ScriptFleet:
+    """The fleet flying ``spec``'s script with one drone per name of ``drones``, set up (every session open) in
+    ``world``, its files in ``folder``; raises FlightError, MissingExtra (no ``fleet`` extra) or the fleet's
+    transport and credential errors."""
+    from aeroexec.extras import require
+
+    require("fleet")
+    from aeroexec.fleet import members
+    from aeroexec.fleet.fleet_file import DroneSpec, FleetSpec
+    from aeroexec.fleet.fleet_json import FLEET_FILE, write_fleet_file
+    from aeroexec.fleet.transport import free_endpoint
+
+    name = Path(spec.mission).stem.replace(".", "_") or "script"
+    fleet_spec = FleetSpec(name=name, drones=tuple(DroneSpec(d, Path(spec.mission), home, seed=spec.seed + i)
+                                                   for i, (d, home) in enumerate(zip(drones, homes(len(drones)),
+                                                                                    strict=True))),
+                           file=str(spec.mission))
+    stack = ExitStack()
+    try:
+        membership = members.listen(fleet_spec, [free_endpoint("tls")], folder)
+        stack.callback(membership.close)
+        token = secrets.token_hex(16)
+        node = membership.node(token)
+        stack.callback(node.close)
+        stack.callback(lambda: (folder / FLEET_FILE).unlink(missing_ok=True))
+        write_fleet_file(folder, name, membership.endpoints, token, membership.operator, drones)
+        flight = FleetFlight(node, list(fleet_spec.flown), spec, output=folder, speed=spec.speed, world=world,
+                             remote_questions=remote_questions, notify=notify, report=report)
+        stack.callback(flight.close)
+        flight.open()
+    except BaseException:
+        stack.close()
+        raise
+    return ScriptFleet(name, drones, flight, list(membership.endpoints), stack)
+
+
+__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "script_drones"]

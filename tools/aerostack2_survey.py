@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""The held-back Aerostack2 missions (tests/aerostack/data/heldback/SOURCES.md) flown as their authors would fly
+them: ``aeroexec run FILE`` alone (no fleet file, no world, no flags; ``python -m aeroexec`` of this Python),
+each in its own process with a time limit, and a table of how each ended: flew to completion, refused (with the
+reason the run gave), or failed.
+
+    python tools/aerostack2_survey.py [--jobs 2] [--limit 300] [FILE...]
+
+The last line is the figure: how many of the set flew to completion.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+import sys
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+HELDBACK = Path(__file__).resolve().parent.parent / "tests" / "aerostack" / "data" / "heldback"
+#: The missions of the set: the files SOURCES.md names, less the modules a script imports (no mission of their own).
+MISSION = re.compile(r"^\| `([^`]+\.(?:py|xml))` \|", re.MULTILINE)
+SUPPORT = ("/__init__.py", "follow_drone_module.py")
+
+
+@dataclass
+class Outcome:
+    """How one mission's run ended."""
+
+    file: str
+    verdict: str  # "flew", "refused", "failed", "timeout"
+    status: int | None
+    reason: str
+
+
+def missions() -> list[Path]:
+    names = MISSION.findall((HELDBACK / "SOURCES.md").read_text())
+    return [HELDBACK / n for n in names if not n.endswith(SUPPORT)]
+
+
+def _reason(err: str, out: Path) -> str:
+    lines = [line.strip() for line in err.splitlines() if line.strip()]
+    for marker in ("error:", "refused", "failed", "Error", "not "):
+        for line in lines:
+            if marker in line:
+                return line[:160]
+    log = out / "events.jsonl"
+    if log.exists():
+        for line in reversed(log.read_text().splitlines()):
+            record = json.loads(line)
+            if record.get("kind") in ("mission_failed", "rejected", "failed_preconditions"):
+                return str(record.get("detail"))[:160]
+    return (lines[-1] if lines else "")[:160]
+
+
+def fly(path: Path, limit: float) -> Outcome:
+    name = str(path.relative_to(HELDBACK))
+    with tempfile.TemporaryDirectory(prefix="as2survey") as folder:
+        try:
+            done = subprocess.run([sys.executable, "-m", "aeroexec", "run", str(path)], cwd=folder,
+                                  capture_output=True, text=True, timeout=limit, stdin=subprocess.DEVNULL)
+        except subprocess.TimeoutExpired:
+            return Outcome(name, "timeout", None, f"still running after {limit:.0f} s")
+        outputs = sorted(Path(folder).rglob("events.jsonl"))
+        out = outputs[0].parent if outputs else Path(folder)
+        if done.returncode == 0:
+            return Outcome(name, "flew", 0, "")
+        reason = _reason(done.stderr, out)
+        refused = done.returncode == 3 or (done.returncode == 1 and not outputs)
+        return Outcome(name, "refused" if refused else "failed", done.returncode, reason)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("files", nargs="*", type=Path)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--limit", type=float, default=300.0, help="seconds of wall time per run")
+    arguments = parser.parse_args(argv)
+    files = [p.resolve() for p in arguments.files] or missions()
+    with ThreadPoolExecutor(arguments.jobs) as pool:
+        outcomes = list(pool.map(lambda p: fly(p, arguments.limit), files))
+    width = max(len(o.file) for o in outcomes)
+    for outcome in outcomes:
+        status = "-" if outcome.status is None else str(outcome.status)
+        print(f"{outcome.file:<{width}}  {outcome.verdict:<8} {status:>2}  {outcome.reason}")
+    flew = sum(o.verdict == "flew" for o in outcomes)
+    print(f"flew to completion: {flew} of {len(outcomes)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
