@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import importlib
 import os
+import re
 import sys
 
 from aeroexec.lazy import lazy_logger
@@ -52,16 +53,18 @@ def installed() -> EntryPoints:
 
 
 @functools.cache
-def _groups_on_path(path: tuple[str, ...]) -> frozenset[str] | None:
-    """The entry-point groups the installed packages name, read from the ``entry_points.txt`` of every
-    ``*.dist-info`` and ``*.egg-info`` folder in the folders of ``path`` (``sys.path``: read again when it changes),
-    where :mod:`importlib.metadata` finds them (~1 ms, without importing it). None when the path holds what only it
-    reads (a zip file)."""
-    groups: set[str] = set()
+def _entries_on_path(path: tuple[str, ...]) -> dict[str, list[tuple[str, str]]] | None:
+    """Every installed package's entry points by group, as (name, ``module:attribute``), read from the
+    ``entry_points.txt`` of every ``*.dist-info`` and ``*.egg-info`` folder in the folders of ``path`` (``sys.path``:
+    read again when it changes), where :mod:`importlib.metadata` finds them and as it reads them (a distribution
+    found twice counts where it is first on the path), in ~1 ms and without importing it (~20 ms of every command's
+    start). None when the path holds what only it reads (a zip file)."""
+    groups: dict[str, list[tuple[str, str]]] = {}
+    seen: set[str] = set()
     for entry in path:
         folder = entry or "."
         try:
-            names = os.listdir(folder)
+            names = sorted(os.listdir(folder))
         except NotADirectoryError:
             return None  # a zip on the path: importlib.metadata reads its metadata
         except OSError:
@@ -69,19 +72,33 @@ def _groups_on_path(path: tuple[str, ...]) -> frozenset[str] | None:
         for name in names:
             if not name.endswith((".dist-info", ".egg-info")):
                 continue
+            distribution = re.sub(r"[-_.]+", "_", name.rsplit(".", 1)[0].split("-", 1)[0]).lower()
             try:
                 with open(os.path.join(folder, name, "entry_points.txt"), encoding="utf-8") as file:
-                    groups.update(line.strip()[1:-1].strip() for line in file
-                                  if line.lstrip().startswith("[") and line.rstrip().endswith("]"))
+                    text = file.read()
             except (OSError, UnicodeDecodeError):
                 continue
-    return frozenset(groups)
+            if distribution in seen:
+                continue
+            seen.add(distribution)
+            group = None
+            for line in text.splitlines():
+                line = line.strip()
+                if not line or line.startswith(("#", ";")):
+                    continue
+                if line.startswith("[") and line.endswith("]"):
+                    group = line[1:-1].strip()
+                    groups.setdefault(group, [])
+                elif group is not None and "=" in line:
+                    key, value = line.split("=", 1)
+                    groups[group].append((key.strip(), value.strip()))
+    return groups
 
 
 def entry_points_of(group: str) -> list[Any]:
     """The installed entry points of ``group``, read now (not loaded); none, without importing
     :mod:`importlib.metadata`, when no installed package names the group."""
-    groups = _groups_on_path(tuple(sys.path))
+    groups = _entries_on_path(tuple(sys.path))
     if groups is not None and group not in groups:
         return []
     from importlib.metadata import entry_points
@@ -93,14 +110,17 @@ def installed_plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
     """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``; one that cannot
     be loaded is logged and left out."""
     found: list[tuple[str, Any]] = []
-    groups = _groups_on_path(tuple(sys.path))
-    if groups is not None and group not in groups:  # no package names the group: importlib.metadata is not imported
-        return found
-    for point in sorted(installed().select(group=group), key=lambda p: p.name):
+    groups = _entries_on_path(tuple(sys.path))
+    if groups is None:  # a zip on the path: importlib.metadata reads what is there
+        points = [(point.name, point.value) for point in installed().select(group=group)]
+    else:
+        points = groups.get(group, [])
+    for name, value in sorted(points):
         try:
-            found.append((point.name if named else f"entry point {point.name} = {point.value}", point.load()))
+            reference = value.split("[", 1)[0].strip()  # "module:attribute [extra]": the extra is pip's business
+            found.append((name if named else f"entry point {name} = {value}", load_reference(reference)))
         except Exception as exc:  # a broken plugin is reported, never takes the engine down
-            logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, point.name, point.value, exc)
+            logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, name, value, exc)
     return found
 
 

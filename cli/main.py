@@ -86,7 +86,12 @@ def mission_formats() -> str:
 
 def node_kinds() -> list[str]:
     """The tree node kinds installed packages add (``aeroexec.trees.runtime.kinds``), as the top-level help lists
-    them; none when no package adds one."""
+    them; none when no package adds one (then the node kinds' table, whose manifests import the value conversions,
+    is not imported)."""
+    from aeroexec.plugins import entry_points_of
+
+    if not entry_points_of("aeroexec.node_kinds"):
+        return []
     from aeroexec.trees.runtime.kinds import added
 
     shown = [f"{kind.name} ({kind.manifest.kind.lower()}, {kind.origin})" for kind in added()]

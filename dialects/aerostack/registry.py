@@ -6,17 +6,12 @@ of their own: ``aeroexec.yaml_forms``, ``aeroexec.catalog_dialects``.)"""
 from __future__ import annotations
 
 from aeroexec.dialects.aerostack.api_modules import API_MODULES
+from aeroexec.dialects.aerostack.formats import FORMATS
 from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
-from aeroexec.trees.formats import MissionFormat
 
 _HERE = "aeroexec.dialects.aerostack"
 
-FORMATS = (
-    MissionFormat("Aerostack nodes: YAML", (".yaml", ".yml"), "aeroexec.trees.mission_file:read_yaml_tree",
-                  recognise=f"{_HERE}.nodes:is_aerostack_nodes", summary="Aerostack's behavior tree interpreter nodes:",
-                  before="YAML trees"),
-)
 IMPORTS = StandIns(names={name: f"{_HERE}.{name}" for name in API_MODULES})
 CHECKS = DialectChecks(api_modules=API_MODULES)
 

@@ -6,17 +6,12 @@ whole, with the simulated drone's namespace in its environment), and its drone i
 
 from __future__ import annotations
 
+from aeroexec.dialects.aerostack2.formats import FORMATS
 from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
-from aeroexec.trees.formats import MissionFormat
 
 _HERE = "aeroexec.dialects.aerostack2"
 
-FORMATS = (
-    MissionFormat("Aerostack2 interpreter plans", (".json", ".yaml", ".yml"), f"{_HERE}.plans:read_plan_tree",
-                  recognise=f"{_HERE}.plans:is_aerostack2_plan",
-                  summary="Aerostack2's mission interpreter plans ({target, plan})", before="Aerostack nodes: YAML"),
-)
 IMPORTS = StandIns(
     names={name: f"{_HERE}.{name}" for name in ("rclpy", "as2_python_api", "as2_msgs")},
     scripts=("as2_python_api", "rclpy"),

@@ -56,17 +56,18 @@ def test_no_module_of_the_core_imports_a_dialect():
 
 WITHOUT_DIALECTS = """
 import json
+import sys
 import aeroexec.plugins as plugins
 
-everything = plugins.installed()
+everything = plugins._entries_on_path(tuple(sys.path))
 
 
-class WithoutDialects:  # the installed entry points but the dialects'
-    def select(self, group):
-        return [p for p in everything.select(group=group) if not p.value.startswith("aeroexec.dialects.")]
+def without_dialects(path):  # the installed entry points but the dialects'
+    return {group: [(name, value) for name, value in points if not value.startswith("aeroexec.dialects.")]
+            for group, points in everything.items()}
 
 
-plugins.installed = WithoutDialects
+plugins._entries_on_path = without_dialects
 
 from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.trees import load_mission_tree
