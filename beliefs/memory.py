@@ -28,7 +28,7 @@ from aeroexec.beliefs.errors import (
     UnknownPredicateError,
 )
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal, Rule
-from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules
+from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, read_flat_fact, read_flat_goal
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
 from aeroexec.beliefs.rules.derivation import RuleBook
@@ -38,10 +38,11 @@ from aeroexec.beliefs.rules.proofs import Proof, Prover
 from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
-from aeroexec.beliefs.terms import Struct, Var, format_term, from_python
+from aeroexec.beliefs.terms import Struct, Var, format_term, from_python, to_python
 
 #: what a memory is asked: text, a parsed expression, or one term
 Expression = str | Conjunction | Struct
+_UNANSWERED = object()  # a question the memory's quick reading leaves to the compiled query
 
 log = logging.getLogger(__name__)
 
@@ -76,6 +77,7 @@ class BeliefMemory:
         #: what questions are answered by besides stored beliefs: computed predicates and shared beliefs
         self._answered: dict[tuple[str, int], tuple[Any, int | None]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
+        self._asked_once: dict[str, None] = {}  # texts answered without compiling them (compiled when asked again)
         self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
         self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
         self._listening = False  # whether anyone listens
@@ -192,7 +194,11 @@ class BeliefMemory:
     def add(self, belief: str | Struct) -> bool:
         """Add a ground belief; returns False when it was already there (its lifetime renews)."""
         if type(belief) is not Struct:
-            belief = self._parse_belief(belief)
+            read = read_flat_fact(belief) if type(belief) is str and len(belief) < 1000 else None
+            if read is None or (self._vocabulary and self._vocabulary.get(read.name) != len(read.args)):
+                belief = self._parse_belief(belief)  # the grammar's reading, and the vocabulary's verdict
+            else:
+                belief = read
         if self._spellings and belief.name in self._spellings:
             belief = respell_term(belief, self._spellings)
         if self._heap:
@@ -259,8 +265,13 @@ class BeliefMemory:
         ``bindings`` gives values to variables before solving (``{"?Y": (1, 2, 3)}``).
         """
         compiled = self._queries.get(expression)
-        if compiled is not None and compiled.probe is not None and not bindings and not self._heap:
-            return compiled.probe()  # one look-up: cheaper than the standing answer's check
+        if compiled is not None:
+            if compiled.probe is not None and not bindings and not self._heap:
+                return compiled.probe()  # one look-up: cheaper than the standing answer's check
+        elif not bindings and type(expression) is str:
+            answer = self._at_once(expression)
+            if answer is not _UNANSWERED:
+                return answer
         answer = self._answer(expression, bindings)
         return None if answer is None else dict(answer)
 
@@ -485,6 +496,42 @@ class BeliefMemory:
         if compiled.stamp != stamp:
             compiled.answer, compiled.stamp = compiled.first(relations), stamp
         return compiled.answer
+
+    def _at_once(self, text: str) -> dict | None | object:
+        """The first answer of a question not asked before, when it is one stored goal of the common shape (read by
+        hand, no grammar, no plan): ground (``code(o500, 500)``: a membership test) or asking the value its key
+        holds (``color(o500, ?C)``: one look-up). :data:`_UNANSWERED` for anything else, and for a question asked a
+        second time: that one is compiled and kept (its next asks cost a look-up of the text)."""
+        seen = self._asked_once
+        if text in seen:
+            return _UNANSWERED
+        if len(seen) > 4096:
+            seen.clear()
+        seen[text] = None
+        goal = read_flat_goal(text) if len(text) < 1000 else None
+        if goal is None:
+            return _UNANSWERED
+        name, args = goal.name, goal.args
+        signature = (name, len(args))
+        if (self._vocabulary and self._vocabulary.get(name) != len(args)) or signature in self._answered \
+                or signature in BUILTIN_PREDICATES or name in self._spellings \
+                or (self._rulebook is not None and self._rulebook.is_derived(signature)):
+            return _UNANSWERED
+        if self._heap:
+            self._expire_due()
+        rel = self._relations.get(signature)
+        variables = text.count("?")
+        if not variables:
+            return {} if rel is not None and args in rel.rows else None
+        if rel is None:
+            return None
+        last = args[-1]
+        if variables != 1 or type(last) is not Var or rel.by_key is None:
+            return _UNANSWERED
+        row = rel.by_key.get(args[:-1])
+        if row is None:
+            return None
+        return {} if last.anonymous else {last.name: to_python(row[-1])}
 
     def _prepared(self, expression: Expression) -> tuple[CompiledQuery, Relations]:
         """The compiled query of ``expression`` and the relations to solve it in (derived ones brought up to date)."""

@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 
 from aeroexec.beliefs import BeliefMemory, Struct
-from performance_page import write_section
+from performance_page import swi_version, write_section
 from provenance import load, measured_at
 
 CLOSURE = """reachable(?A, ?B) :- link(?A, ?B).
@@ -154,7 +154,8 @@ reachable(A, B) :- link(A, B).
 reachable(A, C) :- link(A, B), reachable(B, C).
 updates(Ask, T) :-
     findall(X-Y, extra(X, Y), Extras), length(Extras, N),
-    timed(forall(member(X-Y, Extras), (assertz(link(X, Y)), \\+ \\+ call(Ask), retract(link(X, Y)), \\+ \\+ call(Ask))), S),
+    timed(forall(member(X-Y, Extras),
+                 (assertz(link(X, Y)), \\+ \\+ call(Ask), retract(link(X, Y)), \\+ \\+ call(Ask))), S),
     T is S / (2 * N).
 main :-
     aggregate_all(count, reachable(_, _), _),
@@ -293,15 +294,6 @@ def main() -> None:
         markdown = ["| " + " | ".join(headers) + " |", "|---|" + "---:|" * (len(headers) - 2) + "---|"]
         markdown += ["| " + " | ".join(r) + " |" for r in body]
         write_section("bench/rules.py", "\n".join([*markdown, "", said]))
-
-
-def swi_version() -> str:
-    swipl = shutil.which("swipl")
-    if swipl is None:
-        return "(not installed)"
-    done = subprocess.run([swipl, "--version"], capture_output=True, text=True)
-    found = re.search(r"version (\S+)", done.stdout)
-    return found.group(1) if found else "?"
 
 
 if __name__ == "__main__":

@@ -161,6 +161,19 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: 
             return schema, [row for row in rows if (row[i],) in stored]
         build = _builder(positions)
         return schema, [row for row in rows if build(row) in stored]
+    if len(shared) == 1 and not constants:
+        p0, i = shared[0]
+        taken = tuple(positions)
+        # a value in common: each row extended by the stored values that go with its own, read from the relation's
+        # columns (built once for a relation that does not change, or when building costs no more than the rows)
+        if rel.columns_ready(p0, taken) or len(rel.rows) <= 4 * len(rows):
+            table, widest = rel.columns(p0, taken)
+            get = table.get
+            if len(rows) * widest > limit:  # estimated before anything is built
+                size = sum(len(get(row[i], ())) for row in rows)
+                if size > limit:
+                    raise _Overflow(size)
+            return new_schema, [row + f for row in rows for f in get(row[i], ())]
     groups: dict[Any, list[tuple]] = {}
     if len(shared) == 1:
         i = shared[0][1]
