@@ -7,6 +7,7 @@ import re
 import threading
 from functools import lru_cache
 from pathlib import Path
+from sys import intern
 
 from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem
 from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation, Rule
@@ -339,7 +340,7 @@ def read_flat_goal(text: str) -> Struct | None:
             piece = piece[:-1].rstrip(_LARK_SPACE)
         core = piece[1:] if piece[:1] in _SIGNS else piece
         if piece.isidentifier():
-            value = piece
+            value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
         elif core.isdigit():  # ASCII digits (the text is ASCII): an integer
             if len(piece) > MAX_NUMBER_LENGTH:
                 return None
@@ -361,7 +362,7 @@ def read_flat_goal(text: str) -> Struct | None:
                 group = None
     if group is not None:
         return None
-    return Struct(name, tuple(args))
+    return Struct(intern(name), tuple(args))
 
 
 def _flat_value(piece: str):
