@@ -295,6 +295,10 @@ class BeliefMemory:
 
     def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
         """True when the expression has at least one unification."""
+        if not bindings and type(expression) is str and expression not in self._queries:
+            answer = self._at_once(expression)
+            if answer is not _UNANSWERED:
+                return answer is not None
         return self._answer(expression, bindings) is not None
 
     def consult(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> tuple[bool, dict]:

@@ -134,7 +134,7 @@ class Relation:
         by_pos = self.by_pos
         built = [(p, index) for p, index in enumerate(by_pos) if index is not None]
         if not built and not self.ordered:
-            stored.update(dict.fromkeys(rows))
+            stored.update(rows if type(rows) is dict else dict.fromkeys(rows))  # a dict of rows: its keys, as they are
             self.version += 1
             return
         for args in rows:

@@ -324,9 +324,13 @@ class RuleBook:
                 new = found[rule.head.signature]
                 for j, signature in _positive_goals(rule):
                     if signature in inputs:
-                        new.update(dict.fromkeys(filterfalse(
+                        found_now = dict.fromkeys(filterfalse(
                             rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule, self.budget,
-                                     _named(layer, rule)))))
+                                                        _named(layer, rule))))
+                        if new:
+                            new.update(found_now)
+                        else:
+                            new = found[rule.head.signature] = found_now
         return found
 
     def _saturate(self, layer: _Layer, delta: dict[Signature, dict[tuple, None]],

@@ -79,10 +79,20 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
     budget.charge(CALL_COST, rule)
     schema: list[Var] = []
     rows: Rows = [()]
+    order = query._order(relations, {})
+    args = head.args
+    # the head's arguments distinct variables: the last join may build them directly (no row of every value first)
+    wanted = args if args and all(type(a) is Var for a in args) else None
     try:
-        for step in query._order(relations, {}):
+        for n, step in enumerate(order):
             fits = _fits(len(schema) + 4)  # the rows its memory allows, a few new values each
             limit = min(budget.left(), fits)
+            if wanted is not None and n == len(order) - 1 and type(step) is FactStep and step.flat:
+                before = len(rows)
+                heads = _join(step, schema, rows, relations, limit, wanted)
+                if heads is not None:
+                    budget.charge(len(heads) + before, rule)
+                    return heads
             schema, rows, cost = _apply(step, schema, rows, relations, query.ranges, limit)
             budget.charge(cost, rule)
             if not rows:
@@ -133,14 +143,19 @@ def _apply(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dic
     return schema, rows, (len(rows) + before) * EACH_COST // 2
 
 
-def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: int) -> tuple[list[Var], Rows]:
+def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: int,
+          wanted: tuple | None = None) -> Any:
+    """The rows extended by the goal's answers (the new schema and rows); with ``wanted`` (a head's variables),
+    the head rows themselves when the goal can build them in one pass, else None."""
     rel = relations.get(step.signature)
     if rel is None or not rel.rows:
-        return schema, []
+        return [] if wanted is not None else (schema, [])
     at = {v: i for i, v in enumerate(schema)}
     shared = [(p, at[v]) for p, v in step.simple if v in at]
     fresh = [(p, v) for p, v in step.simple if v not in at]
     constants = step.constants
+    if wanted is not None and (not shared or not fresh or len(shared) > 1 or constants):
+        return None  # not a one-pass shape: the caller joins, then projects
     new_schema = schema + [v for _, v in fresh]
     positions = [p for p, _ in fresh]
     take = _getter(positions)
@@ -173,7 +188,14 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: 
                 size = sum(len(get(row[i], ())) for row in rows)
                 if size > limit:
                     raise _Overflow(size)
+            if wanted is not None:
+                if any(v not in at and v not in new_schema for v in wanted):
+                    return None
+                return _heads(tuple(("r", at[v]) if v in at else ("f", new_schema.index(v) - len(schema))
+                                    for v in wanted), i)(rows, get)
             return new_schema, [row + f for row in rows for f in get(row[i], ())]
+    if wanted is not None:
+        return None
     groups: dict[Any, list[tuple]] = {}
     if len(shared) == 1:
         i = shared[0][1]
@@ -214,6 +236,20 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: 
             extend(starmap(add, product(group, found)))
     return new_schema, out
 
+
+_HEADS: dict[tuple, Callable] = {}
+
+
+def _heads(sources: tuple[tuple[str, int], ...], i: int) -> Callable[[Rows, Callable], Rows]:
+    """A comprehension building head rows from each row ``r`` and each stored part ``f`` that goes with its value at
+    ``i`` (``sources``: where each head argument is, ``("r", k)`` or ``("f", k)``), compiled once per shape."""
+    key = (sources, i)
+    found = _HEADS.get(key)
+    if found is None:
+        items = ", ".join(f"{side}[{k}]" for side, k in sources) + ("," if len(sources) == 1 else "")
+        found = eval(f"lambda rows, get: [({items}) for r in rows for f in get(r[{i}], ())]")  # noqa: S307
+        _HEADS[key] = found
+    return found
 
 def _matching(rel: Any, constants: tuple) -> Iterable[tuple]:
     if not constants:

@@ -101,6 +101,10 @@ def test_a_question_asked_once_answers_as_its_compiled_query():
         memory.register("near", 2, lambda a: "o2")
         expected = memory.query(parse_expression(question))
         assert [memory.query(question) for _ in range(3)] == [expected] * 3, question
+        memory = _memory()
+        memory.add_rules("linked(?A, ?B) :- seen(?A, ?B).")
+        memory.register("near", 2, lambda a: "o2")
+        assert [memory.holds(question) for _ in range(3)] == [expected is not None] * 3, question
 
 
 def test_a_question_asked_once_respects_the_vocabulary_and_its_spellings():
