@@ -11,13 +11,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit() -> str:
-    """The short hash of the checked-out commit, with ``+ changes`` when files other than the README differ from it
-    (the README is what the benches rewrite)."""
+    """The short hash of the checked-out commit, with ``+ changes`` when files other than the README and the pages of
+    docs/performance differ from it (those are what the benches rewrite)."""
     try:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
                               check=True).stdout.strip()
         changed = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".",
-                                  ":(exclude)README.md"], cwd=ROOT, capture_output=True, text=True,
+                                  ":(exclude)README.md", ":(exclude)docs/performance"], cwd=ROOT,
+                                 capture_output=True, text=True,
                                  check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "(not a git checkout)"
