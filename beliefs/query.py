@@ -11,6 +11,7 @@ the answers in insertion order.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from itertools import chain
 from typing import Any
 
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, literal_variables
@@ -26,7 +27,7 @@ from aeroexec.beliefs.steps import (
 from aeroexec.beliefs.terms import Var, to_python, variables
 
 _FLIP = {"<": ">", ">": "<", "<=": ">=", ">=": "<="}
-_PLAIN = (str, int, float)
+_PLAIN = frozenset((str, int, float))
 
 
 class _NoRows:
@@ -224,11 +225,9 @@ class CompiledQuery:
             whole = self._whole_relation(relations)
             if whole is not None:
                 rows = list(whole.rows)
-                for row in rows:
-                    for value in row:
-                        if type(value) not in _PLAIN:
-                            return iter([tuple(map(to_python, row)) for row in rows])
-                return iter(rows)
+                if _PLAIN.issuperset(map(type, chain.from_iterable(rows))):  # names and numbers: the rows as they are
+                    return iter(rows)
+                return iter([tuple(map(to_python, row)) for row in rows])
         names = self.names
         if len(names) == 1:
             name = names[0]

@@ -326,7 +326,7 @@ class RuleBook:
                     if signature in inputs:
                         found_now = dict.fromkeys(filterfalse(
                             rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule, self.budget,
-                                                        _named(layer, rule))))
+                                                        _named(layer, rule), (signature[0] + DELTA, signature[1]))))
                         if new:
                             new.update(found_now)
                         else:
@@ -396,7 +396,8 @@ class RuleBook:
                 if _flat_head(rule.head):  # the rows still derived, set at a time: the body joined with the gone rows
                     rows = self.derived[signature].rows
                     again[signature].update(dict.fromkeys(filterfalse(rows.__contains__, evaluate(
-                        self._variant(layer, i, GONE), self.view, rule, self.budget, _named(layer, rule)))))
+                        self._variant(layer, i, GONE), self.view, rule, self.budget, _named(layer, rule),
+                        (signature[0] + GONE, signature[1])))))
                     continue
                 query = self._variant(layer, i, None)
                 self.budget.charge(len(gone[signature]) * EACH_COST, _named(layer, rule))
@@ -422,7 +423,7 @@ class RuleBook:
                 for j, goal in _positive_goals(rule):
                     if goal in inputs:
                         for row in evaluate(self._variant(layer, i, j, exclusive=False), self.view, rule,
-                                            self.budget, _named(layer, rule)):
+                                            self.budget, _named(layer, rule), (goal[0] + DELTA, goal[1])):
                             if row in rel.rows and row not in gone[signature]:
                                 gone[signature][row] = None
                                 found[signature][row] = None

@@ -67,8 +67,12 @@ _ORDER: dict[str, Callable[[Any, Any], bool]] = {
 
 
 def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | None = None,
-             named: Rule | None = None) -> Iterable[tuple]:
+             named: Rule | None = None, lead: tuple[str, int] | None = None) -> Iterable[tuple]:
     """The arguments of the rule's head for every unification of ``query`` (its body; duplicates possible).
+
+    ``lead``: the relation of the round's new rows (semi-naive evaluation), joined first: the other relations'
+    columns are then built once and serve every round, where joining the new rows second would index them anew in
+    each round.
 
     Raises :class:`EvaluationRefused` (naming the rule's file:line) before building partial answers that would
     take more than :data:`MAX_ANSWER_BYTES` (a join of goals that share no variable, over many beliefs: their
@@ -80,6 +84,10 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
     schema: list[Var] = []
     rows: Rows = [()]
     order = query._order(relations, {})
+    if lead is not None and order and not (type(order[0]) is FactStep and order[0].signature == lead):
+        first = next((s for s in order if type(s) is FactStep and s.signature == lead and s.flat), None)
+        if first is not None:  # the others keep their order: a filter still comes after its variables are bound
+            order = [first, *(s for s in order if s is not first)]
     args = head.args
     # the head's arguments distinct variables: the last join may build them directly (no row of every value first)
     wanted = args if args and all(type(a) is Var for a in args) else None
