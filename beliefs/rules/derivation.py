@@ -487,7 +487,7 @@ class _Deltas:
     def __enter__(self) -> None:
         for (name, arity), rows in self.inputs.items():
             rel = Relation(name + self.suffix, arity, False, lazy=True)
-            rel.insert_new(rows)
+            rel.rows = rows if type(rows) is dict else dict.fromkeys(rows)  # read, never changed, while it is here
             self.view[(name + self.suffix, arity)] = rel
 
     def __exit__(self, *exc: object) -> None:
