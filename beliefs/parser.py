@@ -338,21 +338,24 @@ def read_flat_goal(text: str) -> Struct | None:
                 return None
             closes = True
             piece = piece[:-1].rstrip(_LARK_SPACE)
-        core = piece[1:] if piece[:1] in _SIGNS else piece
         if piece.isidentifier():
             value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
-        elif core.isdigit():  # ASCII digits (the text is ASCII): an integer
-            if len(piece) > MAX_NUMBER_LENGTH:
-                return None
-            value = int(piece)
-        elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
-            if len(piece) > MAX_NUMBER_LENGTH:
-                return None
-            value = float(piece)
+        elif piece[:1] == "?" and (len(piece) == 1 or ("_" + piece[1:]).isidentifier()):  # ?[A-Za-z0-9_]*
+            value = Var(piece)
         else:
-            value = _flat_value(piece)
-            if value is None:
-                return None
+            core = piece[1:] if piece[:1] in _SIGNS else piece
+            if core.isdigit():  # ASCII digits (the text is ASCII): an integer
+                if len(piece) > MAX_NUMBER_LENGTH:
+                    return None
+                value = int(piece)
+            elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
+                if len(piece) > MAX_NUMBER_LENGTH:
+                    return None
+                value = float(piece)
+            else:
+                value = _flat_value(piece)
+                if value is None:
+                    return None
         if group is None:
             args.append(value)
         else:
