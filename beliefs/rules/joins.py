@@ -83,7 +83,7 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
     budget.charge(CALL_COST, rule)
     schema: list[Var] = []
     rows: Rows = [()]
-    order = query._order(relations, {})
+    order = query.plan(relations, {})
     if lead is not None and order and not (type(order[0]) is FactStep and order[0].signature == lead):
         first = next((s for s in order if type(s) is FactStep and s.signature == lead and s.flat), None)
         if first is not None:  # the others keep their order: a filter still comes after its variables are bound
@@ -92,7 +92,7 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
     # the head's arguments distinct variables: the last join may build them directly (no row of every value first)
     wanted = args if args and all(type(a) is Var for a in args) else None
     if wanted is not None and budget.work is None and len(order) > 1:
-        heads = _chain(order, wanted, relations)
+        heads = _chain(query, order, wanted, relations)
         if heads is not None:
             budget.charge(len(heads), rule)
             return heads
@@ -251,52 +251,6 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: 
 
 
 _HEADS: dict[tuple, Callable] = {}
-_CHAINS: dict[tuple, Callable] = {}
-
-
-def _chain(order: list, wanted: tuple, relations: Any) -> Rows | None:
-    """The head rows of a body that is a chain of stored goals, each after the first sharing one variable with those
-    before it (``sg(?X, ?Y) :- sg#delta(?A, ?B), par(?X, ?A), par(?Y, ?B)``), built in one nested comprehension
-    compiled per shape, with no partial answer as a row: None for any other body, or when the answers could pass
-    what one evaluation may build (then the caller joins step by step, with its bounds)."""
-    first = order[0]
-    if any(type(step) is not FactStep or not step.flat or step.constants for step in order):
-        return None
-    rel = relations.get(first.signature)
-    if rel is None or not rel.rows:
-        return []
-    where: dict[Var, str] = {v: f"r[{p}]" for p, v in first.simple}
-    loops = []
-    gets = []
-    estimate = len(rel.rows)
-    for k, step in enumerate(order[1:], 1):
-        shared = [(p, v) for p, v in step.simple if v in where]
-        fresh = [(p, v) for p, v in step.simple if v not in where]
-        other = relations.get(step.signature)
-        if len(shared) != 1 or not fresh:
-            return None
-        if other is None or not other.rows:
-            return []
-        p0, var = shared[0]
-        taken = tuple(p for p, _ in fresh)
-        if not other.columns_ready(p0, taken) and len(other.rows) > 4 * len(rel.rows):
-            return None  # building its columns would cost more than the rows joined
-        table, widest = other.columns(p0, taken)
-        estimate *= max(widest, 1)
-        gets.append(table.get)
-        loops.append(f"for f{k} in g{k}({where[var]}, ())")
-        for t, (_, v) in enumerate(fresh):
-            where[v] = f"f{k}[{t}]"
-    if estimate > _fits(len(wanted) + 4) or any(v not in where for v in wanted):
-        return None
-    items = ", ".join(where[v] for v in wanted) + ("," if len(wanted) == 1 else "")
-    key = (items, tuple(loops))
-    build = _CHAINS.get(key)
-    if build is None:
-        names = ", ".join(f"g{k}" for k in range(1, len(order)))
-        build = eval(f"lambda rows, {names}: [({items}) for r in rows {' '.join(loops)}]")  # noqa: S307
-        _CHAINS[key] = build
-    return build(rel.rows, *gets)
 
 
 def _heads(sources: tuple[tuple[str, int], ...], i: int) -> Callable[[Rows, Callable], Rows]:
@@ -309,6 +263,64 @@ def _heads(sources: tuple[tuple[str, int], ...], i: int) -> Callable[[Rows, Call
         found = eval(f"lambda rows, get: [({items}) for r in rows for f in get(r[{i}], ())]")  # noqa: S307
         _HEADS[key] = found
     return found
+
+
+def _chain(query: CompiledQuery, order: list, wanted: tuple, relations: Any) -> Rows | None:
+    """The head rows of a body that is a chain of stored goals, each after the first sharing one variable with those
+    before it (``sg(?X, ?Y) :- sg#delta(?A, ?B), par(?X, ?A), par(?Y, ?B)``), built in one nested comprehension
+    compiled per shape, with no partial answer as a row: None for any other body, or when the answers could pass
+    what one evaluation may build (then the caller joins step by step, with its bounds)."""
+    shapes = query.__dict__.setdefault("chains", {})  # by its steps' order (they live as long as the query)
+    key = (*map(id, order), wanted)
+    shape = shapes.get(key)
+    if shape is None:
+        shape = shapes[key] = _chain_shape(order, wanted)
+    if shape is False:
+        return None
+    build, joins = shape
+    rel = relations.get(order[0].signature)
+    if rel is None or not rel.rows:
+        return []
+    estimate = len(rel.rows)
+    gets = []
+    for signature, p0, taken in joins:
+        other = relations.get(signature)
+        if other is None or not other.rows:
+            return []
+        if not other.columns_ready(p0, taken) and len(other.rows) > 4 * len(rel.rows):
+            return None  # building its columns would cost more than the rows joined
+        table, widest = other.columns(p0, taken)
+        estimate *= max(widest, 1)
+        gets.append(table.get)
+    if estimate > _fits(len(wanted) + 4):
+        return None
+    return build(rel.rows, *gets)
+
+
+def _chain_shape(order: list, wanted: tuple) -> Any:
+    """For :func:`_chain`: the comprehension and, per join, (the relation, the shared place, the places taken);
+    False when the body is not such a chain."""
+    if any(type(step) is not FactStep or not step.flat or step.constants for step in order):
+        return False
+    where: dict[Var, str] = {v: f"r[{p}]" for p, v in order[0].simple}
+    loops, joins = [], []
+    for k, step in enumerate(order[1:], 1):
+        shared = [(p, v) for p, v in step.simple if v in where]
+        fresh = [(p, v) for p, v in step.simple if v not in where]
+        if len(shared) != 1 or not fresh:
+            return False
+        p0, var = shared[0]
+        joins.append((step.signature, p0, tuple(p for p, _ in fresh)))
+        loops.append(f"for f{k} in g{k}({where[var]}, ())")
+        for t, (_, v) in enumerate(fresh):
+            where[v] = f"f{k}[{t}]"
+    if any(v not in where for v in wanted):
+        return False
+    items = ", ".join(where[v] for v in wanted) + ("," if len(wanted) == 1 else "")
+    names = ", ".join(f"g{k}" for k in range(1, len(order)))
+    build = eval(f"lambda rows, {names}: [({items}) for r in rows {' '.join(loops)}]")  # noqa: S307
+    return build, joins
+
 
 def _matching(rel: Any, constants: tuple) -> Iterable[tuple]:
     if not constants:
