@@ -3,8 +3,10 @@
 Beliefs are ground terms such as ``charge(battery, 80)``. The memory keeps them
 consistent (adding a value of a mutually exclusive predicate retracts the old
 one), forgets beliefs whose persistence has run out, answers belief expressions
-by unification through its indexes (``beliefs/consulting.py``), derives beliefs
-by rules (``beliefs/rules/derivation.py``), and tells listeners of every change.
+by unification through its indexes (an expression read once, checked against the vocabulary, compiled into a
+query plan kept per text, ``beliefs/query.py``, and answered from its standing answer while the relations it
+reads stand), derives beliefs by rules (``beliefs/rules/``: checked and put in strata when added, evaluated
+bottom-up and kept up to date by differences, explained by proofs), and tells listeners of every change.
 It is not thread-safe: the engine serializes access to it on its own loop.
 """
 
@@ -17,25 +19,36 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
 from aeroexec.beliefs.changes import BeliefChange
-from aeroexec.beliefs.consulting import Consulting, Expression
-from aeroexec.beliefs.errors import BeliefError
-from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal
-from aeroexec.beliefs.parser import parse_expression
+from aeroexec.beliefs.errors import (
+    BeliefError,
+    BeliefSyntaxError,
+    EvaluationRefused,
+    RuleError,
+    RuleProblem,
+    UnknownPredicateError,
+)
+from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal, Rule
+from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, read_flat_fact, read_flat_goal
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
 from aeroexec.beliefs.rules.derivation import RuleBook
 from aeroexec.beliefs.rules.joins import Budget
-from aeroexec.beliefs.rules.reasoning import Reasoning
+from aeroexec.beliefs.rules.program import Vocabulary, check, stratify
+from aeroexec.beliefs.rules.proofs import Proof, Prover
 from aeroexec.beliefs.shared import SharedView
-from aeroexec.beliefs.spellings import respell_term, spelling_table
+from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
-from aeroexec.beliefs.terms import Struct, format_term
+from aeroexec.beliefs.terms import Struct, Var, format_term, from_python, to_python
+
+#: what a memory is asked: text, a parsed expression, or one term
+Expression = str | Conjunction | Struct
+_UNANSWERED = object()  # a question the memory's quick reading leaves to the compiled query
 
 log = logging.getLogger(__name__)
 
 __all__ = ["BeliefChange", "BeliefMemory"]
 
-class BeliefMemory(Reasoning, Consulting):
+class BeliefMemory:
     """An indexed memory of beliefs answering belief expressions by unification.
 
     ``multivalued`` names predicates whose values are not mutually exclusive;
@@ -64,6 +77,7 @@ class BeliefMemory(Reasoning, Consulting):
         #: what questions are answered by besides stored beliefs: computed predicates and shared beliefs
         self._answered: dict[tuple[str, int], tuple[Any, int | None]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
+        self._asked_once: dict[str, None] = {}  # texts answered without compiling them (compiled when asked again)
         self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
         self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
         self._listening = False  # whether anyone listens
@@ -180,7 +194,11 @@ class BeliefMemory(Reasoning, Consulting):
     def add(self, belief: str | Struct) -> bool:
         """Add a ground belief; returns False when it was already there (its lifetime renews)."""
         if type(belief) is not Struct:
-            belief = self._parse_belief(belief)
+            read = read_flat_fact(belief) if type(belief) is str and len(belief) < 1000 else None
+            if read is None or (self._vocabulary and self._vocabulary.get(read.name) != len(read.args)):
+                belief = self._parse_belief(belief)  # the grammar's reading, and the vocabulary's verdict
+            else:
+                belief = read
         if self._spellings and belief.name in self._spellings:
             belief = respell_term(belief, self._spellings)
         if self._heap:
@@ -247,23 +265,40 @@ class BeliefMemory(Reasoning, Consulting):
         ``bindings`` gives values to variables before solving (``{"?Y": (1, 2, 3)}``).
         """
         compiled = self._queries.get(expression)
-        if compiled is not None and compiled.probe is not None and not bindings and not self._heap:
-            return compiled.probe()  # one look-up: cheaper than the standing answer's check
+        if compiled is not None:
+            if compiled.probe is not None and not bindings and not self._heap:
+                return compiled.probe()  # one look-up: cheaper than the standing answer's check
+        elif not bindings and type(expression) is str:
+            answer = self._at_once(expression)
+            if answer is not _UNANSWERED:
+                return answer
         answer = self._answer(expression, bindings)
         return None if answer is None else dict(answer)
 
     def query_all(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> list[dict]:
         """Every unification of the expression, as a list of ``{"?X": value}`` dictionaries."""
-        if self._heap:
-            self._expire_due()
-        compiled = self._queries.get(expression)
-        if compiled is None:
-            compiled = self._compile(expression)
-        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
+        compiled, relations = self._prepared(expression)
         return compiled.all(relations, self._bind(bindings) if bindings else None)
+
+    def count(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> int:
+        """How many unifications the expression has (``len(query_all(...))``), none of them built as a dictionary: a
+        single goal of distinct variables is the size of its relation, derived or stored."""
+        compiled, relations = self._prepared(expression)
+        return compiled.count(relations, self._bind(bindings) if bindings else None)
+
+    def answers(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> Iterator[tuple]:
+        """Every unification as a tuple of the values of the expression's variables, in the order they first
+        appear (``reachable(?A, ?B)``: ``(a, b)`` pairs), without a dictionary per answer. The answers are taken
+        when it is called: changing the memory while reading them does not change what is read."""
+        compiled, relations = self._prepared(expression)
+        return compiled.tuples(relations, self._bind(bindings) if bindings else None)
 
     def holds(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> bool:
         """True when the expression has at least one unification."""
+        if not bindings and type(expression) is str and expression not in self._queries:
+            answer = self._at_once(expression)
+            if answer is not _UNANSWERED:
+                return answer is not None
         return self._answer(expression, bindings) is not None
 
     def consult(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> tuple[bool, dict]:
@@ -320,7 +355,261 @@ class BeliefMemory(Reasoning, Consulting):
             found.extend(Struct(name, args) for args in sorted(rows, key=format_term))
         return found
 
+    # -- rules ---------------------------------------------------------------------
+    def add_rules(self, rules: str | Iterable[Rule], file: str = "", first_line: int = 1) -> list[Rule]:
+        """Add rules, and facts as beliefs: text as in a rules file (``head :- body.``), or :class:`Rule` records.
+
+        Raises :class:`RuleError` listing every problem with its file and line (syntax, an unsafe rule, a negation
+        that cannot be stratified, a rule deriving a stored or computed predicate, an unknown predicate); then
+        nothing is added. Returns the rules and facts read.
+        """
+        rules = parse_rules(rules, file, first_line) if isinstance(rules, str) else list(rules)
+        book = self._rulebook
+        program = [*(book.rules if book else ()), *(r for r in rules if r.body.literals)]
+        derived = {r.head.name for r in program}
+        told: dict[str, int] = {}  # the first fact of a predicate declares it; another arity is refused
+        for r in rules:
+            if not r.body.literals and r.head.name not in derived:
+                told.setdefault(r.head.name, r.head.arity)
+        vocabulary = Vocabulary({**told, **self._vocabulary},  # the facts given with the rules declare theirs
+                                {s: inputs for s, (_, inputs) in self._computed.items()}, bool(self._vocabulary))
+        problems = check(program, vocabulary) + check([r for r in rules if not r.body.literals], vocabulary)
+        strata, unstratified = stratify(program, vocabulary.computed) if not problems else ([], [])
+        if problems or unstratified:
+            raise RuleError(problems + unstratified)
+        if book is None:
+            book = self._rulebook = RuleBook(self._relations, self._is_exclusive, self._answered,
+                                             lambda body: respell(body, self._spellings))
+            book.budget = self._rule_budget
+        self._multivalued |= derived  # a derived predicate holds a set of beliefs
+        for (name, _), rel in self._relations.items():
+            if name in derived:
+                rel.by_key = None
+        book.load(program, strata)
+        book.share({s for s, (_, inputs) in self._answered.items() if inputs is None})
+        self._queries.clear()
+        for fact in rules:
+            if not fact.body.literals:
+                if fact.head.name not in self._vocabulary:  # facts written with rules are sets, as in Datalog
+                    self._multivalued.add(fact.head.name)
+                    if self._vocabulary:
+                        self.declare(fact.head.name, fact.head.arity, multivalued=True)
+                    rel = self._relations.get(fact.head.signature)
+                    if rel is not None:
+                        rel.by_key = None
+                self.add(fact.head)
+        return rules
+
+    def limit_rules(self, work: int | None, why: str = "", per_step: bool = False) -> None:
+        """Bound the work one ask may spend evaluating rules (``work`` units: a partial answer built or a derived
+        belief stored is one; None: no bound). Past it the ask raises :class:`EvaluationRefused` naming the rule's
+        file:line, having built no more than that; asked again while the beliefs the rules read are the same, it
+        is refused at once. ``why`` is said in the refusal (`` (rules in flight ...)``). ``per_step``: the bound
+        holds for every ask between two calls of :meth:`renew_rules` together (an engine's step), not per ask."""
+        budget = self._rule_budget
+        budget.work, budget.why, budget.per_ask, budget.spent = work, why, not per_step, 0
+
+    def renew_rules(self) -> None:
+        """A new step: the work of :meth:`limit_rules` (``per_step``) may be spent again."""
+        self._rule_budget.spent = 0
+
+    def try_rules(self) -> list[RuleProblem]:
+        """Derive every derived predicate from the beliefs held now, within the bound of :meth:`limit_rules`, each
+        as if asked first and alone: the evaluations refused, as problems with their rule's file and line (empty
+        when all fit). A rules file is tried so before flight, with its facts."""
+        book = self._rulebook
+        if book is None or not book.derived:
+            return []
+        try:
+            book.trial()
+        except EvaluationRefused as refused:
+            return [RuleProblem(f"{refused.detail} before flight, with the facts given", refused.file,
+                                refused.line)]
+        return []
+
+    @property
+    def rules(self) -> tuple[Rule, ...]:
+        """The rules the memory derives beliefs by, in the order they were added."""
+        return tuple(self._rulebook.rules) if self._rulebook else ()
+
+    def is_derived(self, name: str, arity: int) -> bool:
+        """True when rules derive ``name/arity``."""
+        return self._rulebook is not None and self._rulebook.is_derived((name, arity))
+
+    def reads(self, predicates: Iterable[tuple[str, int]]) -> tuple[frozenset[tuple[str, int]], bool]:
+        """The stored predicates that ``predicates`` read, through the rules deriving them (their own stored
+        beliefs included), and whether any of them reads a computed predicate or shared beliefs (which change
+        without a belief of this memory doing so)."""
+        found: set[tuple[str, int]] = set()
+        computed = False
+        book = self._rulebook
+        todo, seen = list(predicates), set()
+        while todo:
+            signature = todo.pop()
+            if signature in seen:
+                continue
+            seen.add(signature)
+            if signature in self._answered:
+                computed = True
+            found.add(signature)
+            if book is not None and book.is_derived(signature):
+                todo.extend(p for rule in book.rules if rule.head.signature == signature
+                            for p in rule.body.predicates)
+        return frozenset(found), computed
+
+    def why(self, expression: str | Conjunction | Struct) -> list[Proof] | None:
+        """Why the expression holds: a :class:`Proof` of each of its literals for its first answer (the rules and
+        beliefs used), or None when it does not hold."""
+        return Prover(self).why(self._conjunction(expression))
+
+    def why_not(self, expression: str | Conjunction | Struct) -> list[str]:
+        """Why the expression does not hold: the first literal that fails, with the values known by then and what
+        the memory holds for it, and for a derived goal the part of each of its rules that fails. Empty when it
+        holds."""
+        return Prover(self).why_not(self._conjunction(expression))
+
+    def _conjunction(self, expression: str | Conjunction | Struct) -> Conjunction:
+        if type(expression) is Struct:
+            return Conjunction((Goal(expression),), format_term(expression))
+        return self.check(expression)
+
     # -- internals ----------------------------------------------------------------
+    def _answer(self, expression: Expression, bindings: Mapping[str, Any] | None) -> dict | None:
+        """The first unification (not to be changed: it may be the one remembered for the next call).
+
+        An expression without bindings that reads only stored beliefs is solved again only when a relation it
+        reads has changed (or the plans' epoch moved): relations' versions and the epoch only grow, so their
+        sum tells.
+        """
+        if self._heap:
+            self._expire_due()
+        compiled = self._queries.get(expression)
+        if compiled is None:
+            compiled = self._compile(expression)
+        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
+        if bindings:
+            return compiled.first(relations, self._bind(bindings))
+        reads = compiled.reads
+        if reads is None or not self.standing_answers:  # a computed predicate: asked every time
+            return compiled.first(relations)
+        stamp = relations.epoch
+        for signature in reads:
+            rel = relations.get(signature)
+            if rel is not None:
+                stamp += rel.version + 1
+        if compiled.stamp != stamp:
+            compiled.answer, compiled.stamp = compiled.first(relations), stamp
+        return compiled.answer
+
+    def _at_once(self, text: str) -> dict | None | object:
+        """The first answer of a question not asked before, when it is one stored goal of the common shape (read by
+        hand, no grammar, no plan): ground (``code(o500, 500)``: a membership test) or asking the value its key
+        holds (``color(o500, ?C)``: one look-up). :data:`_UNANSWERED` for anything else, and for a question asked a
+        second time: that one is compiled and kept (its next asks cost a look-up of the text)."""
+        seen = self._asked_once
+        if text in seen:
+            return _UNANSWERED
+        if len(seen) > 4096:
+            seen.clear()
+        seen[text] = None
+        goal = read_flat_goal(text) if len(text) < 1000 else None
+        if goal is None:
+            return _UNANSWERED
+        name, args = goal.name, goal.args
+        signature = (name, len(args))
+        if (self._vocabulary and self._vocabulary.get(name) != len(args)) or signature in self._answered \
+                or signature in BUILTIN_PREDICATES or name in self._spellings \
+                or (self._rulebook is not None and self._rulebook.is_derived(signature)):
+            return _UNANSWERED
+        if self._heap:
+            self._expire_due()
+        rel = self._relations.get(signature)
+        variables = text.count("?")
+        if not variables:
+            return {} if rel is not None and args in rel.rows else None
+        if rel is None:
+            return None
+        last = args[-1]
+        if variables != 1 or type(last) is not Var or rel.by_key is None:
+            return _UNANSWERED
+        row = rel.by_key.get(args[:-1])
+        if row is None:
+            return None
+        return {} if last.anonymous else {last.name: to_python(row[-1])}
+
+    def _prepared(self, expression: Expression) -> tuple[CompiledQuery, Relations]:
+        """The compiled query of ``expression`` and the relations to solve it in (derived ones brought up to date)."""
+        if self._heap:
+            self._expire_due()
+        compiled = self._queries.get(expression)
+        if compiled is None:
+            compiled = self._compile(expression)
+        relations = self._relations if compiled.derived is None else self._rulebook.ready(compiled.derived)
+        return compiled, relations
+
+    def _compile(self, expression: Expression) -> CompiledQuery:
+        if type(expression) is Struct:
+            conjunction = Conjunction((Goal(expression),), format_term(expression))
+        elif type(expression) is Conjunction:
+            conjunction = expression
+        elif isinstance(expression, str):
+            conjunction = parse_expression(expression)
+        else:
+            raise BeliefSyntaxError(repr(expression), "a belief expression is text")
+        self._check_vocabulary(conjunction)
+        compiled = CompiledQuery(respell(conjunction, self._spellings), self._is_exclusive, self._answered)
+        predicates = conjunction.predicates
+        book = self._rulebook
+        derived = tuple(p for p in predicates if book.is_derived(p)) if book else ()
+        compiled.derived = derived or None
+        if not derived:
+            compiled.probe = compiled.probe_in(self._relations)
+        compiled.reads = (None if any(p in self._answered or (book and book.volatile(p)) for p in predicates)
+                          else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
+        if len(self._queries) > 4096:
+            self._queries.clear()
+        self._queries[expression] = compiled
+        return compiled
+
+    @staticmethod
+    def _bind(bindings: Mapping[str, Any]) -> dict:
+        return {Var(name): from_python(value) for name, value in bindings.items()}
+
+    def _check_vocabulary(self, conjunction: Conjunction) -> None:
+        if not self._vocabulary:
+            return
+        book = self._rulebook
+        for name, arity in conjunction.predicates:
+            if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
+                continue
+            if book is not None and book.is_derived((name, arity)):
+                continue
+            declared = self._vocabulary.get(name)
+            if declared is None:
+                raise UnknownPredicateError(name, conjunction.text or str(conjunction))
+            if declared != arity:
+                raise UnknownPredicateError(
+                    f"{name}/{arity}",
+                    conjunction.text or str(conjunction),
+                    f"{name} takes {declared} argument{'s' if declared != 1 else ''}",
+                )
+
+    def _parse_belief(self, text: Any) -> Struct:
+        if not isinstance(text, str):
+            raise BeliefSyntaxError(repr(text), "a belief is text or a term")
+        belief = parse_belief(text)
+        self._check_vocabulary(Conjunction((Goal(belief),), text))
+        return belief
+
+    def _parse_goal(self, text: Any) -> Struct:
+        if not isinstance(text, str):
+            raise BeliefSyntaxError(repr(text), "a belief pattern is text or a term")
+        expr = parse_expression(text)
+        if len(expr.literals) != 1 or type(expr.literals[0]) is not Goal:
+            raise BeliefSyntaxError(text, "expected a single predicate such as visible(?X)")
+        self._check_vocabulary(expr)
+        return expr.literals[0].term
+
     def _is_exclusive(self, name: str) -> bool:
         return name not in self._multivalued
 

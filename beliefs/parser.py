@@ -7,6 +7,7 @@ import re
 import threading
 from functools import lru_cache
 from pathlib import Path
+from sys import intern
 
 from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem
 from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Negation, Rule
@@ -25,7 +26,8 @@ from aeroexec.limits import (
     read_text,
 )
 
-__all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term", "read_rules"]
+__all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_goal",
+           "read_rules"]
 
 #: Longest expression accepted; longer text is refused before parsing.
 MAX_EXPRESSION_LENGTH = 200_000
@@ -299,74 +301,100 @@ def parse_expression(text: str) -> Conjunction:
     return Conjunction(tuple(literals), text)
 
 
-@lru_cache(maxsize=1)
-def _flat_fact() -> tuple[re.Pattern, re.Pattern, re.Pattern]:
-    """Regexes for a flat ground fact, made of the grammar's own terminals.
-
-    Loading beliefs from text is dominated by Lark's per-call overhead, so facts
-    whose arguments are names, numbers, strings, or tuples and lists of those
-    (``position(o1, (1.0, 2.5, -3))``) are read with these instead; anything else
-    goes through Lark. Tests check that both readings agree.
-    """
-    parser, _ = _parser()
-    terminal = {t.name: t.pattern.to_regexp() for t in parser.terminals}
-    scalar = f"(?:{terminal['NUMBER']})|(?:{terminal['STRING']})|(?:{terminal['NAME']})"
-    scalars = rf"(?:{scalar})(?:\s*,\s*(?:{scalar}))*"
-    group = rf"\(\s*(?:{scalars}\s*,?\s*)?\)|\[\s*(?:{scalars}\s*)?\]"
-    argument = rf"{scalar}|{group}"
-    whole = re.compile(
-        rf"\s*({terminal['NAME']})\s*\(\s*((?:{argument})(?:\s*,\s*(?:{argument}))*)\s*\)\s*"
-    )
-    item = re.compile(
-        rf"(?P<number>{terminal['NUMBER']})|(?P<string>{terminal['STRING']})"
-        rf"|(?P<name>{terminal['NAME']})|(?P<tuple>\((?:[^()\"']|{terminal['STRING']})*\))"
-        rf"|(?P<list>\[(?:[^\[\]\"']|{terminal['STRING']})*\])"
-    )
-    return whole, item, re.compile(scalar)
-
-
-def _read_items(text: str, item: re.Pattern) -> list:
-    values = []
-    for token in item.finditer(text):
-        kind = token.lastgroup
-        value = token.group(kind)
-        if kind == "name":
-            values.append(value)
-        elif kind == "number":
-            number = float(value) if "." in value or "e" in value or "E" in value else int(value)
-            if number in _INFINITE:  # 1e400: the parser refuses it with the reason
-                raise _Invalid(value)
-            values.append(number)
-        elif kind == "string":
-            values.append(unquote(value))
-        elif kind == "tuple":
-            values.append(tuple(_read_items(value[1:-1], item)))
-        else:
-            values.append(ListTerm(_read_items(value[1:-1], item)))
-    return values
-
-
+_LARK_SPACE = " \t\f\r\n"  # what the grammar ignores between tokens (common.WS); str.strip() takes more
+_VARIABLE_TOKEN = re.compile(r"\?[A-Za-z0-9_]*")
+_NUMBER_TOKEN = re.compile(r"[+-]?(\d+\.\d+|\.\d+|\d+)([eE][+-]?\d+)?")
 _INFINITE = (math.inf, -math.inf)
-_LONG_DIGITS = re.compile(rf"\d{{{MAX_NUMBER_LENGTH + 1}}}")
+_SIGNS = ("+", "-")
 
 
-def _read_flat(text: str) -> Struct | None:
-    whole, item, _ = _flat_fact()
-    if _LONG_DIGITS.search(text):  # the parser reads it, and refuses a number that is too long with the reason
+def read_flat_goal(text: str) -> Struct | None:
+    """A hand reading of the common shape of a goal or fact: ``name(arg, ...)``, each argument a name, a number, a
+    variable or a flat tuple of those (``position(o1, (0.5, 2.0, -3))``, ``color(o500, ?C)``). Anything else (strings,
+    lists, nested terms, comments, text that is not ASCII, a number the grammar reads otherwise) is None: read it
+    with the grammar (Lark), whose result this one equals wherever it gives one (tests check it on the fuzz corpus).
+    Lark's per-call overhead is most of what reading a short belief costs; this reads one in a few microseconds."""
+    if not text.isascii() or '"' in text or "'" in text or "%" in text or "[" in text:
         return None
-    found = whole.fullmatch(text)
-    if found is None or found.group(1) == "not":
+    body = text.strip(_LARK_SPACE)
+    if body[-1:] != ")":
         return None
-    try:
-        return Struct(found.group(1), tuple(_read_items(found.group(2), item)))
-    except _Invalid:
+    name, found, inside = body[:-1].partition("(")
+    name = name.rstrip(_LARK_SPACE)
+    if not found or name == "not" or not name.isidentifier():  # ASCII: [A-Za-z_][A-Za-z0-9_]*, the grammar's NAME
         return None
+    args: list = []
+    group: list | None = None  # the elements of the tuple being read
+    for piece in inside.split(","):
+        piece = piece.strip(_LARK_SPACE)
+        closes = False
+        if piece[:1] == "(":
+            if group is not None:
+                return None
+            group = []
+            piece = piece[1:].lstrip(_LARK_SPACE)
+        if piece[-1:] == ")":
+            if group is None:
+                return None
+            closes = True
+            piece = piece[:-1].rstrip(_LARK_SPACE)
+        if piece.isidentifier():
+            value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
+        elif piece[:1] == "?" and (len(piece) == 1 or ("_" + piece[1:]).isidentifier()):  # ?[A-Za-z0-9_]*
+            value = Var(piece)
+        else:
+            core = piece[1:] if piece[:1] in _SIGNS else piece
+            if core.isdigit():  # ASCII digits (the text is ASCII): an integer
+                if len(piece) > MAX_NUMBER_LENGTH:
+                    return None
+                value = int(piece)
+            elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
+                if len(piece) > MAX_NUMBER_LENGTH:
+                    return None
+                value = float(piece)
+            else:
+                value = _flat_value(piece)
+                if value is None:
+                    return None
+        if group is None:
+            args.append(value)
+        else:
+            group.append(value)
+            if closes:
+                args.append(tuple(group))
+                group = None
+    if group is not None:
+        return None
+    return Struct(intern(name), tuple(args))
+
+
+def _flat_value(piece: str):
+    """A number or a variable written alone (None for anything else)."""
+    if piece[:1] == "?":
+        return Var(piece) if _VARIABLE_TOKEN.fullmatch(piece) is not None else None
+    if not piece or len(piece) > MAX_NUMBER_LENGTH or _NUMBER_TOKEN.fullmatch(piece) is None:
+        return None
+    if "." in piece or "e" in piece or "E" in piece:
+        number = float(piece)
+        return None if number in _INFINITE else number
+    return int(piece)
+
+
+def read_flat_fact(text: str) -> Struct | None:
+    """A ground fact of the common shape read by hand (:func:`read_flat_goal`), None for anything else."""
+    goal = read_flat_goal(text)
+    if goal is None or "?" in text:
+        return None
+    return goal
+
+
+_read_flat = read_flat_fact  # its name in the tests that hold it to the grammar
 
 
 def parse_belief(text: str) -> Struct:
     """Parse one ground belief such as ``charge(battery, 80)``."""
     if isinstance(text, str) and len(text) < 1000:
-        flat = _read_flat(text)
+        flat = read_flat_fact(text)
         if flat is not None:
             return flat
     expr = parse_expression(text)

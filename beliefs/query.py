@@ -11,6 +11,7 @@ the answers in insertion order.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from itertools import chain
 from typing import Any
 
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, literal_variables
@@ -26,6 +27,14 @@ from aeroexec.beliefs.steps import (
 from aeroexec.beliefs.terms import Var, to_python, variables
 
 _FLIP = {"<": ">", ">": "<", "<=": ">=", ">=": "<="}
+_PLAIN = frozenset((str, int, float))
+
+
+class _NoRows:
+    rows: dict = {}  # noqa: RUF012 (never changed)
+
+
+_NO_ROWS = _NoRows()
 
 
 class CompiledQuery:
@@ -197,6 +206,45 @@ class CompiledQuery:
             name = var.name
             return [{name: to_python(value)} for value in _star_values(order, len(order), relations)]
         return [self.result(s) for s in self.solutions(relations, bindings)]
+
+    def count(self, relations: dict, bindings: dict | None = None) -> int:
+        """How many unifications there are: the size of the relation for one goal of distinct variables."""
+        if not bindings:
+            whole = self._whole_relation(relations)
+            if whole is not None:
+                return len(whole.rows)
+        bindings = bindings or {}
+        order = self.plan(relations, bindings)
+        if _star_length(order, bindings) == len(order) > 1:
+            return len(_star_values(order, len(order), relations))
+        return sum(1 for _ in self.solutions(relations, bindings))
+
+    def tuples(self, relations: dict, bindings: dict | None = None) -> Iterator[tuple]:
+        """Every unification as a tuple of the values of :attr:`names` (taken now: a list's iterator)."""
+        if not bindings:
+            whole = self._whole_relation(relations)
+            if whole is not None:
+                rows = list(whole.rows)
+                if _PLAIN.issuperset(map(type, chain.from_iterable(rows))):  # names and numbers: the rows as they are
+                    return iter(rows)
+                return iter([tuple(map(to_python, row)) for row in rows])
+        names = self.names
+        if len(names) == 1:
+            name = names[0]
+            found = [(to_python(s.get(name)),) for s in self.solutions(relations, bindings or {})]
+        else:
+            found = [tuple(to_python(s.get(v)) for v in names) for s in self.solutions(relations, bindings or {})]
+        return iter(found)
+
+    def _whole_relation(self, relations: dict) -> Any:
+        """The relation this query reads whole (one goal, a distinct named variable at each place, in order), or
+        None."""
+        single = self._single
+        if single is None or not single.flat or single.constants or len(single.simple) != len(single.pattern) \
+                or self.names != single.pattern or any(v.anonymous for v in self.names):
+            return None
+        rel = relations.get(single.signature)
+        return rel if rel is not None else _NO_ROWS
 
     def result(self, solution: dict) -> dict:
         return {v.name: to_python(solution[v]) for v in self.names if v in solution}

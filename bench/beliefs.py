@@ -1,16 +1,20 @@
 """Belief memory speed at 1,000, 10,000 and 100,000 objects, beside a plain Python store and SWI-Prolog.
 
-Run ``python bench/beliefs.py`` (``--sizes 1000 10000`` to choose sizes, ``--readme`` to write the table
-into docs/performance.md). It loads, for each object oK: object(oK, class_{K mod 6}), code(oK, K), color(oK, <7
-colors>), position(oK, (x, y, z)) and visible(oK) when K mod 5 = 0, then times each query of issue 2:
+Run ``python bench/beliefs.py`` (``--sizes 1000 10000`` to choose sizes, ``--repeat N`` rounds, ``--write`` to put
+the table into docs/performance/beliefs-and-rules.md). It loads, for each object oK: object(oK, class_{K mod 6}),
+code(oK, K), color(oK, <7 colors>), position(oK, (x, y, z)) and visible(oK) when K mod 5 = 0, then times each
+query of issue 2, each two ways:
 
-- ``first`` (the first answer) solved every time (the standing-answers cache off) and as the engine asks
-  (the cache on: a repeated question answered from its last answer while the relations it reads stand),
-  reported separately so a cache never hides a slower solver; ``all`` (every answer) is never cached;
-- against the same workload in a plain dict-indexed Python store (left to right, first argument indexed)
-  and in SWI-Prolog (native, JIT indexes), measured in the same run: the ratios are aeroexec's speed over
-  theirs, printed beside their goals. Every figure is per CPU second of the process (Python's
-  ``process_time``, SWI's ``cputime``).
+- **text**: what a mission string or ``add_belief`` costs: ``memory.query("code(o500, 500)")`` (the same text asked
+  again: the memory keeps it compiled), ``memory.query(<a text never asked before>)`` (a new object each call), and
+  ``memory.add("position(o1, (x, 2.0, 1.5))")`` with a new text each call; SWI-Prolog through the same kind of call:
+  ``term_string(T, Text)`` then the goal (``once``, ``findall``, ``retract`` + ``assertz``);
+- **terms**: prebuilt ``Struct`` / ``Conjunction`` objects, beside SWI-Prolog's goals compiled in its program.
+
+``first`` is the first answer solved every time (the standing-answers cache off), ``all`` every answer; a plain
+dict-indexed Python store is the floor any memory should clear. Ratios are aeroexec's speed over the other's, the
+largest size only, aeroexec and SWI-Prolog measured in alternate rounds (the median of ``--repeat``), every figure
+per CPU second of its process (``process_time``, SWI's ``cputime``).
 """
 
 from __future__ import annotations
@@ -18,17 +22,17 @@ from __future__ import annotations
 import argparse
 import re
 import shutil
+import statistics
 import subprocess
 import tempfile
 import time
 from pathlib import Path
 
 from aeroexec.beliefs import BeliefMemory, Struct, parse_expression
+from performance_page import swi_version, write_section
 from provenance import load, measured_at
 
 COLORS = ("red", "green", "blue", "yellow", "white", "black", "orange")
-README = Path(__file__).resolve().parent.parent / "docs" / "performance.md"  # the tables moved there from README.md
-MARKS = ("<!-- bench/beliefs.py: start -->", "<!-- bench/beliefs.py: end -->")
 
 
 def facts_text(n: int) -> list[str]:
@@ -89,13 +93,31 @@ LABELS = {"a": "(a) code(o500, 500)", "b": "(b) color(o500, ?C)", "c": "(c) obje
           "d": "(d) object(?X, class_3), visible(?X), color(?X, red)", "e": "(e) code(?X, ?C), ?C > N-5"}
 
 
-def measure(n: int) -> dict[str, float]:
-    results: dict[str, float] = {}
-    texts = facts_text(n)
-    memory = BeliefMemory()
+def new_texts(n: int, spacing: int) -> dict[str, list[str]]:
+    """Texts never asked before, one per call: (a) and (b) about object after object, (f) a new position each; a
+    round ``spacing`` apart writes them with its own spaces, so no round asks another's texts."""
+    count = min(n, 30_000)
+    gap = " " * spacing
+    return {"a": [f"code(o{k},{gap}{k})" for k in range(count)],
+            "b": [f"color(o{k},{gap}?C)" for k in range(count)],
+            "f": [f"position(o1,{gap}({k * 0.1}, 2.0, 1.5))" for k in range(count)]}
+
+
+def per_second(fn, texts: list[str]) -> float:
+    """Calls per CPU second of ``fn`` over ``texts``, each used once."""
     start = time.process_time()
     for text in texts:
-        memory.add(text)
+        fn(text)
+    return len(texts) / (time.process_time() - start)
+
+
+def measure(n: int, spacing: int = 1) -> dict[str, float]:
+    results: dict[str, float] = {}
+    texts = facts_text(n)
+    told = BeliefMemory()  # loaded as a user's beliefs come: the memory the text rows ask
+    start = time.process_time()
+    for text in texts:
+        told.add(text)
     results["load from text (facts/s)"] = len(texts) / (time.process_time() - start)
     terms = facts_terms(n)
     memory = BeliefMemory()
@@ -103,18 +125,27 @@ def measure(n: int) -> dict[str, float]:
     for belief in terms:
         memory.add(belief)
     results["load from terms (facts/s)"] = len(terms) / (time.process_time() - start)
+    fresh = new_texts(n, spacing)
     for key, text in queries(n).items():
         assert memory.query(text) is not None, f"{text} found nothing"
-        memory.standing_answers = False
-        results[f"{key} first"] = rate(lambda t=text: memory.query(t))
-        memory.standing_answers = True
-        results[f"{key} first, cached"] = rate(lambda t=text: memory.query(t))
-        results[f"{key} all"] = rate(lambda t=text: memory.query_all(t))
+        parsed = parse_expression(text)
+        term = parsed.literals[0].term if len(parsed.literals) == 1 else parsed  # a Struct, or a Conjunction
+        memory.standing_answers = told.standing_answers = False
+        results[f"{key} first, text"] = rate(lambda t=text: told.query(t))
+        results[f"{key} first, terms"] = rate(lambda t=term: memory.query(t))
+        if key in fresh:
+            results[f"{key} first, new text"] = per_second(told.query, fresh[key])
+        memory.standing_answers = told.standing_answers = True
+        results[f"{key} first, cached"] = rate(lambda t=text: told.query(t))
+        results[f"{key} all, text"] = rate(lambda t=text: told.query_all(t))
+        results[f"{key} all, terms"] = rate(lambda t=term: memory.query_all(t))
+    results["(f) replace, new text"] = per_second(told.add, fresh["f"])
+    assert len(told.query_all("position(o1, ?P)")) == 1
     updates = [Struct("position", ("o1", (i * 0.1, 2.0, 1.5))) for i in range(10_000)]
     start = time.process_time()
     for belief in updates:
         memory.add(belief)
-    results["(f) replace position(o1, ...) (updates/s)"] = len(updates) / (time.process_time() - start)
+    results["(f) replace, terms"] = len(updates) / (time.process_time() - start)
     assert len(memory.query_all("position(o1, ?P)")) == 1
     parse_expression.cache_clear()
     return results
@@ -182,41 +213,65 @@ SWI_PROGRAM = r"""
 :- set_prolog_flag(verbose, silent).
 :- dynamic object/2, code/2, color/2, position/2, visible/1.
 rate(Label, Goal) :-
-    rate_calls(Goal, 1, Calls, Spent), Rate is Calls / max(Spent, 1.0e-9), format("~w ~6f~n", [Label, Rate]).
+    rate_calls(Goal, 1, Calls, Spent), Rate is Calls / max(Spent, 1.0e-9), format("~w: ~6f~n", [Label, Rate]).
 rate_calls(Goal, Calls, CallsOut, SpentOut) :-
     statistics(cputime, T0), forall(between(1, Calls, _), once(Goal)), statistics(cputime, T1),
     Spent is T1 - T0,
     (   Spent > 0.15 -> CallsOut = Calls, SpentOut = Spent
     ;   Next is Calls * 4, rate_calls(Goal, Next, CallsOut, SpentOut) ).
+over(Label, Texts, Goal) :-  % Goal once for each text of Texts/1, each read by term_string
+    aggregate_all(count, call(Texts, _), N),
+    statistics(cputime, T0), forall(call(Texts, S), (term_string(T, S), once(call(Goal, T)))), statistics(cputime, T1),
+    Rate is N / max(T1 - T0, 1.0e-9), format("~w: ~6f~n", [Label, Rate]).
+replace_text(T) :- retract(position(o1, _)), assertz(T).
+all_text(S) :- term_string(T, S, [variable_names(V)]), findall(V, T, _).
 replace(0) :- !.
 replace(I) :- X is I * 0.1, retract(position(o1, _)), assertz(position(o1, (X, 2.0, 1.5))), J is I - 1, replace(J).
 main(File, N, K, J) :-
     statistics(cputime, T0), load_files(File, []), statistics(cputime, T1),
     aggregate_all(count, (object(_, _) ; code(_, _) ; color(_, _) ; position(_, _) ; visible(_)), Facts),
-    Load is Facts / max(T1 - T0, 1.0e-9), format("load ~6f~n", [Load]),
+    Load is Facts / max(T1 - T0, 1.0e-9), format("load from text (facts/s): ~6f~n", [Load]),
     M is N - 5,
-    rate('a first', code(K, _)),
-    rate('b first', color(K, _)),
-    rate('c first', (object(X, class_3), code(X, J))),
-    rate('c all', findall(X, (object(X, class_3), code(X, J)), _)),
-    rate('d first', (object(Y, class_3), visible(Y), color(Y, red))),
-    rate('d all', findall(Y, (object(Y, class_3), visible(Y), color(Y, red)), _)),
-    rate('e first', (code(Z, C), C > M)),
-    rate('e all', findall(Z-C, (code(Z, C), C > M), _)),
+    rate('a first, terms', code(K, _)),
+    rate('b first, terms', color(K, _)),
+    rate('c first, terms', (object(X, class_3), code(X, J))),
+    rate('c all, terms', findall(X, (object(X, class_3), code(X, J)), _)),
+    rate('d first, terms', (object(Y, class_3), visible(Y), color(Y, red))),
+    rate('d all, terms', findall(Y, (object(Y, class_3), visible(Y), color(Y, red)), _)),
+    rate('e first, terms', (code(Z, C), C > M)),
+    rate('e all, terms', findall(Z-C, (code(Z, C), C > M), _)),
+    query(a, A), query(b, B), query(c, Cq), query(d, D), query(e, E),
+    rate('a first, text', (term_string(T1a, A), once(T1a))),
+    rate('b first, text', (term_string(T1b, B), once(T1b))),
+    rate('c first, text', (term_string(T1c, Cq), once(T1c))),
+    rate('d first, text', (term_string(T1d, D), once(T1d))),
+    rate('e first, text', (term_string(T1e, E), once(T1e))),
+    rate('c all, text', all_text(Cq)), rate('d all, text', all_text(D)), rate('e all, text', all_text(E)),
+    over('a first, new text', text_a, call), over('b first, new text', text_b, call),
+    over('(f) replace, new text', text_f, replace_text),
     statistics(cputime, U0), replace(10000), statistics(cputime, U1),
-    Replace is 10000 / max(U1 - U0, 1.0e-9), format("f ~6f~n", [Replace]).
+    Replace is 10000 / max(U1 - U0, 1.0e-9), format("(f) replace, terms: ~6f~n", [Replace]).
 """
 
 
-def swi(n: int, folder: Path) -> dict[str, float] | None:
+def swi_text(text: str) -> str:
+    """An expression in SWI-Prolog's spelling: ``?X`` is ``X``, a comparison stays."""
+    return re.sub(r"\?([A-Za-z0-9_]+)", r"V\1", text)
+
+
+def swi(n: int, folder: Path, spacing: int = 1) -> dict[str, float] | None:
     swipl = shutil.which("swipl")
     if swipl is None:
         return None
     facts = folder / f"facts{n}.pl"
-    facts.write_text(":- dynamic object/2, code/2, color/2, position/2, visible/1.\n"
-                     + "".join(f"{t}.\n" for t in facts_text(n)))
+    if not facts.exists():
+        facts.write_text(":- dynamic object/2, code/2, color/2, position/2, visible/1.\n"
+                         + "".join(f"{t}.\n" for t in facts_text(n)))
     program = folder / "bench.pl"
-    program.write_text(SWI_PROGRAM)
+    asked = [f"query({key}, {swi_text(text)!r})." .replace("'", '"') for key, text in queries(n).items()]
+    fresh = new_texts(n, spacing)
+    texts = [f'text_{key}("{swi_text(text)}").' for key, found in fresh.items() for text in found]
+    program.write_text(SWI_PROGRAM + "\n".join(asked + texts) + "\n")
     k = min(500, n - 1)
     j = int(queries(n)["c"].split(", ")[-1].rstrip(")"))
     goal = f"main('{facts}', {n}, o{k}, {j})"
@@ -224,46 +279,47 @@ def swi(n: int, folder: Path) -> dict[str, float] | None:
                           timeout=1200)
     if done.returncode != 0:
         raise RuntimeError(done.stderr[-2000:])
-    return {key: float(value) for key, value in re.findall(r"^(\w+(?: \w+)?) (\S+)$", done.stdout, re.M)}
+    return {key: float(value) for key, value in re.findall(r"^(.+): (\S+)$", done.stdout, re.M)}
 
 
 # -- the table ---------------------------------------------------------------------------------------------------------
-TARGETS = {"load from text (facts/s)": 50_000, "load from terms (facts/s)": 500_000, "a first": 1_000_000,
-           "b first": 1_000_000, "c first": 200_000, "d all": 500, "e all": 10_000,
-           "(f) replace position(o1, ...) (updates/s)": 300_000}
-#: aeroexec / SWI-Prolog native, and the goals of issue 36 on the figures of issue 2 ((a)-(c) the first answer,
-#: (d) and (e) every answer); the other ratios are printed without a goal
-SWI_GOALS = {"load from text (facts/s)": ("load", None), "a first": ("a first", 0.5), "b first": ("b first", 0.5),
-             "c first": ("c first", 1.0), "c all": ("c all", None), "d first": ("d first", None),
-             "d all": ("d all", 1.0), "e first": ("e first", None), "e all": ("e all", 1.0),
-             "(f) replace position(o1, ...) (updates/s)": ("f", 1.0)}
-PLAIN_GOALS = {"d all": 40.0}
+TARGETS = {"load from text (facts/s)": 50_000, "load from terms (facts/s)": 500_000, "a first, terms": 1_000_000,
+           "b first, terms": 1_000_000, "c first, terms": 200_000, "d all, terms": 500, "e all, terms": 10_000,
+           "(f) replace, terms": 300_000}
+#: the goals of issue 45 on the ratios to SWI-Prolog through the same kind of call (text with text, terms with
+#: its compiled goals): (a), (b) ≥ 0.5×, (f) ≥ 1×, (c), (d) ≥ 2× through the text API
+SWI_GOALS = {"a first, text": 0.5, "a first, new text": 0.5, "b first, text": 0.5, "b first, new text": 0.5,
+             "c first, text": 2.0, "d all, text": 2.0, "(f) replace, new text": 1.0}
+PLAIN_GOALS = {"d all, terms": 40.0}
+ORDER = ["load from text (facts/s)", "load from terms (facts/s)"] + [
+    f"{key} {kind}" for key in "abcde" for kind in ("first, text", "first, new text", "first, terms", "all, text",
+                                                  "all, terms", "first, cached")] + [
+    "(f) replace, new text", "(f) replace, terms"]
 
 
 def rows(sizes: list[int], table: dict, plains: dict, swis: dict) -> list[list[str]]:
     out = []
     big = sizes[-1]
-    labels = [label for label in table[big] if not label.endswith("cached")] + \
-        [label for label in table[big] if label.endswith("cached")]
-    for label in labels:
+    for label in [label for label in ORDER if label in table[big]]:
         shown = label
         if label[0] in "abcde" and label[1] == " ":
             shown = f"{LABELS[label[0]]}: {label[2:]}"
-        row = [shown] + [f"{table[n][label]:,.0f}" for n in sizes]
+        row = [shown] + [f"{table[n][label]:,.0f}" if label in table[n] else "" for n in sizes]
         target = TARGETS.get(label)
         row.append(f"{target:,}" if target else "")
-        base = plains.get(big, {}).get(label)
-        if base:
+        base = plains.get(big, {}).get(label.replace(", terms", ""))
+        if base and label.endswith("terms"):
             ratio = table[big][label] / base
             goal = PLAIN_GOALS.get(label)
             row.append(f"{ratio:,.1f}×" + (f" (goal ≥ {goal:g}×: {'met' if ratio >= goal else 'missed'})"
                                            if goal else ""))
         else:
             row.append("")
-        other, goal = SWI_GOALS.get(label, (None, None))
-        theirs = swis.get(big, {}).get(other) if other else None
+        theirs = swis.get(big, {}).get(label)
+        row.append(f"{theirs:,.0f}" if theirs else "")
         if theirs:
             ratio = table[big][label] / theirs
+            goal = SWI_GOALS.get(label)
             row.append(f"{ratio:.2f}×" + (f" (goal ≥ {goal:g}×: {'met' if ratio >= goal else 'missed'})"
                                           if goal else ""))
         else:
@@ -275,41 +331,53 @@ def rows(sizes: list[int], table: dict, plains: dict, swis: dict) -> list[list[s
 SIZES = [1_000, 10_000, 100_000]
 
 
+def median_of(rounds: list[dict[str, float]]) -> dict[str, float]:
+    return {key: statistics.median(r[key] for r in rounds if key in r) for key in rounds[0]}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=SIZES)
-    parser.add_argument("--readme", action="store_true", help="write the table into docs/performance.md")
+    parser.add_argument("--repeat", type=int, default=3, help="rounds at the largest size, aeroexec and SWI-Prolog "
+                        "alternating (the median is printed)")
+    parser.add_argument("--write", action="store_true", help="write the table into "
+                        "docs/performance/beliefs-and-rules.md")
     args = parser.parse_args()
     sizes = args.sizes
     began = load()
     table, plains, swis = {}, {}, {}
     with tempfile.TemporaryDirectory() as folder:
-        for n in sizes:
+        for n in sizes[:-1]:
             table[n] = measure(n)
         big = sizes[-1]
+        ours, theirs = [], []
+        for spacing in range(1, args.repeat + 1):  # interleaved: a change of load touches both alike
+            ours.append(measure(big, spacing))
+            found = swi(big, Path(folder), spacing)
+            if found is not None:
+                theirs.append(found)
+        table[big] = median_of(ours)
+        if theirs:
+            swis[big] = median_of(theirs)
         plains[big] = plain(big)
-        found = swi(big, Path(folder))
-        if found is not None:
-            swis[big] = found
-    headers = ["per second"] + [f"N={n:,}" for n in sizes] + [f"target at {sizes[-1]:,}",
-                                                             "× plain Python store", "× SWI-Prolog"]
+    headers = ["per CPU second"] + [f"N={n:,}" for n in sizes] + [f"target at {sizes[-1]:,}", "× plain Python store",
+                                                                 "SWI-Prolog", "× SWI-Prolog"]
     body = rows(sizes, table, plains, swis)
     widths = [max(len(r[i]) for r in [headers, *body]) for i in range(len(headers))]
     for row in [headers, ["-" * w for w in widths], *body]:
         print("  ".join(cell.ljust(w) if i == 0 else cell.rjust(w) for i, (cell, w) in enumerate(zip(row, widths,
                                                                                                        strict=True))))
-    command = "python bench/beliefs.py --readme" + ("" if sizes == SIZES else f" --sizes {' '.join(map(str, sizes))}")
-    missing = "" if swis else "; SWI-Prolog (swipl) not installed: no ratios to it"
-    said = f"Measured by `{command}` at {measured_at(began)}{missing}."
+    command = "python bench/beliefs.py" + ("" if sizes == SIZES else f" --sizes {' '.join(map(str, sizes))}") + \
+        f" --repeat {args.repeat}"
+    missing = "; SWI-Prolog (swipl) not installed: no ratios to it" if not swis else (
+        f"; baseline: SWI-Prolog {swi_version()}, text rows through `term_string` then the goal, terms rows its "
+        f"compiled goals; median of {args.repeat} rounds, aeroexec and SWI-Prolog alternating")
+    said = f"Measured by `{command}` at {measured_at(began)} (2 cores, shared){missing}."
     print(said)
-    if args.readme:
+    if args.write:
         markdown = ["| " + " | ".join(headers) + " |", "|---|" + "---:|" * (len(headers) - 1)]
         markdown += ["| " + " | ".join(r) + " |" for r in body]
-        markdown += ["", said]
-        text = README.read_text()
-        start, end = text.index(MARKS[0]) + len(MARKS[0]), text.index(MARKS[1])
-        README.write_text(text[:start] + "\n" + "\n".join(markdown) + "\n" + text[end:])
-        print(f"wrote the table into {README}")
+        write_section("bench/beliefs.py", "\n".join([*markdown, "", said]))
 
 
 if __name__ == "__main__":

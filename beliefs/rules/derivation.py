@@ -26,6 +26,7 @@ from aeroexec.beliefs.terms import Struct, Var, match
 MAX_DERIVED = 1_000_000
 STORED = "#stored"  # the stored beliefs of a derived predicate, read by its rules as a rule of their own
 DELTA = "#delta"  # the rows a round added (or removed), read by one goal of a rule
+GONE = "#gone"  # the rows of a derived predicate DRed removed, read by a first goal to find those still derived
 
 
 class Delta:
@@ -323,22 +324,25 @@ class RuleBook:
                 new = found[rule.head.signature]
                 for j, signature in _positive_goals(rule):
                     if signature in inputs:
-                        new.update(dict.fromkeys(filterfalse(
+                        found_now = dict.fromkeys(filterfalse(
                             rows.__contains__, evaluate(self._variant(layer, i, j), self.view, rule, self.budget,
-                                     _named(layer, rule)))))
+                                                        _named(layer, rule), (signature[0] + DELTA, signature[1]))))
+                        if new:
+                            new.update(found_now)
+                        else:
+                            new = found[rule.head.signature] = found_now
         return found
 
     def _saturate(self, layer: _Layer, delta: dict[Signature, dict[tuple, None]],
                   changes: dict[Signature, tuple[dict, dict]] | None) -> None:
-        """Add ``delta`` and follow it semi-naively until nothing new is derived (``changes``: what was added and
-        removed, kept up to date; None when the caller does not need it)."""
+        """Add ``delta`` (rows not stored yet: every caller's and each round's are found so) and follow it
+        semi-naively until nothing new is derived (``changes``: what was added and removed, kept up to date; None
+        when the caller does not need it)."""
         recursive = layer.stratum.recursive
         while any(delta.values()):
             for signature, rows in delta.items():
                 if rows:
                     rel = self.derived[signature]
-                    rows = dict.fromkeys(filterfalse(rel.rows.__contains__, rows))
-                    delta[signature] = rows
                     self.budget.charge(len(rows), _rule_of(layer, signature))  # stored and indexed
                     if len(rel.rows) + len(rows) > MAX_DERIVED:
                         rule = _rule_of(layer, signature)
@@ -384,14 +388,23 @@ class RuleBook:
             for row in rows:
                 rel.delete(row)
         again: dict[Signature, dict[tuple, None]] = {p: {} for p in layer.predicates}
-        for i, rule in enumerate(layer.rules):
-            signature = rule.head.signature
-            query = self._variant(layer, i, None)
-            self.budget.charge(len(gone[signature]) * EACH_COST, _named(layer, rule))
-            for row in gone[signature]:
-                bindings: dict = {}
-                if match(rule.head.args, row, bindings) and query.first(self.view, bindings) is not None:
-                    again[signature][row] = None
+        with _Deltas(self.view, {s: rows for s, rows in gone.items() if rows}, GONE):
+            for i, rule in enumerate(layer.rules):
+                signature = rule.head.signature
+                if not gone[signature]:
+                    continue
+                if _flat_head(rule.head):  # the rows still derived, set at a time: the body joined with the gone rows
+                    rows = self.derived[signature].rows
+                    again[signature].update(dict.fromkeys(filterfalse(rows.__contains__, evaluate(
+                        self._variant(layer, i, GONE), self.view, rule, self.budget, _named(layer, rule),
+                        (signature[0] + GONE, signature[1])))))
+                    continue
+                query = self._variant(layer, i, None)
+                self.budget.charge(len(gone[signature]) * EACH_COST, _named(layer, rule))
+                for row in gone[signature]:
+                    bindings: dict = {}
+                    if match(rule.head.args, row, bindings) and query.first(self.view, bindings) is not None:
+                        again[signature][row] = None
         seeds = self._seeds(layer, {s: d.added for s, d in pending.items() if d.added})
         for signature, rows in seeds.items():
             again[signature].update(rows)
@@ -410,20 +423,24 @@ class RuleBook:
                 for j, goal in _positive_goals(rule):
                     if goal in inputs:
                         for row in evaluate(self._variant(layer, i, j, exclusive=False), self.view, rule,
-                                            self.budget, _named(layer, rule)):
+                                            self.budget, _named(layer, rule), (goal[0] + DELTA, goal[1])):
                             if row in rel.rows and row not in gone[signature]:
                                 gone[signature][row] = None
                                 found[signature][row] = None
         return found
 
     # -- pieces --------------------------------------------------------------------------------------------------------
-    def _variant(self, layer: _Layer, i: int, j: int | None, exclusive: bool = True) -> CompiledQuery:
-        """Rule ``i`` of a stratum compiled with its ``j``-th literal reading the delta relation."""
+    def _variant(self, layer: _Layer, i: int, j: int | str | None, exclusive: bool = True) -> CompiledQuery:
+        """Rule ``i`` of a stratum compiled with its ``j``-th literal reading the delta relation (``j`` GONE: with a
+        first goal reading the rows of its head that DRed removed, ``head#gone``)."""
         key = (layer.stratum.index, i, j, exclusive)
         query = self._variants.get(key)
         if query is None:
             body = layer.rules[i].body
-            if j is not None:
+            if j == GONE:
+                head = layer.rules[i].head
+                body = Conjunction((Goal(Struct(head.name + GONE, head.args)), *body.literals), body.text)
+            elif j is not None:
                 literals = list(body.literals)
                 goal = literals[j].term
                 literals[j] = Goal(Struct(goal.name + DELTA, goal.args))
@@ -434,7 +451,7 @@ class RuleBook:
 
     def _exclusive_of(self, name: str) -> bool:
         if "#" in name:
-            return False if name.endswith(DELTA) else self._exclusive(name[: -len(STORED)])
+            return False if name.endswith((DELTA, GONE)) else self._exclusive(name[: -len(STORED)])
         return name not in self._names and self._exclusive(name)
 
     def _deltas(self, inputs: dict[Signature, dict]) -> _Deltas:
@@ -461,20 +478,27 @@ def _version(rel: Relation) -> int:
 
 
 class _Deltas:
-    """Puts ``name#delta`` relations in the view for the rules' delta goals, and takes them out after."""
+    """Puts ``name#delta`` relations (or another ``suffix``) in the view for the rules' delta goals, and takes them
+    out after."""
 
-    def __init__(self, view: Relations, inputs: dict[Signature, dict]) -> None:
-        self.view, self.inputs = view, inputs
+    def __init__(self, view: Relations, inputs: dict[Signature, dict], suffix: str = DELTA) -> None:
+        self.view, self.inputs, self.suffix = view, inputs, suffix
 
     def __enter__(self) -> None:
         for (name, arity), rows in self.inputs.items():
-            rel = Relation(name + DELTA, arity, False, lazy=True)
-            rel.insert_new(rows)
-            self.view[(name + DELTA, arity)] = rel
+            rel = Relation(name + self.suffix, arity, False, lazy=True)
+            rel.rows = rows if type(rows) is dict else dict.fromkeys(rows)  # read, never changed, while it is here
+            self.view[(name + self.suffix, arity)] = rel
 
     def __exit__(self, *exc: object) -> None:
         for name, arity in self.inputs:
-            self.view.pop((name + DELTA, arity), None)
+            self.view.pop((name + self.suffix, arity), None)
+
+
+def _flat_head(head: Struct) -> bool:
+    """Whether every argument of ``head`` is a variable, none twice (its rows can be read as a goal's)."""
+    args = head.args
+    return all(type(a) is Var and not a.anonymous for a in args) and len(set(args)) == len(args)
 
 
 def _positive_goals(rule: Rule) -> list[tuple[int, Signature]]:

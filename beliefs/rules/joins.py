@@ -67,8 +67,12 @@ _ORDER: dict[str, Callable[[Any, Any], bool]] = {
 
 
 def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | None = None,
-             named: Rule | None = None) -> Iterable[tuple]:
+             named: Rule | None = None, lead: tuple[str, int] | None = None) -> Iterable[tuple]:
     """The arguments of the rule's head for every unification of ``query`` (its body; duplicates possible).
+
+    ``lead``: the relation of the round's new rows (semi-naive evaluation), joined first: the other relations'
+    columns are then built once and serve every round, where joining the new rows second would index them anew in
+    each round.
 
     Raises :class:`EvaluationRefused` (naming the rule's file:line) before building partial answers that would
     take more than :data:`MAX_ANSWER_BYTES` (a join of goals that share no variable, over many beliefs: their
@@ -79,10 +83,29 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
     budget.charge(CALL_COST, rule)
     schema: list[Var] = []
     rows: Rows = [()]
+    order = query.plan(relations, {})
+    if lead is not None and order and not (type(order[0]) is FactStep and order[0].signature == lead):
+        first = next((s for s in order if type(s) is FactStep and s.signature == lead and s.flat), None)
+        if first is not None:  # the others keep their order: a filter still comes after its variables are bound
+            order = [first, *(s for s in order if s is not first)]
+    args = head.args
+    # the head's arguments distinct variables: the last join may build them directly (no row of every value first)
+    wanted = args if args and all(type(a) is Var for a in args) else None
+    if wanted is not None and budget.work is None and len(order) > 1:
+        heads = _chain(query, order, wanted, relations)
+        if heads is not None:
+            budget.charge(len(heads), rule)
+            return heads
     try:
-        for step in query._order(relations, {}):
+        for n, step in enumerate(order):
             fits = _fits(len(schema) + 4)  # the rows its memory allows, a few new values each
             limit = min(budget.left(), fits)
+            if wanted is not None and n == len(order) - 1 and type(step) is FactStep and step.flat:
+                before = len(rows)
+                heads = _join(step, schema, rows, relations, limit, wanted)
+                if heads is not None:
+                    budget.charge(len(heads) + before, rule)
+                    return heads
             schema, rows, cost = _apply(step, schema, rows, relations, query.ranges, limit)
             budget.charge(cost, rule)
             if not rows:
@@ -133,14 +156,19 @@ def _apply(step: Any, schema: list[Var], rows: Rows, relations: Any, ranges: dic
     return schema, rows, (len(rows) + before) * EACH_COST // 2
 
 
-def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: int) -> tuple[list[Var], Rows]:
+def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: int,
+          wanted: tuple | None = None) -> Any:
+    """The rows extended by the goal's answers (the new schema and rows); with ``wanted`` (a head's variables),
+    the head rows themselves when the goal can build them in one pass, else None."""
     rel = relations.get(step.signature)
     if rel is None or not rel.rows:
-        return schema, []
+        return [] if wanted is not None else (schema, [])
     at = {v: i for i, v in enumerate(schema)}
     shared = [(p, at[v]) for p, v in step.simple if v in at]
     fresh = [(p, v) for p, v in step.simple if v not in at]
     constants = step.constants
+    if wanted is not None and (not shared or not fresh or len(shared) > 1 or constants):
+        return None  # not a one-pass shape: the caller joins, then projects
     new_schema = schema + [v for _, v in fresh]
     positions = [p for p, _ in fresh]
     take = _getter(positions)
@@ -161,6 +189,26 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: 
             return schema, [row for row in rows if (row[i],) in stored]
         build = _builder(positions)
         return schema, [row for row in rows if build(row) in stored]
+    if len(shared) == 1 and not constants:
+        p0, i = shared[0]
+        taken = tuple(positions)
+        # a value in common: each row extended by the stored values that go with its own, read from the relation's
+        # columns (built once for a relation that does not change, or when building costs no more than the rows)
+        if rel.columns_ready(p0, taken) or len(rel.rows) <= 4 * len(rows):
+            table, widest = rel.columns(p0, taken)
+            get = table.get
+            if len(rows) * widest > limit:  # estimated before anything is built
+                size = sum(len(get(row[i], ())) for row in rows)
+                if size > limit:
+                    raise _Overflow(size)
+            if wanted is not None:
+                if any(v not in at and v not in new_schema for v in wanted):
+                    return None
+                return _heads(tuple(("r", at[v]) if v in at else ("f", new_schema.index(v) - len(schema))
+                                    for v in wanted), i)(rows, get)
+            return new_schema, [row + f for row in rows for f in get(row[i], ())]
+    if wanted is not None:
+        return None
     groups: dict[Any, list[tuple]] = {}
     if len(shared) == 1:
         i = shared[0][1]
@@ -200,6 +248,78 @@ def _join(step: FactStep, schema: list[Var], rows: Rows, relations: Any, limit: 
         else:
             extend(starmap(add, product(group, found)))
     return new_schema, out
+
+
+_HEADS: dict[tuple, Callable] = {}
+
+
+def _heads(sources: tuple[tuple[str, int], ...], i: int) -> Callable[[Rows, Callable], Rows]:
+    """A comprehension building head rows from each row ``r`` and each stored part ``f`` that goes with its value at
+    ``i`` (``sources``: where each head argument is, ``("r", k)`` or ``("f", k)``), compiled once per shape."""
+    key = (sources, i)
+    found = _HEADS.get(key)
+    if found is None:
+        items = ", ".join(f"{side}[{k}]" for side, k in sources) + ("," if len(sources) == 1 else "")
+        found = eval(f"lambda rows, get: [({items}) for r in rows for f in get(r[{i}], ())]")  # noqa: S307
+        _HEADS[key] = found
+    return found
+
+
+def _chain(query: CompiledQuery, order: list, wanted: tuple, relations: Any) -> Rows | None:
+    """The head rows of a body that is a chain of stored goals, each after the first sharing one variable with those
+    before it (``sg(?X, ?Y) :- sg#delta(?A, ?B), par(?X, ?A), par(?Y, ?B)``), built in one nested comprehension
+    compiled per shape, with no partial answer as a row: None for any other body, or when the answers could pass
+    what one evaluation may build (then the caller joins step by step, with its bounds)."""
+    shapes = query.__dict__.setdefault("chains", {})  # by its steps' order (they live as long as the query)
+    key = (*map(id, order), wanted)
+    shape = shapes.get(key)
+    if shape is None:
+        shape = shapes[key] = _chain_shape(order, wanted)
+    if shape is False:
+        return None
+    build, joins = shape
+    rel = relations.get(order[0].signature)
+    if rel is None or not rel.rows:
+        return []
+    estimate = len(rel.rows)
+    gets = []
+    for signature, p0, taken in joins:
+        other = relations.get(signature)
+        if other is None or not other.rows:
+            return []
+        if not other.columns_ready(p0, taken) and len(other.rows) > 4 * len(rel.rows):
+            return None  # building its columns would cost more than the rows joined
+        table, widest = other.columns(p0, taken)
+        estimate *= max(widest, 1)
+        gets.append(table.get)
+    if estimate > _fits(len(wanted) + 4):
+        return None
+    return build(rel.rows, *gets)
+
+
+def _chain_shape(order: list, wanted: tuple) -> Any:
+    """For :func:`_chain`: the comprehension and, per join, (the relation, the shared place, the places taken);
+    False when the body is not such a chain."""
+    if any(type(step) is not FactStep or not step.flat or step.constants for step in order):
+        return False
+    where: dict[Var, str] = {v: f"r[{p}]" for p, v in order[0].simple}
+    loops, joins = [], []
+    for k, step in enumerate(order[1:], 1):
+        shared = [(p, v) for p, v in step.simple if v in where]
+        fresh = [(p, v) for p, v in step.simple if v not in where]
+        if len(shared) != 1 or not fresh:
+            return False
+        p0, var = shared[0]
+        joins.append((step.signature, p0, tuple(p for p, _ in fresh)))
+        loops.append(f"for f{k} in g{k}({where[var]}, ())")
+        for t, (_, v) in enumerate(fresh):
+            where[v] = f"f{k}[{t}]"
+    if any(v not in where for v in wanted):
+        return False
+    items = ", ".join(where[v] for v in wanted) + ("," if len(wanted) == 1 else "")
+    names = ", ".join(f"g{k}" for k in range(1, len(order)))
+    build = eval(f"lambda rows, {names}: [({items}) for r in rows {' '.join(loops)}]")  # noqa: S307
+    return build, joins
 
 
 def _matching(rel: Any, constants: tuple) -> Iterable[tuple]:
