@@ -31,6 +31,11 @@ LEASE_MS = 2000  # a frozen process is dropped by the router after this (livelin
 #: 2 s late, every link between hosts was closed and opened again, and what it carried then was lost (the
 #: operator's commands reached no drone: tests/fleet/test_fleet_network.py).
 NETWORK_LEASE_MS = 10000
+#: How long a client (the operator's ``ctl``) keeps trying to open its link to a router on another machine, and how
+#: soon it tries again: over 200 ms of latency and 20 % loss one TLS handshake can fail, and a single try made
+#: ``ctl`` answer "cannot open the fleet link" while the router was there (tests/fleet/test_fleet_network.py in CI).
+NETWORK_CONNECT_MS = 15000
+NETWORK_RETRY = {"period_init_ms": 250, "period_max_ms": 2000, "period_increase_factor": 2}
 #: Bytes a Zenoh batch holds (Zenoh's default: 65535). A fleet puts its drones' ticks at the end of each period,
 #: a burst; in full-size batches the first tick waited for the next 150 to fill its batch (median put -> arrival
 #: 2 ms at 500 drones over 2 workers, 1.1 ms with 8 KB batches, the CPU the same: bench/fleet.py).
@@ -107,6 +112,9 @@ def config(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[st
     c.insert_json5("listen/endpoints", json.dumps(list(listen)))
     c.insert_json5("connect/endpoints", json.dumps(list(connect)))
     c.insert_json5("transport/link/tx/lease", str(lease_ms([*listen, *connect])))
+    if mode == "client" and connect and lease_ms(list(connect)) == NETWORK_LEASE_MS:
+        c.insert_json5("connect/timeout_ms", str(NETWORK_CONNECT_MS))
+        c.insert_json5("connect/retry", json.dumps(NETWORK_RETRY))
     c.insert_json5("transport/link/tx/batch_size", str(TX_BATCH))
     if mode == "peer":
         c.insert_json5("scouting/gossip/enabled", "false")

@@ -75,8 +75,9 @@ def test_aeroexec_ctl_changes_a_live_run_from_another_folder(tmp_path):
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     (elsewhere / "home.xml").write_text((DATA / "patrol_home.xml").read_text())
-    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "1", "--output", str(tmp_path / "out"))
-    # (at real time, corner A flies for ~3 s: time for a ctl process to start on a loaded machine)
+    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "0.25", "--output", str(tmp_path / "out"))
+    # (at a quarter of real time, corner A flies for ~12 s: time for a ctl process to start on a loaded machine;
+    # at real time, ~3 s were not enough in a loaded CI: corner B was running when the pause came)
     try:
         run.wait_for("corner A: IDLE -> RUNNING")
         assert ctl(elsewhere, "pause").returncode == 0
@@ -219,7 +220,8 @@ def test_a_target_that_is_no_item_number_is_refused_naming_it_and_the_mission_fl
 
 
 def test_aerostack2_updates_from_ctl_change_a_live_run(tmp_path):
-    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "1", "--output", str(tmp_path / "out"))
+    # a quarter of real time: corner A still flies when a ctl process started on a loaded machine reaches the run
+    run = Command(tmp_path, "run", str(PATROL), "--plain", "--speed", "0.25", "--output", str(tmp_path / "out"))
     try:
         run.wait_for("corner A: IDLE -> RUNNING")
         skipped = ctl(tmp_path, "update", "NEXT_ITEM")

@@ -121,6 +121,8 @@ def test_velocity_control_hold_and_return_to_launch(flight):
     until(lambda: drone.telemetry().flight_mode == offboard, what=f"{offboard} mode")
     until(lambda: math.dist(drone.telemetry().velocity, (0.0, 1.5, 0.0)) < 0.1, what="flying north at 1.5 m/s")
     assert vehicle.telemetry().velocity == pytest.approx((0.0, 1.5, 0.0), abs=0.1)
+    # held once past 1.5 m north (at full speed the drone covered ~1 m accelerating, so holding at once was a race)
+    until(lambda: drone.telemetry().position[1] > 1.5, what="1.5 m north of home")
     hold = drone.hold()
     assert hold.wait(STEP_S) and hold.ok, hold
     until(lambda: drone.telemetry().flight_mode == hold_mode and drone.telemetry().speed < 0.1, what="holding")

@@ -267,3 +267,16 @@ def test_a_wrong_trust_argument_is_a_usage_error_naming_it(tmp_path, capsys, wor
     err = capsys.readouterr().err
     assert status == 2, err
     assert f"--trust {word}: give PREDICATE=K" in err and "Traceback" not in err
+
+
+def test_an_operator_keeps_trying_to_reach_a_router_on_another_machine_and_once_on_the_loopback():
+    """Over a lossy network one TLS handshake can fail: the operator's client session tries again for 15 s (the
+    network test's `ctl` once answered "cannot open the fleet link" while the router was there); on the loopback
+    a missing router is said at once, and routers and drones keep Zenoh's own connecting rules."""
+    from aeroexec.fleet.transport import NETWORK_CONNECT_MS, config
+
+    remote = config("client", connect=["tcp/10.77.0.1:7447"])
+    assert json.loads(remote.get_json("connect/timeout_ms")) == NETWORK_CONNECT_MS == 15000
+    assert json.loads(remote.get_json("connect/retry"))["period_init_ms"] == 250
+    for session in (config("client", connect=["tcp/127.0.0.1:7447"]), config("peer", connect=["tcp/10.77.0.1:7447"])):
+        assert json.loads(session.get_json("connect/timeout_ms")) is None
