@@ -15,7 +15,7 @@ from typing import Any
 
 from aeroexec.fleet.credentials import CredentialsError, Identity
 from aeroexec.fleet.payloads import VERSION, check_name, key
-from aeroexec.fleet.transport import TransportError, open_session
+from aeroexec.fleet.transport import TransportError, close_session, open_session
 
 TIMEOUT = 8.0  # wall seconds to wait for the drones' answers
 
@@ -60,7 +60,7 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
                 raise FleetCommandError(f"refused: {answer.get('error', 'no reason given')}")
             answers[str(answer.get("drone", str(sample.key_expr).split("/")[2] if reply.ok else "?"))] = answer
     finally:
-        session.close()
+        close_session(session)
     expected = {drone} if drone != "*" else set(members) | {
         name for answer in answers.values() for name in answer.get("fleet", ()) if isinstance(name, str)}
     for name in sorted(expected - set(answers)):

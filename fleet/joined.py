@@ -12,7 +12,7 @@ from aeroexec.fleet import members
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
 from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.payloads import check_name
-from aeroexec.fleet.transport import DEFAULT_ENDPOINT, TransportError
+from aeroexec.fleet.transport import DEFAULT_ENDPOINT, TransportError, close_session
 
 logger = logging.getLogger(__name__)
 
@@ -26,7 +26,7 @@ class JoinedFleet:
     def close(self) -> None:
         self.link.leave()
         self.node.close()
-        self.session.close()
+        close_session(self.session)
         (self.folder / FLEET_FILE).unlink(missing_ok=True)
 
 

@@ -139,6 +139,15 @@ def _tls(identity: Material, listening: bool, connecting: bool) -> dict[str, Any
     return tls
 
 
+def close_session(session: Any, what: str = "the fleet link") -> None:
+    """Close a Zenoh session; a close that does not finish (Zenoh's "close operation timed out" when a link's peer
+    is cut off or slow) is a warning, never an error of the command that used it: what it did is done."""
+    try:
+        session.close()
+    except Exception as error:  # zenoh.ZError; closing twice
+        logger.warning("%s did not close cleanly: %s", what, error)
+
+
 def open_session(mode: str, listen: list[str] | tuple[str, ...] = (), connect: list[str] | tuple[str, ...] = (),
                  identity: Material | None = None, access: dict[str, Any] | None = None) -> Any:
     """An open Zenoh session; :class:`TransportError` when it cannot listen or connect. Close it when done."""
