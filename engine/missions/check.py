@@ -25,7 +25,14 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.catalog.world_check import WorldMap
-from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, MissionProblem, Problem, SpecificationError
+from aeroexec.engine.errors import (
+    WRONG_FORMAT,
+    WRONG_SEQUENCE,
+    WRONG_VALUE,
+    MissionProblem,
+    Problem,
+    SpecificationError,
+)
 from aeroexec.engine.missions.api_modules import (
     API_FUNCTIONS,
     BELIEF,
@@ -369,6 +376,41 @@ class MissionChecker:
         return True
 
 
+#: The calls that end a program from inside a loop.
+EXITS = ("sys.exit", "exit", "quit", "os._exit")
+
+
+def endless_loops(checker: MissionChecker) -> list[ast.While]:
+    """The ``while True:`` loops of a script with no way out (no ``break`` of their own, ``return``, ``raise`` or
+    exit call, outside the functions and classes they define) that the flight reaches: at the script's top level,
+    or in a function that runs behaviors (a thread's loop that never commands the drone is left alone)."""
+    endless = []
+    for loop in checker.nodes:
+        if not (isinstance(loop, ast.While) and isinstance(loop.test, ast.Constant) and loop.test.value):
+            continue
+        around = checker.parents.get(id(loop))
+        while around is not None and not isinstance(around, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda):
+            around = checker.parents.get(id(around))
+        if around is not None and not checker.effectful(loop) and around.name not in checker.effectful_functions:
+            continue
+        if not any(_leaves(statement, checker) for statement in loop.body):
+            endless.append(loop)
+    return endless
+
+
+def _leaves(node: ast.AST, checker: MissionChecker, nested_loop: bool = False) -> bool:
+    """True when ``node`` may leave the loop it is in (``nested_loop``: within an inner loop, whose ``break``
+    leaves that one only)."""
+    if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef | ast.Lambda):
+        return False
+    if isinstance(node, ast.Return | ast.Raise) or (isinstance(node, ast.Break) and not nested_loop):
+        return True
+    if isinstance(node, ast.Call) and checker.dotted(node.func) in EXITS:
+        return True
+    inner = nested_loop or isinstance(node, ast.For | ast.AsyncFor | ast.While)
+    return any(_leaves(child, checker, inner) for child in ast.iter_child_nodes(node))
+
+
 def _called_name(call: ast.Call) -> str | None:
     func = call.func
     return func.id if isinstance(func, ast.Name) else func.attr if isinstance(func, ast.Attribute) else None
@@ -398,6 +440,10 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)
     if entry is None and is_script(tree, checker.nodes):  # a script (Aerostack2's): it runs whole, from its start
+        for loop in endless_loops(checker):
+            checker.report(loop, "This mission never ends: the loop `while True:` has no break, return or exit, so "
+                                 "the drone would fly on until the battery runs low; "
+                                 "give the loop an end (a count, a duration or a condition)", WRONG_SEQUENCE)
         if checker.sequence_checkable():
             SequenceWalker(checker).check_body(tree.body)
     elif entry is None:

@@ -143,3 +143,52 @@ def test_ros_2_beyond_the_drone_interface_is_refused_where_it_is_used():
         (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface"),
         (13, "error", "rclpy.spin_once: this mission uses ROS 2 beyond the drone interface"),
     ]
+
+
+NEVER_ENDS = ("This mission never ends: the loop `while True:` has no break, return or exit, so the drone would fly "
+              "on until the battery runs low; give the loop an end (a count, a duration or a condition)")
+
+
+def test_a_while_true_loop_with_no_way_out_after_take_off_is_refused_at_its_line():
+    """pariaspe/project_gazebo's mission_vel_motion_ref.py: speed references sent forever, in a method of the
+    drone's class that took off; and the same loop at the script's top level."""
+    assert problems("""
+        import time
+
+        class Drone(DroneInterface):
+            def run(self):
+                self.takeoff(1.0, wait=True)
+                while True:
+                    self.motion_ref_handler.speed.send_speed_command_with_yaw_angle([0.5, 0.0, 0.0])
+                    time.sleep(0.1)
+
+        uav = Drone("drone0")
+        uav.run()
+        while True:
+            time.sleep(1)
+        """) == [(8, "error", NEVER_ENDS), (14, "error", NEVER_ENDS)]
+
+
+def test_loops_with_a_way_out_or_in_a_thread_that_flies_nothing_are_not_refused():
+    assert problems("""
+        import sys
+        import threading
+        import time
+
+        def watch():
+            while True:
+                print("alive")
+                time.sleep(1)
+
+        threading.Thread(target=watch, daemon=True).start()
+        uav = DroneInterface("drone0")
+        uav.takeoff(2.0, 1.0)
+        while True:
+            for _ in range(3):
+                break
+            if uav.info["state"] == 0:
+                break
+        while 1:
+            uav.go_to(1, 1, 2, 1.0)
+            sys.exit(0)
+        """) == []
