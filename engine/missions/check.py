@@ -398,6 +398,45 @@ def endless_loops(checker: MissionChecker) -> list[ast.While]:
     return endless
 
 
+def missing_reads(checker: MissionChecker) -> list[tuple[ast.AST, str]]:
+    """The files a script opens for reading that are not there: ``open("config/joints.csv")``, or ``open(path)``
+    in a function of the script called with that name (``load_path_from_csv("config/joints.csv")``); relative
+    names are read from the current folder, as under ``python3``. Each with the node that names it."""
+    found: list[tuple[ast.AST, str]] = []
+    for call in checker.nodes:
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "open"
+                and call.args and "open" not in checker.functions):
+            continue
+        mode = checker.value(call.args[1]) if len(call.args) > 1 else next(
+            (checker.value(k.value) for k in call.keywords if k.arg == "mode"), "r")
+        if not isinstance(mode, str) or not set(mode) & {"r"} or set(mode) & {"w", "a", "x", "+"}:
+            continue
+        for node in _named_files(checker, call.args[0]):
+            name = checker.value(node)
+            if isinstance(name, str) and name and not Path(name).expanduser().exists():
+                found.append((node, name))
+    return found
+
+
+def _named_files(checker: MissionChecker, argument: ast.AST) -> list[ast.AST]:
+    """The nodes that give ``argument`` its value: itself, or, for a parameter of the function it is in, the
+    arguments that parameter gets at each call of that function in the program."""
+    if not isinstance(argument, ast.Name):
+        return [argument]
+    around = checker.parents.get(id(argument))
+    while around is not None and not isinstance(around, ast.FunctionDef | ast.AsyncFunctionDef):
+        around = checker.parents.get(id(around))
+    parameters = [a.arg for a in around.args.args] if around is not None else []
+    if argument.id not in parameters or len(checker.functions.get(around.name, ())) != 1:
+        return [argument]
+    index, given = parameters.index(argument.id), []
+    for call in checker.nodes:
+        if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == around.name:
+            keyword = next((k.value for k in call.keywords if k.arg == argument.id), None)
+            given += [call.args[index]] if index < len(call.args) else [keyword] if keyword is not None else []
+    return given
+
+
 def _leaves(node: ast.AST, checker: MissionChecker, nested_loop: bool = False) -> bool:
     """True when ``node`` may leave the loop it is in (``nested_loop``: within an inner loop, whose ``break``
     leaves that one only)."""
@@ -444,6 +483,10 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
             checker.report(loop, "This mission never ends: the loop `while True:` has no break, return or exit, so "
                                  "the drone would fly on until the battery runs low; "
                                  "give the loop an end (a count, a duration or a condition)", WRONG_SEQUENCE)
+        for node, name in missing_reads(checker):
+            checker.report(node, f"The script reads the file {name}, which is not there (from the folder "
+                                 f"{Path.cwd()}): the mission would stop at this line; run it from the folder "
+                                 f"that holds {name}, as under python3", WRONG_FORMAT)
         if checker.sequence_checkable():
             SequenceWalker(checker).check_body(tree.body)
     elif entry is None:

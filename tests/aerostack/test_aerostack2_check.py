@@ -192,3 +192,31 @@ def test_loops_with_a_way_out_or_in_a_thread_that_flies_nothing_are_not_refused(
             uav.go_to(1, 1, 2, 1.0)
             sys.exit(0)
         """) == []
+
+
+READS = """
+    import csv
+
+    def load_path_from_csv(file_path):
+        with open(file_path, newline='') as csvfile:
+            return [[float(row['x']), float(row['y']), float(row['z'])] for row in csv.DictReader(csvfile)]
+
+    PATH = load_path_from_csv("config/joints.csv")
+    uav = DroneInterface("drone0")
+    uav.takeoff(1.0, 1.0)
+    uav.follow_path(PATH, 1.0)
+    with open("notes.txt", "w") as notes:
+        notes.write("done")
+    """
+
+
+def test_a_file_the_script_reads_that_is_not_there_is_refused_naming_it(tmp_path, monkeypatch):
+    """jackha02/project_gazebo's jacket_inspection_single.py reads config/joints.csv from the folder it is run
+    in: refused before flight naming the file and the folder, where it failed at t=0 with a traceback's line."""
+    monkeypatch.chdir(tmp_path)
+    assert problems(READS) == [(9, "error", f"The script reads the file config/joints.csv, which is not there (from "
+                                            f"the folder {tmp_path}): the mission would stop at this line; run it "
+                                            f"from the folder that holds config/joints.csv, as under python3")]
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "joints.csv").write_text("x,y,z\n1,0,1\n")
+    assert problems(READS) == []  # run from the project's folder, as its author does; a file written is not read
