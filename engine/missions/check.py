@@ -398,6 +398,42 @@ def endless_loops(checker: MissionChecker) -> list[ast.While]:
     return endless
 
 
+def sibling_problems(tree: ast.Module, filename: str, specialist: BehaviorSpecialist,
+                     seen: set[Path] | None = None) -> list[MissionProblem]:
+    """What is wrong in the modules of a script's folder that it imports (``from mission.follow_drone_module
+    import FollowDroneModule``), at their own file and line: ROS 2 used beyond the drone interface, a drone
+    interface's call Aerostack2 does not have; found before flight as in the script itself, not when the module
+    is first used in flight."""
+    here = Path(filename).resolve().parent if filename and not filename.startswith("<") else None
+    seen = seen if seen is not None else {Path(filename).resolve()} if here is not None else set()
+    found: list[MissionProblem] = []
+    for node in ast.walk(tree) if here is not None else ():
+        names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                 [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level else [])
+        for name in names:
+            parts = name.split(".")
+            for path in (here.joinpath(*parts).with_suffix(".py"), here.joinpath(*parts, "__init__.py")):
+                if path.is_file() and path.resolve() not in seen:
+                    seen.add(path.resolve())
+                    found += _module_problems(path, specialist, seen)
+    return found
+
+
+def _module_problems(path: Path, specialist: BehaviorSpecialist, seen: set[Path]) -> list[MissionProblem]:
+    try:
+        tree = parse_source(read_text(path, what="the module"), str(path))
+    except (SyntaxError, InputError, ValueError):
+        return []  # the run says so when it imports it, as Python does
+    checker = MissionChecker(tree, str(path), specialist)
+    for node, severity, message in program_problems(checker.nodes, checker.dotted):
+        checker.report(node, message, WRONG_FORMAT if severity == "error" else "", severity)
+    for node in checker.nodes:
+        if isinstance(node, ast.Call):
+            for objects in checker.objects:
+                objects.check(node)
+    return [*checker.problems, *sibling_problems(tree, str(path), specialist, seen)]
+
+
 def missing_reads(checker: MissionChecker) -> list[tuple[ast.AST, str]]:
     """The files a script opens for reading that are not there: ``open("config/joints.csv")``, or ``open(path)``
     in a function of the script called with that name (``load_path_from_csv("config/joints.csv")``); relative
@@ -483,6 +519,7 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
             checker.report(loop, "This mission never ends: the loop `while True:` has no break, return or exit, so "
                                  "the drone would fly on until the battery runs low; "
                                  "give the loop an end (a count, a duration or a condition)", WRONG_SEQUENCE)
+        checker.problems.extend(sibling_problems(tree, filename, checker.specialist))
         for node, name in missing_reads(checker):
             checker.report(node, f"The script reads the file {name}, which is not there (from the folder "
                                  f"{Path.cwd()}): the mission would stop at this line; run it from the folder "
