@@ -220,3 +220,39 @@ def test_a_file_the_script_reads_that_is_not_there_is_refused_naming_it(tmp_path
     (tmp_path / "config").mkdir()
     (tmp_path / "config" / "joints.csv").write_text("x,y,z\n1,0,1\n")
     assert problems(READS) == []  # run from the project's folder, as its author does; a file written is not read
+
+
+def test_a_script_that_waits_for_drones_another_program_flies_is_refused_at_their_interface():
+    """rss24_demo's mission_leader.py waits for its followers (DroneInterfaceBase, flown by mission_follower.py)
+    to take off: run alone it waited until the 1,800 s limit; now refused before flight, saying what it needs."""
+    found = problems("""
+        from time import sleep
+        from as2_msgs.msg import PlatformStatus
+        from as2_python_api.drone_interface import DroneInterfaceBase
+
+        def wait_to_takeoff(drone_interface):
+            while drone_interface.info['state'] != PlatformStatus.FLYING:
+                sleep(1.0)
+
+        leader = DroneInterface("drone0")
+        follower = DroneInterfaceBase(drone_id="drone1")
+        leader.takeoff(1.0, 0.5)
+        wait_to_takeoff(follower)
+        leader.land(0.3)
+        """)
+    assert found == [(12, "error", "DroneInterfaceBase only watches its drone: nothing in this script flies it (no "
+                                   "behavior module is given it), and the script waits for a drone's state (the loop "
+                                   "at line 8); another program flies that drone. Fly them together, each drone with "
+                                   "its own program, in a fleet file (aeroexec fleet)")]
+
+
+def test_a_drone_interface_base_given_a_module_flies_and_is_not_refused():
+    assert problems("""
+        from as2_python_api.drone_interface_base import DroneInterfaceBase
+        from as2_python_api.modules.motion_reference_handler_module import MotionReferenceHandlerModule
+
+        uav = DroneInterfaceBase(drone_id="drone0")
+        uav.motion_ref_handler = MotionReferenceHandlerModule(drone=uav)
+        while uav.info['state'] != 2:
+            uav.motion_ref_handler.hover()
+        """) == []
