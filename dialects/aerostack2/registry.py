@@ -1,8 +1,8 @@
 """Aerostack2 registered with the core, as another package would be (pyproject.toml's entry points): its mission
 interpreter's plans in the table of mission formats, its Python API served under the names its scripts import
 (``as2_python_api``, ``as2_msgs``, ``rclpy``; a program importing ``as2_python_api`` or ``rclpy`` is a script run
-whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check (with the drones a script only watches).
-(Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
+whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check
+(with the drones a script only watches). (Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
 
 from __future__ import annotations
 
