@@ -21,7 +21,8 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
-HELDBACK = Path(__file__).resolve().parent.parent / "tests" / "aerostack" / "data" / "heldback"
+REPOSITORY = Path(__file__).resolve().parent.parent
+HELDBACK = REPOSITORY / "tests" / "aerostack" / "data" / "heldback"
 #: The missions of the set: the files SOURCES.md names, less the modules a script imports (no mission of their own).
 MISSION = re.compile(r"^\| `([^`]+\.(?:py|xml))` \|", re.MULTILINE)
 SUPPORT = ("/__init__.py", "follow_drone_module.py")
@@ -69,7 +70,7 @@ def fly(path: Path, limit: float) -> Outcome:
         out = outputs[0].parent if outputs else Path(folder)
         if done.returncode == 0:
             return Outcome(name, "flew", 0, "")
-        reason = _reason(done.stderr, out)
+        reason = _reason(done.stderr.replace(f"{REPOSITORY}/", ""), out)  # the files as the repository names them
         refused = done.returncode == 3 or (done.returncode == 1 and not outputs)
         return Outcome(name, "refused" if refused else "failed", done.returncode, reason)
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import re
+from typing import Any
 
 #: Names (of an option, a variable, a keyword) that hold drone namespaces.
 _NAMESPACE = re.compile(r"(namespace|^ns$|_ns$|^ns_|drone_?(id|name)s?$|^drones?$|^uavs?$|leader|follower)", re.I)
@@ -71,3 +72,23 @@ def script_namespaces(tree: ast.Module) -> tuple[str, ...]:
 
 
 __all__ = ["script_namespaces"]
+
+
+def watched_drones(nodes: list[ast.AST], dotted: Any) -> list[tuple[ast.AST, str, str]]:
+    """``(node, severity, message)`` for each ``DroneInterfaceBase(...)`` that only watches a drone another
+    program flies (rss24_demo's leader waits for its followers to take off): the script gives it no behavior
+    module, and waits in a loop on a drone's state (``while ... .info[...]``). Run alone, nothing would ever fly
+    that drone and the wait would last until the time limit; a fleet file gives each drone its own program."""
+    waits = [n for n in nodes if isinstance(n, ast.While)
+             and any(isinstance(a, ast.Attribute) and a.attr == "info" for a in ast.walk(n.test))]
+    modules_given = any(isinstance(n, ast.Call) and any(k.arg == "drone" for k in n.keywords) for n in nodes)
+    if not waits or modules_given:
+        return []
+    loop = min(waits, key=lambda n: n.lineno)
+    return [(node, "error", f"DroneInterfaceBase only watches its drone: nothing in this script flies it (no "
+                            f"behavior module is given it), and the script waits for a drone's state (the loop at "
+                            f"line {loop.lineno}); another program flies that drone. Fly them together, each "
+                            f"drone with its own program, in a fleet file (aeroexec fleet)")
+            for node in nodes if isinstance(node, ast.Call)
+            and (dotted(node.func) or "").endswith("DroneInterfaceBase")
+            and (dotted(node.func) or "").startswith("as2_python_api")]

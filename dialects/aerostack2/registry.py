@@ -1,8 +1,8 @@
 """Aerostack2 registered with the core, as another package would be (pyproject.toml's entry points): its mission
 interpreter's plans in the table of mission formats, its Python API served under the names its scripts import
 (``as2_python_api``, ``as2_msgs``, ``rclpy``; a program importing ``as2_python_api`` or ``rclpy`` is a script run
-whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check.
-(Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
+whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check
+(with the drones a script only watches). (Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
 
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ IMPORTS = StandIns(
     environment={"AEROSTACK2_SIMULATION_DRONE_ID": "drone0"},
     drones=f"{_HERE}.namespaces:script_namespaces",
 )
-CHECKS = DialectChecks(objects=f"{_HERE}.drone_objects:DroneObjects")
+CHECKS = DialectChecks(objects=f"{_HERE}.drone_objects:DroneObjects",
+                       problems=f"{_HERE}.namespaces:watched_drones")
 
 __all__ = ["CHECKS", "FORMATS", "IMPORTS"]

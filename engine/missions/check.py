@@ -25,7 +25,14 @@ from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.arguments import format_value
 from aeroexec.engine.catalog.descriptors import RECURRENT, BehaviorDescriptor
 from aeroexec.engine.catalog.world_check import WorldMap
-from aeroexec.engine.errors import WRONG_FORMAT, WRONG_VALUE, MissionProblem, Problem, SpecificationError
+from aeroexec.engine.errors import (
+    WRONG_FORMAT,
+    WRONG_SEQUENCE,
+    WRONG_VALUE,
+    MissionProblem,
+    Problem,
+    SpecificationError,
+)
 from aeroexec.engine.missions.api_modules import (
     API_FUNCTIONS,
     BELIEF,
@@ -369,6 +376,116 @@ class MissionChecker:
         return True
 
 
+#: The calls that end a program from inside a loop.
+EXITS = ("sys.exit", "exit", "quit", "os._exit")
+
+
+def endless_loops(checker: MissionChecker) -> list[ast.While]:
+    """The ``while True:`` loops of a script with no way out (no ``break`` of their own, ``return``, ``raise`` or
+    exit call, outside the functions and classes they define) that the flight reaches: at the script's top level,
+    or in a function that runs behaviors (a thread's loop that never commands the drone is left alone)."""
+    endless = []
+    for loop in checker.nodes:
+        if not (isinstance(loop, ast.While) and isinstance(loop.test, ast.Constant) and loop.test.value):
+            continue
+        around = checker.parents.get(id(loop))
+        while around is not None and not isinstance(around, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda):
+            around = checker.parents.get(id(around))
+        if around is not None and not checker.effectful(loop) and around.name not in checker.effectful_functions:
+            continue
+        if not any(_leaves(statement, checker) for statement in loop.body):
+            endless.append(loop)
+    return endless
+
+
+def sibling_problems(tree: ast.Module, filename: str, specialist: BehaviorSpecialist,
+                     seen: set[Path] | None = None) -> list[MissionProblem]:
+    """What is wrong in the modules of a script's folder that it imports (``from mission.follow_drone_module
+    import FollowDroneModule``), at their own file and line: ROS 2 used beyond the drone interface, a drone
+    interface's call Aerostack2 does not have; found before flight as in the script itself, not when the module
+    is first used in flight."""
+    here = Path(filename).resolve().parent if filename and not filename.startswith("<") else None
+    seen = seen if seen is not None else {Path(filename).resolve()} if here is not None else set()
+    found: list[MissionProblem] = []
+    for node in ast.walk(tree) if here is not None else ():
+        names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                 [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level else [])
+        for name in names:
+            parts = name.split(".")
+            for path in (here.joinpath(*parts).with_suffix(".py"), here.joinpath(*parts, "__init__.py")):
+                if path.is_file() and path.resolve() not in seen:
+                    seen.add(path.resolve())
+                    found += _module_problems(path, specialist, seen)
+    return found
+
+
+def _module_problems(path: Path, specialist: BehaviorSpecialist, seen: set[Path]) -> list[MissionProblem]:
+    try:
+        tree = parse_source(read_text(path, what="the module"), str(path))
+    except (SyntaxError, InputError, ValueError):
+        return []  # the run says so when it imports it, as Python does
+    checker = MissionChecker(tree, str(path), specialist)
+    for node, severity, message in program_problems(checker.nodes, checker.dotted):
+        checker.report(node, message, WRONG_FORMAT if severity == "error" else "", severity)
+    for node in checker.nodes:
+        if isinstance(node, ast.Call):
+            for objects in checker.objects:
+                objects.check(node)
+    return [*checker.problems, *sibling_problems(tree, str(path), specialist, seen)]
+
+
+def missing_reads(checker: MissionChecker) -> list[tuple[ast.AST, str]]:
+    """The files a script opens for reading that are not there: ``open("config/joints.csv")``, or ``open(path)``
+    in a function of the script called with that name (``load_path_from_csv("config/joints.csv")``); relative
+    names are read from the current folder, as under ``python3``. Each with the node that names it."""
+    found: list[tuple[ast.AST, str]] = []
+    for call in checker.nodes:
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "open"
+                and call.args and "open" not in checker.functions):
+            continue
+        mode = checker.value(call.args[1]) if len(call.args) > 1 else next(
+            (checker.value(k.value) for k in call.keywords if k.arg == "mode"), "r")
+        if not isinstance(mode, str) or not set(mode) & {"r"} or set(mode) & {"w", "a", "x", "+"}:
+            continue
+        for node in _named_files(checker, call.args[0]):
+            name = checker.value(node)
+            if isinstance(name, str) and name and not Path(name).expanduser().exists():
+                found.append((node, name))
+    return found
+
+
+def _named_files(checker: MissionChecker, argument: ast.AST) -> list[ast.AST]:
+    """The nodes that give ``argument`` its value: itself, or, for a parameter of the function it is in, the
+    arguments that parameter gets at each call of that function in the program."""
+    if not isinstance(argument, ast.Name):
+        return [argument]
+    around = checker.parents.get(id(argument))
+    while around is not None and not isinstance(around, ast.FunctionDef | ast.AsyncFunctionDef):
+        around = checker.parents.get(id(around))
+    parameters = [a.arg for a in around.args.args] if around is not None else []
+    if argument.id not in parameters or len(checker.functions.get(around.name, ())) != 1:
+        return [argument]
+    index, given = parameters.index(argument.id), []
+    for call in checker.nodes:
+        if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == around.name:
+            keyword = next((k.value for k in call.keywords if k.arg == argument.id), None)
+            given += [call.args[index]] if index < len(call.args) else [keyword] if keyword is not None else []
+    return given
+
+
+def _leaves(node: ast.AST, checker: MissionChecker, nested_loop: bool = False) -> bool:
+    """True when ``node`` may leave the loop it is in (``nested_loop``: within an inner loop, whose ``break``
+    leaves that one only)."""
+    if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef | ast.Lambda):
+        return False
+    if isinstance(node, ast.Return | ast.Raise) or (isinstance(node, ast.Break) and not nested_loop):
+        return True
+    if isinstance(node, ast.Call) and checker.dotted(node.func) in EXITS:
+        return True
+    inner = nested_loop or isinstance(node, ast.For | ast.AsyncFor | ast.While)
+    return any(_leaves(child, checker, inner) for child in ast.iter_child_nodes(node))
+
+
 def _called_name(call: ast.Call) -> str | None:
     func = call.func
     return func.id if isinstance(func, ast.Name) else func.attr if isinstance(func, ast.Attribute) else None
@@ -398,6 +515,15 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)
     if entry is None and is_script(tree, checker.nodes):  # a script (Aerostack2's): it runs whole, from its start
+        for loop in endless_loops(checker):
+            checker.report(loop, "This mission never ends: the loop `while True:` has no break, return or exit, so "
+                                 "the drone would fly on until the battery runs low; "
+                                 "give the loop an end (a count, a duration or a condition)", WRONG_SEQUENCE)
+        checker.problems.extend(sibling_problems(tree, filename, checker.specialist))
+        for node, name in missing_reads(checker):
+            checker.report(node, f"The script reads the file {name}, which is not there (from the folder "
+                                 f"{Path.cwd()}): the mission would stop at this line; run it from the folder "
+                                 f"that holds {name}, as under python3", WRONG_FORMAT)
         if checker.sequence_checkable():
             SequenceWalker(checker).check_body(tree.body)
     elif entry is None:

@@ -4,6 +4,10 @@ Questions never block the engine: :meth:`OperatorChannel.ask` returns a :class:`
 behavior polls each tick. Three channels: :class:`ConsoleOperator` (someone at the terminal; a daemon thread
 reads stdin), :class:`ScriptedOperator` (answers from a YAML file, for tests and rehearsals) and
 :class:`LoggingOperator` (no one there: the first possible answer, or a default).
+
+When no one answers, a yes/no question gets its first possible answer the first time it is asked and "no" each
+time it is asked again (:meth:`OperatorChannel.unattended`): an operator who walked away asks for no replay, so a
+script's ``while confirm("Replay")`` goes round once and ends, where "yes" forever would fly until the battery.
 """
 
 from __future__ import annotations
@@ -62,6 +66,10 @@ class PendingAnswer:
         return f"<PendingAnswer {self.question!r}: {state}>"
 
 
+#: The possible answers that say "no" (a yes/no question asked again when no one answers gets this one).
+NO_ANSWERS = ("n", "no")
+
+
 def first_answer(answers: Sequence[str], default: str | None) -> str:
     """What someone absent answers: the default when given, else the first possible answer, else ''."""
     if default is not None:
@@ -84,6 +92,7 @@ class OperatorChannel:
         self.voice_command: str | None = None
         self._lock = threading.Lock()
         self._asked: list[PendingAnswer] = []  # questions and image requests, for answer_pending
+        self._unattended: set[str] = set()  # the questions already answered for someone absent
 
     @property
     def last_voice_command(self) -> str | None:
@@ -148,9 +157,26 @@ class OperatorChannel:
     def close(self) -> None:
         """Release what the channel holds; never hangs."""
 
+    def unattended(self, pending: PendingAnswer, default: str | None, why: str) -> None:
+        """Answer ``pending`` for an operator who is not there (``why`` says so): ``default`` when given, else
+        the first possible answer; but a question with a "no" among its answers that was already answered so gets
+        "no" — a loop asking it again (``while confirm("Replay")``) ends instead of repeating until the battery."""
+        key = _normal(pending.question)
+        with self._lock:
+            again = key in self._unattended
+            self._unattended.add(key)
+        no = next((a for a in pending.answers if str(a).strip().lower() in NO_ANSWERS), None)
+        if default is None and again and no is not None:
+            logger.warning("%s: %r asked again: answering %r (nobody there asks for it again)", why,
+                           pending.question, no)
+            pending.set(str(no), f"{why}: asked again, {no!r}")
+            return
+        chosen = "the default answer" if default is not None else "the first possible answer"
+        pending.set(first_answer(pending.answers, default), f"{why}: {chosen}")
+
     # -- how a channel answers -------------------------------------------------------------
     def _answer(self, pending: PendingAnswer) -> None:
-        pending.set(first_answer(pending.answers, None), "no operator: the first possible answer")
+        self.unattended(pending, None, "no operator")
 
     def _select(self, pending: PendingAnswer) -> None:
         pending.set(pending.answers[0] if pending.answers else None, "the nearest object in view")
@@ -165,8 +191,7 @@ class LoggingOperator(OperatorChannel):
         self.voice_command = voice_command
 
     def _answer(self, pending: PendingAnswer) -> None:
-        note = "the default answer" if self.default is not None else "no operator: the first possible answer"
-        pending.set(first_answer(pending.answers, self.default), note)
+        self.unattended(pending, self.default, "no operator")
 
 
 class ScriptedOperator(OperatorChannel):
@@ -222,10 +247,8 @@ class ScriptedOperator(OperatorChannel):
             if not self._by_question and self._ordered:
                 pending.set(self._ordered.popleft(), "from the answers file")
                 return
-        value = first_answer(pending.answers, self.default)
-        logger.warning("the answers file does not answer %r: answering %r", pending.question, value)
-        pending.set(value, "not in the answers file: " + ("the default answer" if self.default is not None
-                                                          else "the first possible answer"))
+        self.unattended(pending, self.default, "not in the answers file")
+        logger.warning("the answers file does not answer %r: answering %r", pending.question, pending.value)
 
 
 class ConsoleOperator(OperatorChannel):
@@ -285,7 +308,7 @@ class ConsoleOperator(OperatorChannel):
             if not ended:
                 self._waiting.append(pending)
         if ended:
-            pending.set(first_answer(pending.answers, None), "the console has no more input: the first answer")
+            self.unattended(pending, None, "the console has no more input")
             return
         self._write(prompt, newline=False)
 
@@ -303,7 +326,7 @@ class ConsoleOperator(OperatorChannel):
             waiting = list(self._waiting)
             self._waiting.clear()
         for pending in waiting:
-            pending.set(first_answer(pending.answers, None), "the console has no more input: the first answer")
+            self.unattended(pending, None, "the console has no more input")
 
     def _hear(self, text: str) -> None:
         with self._lock:

@@ -143,3 +143,116 @@ def test_ros_2_beyond_the_drone_interface_is_refused_where_it_is_used():
         (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface"),
         (13, "error", "rclpy.spin_once: this mission uses ROS 2 beyond the drone interface"),
     ]
+
+
+NEVER_ENDS = ("This mission never ends: the loop `while True:` has no break, return or exit, so the drone would fly "
+              "on until the battery runs low; give the loop an end (a count, a duration or a condition)")
+
+
+def test_a_while_true_loop_with_no_way_out_after_take_off_is_refused_at_its_line():
+    """pariaspe/project_gazebo's mission_vel_motion_ref.py: speed references sent forever, in a method of the
+    drone's class that took off; and the same loop at the script's top level."""
+    assert problems("""
+        import time
+
+        class Drone(DroneInterface):
+            def run(self):
+                self.takeoff(1.0, wait=True)
+                while True:
+                    self.motion_ref_handler.speed.send_speed_command_with_yaw_angle([0.5, 0.0, 0.0])
+                    time.sleep(0.1)
+
+        uav = Drone("drone0")
+        uav.run()
+        while True:
+            time.sleep(1)
+        """) == [(8, "error", NEVER_ENDS), (14, "error", NEVER_ENDS)]
+
+
+def test_loops_with_a_way_out_or_in_a_thread_that_flies_nothing_are_not_refused():
+    assert problems("""
+        import sys
+        import threading
+        import time
+
+        def watch():
+            while True:
+                print("alive")
+                time.sleep(1)
+
+        threading.Thread(target=watch, daemon=True).start()
+        uav = DroneInterface("drone0")
+        uav.takeoff(2.0, 1.0)
+        while True:
+            for _ in range(3):
+                break
+            if uav.info["state"] == 0:
+                break
+        while 1:
+            uav.go_to(1, 1, 2, 1.0)
+            sys.exit(0)
+        """) == []
+
+
+READS = """
+    import csv
+
+    def load_path_from_csv(file_path):
+        with open(file_path, newline='') as csvfile:
+            return [[float(row['x']), float(row['y']), float(row['z'])] for row in csv.DictReader(csvfile)]
+
+    PATH = load_path_from_csv("config/joints.csv")
+    uav = DroneInterface("drone0")
+    uav.takeoff(1.0, 1.0)
+    uav.follow_path(PATH, 1.0)
+    with open("notes.txt", "w") as notes:
+        notes.write("done")
+    """
+
+
+def test_a_file_the_script_reads_that_is_not_there_is_refused_naming_it(tmp_path, monkeypatch):
+    """jackha02/project_gazebo's jacket_inspection_single.py reads config/joints.csv from the folder it is run
+    in: refused before flight naming the file and the folder, where it failed at t=0 with a traceback's line."""
+    monkeypatch.chdir(tmp_path)
+    assert problems(READS) == [(9, "error", f"The script reads the file config/joints.csv, which is not there (from "
+                                            f"the folder {tmp_path}): the mission would stop at this line; run it "
+                                            f"from the folder that holds config/joints.csv, as under python3")]
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "joints.csv").write_text("x,y,z\n1,0,1\n")
+    assert problems(READS) == []  # run from the project's folder, as its author does; a file written is not read
+
+
+def test_a_script_that_waits_for_drones_another_program_flies_is_refused_at_their_interface():
+    """rss24_demo's mission_leader.py waits for its followers (DroneInterfaceBase, flown by mission_follower.py)
+    to take off: run alone it waited until the 1,800 s limit; now refused before flight, saying what it needs."""
+    found = problems("""
+        from time import sleep
+        from as2_msgs.msg import PlatformStatus
+        from as2_python_api.drone_interface import DroneInterfaceBase
+
+        def wait_to_takeoff(drone_interface):
+            while drone_interface.info['state'] != PlatformStatus.FLYING:
+                sleep(1.0)
+
+        leader = DroneInterface("drone0")
+        follower = DroneInterfaceBase(drone_id="drone1")
+        leader.takeoff(1.0, 0.5)
+        wait_to_takeoff(follower)
+        leader.land(0.3)
+        """)
+    assert found == [(12, "error", "DroneInterfaceBase only watches its drone: nothing in this script flies it (no "
+                                   "behavior module is given it), and the script waits for a drone's state (the loop "
+                                   "at line 8); another program flies that drone. Fly them together, each drone with "
+                                   "its own program, in a fleet file (aeroexec fleet)")]
+
+
+def test_a_drone_interface_base_given_a_module_flies_and_is_not_refused():
+    assert problems("""
+        from as2_python_api.drone_interface_base import DroneInterfaceBase
+        from as2_python_api.modules.motion_reference_handler_module import MotionReferenceHandlerModule
+
+        uav = DroneInterfaceBase(drone_id="drone0")
+        uav.motion_ref_handler = MotionReferenceHandlerModule(drone=uav)
+        while uav.info['state'] != 2:
+            uav.motion_ref_handler.hover()
+        """) == []

@@ -113,3 +113,39 @@ def test_a_multi_drone_script_flown_alone_says_it_needs_a_fleet(tmp_path, capsys
     assert flight.status == 1
     assert "and this run flies one drone: fly it as a fleet, one drone per namespace" in flight.err
     assert not [r for r in flight.kinds("activated") if r.get("source") == "mission"]  # nothing flew
+
+
+REPLAY = '''\
+import rclpy
+from as2_python_api.drone_interface import DroneInterface
+
+
+def confirm(msg="Continue"):
+    return input(f"{msg}? (y/n): ") == "y"
+
+
+rclpy.init()
+drone = DroneInterface("drone0")
+if confirm("Takeoff"):
+    drone.takeoff(2.0, 1.0)
+    drone.go_to(3, 0, 2, speed=1.0)
+    while confirm("Replay"):
+        drone.go_to(0, 3, 2, speed=1.0)
+    if confirm("Land"):
+        drone.land(0.5)
+rclpy.shutdown()
+'''
+
+
+def test_a_replay_question_nobody_answers_replays_once_and_the_mission_completes(tmp_path, capsys, caplog):
+    """``while confirm("Replay")`` with nobody there: "y" the first time, "n" when asked again (an operator who
+    walked away asks for no more replays), so the script lands instead of replaying until the battery."""
+    script = tmp_path / "mission.py"
+    script.write_text(REPLAY)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert [b for b in flight.achieved() if b != "ASK_OPERATOR"] == [T, G, G, L]  # one replay, then the landing
+    said = [r["detail"] for r in flight.records if r["kind"] == "operator" and r["detail"].startswith("Replay")]
+    assert [d for d in said if d != "Replay? (y/n):"] == ["Replay? (y/n): y", "Replay? (y/n): n"], said
+    assert "'Replay? (y/n):' asked again: answering 'n'" in caplog.text
+    assert flight.kinds("run_ended")[-1]["detail"] == "completed"

@@ -412,3 +412,15 @@ def test_aeroexec_run_with_an_answers_file(tmp_path):
                           str(tmp_path / "none.yaml")], capture_output=True, text=True, timeout=60, cwd=tmp_path,
                          stdin=subprocess.DEVNULL)
     assert bad.returncode == 1 and "--answers" in bad.stderr and "cannot read" in bad.stderr
+
+
+def test_nobody_there_says_no_to_a_yes_no_question_asked_again_and_nothing_else_changes():
+    """A replay loop (``while confirm("Replay")``) with nobody there ends after one replay; a question without a
+    "no", or a channel given a default answer, answers as before every time."""
+    absent = LoggingOperator()
+    replay = [absent.ask("Replay? (y/n):", ["y", "n"]) for _ in range(3)]
+    assert [p.value for p in replay] == ["y", "n", "n"]
+    assert replay[1].note == "no operator: asked again, 'n'"
+    assert [absent.ask("Which way?", ["east", "south"]).value for _ in range(2)] == ["east", "east"]
+    told = LoggingOperator(default="y")
+    assert [told.ask("Replay? (y/n):", ["y", "n"]).value for _ in range(2)] == ["y", "y"]
