@@ -6,6 +6,9 @@ from __future__ import annotations
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
+
+MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 
 
 def imported_after(code: str) -> set[str]:
@@ -66,3 +69,18 @@ def test_a_run_reads_its_declared_rules_and_robot_kind_without_the_web_or_packag
         assert _unescape("a &lt; b &amp;&amp; c &gt; &quot;d&apos; &amp;lt;") == "a < b && c > \\"d' &lt;"
     """)
     assert sorted(modules & {"xml.sax.saxutils", "urllib.request", "ssl", "importlib.metadata"}) == []
+
+
+def test_verifying_an_xml_mission_imports_neither_the_web_nor_ssl():
+    """``aeroexec verify missions/figure10.xml`` reads the XML with expat and refuses what ``defusedxml`` refuses,
+    without SAX: ``xml.sax.saxutils`` imports urllib.request, http.client and ssl (~10 ms of every verify)."""
+    modules = imported_after(f"""
+        import contextlib, io, sys
+        sys.argv = ["aeroexec", "verify", {str(MISSIONS / "figure10.xml")!r}]
+        from aeroexec.cli.main import main
+        shown = io.StringIO()
+        with contextlib.redirect_stdout(shown), contextlib.suppress(SystemExit):
+            main()
+        assert "0 errors" in shown.getvalue(), shown.getvalue()
+    """)
+    assert sorted(modules & {"xml.sax", "xml.sax.saxutils", "urllib.request", "http.client", "ssl"}) == []
