@@ -342,6 +342,23 @@ def _cached_catalog(key: str) -> BehaviorCatalog | None:
     return catalog if isinstance(catalog, BehaviorCatalog) else None
 
 
+#: The most parsed catalogs kept: the oldest written are removed beyond it (each changed file or code leaves one).
+KEPT_CATALOGS = 32
+
+
+def _prune(folder: Path) -> None:
+    """Remove the oldest kept catalogs beyond :data:`KEPT_CATALOGS` (one removed by another process meanwhile is no
+    error; one still in use is parsed again when next loaded)."""
+    kept = []
+    for entry in os.scandir(folder):
+        if entry.name.startswith("catalog.") and entry.name.endswith(".pickle"):
+            with contextlib.suppress(OSError):
+                kept.append((entry.stat().st_mtime_ns, entry.path))
+    for _, path in sorted(kept)[:-KEPT_CATALOGS]:
+        with contextlib.suppress(OSError):
+            os.unlink(path)
+
+
 def _keep_catalog(key: str, catalog: BehaviorCatalog) -> None:
     """Write ``catalog`` under ``key`` (atomically: a reader sees the whole file or none); a folder that cannot be
     written is no error."""
@@ -353,6 +370,7 @@ def _keep_catalog(key: str, catalog: BehaviorCatalog) -> None:
         with tempfile.NamedTemporaryFile(dir=folder, prefix="catalog.", suffix=".tmp", delete=False) as file:
             file.write(data)
         os.replace(file.name, folder / f"catalog.{key}.pickle")
+        _prune(folder)
     except (OSError, pickle.PicklingError, TypeError, AttributeError) as error:
         logger.debug("the parsed catalog was not kept: %s", error)
         with contextlib.suppress(OSError, NameError):

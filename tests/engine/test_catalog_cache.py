@@ -95,3 +95,17 @@ def test_without_a_writable_cache_folder_the_catalog_is_read_every_time(tmp_path
     monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
     assert "GO_TO_POINT" in load_catalog(default_catalog_path())
     assert "GO_TO_POINT" in load_catalog(default_catalog_path())
+
+
+def test_the_cache_keeps_only_the_newest_catalogs(cache, tmp_path, monkeypatch):
+    import aeroexec.engine.catalog.behavior_catalog as behavior_catalog
+
+    monkeypatch.setattr(behavior_catalog, "KEPT_CATALOGS", 2)
+    text = default_catalog_path().read_text()
+    path = tmp_path / "aerial.yaml"
+    for timeout in (91, 92, 93):  # three versions of the file, each kept when read
+        path.write_text(text.replace("Land vertically where the robot is.\n  timeout: 90\n",
+                                     f"Land vertically where the robot is.\n  timeout: {timeout}\n"))
+        assert load_catalog(path).behavior("LAND").timeout == timeout
+    assert len(kept(cache)) == 2
+    assert load_catalog(path).behavior("LAND").timeout == 93
