@@ -13,15 +13,14 @@ writes the file again) when it does not match or cannot be read (one written by 
 from __future__ import annotations
 
 import hashlib
-import os
-import stat
 import sys
 from importlib import resources
-from pathlib import Path
 from typing import Any
 
 from lark import Lark
 from lark import __version__ as lark_version
+
+from aeroexec.cache import user_cache_folder
 
 __all__ = ["lalr_parser"]
 
@@ -30,7 +29,7 @@ def lalr_parser(grammar: str, **options: Any) -> Lark:
     """An LALR parser for the grammar file ``grammar`` (``beliefs.lark``) with Lark's ``options``, from the cache
     when it can be."""
     text = resources.files(__package__).joinpath(grammar).read_text(encoding="utf-8")
-    folder = _private_cache()
+    folder = user_cache_folder()
     if folder is None:
         return Lark(text, parser="lalr", **options)
     # one file per grammar and options (a transformer changes nothing cached): two parsers never overwrite each other
@@ -38,17 +37,3 @@ def lalr_parser(grammar: str, **options: Any) -> Lark:
     key = hashlib.sha256(shape.encode()).hexdigest()[:12]
     version = f"lark{lark_version}-py{sys.version_info[0]}{sys.version_info[1]}"
     return Lark(text, parser="lalr", cache=str(folder / f"{grammar}.{key}.{version}.cache"), **options)
-
-
-def _private_cache() -> Path | None:
-    """The user's aeroexec cache folder, made if need be; None when it cannot be made or is not private."""
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    folder = Path(base) / "aeroexec"
-    try:
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-        info = folder.stat()
-    except OSError:
-        return None
-    if hasattr(os, "getuid") and (info.st_uid != os.getuid() or info.st_mode & (stat.S_IWGRP | stat.S_IWOTH)):
-        return None
-    return folder

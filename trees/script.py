@@ -17,16 +17,16 @@ import math
 import operator
 import sys
 from collections.abc import Callable, MutableMapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 __all__ = ["Script", "ScriptCompiler", "ScriptError", "compile_script", "text_of", "truth"]
 
-from aeroexec.grammar import lalr_parser
 from aeroexec.trees import conversions
-from lark import Lark, Transformer, Tree
-from lark.exceptions import LarkError
 
 from aeroexec.limits import MAX_NESTING
+
+if TYPE_CHECKING:
+    from lark import Lark, Transformer, Tree
 
 _EPSILON = sys.float_info.epsilon * 2 ** 29  # float's epsilon, as BT.CPP compares doubles
 Value = int | float | str
@@ -39,7 +39,19 @@ class ScriptError(ValueError):
 
 @functools.cache
 def _parser() -> Lark:
+    """The script grammar's parser; Lark is imported here, when a first script is compiled, not with this module
+    (importing Lark is ~50 ms of the start-up of a command whose mission has no script)."""
+    from aeroexec.grammar import lalr_parser
+
     return lalr_parser("script.lark")
+
+
+@functools.cache
+def _compiler() -> type[Transformer]:
+    """:class:`ScriptCompiler` as the Lark transformer it is (made when a first script is compiled)."""
+    from lark import Transformer
+
+    return type("ScriptCompiler", (ScriptCompiler, Transformer), {"__module__": __name__})
 
 
 def _is_number(value: Any) -> bool:
@@ -207,9 +219,9 @@ def _constant(value: Value) -> Evaluator:
     return lambda board, beliefs: value
 
 
-class ScriptCompiler(Transformer):
+class ScriptCompiler:
     """The parse tree of a script as evaluators (``(blackboard, beliefs) -> value``), one method per rule it
-    builds; ``start`` gives the list of statements."""
+    builds; ``start`` gives the list of statements. A Lark ``Transformer`` when used (:func:`_compiler`)."""
 
     def start(self, statements: list[Evaluator | None]) -> list[Evaluator]:
         return [s for s in statements if s is not None]
@@ -300,6 +312,8 @@ class Script:
     """A parsed script: ``run`` it on a blackboard (``beliefs`` answers ``belief("...")``)."""
 
     def __init__(self, text: str) -> None:
+        from lark.exceptions import LarkError
+
         self.text = text
         try:
             tree = _parser().parse(text)
@@ -311,7 +325,7 @@ class Script:
                               f"{MAX_NESTING} levels deep")
         if not statements:
             raise ScriptError(f"Empty Script [{text}]")
-        self.statements: list[Evaluator] = ScriptCompiler().transform(tree)
+        self.statements: list[Evaluator] = _compiler()().transform(tree)
         self.portable = "belief" not in {t.data for t in tree.iter_subtrees()}
         #: the blackboard keys the script assigns, and those it reads (``x += 1`` reads x)
         self.writes = [str(t.children[0]) for t in tree.iter_subtrees() if t.data == "assignment"]
@@ -333,6 +347,8 @@ class Script:
 
 def _depth(tree: Tree) -> int:
     """The depth of a parse tree, walked without recursion (a chain of a thousand ``..`` is one long branch)."""
+    from lark import Tree
+
     deepest, pending = 0, [(tree, 1)]
     while pending:
         node, depth = pending.pop()

@@ -1,6 +1,7 @@
 """Reading TML missions (Aerostack's task-based mission language, Levant dialect) into a program model with lines.
 
-The file is XML read with the same ``defusedxml`` SAX parser as behavior trees (:func:`~.xml_loader.parse_xml`)::
+The file is XML read with the same parser as behavior trees (:func:`~.xml_loader.parse_xml`: expat, refusing
+what ``defusedxml`` refuses)::
 
     <mission root_task="Search for object">
       <task_tree>

@@ -6,6 +6,9 @@ from __future__ import annotations
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
+
+MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 
 
 def imported_after(code: str) -> set[str]:
@@ -66,3 +69,40 @@ def test_a_run_reads_its_declared_rules_and_robot_kind_without_the_web_or_packag
         assert _unescape("a &lt; b &amp;&amp; c &gt; &quot;d&apos; &amp;lt;") == "a < b && c > \\"d' &lt;"
     """)
     assert sorted(modules & {"xml.sax.saxutils", "urllib.request", "ssl", "importlib.metadata"}) == []
+
+
+def test_verifying_an_xml_mission_imports_neither_the_web_nor_ssl():
+    """``aeroexec verify missions/figure10.xml`` reads the XML with expat and refuses what ``defusedxml`` refuses,
+    without SAX: ``xml.sax.saxutils`` imports urllib.request, http.client and ssl (~10 ms of every verify)."""
+    modules = imported_after(f"""
+        import contextlib, io, sys
+        sys.argv = ["aeroexec", "verify", {str(MISSIONS / "figure10.xml")!r}]
+        from aeroexec.cli.main import main
+        shown = io.StringIO()
+        with contextlib.redirect_stdout(shown), contextlib.suppress(SystemExit):
+            main()
+        assert "0 errors" in shown.getvalue(), shown.getvalue()
+    """)
+    assert sorted(modules & {"xml.sax", "xml.sax.saxutils", "urllib.request", "http.client", "ssl"}) == []
+
+
+def test_a_mission_whose_beliefs_are_flat_and_has_no_script_is_verified_without_lark():
+    """figure10.xml's one belief (``position(self, ?here)``) is read by hand and it has no script: Lark (~50 ms of
+    every start) is not imported; a belief of another shape, or a script, still is read with the grammar."""
+    modules = imported_after(f"""
+        import contextlib, io, sys
+        sys.argv = ["aeroexec", "verify", {str(MISSIONS / "figure10.xml")!r}]
+        from aeroexec.cli.main import main
+        shown = io.StringIO()
+        with contextlib.redirect_stdout(shown), contextlib.suppress(SystemExit):
+            main()
+        assert "0 errors" in shown.getvalue(), shown.getvalue()
+    """)
+    assert "lark" not in modules
+    read = imported_after("""
+        from aeroexec.beliefs import parse_expression
+        from aeroexec.trees.script import compile_script
+        assert len(parse_expression("charge(battery, ?X), ?X > 20").literals) == 2
+        assert compile_script("x := 1").writes == ["x"]
+    """)
+    assert "lark" in read

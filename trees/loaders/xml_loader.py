@@ -1,6 +1,7 @@
 """Reading behavior-tree missions written in BehaviorTree.CPP's XML format 4 (the one Groot2 edits) into a TreeDocument.
 
-The file is parsed with ``defusedxml``'s SAX parser: a DOCTYPE, entity declarations and external
+The file is parsed with expat, as ``defusedxml``'s SAX parser parses it (without SAX, whose ``saxutils`` imports
+``urllib.request`` and ``ssl`` at every start): a DOCTYPE, entity declarations and external
 references are refused before anything is expanded (no billion laughs, no reading other files),
 and every element keeps the line it starts on. What is read::
 
@@ -26,15 +27,12 @@ is kept as a port. All problems found are raised together as one :class:`TreeFor
 
 from __future__ import annotations
 
-import io
 import logging
 import os
 import re
-import xml.sax
 from dataclasses import dataclass, field
-from xml.sax.xmlreader import InputSource
+from xml.parsers import expat
 
-import defusedxml.sax
 from aeroexec.engine.yaml_nodes import suggestion
 from aeroexec.trees.loaders.btcpp_names import model_name_problem, port_name_problem, refused
 from aeroexec.trees.loaders.common import EXPLICIT_TAGS, resolve_type
@@ -42,7 +40,7 @@ from aeroexec.trees.loaders.lenient_xml import escape_attributes
 from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from aeroexec.trees.runtime.kinds import is_subtree
 from aeroexec.trees.runtime.manifests import CONDITION, SUBTREE
-from defusedxml import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
+from defusedxml.common import DefusedXmlException, DTDForbidden, EntitiesForbidden, ExternalReferenceForbidden
 
 from aeroexec.limits import MAX_NESTING, InputError, read_bytes
 
@@ -59,34 +57,55 @@ class _Element:
     children: list[_Element] = field(default_factory=list)
 
 
-class _Collector(xml.sax.ContentHandler):
-    """Builds a light element tree whose elements know their lines."""
+class _Collector:
+    """Builds a light element tree whose elements know their lines, from expat's callbacks; refuses a DOCTYPE,
+    entity declarations and external references (as ``defusedxml`` does) before anything is expanded."""
 
     def __init__(self) -> None:
-        super().__init__()
-        self.locator: xml.sax.xmlreader.Locator | None = None
+        self.parser = expat.ParserCreate()
         self.stack: list[_Element] = []
         self.root: _Element | None = None
-
-    def setDocumentLocator(self, locator: xml.sax.xmlreader.Locator) -> None:  # noqa: N802 (SAX API)
-        self.locator = locator
+        self.parser.StartElementHandler = self.start_element
+        self.parser.EndElementHandler = self.end_element
+        self.parser.StartDoctypeDeclHandler = self.doctype
+        self.parser.EntityDeclHandler = self.entity
+        self.parser.UnparsedEntityDeclHandler = self.unparsed_entity
+        self.parser.ExternalEntityRefHandler = self.external_reference
 
     @property
     def line(self) -> int:
-        return self.locator.getLineNumber() if self.locator is not None else 0
+        return self.parser.CurrentLineNumber
 
-    def startElement(self, name: str, attrs: xml.sax.xmlreader.AttributesImpl) -> None:  # noqa: N802
+    def start_element(self, name: str, attrs: dict[str, str]) -> None:
         if len(self.stack) >= MAX_NESTING:
             raise _TooDeep(f"<{name}> is nested more than {MAX_NESTING} elements deep (the limit of the readers)")
-        element = _Element(name, {key: attrs[key] for key in attrs.getNames()}, self.line)
+        element = _Element(name, dict(attrs), self.line)
         if self.stack:
             self.stack[-1].children.append(element)
         else:
             self.root = element
         self.stack.append(element)
 
-    def endElement(self, name: str) -> None:  # noqa: N802
+    def end_element(self, name: str) -> None:
         self.stack.pop()
+
+    @staticmethod
+    def doctype(name: str, sysid: str | None, pubid: str | None, has_internal_subset: bool) -> None:
+        raise DTDForbidden(name, sysid, pubid)
+
+    @staticmethod
+    def entity(name: str, is_parameter_entity: bool, value: str | None, base: str | None, sysid: str | None,
+               pubid: str | None, notation_name: str | None) -> None:
+        raise EntitiesForbidden(name, value, base, sysid, pubid, notation_name)
+
+    @staticmethod
+    def unparsed_entity(name: str, base: str | None, sysid: str | None, pubid: str | None,
+                        notation_name: str | None) -> None:
+        raise EntitiesForbidden(name, None, base, sysid, pubid, notation_name)
+
+    @staticmethod
+    def external_reference(context: str, base: str | None, sysid: str | None, pubid: str | None) -> None:
+        raise ExternalReferenceForbidden(context, base, sysid, pubid)
 
 
 class _TooDeep(Exception):
@@ -104,19 +123,18 @@ def _refusal(exc: DefusedXmlException) -> str:
     return f"refused XML construct: {exc}"
 
 
-def _unclosed(exc: xml.sax.SAXParseException, open_elements: list[_Element], data: bytes) -> str | None:
+def _unclosed(message: str, line: int, column: int, open_elements: list[_Element], data: bytes) -> str | None:
     """For an end tag that does not match, or a file that ends too soon: the element still open and its line,
     which is where the mistake usually is (a ``<TAKE_OFF>`` written without its ``/``); None otherwise."""
-    if not open_elements or exc.getMessage() not in ("mismatched tag", "no element found"):
+    if not open_elements or message not in ("mismatched tag", "no element found"):
         return None
     element = open_elements[-1]
     still_open = (f"<{element.tag}> opened at line {element.line} is still open (close it: <{element.tag} .../> "
                   f"or </{element.tag}>)")
     lines = data.split(b"\n")
-    text = lines[exc.getLineNumber() - 1] if 0 < exc.getLineNumber() <= len(lines) else b""
-    column = exc.getColumnNumber()  # expat points into the end tag's name
+    text = lines[line - 1] if 0 < line <= len(lines) else b""  # expat's column points into the end tag's name
     closing = next((m for m in re.finditer(rb"</\s*([^\s>]+)", text) if m.start() <= column <= m.end()), None)
-    if exc.getMessage() == "mismatched tag" and closing:
+    if message == "mismatched tag" and closing:
         return f"mismatched tag </{closing.group(1).decode('utf-8', 'replace')}>: {still_open}"
     return f"the file ends while {still_open}"
 
@@ -129,25 +147,17 @@ def parse_xml(data: bytes, file: str, lenient: list[tuple[str, int, str]] | None
         data, found = escape_attributes(data, file)
         lenient += found
     collector = _Collector()
-    parser = defusedxml.sax.make_parser()
-    parser.forbid_dtd = True
-    parser.forbid_entities = True
-    parser.forbid_external = True
-    parser.setFeature(xml.sax.handler.feature_namespaces, False)
-    parser.setFeature(xml.sax.handler.feature_external_ges, False)
-    parser.setContentHandler(collector)
-    source = InputSource(file)
-    source.setByteStream(io.BytesIO(data))
     try:
-        parser.parse(source)
+        collector.parser.Parse(data, True)
     except DefusedXmlException as exc:
         raise TreeFormatError([(file, collector.line, _refusal(exc))]) from None
     except _TooDeep as exc:
         raise TreeFormatError([(file, collector.line, str(exc))]) from None
-    except xml.sax.SAXParseException as exc:
-        message = f"not well-formed XML: {_unclosed(exc, collector.stack, data) or exc.getMessage()}"
-        raise TreeFormatError([(file, exc.getLineNumber(), message)]) from None
-    except (xml.sax.SAXException, ValueError, LookupError) as exc:  # e.g. an unknown encoding
+    except expat.ExpatError as exc:
+        said = expat.ErrorString(exc.code)
+        message = f"not well-formed XML: {_unclosed(said, exc.lineno, exc.offset, collector.stack, data) or said}"
+        raise TreeFormatError([(file, exc.lineno, message)]) from None
+    except (ValueError, LookupError) as exc:  # e.g. an unknown encoding
         raise TreeFormatError([(file, collector.line, f"not readable as XML: {exc}")]) from None
     if collector.root is None:
         raise TreeFormatError([(file, 0, "not XML: the file has no element")])
