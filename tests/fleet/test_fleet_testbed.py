@@ -190,8 +190,9 @@ c.sendall(c.recv(1))
 
 def test_the_relay_holds_every_packet_reorders_duplicates_and_cuts_a_host(tmp_path):
     """Hosts on the delaying relay: a TCP connection and one round trip (3 packets one way, 2 back at the least)
-    take at least 5 x 50 ms (each packet held 200 +- 150 ms: five drawn short together made 0.75 s in a CI run); of 300 datagrams sent 2 ms apart with 150 ms of jitter and 20 % duplicated, some
-    arrive twice and some before one sent earlier; a host cut off receives nothing until it is healed."""
+    take at least 5 x 50 ms (each packet held 200 +- 150 ms: five drawn short together made 0.75 s in a CI run);
+    of 300 datagrams sent 2 ms apart with 150 ms of jitter and 20 % duplicated, some arrive twice and some before
+    one sent earlier; a host cut off receives nothing until it is healed."""
     with Testbed(Latency(200, 150, reorder=True, duplicate=20)) as bed:
         a, b = bed.host("a"), bed.host("b")
         server = subprocess.Popen(b.command(sys.executable, "-c", SERVE), stdout=subprocess.PIPE, text=True)
