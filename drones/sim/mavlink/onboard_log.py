@@ -195,6 +195,11 @@ class OnboardLog:
         self._mode: str | None = None
         self.paths: list[Path] = []
 
+    @property
+    def recording(self) -> bool:
+        """A file is open (between an arming and its disarming)."""
+        return self._writer is not None
+
     def record(self, sample: Sample, armed: bool, mode_number: int = 0) -> None:
         """Log the vehicle's state now; opens a file when it arms, closes it when it disarms."""
         if armed and self._writer is None:

@@ -35,7 +35,7 @@ from aeroexec.drones.sim.mavlink.offboard import OffboardControl, setpoint_from_
 from aeroexec.drones.sim.mavlink.onboard_log import OnboardLog, Sample, ned
 from aeroexec.drones.sim.mavlink.params import ParameterServer, px4_parameters
 from aeroexec.drones.sim.mavlink.streams import StreamScheduler
-from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ, TelemetryEncoder, VehicleState
+from aeroexec.drones.sim.mavlink.telemetry import DEFAULT_RATES_HZ, TelemetryEncoder, VehicleState, yaw_to_heading
 from pymavlink import mavutil
 from pymavlink.dialects.v20 import ardupilotmega
 from pymavlink.dialects.v20 import common as mavlink
@@ -377,11 +377,13 @@ class MavlinkVehicle:
     def _log(self, state: VehicleState) -> None:
         """The autopilot's own flight log: its estimate, its setpoint, its mode, on its boot clock."""
         tel = state.telemetry
+        if not tel.armed and not self.onboard_log.recording:
+            return  # on the ground, disarmed: nothing to log
         setpoint = self.drone.setpoint() if hasattr(self.drone, "setpoint") else None
         mode_number = COPTER_MODES.get(state.mode, 0) if self.copter is not None else 0
         self.onboard_log.record(Sample(
             boot_s=tel.time, utc_s=self._boot_utc + tel.time, position=ned(tel.position), velocity=ned(tel.velocity),
-            heading=math.radians((90.0 - tel.yaw) % 360.0), setpoint=None if setpoint is None else ned(setpoint),
+            heading=math.radians(yaw_to_heading(tel.yaw)), setpoint=None if setpoint is None else ned(setpoint),
             geodetic=state.geodetic, battery_remaining=tel.battery_percent / 100.0,
             battery_voltage=tel.battery_voltage, mode=state.mode), tel.armed, mode_number)
 
