@@ -95,33 +95,31 @@ def _entries_on_path(path: tuple[str, ...]) -> dict[str, list[tuple[str, str]]] 
     return groups
 
 
-def entry_points_of(group: str) -> list[Any]:
-    """The installed entry points of ``group``, read now (not loaded); none, without importing
-    :mod:`importlib.metadata`, when no installed package names the group."""
+def entry_points_of(group: str) -> list[tuple[str, str]]:
+    """The installed entry points of ``group`` as (name, ``module:attribute``), read now, not loaded: from the
+    packages' ``entry_points.txt`` (:func:`_entries_on_path`), or through :mod:`importlib.metadata` when the path
+    holds a zip file."""
     groups = _entries_on_path(tuple(sys.path))
-    if groups is not None and group not in groups:
-        return []
-    from importlib.metadata import entry_points
+    if groups is None:  # a zip on the path: importlib.metadata reads what is there
+        return [(point.name, point.value) for point in installed().select(group=group)]
+    return list(groups.get(group, []))
 
-    return list(entry_points(group=group))
+
+def reference_of(value: str) -> str:
+    """The ``module:attribute`` of an entry point's value (``module:attribute [extra]``: the extra is pip's)."""
+    return value.split("[", 1)[0].strip()
 
 
 def installed_plugins(group: str, named: bool = False) -> list[tuple[str, Any]]:
     """The loaded entry points of ``group`` as (origin, object), or (name, object) when ``named``; one that cannot
     be loaded is logged and left out."""
     found: list[tuple[str, Any]] = []
-    groups = _entries_on_path(tuple(sys.path))
-    if groups is None:  # a zip on the path: importlib.metadata reads what is there
-        points = [(point.name, point.value) for point in installed().select(group=group)]
-    else:
-        points = groups.get(group, [])
-    for name, value in sorted(points):
+    for name, value in sorted(entry_points_of(group)):
         try:
-            reference = value.split("[", 1)[0].strip()  # "module:attribute [extra]": the extra is pip's business
-            found.append((name if named else f"entry point {name} = {value}", load_reference(reference)))
+            found.append((name if named else f"entry point {name} = {value}", load_reference(reference_of(value))))
         except Exception as exc:  # a broken plugin is reported, never takes the engine down
             logger.error("the %s plugin %s (%s) cannot be loaded: %s", group, name, value, exc)
     return found
 
 
-__all__ = ["PluginError", "entry_points_of", "installed", "installed_plugins", "load_reference"]
+__all__ = ["PluginError", "entry_points_of", "installed", "installed_plugins", "load_reference", "reference_of"]

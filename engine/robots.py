@@ -8,6 +8,7 @@ callable returning a :class:`RobotKind`), as ``examples/rover`` does.
 
 from __future__ import annotations
 
+import functools
 import logging
 import re
 from collections.abc import Callable, Iterable
@@ -18,7 +19,7 @@ from typing import Any
 from aeroexec.engine.execution.process import BehaviorLibrary, EngineSettings
 from aeroexec.engine.execution.resources import ProcessRegistry
 
-from aeroexec.plugins import entry_points_of
+from aeroexec.plugins import entry_points_of, load_reference, reference_of
 
 logger = logging.getLogger(__name__)
 
@@ -48,8 +49,8 @@ class RobotKind:
 def robot_kinds() -> dict[str, Callable[[], RobotKind]]:
     """Every robot kind installed, by name (``drone`` is built in)."""
     kinds: dict[str, Callable[[], RobotKind]] = {}
-    for point in sorted(entry_points_of(ROBOTS_GROUP), key=lambda p: p.name):
-        kinds[point.name] = point.load
+    for name, value in sorted(entry_points_of(ROBOTS_GROUP)):
+        kinds[name] = functools.partial(load_reference, reference_of(value))
     return kinds
 
 
