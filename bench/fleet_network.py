@@ -65,9 +65,9 @@ def cpu_seconds(pid: int) -> float:
     return sum(int(v) for v in fields[11:15]) / os.sysconf("SC_CLK_TCK")
 
 
-def measure(fault: Fault, commands: int, cut_for: float, timeout: float) -> dict[str, float | str]:
+def measure(fault: Fault, commands: int, cut_for: float, timeout: float, paths: int = 0) -> dict[str, float | str]:
     with Testbed(fault.latency) as bed, tempfile.TemporaryDirectory(prefix="fleet_network") as folder:
-        fleet = FleetOfHosts(bed, Path(folder))
+        fleet = FleetOfHosts(bed, Path(folder), paths=paths)
         try:
             fleet.start(timeout, loss=fault.loss)
             drones = [out.process.pid for out in fleet.drones.values()]
@@ -157,16 +157,20 @@ def main() -> int:
     parser.add_argument("--commands", type=int, default=10, help="operator commands per fault (default 10)")
     parser.add_argument("--cut", type=float, default=30.0, help="seconds host 3 is cut off (default 30)")
     parser.add_argument("--timeout", type=float, default=300.0, help="seconds any one wait may take")
+    parser.add_argument("--paths", type=int, nargs="+", default=[0], metavar="K",
+                        help="routers each command goes through at once: 0 every one (the default, as the docs "
+                             "deploy it), 1 the first only; several values: each fault measured with each")
     args = parser.parse_args()
     if os.geteuid() != 0:
         print("bench/fleet_network.py makes network namespaces: run it as root", file=sys.stderr)
         return 2
-    print(f"{'fault':<42} {'p50 s':>6} {'p99 s':>6} {'whole':>6} {'converge s':>10} {'pkt/drone/s':>11} "
+    print(f"{'fault':<42} {'paths':>5} {'p50 s':>6} {'p99 s':>6} {'whole':>6} {'converge s':>10} {'pkt/drone/s':>11} "
           f"{'B/drone/s':>9} {'CPU/drone-s':>11} {'router CPU':>10}")
-    for name in args.faults:
-        r = measure(FAULTS[name], args.commands, args.cut, args.timeout)
-        print(f"{r['fault']:<42} {r['p50']:>6.2f} {r['p99']:>6.2f} {r['whole']:>6} {r['converge']:>10.1f} "
-              f"{r['packets']:>11.1f} {r['bytes']:>9.0f} {r['cpu']:>11.3f} {r['router_cpu']:>10.3f}", flush=True)
+    for name, paths in ((name, paths) for name in args.faults for paths in args.paths):
+        r = measure(FAULTS[name], args.commands, args.cut, args.timeout, paths)
+        print(f"{r['fault']:<42} {paths or 'all':>5} {r['p50']:>6.2f} {r['p99']:>6.2f} {r['whole']:>6} "
+              f"{r['converge']:>10.1f} {r['packets']:>11.1f} {r['bytes']:>9.0f} {r['cpu']:>11.3f} "
+              f"{r['router_cpu']:>10.3f}", flush=True)
     return 0
 
 

@@ -15,7 +15,9 @@ the links for their event logs: malformed or foreign messages, a sender that is 
 message on the keys of a drone of this process that this process did not send. Commands need the fleet's token (a
 second factor: the operator's identity is checked by the router) and are answered from one thread, every drone's
 at once; the answer of the process's first drone names the fleet's members it knows (``fleet``), so the operator
-can name the drones that did not answer.
+can name the drones that did not answer. A command carries an ``id``: the operator sends it through every router it
+knows at once (:mod:`aeroexec.fleet.control`), and a copy that arrives by a second path is answered with the first
+copy's result, never run twice.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import logging
 import queue
 import threading
 import time
+from collections import OrderedDict
 from collections.abc import Mapping
 from typing import Any
 
@@ -40,6 +43,8 @@ logger = logging.getLogger(__name__)
 
 COMMAND_TIMEOUT = 5.0  # wall seconds a command waits for the drones' engines to run it
 QUEUED = 1 << 16  # samples Zenoh keeps for the next period's end (then it waits: back-pressure, nothing lost)
+MAX_ID = 64  # characters of a command's id
+REMEMBERED = 1024  # commands remembered by their id, so a copy arriving by another path is not run again
 
 
 def qos(lockstep: bool = False) -> dict[str, Any]:
@@ -96,6 +101,8 @@ class FleetNode:
         self._queryables: dict[str, Any] = {}
         self._lock = threading.Lock()
         self._answers: queue.Queue[tuple[Any, str, str, Any, float, float | None] | None] = queue.Queue()
+        #: (drone, command id) -> (its ticket, seconds it took to arrive, its deadline): the commands run, by id
+        self._commands: OrderedDict[tuple[str, str], tuple[Any, float | None, float]] = OrderedDict()
         self._answering = threading.Thread(target=self._answer, name="aeroexec-fleet-commands", daemon=True)
         self._answering.start()
         self._closed = False
@@ -308,8 +315,20 @@ class FleetNode:
         sent = request.get("sent")  # the operator's wall clock: how long the command took to reach this drone
         reached = round(time.time() - sent, 3) if isinstance(sent, (int, float)) and not isinstance(sent, bool) \
             else None
-        ticket = link.submit(request["command"], request.get("argument", ""))
-        self._answers.put((query, drone, request["command"], ticket, time.monotonic() + COMMAND_TIMEOUT, reached))
+        ident = request.get("id")
+        with self._lock:
+            first = self._commands.get((drone, ident)) if isinstance(ident, str) and ident else None
+        if first is not None:  # the same command by another path: answered with what the first copy did
+            ticket, reached, deadline = first
+        else:
+            ticket = link.submit(request["command"], request.get("argument", ""))
+            deadline = time.monotonic() + COMMAND_TIMEOUT
+            if isinstance(ident, str) and ident:
+                with self._lock:
+                    self._commands[(drone, ident)] = (ticket, reached, deadline)
+                    while len(self._commands) > REMEMBERED:
+                        self._commands.popitem(last=False)
+        self._answers.put((query, drone, request["command"], ticket, deadline, reached))
 
     def _request(self, query: Any) -> dict[str, Any]:
         try:
@@ -323,6 +342,8 @@ class FleetNode:
             raise PayloadError("wrong token: the fleet's token is in its output folder's fleet.json", "wrong token")
         if not isinstance(request.get("argument", ""), str):
             raise PayloadError("the command's argument must be text", "not a fleet command")
+        if not isinstance(request.get("id", ""), str) or len(request.get("id", "")) > MAX_ID:
+            raise PayloadError(f"the command's id must be text of at most {MAX_ID} characters", "not a fleet command")
         return request
 
     def _answer(self) -> None:

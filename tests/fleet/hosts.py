@@ -44,6 +44,7 @@ class FleetOfHosts:
     drone_hosts: int = 3
     per_host: int = 2
     mission: str = HOVER
+    paths: int = 0  # routers the operator's commands go through at once: 0, every one; 1, the first only
     processes: list[subprocess.Popen] = field(default_factory=list)
     commands: list[Command] = field(default_factory=list)
 
@@ -100,11 +101,11 @@ class FleetOfHosts:
                        f"{name} flying, hearing every other drone", timeout)
 
     def ctl(self, *words: str) -> Command:
-        """``aeroexec ctl --fleet search WORDS --json`` by the operator on its own host, through the first router;
-        the roster from the first router's fleet.json."""
+        """``aeroexec ctl --fleet search WORDS --json`` by the operator on its own host, through every router at
+        once (each a path; each drone's first answer counts); the roster from the first router's fleet.json."""
+        paths = [word for host in self.hosts[:self.paths or None] for word in ("--connect", self.endpoint(host))]
         done = self.operator.run("aeroexec", "ctl", "--fleet", "search", *words, "--json", "--credentials", "creds",
-                                 "--connect", self.endpoint(self.hosts[0]), "--run", f"router-{self.hosts[0].name}",
-                                 cwd=self.folder, env=self.env)
+                                 *paths, "--run", f"router-{self.hosts[0].name}", cwd=self.folder, env=self.env)
         try:
             answers = json.loads(done.stdout) if done.stdout.strip() else {}
         except ValueError:

@@ -43,7 +43,8 @@ def test_six_drones_on_three_hosts_under_latency_and_loss_ride_out_a_partition_a
 
     status = fleet.ctl("status")
     assert status.done.returncode == 0, status.done.stdout + status.done.stderr
-    assert sorted(status.answers) == fleet.names and all(a["ok"] for a in status.answers.values()), status.answers
+    assert sorted(status.answers) == fleet.names and all(a["ok"] for a in status.answers.values()), \
+        (status.answers, status.done.stderr)
 
     # host 3 (d5, d6 and their router) cut off for 30 s: the others report them silent, the operator names them
     cut = time.monotonic()
@@ -57,8 +58,9 @@ def test_six_drones_on_three_hosts_under_latency_and_loss_ride_out_a_partition_a
     assert said.done.returncode == 0 and said.answers["d1"]["ok"], said.done.stdout + said.done.stderr
     partial = fleet.ctl("status")
     assert partial.done.returncode == 1, partial.done.stdout + partial.done.stderr
-    assert {n for n, a in partial.answers.items() if a.get("answered") is False} == {"d5", "d6"}, partial.answers
-    assert all(partial.answers[n]["ok"] for n in ("d1", "d2", "d3", "d4")), partial.answers
+    assert {n for n, a in partial.answers.items() if a.get("answered") is False} == {"d5", "d6"}, \
+        (partial.answers, partial.done.stderr)
+    assert all(partial.answers[n]["ok"] for n in ("d1", "d2", "d3", "d4")), (partial.answers, partial.done.stderr)
     for name in ("d2", "d3", "d4"):
         d[name].wait(lambda lines: seen(lines, f"fleet_belief: from d1: {FOUND}"), f"{name} believing d1", guard)
     time.sleep(max(0.0, CUT_FOR - (time.monotonic() - cut)))  # the partition lasts its 30 s
@@ -96,7 +98,7 @@ def test_six_drones_on_three_hosts_under_latency_and_loss_ride_out_a_partition_a
     # the operator's abort: every drone of the roster answers or is named, the operator sends it again to those
     # named (a command's answers wait 8 s; a link stalled longer by TCP's retransmissions misses them), each lands
     aborted = fleet.ctl("abort")
-    assert sorted(aborted.answers) == fleet.names, aborted.answers
+    assert sorted(aborted.answers) == fleet.names, (aborted.answers, aborted.done.stderr)
     missed = sorted(n for n, a in aborted.answers.items() if a.get("answered") is False)
     assert all(a["ok"] for n, a in aborted.answers.items() if n not in missed), aborted.answers
     print(f"the first abort reached {len(fleet.names) - len(missed)} of {len(fleet.names)} drones; named {missed}")
