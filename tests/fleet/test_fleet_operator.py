@@ -96,3 +96,42 @@ def test_the_operator_names_every_drone_of_the_routers_roster_that_did_not_answe
     assert status.returncode == 1, status.stdout + status.stderr
     assert "d1: did not answer" in status.stderr and "d2: did not answer" in status.stderr, status.stderr
     assert "no drone of fleet search answered" in status.stderr
+
+
+def test_a_command_sent_through_two_routers_is_run_once_and_answered_while_one_router_is_down(tmp_path):
+    """The docs' operator names every router (``--connect`` for each): a command goes through each at once, the drone
+    runs it once whichever copy comes first and answers both; with one router gone the other path still carries it."""
+    (tmp_path / "hover.py").write_text(HOVER)
+    (tmp_path / "search.yaml").write_text("fleet: search\ncredentials: creds\ndrones:\n  - {name: d1}\n")
+    first, second = free_endpoint("tls"), free_endpoint("tls")
+    assert main(["fleet", str(tmp_path / "search.yaml"), "--make-credentials", str(tmp_path / "creds"),
+                 "--listen", first, "--listen", second]) == 0
+    router = aeroexec("fleet", "search.yaml", "--router", "--listen", first, "--output", "r1", cwd=tmp_path)
+    processes = [router]
+    try:
+        wait_for_line(router, "listening on", 60)
+        linked = aeroexec("fleet", "search.yaml", "--router", "--listen", second, "--connect", first, "--output", "r2",
+                          cwd=tmp_path)
+        processes.append(linked)
+        wait_for_line(linked, "listening on", 60)
+        d1 = aeroexec("run", "hover.py", "--fleet", "search", "--name", "d1", "--credentials", "creds/d1.pem",
+                      "--connect", second, "--plain", "--output", "d1", cwd=tmp_path)
+        processes.append(d1)
+        flying = wait_for_line(d1, "drone_takeoff_complete", 120)
+        both = ("--credentials", "creds", "--connect", first, "--connect", second, "--run", "r1")
+
+        paused = ctl("--fleet", "search", "pause", *both, cwd=tmp_path, token=TOKEN)
+        assert paused.returncode == 0 and paused.stdout.startswith("d1: "), paused.stdout + paused.stderr
+        flying += wait_for_line(d1, "operator_command", 60)
+        resumed = ctl("--fleet", "search", "resume", *both, cwd=tmp_path, token=TOKEN)
+        assert resumed.returncode == 0, resumed.stdout + resumed.stderr
+
+        stop(router)  # the first router gone: the second path carries the command alone
+        aborted = ctl("--fleet", "search", "abort", *both, cwd=tmp_path, token=TOKEN)
+        assert aborted.returncode == 0 and "d1: mission aborted" in aborted.stdout, aborted.stdout + aborted.stderr
+        out, _ = d1.communicate(timeout=120)
+    finally:
+        stop(*processes)
+    commands = [line for line in "".join(flying).splitlines() + out.splitlines() if "operator_command" in line]
+    assert [c.split("operator_command")[1].split(":")[1].strip() for c in commands] == ["pause", "resume", "abort"], \
+        commands
