@@ -115,8 +115,10 @@ def serve_router(spec: Any, listen: list[str], output: str | None, connect: list
         return 2
     membership = open_router(spec, listen, folder, connect)
     try:
-        # what ctl --fleet NAME --run DIR needs on the router's machine: its endpoints, the operator and the roster
-        write_fleet_file(folder, spec.name, membership.endpoints, spec.token or os.environ.get(TOKEN_VARIABLE, ""),
+        # what ctl --fleet NAME --run DIR needs on the router's machine: its endpoints and those of the routers it
+        # links to (each a path a command takes at once), the operator and the roster
+        paths = list(dict.fromkeys([*membership.endpoints, *connect]))
+        write_fleet_file(folder, spec.name, paths, spec.token or os.environ.get(TOKEN_VARIABLE, ""),
                          membership.operator, (d.name for d in spec.drones))
         linked = f", linked to {', '.join(connect)}" if connect else ""
         print(f"zenoh router of fleet {spec.name} listening on {', '.join(listen)}{linked} (Ctrl-C to stop)",

@@ -27,6 +27,7 @@ from aeroexec.fleet.transport import TransportError, close_session, open_session
 logger = logging.getLogger(__name__)
 
 TIMEOUT = 8.0  # wall seconds to wait for the drones' answers
+CLOSE_LIMIT = 5.0  # wall seconds to wait for the paths' sessions to close
 OPEN_LIMIT = 60.0  # wall seconds to wait for a path to open, when none did yet
 
 
@@ -41,8 +42,9 @@ def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, ar
     each a path the command takes at once; ``identity``: the operator's (None only for a fleet without
     credentials); ``members``: the drones the caller knows of, each expected to answer a command to every drone
     (``drone`` ``*``). A drone expected that did not answer has ``{ok: false, answered: false, error}``. Each
-    answer has ``reached``: the seconds from the command's sending to its first arrival at the drone (the
-    operator's wall clock against the drone's: equal on one machine, as close as their clocks are on two)."""
+    answer has ``reached``: the seconds from the command's first sending (on the path that opened first) to its
+    first arrival at the drone, by any path (the operator's wall clock against the drone's: equal on one machine,
+    as close as their clocks are on two)."""
     check_name(fleet, "the fleet name")
     if drone != "*":
         check_name(drone, "the drone name")
@@ -81,6 +83,7 @@ class _Asked:
         self.refused: str | None = None
         self.sessions: list[Any] = []
         self.first_open: float | None = None
+        self.sent: float | None = None  # the operator's wall clock when the first path sent the command
         self._closed = False
         self._changed = threading.Condition()
 
@@ -110,8 +113,10 @@ class _Asked:
             if self.first_open is None:
                 self.first_open = time.monotonic()
             self._changed.notify_all()
+        with self._changed:  # sent: the command's first sending, on whichever path opened first
+            self.sent = self.sent if self.sent is not None else time.time()
+            payload = json.dumps({**request, "sent": self.sent}).encode()
         try:
-            payload = json.dumps({**request, "sent": time.time()}).encode()
             import zenoh  # the session opened: the extra is there
 
             # each answer as it arrives: Zenoh's default consolidation holds a query's replies until every route
@@ -170,8 +175,14 @@ class _Asked:
             return dict(self.answers)
 
     def close(self) -> None:
+        """Every path's session closed, side by side (closing a link that lost packets waits for it), within
+        CLOSE_LIMIT seconds: what the command did is done either way."""
         with self._changed:
             self._closed = True
             sessions, self.sessions = self.sessions, []
-        for session in sessions:
-            close_session(session)
+        closing = [threading.Thread(target=close_session, args=(session,), daemon=True) for session in sessions]
+        for thread in closing:
+            thread.start()
+        end = time.monotonic() + CLOSE_LIMIT
+        for thread in closing:
+            thread.join(max(0.0, end - time.monotonic()))

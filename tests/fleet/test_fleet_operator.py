@@ -3,6 +3,7 @@ fleet's router (``fleet --router --listen tls/...``), two drones joining it from
 one from its own (``run --fleet``), and the operator (``ctl --fleet``) on the router's endpoint with the operator's
 identity, or from a member's output folder alone (``--run DIR``: its ``fleet.json``)."""
 
+import json
 import os
 import subprocess
 import sys
@@ -100,7 +101,8 @@ def test_the_operator_names_every_drone_of_the_routers_roster_that_did_not_answe
 
 def test_a_command_sent_through_two_routers_is_run_once_and_answered_while_one_router_is_down(tmp_path):
     """The docs' operator names every router (``--connect`` for each): a command goes through each at once, the drone
-    runs it once whichever copy comes first and answers both; with one router gone the other path still carries it."""
+    runs it once whichever copy comes first and answers both; with one router gone the other path still carries it,
+    also from a router's folder alone (``--run DIR``: its fleet.json names the routers it links to)."""
     (tmp_path / "hover.py").write_text(HOVER)
     (tmp_path / "search.yaml").write_text("fleet: search\ncredentials: creds\ndrones:\n  - {name: d1}\n")
     first, second = free_endpoint("tls"), free_endpoint("tls")
@@ -126,8 +128,10 @@ def test_a_command_sent_through_two_routers_is_run_once_and_answered_while_one_r
         resumed = ctl("--fleet", "search", "resume", *both, cwd=tmp_path, token=TOKEN)
         assert resumed.returncode == 0, resumed.stdout + resumed.stderr
 
+        # the linked router's fleet.json names both routers: `--run r2` alone gives the operator both paths
+        assert json.loads((tmp_path / "r2" / "fleet.json").read_text())["endpoints"] == [second, first]
         stop(router)  # the first router gone: the second path carries the command alone
-        aborted = ctl("--fleet", "search", "abort", *both, cwd=tmp_path, token=TOKEN)
+        aborted = ctl("--fleet", "search", "abort", "--run", "r2", cwd=tmp_path)
         assert aborted.returncode == 0 and "d1: mission aborted" in aborted.stdout, aborted.stdout + aborted.stderr
         out, _ = d1.communicate(timeout=120)
     finally:
