@@ -36,7 +36,8 @@ class MissionChecker(Protocol):
     def value(self, node: ast.AST) -> Any: ...
     def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None: ...
 
-_API = "as2_python_api"
+#: Aerostack2's Python API, by its names: ``as2_python_api``, and ``python_interface`` (Aerostack2 1.0).
+APIS = ("as2_python_api.", "python_interface.")
 _INTERPRETER = "MissionInterpreter"
 #: The beginnings of a ROS 2 node's own methods: on a drone interface they use ROS 2 beyond it.
 NODE_API = ("create_", "destroy_", "declare_", "get_parameter", "set_parameters", "has_parameter", "get_clock",
@@ -114,7 +115,7 @@ class DroneObjects:
     # -- what is a drone interface ------------------------------------------------------------------------
     def _imported(self, node: ast.AST, name: str) -> bool:
         path = self.checker.dotted(node)
-        return bool(path) and path.startswith(_API + ".") and path.rsplit(".", 1)[-1] == name
+        return bool(path) and path.startswith(APIS) and path.rsplit(".", 1)[-1] == name
 
     def drone_class(self, node: ast.AST | None) -> DroneClass | None:
         """The drone interface class an expression names (imported from as2_python_api, or the script's own)."""
@@ -125,7 +126,7 @@ class DroneObjects:
         if isinstance(node, ast.Name) and node.id in self.classes:
             return self.classes[node.id]
         path = self.checker.dotted(node) if isinstance(node, ast.Name | ast.Attribute) else None
-        if path and path.startswith(_API + "."):
+        if path and path.startswith(APIS):
             interface = path.rsplit(".", 1)[-1]
             if interface in aerostack2.INTERFACES:
                 return DroneClass(interface)
