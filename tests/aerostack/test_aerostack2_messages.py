@@ -7,7 +7,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from flying import fly
+from flying import fly, world
 
 T, G, F, L = "TAKE_OFF", "GO_TO_POINT", "FOLLOW_PATH", "LAND"
 
@@ -183,3 +183,37 @@ def test_a_module_beside_the_script_using_a_ros_2_graph_is_refused_by_name_befor
     assert f"{tmp_path / 'follow_lib.py'}:5:" in flight.err
     assert "as2_core.as2_names.topics.self_localization.pose: this mission uses ROS 2 beyond the drone interface" \
         in flight.err
+
+
+GEO_PATH = """import rclpy
+from as2_python_api.drone_interface_gps import DroneInterfaceGPS
+from geographic_msgs.msg import GeoPath, GeoPoseStamped
+
+rclpy.init()
+uav = DroneInterfaceGPS("drone0")
+path = GeoPath()
+for lat, lon in ((40.00005, -3.0), (40.00005, -3.00005)):
+    pose = GeoPoseStamped()
+    pose.pose.position.latitude = lat
+    pose.pose.position.longitude = lon
+    pose.pose.position.altitude = 3.0
+    path.poses.append(pose)
+uav.arm()
+uav.offboard()
+uav.takeoff(3.0, 1.0)
+uav.follow_path(path, 2.0)
+uav.land(0.5)
+"""
+
+
+def test_a_geo_path_of_geo_poses_flies_from_the_gps_origin(tmp_path, capsys):
+    """geographic_msgs' GeoPath of GeoPoseStamped, as a GPS drone interface's follow_path takes it: it was refused
+    as ROS 2 beyond the drone interface."""
+    script = tmp_path / "geo_path.py"
+    script.write_text(GEO_PATH)
+    flight = fly(script, tmp_path, capsys, world_file=world(tmp_path, 40.0, -3.0))
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, F, L]
+    path = [r["detail"] for r in flight.kinds("activated") if r["behavior"] == F][0]
+    numbers = [float(n) for n in re.findall(r"-?[\d.]+(?:e-?\d+)?", path.split("SPEED")[0])]
+    assert numbers == pytest.approx([0.0, 5.55, 3.0, -4.26, 5.55, 3.0], abs=0.05)  # 0.00005 deg: 5.55 m N, 4.26 m W
