@@ -112,6 +112,32 @@ class DroneObjects:
                                                                                *node.args.kwonlyargs)}
                 self.annotated[id(node)] = {k: v for k, v in parameters.items() if v is not None}
 
+        self._passed_drones()
+
+    def _passed_drones(self) -> None:
+        """A function's parameter with no annotation that every call of the function (at least one, by the
+        function's name) gives a drone interface is one (``def drone_run(drone_interface): ...`` called as
+        ``drone_run(uav)``): its calls are checked as the drone's."""
+        functions = {n.name: n for n in self.checker.tree.body if isinstance(n, ast.FunctionDef)}
+        calls: dict[str, list[ast.Call]] = {}
+        for node in self.checker.nodes:
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in functions:
+                calls.setdefault(node.func.id, []).append(node)
+        for name, found in calls.items():
+            function = functions[name]
+            own = self.annotated.setdefault(id(function), {})
+            positional = [*function.args.posonlyargs, *function.args.args]
+            for index, parameter in enumerate(positional):
+                if parameter.annotation is not None or parameter.arg in own:
+                    continue
+                given = [next((k.value for k in c.keywords if k.arg == parameter.arg), None) if index >= len(c.args)
+                         else c.args[index] for c in found]
+                if any(g is None or isinstance(g, ast.Starred) for g in given):
+                    continue
+                drones = [self.drone(g) for g in given]
+                if drones[0] is not None and all(d == drones[0] for d in drones):
+                    own[parameter.arg] = drones[0]
+
     # -- what is a drone interface ------------------------------------------------------------------------
     def _imported(self, node: ast.AST, name: str) -> bool:
         path = self.checker.dotted(node)

@@ -80,6 +80,29 @@ def test_flight_order_is_checked_through_the_scripts_own_functions():
     ]
 
 
+def test_a_drone_passed_to_a_function_with_no_annotation_is_checked_as_the_drone():
+    """project_f330_test's ``drone_run(drone_interface)``, called with the drone interface: its follow_path from the
+    ground was refused in flight (a run "completed with refused requests"), not before it."""
+    assert problems("""
+        def drone_run(drone_interface, speed):
+            drone_interface.follow_path([[0.1, 0.0, 1.0]], speed=speed)
+            drone_interface.go_too(1, 1, 2, 1.0)
+
+        def not_a_drone(thing):
+            thing.go_too(1, 1, 2)
+
+        if __name__ == "__main__":
+            uav = DroneInterface("drone_0")
+            drone_run(uav, speed=0.5)
+            not_a_drone(uav)
+            not_a_drone("a string")
+        """) == [
+        (4, "error", "The execution of behavior FOLLOW_PATH cannot be done at the start of the mission (flight is "
+                      "landed; FOLLOW_PATH needs hovering or moving)"),
+        (5, "error", "The function go_too does not exist in Aerostack2's DroneInterface (did you mean go_to?)"),
+    ]
+
+
 def test_a_destination_through_a_name_bound_once_is_checked_against_the_world():
     found = check_mission_source(HEADER + textwrap.dedent("""\
         HEIGHT = 2.0
