@@ -11,6 +11,7 @@ Aerostack2 does not have is an error, as is a call of the ROS 2 node a drone int
 from __future__ import annotations
 
 import ast
+import re
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -45,6 +46,10 @@ NODE_API = ("create_", "destroy_", "declare_", "get_parameter", "set_parameters"
 #: Where the argument that made a catalog argument is, to point at it: catalog argument -> Aerostack2 parameters.
 _SOURCES = {"ALTITUDE": ("height",), "COORDINATES": ("point", "waypoint", "x", "_x", "lat", "height"),
             "SPEED": ("speed", "speed_x"), "PATH": ("path", "geopath"), "YAW_ANGLE_AT_THE_END": ("angle", "yaw_angle")}
+
+
+#: A string that names a frame of ROS 2's tf tree (``gate_0/link``, ``drone0/base_link``, ``cf0/odom``).
+TF_FRAME = re.compile(r"^/?[A-Za-z_]\w*(/\w+)*/\w*(link|frame|odom|map|footprint)$")
 
 
 @dataclass
@@ -84,6 +89,12 @@ class DroneObjects:
         self.annotated: dict[int, dict[str, DroneClass]] = {}  # id(function) -> parameter -> class
         self.methods_of: dict[int, DroneClass] = {}  # id(function) -> the class whose method it is
         self._found: dict[int, As2Call | None] = {}
+        #: The strings of the program that name frames of ROS 2's tf tree and are data (in a list, a dict, bound
+        #: to a name: not an argument given straight to a call, which is judged where it is given), in order.
+        self.tf_frames = sorted((n for n in checker.nodes if isinstance(n, ast.Constant) and isinstance(n.value, str)
+                                 and TF_FRAME.match(n.value)
+                                 and not isinstance(checker.parents.get(id(n)), ast.keyword | ast.Call)),
+                                key=lambda n: (n.lineno, n.col_offset))
         for node in checker.nodes:
             if isinstance(node, ast.ClassDef):
                 self._class(node)
@@ -298,6 +309,7 @@ class DroneObjects:
         found = self.as2_call(call, report=True)
         if found is None:
             return
+        self._check_frame(found)
         specialist = self.checker.specialist
         for request in self.requests(found, report=True) or ():
             for error in specialist.request_errors(request.behavior, request.arguments):
@@ -306,6 +318,18 @@ class DroneObjects:
                 if error.kind == WRONG_VALUE and any(unknown(request.arguments[k]) for k in about):
                     continue
                 self.checker.report(self.node_of(found, about[0]) if about else call, error.message, error.kind)
+
+    def _check_frame(self, found: As2Call) -> None:
+        """A frame the check cannot know, in a program that names frames of ROS 2's tf tree: one of those, which
+        the run would refuse at this call in flight; refused here, before the drone takes off."""
+        frame = (found.bound or {}).get("frame_id")
+        if not isinstance(frame, Unknown) or not self.tf_frames:
+            return
+        named = ", ".join(f"{n.value!r} (line {n.lineno})" for n in self.tf_frames[:3])
+        self.checker.report(found.nodes.get("frame_id", found.call),
+                            f"The frame of {found.method.spelled}() is not known before flight, and the script names "
+                            f"frames of ROS 2's tf tree ({named}): aeroexec flies in the earth frame (local ENU from "
+                            f"home); frames of ROS 2's tf tree are not available ({ROS2_BEYOND})", WRONG_VALUE)
 
     def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
         """What the flight-order check needs of a drone interface's call (empty when it asks for no behavior)."""
