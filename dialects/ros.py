@@ -12,6 +12,7 @@ finder and the imports judged by use; :data:`CHECKS`: the check of a program's R
 
 from __future__ import annotations
 
+import functools
 import importlib.abc
 import importlib.machinery
 import importlib.util
@@ -27,10 +28,11 @@ from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
 
+#: Packages of both ROS 1 and ROS 2 (the image stack): their use is refused in the words of the mission's ROS.
+BOTH_ROS_PACKAGES = frozenset({"message_filters", "cv_bridge", "image_transport"})
 #: ROS 1 packages (Aerostack's missions): their use is refused in ROS 1's words.
 ROS1_PACKAGES = frozenset({"rospy", "roslib", "rosbag", "rosgraph", "rosnode", "rosservice", "rostopic",
-                           "actionlib", "tf", "dynamic_reconfigure", "mavros", "message_filters", "cv_bridge",
-                           "image_transport", "aerostack_msgs", "droneMsgsROS"})
+                           "actionlib", "tf", "dynamic_reconfigure", "mavros", "aerostack_msgs", "droneMsgsROS"})
 #: ROS 2 packages that are no message packages.
 ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "rosidl_runtime_py", "launch",
                            "launch_ros", "ament_index_python", "tf2_ros", "tf2_py", "tf2_geometry_msgs",
@@ -49,6 +51,13 @@ PROVIDED: dict[str, frozenset[str]] = {
         "follow_reference_module", "gps_module", "motion_reference_handler_module"}),
     "as2_python_api.behavior_actions": frozenset({"behavior_handler"}),
     "as2_python_api.mission_interpreter": frozenset({"mission", "mission_interpreter"}),
+    # Aerostack2 1.0's name of as2_python_api, with that version's module names
+    "python_interface": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
+                                   "drone_interface_teleop", "modules", "behaviour_actions"}),
+    "python_interface.modules": frozenset({
+        "module_base", "takeoff_module", "land_module", "goto_module", "follow_path_module", "goto_gps_module",
+        "follow_path_gps_module", "gps_module", "motion_reference_handler_module"}),
+    "python_interface.behaviour_actions": frozenset({"behavior_handler"}),
     # messages used as data (dialects/ros_messages.py): built, filled and read, never published
     **{module.partition(".")[0]: frozenset({"msg"}) for module in MESSAGES},
     **{module: frozenset(types) for module, types in MESSAGES.items()},
@@ -66,8 +75,22 @@ class RosFeatureError(RuntimeError):
 def is_ros(module: str) -> bool:
     """True for a module of a ROS package (ROS 1 or 2; message, service and action packages included)."""
     top = module.split(".")[0]
-    return (top in ROS1_PACKAGES or top in ROS2_PACKAGES or top.endswith(("_msgs", "_srvs", "_interfaces"))
-            or top.startswith("as2_"))
+    return (top in ROS1_PACKAGES or top in ROS2_PACKAGES or top in BOTH_ROS_PACKAGES
+            or top.endswith(("_msgs", "_srvs", "_interfaces")) or top.startswith("as2_")
+            or top in IMAGE_LIBRARIES and not installed(top))
+
+
+#: What ROS's image stack gives a mission its images as (cv_bridge's OpenCV arrays): where it is not installed, an
+#: import of it is judged by its use as ROS's modules are (a mission written for ROS 2 has it from ROS 2).
+IMAGE_LIBRARIES = {"cv2": "OpenCV"}
+#: The words of a refused use of a missing image library.
+NO_IMAGES = "is not installed here, and aeroexec's drone interface gives no camera images to process"
+
+
+@functools.cache
+def installed(module: str) -> bool:
+    """True when the top-level ``module`` can be imported from the environment's own paths."""
+    return importlib.machinery.PathFinder.find_spec(module) is not None
 
 
 #: The modules of Aerostack's (ROS 1) mission APIs: a mission importing them uses ROS 1's message packages.
@@ -77,6 +100,8 @@ AEROSTACK_APIS = ("executive_engine_api", "mission_execution_control")
 def beyond(module: str, ros1: bool = False) -> str:
     """The refusal's words for a use of ``module`` (a message package's in ROS 1's words when ``ros1``)."""
     top = module.split(".")[0]
+    if top in IMAGE_LIBRARIES:
+        return f"{IMAGE_LIBRARIES[top]} ({top}) {NO_IMAGES}"
     if top in ROS1_PACKAGES or (ros1 and top not in ROS2_PACKAGES and not top.startswith("as2_")):
         return ROS1_BEYOND
     return ROS2_BEYOND
@@ -233,5 +258,6 @@ def ros_problems(nodes: list[Any], dotted: Any) -> list[tuple[Any, str, str]]:
 IMPORTS = StandIns(finders=("aeroexec.dialects.ros:FINDER",), judged_by_use="aeroexec.dialects.ros:is_ros")
 CHECKS = DialectChecks(problems="aeroexec.dialects.ros:ros_problems")
 
-__all__ = ["CHECKS", "FINDER", "IMPORTS", "PROVIDED", "ROS1_BEYOND", "ROS2_BEYOND", "Refused", "RosFeatureError",
-           "beyond", "install", "is_ros", "provided", "refusing_module", "ros_problems"]
+__all__ = ["BOTH_ROS_PACKAGES", "CHECKS", "FINDER", "IMAGE_LIBRARIES", "IMPORTS", "PROVIDED", "ROS1_BEYOND",
+           "ROS2_BEYOND", "Refused", "RosFeatureError",
+           "beyond", "install", "installed", "is_ros", "provided", "refusing_module", "ros_problems"]

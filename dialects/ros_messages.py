@@ -1,10 +1,12 @@
 """ROS 2 message types a mission uses as plain data: built, filled and read as ``rclpy`` builds them
 (``PoseStamped()``, ``pose.pose.position.x = 1.0``, ``path.poses.append(pose)``), with nothing published.
 
-The messages of ``builtin_interfaces``, ``std_msgs``, ``geometry_msgs``, ``nav_msgs`` and ``sensor_msgs`` that
-missions build for their drone interface (a path of poses, a point, a GPS fix, an LED colour) are here, by module
-(:data:`MESSAGES`); :func:`points` reads a path or a point of them as the coordinates a behavior takes. Publishing
-or subscribing still needs a ROS 2 graph, which these stand-ins refuse (``dialects/ros.py``).
+The messages of ``builtin_interfaces``, ``std_msgs``, ``geometry_msgs``, ``nav_msgs``, ``sensor_msgs`` and
+``geographic_msgs`` that missions build for their drone interface (a path of poses, a point, a GPS fix or path, an
+LED colour) are here, by module
+(:data:`MESSAGES`); :func:`points` reads a path or a point of them as the coordinates a behavior takes. A drone
+interface's publisher puts them in the event log; subscribing still needs a ROS 2 graph, which these stand-ins
+refuse (``dialects/ros.py``).
 """
 
 from __future__ import annotations
@@ -92,6 +94,12 @@ for _constant, _value in (("COVARIANCE_TYPE_UNKNOWN", 0), ("COVARIANCE_TYPE_APPR
                           ("COVARIANCE_TYPE_DIAGONAL_KNOWN", 2), ("COVARIANCE_TYPE_KNOWN", 3)):
     setattr(NavSatFix, _constant, _value)
 Path = message("nav_msgs", "Path", header=Header, poses=_list)
+GeoPoint = message("geographic_msgs", "GeoPoint", latitude=float, longitude=float, altitude=float)
+GeoPose = message("geographic_msgs", "GeoPose", position=GeoPoint, orientation=Quaternion)
+GeoPoseStamped = message("geographic_msgs", "GeoPoseStamped", header=Header, pose=GeoPose)
+GeoPath = message("geographic_msgs", "GeoPath", header=Header, poses=_list)
+GEOGRAPHIC = {t.__name__: t for t in (GeoPoint, GeoPose, GeoPoseStamped, GeoPath)}
+GEOGRAPHIC["GeoPointStamped"] = message("geographic_msgs", "GeoPointStamped", header=Header, position=GeoPoint)
 PoseWithID = message("as2_msgs", "PoseWithID", id=str, pose=Pose)
 PoseWithIDArray = message("as2_msgs", "PoseWithIDArray", header=Header, poses=_list)
 
@@ -102,23 +110,26 @@ MESSAGES: dict[str, dict[str, type[Message]]] = {
     "geometry_msgs.msg": GEOMETRY,
     "nav_msgs.msg": {"Path": Path},
     "sensor_msgs.msg": {"NavSatFix": NavSatFix, "NavSatStatus": NavSatStatus},
+    "geographic_msgs.msg": GEOGRAPHIC,
 }
 
 
 def point(value: Any) -> Any:
-    """``(x, y, z)`` of a Point, Vector3, Pose, PoseStamped, PointStamped or PoseWithID; ``value`` itself when it
-    is none of these."""
+    """``(x, y, z)`` of a Point, Vector3, Pose, PoseStamped, PointStamped or PoseWithID (``(latitude, longitude,
+    altitude)`` of a GeoPoint, GeoPose, GeoPoseStamped); ``value`` itself when it is none of these."""
     for attribute in ("pose", "point", "position", "vector", "translation"):
         inner = getattr(value, attribute, None) if isinstance(value, Message) else None
         if inner is not None:
             return point(inner)
     if isinstance(value, Message) and all(hasattr(value, a) for a in ("x", "y", "z")):
         return value.x, value.y, value.z
+    if isinstance(value, GeoPoint):
+        return value.latitude, value.longitude, value.altitude
     return value
 
 
 def points(value: Any) -> Any:
-    """The points of a Path, PoseArray, PoseWithIDArray, or of a list of poses (each :func:`point`); ``value``
+    """The points of a Path, GeoPath, PoseArray, PoseWithIDArray, or of a list of poses (each :func:`point`); ``value``
     itself when it is none of these."""
     if isinstance(value, Message) and hasattr(value, "poses"):
         value = value.poses

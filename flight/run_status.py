@@ -6,7 +6,8 @@ log, and the exit status ``aeroexec run`` returns for it.
   (FAILED_PRECONDITIONS, a rejected request the mission caught, a paused behavior the resume could not
   restart) (exit 3);
 - failed: the mission raised, a tree ended in FAILURE, a task it waited for ended without its goal (Aerostack's
-  ``executeTask``: ``task_failed``), or the time limit stopped it; or a safety rule was broken
+  ``executeTask``: ``task_failed``), or the time limit stopped it (the reasons add the first request of the
+  mission refused, when there was one); or a safety rule was broken
   (its contingency took the drone over: the reasons name the rule, when, and what it did); or the vehicle had a
   fault (the link was lost in flight, the landing failed, the drone was left armed or in the air) (exit 1);
 - aborted: the operator aborted the run (``ctl abort``, the ``a`` key, Ctrl-C, SIGTERM, SIGHUP) (exit 4);
@@ -116,8 +117,18 @@ def run_status(events: Iterable[dict[str, Any] | EngineEvent]) -> RunStatus:
         return RunStatus(SUSPENDED, [reaction] + ([f"{cut} request{'s' if cut != 1 else ''} of the mission "
                                                    f"refused or failed after it"] if cut else []))
     if failed or not completed:
-        return RunStatus(FAILED, failed or ["the mission did not finish"])
+        return RunStatus(FAILED, (failed or ["the mission did not finish"]) + _first_refused(records, failed))
     return RunStatus(REFUSED, refused) if refused else RunStatus(COMPLETED)
+
+
+def _first_refused(records: list[dict[str, Any]], failed: list[str]) -> list[str]:
+    """A failed run's first refused request of the mission, as a reason (the failure often follows from it: a
+    script that exits when a request was refused), unless a failure's reason already says it."""
+    first = next((r for r in records if r.get("kind") in REFUSAL_KINDS
+                  and (r.get("data") or {}).get("source") == "mission"), None)
+    if first is None or any(str(first.get("detail", "")) in reason for reason in failed):
+        return []
+    return [f"the first request refused: {first.get('behavior', '')}: {first.get('detail', '')}"]
 
 
 def safety_reason(record: dict[str, Any]) -> str:

@@ -44,7 +44,10 @@ def missions() -> list[Path]:
 
 
 def _reason(err: str, out: Path) -> str:
-    lines = [line.strip() for line in err.splitlines() if line.strip()]
+    lines = [line.strip() for line in err.splitlines() if line.strip() and ": warning: " not in line]
+    for i, line in enumerate(lines[:-1]):  # the summary's line under "completed with refused requests": the first
+        if "completed with refused requests" in line:
+            return lines[i + 1][:160]
     for marker in ("error:", "refused", "failed", "Error", "not "):
         for line in lines:
             if marker in line:

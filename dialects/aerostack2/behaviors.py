@@ -173,7 +173,7 @@ DRONE_MEMBERS = ("arm", "disarm", "offboard", "manual", "shutdown", "load_module
                  "namespace", "info", "position", "orientation", "speed", "earth_frame_id", "base_frame_id",
                  "send_emergency_land", "send_emergency_hover", "send_emergency_land_to_aircraft",
                  "send_emergency_hover_to_aircraft", "send_emergency_killswitch_to_aircraft", "get_logger",
-                 "get_clock", "gps", "motion_ref_handler")
+                 "get_clock", "gps", "motion_ref_handler", "create_publisher", "destroy_publisher")
 
 
 def method(module: str, name: str = "__call__") -> Method:

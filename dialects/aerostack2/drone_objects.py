@@ -11,6 +11,7 @@ Aerostack2 does not have is an error, as is a call of the ROS 2 node a drone int
 from __future__ import annotations
 
 import ast
+import re
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -36,7 +37,8 @@ class MissionChecker(Protocol):
     def value(self, node: ast.AST) -> Any: ...
     def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None: ...
 
-_API = "as2_python_api"
+#: Aerostack2's Python API, by its names: ``as2_python_api``, and ``python_interface`` (Aerostack2 1.0).
+APIS = ("as2_python_api.", "python_interface.")
 _INTERPRETER = "MissionInterpreter"
 #: The beginnings of a ROS 2 node's own methods: on a drone interface they use ROS 2 beyond it.
 NODE_API = ("create_", "destroy_", "declare_", "get_parameter", "set_parameters", "has_parameter", "get_clock",
@@ -44,6 +46,10 @@ NODE_API = ("create_", "destroy_", "declare_", "get_parameter", "set_parameters"
 #: Where the argument that made a catalog argument is, to point at it: catalog argument -> Aerostack2 parameters.
 _SOURCES = {"ALTITUDE": ("height",), "COORDINATES": ("point", "waypoint", "x", "_x", "lat", "height"),
             "SPEED": ("speed", "speed_x"), "PATH": ("path", "geopath"), "YAW_ANGLE_AT_THE_END": ("angle", "yaw_angle")}
+
+
+#: A string that names a frame of ROS 2's tf tree (``gate_0/link``, ``drone0/base_link``, ``cf0/odom``).
+TF_FRAME = re.compile(r"^/?[A-Za-z_]\w*(/\w+)*/\w*(link|frame|odom|map|footprint)$")
 
 
 @dataclass
@@ -83,6 +89,12 @@ class DroneObjects:
         self.annotated: dict[int, dict[str, DroneClass]] = {}  # id(function) -> parameter -> class
         self.methods_of: dict[int, DroneClass] = {}  # id(function) -> the class whose method it is
         self._found: dict[int, As2Call | None] = {}
+        #: The strings of the program that name frames of ROS 2's tf tree and are data (in a list, a dict, bound
+        #: to a name: not an argument given straight to a call, which is judged where it is given), in order.
+        self.tf_frames = sorted((n for n in checker.nodes if isinstance(n, ast.Constant) and isinstance(n.value, str)
+                                 and TF_FRAME.match(n.value)
+                                 and not isinstance(checker.parents.get(id(n)), ast.keyword | ast.Call)),
+                                key=lambda n: (n.lineno, n.col_offset))
         for node in checker.nodes:
             if isinstance(node, ast.ClassDef):
                 self._class(node)
@@ -111,10 +123,36 @@ class DroneObjects:
                                                                                *node.args.kwonlyargs)}
                 self.annotated[id(node)] = {k: v for k, v in parameters.items() if v is not None}
 
+        self._passed_drones()
+
+    def _passed_drones(self) -> None:
+        """A function's parameter with no annotation that every call of the function (at least one, by the
+        function's name) gives a drone interface is one (``def drone_run(drone_interface): ...`` called as
+        ``drone_run(uav)``): its calls are checked as the drone's."""
+        functions = {n.name: n for n in self.checker.tree.body if isinstance(n, ast.FunctionDef)}
+        calls: dict[str, list[ast.Call]] = {}
+        for node in self.checker.nodes:
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in functions:
+                calls.setdefault(node.func.id, []).append(node)
+        for name, found in calls.items():
+            function = functions[name]
+            own = self.annotated.setdefault(id(function), {})
+            positional = [*function.args.posonlyargs, *function.args.args]
+            for index, parameter in enumerate(positional):
+                if parameter.annotation is not None or parameter.arg in own:
+                    continue
+                given = [next((k.value for k in c.keywords if k.arg == parameter.arg), None) if index >= len(c.args)
+                         else c.args[index] for c in found]
+                if any(g is None or isinstance(g, ast.Starred) for g in given):
+                    continue
+                drones = [self.drone(g) for g in given]
+                if drones[0] is not None and all(d == drones[0] for d in drones):
+                    own[parameter.arg] = drones[0]
+
     # -- what is a drone interface ------------------------------------------------------------------------
     def _imported(self, node: ast.AST, name: str) -> bool:
         path = self.checker.dotted(node)
-        return bool(path) and path.startswith(_API + ".") and path.rsplit(".", 1)[-1] == name
+        return bool(path) and path.startswith(APIS) and path.rsplit(".", 1)[-1] == name
 
     def drone_class(self, node: ast.AST | None) -> DroneClass | None:
         """The drone interface class an expression names (imported from as2_python_api, or the script's own)."""
@@ -125,7 +163,7 @@ class DroneObjects:
         if isinstance(node, ast.Name) and node.id in self.classes:
             return self.classes[node.id]
         path = self.checker.dotted(node) if isinstance(node, ast.Name | ast.Attribute) else None
-        if path and path.startswith(_API + "."):
+        if path and path.startswith(APIS):
             interface = path.rsplit(".", 1)[-1]
             if interface in aerostack2.INTERFACES:
                 return DroneClass(interface)
@@ -271,6 +309,7 @@ class DroneObjects:
         found = self.as2_call(call, report=True)
         if found is None:
             return
+        self._check_frame(found)
         specialist = self.checker.specialist
         for request in self.requests(found, report=True) or ():
             for error in specialist.request_errors(request.behavior, request.arguments):
@@ -279,6 +318,18 @@ class DroneObjects:
                 if error.kind == WRONG_VALUE and any(unknown(request.arguments[k]) for k in about):
                     continue
                 self.checker.report(self.node_of(found, about[0]) if about else call, error.message, error.kind)
+
+    def _check_frame(self, found: As2Call) -> None:
+        """A frame the check cannot know, in a program that names frames of ROS 2's tf tree: one of those, which
+        the run would refuse at this call in flight; refused here, before the drone takes off."""
+        frame = (found.bound or {}).get("frame_id")
+        if not isinstance(frame, Unknown) or not self.tf_frames:
+            return
+        named = ", ".join(f"{n.value!r} (line {n.lineno})" for n in self.tf_frames[:3])
+        self.checker.report(found.nodes.get("frame_id", found.call),
+                            f"The frame of {found.method.spelled}() is not known before flight, and the script names "
+                            f"frames of ROS 2's tf tree ({named}): aeroexec flies in the earth frame (local ENU from "
+                            f"home); frames of ROS 2's tf tree are not available ({ROS2_BEYOND})", WRONG_VALUE)
 
     def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
         """What the flight-order check needs of a drone interface's call (empty when it asks for no behavior)."""

@@ -23,7 +23,7 @@ from aeroexec.trees.mission_world import MissionGround
 from aeroexec.limits import MAX_FILE_BYTES
 
 WRITTEN_FOR = "Gazebo's empty world"
-_API = "as2_python_api"
+_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0
 #: What a mission uses that is only in the default field (its markers).
 _FIELD_WORDS = ("aruco", "marker")
 _GPS_CALLS = ("go_to_gps_point", "go_to_gps_point_path_facing", "go_to_gps", "go_to_gps_path_facing",
@@ -79,7 +79,7 @@ def _script_ground(path: Path, text: str) -> MissionGround | None:
         return None
     imports = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
     imports += [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module and not n.level]
-    if not any(name.split(".")[0] == _API for name in imports):
+    if not any(name.split(".")[0] in _API for name in imports):
         return None
     return MissionGround(WRITTEN_FOR, _script_origin(tree))
 

@@ -91,4 +91,4 @@ def watched_drones(nodes: list[ast.AST], dotted: Any) -> list[tuple[ast.AST, str
                             f"drone with its own program, in a fleet file (aeroexec fleet)")
             for node in nodes if isinstance(node, ast.Call)
             and (dotted(node.func) or "").endswith("DroneInterfaceBase")
-            and (dotted(node.func) or "").startswith("as2_python_api")]
+            and (dotted(node.func) or "").startswith(("as2_python_api", "python_interface"))]

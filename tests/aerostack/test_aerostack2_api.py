@@ -94,14 +94,14 @@ def test_what_the_drone_cannot_serve_is_refused_with_the_reason_and_the_run_says
 def test_ros_2_beyond_the_drone_interface_fails_the_run_at_its_line(tmp_path, capsys):
     path = script(tmp_path, """
         uav.takeoff(2.0, 1.0)
-        publish = getattr(uav, "create_" + "publisher")  # computed: verify cannot see it
-        publish("String", "chatter", 10)
+        listen = getattr(uav, "create_" + "subscription")  # computed: verify cannot see it
+        listen("String", "chatter", print, 10)
         """)
     flight = fly(path, tmp_path, capsys)
     assert flight.status == 1
     failed = flight.kinds("mission_failed")[0]["detail"]
-    assert "mission.py at mission.py:14: RosFeatureError: DroneInterface.create_publisher: this mission uses ROS 2 " \
-           "beyond the drone interface" in failed
+    assert "mission.py at mission.py:14: RosFeatureError: DroneInterface.create_subscription: this mission uses " \
+           "ROS 2 beyond the drone interface" in failed
     assert flight.kinds("GOAL_ACHIEVED")[-1]["behavior"] == "LAND"  # the run landed the drone left in the air
 
 

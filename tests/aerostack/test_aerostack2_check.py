@@ -80,6 +80,59 @@ def test_flight_order_is_checked_through_the_scripts_own_functions():
     ]
 
 
+def test_a_drone_passed_to_a_function_with_no_annotation_is_checked_as_the_drone():
+    """project_f330_test's ``drone_run(drone_interface)``, called with the drone interface: its follow_path from the
+    ground was refused in flight (a run "completed with refused requests"), not before it."""
+    assert problems("""
+        def drone_run(drone_interface, speed):
+            drone_interface.follow_path([[0.1, 0.0, 1.0]], speed=speed)
+            drone_interface.go_too(1, 1, 2, 1.0)
+
+        def not_a_drone(thing):
+            thing.go_too(1, 1, 2)
+
+        if __name__ == "__main__":
+            uav = DroneInterface("drone_0")
+            drone_run(uav, speed=0.5)
+            not_a_drone(uav)
+            not_a_drone("a string")
+        """) == [
+        (4, "error", "The execution of behavior FOLLOW_PATH cannot be done at the start of the mission (flight is "
+                      "landed; FOLLOW_PATH needs hovering or moving)"),
+        (5, "error", "The function go_too does not exist in Aerostack2's DroneInterface (did you mean go_to?)"),
+    ]
+
+
+GATES = """
+    def go_through(drone_interface: DroneInterface, point, frame_id):
+        drone_interface.go_to.go_to_point_path_facing(point=point, speed=1.0, frame_id=frame_id)
+
+    uav = DroneInterface("cf0")
+    uav.takeoff(2.0, 0.7)
+    gates = {"gate_0/link": [1.0, 0.0, 2.0], "gate_1/link": [-1.0, 0.0, 2.0]}
+    for gate, point in gates.items():
+        go_through(uav, point, gate)
+    uav.land()
+    """
+
+
+def test_a_frame_built_at_run_time_from_tf_frames_the_script_names_is_refused_before_flight():
+    """project_crazyflie_gates: gates given as frames of ROS 2's tf tree, reaching go_to through a dict; each
+    request was refused in flight, after the take-off, and the run ended failed some 8 s later."""
+    assert problems(GATES) == [
+        (4, "error", "The frame of go_to.go_to_point_path_facing() is not known before flight, and the script names "
+                     "frames of ROS 2's tf tree ('gate_0/link' (line 8), 'gate_1/link' (line 8)): aeroexec flies in "
+                     "the earth frame (local ENU from home); frames of ROS 2's tf tree are not available (this "
+                     "mission uses ROS 2 beyond the drone interface)"),
+    ]
+
+
+def test_a_frame_given_straight_to_a_call_does_not_make_another_unknown_frame_an_error():
+    assert problems(GATES.replace('gates = {"gate_0/link": [1.0, 0.0, 2.0], "gate_1/link": [-1.0, 0.0, 2.0]}',
+                                  'gates = {"earth": [1.0, 0.0, 2.0]}\n    '
+                                  'print(uav.base_frame_id == str("cf0/base_link"))')) == []
+
+
 def test_a_destination_through_a_name_bound_once_is_checked_against_the_world():
     found = check_mission_source(HEADER + textwrap.dedent("""\
         HEIGHT = 2.0

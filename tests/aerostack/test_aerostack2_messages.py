@@ -1,13 +1,13 @@
 """ROS 2 messages an Aerostack2 script uses as data (a path of PoseStamped, a Point, an LED colour, a GPS fix),
-rclpy's logging, and a script's own modules beside it: served as under ``python3``, with nothing of ROS 2 needed;
-what needs a ROS 2 graph (publishing) is still refused by name."""
+rclpy's logging, a publisher's messages (into the event log), and a script's own modules beside it: served as under
+``python3``, with nothing of ROS 2 needed; what needs a ROS 2 graph (a subscription) is still refused by name."""
 
 from __future__ import annotations
 
 import re
 
 import pytest
-from flying import fly
+from flying import fly, world
 
 T, G, F, L = "TAKE_OFF", "GO_TO_POINT", "FOLLOW_PATH", "LAND"
 
@@ -69,16 +69,89 @@ def test_a_path_of_pose_stamped_messages_flies(tmp_path, capsys):
     assert "COORDINATES=(2.0, 0.0, 3.0)" in goal
 
 
-def test_publishing_a_message_is_still_refused_by_name(tmp_path, capsys):
+LEDS = """import rclpy
+from as2_python_api.drone_interface import DroneInterface
+from std_msgs.msg import ColorRGBA
+
+
+class Dancer(DroneInterface):
+    def __init__(self, name):
+        super().__init__(name, verbose=False)
+        self.led_pub = self.create_publisher(ColorRGBA, f"/{name}/leds/control", 10)
+
+    def colour(self, r, g, b):
+        msg = ColorRGBA()
+        msg.r, msg.g, msg.b = r / 255.0, g / 255.0, b / 255.0
+        self.led_pub.publish(msg)
+
+
+rclpy.init()
+uav = Dancer("drone0")
+status = uav.create_publisher(ColorRGBA, "status", 10)
+uav.arm()
+uav.offboard()
+uav.takeoff(1.0, 0.5)
+uav.colour(255, 0, 0)
+status.publish(ColorRGBA(g=1.0))
+uav.land(0.5)
+"""
+
+
+def test_an_led_publisher_flies_and_its_messages_are_in_the_event_log(tmp_path, capsys):
+    """challenge_multi_drone's swarm: a DroneInterface of its own publishing LED colours (ColorRGBA) was refused
+    before flight (DroneInterface.create_publisher); now it flies, and each message is in the event log, on its
+    topic (a relative one in the drone's namespace, as ROS 2 resolves it), where the LEDs' plugin would get it."""
     script = tmp_path / "leds.py"
+    script.write_text(LEDS)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, L]
+    assert [(r["behavior"], r["detail"], r["data"]["where"]) for r in flight.kinds("published")] == [
+        ("/drone0/leds/control", "std_msgs.msg.ColorRGBA(r=1.0, g=0.0, b=0.0, a=0.0)", "leds.py:14"),
+        ("/drone0/status", "std_msgs.msg.ColorRGBA(r=0.0, g=1.0, b=0.0, a=0.0)", "leds.py:24")]
+
+
+def test_publishing_what_aeroexec_does_not_serve_is_refused_by_name_before_flight(tmp_path, capsys):
+    script = tmp_path / "camera.py"
     script.write_text("import rclpy\nfrom as2_python_api.drone_interface import DroneInterface\n"
-                      "from std_msgs.msg import ColorRGBA\n\nrclpy.init()\nuav = DroneInterface('drone0')\n"
-                      "leds = uav.create_publisher(ColorRGBA, '/drone0/leds/control', 10)\n"
-                      "leds.publish(ColorRGBA(r=1.0))\n")
+                      "from sensor_msgs.msg import Image\n\nrclpy.init()\nuav = DroneInterface('drone0')\n"
+                      "frames = uav.create_publisher(Image, 'frames', 10)\n")
     flight = fly(script, tmp_path, capsys)
     assert flight.status == 1 and not flight.records
-    assert "leds.py:7:" in flight.err and "DroneInterface.create_publisher: this mission uses ROS 2 beyond the " \
-                                          "drone interface" in flight.err
+    assert "camera.py:7:31: error: WRONG_FORMAT: sensor_msgs.msg.Image: this mission uses ROS 2 beyond the drone " \
+           "interface" in flight.err
+
+
+def test_an_unused_image_stack_import_does_not_make_a_ros_2_script_a_ros_1_one(tmp_path, capsys, monkeypatch):
+    """cv_bridge is ROS 2's as much as ROS 1's: importing it (and OpenCV, not installed here) without using them
+    leaves a ROS 2 script's LED colour served; OpenCV's import was an error ("cannot be found"), and the colour was
+    refused in ROS 1's words."""
+    from aeroexec.dialects import ros
+
+    monkeypatch.setattr(ros, "installed", lambda module: False)  # as on this machine: no OpenCV
+    script = tmp_path / "lights.py"
+    script.write_text(LEDS.replace("import rclpy\n", "import rclpy\nfrom cv_bridge import CvBridge\nimport cv2\n"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert "lights.py:2:1: warning: cv_bridge.CvBridge is imported but never used: the mission runs without it " \
+           "(a use would be refused: this mission uses ROS 2 beyond the drone interface)" in flight.err
+    assert "lights.py:3:1: warning: cv2 is imported but never used: the mission runs without it (a use would be " \
+           "refused: OpenCV (cv2) is not installed here, and aeroexec's drone interface gives no camera images to " \
+           "process)" in flight.err
+    assert len(flight.kinds("published")) == 2
+
+
+def test_a_use_of_opencv_where_it_is_not_installed_is_refused_naming_it(tmp_path, capsys, monkeypatch):
+    from aeroexec.dialects import ros
+
+    monkeypatch.setattr(ros, "installed", lambda module: False)
+    script = tmp_path / "show.py"
+    script.write_text("import rclpy\nimport cv2\nfrom as2_python_api.drone_interface import DroneInterface\n\n"
+                      "rclpy.init()\nuav = DroneInterface('drone0')\ncv2.waitKey(1)\n")
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "show.py:7:1: error: WRONG_FORMAT: cv2.waitKey: OpenCV (cv2) is not installed here, and aeroexec's " \
+           "drone interface gives no camera images to process" in flight.err
 
 
 def test_a_scripts_own_module_beside_it_imports_as_under_python3(tmp_path, capsys):
@@ -110,3 +183,37 @@ def test_a_module_beside_the_script_using_a_ros_2_graph_is_refused_by_name_befor
     assert f"{tmp_path / 'follow_lib.py'}:5:" in flight.err
     assert "as2_core.as2_names.topics.self_localization.pose: this mission uses ROS 2 beyond the drone interface" \
         in flight.err
+
+
+GEO_PATH = """import rclpy
+from as2_python_api.drone_interface_gps import DroneInterfaceGPS
+from geographic_msgs.msg import GeoPath, GeoPoseStamped
+
+rclpy.init()
+uav = DroneInterfaceGPS("drone0")
+path = GeoPath()
+for lat, lon in ((40.00005, -3.0), (40.00005, -3.00005)):
+    pose = GeoPoseStamped()
+    pose.pose.position.latitude = lat
+    pose.pose.position.longitude = lon
+    pose.pose.position.altitude = 3.0
+    path.poses.append(pose)
+uav.arm()
+uav.offboard()
+uav.takeoff(3.0, 1.0)
+uav.follow_path(path, 2.0)
+uav.land(0.5)
+"""
+
+
+def test_a_geo_path_of_geo_poses_flies_from_the_gps_origin(tmp_path, capsys):
+    """geographic_msgs' GeoPath of GeoPoseStamped, as a GPS drone interface's follow_path takes it: it was refused
+    as ROS 2 beyond the drone interface."""
+    script = tmp_path / "geo_path.py"
+    script.write_text(GEO_PATH)
+    flight = fly(script, tmp_path, capsys, world_file=world(tmp_path, 40.0, -3.0))
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, F, L]
+    path = [r["detail"] for r in flight.kinds("activated") if r["behavior"] == F][0]
+    numbers = [float(n) for n in re.findall(r"-?[\d.]+(?:e-?\d+)?", path.split("SPEED")[0])]
+    assert numbers == pytest.approx([0.0, 5.55, 3.0, -4.26, 5.55, 3.0], abs=0.05)  # 0.00005 deg: 5.55 m N, 4.26 m W

@@ -68,7 +68,6 @@ def test_the_same_gps_mission_elsewhere_is_refused_before_flight(tmp_path, capsy
 @pytest.mark.parametrize("script, line, use", [
     ("gazebo_mission_behavior_tree.py", 46, "rclpy.node.Node"),
     ("minimal_sensing_explore.py", 34, "DroneInterface.create_subscription"),  # class Explorer(DroneInterface)
-    ("mbzirc_mission.py", 20, "python_interface.drone_interface.DroneInterface"),
 ])
 def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(script, line, use, tmp_path,
                                                                                  capsys):
@@ -76,6 +75,46 @@ def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(
     assert flight.status == 1 and not flight.records
     assert f"{script}:{line}:" in flight.err and f"{use}: this mission uses ROS 2 beyond the drone interface" in \
         flight.err
+
+
+AEROSTACK2_1_0 = """import rclpy
+from time import sleep
+from python_interface.drone_interface import DroneInterface
+from python_interface.modules.goto_module import GotoModule
+
+rclpy.init()
+drone = DroneInterface("drone_sim_0", verbose=True)
+assert isinstance(drone.goto, GotoModule)
+drone.offboard()
+drone.arm()
+drone.takeoff(3, 2)
+sleep(1)
+drone.goto(0, 5, 3, speed=1.0)
+drone.follow_path([[5, 0, 3], [0, 0, 3]], 5)
+drone.land(0.2)
+drone.shutdown()
+"""
+
+
+def test_an_aerostack2_1_0_script_of_python_interface_flies(tmp_path, capsys):
+    """python_interface, as as2_python_api was called in Aerostack2 1.0 (its examples/example1.py): the same drone
+    interface under that version's module names; it was refused as ROS 2 beyond the drone interface."""
+    script = tmp_path / "example_1_0.py"
+    script.write_text(AEROSTACK2_1_0)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, G, F, L]
+    goal = [r["detail"] for r in flight.kinds("activated") if r["behavior"] == G][0]
+    assert "COORDINATES=(0, 5, 3)" in goal
+
+
+def test_an_aerostack2_1_0_script_is_checked_as_aerostack2_scripts_are(tmp_path, capsys):
+    script = tmp_path / "fp_1_0.py"
+    script.write_text(AEROSTACK2_1_0.replace("drone.takeoff(3, 2)", "pass"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "fp_1_0.py:13:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at the " \
+           "start of the mission" in flight.err
 
 
 def test_a_follow_path_from_the_ground_is_refused_as_the_catalog_orders_flight(tmp_path, capsys):

@@ -112,3 +112,23 @@ def test_failed_preconditions_stay_a_return_value_but_the_run_says_so(tmp_path, 
         ''')
     status, err, _ = fly(tmp_path, path, capsys)
     assert status == 3 and "completed with refused requests" in err and "LAND" in err
+
+
+def test_a_failed_runs_summary_names_the_first_refused_request(tmp_path, capsys):
+    """A mission that gives up after a refusal failed; its summary named only the failure, and the refusal that led
+    to it was in the event log alone."""
+    path, _ = write_mission(tmp_path, '''
+        def mission():
+            api.execute_behavior("TAKE_OFF", altitude=3)
+            reached = api.execute_behavior("GO_TO_POINT", coordinates=(30 * 5, 0, 3))  # HERE
+            api.execute_behavior("LAND")
+            if reached != "GOAL_ACHIEVED":
+                raise RuntimeError("the survey point is out of reach")
+        ''')
+    status, err, records = fly(tmp_path, path, capsys)
+    assert status == EXIT_STATUS[FAILED] == 1, err
+    ended = [r for r in records if r["kind"] == "run_ended"][-1]
+    first = "the first request refused: GO_TO_POINT: Behavior GO_TO_POINT cannot be executed because its " \
+            "preconditions are not satisfied. The destination is too far"
+    assert ended["detail"] == FAILED and any(first in reason for reason in ended["data"]["reasons"])
+    assert first in err.split("computed.py: failed at")[1]  # the summary's lines under its last one

@@ -2,8 +2,11 @@
 
 What Aerostack2's drone interface offers besides its behavior modules: ``arm()``, ``offboard()``, ``disarm()``,
 ``manual()`` (idempotent: True when the drone is, or now is, in that state), ``position``, ``orientation``,
-``speed``, ``info``, ``load_module()``, ``shutdown()``. The rest of a ROS 2 node (publishers, subscriptions,
-services, parameters) is refused: this mission uses ROS 2 beyond the drone interface.
+``speed``, ``info``, ``load_module()``, ``shutdown()``; and a publisher of messages used as data
+(``create_publisher(ColorRGBA, "/drone0/leds/control", 10)``: each message published is in the event log, as
+``published``, and nothing else hears it, as in a ROS 2 graph where nothing subscribes to that topic). The rest of a
+ROS 2 node (subscriptions, services, parameters, timers) is refused: this mission uses ROS 2 beyond the drone
+interface.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ from typing import Any
 
 from aeroexec.dialects import ros
 from aeroexec.dialects.aerostack2.as2_msgs.msg import PlatformStatus
+from aeroexec.dialects.ros_messages import Message
 from aeroexec.drones.interface import LandedState, Telemetry
 from aeroexec.engine import api
 from aeroexec.engine.missions import script
@@ -53,6 +57,38 @@ class _Logger:
         return None
 
 
+class Publisher:
+    """What ``create_publisher`` gives: ``publish(msg)`` puts the message in the event log (``published``, the
+    topic and the message's fields); a message of another type is a TypeError, as rclpy raises."""
+
+    def __init__(self, drone: DroneInterfaceBase, msg_type: type[Message], topic: str) -> None:
+        self._drone, self.msg_type, self.topic_name = drone, msg_type, topic
+
+    @property
+    def topic(self) -> str:
+        return self.topic_name
+
+    def publish(self, msg: Message) -> None:
+        if not isinstance(msg, self.msg_type):
+            raise TypeError(f"Expected {self.msg_type.__name__}, got {type(msg).__name__}")
+        engine = self._drone.engine
+        where = api.caller_location()
+        detail = repr(msg)
+        engine.bridge.call(lambda: engine.log.record("published", self.topic_name, detail, source="mission",
+                                                     where=where))
+
+    def get_subscription_count(self) -> int:
+        return 0  # nothing in aeroexec subscribes to a mission's topics
+
+    def destroy(self) -> bool:
+        return True
+
+
+def _topic(namespace: str, topic: str) -> str:
+    """The topic's full name, as ROS 2 resolves a relative name in the node's namespace."""
+    return topic if topic.startswith("/") else f"/{namespace}/{topic.removeprefix('~/')}"
+
+
 class DroneInterfaceBase:
     """Drone interface base node: the drone ``drone_id`` (its namespace)."""
 
@@ -73,6 +109,18 @@ class DroneInterfaceBase:
 
     def get_logger(self) -> _Logger:
         return self._logger
+
+    def create_publisher(self, msg_type: Any, topic: str, qos_profile: Any = 10, **kwargs: Any) -> Publisher:
+        """A publisher of ``msg_type`` (a message type used as data: ``std_msgs.msg.ColorRGBA``...) on ``topic``;
+        another type (an image, a type of a package aeroexec does not serve) is refused by name."""
+        if not (isinstance(msg_type, type) and issubclass(msg_type, Message)):
+            name = (object.__getattribute__(msg_type, "_name") if isinstance(msg_type, ros.Refused)
+                    else getattr(msg_type, "__name__", repr(msg_type)))
+            raise ros.RosFeatureError(f"{type(self).__name__}.create_publisher of {name}: {ros.ROS2_BEYOND}")
+        return Publisher(self, msg_type, _topic(self.namespace, str(topic)))
+
+    def destroy_publisher(self, publisher: Publisher) -> bool:
+        return publisher.destroy()
 
     # -- the drone ------------------------------------------------------------------------------------------
     @property

@@ -1,0 +1,5 @@
+"""Aerostack2 1.0's ``python_interface.modules.follow_path_module``: ``as2_python_api.modules.follow_path_module``."""
+
+from aeroexec.dialects.aerostack2.as2_python_api.modules.follow_path_module import FollowPathModule
+
+__all__ = ["FollowPathModule"]
