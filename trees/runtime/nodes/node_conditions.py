@@ -63,4 +63,4 @@ class NodeConditions(Decorator):
                 self.feedback_message = "_while does not hold"
                 halt(self.decorated)
                 return SKIPPED
-        return self.decorated.step()
+        return self.decorated.stepper()
