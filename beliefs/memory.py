@@ -314,8 +314,12 @@ class BeliefMemory:
         expression has the same answer (a behavior tree's condition asks again only when it moved). -1 when the
         answer may change with the version standing: it reads a computed predicate, shared beliefs or beliefs that
         expire (by time, not by a change), or the question is not kept yet (asked the first time)."""
-        held = self.holds(expression)
         compiled = self._queries.get(expression)
+        if compiled is None:
+            held = self.holds(expression)
+            compiled = self._queries.get(expression)
+        else:  # holds(), for a question kept
+            held = self._answer(expression, None) is not None
         return held, self.version if compiled is not None and compiled.lasting and self.standing_answers else -1
 
     def consult(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> tuple[bool, dict]:

@@ -95,9 +95,9 @@ class Node:
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         self.tree = _DETACHED
-        # its own ``step``, bound once: a parent calls ``child.stepper()``, read from the child's slot, where
-        # ``child.step()`` would look the method up in the child's class and dictionary at every tick
-        self.stepper = self.step
+        # its class's ``step`` function: a parent ticks a child with ``child.stepper(child)``, read from the child's
+        # slot, where ``child.step()`` would look the method up in the child's class and dictionary and bind it
+        self.stepper = type(self).step
         self.skipped = False
         self.ticked = -1  # the tick number it was last ticked in
         self.__dict__["_logger"] = _MAKING
@@ -202,9 +202,8 @@ def attach(root: Behaviour, state: TickState) -> TickState:
         if not isinstance(node, Node):
             state.foreign = True
             node.ticked = -1  # type: ignore[attr-defined]
-            node.step = node.stepper = MethodType(_foreign_step, node)  # type: ignore[attr-defined]
-        else:  # bound again, one after another: the tree's steppers lie together in memory, as they are ticked
-            node.stepper = node.step
+            node.step = MethodType(_foreign_step, node)  # type: ignore[attr-defined]
+            node.stepper = _foreign_step  # type: ignore[attr-defined]
     return state
 
 
@@ -228,7 +227,7 @@ def step(root: Behaviour, state: TickState) -> None:
     """Tick an attached tree once from ``root`` (the runner's fast path: ``state.visits`` as the caller set it)."""
     state.number += 1
     try:
-        root.stepper()  # type: ignore[attr-defined]
+        root.stepper(root)  # type: ignore[attr-defined]
     finally:
         stale = state.stale
         if stale:
