@@ -85,6 +85,10 @@ class BeliefMemory:
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
         self._changes = 0
+        #: a number that moves with every change that can change an answer (a belief added, removed or expired, a
+        #: declaration, a registered function, shared beliefs, rules, their bound): while it stands, a question
+        #: :meth:`holds_standing` said stands has the same answer (read it; never write it)
+        self.version = 0
         self._rulebook: RuleBook | None = None
         self._rule_budget = Budget()  # what one ask may spend evaluating rules (limit_rules)
         #: answer a repeated question from its last answer while the relations it reads stand (off: solve it
@@ -113,6 +117,7 @@ class BeliefMemory:
         if persistence is not None:
             self._persistence[name] = float(persistence)
         self._queries.clear()
+        self.version += 1
 
     def accepts(self, name: str) -> bool:
         """True when beliefs of predicate ``name`` may be stored without declaring it (declared, or no vocabulary)."""
@@ -132,6 +137,7 @@ class BeliefMemory:
         self._computed[(name, arity)] = (function, inputs)
         self._answered[(name, arity)] = (function, inputs)
         self._queries.clear()
+        self.version += 1
 
     def share(self, view: SharedView) -> None:
         """Answer questions on ``view``'s predicate from its shared rows too, after the stored ones
@@ -140,6 +146,7 @@ class BeliefMemory:
         if self._rulebook is not None:
             self._rulebook.share({view.signature})
         self._queries.clear()
+        self.version += 1
 
     def announce(self, kind: str, belief: Struct) -> None:
         """Tell the listeners that a shared belief came (``kind`` "added") or went ("removed"), reason "shared":
@@ -214,6 +221,7 @@ class BeliefMemory:
         displaced = rel.insert(args)
         if displaced is PRESENT:
             return False
+        self.version += 1
         if displaced is None:
             self._changes += 1
             size = len(rel.rows)
@@ -300,6 +308,19 @@ class BeliefMemory:
             if answer is not _UNANSWERED:
                 return answer is not None
         return self._answer(expression, bindings) is not None
+
+    def holds_standing(self, expression: Expression) -> tuple[bool, int]:
+        """:meth:`holds`, and the :attr:`version` its answer stands at: while ``version`` is that number, the
+        expression has the same answer (a behavior tree's condition asks again only when it moved). -1 when the
+        answer may change with the version standing: it reads a computed predicate, shared beliefs or beliefs that
+        expire (by time, not by a change), or the question is not kept yet (asked the first time)."""
+        compiled = self._queries.get(expression)
+        if compiled is None:
+            held = self.holds(expression)
+            compiled = self._queries.get(expression)
+        else:  # holds(), for a question kept
+            held = self._answer(expression, None) is not None
+        return held, self.version if compiled is not None and compiled.lasting and self.standing_answers else -1
 
     def consult(self, expression: Expression, bindings: Mapping[str, Any] | None = None) -> tuple[bool, dict]:
         """The paper's ``consultBelief``: ``(success, unification)`` of the first solution."""
@@ -388,6 +409,7 @@ class BeliefMemory:
         book.load(program, strata)
         book.share({s for s, (_, inputs) in self._answered.items() if inputs is None})
         self._queries.clear()
+        self.version += 1
         for fact in rules:
             if not fact.body.literals:
                 if fact.head.name not in self._vocabulary:  # facts written with rules are sets, as in Datalog
@@ -408,6 +430,7 @@ class BeliefMemory:
         holds for every ask between two calls of :meth:`renew_rules` together (an engine's step), not per ask."""
         budget = self._rule_budget
         budget.work, budget.why, budget.per_ask, budget.spent = work, why, not per_step, 0
+        self.version += 1
 
     def renew_rules(self) -> None:
         """A new step: the work of :meth:`limit_rules` (``per_step``) may be spent again."""
@@ -566,6 +589,9 @@ class BeliefMemory:
             compiled.probe = compiled.probe_in(self._relations)
         compiled.reads = (None if any(p in self._answered or (book and book.volatile(p)) for p in predicates)
                           else tuple(sorted(p for p in predicates if p not in BUILTIN_PREDICATES)))
+        if compiled.reads is not None:  # its answer stands while ``version`` does, unless a belief it reads expires
+            found, computed = self.reads(predicates) if derived else (compiled.reads, False)
+            compiled.lasting = not computed and not any(name in self._persistence for name, _ in found)
         if len(self._queries) > 4096:
             self._queries.clear()
         self._queries[expression] = compiled
@@ -627,6 +653,7 @@ class BeliefMemory:
     def _delete(self, signature: tuple, rel: Relation, args: tuple, reason: str) -> None:
         rel.delete(args)
         self._changes += 1
+        self.version += 1
         self._relations.resized(rel)
         self._expiry.pop((signature, args), None)
         if self._listening:

@@ -66,6 +66,9 @@ class CompiledQuery:
         self.derived: tuple[tuple[str, int], ...] | None = None  # the derived predicates it reads
         self.answer: dict | None = None
         self.stamp = -1
+        #: whether its answer changes only with the memory's ``version`` (no computed predicate, shared beliefs or
+        #: beliefs that expire read, through the rules too): ``BeliefMemory.holds_standing``
+        self.lasting = False
         self._plans: dict = {}
         only = self.steps[0] if len(self.steps) == 1 else None
         self._single = only if type(only) is FactStep and not only.nested else None

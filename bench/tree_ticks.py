@@ -6,9 +6,10 @@ at the first failure (not ``all()`` over a generator, which costs a generator pe
 
 The three are measured in turn within each repeat (interleaved), so a load that comes and goes weighs on all alike.
 Two cases per size. *Standing beliefs*: every condition asks the same question and nothing changes between ticks,
-so the memory answers from its last answer (for all three alike). *Changing beliefs*: every condition asks a
-question of its own and the battery's charge changes before every tick, so every question is solved again: the
-worst case for the memory, the same for all three.
+so the memory answers from its standing answer when asked (the floor and py_trees ask at every tick; aeroexec's
+CheckBelief asks again only when the memory's ``version`` moved, and keeps its answer meanwhile). *Changing
+beliefs*: every condition asks a question of its own and the battery's charge changes before every tick, so every
+question is solved again: the worst case for the memory, the same for all three.
 """
 
 from __future__ import annotations

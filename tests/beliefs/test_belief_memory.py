@@ -286,3 +286,41 @@ def test_a_question_reading_a_computed_predicate_is_asked_every_time():
     assert m.query("level(?L)") == {"?L": 10}
     level[0] = 12
     assert m.query("level(?L)") == {"?L": 12} and len(calls) == 2
+
+
+def test_holds_standing_gives_the_version_an_answer_stands_at_and_the_version_moves_with_every_change():
+    """A behavior tree's condition answers from its last answer while the memory's ``version`` is the one
+    ``holds_standing`` gave: every change that can change an answer moves it."""
+    m = BeliefMemory(predicates={"charge": 2, "visible": 1})
+    m.add("charge(battery, 55)")
+    question = "charge(battery, ?C), ?C > 20"
+    assert m.holds_standing("charge(battery, 55)") == (True, -1)  # a flat goal asked the first time: not kept yet
+    assert m.holds_standing("charge(battery, 55)") == (True, m.version)
+    assert m.holds_standing(question) == (True, m.version)
+    for change in (lambda: m.add("charge(battery, 10)"), lambda: m.remove("charge(battery, ?)"),
+                   lambda: m.declare("light", 2), lambda: m.add_rules("low :- charge(battery, ?C), ?C < 20."),
+                   lambda: m.register("distance", 2, lambda x: 1.0), lambda: m.limit_rules(100)):
+        before = m.version
+        change()
+        assert m.version != before
+    assert m.holds_standing(question)[0] is False  # the charge was removed
+    assert m.holds_standing("low") == (False, m.version)  # rules over stored beliefs: it stands
+    m.add("charge(battery, 10)")
+    assert m.holds_standing("low") == (True, m.version)
+
+
+def test_holds_standing_never_stands_for_beliefs_that_expire_or_computed_answers():
+    """A belief with a lifetime goes when its time is up, a computed predicate answers anew: neither moves the
+    version, so a question reading them (through rules too) is asked every time."""
+    clock = FakeClock()
+    m = BeliefMemory(persistence={"visible": 1.0}, clock=clock)
+    m.add("visible(m1)")
+    m.add_rules("seen(?X) :- visible(?X).")
+    level = [3]
+    m.register("level", 1, lambda: level[0])
+    for question in ("visible(m1)", "seen(m1)", "level(?L), ?L > 2"):
+        m.holds_standing(question)
+        assert m.holds_standing(question) == (True, -1), question
+    clock.t = 1.5
+    level[0] = 1
+    assert [m.holds_standing(q)[0] for q in ("visible(m1)", "seen(m1)", "level(?L), ?L > 2")] == [False] * 3

@@ -207,3 +207,33 @@ def test_a_script_failing_while_a_node_is_halted_is_recorded_and_the_halt_goes_o
     assert mission.status == Status.FAILURE  # the condition failed on the third tick: the tree ended there
     [error] = [e.detail for e in engine.log.events(kind="tree_error")]
     assert error.startswith("mission.xml:7: Sleep: _onHalted: Error in script [x := missing]")
+
+
+def test_a_condition_is_asked_again_only_when_the_memory_changed(engine, monkeypatch):
+    """A CheckBelief ticked while nothing changed answers from its last answer; a change is seen at the next tick."""
+    asked = []
+    ask = engine.memory.holds_standing
+    monkeypatch.setattr(engine.memory, "holds_standing", lambda text: asked.append(text) or ask(text))
+    engine.memory.add("code(box, 7)")
+    engine.tick_callbacks.append(lambda: engine.clock.now() > 1.0 and engine.memory.add("code(box, 3)"))
+    mission = run(engine, N("KeepRunningUntilFailure", N("CheckBelief", belief="code(box, 7)")), max_time=5.0)
+    assert mission.status == Status.FAILURE and "mission_failed" in [e.kind for e in engine.log.events()]
+    assert statuses(engine, "CheckBelief") == ["SUCCESS", "FAILURE"]
+    assert len(asked) <= 4  # ~20 ticks before the change: asked once, again once kept, and after the change
+
+
+def test_a_condition_on_a_belief_that_expires_fails_when_it_expires(engine):
+    """``visible`` lasts 2 s: the condition fails when the belief goes, though no belief was added or removed."""
+    engine.memory.add("visible(box)")
+    mission = run(engine, N("KeepRunningUntilFailure", N("CheckBelief", belief="visible(box)")), max_time=10.0)
+    [failed] = engine.log.events(kind="mission_failed")
+    assert mission.status == Status.FAILURE and "time limit" not in failed.detail
+    assert 1.5 < failed.time < 3.0
+
+
+def test_a_condition_on_a_computed_predicate_is_asked_at_every_tick(engine):
+    """``mission_time`` is computed: its answer changes with no belief changing."""
+    late = N("CheckBelief", belief="mission_time(?T), ?T > 1")
+    mission = run(engine, N("KeepRunningUntilFailure", N("Inverter", late)), max_time=10.0)
+    [failed] = engine.log.events(kind="mission_failed")
+    assert mission.status == Status.FAILURE and "time limit" not in failed.detail

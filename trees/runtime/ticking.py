@@ -81,7 +81,7 @@ class Node:
 
     # what a tick reads of every node, in slots (fixed places in the object, not its dictionary): a tree of
     # thousands of nodes is read from far less memory
-    __slots__ = ("children", "current_child", "decorated", "skipped", "source", "status", "ticked", "tree")
+    __slots__ = ("children", "current_child", "decorated", "skipped", "source", "status", "stepper", "ticked", "tree")
 
     #: whether the class has an ``initialise`` of its own (py_trees' does nothing: it is not called then)
     initialises = False
@@ -95,6 +95,9 @@ class Node:
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         self.tree = _DETACHED
+        # its class's ``step`` function: a parent ticks a child with ``child.stepper(child)``, read from the child's
+        # slot, where ``child.step()`` would look the method up in the child's class and dictionary and bind it
+        self.stepper = type(self).step
         self.skipped = False
         self.ticked = -1  # the tick number it was last ticked in
         self.__dict__["_logger"] = _MAKING
@@ -200,6 +203,7 @@ def attach(root: Behaviour, state: TickState) -> TickState:
             state.foreign = True
             node.ticked = -1  # type: ignore[attr-defined]
             node.step = MethodType(_foreign_step, node)  # type: ignore[attr-defined]
+            node.stepper = _foreign_step  # type: ignore[attr-defined]
     return state
 
 
@@ -223,7 +227,7 @@ def step(root: Behaviour, state: TickState) -> None:
     """Tick an attached tree once from ``root`` (the runner's fast path: ``state.visits`` as the caller set it)."""
     state.number += 1
     try:
-        root.step()  # type: ignore[attr-defined]
+        root.stepper(root)  # type: ignore[attr-defined]
     finally:
         stale = state.stale
         if stale:

@@ -40,23 +40,36 @@ class BeliefLeaf(Leaf):
 
 
 class CheckBelief(BeliefLeaf):
-    """SUCCESS when the belief expression holds, else FAILURE."""
+    """SUCCESS when the belief expression holds, else FAILURE.
 
-    __slots__ = ("belief", "fixed", "holds")  # read at every tick: in slots
+    A condition without blackboard keys keeps its last answer with the memory's ``version`` it stands at
+    (``BeliefMemory.holds_standing``): ticked again while the memory has not changed, it answers at once, without
+    asking (a question reading computed predicates, shared beliefs or beliefs that expire is asked every time).
+    """
+
+    __slots__ = ("answer", "ask", "belief", "belief_memory", "fixed", "quick", "seen")  # read at every tick: in slots
     manifest = MANIFESTS["CheckBelief"]
 
     def __init__(self, name: str, config: NodeConfig) -> None:
         super().__init__(name, config)
-        memory = getattr(getattr(config.context, "engine", None), "memory", None)
-        self.holds = memory.holds if memory is not None else None  # the engine keeps its memory for a run
+        memory = getattr(getattr(config.context, "engine", None), "memory", None)  # the engine keeps it for a run
+        self.belief_memory = memory
+        self.ask = memory.holds_standing if memory is not None else None
+        self.quick = self.fixed and memory is not None  # ticked in one call, asking the engine's memory
+        self.answer, self.seen = FAILURE, -1  # the last answer, and the memory's version it stands at (-1: none)
 
     def step(self) -> Status:
-        if not self.fixed:
+        if not self.quick:
             return super().step()
-        try:  # a condition without blackboard keys, ticked in one call (Leaf.step, update and kept)
-            status = SUCCESS if self.holds(self.belief) else FAILURE
-        except BeliefError as error:
-            status = self.error(f"{type(self).__name__} {self.belief}: {error}")
+        if self.belief_memory.version == self.seen:  # the memory is as it was when it answered: the same answer
+            status = self.answer
+        else:
+            try:  # Leaf.step, update and kept in one call
+                held, self.seen = self.ask(self.belief)
+                status = self.answer = SUCCESS if held else FAILURE
+            except BeliefError as error:
+                self.seen = -1
+                status = self.error(f"{type(self).__name__} {self.belief}: {error}")
         tree = self.tree
         if status is not self.status:
             tree.changed.append(self)

@@ -187,7 +187,7 @@ class TryCatch(Control):
                 halt(child)
             catch = self.children[-1]
             try:
-                catch.step()
+                catch.stepper(catch)
             except TickError as error:  # a halt goes on: the error is recorded
                 self.caught(error)
             halt(catch)

@@ -107,7 +107,7 @@ class Control(Node, py_trees.composites.Composite):
 
     def tick_index(self, index: int) -> Result:
         child = self.current_child = self.children[index]
-        return child.step()  # type: ignore[attr-defined]
+        return child.stepper(child)  # type: ignore[attr-defined]
 
     def terminate(self, new_status: Status) -> None:
         if new_status is INVALID:
@@ -150,7 +150,7 @@ class Sequence(Control):
         while index < count:
             child = children[index]
             before = child.status if asynchronous else None
-            result = child.step()
+            result = child.stepper(child)
             if result is RUNNING:
                 self.index, self.current_child = index, child
                 return RUNNING
@@ -183,7 +183,7 @@ class Sequence(Control):
         old, start, stop_on = self.status, self.index, self._stop_on  # start: where it starts again (restart_from)
         skipped = self.skipped_count if old is RUNNING else 0
         for child in children[start:] if start else children:
-            result = child.step()
+            result = child.stepper(child)
             if result is RUNNING or result is stop_on:
                 index = children.index(child, start)
                 self.index, self.current_child, self.skipped_count = index, child, skipped

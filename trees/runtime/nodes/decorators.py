@@ -51,7 +51,8 @@ class Decorator(Node, py_trees.decorators.Decorator):
         return cls(config.model.name, children[0], config)
 
     def run(self) -> Result:
-        return self.decorated.step()  # type: ignore[attr-defined]
+        decorated = self.decorated
+        return decorated.stepper(decorated)  # type: ignore[attr-defined]
 
     def step(self) -> Result:
         old, old_skipped = self.status, self.skipped
@@ -79,11 +80,13 @@ class Inverter(Decorator):
     manifest = MANIFESTS["Inverter"]
 
     def run(self) -> Result:
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         return FAILURE if result is SUCCESS else SUCCESS if result is FAILURE else result
 
     def step(self) -> Result:  # Decorator.step and Node.settle for a node with nothing to start or stop
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         tree = self.tree
         if result is SUCCESS:
             result = status = FAILURE
@@ -107,7 +110,8 @@ class ForceSuccess(Decorator):
     forced = SUCCESS
 
     def run(self) -> Result:
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         return self.forced if result is SUCCESS or result is FAILURE else result
 
 
@@ -133,7 +137,8 @@ class Repeat(Decorator):
         cycles = self.cycles_port.get()  # a ``{key}`` port is read on every tick, as BT.CPP does
         while cycles == -1 or self.count < cycles:  # BT.CPP: only -1 is forever; -2 ends at once
             before = self.decorated.status
-            result = self.decorated.step()
+            decorated = self.decorated
+            result = decorated.stepper(decorated)
             if result is RUNNING:
                 return RUNNING
             if result is SKIPPED:
@@ -166,7 +171,8 @@ class KeepRunningUntilFailure(Decorator):
     manifest = MANIFESTS["KeepRunningUntilFailure"]
 
     def run(self) -> Result:
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         if result is FAILURE:
             halt(self.decorated)
             return FAILURE
@@ -194,7 +200,8 @@ class Timed(Decorator):
         return now - self.started_at >= self.seconds - 1e-9
 
     def tick_decorated(self) -> Result:
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         if result is not RUNNING:
             self.started_at = None
         return result
@@ -243,7 +250,8 @@ class RunOnce(Decorator):
     def run(self) -> Result:
         if self.first is not None:
             return SKIPPED if self.then_skip.get() else self.first
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         if result is SUCCESS or result is FAILURE:
             self.first = result
         return result
@@ -269,7 +277,8 @@ class Precondition(Decorator):
                 raise TickError(config.model, str(error)) from None
         if not self.running:
             return self.otherwise.get()
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         if result is SUCCESS or result is FAILURE:  # as BT.CPP: a skipped child, or a halt, keeps it open
             self.running = False
         return result
@@ -318,7 +327,8 @@ class Loop(Decorator):
                 popped = True
         if not popped and not self.child_running:
             return self.if_empty.get()
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         self.child_running = result is RUNNING
         if result is SUCCESS or result is FAILURE:
             reset(self.decorated)
@@ -382,7 +392,8 @@ class SkipUnlessUpdated(Decorator):
             previous, self.seen = self.seen, current
             if current == 0 or current == previous:
                 return self.otherwise
-        result = self.decorated.step()
+        decorated = self.decorated
+        result = decorated.stepper(decorated)
         self.executing = result is RUNNING
         return result
 

@@ -63,4 +63,5 @@ class NodeConditions(Decorator):
                 self.feedback_message = "_while does not hold"
                 halt(self.decorated)
                 return SKIPPED
-        return self.decorated.step()
+        decorated = self.decorated
+        return decorated.stepper(decorated)
