@@ -52,6 +52,7 @@ from aeroexec.trees.runtime.context import TreeContext
 from aeroexec.trees.runtime.nodes.node_conditions import NodeConditions
 from aeroexec.trees.runtime.ticking import TickError, TickState, attach, result_of, tick_tree
 from aeroexec.trees.script import text_of
+from patience import hang_guard
 from py_trees.behaviour import Behaviour
 from py_trees.common import Status
 
@@ -164,14 +165,25 @@ def _apply(state: dict[int, str], seen: dict[int, str], key: int, new: str, chil
     state[key] = new
 
 
-def _drain(path: Path) -> None:
-    """Wait until the logger's writer thread (which wakes on every record) has written what it was given."""
-    size, steady = -1, 0
-    while steady < 5:
+def _drain(path: Path, records: bool = True) -> None:
+    """Wait until the logger's writer thread (which wakes on every record) has written what it was given: a first
+    record (``records``: a tick ended, and the first tick always sets the root's status), then a file that stayed
+    the same for 100 ms (a writer thread waits for a core that long on a loaded machine; BT.CPP's logger drops
+    what is left unwritten when it is destroyed)."""
+    size, steady, deadline = -1, 0, time.monotonic() + hang_guard(30)
+    while (steady < 25 or records and not _has_records(path)) and time.monotonic() < deadline:
         time.sleep(0.004)
         now = path.stat().st_size
         steady = steady + 1 if now == size else 0
         size = now
+
+
+def _has_records(path: Path) -> bool:
+    data = path.read_bytes()
+    if len(data) < 23:
+        return False
+    (length,) = struct.unpack_from("<i", data, 19)
+    return len(data) >= 31 + length + 9
 
 
 def run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path,
@@ -233,7 +245,7 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
         if between:  # ticks ``between`` seconds apart, whatever a tick took
             paced += between
             time.sleep(max(0.0, paced - time.monotonic()))
-    _drain(path)
+    _drain(path, records=bool(run.roots))
     del logger
     gc.collect()
     origin, count, records = _records(path)
