@@ -65,6 +65,15 @@ async def _fly_through_mavsdk(url: str, vehicle: MavlinkVehicle, track: list, im
         await _until(sample, "the end of the mission", timeout=4 * WAIT_S)
 
 
+def to_segment(point: tuple, a: tuple, b: tuple) -> float:
+    """The distance from ``point`` to the segment from ``a`` to ``b``."""
+    ab = [y - x for x, y in zip(a, b, strict=True)]
+    length = sum(c * c for c in ab)
+    t = 0.0 if length == 0 else max(0.0, min(1.0, sum((p - x) * c for p, x, c in zip(point, a, ab, strict=True))
+                                                   / length))
+    return math.dist(point, [x + t * c for x, c in zip(a, ab, strict=True)])
+
+
 @pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])
 def test_a_plan_uploaded_through_mavsdk_to_the_simulator_at_its_home_flies_aeroexecs_route(autopilot, tmp_path):
     status, events, world, _ = fly(PLAN, tmp_path)
@@ -85,9 +94,11 @@ def test_a_plan_uploaded_through_mavsdk_to_the_simulator_at_its_home_flies_aeroe
         vehicle.stop()
     assert len(ours) >= 4
     start = 0
-    for point in ours:  # every point aeroexec flew to, visited in the same order by the MAVSDK mission
-        nearest = min(range(start, len(track)), key=lambda i: math.dist(track[i], point))
-        assert math.dist(track[nearest], point) < 2.5, (point, track[nearest])  # NAV_ACC_RAD is 2 m
+    for point in ours:  # every point aeroexec flew to, visited in the same order by the MAVSDK mission: the track
+        # is the line through the positions sampled (sparse on a loaded machine: it flew straight between them)
+        nearest = min(range(start, len(track) - 1), key=lambda i: to_segment(point, track[i], track[i + 1]))
+        assert to_segment(point, track[nearest], track[nearest + 1]) < 2.5, \
+            (point, track[nearest], track[nearest + 1])  # NAV_ACC_RAD is 2 m
         start = nearest
     assert math.dist(track[-1][:2], (0.0, 0.0)) < 1.0  # back home: the plan's RTL
     compared = 0
