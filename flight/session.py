@@ -171,7 +171,7 @@ class FlightSession:
             meta.update(fleet=spec.fleet.fleet, drone_name=spec.fleet.name)
         if spec.journal:
             self._open_journal(meta, flight_files(spec.mission, world_path, spec.catalog, spec.rules,
-                                                  spec.safety_rules))
+                                                  spec.safety_rules, spec.vehicle))
         if spec.mcap or spec.foxglove is not None:  # before the log: refused before anything is logged
             self._open_recording()
         try:

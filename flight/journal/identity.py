@@ -1,7 +1,7 @@
 """What a journal belongs to, checked before a resume writes anything: the run (an identity made when it started,
 in the journal's ``meta`` ``run`` and the event log's first line), its output folder (``meta`` ``folder``), and the
 content of the files that shaped its flight (``meta`` ``files``: the mission, the world, the catalog, the rules and
-safety rules files, each with its SHA-256), and times a clock can go on from.
+safety rules files, the vehicle profile, each with its SHA-256), and times a clock can go on from.
 
 A resume is refused, naming what differs, when the journal was copied from another run's folder, when a file that
 shaped the flight changed since (a waypoint edited in a tree, a rule changed: the journal's progress is that of
@@ -60,11 +60,13 @@ def digest(path: str | Path) -> str | None:
 
 
 def flight_files(mission: str | Path, world: str | Path | None, catalog: str | Path | None,
-                 rules: tuple[str, ...] | list[str], safety_rules: tuple[str, ...] | list[str]) -> list[FlightFile]:
-    """The files that shape a flight, with their digests now (a tree's included files too)."""
+                 rules: tuple[str, ...] | list[str], safety_rules: tuple[str, ...] | list[str],
+                 vehicle: str | Path | None = None) -> list[FlightFile]:
+    """The files that shape a flight, with their digests now (a tree's included files too; the vehicle profile:
+    its endurance, speeds and ceiling bound the route, the simulator and the safety rules)."""
     named = [("mission", mission), *(("included", path) for path in included(Path(mission))), ("world", world),
              ("catalog", catalog), *(("rules", path) for path in rules),
-             *(("safety rules", path) for path in safety_rules)]
+             *(("safety rules", path) for path in safety_rules), ("vehicle profile", vehicle)]
     return [FlightFile(role, str(Path(path).resolve()), digest(path)) for role, path in named if path]
 
 

@@ -72,7 +72,8 @@ class Resumption:
         journal = journal_path(point.folder)
         check_belongs(journal, point.meta, point.folder, log)
         check_files(journal, point.meta.get("files"),
-                    flight_files(spec.mission, world, spec.catalog, spec.rules, spec.safety_rules))
+                    flight_files(spec.mission, world, spec.catalog, spec.rules, spec.safety_rules,
+                                 spec.vehicle))
         logged = last_logged_time(log)
         if logged is not None:
             point.time = max(point.time, round(logged + PERIOD, 3))

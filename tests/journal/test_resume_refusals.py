@@ -176,3 +176,14 @@ def test_a_resumed_run_agrees_with_its_event_log(legs):
     _, outcome = resume(folder)
     assert outcome.exit_status == 0
     assert disagreements(folder) == []
+
+
+def test_a_vehicle_profile_changed_since_is_refused(tmp_path):
+    """The profile bounds the route, the simulator and the safety rules: a resume with another endurance or
+    ceiling would fly the rest of the mission by figures it was not verified with."""
+    profile = tmp_path / "hexacopter.yaml"
+    profile.write_text("endurance: 75\nceiling: 120\n")
+    folder = tmp_path / "run"
+    crash(fly_until(spec(MISSIONS / "survey_legs.xml", folder, vehicle=str(profile)), goals_after(2)))
+    profile.write_text("endurance: 75\nceiling: 40\n")
+    refused(folder, f"{profile}: the vehicle profile file changed since the interrupted run flew it")
