@@ -4,13 +4,14 @@ predicates and identity.
 ```yaml
 fleet: survey
 world: default          # or a world file
+vehicle: hexacopter.yaml  # every drone's vehicle profile (docs/vehicles.md); a drone's vehicle: is its own
 share: [object, code]   # shared by every drone (each drone may add its own)
 credentials: creds      # the fleet's credentials (aeroexec fleet FILE --make-credentials creds); default: made anew
 operators: [operator]   # the operators' identities (creds/operator.pem...), who may command the drones
 trust: {code: 2}        # a drone believes a code(...) another says only once 2 distinct members say it
 drones:
   - {name: d1, mission: missions/figure10.py, home: [0, 0]}
-  - {name: d2, mission: missions/square_patrol.yaml, home: [3, 0], seed: 2, share: [position]}
+  - {name: d2, mission: missions/square_patrol.yaml, home: [3, 0], seed: 2, share: [position], vehicle: quad.yaml}
   - {name: d3, certificate: /etc/aeroexec/d3.pem, key: /etc/aeroexec/d3.key}   # no mission: it flies elsewhere
 ```
 A drone's identity is its certificate (default ``<credentials>/<name>.pem``, its key beside it as ``.key``); drones
@@ -22,7 +23,7 @@ that flies in another process or machine. Paths are read from the fleet file's f
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from aeroexec.engine.errors import Problem
@@ -31,9 +32,10 @@ from aeroexec.fleet.access import Roster
 from aeroexec.fleet.credentials import CA_CERTIFICATE, OPERATOR, ROUTER, Identity, common_name
 from aeroexec.fleet.payloads import NAME_RULE, is_name
 
-TOP = ("fleet", "world", "share", "drones", "token", "telemetry_rate", "credentials", "operators", "trust")
+TOP = ("fleet", "world", "share", "drones", "token", "telemetry_rate", "credentials", "operators", "trust",
+       "vehicle")
 PREDICATE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")  # a predicate's name, as a belief writes it
-DRONE = ("name", "mission", "home", "seed", "share", "certificate", "key")
+DRONE = ("name", "mission", "home", "seed", "share", "certificate", "key", "vehicle")
 RESERVED = ("ca", ROUTER)  # names of the fleet's own credential files
 
 
@@ -47,6 +49,7 @@ class DroneSpec:
     line: int = 0
     certificate: Path | None = None  # its identity's certificate; None: <credentials>/<name>.pem
     key: Path | None = None
+    vehicle: Path | None = None  # its vehicle profile (docs/vehicles.md); None: the fleet's, else the simulator's
 
 
 @dataclass(frozen=True)
@@ -118,13 +121,14 @@ def load_fleet(path: str | Path) -> FleetSpec:
     credentials = _place(path, r.text(top["credentials"][1], "credentials")) if "credentials" in top else None
     operators = tuple(_checked_names(r, top["operators"][1], "operators")) if "operators" in top else (OPERATOR,)
     rate = r.number(top["telemetry_rate"][1], "telemetry_rate", positive=True) if "telemetry_rate" in top else 5.0
+    vehicle = vehicle_of(r, path, top["vehicle"][1]) if "vehicle" in top else None
     drones: list[DroneSpec] = []
     if "drones" not in top:
         r.error(r.root, "the fleet file has no drones: list them under drones:")
     for item in r.sequence(top["drones"][1], "drones") or () if "drones" in top else ():
         drone = _drone(r, path, item, common, drones)
         if drone is not None:
-            drones.append(drone)
+            drones.append(drone if drone.vehicle is not None or vehicle is None else replace(drone, vehicle=vehicle))
     if "drones" in top and not drones and not r.failed:
         r.error(top["drones"][0], "the fleet has no drones")
     for drone in drones:
@@ -197,9 +201,25 @@ def _drone(r: NodeReader, path: Path, node, common: tuple[str, ...], earlier: li
     if certificate is not None and (not is_name(certificate.stem) or certificate.stem in RESERVED):
         r.error(entries["certificate"][1], f"the certificate's file name {certificate.stem!r} names its identity: it "
                                            f"{NAME_RULE}, and is not {' or '.join(RESERVED)}")
+    vehicle = vehicle_of(r, path, entries["vehicle"][1]) if "vehicle" in entries else None
     if r.failed and not failed or not name or "mission" in entries and mission is None:
         return None
-    return DroneSpec(name, mission, home, seed or 0, share, line_of(node), certificate, key)
+    return DroneSpec(name, mission, home, seed or 0, share, line_of(node), certificate, key, vehicle)
+
+
+def vehicle_of(r: NodeReader, fleet_file: Path, node) -> Path | None:
+    """The vehicle profile a ``vehicle:`` names, found and read (its problems name its own file and line)."""
+    text = r.text(node, "vehicle")
+    found = _path(r, fleet_file, text, node, "the vehicle profile") if text else None
+    if found is not None:
+        from aeroexec.drones.profile import VehicleProfileError, load_vehicle_profile
+
+        try:
+            load_vehicle_profile(str(found))
+        except VehicleProfileError as error:
+            r.error(node, f"vehicle: {error}")
+            return None
+    return found
 
 
 def _name(r: NodeReader, entry, node, what: str) -> str | None:

@@ -29,7 +29,7 @@ from aeroexec.engine.missions.bridge import RUNNING
 from aeroexec.engine.missions.script import ScriptMission, fly_together
 from aeroexec.flight.ending import FlightEnding
 from aeroexec.flight.fleet.status import drone_status, write_status
-from aeroexec.flight.robot import load_world, robot_choice
+from aeroexec.flight.robot import load_world, robot_choice, vehicle_config
 from aeroexec.flight.run_status import FlightOutcome
 from aeroexec.flight.session import FlightSession
 from aeroexec.flight.spec import FleetJoin, FlightError, FlightSpec
@@ -121,7 +121,9 @@ class FleetFlight:
             robot = self._robot(choice, drone)
             if hasattr(robot, "join"):
                 robot.join(airspace, drone.name)
+            vehicle = str(drone.vehicle) if getattr(drone, "vehicle", None) is not None else base.vehicle
             spec = replace(base, mission=Path(drone.mission), seed=drone.seed, output=str(self.output / drone.name),
+                           vehicle=vehicle,
                            log=None, web=None, groot=None, register=False, remote_questions=self.remote_questions,
                            fleet=FleetJoin(self.node.fleet, drone.name, share=tuple(drone.share),
                                            telemetry_rate=self.telemetry_rate))
@@ -136,7 +138,10 @@ class FleetFlight:
         if choice.kind is None:
             from aeroexec.drones.sim import SimConfig, SimulatedDrone
 
-            return SimulatedDrone(self.world, seed=drone.seed, config=SimConfig(start=drone.home))
+            profile = vehicle_config(str(drone.vehicle) if getattr(drone, "vehicle", None) is not None
+                                     else self.base.vehicle)  # its vehicle profile's figures, from its home
+            config = replace(profile, start=drone.home) if profile is not None else SimConfig(start=drone.home)
+            return SimulatedDrone(self.world, seed=drone.seed, config=config)
         if tuple(drone.home) != (0.0, 0.0):
             raise FlightError(f"{drone.name}: a {choice.kind.name} starts where its kind puts it; home: is for "
                               f"drones", usage=True)

@@ -132,3 +132,41 @@ def test_a_fleet_flies_missions_of_any_format_side_by_side(tmp_path, capsys):
     scout = events(tmp_path / "out", "p1")
     heard = next(e for e in scout if e["kind"] == "message_sent")
     assert heard["data"]["receivers"] == ["t1"]
+
+
+GO_EAST = '''"""Take off, fly 12 m east at the vehicle's cruise speed, land."""
+
+import aeroexec.engine.api as api
+
+
+def runMission():
+    api.executeBehavior("TAKE_OFF")
+    api.executeBehavior("GO_TO_POINT", point=[12, 0, 2])
+    api.executeBehavior("LAND")
+'''
+
+
+def test_each_drone_of_a_fleet_flies_with_its_vehicle_profile_and_a_wrong_one_is_named_at_its_line(tmp_path, capsys):
+    """``vehicle:`` gives every drone of the fleet a profile; a drone's own ``vehicle:`` is its own (a slow
+    fleet-wide cruise speed of 1 m/s, d2's own 8 m/s): each go-to takes its profile's time."""
+    (tmp_path / "east.py").write_text(GO_EAST)
+    (tmp_path / "slow.yaml").write_text("cruise_speed: 1\n")
+    (tmp_path / "fast.yaml").write_text("cruise_speed: 8\nmax_speed: 12\n")
+    fleet = tmp_path / "pair.yaml"
+    fleet.write_text("fleet: pair\nvehicle: slow.yaml\ndrones:\n  - {name: d1, mission: east.py}\n"
+                     "  - {name: d2, mission: east.py, home: [3, 3], vehicle: fast.yaml}\n")
+    assert main(["fleet", str(fleet), "--plain", "--output", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+
+    def go_to_took(drone: str) -> float:
+        log = events(tmp_path / "out", drone)
+        began = next(e["time"] for e in log if e["kind"] == "activated" and e["behavior"] == "GO_TO_POINT")
+        return next(e["time"] for e in log if e["kind"] == "activated" and e["behavior"] == "LAND") - began
+
+    assert go_to_took("d1") > 10.0 > 2 * go_to_took("d2"), (go_to_took("d1"), go_to_took("d2"))
+
+    (tmp_path / "fast.yaml").write_text("cruise_speed: fast\n")
+    capsys.readouterr()
+    assert main(["fleet", str(fleet), "--plain", "--output", str(tmp_path / "again")]) != 0
+    err = capsys.readouterr().err
+    assert f"{fleet}:5: " in err and "cruise_speed (m/s) must be a number, not 'fast'" in err, err
+    assert "Traceback" not in err
