@@ -1,6 +1,7 @@
 """The user's private aeroexec cache folder (``$XDG_CACHE_HOME/aeroexec``, else ``~/.cache/aeroexec``).
 
-What is kept there is loaded with pickle (the LALR tables of the grammars, parsed catalogs), so a file is read only
+What is kept there is loaded with pickle (the LALR tables of the grammars, parsed catalogs; the behavior names of the
+aerial library are text: :func:`kept`, :func:`keep`), so a file is read only
 from a folder that belongs to the user and that nobody else can write; anywhere else (another owner, a folder others
 can write, one that cannot be made) the caller works without a cache.
 """
@@ -11,7 +12,7 @@ import os
 import stat
 from pathlib import Path
 
-__all__ = ["user_cache_folder"]
+__all__ = ["keep", "kept", "user_cache_folder"]
 
 
 def user_cache_folder() -> Path | None:
@@ -26,3 +27,43 @@ def user_cache_folder() -> Path | None:
     if hasattr(os, "getuid") and (info.st_uid != os.getuid() or info.st_mode & (stat.S_IWGRP | stat.S_IWOTH)):
         return None
     return folder
+
+
+def kept(name: str) -> bytes | None:
+    """The bytes kept under ``name`` in the user's cache folder; None when there are none (or no private folder)."""
+    folder = user_cache_folder()
+    if folder is None:
+        return None
+    try:
+        return (folder / name).read_bytes()
+    except OSError:
+        return None
+
+
+def keep(name: str, data: bytes, most: int = 16) -> None:
+    """Keep ``data`` under ``name`` in the user's cache folder, written atomically (a reader sees the whole file or
+    none); of the files named like it (its name up to the first dot), only the ``most`` last written stay. A folder
+    that cannot be written is no error: the caller works without the cache."""
+    import contextlib
+    import tempfile
+
+    folder = user_cache_folder()
+    if folder is None:
+        return
+    prefix = name.split(".", 1)[0] + "."
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=prefix, suffix=".tmp", delete=False) as file:
+            file.write(data)
+        os.replace(file.name, folder / name)
+    except OSError:
+        with contextlib.suppress(OSError, NameError):
+            os.unlink(file.name)
+        return
+    written = []
+    for entry in os.scandir(folder):
+        if entry.name.startswith(prefix) and not entry.name.endswith(".tmp"):
+            with contextlib.suppress(OSError):
+                written.append((entry.stat().st_mtime_ns, entry.path))
+    for _, path in sorted(written)[:-most]:
+        with contextlib.suppress(OSError):
+            os.unlink(path)

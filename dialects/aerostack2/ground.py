@@ -16,7 +16,7 @@ import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 from typing import Any
 
-from aeroexec.dialects.aerostack2.tree_nodes import PORTS
+from aeroexec.dialects.aerostack2.node_ports import PORTS
 from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants
 from aeroexec.trees.mission_world import MissionGround
 

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -11,11 +12,27 @@ from pathlib import Path
 MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 
 
-def imported_after(code: str) -> set[str]:
-    """The modules a fresh interpreter holds after running ``code`` (written to standard error at its end)."""
+def imported_after(code: str, cache: Path | None = None) -> set[str]:
+    """The modules a fresh interpreter holds after running ``code`` (written to standard error at its end), with
+    ``cache`` as its user's cache folder (``XDG_CACHE_HOME``) when given."""
     script = textwrap.dedent(code) + "\nimport sys\nprint('\\n'.join(sorted(sys.modules)), file=sys.stderr)\n"
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd="/")
+    env = {**os.environ, **({"XDG_CACHE_HOME": str(cache)} if cache is not None else {})}
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd="/",
+                          env=env)
     return set(done.stderr.split())
+
+
+def verify(mission: Path) -> str:
+    """The code of a ``aeroexec verify MISSION`` whose mission has no errors."""
+    return f"""
+        import contextlib, io, sys
+        sys.argv = ["aeroexec", "verify", {str(mission)!r}]
+        from aeroexec.cli.main import main
+        shown = io.StringIO()
+        with contextlib.redirect_stdout(shown), contextlib.suppress(SystemExit):
+            main()
+        assert "0 errors" in shown.getvalue(), shown.getvalue()
+    """
 
 
 def test_the_top_level_help_imports_nothing_it_does_not_print_with():
@@ -106,3 +123,23 @@ def test_a_mission_whose_beliefs_are_flat_and_has_no_script_is_verified_without_
         assert compile_script("x := 1").writes == ["x"]
     """)
     assert "lark" in read
+
+
+def test_verifying_a_mission_without_aerostack2_nodes_does_not_import_their_mapping():
+    """Every XML mission is asked whether it uses Aerostack2's nodes (its tree mapping, the ground it was written
+    for): a mission that does not never imports the mapping (``tree_nodes``, with Aerostack2's behavior tables and
+    the ROS checks behind it); one that does is still mapped (tests/aerostack/test_aerostack2_trees.py)."""
+    modules = imported_after(verify(MISSIONS / "figure10.xml"))
+    assert "aeroexec.dialects.aerostack2.node_ports" in modules  # asked
+    assert sorted(modules & {"aeroexec.dialects.aerostack2.tree_nodes", "aeroexec.dialects.aerostack2.behaviors",
+                             "aeroexec.dialects.ros"}) == []
+
+
+def test_verify_names_the_behaviors_without_implementation_without_importing_the_behaviors(tmp_path):
+    """The behaviors the aerial library serves are read once and kept in the user's cache folder: the next verify
+    says which behaviors have no implementation without importing the behaviors or the engine's processes."""
+    first = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert "aeroexec.engine.behaviors.aerial" in first  # nothing kept yet: the library itself is read
+    assert [p.name.split(".")[0] for p in (tmp_path / "aeroexec").glob("behaviors.*")] == ["behaviors"]
+    again = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert sorted(again & {"aeroexec.engine.behaviors.aerial", "aeroexec.engine.execution.process"}) == []
