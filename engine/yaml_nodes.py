@@ -11,13 +11,17 @@ import difflib
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
 from aeroexec.engine.errors import Problem
-from yaml.constructor import SafeConstructor
 
+from aeroexec.lazy import lazy_module
 from aeroexec.limits import MAX_NUMBER_LENGTH, InputError, compose_yaml, read_text
+
+if TYPE_CHECKING:
+    import yaml
+else:  # imported when a text is read: importing this module (``suggestion``, a cached catalog) reads none
+    yaml = lazy_module("yaml")
 
 MAP = "tag:yaml.org,2002:map"
 SEQ = "tag:yaml.org,2002:seq"
@@ -48,7 +52,7 @@ class NodeReader:
     def __init__(self, text: str, file: str) -> None:
         self.file = file
         self.problems: list[Problem] = []
-        self._constructor = SafeConstructor()
+        self._constructor = yaml.constructor.SafeConstructor()
         self.root: yaml.Node | None = None
         try:  # libyaml's parser when PyYAML has it, composed within the readers' limits (aeroexec.limits)
             self.root = compose_yaml(text, file)

@@ -14,15 +14,13 @@ import logging
 import os
 import pickle
 import sys
-import tempfile
 from collections.abc import Iterable
 from dataclasses import replace
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from aeroexec.beliefs import BeliefMemory, Rule, RuleError
+from aeroexec.beliefs import RuleError
 from aeroexec.engine.catalog.descriptors import (
     BehaviorDescriptor,
     CapabilityDescriptor,
@@ -39,6 +37,9 @@ from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 from aeroexec.cache import user_cache_folder
 from aeroexec.limits import InputError, read_text
+
+if TYPE_CHECKING:  # the memory and the rules engine are not imported to load a catalog kept parsed
+    from aeroexec.beliefs import BeliefMemory, Rule
 
 logger = logging.getLogger(__name__)
 
@@ -365,6 +366,8 @@ def _keep_catalog(key: str, catalog: BehaviorCatalog) -> None:
     folder = user_cache_folder()
     if folder is None:
         return
+    import tempfile  # here: only writing a catalog needs it (it imports shutil, random...: ~4 ms of a start)
+
     try:
         data = pickle.dumps(catalog, protocol=pickle.HIGHEST_PROTOCOL)
         with tempfile.NamedTemporaryFile(dir=folder, prefix="catalog.", suffix=".tmp", delete=False) as file:
@@ -383,7 +386,9 @@ def parse_catalog(text: str, file: str = "<catalog>", processes: Iterable[str] |
 
 
 def default_catalog_path() -> Path:
-    return Path(str(resources.files("aeroexec.catalogs").joinpath("aerial.yaml")))
+    import aeroexec.catalogs  # the package's folder (importlib.resources costs ~3 ms of a start to say it)
+
+    return Path(aeroexec.catalogs.__file__).with_name("aerial.yaml")
 
 
 @lru_cache(maxsize=1)

@@ -143,3 +143,12 @@ def test_verify_names_the_behaviors_without_implementation_without_importing_the
     assert [p.name.split(".")[0] for p in (tmp_path / "aeroexec").glob("behaviors.*")] == ["behaviors"]
     again = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
     assert sorted(again & {"aeroexec.engine.behaviors.aerial", "aeroexec.engine.execution.process"}) == []
+
+
+def test_verify_reads_no_yaml_once_its_catalog_and_world_are_kept_parsed(tmp_path):
+    """The catalog and the default world are YAML files: once kept parsed in the user's cache folder, a verify of an
+    XML mission imports no PyYAML (~15 ms) to load them, nor tempfile (only writing a kept file needs it)."""
+    first = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert "yaml" in first  # nothing kept yet: the files are read
+    again = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert sorted(m for m in again if m == "yaml" or m.startswith("yaml.") or m == "tempfile") == []
