@@ -152,3 +152,13 @@ def test_verify_reads_no_yaml_once_its_catalog_and_world_are_kept_parsed(tmp_pat
     assert "yaml" in first  # nothing kept yet: the files are read
     again = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
     assert sorted(m for m in again if m == "yaml" or m.startswith("yaml.") or m == "tempfile") == []
+
+
+def test_verifying_a_behavior_tree_does_not_import_the_tml_dialect_or_elementtree():
+    """Every XML mission is handed to TML's reader and checks, and asked for the ground Aerostack2's missions fly
+    in: a behavior tree that is neither imports none of TML's reader, compiler and checks, nor ElementTree (the
+    ground's reader) when the file names none of Aerostack2's nodes; a TML mission is still read as TML
+    (tests/trees/test_tml.py)."""
+    modules = imported_after(verify(MISSIONS / "figure10.xml"))
+    assert sorted(modules & {"aeroexec.dialects.tml.compiler", "aeroexec.dialects.tml.reader",
+                             "aeroexec.dialects.tml.verify", "xml.etree.ElementTree"}) == []
