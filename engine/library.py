@@ -20,7 +20,6 @@ verify`` says which behaviors have no implementation without importing the behav
 
 from __future__ import annotations
 
-import hashlib
 import logging
 import os
 import sys
@@ -138,7 +137,7 @@ def aerial_behavior_names() -> frozenset[str]:
     from the library itself (then kept) when there are none."""
     import aeroexec
 
-    digest = hashlib.sha256(repr((AERIAL_BEHAVIORS, aeroexec.__version__, sys.version_info[:2])).encode())
+    digest = cache.sha256(repr((AERIAL_BEHAVIORS, aeroexec.__version__, sys.version_info[:2])).encode())
     for folder in _search_path(AERIAL_BEHAVIORS.partition(":")[0]):
         try:
             names = sorted(name for name in os.listdir(folder) if name.endswith(".py"))

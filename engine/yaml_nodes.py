@@ -7,7 +7,6 @@ records with the file and the 1-based line of the node at fault.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable
 from pathlib import Path
@@ -30,6 +29,8 @@ _NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
 
 def suggestion(name: str, known: Iterable[str]) -> str:
     """`` (did you mean X?)`` for a misspelt name, or an empty string."""
+    import difflib  # here: only a misspelt name needs it, not every command that can say one
+
     close = difflib.get_close_matches(str(name), list(known), n=1, cutoff=0.6)
     return f" (did you mean {close[0]}?)" if close else ""
 

@@ -335,21 +335,21 @@ _PARSED_IN_PROCESS = 16
 def _world_key(text: str, source: str) -> str:
     """A hash of a world file's name and text, of the modules that read it and make its records, and of the
     versions of aeroexec and Python: a changed reader never serves a world another one parsed."""
-    import hashlib
     import sys
 
     from aeroexec.drones.sim import geofence, shapes, world
 
     import aeroexec
+    from aeroexec.cache import sha256
 
-    digest = hashlib.sha256(repr((source, aeroexec.__version__, sys.version_info[:2])).encode() + b"\0")
+    digest = sha256(repr((source, aeroexec.__version__, sys.version_info[:2])).encode() + b"\0")
     for module in (world, shapes, geofence, sys.modules[__name__]):
         try:
             with open(module.__file__ or "", "rb") as file:
                 digest.update(file.read() + b"\0")
         except OSError:
             digest.update(f"{module.__name__}: unread\0".encode())
-    return digest.hexdigest()[:32] + hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:32]
+    return digest.hexdigest()[:32] + sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:32]
 
 
 def _kept_world(key: str) -> World | None:

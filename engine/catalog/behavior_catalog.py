@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import contextlib
 import copy
-import hashlib
 import logging
 import os
 import pickle
@@ -35,7 +34,7 @@ from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
-from aeroexec.cache import user_cache_folder
+from aeroexec.cache import sha256, user_cache_folder
 from aeroexec.limits import InputError, read_text
 
 if TYPE_CHECKING:  # the memory and the rules engine are not imported to load a catalog kept parsed
@@ -323,7 +322,7 @@ def _code_stamp() -> str:
 
 def _cache_key(path: str, text: str, processes: Iterable[str] | None) -> str:
     shape = repr((path, None if processes is None else sorted(set(processes)), sys.version_info[:2], _code_stamp()))
-    return hashlib.sha256(shape.encode() + b"\0" + text.encode()).hexdigest()[:32]
+    return sha256(shape.encode() + b"\0" + text.encode()).hexdigest()[:32]
 
 
 def _cached_catalog(key: str) -> BehaviorCatalog | None:
