@@ -145,6 +145,16 @@ def test_verify_names_the_behaviors_without_implementation_without_importing_the
     assert sorted(again & {"aeroexec.engine.behaviors.aerial", "aeroexec.engine.execution.process"}) == []
 
 
+def test_verify_checks_expressions_and_a_catalog_without_safety_rules_without_the_belief_memory(tmp_path):
+    """The belief memory and its rules engine (~10 ms) are built for what needs one: a mission's expressions are
+    checked against the catalog's vocabulary without it, and a catalog with no safety rules decides none at the
+    mission's destinations (a rule that is decided there still builds one: tests/safety)."""
+    imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)  # the catalog and world kept parsed
+    modules = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert "aeroexec.beliefs.expression" in modules  # the expressions are read
+    assert sorted(modules & {"aeroexec.beliefs.memory", "aeroexec.beliefs.query", "sortedcontainers"}) == []
+
+
 def test_verify_reads_no_yaml_once_its_catalog_and_world_are_kept_parsed(tmp_path):
     """The catalog and the default world are YAML files: once kept parsed in the user's cache folder, a verify of an
     XML mission imports no PyYAML (~15 ms) to load them, nor tempfile (only writing a kept file needs it), nor hashlib
