@@ -59,6 +59,8 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     ``aeroexec --help``, which lists the mission formats from their table and nothing more), so a command loads what
     it uses and nothing more; without, every sub-command is."""
     wanted = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
+    # a known sub-command (not after -h, which lists them all) has its parser alone: each is ~0.2 ms of every start
+    alone = wanted in COMMANDS and not any(a in ("-h", "--help") for a in argv[:argv.index(wanted)])
     parser = CommandLine(prog="aeroexec", description="An execution engine for aerial robot missions.",
                          epilog=" ".join([*([] if wanted else [mission_formats(), *node_kinds()]),
                                           'shell completion: eval "$(register-python-argcomplete aeroexec)"']))
@@ -66,6 +68,8 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module_name, help_text) in COMMANDS.items():
+        if alone and name != wanted:
+            continue
         sub = commands.add_parser(name, help=help_text, description=help_text)
         parser.commands[name] = sub
         if wanted is None or wanted == name:

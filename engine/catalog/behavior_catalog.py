@@ -28,17 +28,16 @@ from aeroexec.engine.catalog.descriptors import (
     ReactiveRule,
     Transition,
 )
-from aeroexec.engine.catalog.loader import CatalogContent, CatalogReader
-from aeroexec.engine.catalog.safety_rules import SafetyRule
-from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
 from aeroexec.cache import sha256, user_cache_folder
 from aeroexec.limits import InputError, read_text
 
-if TYPE_CHECKING:  # the memory and the rules engine are not imported to load a catalog kept parsed
+if TYPE_CHECKING:  # neither the reader nor the memory and the rules engine are imported to load a catalog kept parsed
     from aeroexec.beliefs import BeliefMemory, Rule
+    from aeroexec.engine.catalog.loader import CatalogContent
+    from aeroexec.engine.catalog.safety_rules import SafetyRule
 
 logger = logging.getLogger(__name__)
 
@@ -168,6 +167,8 @@ class BehaviorCatalog:
         """This catalog with ``rules`` added (a rules file, ``--rules``): the predicates they derive join the
         vocabulary that missions are checked against, and an engine built on it derives them. Raises
         :class:`~aeroexec.beliefs.RuleError` (each problem with its file and line) when they cannot be taken."""
+        from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations  # here: only with rules
+
         rules = [*self.rules, *rules]
         own = {n: p for n, p in self.predicates.items() if not p.derived}
         problems = check_rules(own, rules)
@@ -261,6 +262,8 @@ def _check_references(content: CatalogContent, reader: NodeReader, processes: se
 
 def read_catalog(reader: NodeReader, processes: Iterable[str] | None = None) -> BehaviorCatalog:
     """Build a catalog from a composed document; raises :class:`CatalogError` listing every problem."""
+    from aeroexec.engine.catalog.loader import CatalogReader  # here: a catalog kept parsed is not read
+
     content = CatalogReader(reader).read()
     if not reader.failed:
         _check_references(content, reader, set(processes) if processes is not None else None)
