@@ -23,9 +23,9 @@ from aeroexec.engine.catalog.contingencies import contingency_syntax
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
 from aeroexec.engine.library import LibraryError, behavior_names
 from aeroexec.engine.robots import robot_kind_hint
+from aeroexec.flight.errors import FlightError
 from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
 from aeroexec.flight.robot import load_world, robot_choice, vehicle_config, with_rule_files
-from aeroexec.flight.spec import FlightError
 from aeroexec.trees import formats
 
 from aeroexec.limits import InputError, read_text

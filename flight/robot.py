@@ -21,10 +21,11 @@ from aeroexec.engine.library import (
 )
 from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.robots import DRONE, RobotKind, RobotKindError, robot_kind
-from aeroexec.flight.spec import FlightError, FlightSpec
+from aeroexec.flight.errors import FlightError
 
 if TYPE_CHECKING:
     from aeroexec.engine.engine import Engine
+    from aeroexec.flight.spec import FlightSpec
 
 logger = logging.getLogger(__name__)
 
