@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from aeroexec.flight.journal.reader import Journal
 from aeroexec.flight.journal.schema import JournalError
 
 from aeroexec.cache import sha256
@@ -127,6 +126,8 @@ def check_files(journal: Path, journaled: Any, now: list[FlightFile]) -> None:
 def changed_files(folder: str | Path) -> list[str]:
     """The files that shaped the run in ``folder`` whose content now differs from the journaled one's, in words
     (an empty list: a resume now flies the mission the journal holds; a campaign's invariant after a resume)."""
+    from aeroexec.flight.journal.reader import Journal  # here: only a resume reads a journal
+
     with Journal(folder) as journal:
         journaled = journal.meta().get("files")
     if not isinstance(journaled, list):
