@@ -107,7 +107,8 @@ def run(args: argparse.Namespace) -> int:
         return 2
     try:  # the robot kind's world unless one is given (a world file that cannot be read is said once)
         world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
-        served = choice.library().names() if choice.kind is not None else behavior_names(args.library)
+        library = choice.library()  # a robot kind's own behaviors; None: the aerial library and plugins
+        served = library.names() if library is not None else behavior_names(args.library)
         catalog = with_rule_files(catalog, args.rules)
         vehicle = vehicle_config(args.vehicle)
     except (FlightError, LibraryError) as error:

@@ -9,6 +9,8 @@ import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
 MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 
 
@@ -195,3 +197,18 @@ def test_an_empty_run_starts_without_the_modules_only_some_runs_need(tmp_path):
     assert sorted(modules & {"secrets", "hmac", "hashlib", "_hashlib", "uuid", "platform", "tempfile",
                              "importlib.abc", "importlib.resources", "subprocess", "aeroexec.flight.journal.resumption",
                              "aeroexec.flight.journal.resume_point", "aeroexec.flight.journal.reader"}) == []
+
+
+def test_a_named_sub_command_is_parsed_alone_and_the_help_before_it_still_lists_every_one(capsys):
+    """``aeroexec verify ...`` builds the verify parser alone (the others' cost every start); ``aeroexec -h verify``
+    is the top-level help, listing every sub-command, and a misspelt sub-command is told the ones there are."""
+    from aeroexec.cli.main import COMMANDS, build_parser, main
+
+    assert sorted(build_parser(["verify", "m.xml"]).commands) == ["verify"]
+    with pytest.raises(SystemExit):
+        main(["-h", "verify"])
+    shown = capsys.readouterr().out
+    assert all(name in shown for name in COMMANDS), shown
+    with pytest.raises(SystemExit):
+        main(["verif", "m.xml"])
+    assert "invalid choice: 'verif' (choose from 'run', 'verify'" in capsys.readouterr().err
