@@ -1,9 +1,9 @@
 """The user's private aeroexec cache folder (``$XDG_CACHE_HOME/aeroexec``, else ``~/.cache/aeroexec``).
 
-What is kept there is loaded with pickle (the LALR tables of the grammars, parsed catalogs; the behavior names of the
-aerial library are text: :func:`kept`, :func:`keep`), so a file is read only
-from a folder that belongs to the user and that nobody else can write; anywhere else (another owner, a folder others
-can write, one that cannot be made) the caller works without a cache.
+What is kept there is loaded with pickle (the LALR tables of the grammars, parsed catalogs and worlds; the behavior
+names of the aerial library are text; :func:`kept` and :func:`keep` read and write a file there), so a file is read
+only from a folder that belongs to the user and that nobody else can write; anywhere else (another owner, a folder
+others can write, one that cannot be made) the caller works without a cache.
 """
 
 from __future__ import annotations
