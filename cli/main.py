@@ -208,12 +208,10 @@ def _main(argv: list[str], own_process: bool = False) -> int:
         return 2
     from aeroexec.engine.errors import CatalogError
 
-    from aeroexec.extras import MissingExtra
-
     try:
         check_extras(args)
         return int(args.run(args) or 0)
-    except MissingExtra as error:  # an optional part that is not installed: the pip line that adds it
+    except _missing_extra() as error:  # an optional part that is not installed: the pip line that adds it
         print(f"aeroexec {args.sub_command}: {error}", file=sys.stderr)
         return USAGE
     except CatalogError as error:  # a --catalog that cannot be loaded: every problem, file:line
@@ -232,13 +230,24 @@ def _main(argv: list[str], own_process: bool = False) -> int:
         return INTERNAL_ERROR
 
 
+def _missing_extra() -> type[Exception]:
+    """:class:`~aeroexec.extras.MissingExtra`, imported when a command raised something (an ``except`` clause's class
+    is looked up only then)."""
+    from aeroexec.extras import MissingExtra
+
+    return MissingExtra
+
+
 def check_extras(args: argparse.Namespace) -> None:
     """Raise :class:`~aeroexec.extras.MissingExtra` for the first extra the command line needs that is missing."""
+    given = {dest for dest in OPTION_EXTRAS if getattr(args, dest, None) is not None}  # --web with no port is 0
+    wanted = dict.fromkeys(e for e in (COMMAND_EXTRAS.get(args.sub_command),
+                                       *(OPTION_EXTRAS[dest] for dest in sorted(given))) if e)
+    if not wanted:
+        return  # (aeroexec.extras is not imported: ~1 ms of a verify or a run)
     from aeroexec.extras import MissingExtra, missing
 
-    given = {dest for dest in OPTION_EXTRAS if getattr(args, dest, None) is not None}  # --web with no port is 0
-    wanted = [COMMAND_EXTRAS.get(args.sub_command), *(OPTION_EXTRAS[dest] for dest in sorted(given))]
-    for extra in dict.fromkeys(e for e in wanted if e):
+    for extra in wanted:
         if absent := missing(extra):
             raise MissingExtra(extra, absent)
 

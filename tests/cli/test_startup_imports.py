@@ -214,3 +214,9 @@ def test_a_named_sub_command_is_parsed_alone_and_the_help_before_it_still_lists_
     with pytest.raises(SystemExit):
         main(["verif", "m.xml"])
     assert "invalid choice: 'verif' (choose from 'run', 'verify'" in capsys.readouterr().err
+
+
+def test_a_command_that_needs_no_extra_does_not_read_the_extras_table():
+    """Which extras a command line needs is known from its sub-command and options: verify needs none, and the
+    extras' table (and what it imports) is read only for one that does (tests/cli/test_extras.py)."""
+    assert "aeroexec.extras" not in imported_after(verify(MISSIONS / "figure10.xml"))
