@@ -9,15 +9,14 @@ docs/reference/limits.md lists these numbers; tests check each one.
 
 from __future__ import annotations
 
+import functools
 import os
 import stat
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
-from yaml.composer import Composer, ComposerError
-from yaml.constructor import SafeConstructor
-from yaml.resolver import Resolver
+if TYPE_CHECKING:  # PyYAML is imported when a YAML text is first read (~15 ms: verify reads no YAML from a cache)
+    import yaml
 
 #: Largest file a reader accepts (mission, catalog, world, fleet file), in bytes.
 MAX_FILE_BYTES = 2 * 1024 * 1024
@@ -115,109 +114,121 @@ def line_of_offset(text: str, offset: int) -> int:
     return text.count("\n", 0, max(0, offset)) + 1
 
 
-try:  # libyaml scans and parses in C (a 500 KB flow list in 2 s instead of 14 s); composing stays here, bounded
-    from yaml._yaml import CParser
+@functools.cache
+def _bounded_loader() -> tuple[type, bool]:
+    """The safe YAML loader class composing within :data:`MAX_NESTING`, :data:`MAX_YAML_NODES` and number length,
+    and whether it parses with libyaml; made (PyYAML imported) when a YAML text is first read."""
+    import yaml
+    from yaml.composer import Composer, ComposerError
+    from yaml.constructor import SafeConstructor
+    from yaml.resolver import Resolver
 
-    _PARSING: tuple[type, ...] = (CParser,)
-except ImportError:  # PyYAML without libyaml: the same checks, slower
-    from yaml.parser import Parser
-    from yaml.reader import Reader
-    from yaml.scanner import Scanner
+    try:  # libyaml scans and parses in C (a 500 KB flow list in 2 s instead of 14 s); composing stays here, bounded
+        from yaml._yaml import CParser
 
-    _PARSING = (Reader, Scanner, Parser)
-_C_PARSER = len(_PARSING) == 1
+        parsing: tuple[type, ...] = (CParser,)
+    except ImportError:  # PyYAML without libyaml: the same checks, slower
+        from yaml.parser import Parser
+        from yaml.reader import Reader
+        from yaml.scanner import Scanner
 
+        parsing = (Reader, Scanner, Parser)
+    c_parser = len(parsing) == 1
 
-class _BoundedLoader(*_PARSING, Composer, SafeConstructor, Resolver):
-    """A safe YAML loader composing within :data:`MAX_NESTING`, :data:`MAX_YAML_NODES` and number length."""
+    class _BoundedLoader(*parsing, Composer, SafeConstructor, Resolver):
+        """A safe YAML loader composing within :data:`MAX_NESTING`, :data:`MAX_YAML_NODES` and number length."""
 
-    get_single_node = Composer.get_single_node  # PyYAML's composer (the C one would recurse without bounds)
-    compose_document = Composer.compose_document
-    compose_sequence_node = Composer.compose_sequence_node
-    compose_mapping_node = Composer.compose_mapping_node
+        get_single_node = Composer.get_single_node  # PyYAML's composer (the C one would recurse without bounds)
+        compose_document = Composer.compose_document
+        compose_sequence_node = Composer.compose_sequence_node
+        compose_mapping_node = Composer.compose_mapping_node
 
-    def __init__(self, text: str) -> None:
-        if _C_PARSER:
-            _PARSING[0].__init__(self, text)
-        else:
-            _PARSING[0].__init__(self, text)  # Reader, then Scanner and Parser
-            _PARSING[1].__init__(self)
-            _PARSING[2].__init__(self)
-        Composer.__init__(self)
-        SafeConstructor.__init__(self)
-        Resolver.__init__(self)
-        self._depth = 0
-        self._nodes = 0
-        self._open: set[str] = set()  # anchors being composed: an alias to one would make a cycle
-        self._heights: dict[str, tuple[int, int]] = {}  # anchor -> (height, expanded size)
-        self._deepest = 0
+        def __init__(self, text: str) -> None:
+            if c_parser:
+                parsing[0].__init__(self, text)
+            else:
+                parsing[0].__init__(self, text)  # Reader, then Scanner and Parser
+                parsing[1].__init__(self)
+                parsing[2].__init__(self)
+            Composer.__init__(self)
+            SafeConstructor.__init__(self)
+            Resolver.__init__(self)
+            self._depth = 0
+            self._nodes = 0
+            self._open: set[str] = set()  # anchors being composed: an alias to one would make a cycle
+            self._heights: dict[str, tuple[int, int]] = {}  # anchor -> (height, expanded size)
+            self._deepest = 0
 
-    def _limit(self, mark: yaml.Mark, message: str) -> None:
-        raise ComposerError(None, None, message, mark)
+        def _limit(self, mark: yaml.Mark, message: str) -> None:
+            raise ComposerError(None, None, message, mark)
 
-    def compose_node(self, parent, index):  # noqa: ANN001, ANN201 (PyYAML's API)
-        event = self.peek_event()
-        if isinstance(event, yaml.AliasEvent):
-            if event.anchor in self._open:
-                self._limit(event.start_mark, f"the alias *{event.anchor} is inside its own anchor (a cycle)")
-            height, size = self._heights.get(event.anchor, (0, 1))
-            self._count(size, event.start_mark)
-            self._deepest = max(self._deepest, self._depth + height)
-            if self._depth + height > MAX_NESTING:
-                self._limit(event.start_mark, f"the alias *{event.anchor} nests the document more than "
-                                              f"{MAX_NESTING} levels deep")
-            return Composer.compose_node(self, parent, index)
-        if isinstance(event, yaml.ScalarEvent):  # a scalar is no level of nesting: counted, then composed
+        def compose_node(self, parent, index):  # noqa: ANN001, ANN201 (PyYAML's API)
+            event = self.peek_event()
+            if isinstance(event, yaml.AliasEvent):
+                if event.anchor in self._open:
+                    self._limit(event.start_mark, f"the alias *{event.anchor} is inside its own anchor (a cycle)")
+                height, size = self._heights.get(event.anchor, (0, 1))
+                self._count(size, event.start_mark)
+                self._deepest = max(self._deepest, self._depth + height)
+                if self._depth + height > MAX_NESTING:
+                    self._limit(event.start_mark, f"the alias *{event.anchor} nests the document more than "
+                                                  f"{MAX_NESTING} levels deep")
+                return Composer.compose_node(self, parent, index)
+            if isinstance(event, yaml.ScalarEvent):  # a scalar is no level of nesting: counted, then composed
+                self._count(1, event.start_mark)
+                if event.anchor is not None:
+                    self._heights[event.anchor] = (0, 1)
+                return Composer.compose_node(self, parent, index)
+            self._depth += 1
+            if self._depth > MAX_NESTING:
+                self._limit(event.start_mark, f"nested more than {MAX_NESTING} levels deep")
             self._count(1, event.start_mark)
-            if event.anchor is not None:
-                self._heights[event.anchor] = (0, 1)
-            return Composer.compose_node(self, parent, index)
-        self._depth += 1
-        if self._depth > MAX_NESTING:
-            self._limit(event.start_mark, f"nested more than {MAX_NESTING} levels deep")
-        self._count(1, event.start_mark)
-        anchor, before, outer_deepest = event.anchor, self._nodes, self._deepest
-        self._deepest = self._depth
-        if anchor is not None:
-            self._open.add(anchor)
-        node = Composer.compose_node(self, parent, index)
-        if anchor is not None:
-            self._open.discard(anchor)
-            self._heights[anchor] = (self._deepest - self._depth + 1, self._nodes - before + 1)
-        self._deepest = max(outer_deepest, self._deepest)
-        self._depth -= 1
-        return node
+            anchor, before, outer_deepest = event.anchor, self._nodes, self._deepest
+            self._deepest = self._depth
+            if anchor is not None:
+                self._open.add(anchor)
+            node = Composer.compose_node(self, parent, index)
+            if anchor is not None:
+                self._open.discard(anchor)
+                self._heights[anchor] = (self._deepest - self._depth + 1, self._nodes - before + 1)
+            self._deepest = max(outer_deepest, self._deepest)
+            self._depth -= 1
+            return node
 
-    def _count(self, nodes: int, mark: yaml.Mark) -> None:
-        self._nodes += nodes
-        if self._nodes > MAX_YAML_NODES:
-            self._limit(mark, f"more than {MAX_YAML_NODES:,} values in one document (aliases counted where used)")
+        def _count(self, nodes: int, mark: yaml.Mark) -> None:
+            self._nodes += nodes
+            if self._nodes > MAX_YAML_NODES:
+                self._limit(mark, f"more than {MAX_YAML_NODES:,} values in one document (aliases counted where used)")
 
-    def compose_scalar_node(self, anchor):  # noqa: ANN001, ANN201
-        node = Composer.compose_scalar_node(self, anchor)
-        if not node.style:  # libyaml writes a plain scalar's style as "", PyYAML as None
-            node.style = None
-        if node.tag in _NUMBER_TAGS and len(node.value) > MAX_NUMBER_LENGTH:
-            self._limit(node.start_mark, f"a number of {len(node.value)} characters is longer than the limit "
-                                         f"of {MAX_NUMBER_LENGTH}")
-        if node.tag in _CHECKED_TAGS:  # built once here, so that reading the value later cannot fail
-            try:
-                SafeConstructor.construct_object(self, node)
-            except Exception as exc:  # PyYAML raises ValueError, KeyError, AttributeError... for these
-                kind = node.tag.rsplit(":", 1)[-1]
-                shown = node.value if len(node.value) <= 40 else node.value[:37] + "..."
-                self._limit(node.start_mark, f"{shown!r} is not a valid {kind} ({type(exc).__name__})")
-            finally:
-                self.constructed_objects.pop(node, None)
-        return node
+        def compose_scalar_node(self, anchor):  # noqa: ANN001, ANN201
+            node = Composer.compose_scalar_node(self, anchor)
+            if not node.style:  # libyaml writes a plain scalar's style as "", PyYAML as None
+                node.style = None
+            if node.tag in _NUMBER_TAGS and len(node.value) > MAX_NUMBER_LENGTH:
+                self._limit(node.start_mark, f"a number of {len(node.value)} characters is longer than the limit "
+                                             f"of {MAX_NUMBER_LENGTH}")
+            if node.tag in _CHECKED_TAGS:  # built once here, so that reading the value later cannot fail
+                try:
+                    SafeConstructor.construct_object(self, node)
+                except Exception as exc:  # PyYAML raises ValueError, KeyError, AttributeError... for these
+                    kind = node.tag.rsplit(":", 1)[-1]
+                    shown = node.value if len(node.value) <= 40 else node.value[:37] + "..."
+                    self._limit(node.start_mark, f"{shown!r} is not a valid {kind} ({type(exc).__name__})")
+                finally:
+                    self.constructed_objects.pop(node, None)
+            return node
+
+    return _BoundedLoader, c_parser
 
 
 def compose_yaml(text: str, file: str) -> yaml.Node | None:
     """The node tree of one YAML document (None when empty); every problem is an :class:`InputError` with a line."""
     if len(text) > MAX_FILE_BYTES:
         raise InputError(file, 0, f"the text is {len(text):,} characters, more than the limit of {MAX_FILE_BYTES:,}")
+    import yaml
+
     try:
-        loader = _BoundedLoader(text)
+        loader = _bounded_loader()[0](text)
     except yaml.reader.ReaderError as exc:  # a control character, checked as the text is handed over
         raise InputError(file, _reader_line(text, exc), _reader_problem(exc)) from None
     try:
@@ -238,6 +249,9 @@ def compose_yaml(text: str, file: str) -> yaml.Node | None:
 
 def load_yaml(text: str, file: str) -> Any:
     """The Python value of one YAML document, composed within the limits (see :func:`compose_yaml`)."""
+    import yaml
+    from yaml.constructor import SafeConstructor
+
     node = compose_yaml(text, file)
     if node is None:
         return None
@@ -253,7 +267,7 @@ def load_yaml(text: str, file: str) -> Any:
 
 def _reader_line(text: str, exc: yaml.reader.ReaderError) -> int:
     """The line of a reader error: libyaml counts the position in UTF-8 bytes, PyYAML in characters."""
-    if _C_PARSER:
+    if _bounded_loader()[1]:
         return text.encode("utf-8", "surrogatepass").count(b"\n", 0, max(0, exc.position)) + 1
     return line_of_offset(text, exc.position)
 

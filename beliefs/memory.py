@@ -25,10 +25,16 @@ from aeroexec.beliefs.errors import (
     EvaluationRefused,
     RuleError,
     RuleProblem,
-    UnknownPredicateError,
 )
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES, Conjunction, Goal, Rule
-from aeroexec.beliefs.parser import parse_belief, parse_expression, parse_rules, read_flat_fact, read_flat_goal
+from aeroexec.beliefs.parser import (
+    check_predicates,
+    parse_belief,
+    parse_expression,
+    parse_rules,
+    read_flat_fact,
+    read_flat_goal,
+)
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
 from aeroexec.beliefs.rules.derivation import RuleBook
@@ -605,20 +611,9 @@ class BeliefMemory:
         if not self._vocabulary:
             return
         book = self._rulebook
-        for name, arity in conjunction.predicates:
-            if (name, arity) in self._computed or (name, arity) in BUILTIN_PREDICATES:
-                continue
-            if book is not None and book.is_derived((name, arity)):
-                continue
-            declared = self._vocabulary.get(name)
-            if declared is None:
-                raise UnknownPredicateError(name, conjunction.text or str(conjunction))
-            if declared != arity:
-                raise UnknownPredicateError(
-                    f"{name}/{arity}",
-                    conjunction.text or str(conjunction),
-                    f"{name} takes {declared} argument{'s' if declared != 1 else ''}",
-                )
+        computed = self._computed
+        check_predicates(conjunction, self._vocabulary, lambda signature: signature in computed or (
+            book is not None and book.is_derived(signature)))
 
     def _parse_belief(self, text: Any) -> Struct:
         if not isinstance(text, str):

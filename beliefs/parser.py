@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable, Mapping
 from functools import lru_cache
 from pathlib import Path
 from sys import intern
 
-from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem
-from aeroexec.beliefs.expression import COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Rule
+from aeroexec.beliefs.errors import BeliefSyntaxError, RuleError, RuleProblem, UnknownPredicateError
+from aeroexec.beliefs.expression import BUILTIN_PREDICATES, COMPARISON_OPERATORS, Comparison, Conjunction, Goal, Rule
 from aeroexec.beliefs.terms import Struct, Var, is_ground
 
 from aeroexec.limits import (
@@ -24,7 +25,8 @@ from aeroexec.limits import (
     read_text,
 )
 
-__all__ = ["parse_belief", "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_goal",
+__all__ = ["check_expression", "check_predicates", "parse_belief",
+           "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_goal",
            "read_rules"]
 
 #: Longest expression accepted; longer text is refused before parsing.
@@ -104,6 +106,36 @@ _VARIABLE_TOKEN = re.compile(r"\?[A-Za-z0-9_]*")
 _NUMBER_TOKEN = re.compile(r"[+-]?(\d+\.\d+|\.\d+|\d+)([eE][+-]?\d+)?")
 _INFINITE = (math.inf, -math.inf)
 _SIGNS = ("+", "-")
+
+
+def check_expression(expression: str | Conjunction, predicates: Mapping[str, int]) -> Conjunction:
+    """An expression parsed and checked against ``predicates`` (name -> arity; none: nothing is checked), without
+    solving: what ``BeliefMemory(predicates=...).check(expression)`` answers, without a memory (a mission's
+    expressions are checked before flight without importing the memory and the rules engine)."""
+    conjunction = expression if type(expression) is Conjunction else parse_expression(expression)
+    check_predicates(conjunction, predicates)
+    return conjunction
+
+
+def check_predicates(conjunction: Conjunction, predicates: Mapping[str, int],
+                     answered: Callable[[tuple[str, int]], bool] = lambda signature: False) -> None:
+    """Raise :class:`UnknownPredicateError` for the first predicate of ``conjunction`` that ``predicates`` (name ->
+    arity; none: nothing is checked) does not declare with its arity, built-in ones and those ``answered`` says are
+    known otherwise (computed, derived by rules) aside."""
+    if not predicates:
+        return
+    for name, arity in conjunction.predicates:
+        if (name, arity) in BUILTIN_PREDICATES or answered((name, arity)):
+            continue
+        declared = predicates.get(name)
+        if declared is None:
+            raise UnknownPredicateError(name, conjunction.text or str(conjunction))
+        if declared != arity:
+            raise UnknownPredicateError(
+                f"{name}/{arity}",
+                conjunction.text or str(conjunction),
+                f"{name} takes {declared} argument{'s' if declared != 1 else ''}",
+            )
 
 
 def read_flat_goal(text: str) -> Struct | None:

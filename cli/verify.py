@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import re
+from collections.abc import Container
 from pathlib import Path
 from typing import Any
 
@@ -20,11 +21,11 @@ from aeroexec.drones import geodesy
 from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog.contingencies import contingency_syntax
 from aeroexec.engine.errors import UNSUPPORTED, Problem, unsupported_message
-from aeroexec.engine.library import LibraryError, default_library
+from aeroexec.engine.library import LibraryError, behavior_names
 from aeroexec.engine.robots import robot_kind_hint
+from aeroexec.flight.errors import FlightError
 from aeroexec.flight.missions import MissionFileError, check_mission, fleet_safety_check, safety_check
 from aeroexec.flight.robot import load_world, robot_choice, vehicle_config, with_rule_files
-from aeroexec.flight.spec import FlightError
 from aeroexec.trees import formats
 
 from aeroexec.limits import InputError, read_text
@@ -106,7 +107,8 @@ def run(args: argparse.Namespace) -> int:
         return 2
     try:  # the robot kind's world unless one is given (a world file that cannot be read is said once)
         world = None if args.no_world else load_world(choice.world_file(args.world), home=args.home)
-        library = choice.library() if choice.kind is not None else default_library(args.library)
+        library = choice.library()  # a robot kind's own behaviors; None: the aerial library and plugins
+        served = library.names() if library is not None else behavior_names(args.library)
         catalog = with_rule_files(catalog, args.rules)
         vehicle = vehicle_config(args.vehicle)
     except (FlightError, LibraryError) as error:
@@ -131,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
             print(error)
             failed = True
             continue
-        checked.problems += unimplemented(catalog, library, Path(name))
+        checked.problems += unimplemented(catalog, served, Path(name))
         checked.problems += safety_check(checked, catalog, args.safety_rules,
                                          VehicleModel(vehicle) if vehicle is not None else None)[1]
         if args.strict_btcpp and checked.tree is not None:
@@ -158,11 +160,12 @@ def run(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
-def unimplemented(catalog: Any, library: Any, path: Path) -> list[Problem]:
-    """A warning for each behavior the mission names that the catalog has and no implementation serves."""
+def unimplemented(catalog: Any, served: Container[str], path: Path) -> list[Problem]:
+    """A warning for each behavior the mission names that the catalog has and no implementation serves (``served``:
+    the names the behavior library serves)."""
     try:
         text = read_text(path, what="the mission")  # the guarded read: a FIFO or a device is never opened
     except InputError:
         return []  # the mission's own check has said why it cannot be read
     return [Problem("warning", f"{UNSUPPORTED}: {unsupported_message(name)}", str(path), 0)
-            for name in sorted(catalog.behaviors) if name not in library and re.search(rf"\b{name}\b", text)]
+            for name in sorted(catalog.behaviors) if name not in served and re.search(rf"\b{name}\b", text)]

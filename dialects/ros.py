@@ -13,7 +13,6 @@ finder and the imports judged by use; :data:`CHECKS`: the check of a program's R
 from __future__ import annotations
 
 import functools
-import importlib.abc
 import importlib.machinery
 import importlib.util
 import sys
@@ -166,7 +165,7 @@ def _no_attribute(attribute: str) -> Any:
     raise AttributeError(attribute)
 
 
-class _StandInLoader(importlib.abc.Loader):
+class _StandInLoader:  # importlib.abc.Loader's protocol, without importing importlib.abc (see RosStandIns)
     def __init__(self, name: str) -> None:
         self.name = name  # the module as the mission named it
 
@@ -177,9 +176,11 @@ class _StandInLoader(importlib.abc.Loader):
         return None
 
 
-class RosStandIns(importlib.abc.MetaPathFinder):
+class RosStandIns:
     """Found last on ``sys.meta_path``: a ROS module nothing else provides imports as a refusing stand-in (a
-    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.node``, aeroexec.dialects.aerostack2.rclpy.node)."""
+    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.node``, aeroexec.dialects.aerostack2.rclpy.node).
+    A finder of ``importlib.abc.MetaPathFinder``'s protocol (``find_spec``), not its subclass: importing
+    :mod:`importlib.abc` imports importlib.resources, tempfile, shutil and random (~5 ms of every run's start)."""
 
     def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
         name = _as_imported(fullname)

@@ -30,7 +30,6 @@ from pathlib import Path
 from aeroexec.drones.sim.config import SimConfig
 from aeroexec.drones.sim.world import WorldError
 from aeroexec.drones.sim.world_file import _Reader
-from yaml.nodes import MappingNode
 
 from aeroexec.limits import InputError, compose_yaml, read_text
 
@@ -85,6 +84,8 @@ def parse_vehicle_profile(text: str, source: str = "<vehicle>") -> VehicleProfil
     if root is None:
         raise VehicleProfileError(f"{source}:1: the vehicle profile is empty: give its figures (endurance, "
                                   f"speeds, ceiling...)")
+    from yaml.nodes import MappingNode  # here: PyYAML is imported by compose_yaml when a profile is read
+
     reader = _Reader(source)
     try:
         if not isinstance(root, MappingNode):

@@ -13,20 +13,26 @@ others. Providers are found by name, never imported by the engine's core:
   scheme: a callable ``(address)`` returning a :class:`Drone`);
 - ``module:attribute`` references, as ``aeroexec run --library / --processes /
   --updater`` pass them.
+
+The names the aerial library serves are kept in the user's cache folder (:func:`behavior_names`), so ``aeroexec
+verify`` says which behaviors have no implementation without importing the behaviors (~25 ms: bench/startup.py).
 """
 
 from __future__ import annotations
 
 import logging
+import os
+import sys
 from collections.abc import Iterable, Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from aeroexec.beliefs import BeliefUpdater
-from aeroexec.drones import Drone
-from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
-from aeroexec.engine.execution.resources import ProcessRegistry
+from aeroexec import cache, plugins
 
-from aeroexec import plugins
+if TYPE_CHECKING:  # imported where they are used: verify asks for the behaviors' names only (behavior_names)
+    from aeroexec.beliefs import BeliefUpdater
+    from aeroexec.drones import Drone
+    from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
+    from aeroexec.engine.execution.resources import ProcessRegistry
 
 logger = logging.getLogger(__name__)
 
@@ -58,6 +64,8 @@ def _produce(provider: Any, origin: str) -> Any:
 
 def behaviors_of(provider: Any, origin: str) -> list[type[BehaviorProcess]]:
     """The behavior classes a provider gives: a library, classes, or a callable returning either."""
+    from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
+
     produced = _produce(provider, origin)
     if isinstance(produced, type) and issubclass(produced, BehaviorProcess):
         produced = [produced]
@@ -73,6 +81,8 @@ def behaviors_of(provider: Any, origin: str) -> list[type[BehaviorProcess]]:
 
 def processes_of(provider: Any, origin: str) -> dict[str, Any]:
     """The process factories a provider gives: a registry, a mapping, or a callable returning either."""
+    from aeroexec.engine.execution.resources import ProcessRegistry
+
     produced = _produce(provider, origin)
     if isinstance(produced, ProcessRegistry):
         return produced.factories()
@@ -83,17 +93,75 @@ def processes_of(provider: Any, origin: str) -> dict[str, Any]:
 
 def default_library(extra: Iterable[str] = ()) -> BehaviorLibrary:
     """The aerial behaviors, every installed plugin's, then those of ``extra`` references (later names win)."""
+    return _library([(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS)), *_other_providers(extra)])
+
+
+def _other_providers(extra: Iterable[str]) -> list[tuple[str, Any]]:
+    """Every installed plugin's behavior providers, then those of ``extra`` references, as (origin, provider)."""
+    return [*plugins.installed_plugins(BEHAVIORS_GROUP),
+            *((reference, load_reference(reference)) for reference in extra)]
+
+
+def _library(providers: Iterable[tuple[str, Any]]) -> BehaviorLibrary:
+    from aeroexec.engine.execution.process import BehaviorLibrary
+
     library = BehaviorLibrary()
-    providers = [(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS)), *plugins.installed_plugins(BEHAVIORS_GROUP)]
-    providers += [(reference, load_reference(reference)) for reference in extra]
     for origin, provider in providers:
         for cls in behaviors_of(provider, origin):
             library.register(cls)
     return library
 
 
+def behavior_names(extra: Iterable[str] = ()) -> set[str]:
+    """The names :func:`default_library` serves with ``extra``, the aerial library's read from the user's cache
+    folder when its modules are as they were (:func:`aerial_behavior_names`): a plugin's and ``extra``'s are loaded
+    as the library loads them (raising :class:`LibraryError` alike)."""
+    others = _other_providers(extra)
+    return aerial_behavior_names() | (_library(others).names() if others else set())
+
+
+def _search_path(package: str) -> list[str]:
+    """The folders of ``package``'s modules, without importing it (its path as extended when it is imported)."""
+    if package in sys.modules:
+        return list(getattr(sys.modules[package], "__path__", []))
+    import importlib.util
+
+    spec = importlib.util.find_spec(package)
+    return list(spec.submodule_search_locations or []) if spec is not None else []
+
+
+def aerial_behavior_names() -> frozenset[str]:
+    """The behaviors the aerial library (:data:`AERIAL_BEHAVIORS`) implements, without importing it when its
+    package's modules are those the names were last read from: they are kept in the user's cache folder under a
+    hash of those modules' contents (every folder of the package's path), aeroexec's version and Python's, and read
+    from the library itself (then kept) when there are none."""
+    import aeroexec
+
+    digest = cache.sha256(repr((AERIAL_BEHAVIORS, aeroexec.__version__, sys.version_info[:2])).encode())
+    for folder in _search_path(AERIAL_BEHAVIORS.partition(":")[0]):
+        try:
+            names = sorted(name for name in os.listdir(folder) if name.endswith(".py"))
+        except OSError:
+            continue
+        for name in names:
+            try:
+                with open(os.path.join(folder, name), "rb") as file:
+                    digest.update(f"\0{folder}/{name}\0".encode() + file.read())
+            except OSError:
+                digest.update(f"\0{folder}/{name}: unreadable".encode())
+    key = f"behaviors.{digest.hexdigest()[:32]}.txt"
+    data = cache.kept(key)
+    if data is not None:
+        return frozenset(data.decode("utf-8", "replace").split())
+    found = frozenset(_library([(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS))]).names())
+    cache.keep(key, "\n".join(sorted(found)).encode())
+    return found
+
+
 def default_processes(extra: Iterable[str] = ()) -> ProcessRegistry:
     """The aerial capability processes, every installed plugin's, then those of ``extra`` references."""
+    from aeroexec.engine.execution.resources import ProcessRegistry
+
     registry = ProcessRegistry()
     providers = [(AERIAL_PROCESSES, load_reference(AERIAL_PROCESSES)), *plugins.installed_plugins(PROCESSES_GROUP)]
     providers += [(reference, load_reference(reference)) for reference in extra]
@@ -105,6 +173,8 @@ def default_processes(extra: Iterable[str] = ()) -> ProcessRegistry:
 
 def updaters_of(provider: Any, drone: Drone, origin: str) -> list[BeliefUpdater]:
     """The belief updaters a provider gives: an updater, or a callable ``(drone)`` returning one or several."""
+    from aeroexec.beliefs import BeliefUpdater
+
     produced = provider
     if not isinstance(provider, BeliefUpdater) and callable(provider):
         try:
@@ -145,10 +215,13 @@ def make_drone(scheme: str, address: str) -> Drone:
     except Exception as exc:
         raise LibraryError(f"the drone adapter {scheme} cannot connect to {address!r}: "
                            f"{type(exc).__name__}: {exc}") from None
+    from aeroexec.drones import Drone
+
     if not isinstance(drone, Drone):
         raise LibraryError(f"the drone adapter {scheme} gives {type(drone).__name__}, not a Drone")
     return drone
 
 
-__all__ = ["LibraryError", "default_library", "default_processes", "default_updaters", "drone_adapters",
+__all__ = ["LibraryError", "aerial_behavior_names", "behavior_names", "default_library",
+           "default_processes", "default_updaters", "drone_adapters",
            "load_reference", "make_drone"]

@@ -14,12 +14,13 @@ import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
-
-from aeroexec.engine.execution.process import BehaviorLibrary, EngineSettings
-from aeroexec.engine.execution.resources import ProcessRegistry
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.plugins import entry_points_of, load_reference, reference_of
+
+if TYPE_CHECKING:  # the engine's modules are imported when a kind's engine is made, not to name a kind (verify)
+    from aeroexec.engine.execution.process import BehaviorLibrary, EngineSettings
+    from aeroexec.engine.execution.resources import ProcessRegistry
 
 logger = logging.getLogger(__name__)
 
@@ -29,6 +30,14 @@ DRONE = "drone"
 
 class RobotKindError(ValueError):
     """No robot kind of that name, or a plugin that does not give one."""
+
+
+def engine_settings() -> EngineSettings:
+    """The engine's default settings (:class:`~aeroexec.engine.execution.process.EngineSettings`): a kind's unless
+    it says otherwise."""
+    from aeroexec.engine.execution.process import EngineSettings
+
+    return EngineSettings()
 
 
 @dataclass
@@ -43,7 +52,7 @@ class RobotKind:
     simulator: Callable[[Any, int], Any] | None = None  # (world, seed) -> a simulated robot
     telemetry: Callable[[Any], Any] | None = None  # robot -> the updater of its own beliefs (None: a drone's)
     world: Path | None = None  # its default world file (None: the built-in field)
-    settings: Callable[[], EngineSettings] = field(default=EngineSettings)
+    settings: Callable[[], EngineSettings] = field(default=engine_settings)
 
 
 def robot_kinds() -> dict[str, Callable[[], RobotKind]]:

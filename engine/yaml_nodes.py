@@ -7,17 +7,20 @@ records with the file and the 1-based line of the node at fault.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
 from aeroexec.engine.errors import Problem
-from yaml.constructor import SafeConstructor
 
+from aeroexec.lazy import lazy_module
 from aeroexec.limits import MAX_NUMBER_LENGTH, InputError, compose_yaml, read_text
+
+if TYPE_CHECKING:
+    import yaml
+else:  # imported when a text is read: importing this module (``suggestion``, a cached catalog) reads none
+    yaml = lazy_module("yaml")
 
 MAP = "tag:yaml.org,2002:map"
 SEQ = "tag:yaml.org,2002:seq"
@@ -26,6 +29,8 @@ _NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
 
 def suggestion(name: str, known: Iterable[str]) -> str:
     """`` (did you mean X?)`` for a misspelt name, or an empty string."""
+    import difflib  # here: only a misspelt name needs it, not every command that can say one
+
     close = difflib.get_close_matches(str(name), list(known), n=1, cutoff=0.6)
     return f" (did you mean {close[0]}?)" if close else ""
 
@@ -48,7 +53,7 @@ class NodeReader:
     def __init__(self, text: str, file: str) -> None:
         self.file = file
         self.problems: list[Problem] = []
-        self._constructor = SafeConstructor()
+        self._constructor = yaml.constructor.SafeConstructor()
         self.root: yaml.Node | None = None
         try:  # libyaml's parser when PyYAML has it, composed within the readers' limits (aeroexec.limits)
             self.root = compose_yaml(text, file)

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import copy
 import logging
-import shutil
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -172,6 +171,8 @@ class MissionChanges:
         kept = folder / "loaded" / f"{self.loads}-{path.name}"
         try:
             kept.parent.mkdir(exist_ok=True)
+            import shutil  # here: only a mission loaded in flight is copied
+
             shutil.copyfile(path, kept)
         except OSError as error:
             logger.warning("the loaded mission %s cannot be copied into the output folder: %s", path, error)

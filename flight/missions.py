@@ -21,7 +21,7 @@ from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.robots import robot_kind_hint
-from aeroexec.flight.spec import FlightError
+from aeroexec.flight.errors import FlightError
 from aeroexec.trees import TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.formats import TREE_VERIFIERS, described, format_of, readers, suffixes
 

@@ -12,13 +12,20 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
-from aeroexec.engine.library import LibraryError, default_library, default_processes, default_updaters
+from aeroexec.engine.library import (
+    LibraryError,
+    behavior_names,
+    default_library,
+    default_processes,
+    default_updaters,
+)
 from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.robots import DRONE, RobotKind, RobotKindError, robot_kind
-from aeroexec.flight.spec import FlightError, FlightSpec
+from aeroexec.flight.errors import FlightError
 
 if TYPE_CHECKING:
     from aeroexec.engine.engine import Engine
+    from aeroexec.flight.spec import FlightSpec
 
 logger = logging.getLogger(__name__)
 
@@ -29,7 +36,7 @@ def chosen_catalog(path: str | None) -> BehaviorCatalog:
     """The catalog of a ``--catalog`` option (the aerial one without it) as the behavior library serves it
     (see :meth:`BehaviorCatalog.served_by`); raises CatalogError."""
     catalog = load_catalog(path) if path else default_catalog()
-    return catalog.served_by(default_library().names(), default_catalog())
+    return catalog.served_by(behavior_names(), default_catalog())
 
 
 @dataclass

@@ -17,7 +17,7 @@ import logging
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.interface import CAMERA_NONE
 from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
@@ -27,9 +27,8 @@ from aeroexec.engine.errors import Problem
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter, world_meta
-from aeroexec.flight.journal import JournalError, JournalWriter, Resumption, open_journal
+from aeroexec.flight.journal import JournalError, JournalWriter, open_journal
 from aeroexec.flight.journal.identity import FlightFile, flight_files, new_run_id
-from aeroexec.flight.journal.resume_point import resume_point
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
 from aeroexec.flight.missions import load_mission, no_camera, watched_catalog
 from aeroexec.flight.output import NO_SPACE, no_space, prepare_output
@@ -48,6 +47,9 @@ from aeroexec.flight.signals import interrupts_held
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
+
+if TYPE_CHECKING:  # a resume's records are imported only to resume a run
+    from aeroexec.flight.journal.resumption import Resumption
 
 logger = logging.getLogger(__name__)
 
@@ -117,6 +119,9 @@ class FlightSession:
         choice = robot_choice(spec.robot)
         world_path = choice.world_file(spec.world)
         if spec.resume:  # refused before anything is written (the journal, the event log) or flown
+            from aeroexec.flight.journal.resume_point import resume_point  # here: only a resumed run reads them
+            from aeroexec.flight.journal.resumption import Resumption
+
             try:
                 self.resumption = Resumption(resume_point(self.folder))
                 self.resumption.check(spec, world_path, log_path)

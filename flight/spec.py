@@ -8,18 +8,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from aeroexec.flight.errors import FlightError  # here too: its old place
+
 LINK_GRACE = 30.0  # s of engine time the end of a flight keeps trying to reach a drone whose link is down
 READY_TIMEOUT = 180.0  # s a MAVSDK vehicle may take to be ready (ArduCopter SITL: ~45 s from boot)
 MAX_TIME = 1800.0  # s of mission time a flight is given by default
-
-
-class FlightError(Exception):
-    """A flight that cannot be set up, phrased for the operator (a file or option named). ``usage`` marks an
-    option that cannot be used (exit status 2), otherwise the mission is refused (exit status 1)."""
-
-    def __init__(self, message: str, usage: bool = False) -> None:
-        super().__init__(message)
-        self.usage = usage
 
 
 @dataclass(frozen=True)

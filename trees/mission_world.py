@@ -20,15 +20,17 @@ import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
-from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, MISSION_FRAME, POSITIONAL, ItemMission
 from aeroexec.trees.items.readers import is_item_file, load_item_mission
 from aeroexec.trees.model import TreeFormatError
 
 from aeroexec.plugins import installed_plugins
+
+if TYPE_CHECKING:  # the items' records are imported for a mission planned on a map, not for every world
+    from aeroexec.trees.items.model import ItemMission
 
 logger = logging.getLogger(__name__)
 
@@ -79,7 +81,8 @@ def ground_world(ground: MissionGround, home: Geodetic | None = None) -> Any:
                       name=f"open ground at {home[0]:.5f}, {home[1]:.5f} (as {ground.written_for})")
 
 
-_HEIGHTS = {*POSITIONAL, 22, 113}  # items whose altitude is flown at (a take-off's, a change of altitude's)
+#: Items besides the positional ones whose altitude is flown at (a take-off's, a change of altitude's).
+_HEIGHT_COMMANDS = (22, 113)
 GRIPPER_LOAD = "gripper_load"  # what the drone of a mission that opens its gripper carries
 
 
@@ -97,10 +100,13 @@ def _fences(mission: ItemMission, home: Geodetic) -> list[Fence]:
 
 def mission_places(mission: ItemMission, home: Geodetic) -> list[tuple[float, float, float]]:
     """Every place the mission flies to or names, ENU meters from ``home`` (altitudes above home)."""
+    from aeroexec.trees.items.model import ABSOLUTE_FRAMES, GLOBAL_FRAMES, MISSION_FRAME, POSITIONAL
+
+    heights = {*POSITIONAL, *_HEIGHT_COMMANDS}
     places = []
     top = 0.0
     for item in mission.items:
-        if item.command in _HEIGHTS and item.frame in (*GLOBAL_FRAMES, MISSION_FRAME) and \
+        if item.command in heights and item.frame in (*GLOBAL_FRAMES, MISSION_FRAME) and \
                 not math.isnan(item.altitude):
             alt = item.altitude - (home[2] if item.frame in ABSOLUTE_FRAMES else 0.0)
             top = max(top, alt)

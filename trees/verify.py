@@ -15,7 +15,8 @@ import contextlib
 import re
 from collections.abc import Iterable
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, RuleError, parse_expression, parse_rules
+from aeroexec.beliefs import BeliefError, RuleError, parse_expression, parse_rules
+from aeroexec.beliefs.parser import check_expression as checked_expression
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist, default_catalog
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.catalog.vocabulary import check_rules
@@ -205,7 +206,7 @@ class TreeVerifier:
             self.report(node, f"The {attribute} of node {node.type} is empty (a belief expression is expected)")
             return
         try:
-            expression = BeliefMemory(predicates=self.vocabulary).check(_placeholders(text))
+            expression = checked_expression(_placeholders(text), self.vocabulary)  # as a memory checks it
         except BeliefError as error:
             self.report(node, error.message, WRONG_FORMAT)
             return

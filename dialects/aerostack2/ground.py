@@ -12,12 +12,10 @@ keeps that field (the dialect gives it no ground).
 from __future__ import annotations
 
 import ast
-import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 from typing import Any
 
-from aeroexec.dialects.aerostack2.tree_nodes import PORTS
-from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants
+from aeroexec.dialects.aerostack2.node_ports import PORTS
 from aeroexec.trees.mission_world import MissionGround
 
 from aeroexec.limits import MAX_FILE_BYTES
@@ -42,6 +40,8 @@ def _gps(value: Any) -> tuple[float, float, float] | None:
 
 
 def _script_origin(tree: ast.Module) -> tuple[float, float, float] | None:
+    from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants  # here: only Aerostack2's scripts
+
     constants = Constants(tree)
     firsts: dict[str, Any] = {}  # a loop's target -> the first item of what it loops over
     for node in ast.walk(tree):
@@ -73,6 +73,8 @@ def _script_origin(tree: ast.Module) -> tuple[float, float, float] | None:
 
 
 def _script_ground(path: Path, text: str) -> MissionGround | None:
+    if _API not in text:
+        return None  # a script that never names Aerostack2's API does not import it: not parsed
     try:
         tree = ast.parse(text, str(path))
     except (SyntaxError, ValueError):
@@ -92,6 +94,10 @@ def _number(text: str | None) -> float | None:
 
 
 def _tree_ground(text: str) -> MissionGround | None:
+    if "&#" not in text and not any(name in text for name in PORTS):
+        return None  # a file that never names one of Aerostack2's nodes (even by character references) has none
+    import xml.etree.ElementTree as ElementTree  # here: only a file that may use them
+
     try:
         root = ElementTree.fromstring(text)
     except ElementTree.ParseError:

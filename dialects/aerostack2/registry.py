@@ -7,11 +7,15 @@ whole, with the simulated drone's namespace in its environment), and its drone i
 
 from __future__ import annotations
 
+import ast
+from typing import Any
+
 from aeroexec.dialects.aerostack2.formats import FORMATS
 from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
 
 _HERE = "aeroexec.dialects.aerostack2"
+_API = "as2_python_api"
 
 IMPORTS = StandIns(
     names={name: f"{_HERE}.{name}" for name in ("rclpy", "as2_python_api", "as2_msgs", "python_interface")},
@@ -20,7 +24,45 @@ IMPORTS = StandIns(
     environment={"AEROSTACK2_SIMULATION_DRONE_ID": "drone0"},
     drones=f"{_HERE}.namespaces:script_namespaces",
 )
-CHECKS = DialectChecks(objects=f"{_HERE}.drone_objects:DroneObjects",
+CHECKS = DialectChecks(objects=f"{_HERE}.registry:drone_objects",
                        problems=f"{_HERE}.namespaces:watched_drones")
 
-__all__ = ["CHECKS", "FORMATS", "IMPORTS"]
+
+
+class _NoDrones:
+    """The drone interfaces of a program that never names Aerostack2's API: none (what :class:`.DroneObjects` finds
+    in such a program: no call of it runs behaviors, none is reported)."""
+
+    several = False
+
+    def check(self, call: ast.Call) -> None:
+        return None
+
+    def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+        return []
+
+    def runs_behaviors(self, call: ast.Call) -> bool:
+        return False
+
+
+def _names_api(node: ast.AST) -> bool:
+    if isinstance(node, ast.Import):
+        return any(_API in alias.name for alias in node.names)
+    if isinstance(node, ast.ImportFrom):
+        return _API in (node.module or "") or any(_API in alias.name for alias in node.names)
+    return isinstance(node, ast.Constant) and isinstance(node.value, str) and _API in node.value
+
+
+def drone_objects(checker: Any) -> Any:
+    """Aerostack2's drone interfaces in the program ``checker`` checks (:class:`.drone_objects.DroneObjects`, the
+    ``objects`` of :data:`CHECKS`). A drone interface is found through an import of Aerostack2's API (or a text naming
+    it): a program with neither has none, and is answered without importing the API's tables (~4 ms of the check of
+    every Python mission, ``bench/startup.py``)."""
+    if not any(_names_api(node) for node in checker.nodes):
+        return _NoDrones()
+    from aeroexec.dialects.aerostack2.drone_objects import DroneObjects  # here: only a program that may use them
+
+    return DroneObjects(checker)
+
+
+__all__ = ["CHECKS", "FORMATS", "IMPORTS", "drone_objects"]

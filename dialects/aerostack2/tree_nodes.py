@@ -38,6 +38,7 @@ from collections.abc import Callable
 from dataclasses import replace
 
 from aeroexec.dialects.aerostack2.behaviors import EARTH_FRAMES, FIXED_YAW, degrees
+from aeroexec.dialects.aerostack2.node_ports import PORTS, is_aerostack2
 from aeroexec.dialects.ros import ROS2_BEYOND
 from aeroexec.drones.geodesy import Geodetic, geodetic_to_enu
 from aeroexec.engine.yaml_nodes import suggestion
@@ -45,19 +46,6 @@ from aeroexec.trees.model import TreeDocument, TreeFormatError, TreeNode
 from aeroexec.trees.ports import bare_key, parse_number
 from aeroexec.trees.runtime.kinds import kind_of
 
-#: The ports of Aerostack2's nodes (``as2_behavior_tree``), besides those every action has.
-PORTS: dict[str, tuple[str, ...]] = {
-    "TakeOff": ("height", "speed"), "Land": ("speed",),
-    "GoTo": ("pose", "max_speed", "yaw_mode", "yaw_angle", "frame_id"),
-    "FollowPath": ("path", "speed", "yaw_mode", "frame_id", "path_topic_name"),
-    "FollowReference": ("reference", "max_speed_x", "max_speed_y", "max_speed_z", "yaw_mode", "yaw_angle",
-                        "frame_id"),
-    "GoToGps": ("latitude", "longitude", "altitude", "max_speed", "yaw_mode", "yaw_angle"),
-    "Arm": (), "Offboard": (), "Disarm": (), "IsFlying": ("topic_name",), "Echo": ("data",),
-    "SendEvent": ("topic_name", "data"), "WaitForEvent": ("topic_name", "result"),
-    "WaitForAlert": ("topic_name", "alert"), "SetOrigin": ("latitude", "longitude", "altitude"),
-    "GetOrigin": ("latitude", "longitude", "altitude"), "GpsToCartesian": ("latitude", "longitude", "z", "out_pose"),
-}
 #: Ports every Aerostack2 action has for the ROS 2 server behind it: ignored here.
 SERVER_PORTS = ("server_name", "server_timeout", "service_name")
 #: BehaviorTree.CPP 3's names Aerostack2's files use, and their names in version 4.
@@ -69,11 +57,6 @@ _ROS_PORT_ENDINGS = ("topic_name", "topic", "service_name", "server_name", "acti
 DIALECT = "BehaviorTree.CPP 3 with Aerostack2's nodes (as2_behavior_tree)"
 #: How far (meters) an origin may be from the home point and still be it.
 ORIGIN_TOLERANCE = 1.0
-
-
-def is_aerostack2(document: TreeDocument) -> bool:
-    """True when the document uses one of Aerostack2's nodes."""
-    return any(node.type in PORTS for root in document.trees.values() for node in root.walk())
 
 
 def aerostack2_tree(document: TreeDocument, home: Geodetic | None = None) -> TreeDocument:

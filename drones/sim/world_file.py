@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
 from aeroexec.drones.sim.world import (
@@ -36,10 +37,15 @@ from aeroexec.drones.sim.world import (
     WorldError,
     WorldObject,
 )
-from yaml.constructor import ConstructorError, SafeConstructor
-from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
+from aeroexec.lazy import lazy_module
 from aeroexec.limits import InputError, compose_yaml, read_text
+
+if TYPE_CHECKING:
+    import yaml
+    from yaml.nodes import Node
+else:  # PyYAML is imported when a world file is read, not with this module (a world kept parsed reads none)
+    yaml = lazy_module("yaml")
 
 Vector = tuple[float, float, float]
 
@@ -53,7 +59,7 @@ class _Reader:
 
     def __init__(self, source: str) -> None:
         self.source = source
-        self._constructor = SafeConstructor()
+        self._constructor = yaml.constructor.SafeConstructor()
 
     def error(self, node: Node | None, message: str) -> WorldError:
         if node is None:
@@ -61,7 +67,7 @@ class _Reader:
         return WorldError(f"{self.source}:{node.start_mark.line + 1}: {message}")
 
     def mapping(self, node: Node, what: str, required: set[str], optional: set[str]) -> dict[str, Node]:
-        if not isinstance(node, MappingNode):
+        if not isinstance(node, yaml.nodes.MappingNode):
             raise self.error(node, f"{what} must be a mapping of keys to values")
         out: dict[str, Node] = {}
         allowed = required | optional
@@ -81,17 +87,17 @@ class _Reader:
         return out
 
     def sequence(self, node: Node, what: str) -> list[Node]:
-        if not isinstance(node, SequenceNode):
+        if not isinstance(node, yaml.nodes.SequenceNode):
             raise self.error(node, f"{what} must be a list")
         return list(node.value)
 
     def scalar(self, node: Node, what: str) -> object:
-        if not isinstance(node, ScalarNode):
-            kind = "list" if isinstance(node, SequenceNode) else "mapping"
+        if not isinstance(node, yaml.nodes.ScalarNode):
+            kind = "list" if isinstance(node, yaml.nodes.SequenceNode) else "mapping"
             raise self.error(node, f"{what} must be a single value, not a {kind}")
         try:
             return self._constructor.construct_object(node, deep=True)
-        except (ConstructorError, ValueError) as exc:
+        except (yaml.constructor.ConstructorError, ValueError) as exc:
             raise self.error(node, f"{what} is not a valid value: {exc}") from None
 
     def number(self, node: Node, what: str, *, minimum: float | None = None, positive: bool = False,
@@ -196,9 +202,9 @@ class _WorldParser:
     def obstacle(self, node: Node, index: int) -> Obstacle:
         r = self.r
         what = f"obstacle {index + 1}"
-        if not isinstance(node, MappingNode):
+        if not isinstance(node, yaml.nodes.MappingNode):
             raise r.error(node, f"{what} must be a mapping")
-        kinds = [v for k, v in node.value if isinstance(k, ScalarNode) and k.value == "type"]
+        kinds = [v for k, v in node.value if isinstance(k, yaml.nodes.ScalarNode) and k.value == "type"]
         kind = r.string(kinds[0], f"the type of {what}") if kinds else None
         if kind == "box":
             k = r.mapping(node, what, {"type", "center", "size"}, {"name"})
@@ -300,12 +306,79 @@ def parse_world(text: str, source: str = "<world>") -> World:
 
 
 def load_world(path: str | Path) -> World:
-    """Read a YAML world file; raises :class:`WorldError` naming ``file:line`` on any mistake."""
+    """Read a YAML world file; raises :class:`WorldError` naming ``file:line`` on any mistake.
+
+    A world read without errors is kept parsed (a :class:`World` is immutable): in this process, and in the user's
+    private cache folder (:mod:`aeroexec.cache`) keyed by the file's name and bytes and the reading code, so the
+    next command reads no YAML for it (``aeroexec verify`` asks for its world more than once; PyYAML alone is
+    ~15 ms of a start). A file with errors is never kept: it is read, and refused, every time."""
     try:
         text = read_text(path, what="the world file")
     except InputError as exc:
         raise WorldError(str(exc)) from None
-    return parse_world(text, str(path))
+    key = _world_key(text, str(path))
+    world = _parsed.get(key) or _kept_world(key)
+    if world is None:
+        world = parse_world(text, str(path))  # raises WorldError: nothing is kept
+        _keep_world(key, world)
+    if len(_parsed) >= _PARSED_IN_PROCESS:
+        _parsed.clear()
+    _parsed[key] = world
+    return world
+
+
+#: The worlds parsed in this process, by :func:`_world_key`, and the most kept.
+_parsed: dict[str, World] = {}
+_PARSED_IN_PROCESS = 16
+
+
+def _world_key(text: str, source: str) -> str:
+    """A hash of a world file's name and text, of the modules that read it and make its records, and of the
+    versions of aeroexec and Python: a changed reader never serves a world another one parsed."""
+    import sys
+
+    from aeroexec.drones.sim import geofence, shapes, world
+
+    import aeroexec
+    from aeroexec.cache import sha256
+
+    digest = sha256(repr((source, aeroexec.__version__, sys.version_info[:2])).encode() + b"\0")
+    for module in (world, shapes, geofence, sys.modules[__name__]):
+        try:
+            with open(module.__file__ or "", "rb") as file:
+                digest.update(file.read() + b"\0")
+        except OSError:
+            digest.update(f"{module.__name__}: unread\0".encode())
+    return digest.hexdigest()[:32] + sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:32]
+
+
+def _kept_world(key: str) -> World | None:
+    """The world kept under ``key`` in the user's cache folder; None when there is none or it cannot be read."""
+    from aeroexec.cache import kept
+
+    data = kept(f"world.{key}.pickle")
+    if data is None:
+        return None
+    import pickle
+
+    try:
+        world = pickle.loads(data)
+    except Exception:  # noqa: BLE001 (a torn or stale file: the world is parsed again and the file rewritten)
+        return None
+    return world if isinstance(world, World) else None
+
+
+def _keep_world(key: str, world: World) -> None:
+    """Keep ``world`` under ``key`` in the user's cache folder (a folder that cannot be written is no error)."""
+    import pickle
+
+    from aeroexec.cache import keep
+
+    try:
+        data = pickle.dumps(world, protocol=pickle.HIGHEST_PROTOCOL)
+    except (pickle.PicklingError, TypeError, AttributeError):
+        return
+    keep(f"world.{key}.pickle", data)
 
 
 def default_world() -> World:

@@ -10,13 +10,14 @@ operator channel gets the transcript and the event log an ``operator`` event (``
 from __future__ import annotations
 
 import logging
-import shutil
-import subprocess
 from collections import deque
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.execution.resources import Process
 from aeroexec.engine.supervision.operator import operator_of
+
+if TYPE_CHECKING:  # imported when a sentence is spoken: the library is imported by every run (~3 ms)
+    import subprocess
 
 logger = logging.getLogger(__name__)
 
@@ -27,6 +28,8 @@ _ATTRIBUTE = "speech_synthesizer"  # where the running synthesizer is found on t
 
 def find_tts() -> str | None:
     """The path of the local text-to-speech program, or None."""
+    import shutil  # here: only a run that starts the synthesizer looks for one
+
     for program in TTS_PROGRAMS:
         path = shutil.which(program)
         if path:
@@ -78,6 +81,8 @@ class SpeechSynthesizer(Process):
             return
         self._current = None
         _, text = self._queue.popleft()
+        import subprocess  # here: only a sentence spoken needs it
+
         try:
             self._current = subprocess.Popen([self.program, "--", text], stdin=subprocess.DEVNULL,
                                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

@@ -9,20 +9,17 @@ from __future__ import annotations
 
 import contextlib
 import copy
-import hashlib
 import logging
 import os
 import pickle
 import sys
-import tempfile
 from collections.abc import Iterable
 from dataclasses import replace
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from aeroexec.beliefs import BeliefMemory, Rule, RuleError
+from aeroexec.beliefs import RuleError
 from aeroexec.engine.catalog.descriptors import (
     BehaviorDescriptor,
     CapabilityDescriptor,
@@ -31,14 +28,16 @@ from aeroexec.engine.catalog.descriptors import (
     ReactiveRule,
     Transition,
 )
-from aeroexec.engine.catalog.loader import CatalogContent, CatalogReader
-from aeroexec.engine.catalog.safety_rules import SafetyRule
-from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
-from aeroexec.cache import user_cache_folder
+from aeroexec.cache import sha256, user_cache_folder
 from aeroexec.limits import InputError, read_text
+
+if TYPE_CHECKING:  # neither the reader nor the memory and the rules engine are imported to load a catalog kept parsed
+    from aeroexec.beliefs import BeliefMemory, Rule
+    from aeroexec.engine.catalog.loader import CatalogContent
+    from aeroexec.engine.catalog.safety_rules import SafetyRule
 
 logger = logging.getLogger(__name__)
 
@@ -168,6 +167,8 @@ class BehaviorCatalog:
         """This catalog with ``rules`` added (a rules file, ``--rules``): the predicates they derive join the
         vocabulary that missions are checked against, and an engine built on it derives them. Raises
         :class:`~aeroexec.beliefs.RuleError` (each problem with its file and line) when they cannot be taken."""
+        from aeroexec.engine.catalog.vocabulary import check_rules, derived_declarations  # here: only with rules
+
         rules = [*self.rules, *rules]
         own = {n: p for n, p in self.predicates.items() if not p.derived}
         problems = check_rules(own, rules)
@@ -261,6 +262,8 @@ def _check_references(content: CatalogContent, reader: NodeReader, processes: se
 
 def read_catalog(reader: NodeReader, processes: Iterable[str] | None = None) -> BehaviorCatalog:
     """Build a catalog from a composed document; raises :class:`CatalogError` listing every problem."""
+    from aeroexec.engine.catalog.loader import CatalogReader  # here: a catalog kept parsed is not read
+
     content = CatalogReader(reader).read()
     if not reader.failed:
         _check_references(content, reader, set(processes) if processes is not None else None)
@@ -322,7 +325,7 @@ def _code_stamp() -> str:
 
 def _cache_key(path: str, text: str, processes: Iterable[str] | None) -> str:
     shape = repr((path, None if processes is None else sorted(set(processes)), sys.version_info[:2], _code_stamp()))
-    return hashlib.sha256(shape.encode() + b"\0" + text.encode()).hexdigest()[:32]
+    return sha256(shape.encode() + b"\0" + text.encode()).hexdigest()[:32]
 
 
 def _cached_catalog(key: str) -> BehaviorCatalog | None:
@@ -365,6 +368,8 @@ def _keep_catalog(key: str, catalog: BehaviorCatalog) -> None:
     folder = user_cache_folder()
     if folder is None:
         return
+    import tempfile  # here: only writing a catalog needs it (it imports shutil, random...: ~4 ms of a start)
+
     try:
         data = pickle.dumps(catalog, protocol=pickle.HIGHEST_PROTOCOL)
         with tempfile.NamedTemporaryFile(dir=folder, prefix="catalog.", suffix=".tmp", delete=False) as file:
@@ -383,7 +388,9 @@ def parse_catalog(text: str, file: str = "<catalog>", processes: Iterable[str] |
 
 
 def default_catalog_path() -> Path:
-    return Path(str(resources.files("aeroexec.catalogs").joinpath("aerial.yaml")))
+    import aeroexec.catalogs  # the package's folder (importlib.resources costs ~3 ms of a start to say it)
+
+    return Path(aeroexec.catalogs.__file__).with_name("aerial.yaml")
 
 
 @lru_cache(maxsize=1)

@@ -9,10 +9,8 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
-from aeroexec.beliefs import BeliefMemory, Rule
 from aeroexec.engine.catalog.arguments import VALUE_TYPES, ArgumentDescriptor, format_value
 from aeroexec.engine.catalog.descriptors import (
     CATEGORIES,
@@ -33,7 +31,14 @@ from aeroexec.engine.catalog.safety_rules import SafetyRule, read_safety_rules
 from aeroexec.engine.catalog.vocabulary import VocabularySections
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
+from aeroexec.lazy import lazy_module
 from aeroexec.plugins import installed_plugins
+
+if TYPE_CHECKING:
+    import yaml
+    from aeroexec.beliefs import BeliefMemory, Rule
+else:  # PyYAML is imported when a text is read, not with this module (a catalog or world kept parsed reads none)
+    yaml = lazy_module("yaml")
 
 SECTIONS = ("default_behavior_values", "behavior_descriptors", "behavior_lists", "reactive_activation",
             "capability_descriptors", "behavior_transitions", "phenomena", "predicates", "vehicle_limits", "rules",

@@ -24,12 +24,20 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-import yaml
-from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
+from aeroexec.beliefs import BeliefError, Conjunction
 from aeroexec.engine.catalog.contingencies import Contingency, ContingencyNames, contingency_syntax, parse_contingency
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.yaml_nodes import NodeReader
+
+from aeroexec.lazy import lazy_module
+
+if TYPE_CHECKING:
+    import yaml
+    from aeroexec.beliefs import BeliefMemory
+else:  # PyYAML is imported when a text is read, not with this module (a catalog or world kept parsed reads none)
+    yaml = lazy_module("yaml")
 
 ALWAYS, NEVER, WITHIN = "always", "never", "within"
 RULE_KEYS = ("rule", ALWAYS, NEVER, WITHIN, "after", "ensure", "contingency", "priority", "description")
@@ -214,6 +222,8 @@ def _contingency(r: NodeReader, node: yaml.Node, rule: str, subtrees: Iterable[s
 
 def rule_vocabulary(predicates: Mapping[str, int]) -> BeliefMemory:
     """A memory that checks conditions against ``predicates`` (name -> arity) without storing anything."""
+    from aeroexec.beliefs import BeliefMemory  # here: reading rules needs it, not a catalog kept parsed
+
     return BeliefMemory(predicates=dict(predicates))
 
 

@@ -11,8 +11,9 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction
+from aeroexec.beliefs import BeliefError, Conjunction
 from aeroexec.beliefs.expression import Goal, Negation
+from aeroexec.beliefs.parser import check_expression
 from aeroexec.beliefs.terms import Struct, format_term
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.engine.catalog.arguments import format_value
@@ -149,7 +150,7 @@ class BehaviorSpecialist:
         """Parse a belief expression against the catalog's vocabulary; raise WRONG_FORMAT in the paper's words."""
         vocabulary = {p.name: p.arity for p in self.catalog.predicates.values()}
         try:
-            return BeliefMemory(predicates=vocabulary).check(text)
+            return check_expression(text, vocabulary)  # as a memory checks it, without one
         except BeliefError as exc:
             raise SpecificationError(WRONG_FORMAT, exc.message) from None
 

@@ -8,20 +8,28 @@ or computed one) and become declarations (``derived``) that missions' expression
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import yaml
-from aeroexec.beliefs import BeliefError, BeliefMemory, Conjunction, Rule, RuleError, RuleProblem, parse_rules
+from aeroexec.beliefs import BeliefError, Conjunction, Rule, RuleError, RuleProblem, parse_rules
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
 from aeroexec.engine.yaml_nodes import NodeReader
 
+from aeroexec.lazy import lazy_module
 from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY
+
+if TYPE_CHECKING:
+    import yaml
+    from aeroexec.beliefs import BeliefMemory
+else:  # PyYAML is imported when a text is read, not with this module (a catalog or world kept parsed reads none)
+    yaml = lazy_module("yaml")
 
 
 def check_rules(predicates: Mapping[str, PredicateDeclaration], rules: Iterable[Rule]) -> list[RuleProblem]:
     """Every problem of ``rules`` against the declared ``predicates`` (derived declarations left out), and the
     evaluations that would pass the bound of rules in flight (:data:`~aeroexec.limits.RULES_WORK_PER_STEP`) over
     the facts given with them."""
+    from aeroexec.beliefs import BeliefMemory  # here: checking rules needs it, not a catalog kept parsed
+
     rules = list(rules)
     stored = {p.name: p.arity for p in predicates.values() if not p.computed and not p.derived}
     memory = BeliefMemory(predicates=stored)
@@ -136,6 +144,8 @@ class VocabularySections:
 
     def _memory(self) -> BeliefMemory:
         if self._vocabulary is None:
+            from aeroexec.beliefs import BeliefMemory
+
             self._vocabulary = BeliefMemory(predicates={p.name: p.arity for p in self.content.predicates.values()})
         return self._vocabulary
 

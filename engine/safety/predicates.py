@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from aeroexec.beliefs import BeliefMemory, Struct, Var
+from aeroexec.beliefs import Struct, Var
 from aeroexec.drones.vehicle import VehicleModel
+
+if TYPE_CHECKING:  # a memory is given: the predicates are registered with it
+    from aeroexec.beliefs import BeliefMemory
 
 Point = tuple[float, float, float]
 

@@ -19,9 +19,9 @@ import math
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from aeroexec.beliefs import BeliefMemory, Struct
+from aeroexec.beliefs import Struct
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
 from aeroexec.drones.vehicle import VehicleModel
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog
@@ -30,6 +30,9 @@ from aeroexec.engine.catalog.safety_rules import ALWAYS, NEVER, SafetyRule
 from aeroexec.engine.catalog.world_check import LOOKED_AT, PATH_ARGUMENTS, POINT_ARGUMENTS
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.safety.predicates import SafetyPredicates
+
+if TYPE_CHECKING:
+    from aeroexec.beliefs import BeliefMemory
 
 KNOWN = {("position", 2), ("charge", 2), ("distance", 3), ("battery_to_home", 2), ("return_margin", 2),
          ("rally_distance", 2), ("stopping_point", 2)} | BUILTIN_PREDICATES  # at a destination, at rest
@@ -173,6 +176,8 @@ def _at(points: list[Waypoint], t: float, model: VehicleModel) -> tuple[float, f
 
 
 def _scratch(model: VehicleModel, point: tuple, charge: float) -> BeliefMemory:
+    from aeroexec.beliefs import BeliefMemory  # here: a mission checked against no decidable rule needs none
+
     memory = BeliefMemory(clock=lambda: 0.0)
     memory.register("distance", 3, lambda a, b: round(math.dist(a, b), 2) if _is_point(a) and _is_point(b) else None)
     SafetyPredicates(memory, model, lambda: 0.0).register()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import ast
 import logging
-import secrets
+import os
 from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass, field
@@ -86,7 +86,7 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     try:
         membership = members.listen(fleet_spec, [free_endpoint("tls")], folder)
         stack.callback(membership.close)
-        token = secrets.token_hex(16)
+        token = os.urandom(16).hex()  # secrets.token_hex(16), without importing secrets (~3 ms of a start)
         node = membership.node(token)
         stack.callback(node.close)
         stack.callback(lambda: (folder / FLEET_FILE).unlink(missing_ok=True))

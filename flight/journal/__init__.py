@@ -9,7 +9,7 @@ in runs), ``reader.py`` (:class:`Journal`: questions over it, and the event log'
 ``agreement.py`` (:func:`disagreements`: where a journal and its event log differ), ``resume_point.py`` (where an
 interrupted run goes on from), ``identity.py`` (the run, folder and files a journal belongs to, checked before a
 resume), ``rejoin.py`` (the drone put back where the mission left it), ``resumption.py`` (a flight set up from a
-resume point).
+resume point), ``opening.py`` (:func:`open_journal`: a new journal, or a resumed run's).
 
 Each name is imported from its module when first used (``aeroexec.lazy``).
 """
@@ -23,13 +23,14 @@ __all__ = ["Journal", "JournalError", "JournalWriter", "NAME", "RejoinFailed", "
 __getattr__ = lazy_names(__name__, {"disagreements": "agreement", "Journal": "reader", "is_journal": "reader",
                                     "read_records": "reader", "ResumePoint": "resume_point",
                                     "resume_spec": "resume_point", "RejoinFailed": "resumption",
-                                    "Resumption": "resumption", "open_journal": "resumption", "JournalError": "schema",
+                                    "Resumption": "resumption", "open_journal": "opening", "JournalError": "schema",
                                     "NAME": "schema", "JournalWriter": "writer"})
 
 if TYPE_CHECKING:
     from aeroexec.flight.journal.agreement import disagreements
+    from aeroexec.flight.journal.opening import open_journal
     from aeroexec.flight.journal.reader import Journal, is_journal, read_records
     from aeroexec.flight.journal.resume_point import ResumePoint, resume_spec
-    from aeroexec.flight.journal.resumption import RejoinFailed, Resumption, open_journal
+    from aeroexec.flight.journal.resumption import RejoinFailed, Resumption
     from aeroexec.flight.journal.schema import NAME, JournalError
     from aeroexec.flight.journal.writer import JournalWriter

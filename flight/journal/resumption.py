@@ -11,7 +11,6 @@ drone moves.
 from __future__ import annotations
 
 import ast
-import dataclasses
 import json
 import logging
 from collections.abc import Callable
@@ -24,12 +23,11 @@ from aeroexec.engine.errors import RequestRejected
 from aeroexec.engine.events import Outcome, achieved_goal_message
 from aeroexec.engine.missions.replay import MissionRecorder, location
 from aeroexec.engine.missions.values import canonical, decode
-from aeroexec.flight.flight_log import plain
-from aeroexec.flight.journal.identity import FlightFile, check_belongs, check_files, flight_files, last_logged_time
+from aeroexec.flight.journal.identity import check_belongs, check_files, flight_files, last_logged_time
+from aeroexec.flight.journal.opening import open_journal  # here too: its old place
 from aeroexec.flight.journal.rejoin import FLYING, Rejoin
 from aeroexec.flight.journal.resume_point import ResumePoint, behavior_of
 from aeroexec.flight.journal.schema import journal_path
-from aeroexec.flight.journal.writer import JournalWriter
 from aeroexec.flight.spec import FlightError, FlightSpec
 
 logger = logging.getLogger(__name__)
@@ -275,33 +273,6 @@ class Resumption:
         if error is not None:
             raise RejoinFailed(error, location())
         return self._answer
-
-
-def open_journal(engine: Any, spec: FlightSpec, folder: Path, log: dict[str, Any], *, python: bool,
-                 resumption: Resumption | None = None, files: list[FlightFile] = ()) -> JournalWriter:
-    """The journal of a flight in ``folder``: a new one (``log``: what the event log's first line says, with the
-    run's identity ``run``; ``files``: those that shaped the flight, with their digests), or the interrupted run's
-    going on; a Python mission's calls go through a recorder (journaled, replayed on a resume). JournalError when
-    it cannot be written."""
-    asked = plain(dataclasses.asdict(spec))
-    for key in ("world", "catalog", "log", "answers", "vehicle"):  # files as paths a resume finds from any folder
-        if asked.get(key):
-            asked[key] = str(Path(asked[key]).resolve())
-    for key in ("rules", "safety_rules"):
-        asked[key] = [str(Path(p).resolve()) for p in asked.get(key) or ()]
-    if isinstance(asked.get("fleet"), dict):
-        asked["fleet"].pop("token", None)  # the token stays in the fleet's own file
-        if asked["fleet"].get("credentials"):
-            asked["fleet"]["credentials"] = str(Path(asked["fleet"]["credentials"]).resolve())
-    journal = JournalWriter(engine, folder, meta={"mission": str(Path(spec.mission).resolve()),
-                                                  "kind": "python" if python else "tree", "spec": asked, "log": log,
-                                                  "run": log.get("run"), "folder": str(Path(folder).resolve()),
-                                                  "files": [file.as_meta() for file in files]},
-                            supersede_from=resumption.supersede_from if resumption is not None else None)
-    if python:
-        engine.bridge.recorder = (resumption.recorder(engine, journal) if resumption is not None
-                                  else MissionRecorder(journal, engine.now))
-    return journal
 
 
 __all__ = ["RejoinFailed", "Resumption", "open_journal"]

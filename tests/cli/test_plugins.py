@@ -13,7 +13,13 @@ from pathlib import Path
 
 import pytest
 from aeroexec.engine.catalog import default_catalog_path
-from aeroexec.engine.library import LibraryError, default_library, default_updaters
+from aeroexec.engine.library import (
+    LibraryError,
+    aerial_behavior_names,
+    behavior_names,
+    default_library,
+    default_updaters,
+)
 
 PYPROJECT = '''
 [build-system]
@@ -195,3 +201,35 @@ def test_library_references_add_behaviors_without_installing(tmp_path, monkeypat
         default_library(["my_behaviors:HeightBand.__doc__"])
     with pytest.raises(LibraryError, match="cannot import"):
         default_library(["no_such_module:x"])
+
+
+def test_the_behavior_names_kept_in_the_cache_follow_the_behaviors_modules(tmp_path, monkeypatch):
+    """verify reads the aerial library's behavior names from the user's cache folder; a behavior module added to the
+    package (or changed) is read again, and references and plugins add theirs as the library does."""
+    import aeroexec.engine.behaviors as package
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    aerial = default_library().names()
+    assert aerial_behavior_names() == aerial  # read from the library, then kept
+    assert aerial_behavior_names() == aerial  # read from the cache folder
+    assert len(list((tmp_path / "cache" / "aeroexec").glob("behaviors.*.txt"))) == 1
+    added = tmp_path / "added"
+    added.mkdir()
+    (added / "zz_waggle.py").write_text(textwrap.dedent('''
+        from aeroexec.engine.execution.process import BehaviorProcess
+
+
+        class Waggle(BehaviorProcess):
+            behavior = "WAGGLE_IN_PLACE"
+        '''))
+    monkeypatch.setattr(package, "__path__", [*package.__path__, str(added)])
+    monkeypatch.delitem(sys.modules, "aeroexec.engine.behaviors.zz_waggle", raising=False)
+    try:
+        assert aerial_behavior_names() == aerial | {"WAGGLE_IN_PLACE"}
+    finally:
+        sys.modules.pop("aeroexec.engine.behaviors.zz_waggle", None)
+    (tmp_path / "my_behaviors.py").write_text(MODULE)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert behavior_names(["my_behaviors:behaviors"]) == default_library(["my_behaviors:behaviors"]).names()
+    with pytest.raises(LibraryError, match="cannot import"):
+        behavior_names(["no_such_module:x"])

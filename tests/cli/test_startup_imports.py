@@ -3,19 +3,38 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
 MISSIONS = Path(__file__).resolve().parents[2] / "missions"
 
 
-def imported_after(code: str) -> set[str]:
-    """The modules a fresh interpreter holds after running ``code`` (written to standard error at its end)."""
+def imported_after(code: str, cache: Path | None = None, **environment: str) -> set[str]:
+    """The modules a fresh interpreter holds after running ``code`` (written to standard error at its end), with
+    ``cache`` as its user's cache folder (``XDG_CACHE_HOME``) when given, and ``environment`` added to its own."""
     script = textwrap.dedent(code) + "\nimport sys\nprint('\\n'.join(sorted(sys.modules)), file=sys.stderr)\n"
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd="/")
+    env = {**os.environ, **({"XDG_CACHE_HOME": str(cache)} if cache is not None else {}), **environment}
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd="/",
+                          env=env)
     return set(done.stderr.split())
+
+
+def verify(mission: Path) -> str:
+    """The code of a ``aeroexec verify MISSION`` whose mission has no errors."""
+    return f"""
+        import contextlib, io, sys
+        sys.argv = ["aeroexec", "verify", {str(mission)!r}]
+        from aeroexec.cli.main import main
+        shown = io.StringIO()
+        with contextlib.redirect_stdout(shown), contextlib.suppress(SystemExit):
+            main()
+        assert "0 errors" in shown.getvalue(), shown.getvalue()
+    """
 
 
 def test_the_top_level_help_imports_nothing_it_does_not_print_with():
@@ -106,3 +125,98 @@ def test_a_mission_whose_beliefs_are_flat_and_has_no_script_is_verified_without_
         assert compile_script("x := 1").writes == ["x"]
     """)
     assert "lark" in read
+
+
+def test_verifying_a_mission_without_aerostack2_nodes_does_not_import_their_mapping():
+    """Every XML mission is asked whether it uses Aerostack2's nodes (its tree mapping, the ground it was written
+    for): a mission that does not never imports the mapping (``tree_nodes``, with Aerostack2's behavior tables and
+    the ROS checks behind it); one that does is still mapped (tests/aerostack/test_aerostack2_trees.py)."""
+    modules = imported_after(verify(MISSIONS / "figure10.xml"))
+    assert "aeroexec.dialects.aerostack2.node_ports" in modules  # asked
+    assert sorted(modules & {"aeroexec.dialects.aerostack2.tree_nodes", "aeroexec.dialects.aerostack2.behaviors",
+                             "aeroexec.dialects.ros"}) == []
+
+
+def test_verify_names_the_behaviors_without_implementation_without_importing_the_behaviors(tmp_path):
+    """The behaviors the aerial library serves are read once and kept in the user's cache folder: the next verify
+    says which behaviors have no implementation without importing the behaviors or the engine's processes."""
+    first = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert "aeroexec.engine.behaviors.aerial" in first  # nothing kept yet: the library itself is read
+    assert [p.name.split(".")[0] for p in (tmp_path / "aeroexec").glob("behaviors.*")] == ["behaviors"]
+    again = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert sorted(again & {"aeroexec.engine.behaviors.aerial", "aeroexec.engine.execution.process"}) == []
+
+
+def test_verify_checks_expressions_and_a_catalog_without_safety_rules_without_the_belief_memory(tmp_path):
+    """The belief memory and its rules engine (~10 ms) are built for what needs one: a mission's expressions are
+    checked against the catalog's vocabulary without it, and a catalog with no safety rules decides none at the
+    mission's destinations (a rule that is decided there still builds one: tests/safety)."""
+    imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)  # the catalog and world kept parsed
+    modules = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert "aeroexec.beliefs.expression" in modules  # the expressions are read
+    assert sorted(modules & {"aeroexec.beliefs.memory", "aeroexec.beliefs.query", "sortedcontainers"}) == []
+
+
+def test_verify_reads_no_yaml_once_its_catalog_and_world_are_kept_parsed(tmp_path):
+    """The catalog and the default world are YAML files: once kept parsed in the user's cache folder, a verify of an
+    XML mission imports no PyYAML (~15 ms) to load them, nor tempfile (only writing a kept file needs it), nor hashlib
+    (its OpenSSL, ~3 ms, for the keys of the kept files: CPython's own SHA-256 gives the same digests)."""
+    first = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert "yaml" in first  # nothing kept yet: the files are read
+    again = imported_after(verify(MISSIONS / "figure10.xml"), cache=tmp_path)
+    assert sorted(m for m in again if m.split(".")[0] in ("yaml", "tempfile", "hashlib", "_hashlib")) == []
+
+
+def test_verifying_a_behavior_tree_does_not_import_the_tml_dialect_or_elementtree():
+    """Every XML mission is handed to TML's reader and checks, and asked for the ground Aerostack2's missions fly
+    in: a behavior tree that is neither imports none of TML's reader, compiler and checks, nor ElementTree (the
+    ground's reader) when the file names none of Aerostack2's nodes; a TML mission is still read as TML
+    (tests/trees/test_tml.py)."""
+    modules = imported_after(verify(MISSIONS / "figure10.xml"))
+    assert sorted(modules & {"aeroexec.dialects.tml.compiler", "aeroexec.dialects.tml.reader",
+                             "aeroexec.dialects.tml.verify", "xml.etree.ElementTree"}) == []
+
+
+def test_an_empty_run_starts_without_the_modules_only_some_runs_need(tmp_path):
+    """A run's start (``aeroexec run MISSION --max-time 0``) makes its control token and run id from os.urandom, keys
+    its files with CPython's own SHA-256, probes its output folder, and finds a script's sibling modules and ROS
+    stand-ins, without secrets, hmac, hashlib's OpenSSL, uuid and platform, tempfile and importlib.abc (which imports
+    importlib.resources), nor what only a resumed run reads (its resume point, the journal's reader), nor Aerostack2's
+    drone interfaces for a program that never names its API: together ~25 ms of every run. (hmac is imported when a
+    client asks the control socket; tempfile when there is no runtime directory.)"""
+    runtime = tmp_path / "runtime"
+    runtime.mkdir(mode=0o700)
+    modules = imported_after(f"""
+        import contextlib, io, sys
+        from aeroexec.cli.main import main
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
+                  "--output", {str(tmp_path / "out")!r}])
+    """, XDG_RUNTIME_DIR=str(runtime))
+    assert "aeroexec.engine.engine" in modules  # it ran
+    assert sorted(modules & {"secrets", "hmac", "hashlib", "_hashlib", "uuid", "platform", "tempfile",
+                             "importlib.abc", "importlib.resources", "subprocess", "aeroexec.flight.journal.resumption",
+                             "aeroexec.flight.journal.resume_point", "aeroexec.flight.journal.reader",
+                             "aeroexec.dialects.aerostack2.drone_objects",
+                             "aeroexec.dialects.aerostack2.behaviors"}) == []
+
+
+def test_a_named_sub_command_is_parsed_alone_and_the_help_before_it_still_lists_every_one(capsys):
+    """``aeroexec verify ...`` builds the verify parser alone (the others' cost every start); ``aeroexec -h verify``
+    is the top-level help, listing every sub-command, and a misspelt sub-command is told the ones there are."""
+    from aeroexec.cli.main import COMMANDS, build_parser, main
+
+    assert sorted(build_parser(["verify", "m.xml"]).commands) == ["verify"]
+    with pytest.raises(SystemExit):
+        main(["-h", "verify"])
+    shown = capsys.readouterr().out
+    assert all(name in shown for name in COMMANDS), shown
+    with pytest.raises(SystemExit):
+        main(["verif", "m.xml"])
+    assert "invalid choice: 'verif' (choose from 'run', 'verify'" in capsys.readouterr().err
+
+
+def test_a_command_that_needs_no_extra_does_not_read_the_extras_table():
+    """Which extras a command line needs is known from its sub-command and options: verify needs none, and the
+    extras' table (and what it imports) is read only for one that does (tests/cli/test_extras.py)."""
+    assert "aeroexec.extras" not in imported_after(verify(MISSIONS / "figure10.xml"))

@@ -166,3 +166,34 @@ def test_the_collision_broad_phase_finds_what_the_full_scan_finds():
             assert index.collides(point, radius) is expected, (point, radius)
             hits += expected is not None
     assert hits > 100  # the points do meet obstacles
+
+
+def test_a_world_file_read_without_errors_is_kept_parsed_and_a_changed_or_broken_one_is_read_again(tmp_path,
+                                                                                                   monkeypatch):
+    """A world is kept parsed in the user's cache folder (the next command reads no YAML for it); a changed file
+    is read again, and one with errors is never kept: it is refused at its line every time."""
+    from aeroexec.drones.sim import world_file
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    path = write(tmp_path, GOOD)
+    first = load_world(path)
+    assert [p.name.split(".")[0] for p in (tmp_path / "cache" / "aeroexec").iterdir()] == ["world"]
+    monkeypatch.setattr(world_file, "_parsed", {})  # as the next command starts
+
+    def unread(text, source="<world>"):
+        raise AssertionError("parsed again")
+
+    monkeypatch.setattr(world_file, "parse_world", unread)
+    again = load_world(path)
+    assert again == first and again.source == str(path) and again.obstacles == first.obstacles
+    path.write_text(GOOD.replace("name: test", "name: changed"))
+    with pytest.raises(AssertionError, match="parsed again"):
+        load_world(path)
+    monkeypatch.undo()
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    assert load_world(path).name == "changed"
+    broken = write(tmp_path, GOOD.replace("radius: 1", "radius: -1"), "broken.yaml")
+    for _ in range(2):
+        with pytest.raises(WorldError, match="broken.yaml:"):
+            load_world(broken)
+    assert len(list((tmp_path / "cache" / "aeroexec").glob("world.*.pickle"))) == 2  # the good file's two texts

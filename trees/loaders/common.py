@@ -13,10 +13,17 @@ Ports are text as an XML attribute would hold it. A YAML value becomes port text
 from __future__ import annotations
 
 import re
+from typing import TYPE_CHECKING
 
-import yaml
 from aeroexec.engine.yaml_nodes import MAP, SEQ, NodeReader
 from aeroexec.trees.runtime.manifests import ACTION, CONDITION, CONTROL, DECORATOR
+
+from aeroexec.lazy import lazy_module
+
+if TYPE_CHECKING:
+    import yaml
+else:  # PyYAML is imported when a text is read, not with this module (a catalog or world kept parsed reads none)
+    yaml = lazy_module("yaml")
 
 #: Node tags that name their type in an ``ID`` attribute, as BehaviorTree.CPP writes them.
 EXPLICIT_TAGS = (ACTION, CONDITION, CONTROL, DECORATOR)  # BT.CPP's node types, as tags with an ID
