@@ -65,7 +65,8 @@ def cpu_seconds(pid: int) -> float:
     return sum(int(v) for v in fields[11:15]) / os.sysconf("SC_CLK_TCK")
 
 
-def measure(fault: Fault, commands: int, cut_for: float, timeout: float, paths: int = 0) -> dict[str, float | str]:
+def measure(fault: Fault, commands: int, cut_for: float, timeout: float, paths: int = 0,
+            operator: str = "console") -> dict[str, float | str]:
     with Testbed(fault.latency) as bed, tempfile.TemporaryDirectory(prefix="fleet_network") as folder:
         fleet = FleetOfHosts(bed, Path(folder), paths=paths)
         try:
@@ -81,8 +82,9 @@ def measure(fault: Fault, commands: int, cut_for: float, timeout: float, paths: 
             elif fault.event == "restart":
                 converge = restart(fleet, timeout)
             reach, whole = [], 0
+            console = fleet.console(timeout) if operator == "console" else None
             for _ in range(commands):
-                command = fleet.ctl("status")
+                command = console.ctl("status") if console is not None else fleet.ctl("status")
                 reach += command.reached.values()
                 whole += len(command.reached) == len(fleet.names)
             window = time.monotonic() - start
@@ -157,6 +159,10 @@ def main() -> int:
     parser.add_argument("--commands", type=int, default=10, help="operator commands per fault (default 10)")
     parser.add_argument("--cut", type=float, default=30.0, help="seconds host 3 is cut off (default 30)")
     parser.add_argument("--timeout", type=float, default=300.0, help="seconds any one wait may take")
+    parser.add_argument("--operator", nargs="+", choices=("console", "ctl"), default=["console"],
+                        help="how the operator sends its commands: console, one ctl --stdin whose links to the "
+                             "routers stay open (the default); ctl, a one-shot ctl per command (its links opened "
+                             "for each); several: each fault measured with each")
     parser.add_argument("--paths", type=int, nargs="+", default=[0], metavar="K",
                         help="routers each command goes through at once: 0 every one (the default, as the docs "
                              "deploy it), 1 the first only; several values: each fault measured with each")
@@ -164,11 +170,11 @@ def main() -> int:
     if os.geteuid() != 0:
         print("bench/fleet_network.py makes network namespaces: run it as root", file=sys.stderr)
         return 2
-    print(f"{'fault':<42} {'paths':>5} {'p50 s':>6} {'p99 s':>6} {'whole':>6} {'converge s':>10} {'pkt/drone/s':>11} "
-          f"{'B/drone/s':>9} {'CPU/drone-s':>11} {'router CPU':>10}")
-    for name, paths in ((name, paths) for name in args.faults for paths in args.paths):
-        r = measure(FAULTS[name], args.commands, args.cut, args.timeout, paths)
-        print(f"{r['fault']:<42} {paths or 'all':>5} {r['p50']:>6.2f} {r['p99']:>6.2f} {r['whole']:>6} "
+    print(f"{'fault':<42} {'operator':>8} {'paths':>5} {'p50 s':>6} {'p99 s':>6} {'whole':>6} {'converge s':>10} "
+          f"{'pkt/drone/s':>11} {'B/drone/s':>9} {'CPU/drone-s':>11} {'router CPU':>10}")
+    for name, operator, paths in ((n, o, p) for n in args.faults for o in args.operator for p in args.paths):
+        r = measure(FAULTS[name], args.commands, args.cut, args.timeout, paths, operator)
+        print(f"{r['fault']:<42} {operator:>8} {paths or 'all':>5} {r['p50']:>6.2f} {r['p99']:>6.2f} {r['whole']:>6} "
               f"{r['converge']:>10.1f} {r['packets']:>11.1f} {r['bytes']:>9.0f} {r['cpu']:>11.3f} "
               f"{r['router_cpu']:>10.3f}", flush=True)
     return 0

@@ -18,6 +18,7 @@ import os
 import shlex
 import sys
 from pathlib import Path
+from typing import Any
 
 from aeroexec.engine.supervision.output import DEFAULT_BASE
 from aeroexec.flight.control import CONTROL_FILE, live_runs, read_control_file, send_command
@@ -65,14 +66,27 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--credentials", metavar="DIR|CERT",
                         help="the operator's identity for --fleet: a folder holding operator.pem, operator.key and "
                              "the fleet's ca.pem, or the certificate file (default: from the fleet's fleet.json)")
-    parser.add_argument("command", choices=list(COMMANDS), metavar="COMMAND",
+    parser.add_argument("--stdin", action="store_true",
+                        help="with --fleet: read commands from standard input, one a line (COMMAND [ARGUMENT] "
+                             "[--drone D]), through links to the fleet opened once and kept (a ground station's "
+                             "console: no handshakes before each command); with --json one answer a line")
+    parser.add_argument("command", choices=list(COMMANDS), metavar="COMMAND", nargs="?",
                         help="; ".join(f"{name} {text}" for name, text in COMMANDS.items()))
     parser.add_argument("argument", nargs="*", help="the command's argument (NAME, TEXT, BELIEF, PATTERN, TARGET, "
                                                     "FRAGMENT or FILE; quote what holds spaces)")
 
 
 def run(args: argparse.Namespace) -> int:
-    argument = change_argument(args.command, args.argument) if args.command in CHANGES else " ".join(args.argument)
+    if args.stdin:
+        if not args.fleet or args.command:
+            print("aeroexec ctl --stdin reads a fleet's commands from standard input: give --fleet NAME and no "
+                  "COMMAND", file=sys.stderr)
+            return 2
+        return fleet_commands(args, sys.stdin)
+    if args.command is None:
+        print(f"aeroexec ctl: give a COMMAND ({', '.join(COMMANDS)})", file=sys.stderr)
+        return 2
+    argument = command_argument(args.command, args.argument)
     if args.command == "list":
         runs = live_runs()
         for live in runs:
@@ -112,6 +126,11 @@ def run(args: argparse.Namespace) -> int:
         for problem in answer.get("problems", [])[1:]:
             print(f"  {problem}", file=sys.stderr)
     return 0 if answer.get("ok") else 1
+
+
+def command_argument(command: str, words: list[str]) -> str:
+    """A command's argument as the run reads it (a change's: :func:`change_argument`)."""
+    return change_argument(command, words) if command in CHANGES else " ".join(words)
 
 
 def change_argument(command: str, words: list[str]) -> str:
@@ -210,33 +229,91 @@ def describe_status(status: dict) -> str:
     return "\n".join(lines)
 
 
-def fleet_command(args: argparse.Namespace, argument: str) -> int:
-    """The command to every drone of ``--fleet`` (or ``--drone``) as a Zenoh query guarded by the fleet's token."""
+def fleet_operator(args: argparse.Namespace) -> Any:
+    """The operator's links to ``--fleet`` (a :class:`~aeroexec.fleet.control.FleetOperator`), from the options
+    or the fleet's ``fleet.json``; ValueError or FleetCommandError saying what is missing."""
     import os
 
-    from aeroexec.fleet.control import FleetCommandError, command_fleet
+    from aeroexec.fleet.control import FleetOperator
     from aeroexec.fleet.fleet_json import TOKEN_VARIABLE, read_fleet_file
     from aeroexec.fleet.members import operator_identity
 
+    given = args.connect and args.credentials and (args.token or os.environ.get(TOKEN_VARIABLE))
+    known = read_fleet_file(args.fleet, args.run_dir) if args.run_dir or not given else {}
+    token = args.token or os.environ.get(TOKEN_VARIABLE) or known.get("token", "")
+    credentials = args.credentials or known.get("credentials")
+    if not credentials:
+        where = " (the run's fleet.json names none: the operator's identity is not in its credentials folder)" \
+            if known else ""
+        raise ValueError(f"no operator credentials for fleet {args.fleet}: give --credentials DIR (the folder of "
+                         f"operator.pem, operator.key and ca.pem){where}")
+    members = known.get("drones") if isinstance(known.get("drones"), list) else ()
+    return FleetOperator(args.connect or known.get("endpoints") or [], args.fleet, token,
+                         operator_identity(credentials), [m for m in members if isinstance(m, str)])
+
+
+def fleet_commands(args: argparse.Namespace, lines: Any) -> int:
+    """``--stdin``: each line a command to the fleet (``COMMAND [ARGUMENT] [--drone D]``), through links opened
+    once; each command's answers printed as :func:`fleet_command` prints them. 0 when every command was done by
+    every drone it was for."""
+    from aeroexec.fleet.control import FleetCommandError
+
     try:
-        given = args.connect and args.credentials and (args.token or os.environ.get(TOKEN_VARIABLE))
-        known = read_fleet_file(args.fleet, args.run_dir) if args.run_dir or not given else {}
-        token = args.token or os.environ.get(TOKEN_VARIABLE) or known.get("token", "")
-        credentials = args.credentials or known.get("credentials")
-        if not credentials:
-            where = " (the run's fleet.json names none: the operator's identity is not in its credentials folder)" \
-                if known else ""
-            raise ValueError(f"no operator credentials for fleet {args.fleet}: give --credentials DIR (the folder of "
-                             f"operator.pem, operator.key and ca.pem){where}")
-        members = known.get("drones") if isinstance(known.get("drones"), list) else ()
-        answers = command_fleet(args.connect or known.get("endpoints") or [], args.fleet, token, args.command,
-                                argument, drone=args.drone or "*", identity=operator_identity(credentials),
-                                members=[m for m in members if isinstance(m, str)])
+        operator = fleet_operator(args)
     except (ValueError, FleetCommandError) as error:
         print(error, file=sys.stderr)
         return 1
+    worst = 0
+    with operator:
+        for number, line in enumerate(lines, 1):
+            try:
+                words = shlex.split(line)
+            except ValueError as error:
+                print(f"<stdin>:{number}: {error}: {line.strip()}", file=sys.stderr)
+                worst = 1
+                continue
+            drone = None
+            if "--drone" in words:
+                at = words.index("--drone")
+                drone = words[at + 1] if at + 1 < len(words) else ""
+                words = words[:at] + words[at + 2:]
+            if not words:
+                continue
+            command, rest = words[0], words[1:]
+            if command not in COMMANDS or command == "list" or command in NEEDS_ARGUMENT and not rest or \
+                    drone == "":
+                print(f"<stdin>:{number}: not a fleet command: {line.strip()} (COMMAND [ARGUMENT] [--drone D]; "
+                      f"COMMAND one of {', '.join(c for c in COMMANDS if c != 'list')})", file=sys.stderr)
+                worst = 1
+                continue
+            try:
+                answers = operator.command(command, command_argument(command, rest), drone=drone or "*")
+            except (ValueError, FleetCommandError) as error:
+                print(f"<stdin>:{number}: {error}", file=sys.stderr)
+                worst = 1
+                continue
+            worst = max(worst, print_fleet_answers(args, answers, compact=True))
+    return worst
+
+
+def fleet_command(args: argparse.Namespace, argument: str) -> int:
+    """The command to every drone of ``--fleet`` (or ``--drone``) as a Zenoh query guarded by the fleet's token."""
+    from aeroexec.fleet.control import FleetCommandError
+
+    try:
+        with fleet_operator(args) as operator:
+            answers = operator.command(args.command, argument, drone=args.drone or "*")
+    except (ValueError, FleetCommandError) as error:
+        print(error, file=sys.stderr)
+        return 1
+    return print_fleet_answers(args, answers)
+
+
+def print_fleet_answers(args: argparse.Namespace, answers: dict[str, dict], compact: bool = False) -> int:
+    """Each drone's answer (``--json``: one JSON object, on one line when ``compact``) and those that did not
+    answer; 1 unless every drone did what it was asked."""
     if args.json:
-        print(json.dumps(answers, indent=2))
+        print(json.dumps(answers, indent=None if compact else 2), flush=True)
         return 0 if answers and all(a.get("ok") for a in answers.values()) else 1
     for drone, answer in sorted(answers.items()):
         if answer.get("ok"):
@@ -259,4 +336,5 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
     elif unanswered:
         print(f"{len(unanswered)} of {len(answers)} drones of fleet {args.fleet} did not answer: "
               f"{', '.join(unanswered)}", file=sys.stderr)
+    sys.stdout.flush()
     return 0 if answers and all(a.get("ok") for a in answers.values()) else 1

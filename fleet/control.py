@@ -38,94 +38,155 @@ class FleetCommandError(RuntimeError):
 def command_fleet(endpoints: list[str], fleet: str, token: str, command: str, argument: str = "",
                   drone: str = "*", timeout: float = TIMEOUT, identity: Identity | None = None,
                   members: Iterable[str] = ()) -> dict[str, dict[str, Any]]:
-    """Each drone's answer (``ok``, ``message`` or ``error``, ``status`` for status); ``endpoints``: the routers,
-    each a path the command takes at once; ``identity``: the operator's (None only for a fleet without
-    credentials); ``members``: the drones the caller knows of, each expected to answer a command to every drone
-    (``drone`` ``*``). A drone expected that did not answer has ``{ok: false, answered: false, error}``. Each
-    answer has ``reached``: the seconds from the command's first sending (on the path that opened first) to its
-    first arrival at the drone, by any path (the operator's wall clock against the drone's: equal on one machine,
-    as close as their clocks are on two)."""
-    check_name(fleet, "the fleet name")
-    if drone != "*":
-        check_name(drone, "the drone name")
-    paths = list(dict.fromkeys(endpoints))
-    if not paths:
-        raise FleetCommandError("no endpoint for the fleet: give --connect ENDPOINT")
-    try:
-        material = identity.read(fleet) if identity is not None else None
-    except CredentialsError as error:
-        raise FleetCommandError(str(error)) from None
-    asked = _Asked(drone, members, len(paths))
-    request = {"v": VERSION, "token": token, "command": command, "argument": argument, "id": uuid.uuid4().hex}
-    threads = [threading.Thread(target=asked.send, args=(path, fleet, request, material, timeout), daemon=True,
-                                name=f"aeroexec-ctl-{n}") for n, path in enumerate(paths)]
-    for thread in threads:
-        thread.start()
-    try:
-        answers = asked.wait(timeout)
-    finally:
-        asked.close()
-    for name in sorted(asked.expected() - set(answers)):
-        answers[name] = {"ok": False, "answered": False,
-                         "error": "did not answer: not reached, or no longer flying"}
-    return answers
+    """One command through a :class:`FleetOperator` opened for it (``aeroexec ctl --fleet``): see
+    :meth:`FleetOperator.command`."""
+    with FleetOperator(endpoints, fleet, token, identity, members) as operator:
+        return operator.command(command, argument, drone, timeout)
 
 
-class _Asked:
-    """One command's answers gathered from its paths: the first answer of each drone."""
+class FleetOperator:
+    """The operator's links to a fleet: one session per router of ``endpoints`` (each a path), opened side by side
+    and kept open; each command goes through every open path at once. ``identity``: the operator's (None only for
+    a fleet without credentials); ``members``: the drones the operator knows of, each expected to answer a command
+    to every drone. Kept open (``aeroexec ctl --fleet NAME --stdin``), a command goes out at once on every path,
+    none of them waiting for TCP's, TLS's and Zenoh's handshakes (seconds over a slow, lossy network)."""
 
-    def __init__(self, drone: str, members: Iterable[str], paths: int) -> None:
-        self.drone, self.members, self.paths = drone, set(members), paths
-        self.answers: dict[str, dict[str, Any]] = {}
-        self.opened = 0  # paths whose session opened
-        self.ended = 0  # paths done: their query ended, or their session did not open
-        self.errors: list[str] = []  # why a path did not open
-        self.refused: str | None = None
+    def __init__(self, endpoints: list[str], fleet: str, token: str, identity: Identity | None = None,
+                 members: Iterable[str] = ()) -> None:
+        self.fleet, self.token, self.members = check_name(fleet, "the fleet name"), token, list(members)
+        self.paths = list(dict.fromkeys(endpoints))
+        if not self.paths:
+            raise FleetCommandError("no endpoint for the fleet: give --connect ENDPOINT")
+        try:
+            self._material = identity.read(fleet) if identity is not None else None
+        except CredentialsError as error:
+            raise FleetCommandError(str(error)) from None
         self.sessions: list[Any] = []
-        self.first_open: float | None = None
-        self.sent: float | None = None  # the operator's wall clock when the first path sent the command
+        self._errors: list[str] = []
+        self._failed = 0
+        self._asked: list[_Asked] = []  # the commands waiting for answers: a path that opens carries them too
         self._closed = False
         self._changed = threading.Condition()
+        for n, endpoint in enumerate(self.paths):
+            threading.Thread(target=self._open, args=(endpoint,), daemon=True, name=f"aeroexec-ctl-{n}").start()
 
-    def expected(self) -> set[str]:
-        """The drones that should answer: the one asked, or the members known and those the answers name."""
-        if self.drone != "*":
-            return {self.drone}
-        return self.members | {name for answer in list(self.answers.values()) for name in answer.get("fleet", ())
-                               if isinstance(name, str)}
+    def __enter__(self) -> FleetOperator:
+        return self
 
-    def send(self, endpoint: str, fleet: str, request: dict[str, Any], material: Any, timeout: float) -> None:
-        """One path: a session to ``endpoint``, the query through it, its answers gathered (a thread)."""
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _open(self, endpoint: str) -> None:
         try:
-            session = open_session("client", connect=[endpoint], identity=material)
+            session = open_session("client", connect=[endpoint], identity=self._material)
         except TransportError as error:
             with self._changed:
-                self.errors.append(str(error))
-                self.ended += 1
+                self._errors.append(str(error))
+                self._failed += 1
                 self._changed.notify_all()
+                asked = list(self._asked)
+            for one in asked:  # a command whose paths all ended ends now, none opening any more
+                one.wake()
             return
         with self._changed:
             if self._closed:
                 close_session(session)
                 return
             self.sessions.append(session)
-            self.opened += 1
-            if self.first_open is None:
-                self.first_open = time.monotonic()
+            asked = list(self._asked)
             self._changed.notify_all()
-        with self._changed:  # sent: the command's first sending, on whichever path opened first
-            self.sent = self.sent if self.sent is not None else time.time()
-            payload = json.dumps({**request, "sent": self.sent}).encode()
+        for one in asked:
+            one.send(session, self.fleet)
+
+    def opening(self) -> bool:
+        """Whether a path is still opening."""
+        return len(self.sessions) + self._failed < len(self.paths)
+
+    def command(self, command: str, argument: str = "", drone: str = "*",
+                timeout: float = TIMEOUT) -> dict[str, dict[str, Any]]:
+        """Each drone's answer (``ok``, ``message`` or ``error``, ``status`` for status). A drone expected that did
+        not answer has ``{ok: false, answered: false, error}``. Each answer has ``reached``: the seconds from the
+        command's first sending to its first arrival at the drone, by any path (the operator's wall clock against
+        the drone's: equal on one machine, as close as their clocks are on two)."""
+        if drone != "*":
+            check_name(drone, "the drone name")
+        request = {"v": VERSION, "token": self.token, "command": command, "argument": argument,
+                   "id": uuid.uuid4().hex}
+        asked = _Asked(self, drone, request, timeout)
+        with self._changed:  # the first path open (each gives up by itself: the transport's retry)
+            if not self._changed.wait_for(lambda: self.sessions or not self.opening(), OPEN_LIMIT):
+                raise FleetCommandError(f"no router of the fleet answered within {OPEN_LIMIT:g} s")
+            if not self.sessions:
+                raise FleetCommandError("; ".join(dict.fromkeys(self._errors)))
+            sessions = list(self.sessions)
+            self._asked.append(asked)
         try:
-            import zenoh  # the session opened: the extra is there
+            for session in sessions:
+                asked.send(session, self.fleet)
+            answers = asked.wait()
+        finally:
+            with self._changed:
+                self._asked.remove(asked)
+        for name in sorted(asked.expected() - set(answers)):
+            answers[name] = {"ok": False, "answered": False,
+                             "error": "did not answer: not reached, or no longer flying"}
+        return answers
+
+    def close(self) -> None:
+        """Every path's session closed, side by side (closing a link that lost packets waits for it), within
+        CLOSE_LIMIT seconds: what the commands did is done either way."""
+        with self._changed:
+            self._closed = True
+            sessions, self.sessions = self.sessions, []
+        closing = [threading.Thread(target=close_session, args=(session,), daemon=True) for session in sessions]
+        for thread in closing:
+            thread.start()
+        end = time.monotonic() + CLOSE_LIMIT
+        for thread in closing:
+            thread.join(max(0.0, end - time.monotonic()))
+
+
+class _Asked:
+    """One command's answers gathered from its paths: the first answer of each drone."""
+
+    def __init__(self, operator: FleetOperator, drone: str, request: dict[str, Any], timeout: float) -> None:
+        self.operator, self.drone, self.request, self.timeout = operator, drone, request, timeout
+        self.answers: dict[str, dict[str, Any]] = {}
+        self.started = 0  # paths it was sent on
+        self.ended = 0  # of them, those whose query ended
+        self.refused: str | None = None
+        self.sent: float | None = None  # the operator's wall clock when the first path sent it
+        self.first: float | None = None  # the same, on the monotonic clock
+        self._changed = threading.Condition()
+
+    def expected(self) -> set[str]:
+        """The drones that should answer: the one asked, or the members known and those the answers name."""
+        if self.drone != "*":
+            return {self.drone}
+        return set(self.operator.members) | {name for answer in list(self.answers.values())
+                                             for name in answer.get("fleet", ()) if isinstance(name, str)}
+
+    def send(self, session: Any, fleet: str) -> None:
+        """The query through one path's ``session``; its answers gathered on a thread of its own."""
+        with self._changed:  # sent: the command's first sending, on whichever path it went first
+            if self.sent is None:
+                self.sent, self.first = time.time(), time.monotonic()
+            self.started += 1
+            payload = json.dumps({**self.request, "sent": self.sent}).encode()
+        threading.Thread(target=self._gather, args=(session, fleet, payload), daemon=True,
+                         name="aeroexec-ctl-answers").start()
+
+    def _gather(self, session: Any, fleet: str, payload: bytes) -> None:
+        try:
+            import zenoh  # a session opened: the extra is there
 
             # each answer as it arrives: Zenoh's default consolidation holds a query's replies until every route
             # ended, so one stalled router held back every drone's answer
-            for reply in session.get(key(fleet, self.drone, "command"), payload=payload, timeout=timeout,
+            for reply in session.get(key(fleet, self.drone, "command"), payload=payload, timeout=self.timeout,
                                      consolidation=zenoh.ConsolidationMode.NONE):
                 self._take(reply)
         except Exception as error:  # the session closed under the query once the command was answered
-            logger.debug("fleet %s: a path through %s ended: %s", fleet, endpoint, error)
+            logger.debug("fleet %s: a path's query ended: %s", fleet, error)
         finally:
             with self._changed:
                 self.ended += 1
@@ -148,41 +209,27 @@ class _Asked:
                 self.answers.setdefault(name, answer)
             self._changed.notify_all()
 
+    def wake(self) -> None:
+        """Look again whether the command is done (a path stopped opening)."""
+        with self._changed:
+            self._changed.notify_all()
+
     def _done(self) -> bool:
-        if self.refused is not None or self.ended == self.paths:
+        if self.refused is not None or self.ended == self.started and not self.operator.opening():
             return True
         expected = self.expected()
         return bool(expected) and expected <= set(self.answers)
 
-    def wait(self, timeout: float) -> dict[str, dict[str, Any]]:
-        """The answers once every expected drone answered, every path ended, or ``timeout`` seconds passed since
-        the first path opened; FleetCommandError when no path opened or the fleet refused the command."""
+    def wait(self) -> dict[str, dict[str, Any]]:
+        """The answers once every expected drone answered, every path's query ended, or ``timeout`` seconds
+        passed since the first sending; FleetCommandError when the fleet refused the command."""
         with self._changed:
+            first = self.first if self.first is not None else time.monotonic()
             while not self._done():
-                if self.first_open is None:  # each path's connecting gives up by itself (the transport's retry)
-                    if not self._changed.wait(OPEN_LIMIT) and self.first_open is None:
-                        break
-                    continue
-                left = self.first_open + timeout - time.monotonic()
+                left = first + self.timeout - time.monotonic()
                 if left <= 0:
                     break
                 self._changed.wait(left)
             if self.refused is not None:
                 raise FleetCommandError(self.refused)
-            if self.opened == 0:
-                raise FleetCommandError("; ".join(dict.fromkeys(self.errors)) or
-                                        f"no router of the fleet answered within {OPEN_LIMIT:g} s")
             return dict(self.answers)
-
-    def close(self) -> None:
-        """Every path's session closed, side by side (closing a link that lost packets waits for it), within
-        CLOSE_LIMIT seconds: what the command did is done either way."""
-        with self._changed:
-            self._closed = True
-            sessions, self.sessions = self.sessions, []
-        closing = [threading.Thread(target=close_session, args=(session,), daemon=True) for session in sessions]
-        for thread in closing:
-            thread.start()
-        end = time.monotonic() + CLOSE_LIMIT
-        for thread in closing:
-            thread.join(max(0.0, end - time.monotonic()))

@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import shlex
 import signal
 import subprocess
 import time
@@ -114,6 +115,18 @@ class FleetOfHosts:
         self.commands.append(command)
         return command
 
+    def console(self, timeout: float) -> Console:
+        """``aeroexec ctl --fleet search --stdin --json`` kept open by the operator on its own host (a ground
+        station's console: its links to every router opened once); :meth:`Console.ctl` sends it a command."""
+        paths = [word for host in self.hosts[:self.paths or None] for word in ("--connect", self.endpoint(host))]
+        process = subprocess.Popen(self.operator.command("aeroexec", "ctl", "--fleet", "search", "--stdin", "--json",
+                                                         "--credentials", "creds", *paths, "--run",
+                                                         f"router-{self.hosts[0].name}"),
+                                   cwd=self.folder, env=self.env, text=True, stdin=subprocess.PIPE,
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        self.processes.append(process)
+        return Console(self, Output(process), timeout)
+
     def kill_router(self, host: Host) -> None:
         process = self.routers.pop(host.name).process
         process.send_signal(signal.SIGKILL)  # no goodbye
@@ -127,6 +140,36 @@ class FleetOfHosts:
 
     def close(self) -> None:
         stop(*self.processes)
+
+
+@dataclass
+class Console:
+    """The operator's ``ctl --stdin`` process: a command a line in, its answers a JSON line out."""
+
+    fleet: FleetOfHosts
+    out: Output
+    timeout: float
+
+    def ctl(self, *words: str) -> Command:
+        """``words`` as one line (``COMMAND [ARGUMENT] [--drone D]``), its answers once they are printed."""
+        mark = len(self.out.lines)
+        self.out.process.stdin.write(" ".join(shlex.quote(word) for word in words) + "\n")
+        self.out.process.stdin.flush()
+        lines = self.out.wait(lambda lines: any(line.startswith("{") for line in lines[mark:]), f"ctl {words}",
+                              self.timeout)
+        said = lines[mark:]
+        answer = next(line for line in said if line.startswith("{"))
+        answers = json.loads(answer)
+        done = subprocess.CompletedProcess(["ctl", *words], 0 if all(a.get("ok") for a in answers.values()) else 1,
+                                           answer, "".join(line for line in said if line is not answer))
+        command = Command(done, answers)
+        self.fleet.commands.append(command)
+        return command
+
+    def close(self) -> int:
+        """Standard input closed: the console closes its links and ends; its exit status."""
+        self.out.process.stdin.close()
+        return self.out.process.wait(self.timeout)
 
 
 def seen(lines: list[str], text: str, after: int = 0) -> bool:

@@ -139,3 +139,37 @@ def test_a_command_sent_through_two_routers_is_run_once_and_answered_while_one_r
     commands = [line for line in "".join(flying).splitlines() + out.splitlines() if "operator_command" in line]
     assert [c.split("operator_command")[1].split(":")[1].strip() for c in commands] == ["pause", "resume", "abort"], \
         commands
+
+
+def test_a_ground_station_console_sends_each_line_as_a_command_through_links_it_keeps_open(tmp_path):
+    """``ctl --fleet NAME --stdin --json``: a line in, the drones' answers out as one JSON line, the links opened once;
+    a line that is no command is named by its line number and the console goes on."""
+    (tmp_path / "hover.py").write_text(HOVER)
+    (tmp_path / "search.yaml").write_text("fleet: search\ncredentials: creds\ndrones:\n  - {name: d1}\n")
+    endpoint = free_endpoint("tls")
+    assert main(["fleet", str(tmp_path / "search.yaml"), "--make-credentials", str(tmp_path / "creds"),
+                 "--listen", endpoint]) == 0
+    router = aeroexec("fleet", "search.yaml", "--router", "--listen", endpoint, "--output", "r1", cwd=tmp_path)
+    processes = [router]
+    try:
+        wait_for_line(router, "listening on", 60)
+        d1 = aeroexec("run", "hover.py", "--fleet", "search", "--name", "d1", "--credentials", "creds/d1.pem",
+                      "--connect", endpoint, "--plain", "--output", "d1", cwd=tmp_path)
+        processes.append(d1)
+        flying = wait_for_line(d1, "drone_takeoff_complete", 120)
+        console = subprocess.run(
+            [sys.executable, "-m", "aeroexec.cli.main", "ctl", "--fleet", "search", "--stdin", "--json", "--run", "r1"],
+            input="status\nfly to the moon\n\nadd 'object(marker_9, aruco)' --drone d1\nabort\n", capture_output=True,
+            text=True, timeout=120, cwd=tmp_path)
+        out, _ = d1.communicate(timeout=120)
+    finally:
+        stop(*processes)
+    answers = [json.loads(line) for line in console.stdout.splitlines()]
+    assert [sorted(a) for a in answers] == [["d1"], ["d1"], ["d1"]], console.stdout + console.stderr
+    assert "battery" in json.dumps(answers[0]["d1"]["status"]) and answers[2]["d1"]["ok"], answers
+    assert "<stdin>:2: not a fleet command: fly to the moon" in console.stderr, console.stderr
+    assert console.returncode == 1  # one line was no command
+    commands = [line for line in "".join(flying).splitlines() + out.splitlines() if "operator_command" in line]
+    assert [c.split("operator_command: ")[1].split(":")[0] for c in commands] == [
+        "add object(marker_9, aruco)", "abort"], commands  # each once (a status is not a command's event)
+    assert "hover.py: aborted" in out
