@@ -243,7 +243,7 @@ class _Lines:
     def __init__(self) -> None:
         self.event: tuple[Any, str] = (None, "")
         self.belief: tuple[Any, str] = (None, "")
-        self.state: tuple[Any, str] = (None, "")
+        self.state: tuple[tuple[Any, Any], str] = ((None, None), "")
 
 
 _LINES = _Lines()
@@ -317,10 +317,11 @@ def _kind(change: BeliefChange) -> str:
 
 def state_line(now: float, telemetry: Any) -> str:
     """A drone state sample's line in the log."""
-    last, line = _LINES.state
-    if last != (now, id(telemetry)):
+    (at, sampled), line = _LINES.state
+    # the very object (kept, not its id: another drone's telemetry made at the same time may get a freed one's id)
+    if sampled is not telemetry or at != now:
         line = _json(state_record(now, telemetry))
-        _LINES.state = ((now, id(telemetry)), line)
+        _LINES.state = ((now, telemetry), line)
     return line
 
 
