@@ -249,6 +249,7 @@ class _Lines:
         self.event: tuple[Any, str] = (None, "")
         self.belief: tuple[Any, str] = (None, "")
         self.state: tuple[tuple[Any, Any], str] = ((None, None), "")
+        self.time: tuple[Any, str] = (None, "")  # the last belief change's time (the very object), and its text
 
 
 _LINES = _Lines()
@@ -277,8 +278,12 @@ def belief_line(change: BeliefChange, texts: dict[str, tuple[tuple, str]] | None
             text = _text(flat_text(belief))
             if texts is not None and change.kind == "added":
                 texts[belief.name] = (belief.args, text)
+        at, stamp = _LINES.time
+        if change.time is not at:  # the changes of a period (of every drone of a fleet) share the clock's time
+            stamp = _number(round(float(change.time), 3))
+            _LINES.time = (change.time, stamp)
         # as _json writes the record, without building it: the log's most frequent line (ordered keys, compact)
-        line = (f'{{"time":{_number(round(float(change.time), 3))},"kind":{_KINDS.get(change.kind) or _kind(change)},'
+        line = (f'{{"time":{stamp},"kind":{_KINDS.get(change.kind) or _kind(change)},'
                 f'"belief":{text},"reason":{_REASONS.get(change.reason) or _text(change.reason)}}}')
         _LINES.belief = (change, line)
     return line
