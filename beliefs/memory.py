@@ -87,6 +87,9 @@ class BeliefMemory:
         self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
         self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
         self._listening = False  # whether anyone listens
+        # predicate name -> who hears its changes (every change's listeners, then its own), made on its first change
+        # after a subscription changed: a change calls a tuple instead of copying the lists
+        self._hearing: dict[str, tuple[Callable[[BeliefChange], None], ...]] = {}
         self._expiry: dict[tuple, float] = {}
         self._heap: list[tuple[float, int, tuple, tuple]] = []
         self._sequence = 0
@@ -195,12 +198,14 @@ class BeliefMemory:
         for found in lists:
             found.append(listener)
         self._listening = True
+        self._hearing = {}
 
         def unsubscribe() -> None:
             for found in lists:
                 if listener in found:
                     found.remove(listener)
             self._listening = bool(self._listeners) or any(self._named.values())
+            self._hearing = {}
         return unsubscribe
 
     # -- changes ------------------------------------------------------------------
@@ -655,11 +660,14 @@ class BeliefMemory:
             self._notify("removed", Struct(signature[0], args), reason)
 
     def _notify(self, kind: str, belief: Struct, reason: str) -> None:
-        named = self._named.get(belief.name) if self._named else None
-        if not named and not self._listeners:
+        hearing = self._hearing.get(belief.name)
+        if hearing is None:
+            named = self._named.get(belief.name) if self._named else None
+            hearing = self._hearing[belief.name] = (*self._listeners, *named) if named else tuple(self._listeners)
+        if not hearing:
             return
         change = BeliefChange(kind, belief, reason, self._now())
-        for listener in [*self._listeners, *named] if named else list(self._listeners):
+        for listener in hearing:
             try:
                 listener(change)
             except Exception:  # a faulty listener must not corrupt the memory

@@ -136,10 +136,11 @@ class FleetLink(BeliefUpdater):
     def update(self, memory: BeliefMemory, now: float) -> None:
         if self._social is None:
             self._social = self._start_social()
-        with self._lock:
-            refusals, self._refusals = self._refusals, []
-        for sender, reason, example in refusals:
-            self._note_refusal(sender, reason, example)
+        if self._refusals:  # the lock only when there is something to take (a refusal added meanwhile: next period)
+            with self._lock:
+                refusals, self._refusals = self._refusals, []
+            for sender, reason, example in refusals:
+                self._note_refusal(sender, reason, example)
         news, self._news = self._news, []
         for taken in news:
             self._take(taken)
@@ -382,6 +383,8 @@ class FleetLink(BeliefUpdater):
                                  "detail": event.detail})
 
     def _publish_events(self) -> None:
+        if not self._events:  # nothing to say this period (an event kept meanwhile goes with the next)
+            return
         with self._lock:
             events, self._events = self._events, []
         if events:

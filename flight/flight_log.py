@@ -73,7 +73,7 @@ class FlightLogWriter:
         self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_CREAT |
                                        (os.O_APPEND if resumed is not None else os.O_TRUNC), 0o644)
         self._end = os.lseek(self._fd, 0, os.SEEK_END)  # where the next line goes (the writer is alone)
-        self._pending: list[bytes] = []  # the tick's lines, written at its end
+        self._pending: list[str] = []  # the tick's lines (without their ends), written at its end, encoded once
         self._texts: dict[str, tuple[tuple, str]] = {}  # predicate -> the arguments last added, and their text
         self._last_sample: float | None = None
         self.lines = 0
@@ -134,12 +134,15 @@ class FlightLogWriter:
             if self.incomplete is not None:
                 self.lost += 1
                 return
-            self._pending.append((line + "\n").encode("utf-8"))
-            if len(self._pending) >= PENDING:
+            pending = self._pending
+            pending.append(line)
+            if len(pending) >= PENDING:
                 self._write_pending()
 
     def flush(self) -> None:
         """Write the lines kept since the last tick."""
+        if not self._pending:  # nothing since the last tick (a line added meanwhile is the next flush's)
+            return
         with self._lock:
             self._write_pending()
 
@@ -147,7 +150,9 @@ class FlightLogWriter:
         lines, self._pending = self._pending, []
         if not lines or self._fd is None:
             return
-        data = b"".join(lines)
+        lines.append("")  # the last line's end
+        data = "\n".join(lines).encode("utf-8")
+        lines.pop()
         written = 0
         try:
             written = os.write(self._fd, data)
@@ -243,7 +248,8 @@ class _Lines:
     def __init__(self) -> None:
         self.event: tuple[Any, str] = (None, "")
         self.belief: tuple[Any, str] = (None, "")
-        self.state: tuple[Any, str] = (None, "")
+        self.state: tuple[tuple[Any, Any], str] = ((None, None), "")
+        self.time: tuple[Any, str] = (None, "")  # the last belief change's time (the very object), and its text
 
 
 _LINES = _Lines()
@@ -272,8 +278,12 @@ def belief_line(change: BeliefChange, texts: dict[str, tuple[tuple, str]] | None
             text = _text(flat_text(belief))
             if texts is not None and change.kind == "added":
                 texts[belief.name] = (belief.args, text)
+        at, stamp = _LINES.time
+        if change.time is not at:  # the changes of a period (of every drone of a fleet) share the clock's time
+            stamp = _number(round(float(change.time), 3))
+            _LINES.time = (change.time, stamp)
         # as _json writes the record, without building it: the log's most frequent line (ordered keys, compact)
-        line = (f'{{"time":{_number(round(float(change.time), 3))},"kind":{_KINDS.get(change.kind) or _kind(change)},'
+        line = (f'{{"time":{stamp},"kind":{_KINDS.get(change.kind) or _kind(change)},'
                 f'"belief":{text},"reason":{_REASONS.get(change.reason) or _text(change.reason)}}}')
         _LINES.belief = (change, line)
     return line
@@ -299,6 +309,9 @@ def flat_text(term: Struct) -> str:
                 if len(_ATOMS) < 4096:
                     _ATOMS[arg] = atom
             parts.append(atom)
+        elif kind is tuple and len(arg) == 3 and type(arg[0]) is float and type(arg[1]) is float \
+                and type(arg[2]) is float:  # a position, a velocity: the most frequent argument
+            parts.append(f"({arg[0]!r}, {arg[1]!r}, {arg[2]!r})")
         elif kind is tuple and len(arg) > 1 and all(type(v) is float for v in arg):
             parts.append("(" + ", ".join(map(repr, arg)) + ")")
         else:
@@ -317,10 +330,11 @@ def _kind(change: BeliefChange) -> str:
 
 def state_line(now: float, telemetry: Any) -> str:
     """A drone state sample's line in the log."""
-    last, line = _LINES.state
-    if last != (now, id(telemetry)):
+    (at, sampled), line = _LINES.state
+    # the very object (kept, not its id: another drone's telemetry made at the same time may get a freed one's id)
+    if sampled is not telemetry or at != now:
         line = _json(state_record(now, telemetry))
-        _LINES.state = ((now, id(telemetry)), line)
+        _LINES.state = ((now, telemetry), line)
     return line
 
 

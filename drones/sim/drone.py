@@ -123,9 +123,12 @@ class SimulatedDrone(Drone):
         self.airspace, self.call_sign = airspace, name
 
     # --- time --------------------------------------------------------------------------------------
-    @_locked
     def update(self, now: float) -> None:
         """Integrate fixed substeps up to ``now`` (earlier times are ignored)."""
+        with self._lock:  # (every engine period: the lock taken here, without a wrapper's call)
+            self._update(now)
+
+    def _update(self, now: float) -> None:
         if now <= self._now:
             return
         self._now = now

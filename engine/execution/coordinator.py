@@ -88,6 +88,7 @@ class BehaviorCoordinator:
         self.specialist = specialist or BehaviorSpecialist(self.catalog)
         self.log = context.log
         self._active: dict[str, Activation] = {}
+        self._ordered: list[Activation] | None = None  # the active ones in activation order (None: to be sorted)
         self._order = 0
         self._react = False  # Algorithm 5 is due
         self._inhibited: set[str] = set()
@@ -131,6 +132,7 @@ class BehaviorCoordinator:
         previous = self._active.get(name)
         if previous is not None and previous.arguments == arguments and previous.category == RECURRENT:
             previous.priority, previous.order = max(previous.priority, level), self._next_order()
+            self._ordered = None
             if on_end:
                 previous.on_end.append(on_end)
             return ActivationResult(True, activation=previous)
@@ -186,6 +188,7 @@ class BehaviorCoordinator:
             activation = Activation(name, arguments, process, level, self._next_order(), source, now, timeout,
                                     conditions, now, on_end=[on_end] if on_end else [])
         self._active[name] = activation
+        self._ordered = None
         self.log.record("activated", name, _describe_arguments(arguments), source=source,
                         priority=_priority_name(level), timeout=timeout, arguments=dict(arguments),
                         waiting=None if ready else str(conditions))
@@ -283,7 +286,10 @@ class BehaviorCoordinator:
     def tick(self) -> None:
         """Monitor every active behavior once, then run the reactive rules if anything changed."""
         now = self.context.now()
-        for activation in sorted(self._active.values(), key=_ORDER):
+        ordered = self._ordered
+        if ordered is None:  # sorted again only when a behavior started or ended (not every tick)
+            ordered = self._ordered = sorted(self._active.values(), key=_ORDER)
+        for activation in ordered:
             if self._active.get(activation.name) is not activation:
                 continue  # finished while another one was monitored
             if not activation.running:
@@ -326,6 +332,7 @@ class BehaviorCoordinator:
         if self._active.get(activation.name) is not activation:
             return
         del self._active[activation.name]
+        self._ordered = None
         process = activation.process
         if activation.running:
             try:

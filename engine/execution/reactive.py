@@ -77,7 +77,8 @@ class RuleWatch:
         return frozenset(read)
 
     def _belief_changed(self, change: Any) -> None:
-        signature = change.belief.signature
+        belief = change.belief
+        signature = (belief.name, len(belief.args))  # Struct.signature, without the property's call
         self._changed.add(signature)
         if self._read is None or signature in self._read:  # else no rule reads it: nothing to run them for
             self._version += 1

@@ -110,6 +110,11 @@ class ResourceManager:
         self.context = context
         self.grace = grace
         self._running: dict[str, _Capability] = {}
+        # What a tick steps and checks (the processes with a step or a health check of their own, in order), made
+        # again only when a capability starts, stops or has a process replaced: a tick with nothing started or
+        # stopped reads one list instead of walking every capability (None: to be made again)
+        self._work: list[tuple[str, _Capability, int, Process, bool, bool]] | None = None
+        self._idle = False  # whether a capability may be in its grace period (released by its last user)
 
     # -- queries ----------------------------------------------------------------------
     def running(self) -> set[str]:
@@ -166,6 +171,7 @@ class ResourceManager:
                 entry.users.discard(behavior)
                 if not entry.users and not entry.permanent:
                     entry.idle_since = now
+                    self._idle = True
 
     def update(self, now: float) -> list[tuple[str, str]]:
         """One tick: stop idle capabilities, step processes, replace failed ones.
@@ -173,25 +179,39 @@ class ResourceManager:
         Returns ``(capability, reason)`` for each capability that failed with no alternative;
         the coordinator stops the behaviors using it.
         """
-        for name, entry in list(self._running.items()):
-            if entry.idle_since is not None and now - entry.idle_since >= self.grace:
-                self._stop(name, f"unused for {self.grace:g} s")
+        if self._idle:
+            for name, entry in list(self._running.items()):
+                if entry.idle_since is not None and now - entry.idle_since >= self.grace:
+                    self._stop(name, f"unused for {self.grace:g} s")
+            self._idle = any(entry.idle_since is not None for entry in self._running.values())
+        work = self._work
+        if work is None:
+            work = self._work = self._plan()
         failed = []
-        for name, entry in list(self._running.items()):
-            for index, process in enumerate(list(entry.processes)):
-                steps, checks = _OWN.get(type(process)) or _own(type(process))
-                try:
-                    if steps:
-                        process.step(now)
-                    ok = process.healthy() if checks else True
-                except Exception as exc:  # a process that raises has failed
-                    logger.exception("process %s failed", process.name)
-                    ok, process.failure = False, str(exc)
-                if not ok and not self._replace(name, entry, index, process):
-                    failed.append((name, f"process {process.name} failed"))
+        for name, entry, index, process, steps, checks in work:
+            try:
+                if steps:
+                    process.step(now)
+                ok = process.healthy() if checks else True
+            except Exception as exc:  # a process that raises has failed
+                logger.exception("process %s failed", process.name)
+                ok, process.failure = False, str(exc)
+            if not ok and not self._replace(name, entry, index, process):
+                failed.append((name, f"process {process.name} failed"))
         for name, _ in failed:
             self._stop(name, "a process failed")
         return failed
+
+    def _plan(self) -> list[tuple[str, _Capability, int, Process, bool, bool]]:
+        """The processes a tick steps or checks, in the order of their capabilities' start (the others do nothing
+        in a tick: no step, always healthy)."""
+        work = []
+        for name, entry in self._running.items():
+            for index, process in enumerate(entry.processes):
+                steps, checks = _OWN.get(type(process)) or _own(type(process))
+                if steps or checks:
+                    work.append((name, entry, index, process, steps, checks))
+        return work
 
     def shutdown(self) -> None:
         """Stop every capability (engine stop)."""
@@ -215,6 +235,7 @@ class ResourceManager:
                                     f"does not start")
             entry.processes.append(process)
         self._running[name] = entry
+        self._work = None
         self.log.record("capability_started", detail=name,
                         processes=[p.name for p in entry.processes], permanent=permanent)
 
@@ -242,6 +263,7 @@ class ResourceManager:
         if replacement is None:
             return False
         entry.processes[index] = replacement
+        self._work = None
         self.log.record("process_replaced", detail=f"{process.name} failed; {alternative} runs instead",
                         capability=capability)
         return True
@@ -250,6 +272,7 @@ class ResourceManager:
         entry = self._running.pop(name, None)
         if entry is None:
             return
+        self._work = None
         for process in reversed(entry.processes):
             self._safe_stop(process)
         self.log.record("capability_stopped", detail=f"{name} ({reason})")

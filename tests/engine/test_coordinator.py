@@ -277,6 +277,29 @@ def test_incompatible_capabilities_never_run_together(engine):
     assert engine.resources.running() == {"ODOMETRY", "SERVO"}
 
 
+def test_a_capability_started_in_flight_is_stepped_and_a_replaced_process_no_longer_is():
+    """What a tick steps is made again when a capability starts or a process is replaced: the tracker started after
+    the first ticks is stepped until it fails, then only its alternative runs (one replacement, never again)."""
+    made = []
+
+    def tracker(name):
+        made.append(FlakyTracker(name))
+        return made[-1]
+
+    catalog = parse_catalog(textwrap.dedent(CATALOG), "test.yaml")
+    eng = Engine(SimulatedDrone(), catalog=catalog, library=library(),
+                 processes=ProcessRegistry({"tracker": tracker}), capability_grace=1.0)
+    try:
+        eng.step(0.5)
+        assert eng.coordinator.activate("TRACK").accepted
+        eng.step(1.0)
+        assert [p.steps for p in made] == [3]  # failed at its third step's check, then stepped no more
+        assert len(eng.log.events(kind="process_replaced")) == 1
+        assert [p.name for p in eng.resources.processes("SERVO")] == ["backup_tracker"]
+    finally:
+        eng.stop()
+
+
 def test_a_failed_process_is_replaced_by_its_alternative(engine):
     engine.coordinator.activate("TRACK")
     engine.step(0.5)

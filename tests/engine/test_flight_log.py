@@ -134,3 +134,22 @@ def test_the_event_log_writes_a_belief_as_its_text_and_a_replaced_one_as_it_was_
     removed = json.loads(belief_line(BeliefChange("removed", type(term)(term.name, term.args), "replaced", 2.0), texts))
     assert added["belief"] == removed["belief"] == format_term(term)
     assert (removed["kind"], removed["reason"], removed["time"]) == ("belief_removed", "replaced", 2.0)
+
+
+def test_a_state_line_is_of_the_telemetry_it_is_asked_for_when_another_takes_a_freed_ones_place():
+    """Two drones sampled at the same time (a fleet's journals and event logs, one period): the second drone's
+    telemetry, made where the first's was freed, gets its own line, not the first drone's position."""
+    from aeroexec.drones.interface import Telemetry
+    from aeroexec.flight.flight_log import state_line
+
+    first = Telemetry(time=5.0, position=(1.0, 2.0, 3.0))
+    assert json.loads(state_line(5.0, first))["position"] == [1.0, 2.0, 3.0]
+    address = id(first)
+    del first
+    made = []
+    for _ in range(100):  # the allocator hands the freed place out again at once, as in a fleet's period
+        second = Telemetry(time=5.0, position=(7.0, 8.0, 9.0))
+        if id(second) == address:
+            break
+        made.append(second)
+    assert json.loads(state_line(5.0, second))["position"] == [7.0, 8.0, 9.0]
