@@ -5,4 +5,4 @@ The subpackages live in the repository's top-level folders (``beliefs/``,
 by ``pyproject.toml``; ``docs/ARCHITECTURE.md`` describes the parts and layers.
 """
 
-__version__ = "0.3.0"
+__version__ = "0.4.0"
