@@ -73,7 +73,7 @@ def _script_origin(tree: ast.Module) -> tuple[float, float, float] | None:
 
 
 def _script_ground(path: Path, text: str) -> MissionGround | None:
-    if _API not in text:
+    if not any(api in text for api in _API):
         return None  # a script that never names Aerostack2's API does not import it: not parsed
     try:
         tree = ast.parse(text, str(path))

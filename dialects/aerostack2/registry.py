@@ -15,7 +15,7 @@ from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
 
 _HERE = "aeroexec.dialects.aerostack2"
-_API = "as2_python_api"
+_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0
 
 IMPORTS = StandIns(
     names={name: f"{_HERE}.{name}" for name in ("rclpy", "as2_python_api", "as2_msgs", "python_interface")},
@@ -47,10 +47,10 @@ class _NoDrones:
 
 def _names_api(node: ast.AST) -> bool:
     if isinstance(node, ast.Import):
-        return any(_API in alias.name for alias in node.names)
+        return any(api in alias.name for alias in node.names for api in _API)
     if isinstance(node, ast.ImportFrom):
-        return _API in (node.module or "") or any(_API in alias.name for alias in node.names)
-    return isinstance(node, ast.Constant) and isinstance(node.value, str) and _API in node.value
+        return any(api in (node.module or "") or any(api in alias.name for alias in node.names) for api in _API)
+    return isinstance(node, ast.Constant) and isinstance(node.value, str) and any(api in node.value for api in _API)
 
 
 def drone_objects(checker: Any) -> Any:

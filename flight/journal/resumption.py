@@ -142,10 +142,10 @@ class Resumption:
         for node in ast.walk(parse_source(read_text(path, what="the mission"), str(path))):
             names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                      [node.module] if isinstance(node, ast.ImportFrom) and node.module else [])
-            if any(name.split(".")[0] == "as2_python_api" for name in names):
+            if any(name.split(".")[0] in ("as2_python_api", "python_interface") for name in names):
                 raise FlightError(f"{path}:{node.lineno}: a mission flown through Aerostack2's Python API "
-                                  f"(as2_python_api) cannot be resumed: its calls are not journaled; fly it again "
-                                  f"from its start (aeroexec run {path.name})")
+                                  f"({names[0].split('.')[0]}) cannot be resumed: its calls are not journaled; fly it "
+                                  f"again from its start (aeroexec run {path.name})")
 
     def change_document(self, document: Any, mission: Any = "the mission") -> None:
         """Make on the tree's document, read again from its file, the changes made to it in flight (before its
