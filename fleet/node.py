@@ -103,6 +103,7 @@ class FleetNode:
         self._answers: queue.Queue[tuple[Any, str, str, Any, float, float | None] | None] = queue.Queue()
         #: (drone, command id) -> (its ticket, seconds it took to arrive, its deadline): the commands run, by id
         self._commands: OrderedDict[tuple[str, str], tuple[Any, float | None, float]] = OrderedDict()
+        self._commanding = threading.Lock()  # held while a command is looked up by its id and submitted
         self._answering = threading.Thread(target=self._answer, name="aeroexec-fleet-commands", daemon=True)
         self._answering.start()
         self._closed = False
@@ -316,15 +317,14 @@ class FleetNode:
         reached = round(time.time() - sent, 3) if isinstance(sent, (int, float)) and not isinstance(sent, bool) \
             else None
         ident = request.get("id")
-        with self._lock:
+        with self._commanding:  # two copies by two paths may come at once, on two of Zenoh's threads: one runs
             first = self._commands.get((drone, ident)) if isinstance(ident, str) and ident else None
-        if first is not None:  # the same command by another path: answered with what the first copy did
-            ticket, reached, deadline = first
-        else:
-            ticket = link.submit(request["command"], request.get("argument", ""))
-            deadline = time.monotonic() + COMMAND_TIMEOUT
-            if isinstance(ident, str) and ident:
-                with self._lock:
+            if first is not None:  # the same command by another path: answered with what the first copy did
+                ticket, reached, deadline = first
+            else:
+                ticket = link.submit(request["command"], request.get("argument", ""))
+                deadline = time.monotonic() + COMMAND_TIMEOUT
+                if isinstance(ident, str) and ident:
                     self._commands[(drone, ident)] = (ticket, reached, deadline)
                     while len(self._commands) > REMEMBERED:
                         self._commands.popitem(last=False)
