@@ -253,9 +253,9 @@ def fleet_operator(args: argparse.Namespace) -> Any:
 
 
 def fleet_commands(args: argparse.Namespace, lines: Any) -> int:
-    """``--stdin``: each line a command to the fleet (``COMMAND [ARGUMENT] [--drone D]``), through links opened
-    once; each command's answers printed as :func:`fleet_command` prints them. 0 when every command was done by
-    every drone it was for."""
+    """``--stdin``: each line a command to the fleet (``COMMAND [ARGUMENT] [--drone D]``; the command line's
+    ``--drone`` for a line without one), through links opened once; each command's answers printed as
+    :func:`fleet_command` prints them. 0 when every command was done by every drone it was for."""
     from aeroexec.fleet.control import FleetCommandError
 
     try:
@@ -287,7 +287,8 @@ def fleet_commands(args: argparse.Namespace, lines: Any) -> int:
                 worst = 1
                 continue
             try:
-                answers = operator.command(command, command_argument(command, rest), drone=drone or "*")
+                answers = operator.command(command, command_argument(command, rest),
+                                           drone=drone or args.drone or "*")
             except (ValueError, FleetCommandError) as error:
                 print(f"<stdin>:{number}: {error}", file=sys.stderr)
                 worst = 1
