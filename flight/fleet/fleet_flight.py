@@ -118,13 +118,13 @@ class FleetFlight:
         if self.recording_path is not None:  # before any drone: a file that cannot be written is refused first
             self.recording = open_recording(self.recording_path)
         for drone in self.drones:
-            robot = self._robot(choice, drone)
+            vehicle = str(drone.vehicle) if drone.vehicle is not None else base.vehicle  # its own, or the fleet's
+            robot = self._robot(choice, drone, vehicle)
             if hasattr(robot, "join"):
                 robot.join(airspace, drone.name)
-            vehicle = str(drone.vehicle) if getattr(drone, "vehicle", None) is not None else base.vehicle
             spec = replace(base, mission=Path(drone.mission), seed=drone.seed, output=str(self.output / drone.name),
-                           vehicle=vehicle,
-                           log=None, web=None, groot=None, register=False, remote_questions=self.remote_questions,
+                           vehicle=vehicle, log=None, web=None, groot=None, register=False,
+                           remote_questions=self.remote_questions,
                            fleet=FleetJoin(self.node.fleet, drone.name, share=tuple(drone.share),
                                            telemetry_rate=self.telemetry_rate))
             session = FlightSession(spec, notify=lambda text: None, report=self.report, clock=self.clock,
@@ -134,12 +134,11 @@ class FleetFlight:
             if self.recording is not None:
                 self.recording.attach(session.flight_log, Path(drone.mission))
 
-    def _robot(self, choice: Any, drone: Any) -> Any:
+    def _robot(self, choice: Any, drone: Any, vehicle: str | None) -> Any:
         if choice.kind is None:
             from aeroexec.drones.sim import SimConfig, SimulatedDrone
 
-            profile = vehicle_config(str(drone.vehicle) if getattr(drone, "vehicle", None) is not None
-                                     else self.base.vehicle)  # its vehicle profile's figures, from its home
+            profile = vehicle_config(vehicle)  # its vehicle profile's figures, from its home
             config = replace(profile, start=drone.home) if profile is not None else SimConfig(start=drone.home)
             return SimulatedDrone(self.world, seed=drone.seed, config=config)
         if tuple(drone.home) != (0.0, 0.0):

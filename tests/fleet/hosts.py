@@ -70,6 +70,10 @@ class FleetOfHosts:
     def endpoint(host: Host) -> str:
         return f"tls/{host.address}:{PORT}"
 
+    def connect_words(self) -> list[str]:
+        """``--connect`` for each router the operator sends its commands through (``paths``: 0, every one)."""
+        return [word for host in self.hosts[:self.paths or None] for word in ("--connect", self.endpoint(host))]
+
     def on(self, host: Host, *words: str) -> Output:
         process = host.popen("aeroexec", *words, cwd=self.folder, env=self.env)
         self.processes.append(process)
@@ -104,7 +108,7 @@ class FleetOfHosts:
     def ctl(self, *words: str) -> Command:
         """``aeroexec ctl --fleet search WORDS --json`` by the operator on its own host, through every router at
         once (each a path; each drone's first answer counts); the roster from the first router's fleet.json."""
-        paths = [word for host in self.hosts[:self.paths or None] for word in ("--connect", self.endpoint(host))]
+        paths = self.connect_words()
         done = self.operator.run("aeroexec", "ctl", "--fleet", "search", *words, "--json", "--credentials", "creds",
                                  *paths, "--run", f"router-{self.hosts[0].name}", cwd=self.folder, env=self.env)
         try:
@@ -118,7 +122,7 @@ class FleetOfHosts:
     def console(self, timeout: float) -> Console:
         """``aeroexec ctl --fleet search --stdin --json`` kept open by the operator on its own host (a ground
         station's console: its links to every router opened once); :meth:`Console.ctl` sends it a command."""
-        paths = [word for host in self.hosts[:self.paths or None] for word in ("--connect", self.endpoint(host))]
+        paths = self.connect_words()
         process = subprocess.Popen(self.operator.command("aeroexec", "ctl", "--fleet", "search", "--stdin", "--json",
                                                          "--credentials", "creds", *paths, "--run",
                                                          f"router-{self.hosts[0].name}"),
