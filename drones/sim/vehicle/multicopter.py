@@ -79,6 +79,9 @@ class Multicopter:
         self._battery_watch = max(config.failsafe_battery_percent, 0.0)  # at or below it, the battery is checked
         # above this height, a substep can reach neither the ground nor the platform's deck (at its highest)
         self._contact_height = max(self.contacts.deck_top() or 0.0, 0.0) + _GROUND_CONTACT + 1e-6
+        # what a substep need not look at in a world without it (the answer is known: no collision, no touch)
+        self._solids = bool(self._obstacles.obstacles)
+        self._touchables = self.contacts.touchables
 
     # --- reported state -----------------------------------------------------------------------------
     @property
@@ -191,11 +194,14 @@ class Multicopter:
         yaw_before = self.yaw
         x, y, previous_z = self.position
         desired, limits = self._desired(dt)
-        self.yaw_rate = wrap180(self.yaw - yaw_before) / dt
+        yaw = self.yaw
+        # a yaw that did not turn: wrap180(0.0) / dt, without the call
+        self.yaw_rate = 0.0 if yaw == yaw_before else wrap180(yaw - yaw_before) / dt
         velocity = accelerate(self.velocity, desired, limits, dt)
         vx, vy, vz = velocity
         airspeed = None
-        if self.wind != (0.0, 0.0) and self.airborne:  # the air moves: the motors fly the airspeed
+        wx, wy = self.wind
+        if (wx != 0.0 or wy != 0.0) and self.airborne:  # the air moves: the motors fly the airspeed
             velocity, airspeed = self._in_wind(velocity)
             vx, vy, vz = velocity
         if not self.airborne and vz <= 0.0:
@@ -216,11 +222,13 @@ class Multicopter:
             if z <= (deck or 0.0) + _GROUND_CONTACT:
                 self._touch_down(deck)
                 return
-        if self._check_collision() or (self.battery.percent <= self._battery_watch and self._check_battery()):
+        if (self._solids and self._check_collision()) or (self.battery.percent <= self._battery_watch
+                                                           and self._check_battery()):
             return
-        for name, where in self.contacts.touches(position, self.time):
-            self.emit("touched", f"{name} at ({where[0]:.1f}, {where[1]:.1f}, {where[2]:.1f})", object=name,
-                      position=where)
+        if self._touchables:
+            for name, where in self.contacts.touches(position, self.time):
+                self.emit("touched", f"{name} at ({where[0]:.1f}, {where[1]:.1f}, {where[2]:.1f})", object=name,
+                          position=where)
         low, high = self._bounds
         if (low[0] <= position[0] <= high[0] and low[1] <= position[1] <= high[1]
                 and low[2] <= z <= high[2]) and not (self._fences and not self.world.inside(position)):
