@@ -38,6 +38,7 @@ _FACE_TRAVEL_MIN = 1.0  # m: farther than this from a target, the drone turns to
 IDLE, TAKEOFF, POSITION, VELOCITY, LAND, RETURN_CLIMB, RETURN_TRAVEL, RETURN_LAND, FALL = (
     "idle", "takeoff", "position", "velocity", "land", "return_climb", "return_travel", "return_land", "fall")
 _TO_TARGET = frozenset((TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL))  # phases flying to a target point
+_AT_REST: Vector = (0.0, 0.0, 0.0)
 
 
 class Multicopter:
@@ -191,13 +192,20 @@ class Multicopter:
         if not self.armed:
             self.yaw_rate = 0.0
             return
-        yaw_before = self.yaw
         x, y, previous_z = self.position
-        desired, limits = self._desired(dt)
-        yaw = self.yaw
-        # a yaw that did not turn: wrap180(0.0) / dt, without the call
-        self.yaw_rate = 0.0 if yaw == yaw_before else wrap180(yaw - yaw_before) / dt
-        velocity = accelerate(self.velocity, desired, limits, dt)
+        velocity = self.velocity
+        if velocity == _AT_REST and self.phase in _TO_TARGET and self._on_target():
+            # the controller's fixed point (hovering on its target): _desired would neither turn the yaw nor ask for
+            # a velocity, and accelerate from rest toward rest gives rest, (0.0, 0.0, 0.0): the same, without them
+            self.yaw_rate = 0.0
+            velocity = _AT_REST
+        else:
+            yaw_before = self.yaw
+            desired, limits = self._desired(dt)
+            yaw = self.yaw
+            # a yaw that did not turn: wrap180(0.0) / dt, without the call
+            self.yaw_rate = 0.0 if yaw == yaw_before else wrap180(yaw - yaw_before) / dt
+            velocity = accelerate(velocity, desired, limits, dt)
         vx, vy, vz = velocity
         airspeed = None
         wx, wy = self.wind
@@ -236,6 +244,16 @@ class Multicopter:
         else:
             self._check_bounds()
         self._progress()
+
+    def _on_target(self) -> bool:
+        """On the target point and facing the yaw asked, as the control laws see it: ``desired_velocity`` asks for
+        none (the same distance, under its 1e-9 m) and ``turn_yaw`` leaves the yaw where it is."""
+        target_yaw = self._target_yaw
+        if target_yaw is not None and self.yaw != wrap180(target_yaw):
+            return False
+        (px, py, pz), (tx, ty, tz) = self.position, self._target
+        dx, dy, dz = tx - px, ty - py, tz - pz
+        return math.sqrt(dx * dx + dy * dy + dz * dz) < 1e-9
 
     def _in_wind(self, velocity: Vector) -> tuple[Vector, float]:
         """The ground velocity the controller gets in the wind (its airspeed at most ``max_speed``: upwind it is
