@@ -1,14 +1,15 @@
 """Where a fleet drone's engine period goes: the patrol of ``bench/fleet.py`` flown by ``aeroexec fleet`` in this
 process (one worker, not paced), each item of every drone's period timed on its own.
 
-Run ``python bench/fleet_items.py`` (``--drones 50``, ``--seconds 20``). Each item's CPU time (this thread's, as
-``time.thread_time_ns`` counts it, the timer's own cost taken off) is printed per drone and engine period (20 Hz),
-with its share of the period: the simulated vehicle's integration, each belief updater (the telemetry beliefs, the
-fleet link's), the capabilities' processes (the odometry estimate), the monitors and reactive rules, each tick
-callback (the journal, the event log), and, per drone, the fleet's exchange at the end of the period and serving
-the missions. The baseline is the whole period, measured in the same run: the items are shares of it; what is left
-over is the engine tick's own work and the timers'. A profile, not a figure to compare across machines: the CPU
-goal is ``bench/fleet.py``'s.
+Run ``python bench/fleet_items.py`` (``--drones 50``, ``--seconds 20``; ``--hover``: the drones take off and hold
+still, a period in which nothing changes). Each item's CPU time (this thread's, as ``time.thread_time_ns`` counts
+it, the timer's own cost taken off) is printed per drone and engine period (20 Hz), with its share of the period:
+the simulated vehicle's integration, each belief updater (the telemetry beliefs, the fleet link's), the
+capabilities' processes (the odometry estimate), the monitors and reactive rules, each tick callback (the journal,
+the event log), and, per drone, the fleet's exchange at the end of the period and serving the missions. The
+baseline is the whole period, measured in the same run: the items are shares of it; what is left over is the engine
+tick's own work and the timers' error. A profile, not a figure to compare across machines: the CPU goal is
+``bench/fleet.py``'s.
 """
 
 from __future__ import annotations
@@ -34,6 +35,15 @@ spent: collections.Counter[str] = collections.Counter()
 calls: collections.Counter[str] = collections.Counter()
 clock = time.thread_time_ns
 NESTED = "timed calls within the engine periods"
+
+HOVER = """import aeroexec.engine.api as api
+
+
+def mission():  # take off and hold still until the engine stops
+    api.execute_behavior("TAKE_OFF", altitude=3)
+    while True:
+        api.wait(1000)
+"""
 
 
 def timed(name: str, function: Callable[..., Any]) -> Callable[..., Any]:
@@ -105,10 +115,14 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--drones", type=int, default=50)
     parser.add_argument("--seconds", type=float, default=20.0, help="simulated seconds of patrol")
+    parser.add_argument("--hover", action="store_true", help="the drones take off and hold still: a period in "
+                        "which nothing changes")
     args = parser.parse_args()
     began = os.getloadavg()[0]
     folder = Path(tempfile.mkdtemp(prefix="aeroexec-bench-items-"))
     fleet = fleet_file(folder, args.drones, args.seconds)
+    if args.hover:
+        (folder / "patrol.py").write_text(HOVER)
     instrument()
     cost = timer_cost()
     from aeroexec.cli.main import main as aeroexec
@@ -121,7 +135,8 @@ def main() -> int:
         raise SystemExit(f"aeroexec fleet did not fly:\n{said.getvalue()[-3000:]}")
     periods = calls["the engine period (Engine.tick)"]
     whole = (spent["the engine period (Engine.tick)"] - (periods + calls.pop(NESTED)) * cost) / periods
-    print(f"a fleet drone's engine period, {args.drones} drones in one process, {args.seconds:g} s of patrol, not "
+    flown = "holding still" if args.hover else "of patrol"
+    print(f"a fleet drone's engine period, {args.drones} drones in one process, {args.seconds:g} s {flown}, not "
           f"paced; CPU per drone and period (20 Hz), timer cost {cost:.0f} ns taken off; load average {began:.2f}")
     within = 0.0
     for name, total in sorted(spent.items(), key=lambda item: -item[1]):
