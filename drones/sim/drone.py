@@ -141,6 +141,9 @@ class SimulatedDrone(Drone):
             self._steps = max(self._steps, target)  # nothing moves: skip ahead
             v.time = self._start + self._steps * dt
         while self._steps < target:
+            if v.holds_still():  # only the clock and the battery move: the substeps without the rest
+                self._steps = v.hold_still(self._start, self._steps, target, dt)
+                continue
             self._steps += 1
             v.step(self._start + self._steps * dt, dt)
             if not v.armed and v.phase != FALL:

@@ -245,6 +245,46 @@ class Multicopter:
             self._check_bounds()
         self._progress()
 
+    def holds_still(self) -> bool:
+        """Hovering on its position target in calm air, with nothing a substep would find: inside the geofence, off
+        every solid, touching nothing, high above the ground and the deck, no arrival to report. Then a substep
+        moves only the clock and the battery (:meth:`hold_still`), until the battery's watch changes the phase."""
+        wx, wy = self.wind
+        position = self.position
+        if not (self.phase == POSITION and self.armed and self.airborne and not self._arrival_pending
+                and wx == 0.0 and wy == 0.0 and not self._touchables and self.velocity == _AT_REST
+                and position[2] > self._contact_height and self._on_target()):
+            return False
+        low, high = self._bounds
+        inside = (low[0] <= position[0] <= high[0] and low[1] <= position[1] <= high[1]
+                  and low[2] <= position[2] <= high[2]) and not (self._fences and not self.world.inside(position))
+        return inside and not (self._solids and self._obstacles.collides(position, self.config.drone_radius))
+
+    def hold_still(self, start: float, done: int, last: int, dt: float) -> int:
+        """Substeps ``done + 1`` to ``last`` (at ``start + k * dt``) of a vehicle that :meth:`holds_still`: what
+        :meth:`step` would do, bit for bit, at the control laws' fixed point where every check finds what it found
+        the substep before (the same position; nothing that moves to touch); the number of the last substep made
+        (earlier than ``last`` once the battery's watch crashed the vehicle or made it land)."""
+        x, y, z = self.position
+        battery, watch = self.battery, self._battery_watch
+        while done < last:
+            done += 1
+            self.time = round(start + done * dt, 9)
+            self.yaw_rate = 0.0
+            self.velocity = _AT_REST
+            self.position = (x + 0.0, y + 0.0, z + 0.0)  # x + vx * dt, with vx 0.0
+            battery.drain_flying(dt, 0.0, 0.0)
+            if battery.percent <= watch:
+                if self._check_battery():
+                    return done  # crashed: the rest of the substep is not made
+                if self.phase != POSITION:  # the failsafe lands: the rest of the substep, then step again
+                    self._outside = False
+                    self._flew_since_armed = True
+                    return done
+            self._outside = False
+            self._flew_since_armed = True
+        return done
+
     def _on_target(self) -> bool:
         """On the target point and facing the yaw asked, as the control laws see it: ``desired_velocity`` asks for
         none (the same distance, under its 1e-9 m) and ``turn_yaw`` leaves the yaw where it is."""
