@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The held-back Aerostack2 missions (tests/aerostack/data/heldback/SOURCES.md) flown as their authors would fly
 them: ``aeroexec run FILE`` alone (no fleet file, no world, no flags; ``python -m aeroexec`` of this Python),
-each in its own process with a time limit, and a table of how each ended: flew to completion, refused (with the
+each in its own process with a time limit, from its project's folder (a copy of it) as the projects' launch
+sessions run their missions, and a table of how each ended: flew to completion, refused (with the
 reason the run gave), or failed.
 
     python tools/aerostack2_survey.py [--jobs 2] [--limit 300] [FILE...]
@@ -14,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -62,10 +64,16 @@ def _reason(err: str, out: Path) -> str:
 
 
 def fly(path: Path, limit: float) -> Outcome:
+    """``aeroexec run`` of the mission at ``path`` from its project's folder, as the projects' launch sessions run
+    their missions (tmuxinator's ``root: ./``): a copy of the repository's collected files, so the run's output
+    folder is made in the copy, not among the collected files."""
     name = str(path.relative_to(HELDBACK))
+    project = name.split("/", 1)[0]
     with tempfile.TemporaryDirectory(prefix="as2survey") as folder:
+        root = Path(folder) / project
+        shutil.copytree(HELDBACK / project, root)
         try:
-            done = subprocess.run([sys.executable, "-m", "aeroexec", "run", str(path)], cwd=folder,
+            done = subprocess.run([sys.executable, "-m", "aeroexec", "run", name.split("/", 1)[1]], cwd=root,
                                   capture_output=True, text=True, timeout=limit, stdin=subprocess.DEVNULL)
         except subprocess.TimeoutExpired:
             return Outcome(name, "timeout", None, f"still running after {limit:.0f} s")
@@ -73,7 +81,7 @@ def fly(path: Path, limit: float) -> Outcome:
         out = outputs[0].parent if outputs else Path(folder)
         if done.returncode == 0:
             return Outcome(name, "flew", 0, "")
-        reason = _reason(done.stderr.replace(f"{REPOSITORY}/", ""), out)  # the files as the repository names them
+        reason = _reason(done.stderr.replace(f"{folder}/", ""), out)  # the files as the held-back set names them
         refused = done.returncode == 3 or (done.returncode == 1 and not outputs)
         return Outcome(name, "refused" if refused else "failed", done.returncode, reason)
 

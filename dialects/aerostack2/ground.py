@@ -5,7 +5,8 @@ An Aerostack2 script (a program importing ``as2_python_api``) or behavior tree (
 Aerostack2's nodes) flies in open ground, as in the simulator its author used, not in aeroexec's default field
 (whose walls and tower stand where Aerostack2's examples fly). Its GPS origin places that ground on Earth: the
 script's ``gps.set_origin(...)`` or the tree's ``SetOrigin``, else its first GPS point (``go_to_gps_point``,
-``GoToGps``, ``GpsToCartesian``). A mission that looks for ArUco markers needs the default field's markers: it
+``GoToGps``, ``GpsToCartesian``). A script whose project keeps the simulator's world config (``sim_config/world.json``...:
+:mod:`~aeroexec.dialects.aerostack2.sim_world`) flies from where it spawns the drone, among its objects' frames. A mission that looks for ArUco markers needs the default field's markers: it
 keeps that field (the dialect gives it no ground).
 """
 
@@ -83,7 +84,19 @@ def _script_ground(path: Path, text: str) -> MissionGround | None:
     imports += [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module and not n.level]
     if not any(name.split(".")[0] in _API for name in imports):
         return None
-    return MissionGround(WRITTEN_FOR, _script_origin(tree))
+    from aeroexec.dialects.aerostack2.sim_world import project_world  # here: only Aerostack2's scripts
+    from aeroexec.engine.missions.standins import script_drones
+
+    drones = script_drones(tree)
+    world = project_world(path, drones)
+    if world is None:
+        return MissionGround(WRITTEN_FOR, _script_origin(tree))
+    try:
+        config = str(world.file.relative_to(path.parent))
+    except ValueError:
+        config = str(world.file)
+    return MissionGround(WRITTEN_FOR, _script_origin(tree), frames=world.frames_from(drones[0] if drones else None),
+                         config=config)
 
 
 def _number(text: str | None) -> float | None:
