@@ -5,8 +5,9 @@ An Aerostack2 script (a program importing ``as2_python_api``) or behavior tree (
 Aerostack2's nodes) flies in open ground, as in the simulator its author used, not in aeroexec's default field
 (whose walls and tower stand where Aerostack2's examples fly). Its GPS origin places that ground on Earth: the
 script's ``gps.set_origin(...)`` or the tree's ``SetOrigin``, else its first GPS point (``go_to_gps_point``,
-``GoToGps``, ``GpsToCartesian``). A script whose project keeps the simulator's world config (``sim_config/world.json``...:
-:mod:`~aeroexec.dialects.aerostack2.sim_world`) flies from where it spawns the drone, among its objects' frames. A mission that looks for ArUco markers needs the default field's markers: it
+``GoToGps``, ``GpsToCartesian``). A script whose project keeps the simulator's world config
+(``sim_config/world.json``...: :mod:`~aeroexec.dialects.aerostack2.sim_world`) flies from where that config spawns
+its drone, among its objects' frames. A mission that looks for ArUco markers needs the default field's markers: it
 keeps that field (the dialect gives it no ground).
 """
 
