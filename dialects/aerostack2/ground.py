@@ -106,8 +106,9 @@ def _script_ground(path: Path, text: str) -> MissionGround | None:
         config = str(world.file.relative_to(path.parent))
     except ValueError:
         config = str(world.file)
-    return MissionGround(WRITTEN_FOR, _script_origin(tree), frames=world.frames_from(drones[0] if drones else None),
-                         config=config)
+    first = drones[0] if drones else None
+    return MissionGround(WRITTEN_FOR, _script_origin(tree), frames=world.frames_from(first), config=config,
+                         starts=world.starts_from(first))
 
 
 def _number(text: str | None) -> float | None:

@@ -4,9 +4,10 @@ it, relative to the script as the project's launch files name it.
 
 A config names the world, its ``drones`` (``model_name``, spawn ``xyz``) and its ``objects`` (``model_type``,
 ``model_name``, ``xyz``, ``rpy``). A script's flight places them as Gazebo does: the drone starts where the config
-spawns it, and each object's frame (``NAME/link``, the model's frame, as the projects' tf publishers name it) is
-a :class:`~aeroexec.drones.sim.world.Frame` of the world at the object's pose, ENU meters from the drone's start,
-so a behavior given a point in that frame flies there. The objects' solids (meshes) are not simulated.
+spawns it (a swarm's drones where it spawns each), and each object's frame (``NAME/link``, the model's frame, as
+the projects' tf publishers name it) is a :class:`~aeroexec.drones.sim.world.Frame` of the world at the object's
+pose, ENU meters from the (first) drone's start, so a behavior given a point in that frame flies there. The
+objects' solids (meshes) are not simulated.
 
 Of the configs a project keeps, the one whose drones are the script's (every drone the script names, fewest
 others; then the shortest name: ``world.json`` before ``world_swarm.json``) is the one its launch file would
@@ -44,10 +45,19 @@ class SimWorld:
     drones: dict[str, tuple[float, float, float]]
     frames: tuple[Frame, ...]
 
+    def _start(self, drone: str | None) -> tuple[float, float, float]:
+        return self.drones.get(drone or "", next(iter(self.drones.values()), (0.0, 0.0, 0.0)))
+
+    def starts_from(self, drone: str | None) -> tuple[tuple[str, tuple[float, float]], ...]:
+        """Where each of its drones starts, in ENU meters from where ``drone`` starts."""
+        start = self._start(drone)
+        return tuple((name, (round(x - start[0], 6), round(y - start[1], 6)))
+                     for name, (x, y, _) in self.drones.items())
+
     def frames_from(self, drone: str | None) -> tuple[Frame, ...]:
         """The objects' frames in ENU meters from where ``drone`` starts (its first drone's start when not named
         or not among its drones)."""
-        start = self.drones.get(drone or "", next(iter(self.drones.values()), (0.0, 0.0, 0.0)))
+        start = self._start(drone)
         return tuple(Frame(f.name, (round(f.position[0] - start[0], 6), round(f.position[1] - start[1], 6),
                                     f.position[2]), f.rpy) for f in self.frames)
 

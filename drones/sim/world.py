@@ -188,6 +188,8 @@ class World:
     source: str | None = None  # the file it was loaded from
     fences: tuple[Fence, ...] = ()  # inclusion and exclusion zones inside the bounds (a plan's geofence)
     frames: tuple[Frame, ...] = ()  # named frames a mission may give points in (a simulator world's models)
+    #: where named drones start (east, north meters from home), as a simulator's world config spawns them
+    starts: tuple[tuple[str, tuple[float, float]], ...] = ()
 
     # --- frames ----------------------------------------------------------------------------------
     def to_geodetic(self, enu: Vector) -> Geodetic:

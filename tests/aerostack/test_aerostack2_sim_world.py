@@ -10,6 +10,7 @@ import math
 import shutil
 from pathlib import Path
 
+from aeroexec.cli.main import main
 from aeroexec.drones.sim.world import Frame
 from aeroexec.trees.mission_world import mission_world
 from flying import DATA, fly
@@ -94,3 +95,21 @@ def test_the_jacket_inspection_flies_the_joints_its_project_keeps(tmp_path, caps
     assert [tuple(g) for g in goals] == [j for j in joints if j in map(tuple, goals)]  # in the file's order
     assert all(min(math.dist(j, g) for g in goals) < 0.01 for j in joints)  # twins 1e-10 m apart: already there
     assert flight.achieved() == ["TAKE_OFF", *["GO_TO_POINT"] * len(joints), "LAND"]
+
+
+def test_the_gates_swarm_flies_each_drone_from_its_spawn_through_both_gates(tmp_path, capsys):
+    out = tmp_path / "out"
+    status = main(["run", str(GATES / "mission_swarm.py"), "--plain", "--output", str(out)])
+    err = capsys.readouterr().err
+    assert "mission_swarm.py flies 2 drones (cf0, cf1), where its world spawns them, as a fleet" in err
+    assert status == 1 and err.count("ScriptExit: the script exited with status 1") >= 1  # its shutdown_all()
+    config = GATES / "sim_config" / "world_swarm.json"
+    for drone, spawn in (("cf0", (0.0, 0.0)), ("cf1", (0.0, 3.0))):  # cf1 spawns 3 m north of cf0 in the config
+        log = [json.loads(line) for line in (out / drone / "events.jsonl").read_text().splitlines()]
+        states = [r for r in log if r["kind"] == "state"]
+        assert tuple(states[0]["position"][:2]) == spawn
+        flying = [r for r in states if r["landed_state"] == "in_air"]
+        for name, (center, yaw) in gates(config).items():
+            passes = crossings(flying, center, yaw, 0.8)
+            assert len(passes) == 2 and all(d < 0.3 for d in passes), (drone, name, passes)
+        assert [r["kind"] for r in log].count("drone_landed") == 1
