@@ -247,10 +247,5 @@ class World:
         """Where the moving platform is at time ``t``, or None when the world has none."""
         return None if self.platform is None else self.platform.position(t)
 
-    def frame(self, name: str) -> Frame | None:
-        """The world's frame ``name`` (a leading ``/`` ignored, as tf ignores it), or None."""
-        name = name.strip().lstrip("/")
-        return next((f for f in self.frames if f.name == name), None)
-
     def marker(self, marker_id: int) -> Marker | None:
         return next((m for m in self.markers if m.id == marker_id), None)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from aeroexec.cli.main import main
 from aeroexec.drones.sim.world import Frame
+from aeroexec.engine.missions.check import check_mission_source
 from aeroexec.trees.mission_world import mission_world
 from flying import DATA, fly
 
@@ -115,3 +116,24 @@ def test_the_gates_swarm_flies_each_drone_from_its_spawn_through_both_gates_fram
             passes = crossings(flying, center, yaw, 0.8)
             assert len(passes) == 2 and all(d < 0.3 for d in passes), (drone, name, passes)
         assert [r["kind"] for r in log].count("drone_landed") == 1
+
+
+def test_a_literal_point_in_a_frame_of_the_world_is_checked_where_it_lies():
+    """Before flight, a point given in one of the world's frames is placed by it and checked there: 1 m before
+    gate_0 is inside the field; 200 m along gate_0's x axis (south, the gate turned -1.57 rad) is beyond its bounds.
+    A frame the world does not place is refused, naming the world's."""
+    world = mission_world(GATES / "mission.py")
+    header = "from as2_python_api.drone_interface import DroneInterface\nuav = DroneInterface('cf0')\n" \
+             "uav.arm()\nuav.offboard()\nuav.takeoff(2.0, 0.7)\n"
+
+    def problems(call: str) -> list[str]:
+        found = check_mission_source(header + call + "\nuav.land(0.5)\n", "mission.py", world=world)
+        return [p.message for p in found]
+
+    assert problems("uav.go_to.go_to_point([1.0, 0.0, 0.8], 1.0, frame_id='gate_0/link')") == []
+    far = problems("uav.go_to.go_to_point([200.0, 0.0, 0.8], 1.0, frame_id='gate_0/link')")
+    assert len(far) == 1 and "(-0.84, -198.5, 0.8) is outside the world's bounds" in far[0], far
+    unknown = problems("uav.go_to.go_to_point([1.0, 0.0, 0.8], 1.0, frame_id='gate_7/link')")
+    assert unknown == ["The frame 'gate_7/link' of go_to.go_to_point() is not correct: aeroexec flies in the earth "
+                       "frame (local ENU from home) nor one of the world's (gate_0/link, gate_1/link); other frames "
+                       "of ROS 2's tf tree are not available (this mission uses ROS 2 beyond the drone interface)"]
