@@ -296,7 +296,7 @@ def fly_script_fleet(args: argparse.Namespace, spec: FlightSpec, drones: tuple[s
     from aeroexec.fleet.credentials import CredentialsError
     from aeroexec.fleet.transport import TransportError
     from aeroexec.flight.fleet import STATUS_FILE, drone_status, fleet_exit_status, summary_line
-    from aeroexec.flight.fleet.script_fleet import SPACING, open_script_fleet
+    from aeroexec.flight.fleet.script_fleet import SPACING, open_script_fleet, spawned
     from aeroexec.flight.output import prepare_output
     from aeroexec.flight.robot import load_world, robot_choice
 
@@ -311,7 +311,8 @@ def fly_script_fleet(args: argparse.Namespace, spec: FlightSpec, drones: tuple[s
                               usage=True)
     folder = prepare_output(args.output)
     world = load_world(robot_choice(spec.robot).world_file(spec.world), mission=spec.mission, home=spec.home)
-    say(f"{spec.mission.name} flies {len(drones)} drones ({', '.join(drones)}), {SPACING:g} m apart, as a fleet "
+    placed = "where its world spawns them" if spawned(drones, world) else f"{SPACING:g} m apart"
+    say(f"{spec.mission.name} flies {len(drones)} drones ({', '.join(drones)}), {placed}, as a fleet "
         f"in this process; each drone's files in {folder}/<drone>/")
     try:
         fleet = open_script_fleet(spec, drones, folder, world, notify=say,

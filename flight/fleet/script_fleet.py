@@ -3,10 +3,11 @@ several namespaces), so that ``aeroexec run script.py`` flies it as ``python3 sc
 names, in this process, one flight session each, on the fleet's one clock (:class:`~.fleet_flight.FleetFlight`),
 each drone's files in ``<output>/<drone>/``.
 
-The drones are named as the script names them (the dialects say which: ``StandIns.drones``) and start
-:data:`SPACING` meters apart on an east-west line through the world's home, as a simulator's swarm launch places
-them. :func:`open_script_fleet` sets the fleet up with its Zenoh router on the loopback and credentials made in
-the output folder (the ``fleet`` extra); the caller flies it and closes it.
+The drones are named as the script names them (the dialects say which: ``StandIns.drones``) and start where the
+world spawns them (a simulator's world config the script's project keeps), else :data:`SPACING` meters apart on an
+east-west line through the world's home, as a simulator's swarm launch places them. :func:`open_script_fleet` sets
+the fleet up with its Zenoh router on the loopback and credentials made in the output folder (the ``fleet``
+extra); the caller flies it and closes it.
 """
 
 from __future__ import annotations
@@ -49,6 +50,21 @@ def homes(count: int) -> list[tuple[float, float]]:
     return [(round(SPACING * (i - (count - 1) / 2), 3), 0.0) for i in range(count)]
 
 
+def spawned(drones: tuple[str, ...], world: Any) -> bool:
+    """Whether ``world`` says where each of ``drones`` starts (``World.starts``: a simulator's world config)."""
+    spawns = dict(getattr(world, "starts", ()) or ())
+    return bool(drones) and all(d in spawns for d in drones)
+
+
+def starts(drones: tuple[str, ...], world: Any) -> list[tuple[float, float]]:
+    """Where ``drones`` start: where ``world`` spawns each when it names them all (:func:`spawned`); else
+    :func:`homes`."""
+    if spawned(drones, world):
+        spawns = dict(world.starts)
+        return [tuple(spawns[d]) for d in drones]  # type: ignore[misc]
+    return homes(len(drones))
+
+
 @dataclass
 class ScriptFleet:
     """The fleet made for a script: its name, its drones, and what flies them (closed by :meth:`close`)."""
@@ -79,7 +95,7 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
 
     name = Path(spec.mission).stem.replace(".", "_") or "script"
     fleet_spec = FleetSpec(name=name, drones=tuple(DroneSpec(d, Path(spec.mission), home, seed=spec.seed + i)
-                                                   for i, (d, home) in enumerate(zip(drones, homes(len(drones)),
+                                                   for i, (d, home) in enumerate(zip(drones, starts(drones, world),
                                                                                     strict=True))),
                            file=str(spec.mission))
     stack = ExitStack()
@@ -101,4 +117,4 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     return ScriptFleet(name, drones, flight, list(membership.endpoints), stack)
 
 
-__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "script_drones"]
+__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "script_drones", "spawned", "starts"]
