@@ -23,8 +23,7 @@ from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
 from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
-from aeroexec.cli.views.live import LiveConsole
-from aeroexec.cli.views.live import wanted as live_view_wanted
+from aeroexec.cli.views import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession
@@ -260,6 +259,8 @@ def run(args: argparse.Namespace) -> int:
         try:
             with contextlib.ExitStack() as output:
                 if live:
+                    from aeroexec.cli.views.live import LiveConsole  # here: a run with --plain never shows it
+
                     output.enter_context(LiveConsole(session.engine, spec.name, session.mission))
                 else:
                     output.enter_context(whole_lines())  # the mission's print() and the events never share a line
