@@ -235,10 +235,7 @@ def write_control_file(folder: Path, port: int, token: str) -> Path:
 def runtime_dir() -> Path:
     """The per-user folder listing live runs: ``$XDG_RUNTIME_DIR/aeroexec``, else ``<tmp>/aeroexec-<uid>``."""
     base = os.environ.get("XDG_RUNTIME_DIR")
-    if not base:
-        path = Path(temporary_folder()) / f"aeroexec-{os.getuid()}"
-    else:
-        path = Path(base) / "aeroexec"
+    path = Path(base) / "aeroexec" if base else Path(temporary_folder()) / f"aeroexec-{os.getuid()}"
     path.mkdir(mode=0o700, parents=True, exist_ok=True)
     info = path.stat()
     if info.st_uid != os.getuid() or info.st_mode & 0o077:

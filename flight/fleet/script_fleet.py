@@ -79,7 +79,6 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     from aeroexec.fleet.fleet_file import DroneSpec, FleetSpec
     from aeroexec.fleet.fleet_json import FLEET_FILE, write_fleet_file
     from aeroexec.fleet.transport import free_endpoint
-
     from aeroexec.flight.fleet.fleet_flight import FleetFlight
 
     name = Path(spec.mission).stem.replace(".", "_") or "script"
