@@ -23,7 +23,7 @@ from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
 from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
-from aeroexec.cli.views import wanted as live_view_wanted
+from aeroexec.cli.views.choice import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession

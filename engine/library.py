@@ -151,14 +151,14 @@ def aerial_index() -> tuple[dict[str, str], dict[str, str]]:
     """The module implementing each behavior of the aerial library and the module listing each of its capability
     processes (``aeroexec.engine.behaviors.aerial``'s ``aerial_index``), without importing them when its package's
     modules are those the index was last read from: it is kept in the user's cache folder under a hash of those
-    modules' contents (every folder of the package's path), aeroexec's version and Python's, and read from the
-    library itself (then kept) when there is none."""
+    modules' names, sizes and modification times (every folder of the package's path), aeroexec's version and
+    Python's, and read from the library itself (then kept) when there is none."""
     folders = tuple(_search_path(AERIAL_BEHAVIORS.partition(":")[0]))
-    # hashed once while the modules are as they were (the catalog's check, the library and the processes ask)
+    # read once while the modules are as they were (the catalog's check, the library and the processes ask)
     seen = (folders, _modules_seen(folders), os.environ.get("XDG_CACHE_HOME"), os.environ.get("HOME"))
     if seen not in _indexes:
         _indexes.clear()
-        _indexes[seen] = _read_aerial_index(folders)
+        _indexes[seen] = _read_aerial_index(seen[1])
     behaviors, processes = _indexes[seen]
     return dict(behaviors), dict(processes)
 
@@ -184,22 +184,13 @@ def _modules_seen(folders: tuple[str, ...]) -> tuple[tuple[str, int, int], ...]:
     return tuple(sorted(seen))
 
 
-def _read_aerial_index(folders: tuple[str, ...]) -> tuple[dict[str, str], dict[str, str]]:
+def _read_aerial_index(seen: tuple[tuple[str, int, int], ...]) -> tuple[dict[str, str], dict[str, str]]:
     import aeroexec
 
-    digest = cache.sha256(repr((AERIAL_BEHAVIORS, AERIAL_INDEX, aeroexec.__version__,
-                                sys.version_info[:2])).encode())
-    for folder in folders:
-        try:
-            names = sorted(name for name in os.listdir(folder) if name.endswith(".py"))
-        except OSError:
-            continue
-        for name in names:
-            try:
-                with open(os.path.join(folder, name), "rb") as file:
-                    digest.update(f"\0{folder}/{name}\0".encode() + file.read())
-            except OSError:
-                digest.update(f"\0{folder}/{name}: unreadable".encode())
+    # the modules' sizes and times, as the interpreter decides whether their bytecode is still theirs (and as a
+    # catalog's reading code is stamped): hashing their bytes was ~2 ms of every start
+    digest = cache.sha256(repr((AERIAL_BEHAVIORS, AERIAL_INDEX, aeroexec.__version__, sys.version_info[:2],
+                                seen)).encode())
     key = f"behaviors.{digest.hexdigest()[:32]}.txt"
     data = cache.kept(key)
     if data is not None:

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
-from aeroexec.cli.views import wanted  # noqa: F401  # by its old place
+from aeroexec.cli.views.choice import wanted  # noqa: F401  # by its old place
 from aeroexec.console.feed import mission_line
 from aeroexec.engine.events import EngineEvent
 from aeroexec.engine.supervision.operator import operator_of
