@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
+from aeroexec.cli.main import lasting
 from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
 from aeroexec.cli.views.choice import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
@@ -246,7 +247,8 @@ def run(args: argparse.Namespace) -> int:
             if drones:
                 return fly_script_fleet(args, spec, drones, live)
             session = FlightSession(spec, notify=say, report=lambda problem: print(problem, file=sys.stderr))
-            session.open()
+            with lasting():  # what the start makes lives as long as the run
+                session.open()
         except FlightError as error:
             print(error, file=sys.stderr)
             return 2 if error.usage else 1

@@ -274,3 +274,23 @@ def test_the_library_serves_every_behavior_and_process_of_the_aerial_modules_whe
             n: default_library().get(n) for n in everything.names()}
         assert default_processes().names() == aerial_processes().names()
     """, cache=tmp_path)
+
+
+def test_a_run_s_set_up_is_frozen_in_the_command_s_own_process_only(tmp_path):
+    """What a run's start makes lives as long as the run: the ``aeroexec`` command pauses the cyclic collector while
+    it sets the flight up and freezes what was made (as it does for its imports); a caller running ``main(args)``
+    in its own process keeps its collector as it was."""
+    code = f"""
+        import contextlib, gc, io, sys
+        from aeroexec.cli.main import main
+        arguments = ["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0", "--output"]
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(arguments + [{str(tmp_path / "embedded")!r}])
+        embedded = gc.get_freeze_count()
+        sys.argv = ["aeroexec", *arguments, {str(tmp_path / "command")!r}]
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main()
+        print(embedded, gc.get_freeze_count() > 0, gc.isenabled(), file=sys.stderr)
+    """
+    done = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, cwd="/")
+    assert done.stderr.split()[-3:] == ["0", "True", "True"], done.stderr
