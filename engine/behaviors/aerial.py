@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import importlib
 import inspect
-import pkgutil
 import sys
 from typing import Any
 
@@ -27,6 +26,8 @@ PROCESS_MODULES = {"perception": "PERCEPTION_PROCESSES", "communication": "COMMU
 
 
 def _behavior_classes() -> list[type[BehaviorProcess]]:
+    import pkgutil  # here: a run whose library's index is kept makes processes without listing the package
+
     found = []
     package = sys.modules[__package__]  # its search path, which a test or a plugin may extend
     for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda m: m.name):
