@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
+from aeroexec.cli.main import lasting
 from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
-from aeroexec.cli.views.live import LiveConsole
-from aeroexec.cli.views.live import wanted as live_view_wanted
+from aeroexec.cli.views.choice import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession
@@ -247,7 +247,8 @@ def run(args: argparse.Namespace) -> int:
             if drones:
                 return fly_script_fleet(args, spec, drones, live)
             session = FlightSession(spec, notify=say, report=lambda problem: print(problem, file=sys.stderr))
-            session.open()
+            with lasting():  # what the start makes lives as long as the run
+                session.open()
         except FlightError as error:
             print(error, file=sys.stderr)
             return 2 if error.usage else 1
@@ -260,6 +261,8 @@ def run(args: argparse.Namespace) -> int:
         try:
             with contextlib.ExitStack() as output:
                 if live:
+                    from aeroexec.cli.views.live import LiveConsole  # here: a run with --plain never shows it
+
                     output.enter_context(LiveConsole(session.engine, spec.name, session.mission))
                 else:
                     output.enter_context(whole_lines())  # the mission's print() and the events never share a line

@@ -23,8 +23,11 @@ from typing import Any
 
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.script import is_script
-from aeroexec.flight.fleet.fleet_flight import FleetFlight
 from aeroexec.flight.spec import FlightSpec
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:  # imported by open_script_fleet: a run asks whether its mission is such a script before flying it
+    from aeroexec.flight.fleet.fleet_flight import FleetFlight
 
 logger = logging.getLogger(__name__)
 
@@ -92,6 +95,7 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     from aeroexec.fleet.fleet_file import DroneSpec, FleetSpec
     from aeroexec.fleet.fleet_json import FLEET_FILE, write_fleet_file
     from aeroexec.fleet.transport import free_endpoint
+    from aeroexec.flight.fleet.fleet_flight import FleetFlight
 
     name = Path(spec.mission).stem.replace(".", "_") or "script"
     fleet_spec = FleetSpec(name=name, drones=tuple(DroneSpec(d, Path(spec.mission), home, seed=spec.seed + i)
