@@ -24,7 +24,7 @@ from typing import Any
 
 from aeroexec.cli.run import EXIT_HELP, add_pacing_arguments, add_plugin_arguments, add_surface_arguments, say
 from aeroexec.cli.verify import add_home_argument
-from aeroexec.cli.views.live import wanted as live_view_wanted
+from aeroexec.cli.views.choice import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent
 from aeroexec.fleet.fleet_json import FLEET_FILE, TOKEN_VARIABLE, write_fleet_file
 from aeroexec.flight.fleet import STATUS_FILE, FleetSession, event_line, fleet_exit_status

@@ -21,6 +21,7 @@ from aeroexec import __version__
 # typing and logging are imported when needed, not by ``aeroexec --help`` (~8 ms of its CPU: bench/startup.py)
 TYPE_CHECKING = False
 if TYPE_CHECKING:
+    from collections.abc import Iterator
     from typing import Any
 
 #: Exit statuses: 0 done, 1 refused or failed mission, 2 usage, 3 a run completed with refused requests, 4 a run
@@ -102,15 +103,46 @@ def node_kinds() -> list[str]:
     return [f"Tree node kinds added by installed packages: {', '.join(shown)}."] if shown else []
 
 
+_own_process = False  # this process is the ``aeroexec`` command's own (command_line was called)
+
+
+@contextlib.contextmanager
+def lasting() -> Iterator[None]:
+    """A block whose objects live as long as the process (a run's set-up: the modules it imports, its world,
+    catalog, engine and drone): in the ``aeroexec`` command's own process the cyclic garbage collector is paused
+    meanwhile and what was made is frozen after, as :func:`command_line` does for the sub-command's imports (~2 ms of
+    an empty run's CPU, ``bench/startup.py``); in a caller's process (a test, an embedding) nothing changes."""
+    if not _own_process:
+        yield
+        return
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        if collecting:
+            gc.enable()
+
+
 def command_line(argv: list[str]) -> argparse.ArgumentParser:
     """:func:`build_parser` for the process's own command line (``aeroexec ...``), the cyclic garbage collector
     paused meanwhile: the sub-command's modules are imported then, and what an import makes lives as long as the
     process, so collecting it is wasted work. What was made is then frozen (``gc.freeze``): later collections, the
-    engine loop's among them, never walk it again (~7 ms of verify's CPU, ``bench/startup.py``). A caller that runs
-    :func:`main` with arguments in its own process (a test, an embedding) keeps its collector as it is."""
+    engine loop's among them, never walk it again (~7 ms of verify's CPU, ``bench/startup.py``). The methods the
+    sub-command's dataclasses are given are compiled once and kept (:mod:`aeroexec.dataclass_cache`: ~0.3 ms of CPU
+    per class, ~85 classes in an empty run). A caller that runs :func:`main` with arguments in its own process (a
+    test, an embedding) keeps its collector and its :mod:`dataclasses` as they are."""
+    global _own_process
+    _own_process = True
     collecting = gc.isenabled()
     gc.disable()
     try:
+        wanted = next((a for a in argv if not a.startswith("-")), "")
+        if wanted in COMMANDS:  # every sub-command builds dataclasses; the top-level help none
+            from aeroexec import dataclass_cache
+
+            dataclass_cache.install(wanted)
         return build_parser(argv)
     finally:
         gc.freeze()

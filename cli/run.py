@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
+from aeroexec.cli.main import lasting
 from aeroexec.cli.verify import add_home_argument, add_vehicle_argument
-from aeroexec.cli.views.live import LiveConsole
-from aeroexec.cli.views.live import wanted as live_view_wanted
+from aeroexec.cli.views.choice import wanted as live_view_wanted
 from aeroexec.engine.events import EngineEvent, Outcome
 from aeroexec.flight.run_status import COMPLETED, FlightOutcome
 from aeroexec.flight.session import FlightSession
@@ -247,7 +247,8 @@ def run(args: argparse.Namespace) -> int:
             if drones:
                 return fly_script_fleet(args, spec, drones, live)
             session = FlightSession(spec, notify=say, report=lambda problem: print(problem, file=sys.stderr))
-            session.open()
+            with lasting():  # what the start makes lives as long as the run
+                session.open()
         except FlightError as error:
             print(error, file=sys.stderr)
             return 2 if error.usage else 1
@@ -260,6 +261,8 @@ def run(args: argparse.Namespace) -> int:
         try:
             with contextlib.ExitStack() as output:
                 if live:
+                    from aeroexec.cli.views.live import LiveConsole  # here: a run with --plain never shows it
+
                     output.enter_context(LiveConsole(session.engine, spec.name, session.mission))
                 else:
                     output.enter_context(whole_lines())  # the mission's print() and the events never share a line
@@ -296,7 +299,7 @@ def fly_script_fleet(args: argparse.Namespace, spec: FlightSpec, drones: tuple[s
     from aeroexec.fleet.credentials import CredentialsError
     from aeroexec.fleet.transport import TransportError
     from aeroexec.flight.fleet import STATUS_FILE, drone_status, fleet_exit_status, summary_line
-    from aeroexec.flight.fleet.script_fleet import SPACING, open_script_fleet
+    from aeroexec.flight.fleet.script_fleet import SPACING, open_script_fleet, spawned
     from aeroexec.flight.output import prepare_output
     from aeroexec.flight.robot import load_world, robot_choice
 
@@ -311,7 +314,8 @@ def fly_script_fleet(args: argparse.Namespace, spec: FlightSpec, drones: tuple[s
                               usage=True)
     folder = prepare_output(args.output)
     world = load_world(robot_choice(spec.robot).world_file(spec.world), mission=spec.mission, home=spec.home)
-    say(f"{spec.mission.name} flies {len(drones)} drones ({', '.join(drones)}), {SPACING:g} m apart, as a fleet "
+    placed = "where its world spawns them" if spawned(drones, world) else f"{SPACING:g} m apart"
+    say(f"{spec.mission.name} flies {len(drones)} drones ({', '.join(drones)}), {placed}, as a fleet "
         f"in this process; each drone's files in {folder}/<drone>/")
     try:
         fleet = open_script_fleet(spec, drones, folder, world, notify=say,

@@ -42,6 +42,8 @@ UPDATERS_GROUP = "aeroexec.updaters"
 DRONES_GROUP = "aeroexec.drones"
 AERIAL_BEHAVIORS = "aeroexec.engine.behaviors:aerial_behaviors"
 AERIAL_PROCESSES = "aeroexec.engine.behaviors:aerial_processes"
+AERIAL_INDEX = "aeroexec.engine.behaviors:aerial_index"
+AERIAL_PROCESSES_OF = "aeroexec.engine.behaviors:processes_of_module"
 
 
 class LibraryError(plugins.PluginError):
@@ -92,8 +94,18 @@ def processes_of(provider: Any, origin: str) -> dict[str, Any]:
 
 
 def default_library(extra: Iterable[str] = ()) -> BehaviorLibrary:
-    """The aerial behaviors, every installed plugin's, then those of ``extra`` references (later names win)."""
-    return _library([(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS)), *_other_providers(extra)])
+    """The aerial behaviors, every installed plugin's, then those of ``extra`` references (later names win). The
+    aerial behaviors are known by their modules (:func:`aerial_index`), each imported when one of its behaviors is
+    first asked for: a run imports the behaviors it uses."""
+    from aeroexec.engine.execution.process import BehaviorLibrary
+
+    library = BehaviorLibrary()
+    for name, module in aerial_index()[0].items():
+        library.served_by_module(name, module)
+    for origin, provider in _other_providers(extra):
+        for cls in behaviors_of(provider, origin):
+            library.register(cls)
+    return library
 
 
 def _other_providers(extra: Iterable[str]) -> list[tuple[str, Any]]:
@@ -131,39 +143,92 @@ def _search_path(package: str) -> list[str]:
 
 
 def aerial_behavior_names() -> frozenset[str]:
-    """The behaviors the aerial library (:data:`AERIAL_BEHAVIORS`) implements, without importing it when its
-    package's modules are those the names were last read from: they are kept in the user's cache folder under a
-    hash of those modules' contents (every folder of the package's path), aeroexec's version and Python's, and read
-    from the library itself (then kept) when there are none."""
-    import aeroexec
+    """The behaviors the aerial library (:data:`AERIAL_BEHAVIORS`) implements (:func:`aerial_index`)."""
+    return frozenset(aerial_index()[0])
 
-    digest = cache.sha256(repr((AERIAL_BEHAVIORS, aeroexec.__version__, sys.version_info[:2])).encode())
-    for folder in _search_path(AERIAL_BEHAVIORS.partition(":")[0]):
+
+def aerial_index() -> tuple[dict[str, str], dict[str, str]]:
+    """The module implementing each behavior of the aerial library and the module listing each of its capability
+    processes (``aeroexec.engine.behaviors.aerial``'s ``aerial_index``), without importing them when its package's
+    modules are those the index was last read from: it is kept in the user's cache folder under a hash of those
+    modules' names, sizes and modification times (every folder of the package's path), aeroexec's version and
+    Python's, and read from the library itself (then kept) when there is none."""
+    folders = tuple(_search_path(AERIAL_BEHAVIORS.partition(":")[0]))
+    # read once while the modules are as they were (the catalog's check, the library and the processes ask)
+    seen = (folders, _modules_seen(folders), os.environ.get("XDG_CACHE_HOME"), os.environ.get("HOME"))
+    if seen not in _indexes:
+        _indexes.clear()
+        _indexes[seen] = _read_aerial_index(seen[1])
+    behaviors, processes = _indexes[seen]
+    return dict(behaviors), dict(processes)
+
+
+_indexes: dict[tuple[Any, ...], tuple[dict[str, str], dict[str, str]]] = {}
+
+
+def _modules_seen(folders: tuple[str, ...]) -> tuple[tuple[str, int, int], ...]:
+    """Each module of ``folders`` with its modification time and size."""
+    seen = []
+    for folder in folders:
         try:
-            names = sorted(name for name in os.listdir(folder) if name.endswith(".py"))
+            entries = list(os.scandir(folder))
         except OSError:
             continue
-        for name in names:
-            try:
-                with open(os.path.join(folder, name), "rb") as file:
-                    digest.update(f"\0{folder}/{name}\0".encode() + file.read())
-            except OSError:
-                digest.update(f"\0{folder}/{name}: unreadable".encode())
+        for entry in entries:
+            if entry.name.endswith(".py"):
+                try:
+                    info = entry.stat()
+                except OSError:
+                    continue
+                seen.append((entry.path, info.st_mtime_ns, info.st_size))
+    return tuple(sorted(seen))
+
+
+def _read_aerial_index(seen: tuple[tuple[str, int, int], ...]) -> tuple[dict[str, str], dict[str, str]]:
+    import aeroexec
+
+    # the modules' sizes and times, as the interpreter decides whether their bytecode is still theirs (and as a
+    # catalog's reading code is stamped): hashing their bytes was ~2 ms of every start
+    digest = cache.sha256(repr((AERIAL_BEHAVIORS, AERIAL_INDEX, aeroexec.__version__, sys.version_info[:2],
+                                seen)).encode())
     key = f"behaviors.{digest.hexdigest()[:32]}.txt"
     data = cache.kept(key)
     if data is not None:
-        return frozenset(data.decode("utf-8", "replace").split())
-    found = frozenset(_library([(AERIAL_BEHAVIORS, load_reference(AERIAL_BEHAVIORS))]).names())
-    cache.keep(key, "\n".join(sorted(found)).encode())
-    return found
+        index: tuple[dict[str, str], dict[str, str]] = ({}, {})
+        lines = [line.split() for line in data.decode("utf-8", "replace").splitlines()]
+        if all(len(words) == 3 and words[0] in ("behavior", "process") for words in lines):
+            for kind, name, module in lines:
+                index[kind == "process"][name] = module
+            return index
+    behaviors, processes = load_reference(AERIAL_INDEX)()
+    cache.keep(key, "\n".join([*(f"behavior {name} {module}" for name, module in sorted(behaviors.items())),
+                               *(f"process {name} {module}" for name, module in processes.items())]).encode())
+    return behaviors, processes
+
+
+class _ListedProcess:
+    """A capability process of the aerial library: its module (of ``aeroexec.engine.behaviors.aerial``'s
+    ``PROCESS_MODULES``) is imported when the process is first made."""
+
+    __slots__ = ("module", "name")
+
+    def __init__(self, module: str, name: str) -> None:
+        self.module, self.name = module, name
+
+    def __call__(self, name: str) -> Any:
+        return load_reference(AERIAL_PROCESSES_OF)(self.module)[self.name](name)
+
+    def __repr__(self) -> str:
+        return f"<the process {self.name} of aeroexec.engine.behaviors.{self.module}>"
 
 
 def default_processes(extra: Iterable[str] = ()) -> ProcessRegistry:
-    """The aerial capability processes, every installed plugin's, then those of ``extra`` references."""
+    """The aerial capability processes (each module imported when one of its processes is first made:
+    :func:`aerial_index`), every installed plugin's, then those of ``extra`` references."""
     from aeroexec.engine.execution.resources import ProcessRegistry
 
-    registry = ProcessRegistry()
-    providers = [(AERIAL_PROCESSES, load_reference(AERIAL_PROCESSES)), *plugins.installed_plugins(PROCESSES_GROUP)]
+    registry = ProcessRegistry({name: _ListedProcess(module, name) for name, module in aerial_index()[1].items()})
+    providers = list(plugins.installed_plugins(PROCESSES_GROUP))
     providers += [(reference, load_reference(reference)) for reference in extra]
     for origin, provider in providers:
         for name, factory in processes_of(provider, origin).items():
@@ -222,6 +287,6 @@ def make_drone(scheme: str, address: str) -> Drone:
     return drone
 
 
-__all__ = ["LibraryError", "aerial_behavior_names", "behavior_names", "default_library",
+__all__ = ["LibraryError", "aerial_behavior_names", "aerial_index", "behavior_names", "default_library",
            "default_processes", "default_updaters", "drone_adapters",
            "load_reference", "make_drone"]

@@ -20,10 +20,12 @@ from __future__ import annotations
 
 import contextlib
 import datetime
+import errno
 import json
 import logging
 import os
 import socket
+import sys
 import threading
 from dataclasses import dataclass
 from pathlib import Path
@@ -233,18 +235,48 @@ def write_control_file(folder: Path, port: int, token: str) -> Path:
 def runtime_dir() -> Path:
     """The per-user folder listing live runs: ``$XDG_RUNTIME_DIR/aeroexec``, else ``<tmp>/aeroexec-<uid>``."""
     base = os.environ.get("XDG_RUNTIME_DIR")
-    if not base:
-        import tempfile  # here: only without a runtime directory (it imports shutil, random...: ~4 ms)
-
-        base = tempfile.gettempdir()
-        path = Path(base) / f"aeroexec-{os.getuid()}"
-    else:
-        path = Path(base) / "aeroexec"
+    path = Path(base) / "aeroexec" if base else Path(temporary_folder()) / f"aeroexec-{os.getuid()}"
     path.mkdir(mode=0o700, parents=True, exist_ok=True)
     info = path.stat()
     if info.st_uid != os.getuid() or info.st_mode & 0o077:
         raise PermissionError(f"{path} must belong to this user and be private (mode 0700)")
     return path
+
+
+NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
+
+
+def temporary_folder() -> str:
+    """The folder :func:`tempfile.gettempdir` answers, found as it finds it: the first of ``$TMPDIR``, ``$TEMP``,
+    ``$TMP``, /tmp, /var/tmp, /usr/tmp and the current folder where a new file can be written; without importing
+    :mod:`tempfile` (it imports shutil, bz2, lzma, random...: ~3 ms of a run's start without a runtime directory),
+    unless something imported it already (then its answer: a caller may have set ``tempfile.tempdir``)."""
+    imported = sys.modules.get("tempfile")
+    if imported is not None:
+        return str(imported.gettempdir())
+    candidates = [folder for folder in map(os.environ.get, ("TMPDIR", "TEMP", "TMP")) if folder]
+    candidates += ["/tmp", "/var/tmp", "/usr/tmp"]
+    try:
+        candidates.append(os.getcwd())
+    except OSError:
+        candidates.append(os.curdir)
+    for candidate in candidates:
+        folder = os.path.abspath(candidate) if candidate != os.curdir else candidate
+        for _ in range(100):  # as tempfile tries: a few names, a file written and removed
+            probe = os.path.join(folder, f"tmp{os.urandom(6).hex()}")
+            try:
+                descriptor = os.open(probe, os.O_RDWR | os.O_CREAT | os.O_EXCL | NOFOLLOW, 0o600)
+                try:
+                    os.write(descriptor, b"blat")
+                finally:
+                    os.close(descriptor)
+                    os.unlink(probe)
+                return folder
+            except FileExistsError:
+                continue
+            except OSError:
+                break
+    raise FileNotFoundError(errno.ENOENT, f"No usable temporary directory found in {candidates}")
 
 
 @dataclass(frozen=True)

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """The held-back Aerostack2 missions (tests/aerostack/data/heldback/SOURCES.md) flown as their authors would fly
 them: ``aeroexec run FILE`` alone (no fleet file, no world, no flags; ``python -m aeroexec`` of this Python),
-each in its own process with a time limit, and a table of how each ended: flew to completion, refused (with the
-reason the run gave), or failed.
+each in its own process with a time limit, from its project's folder (a copy of it) as the projects' launch
+sessions run their missions, and a table of how each ended: flew to completion, refused (with the
+reason the run gave), exited (flew and landed, then the script exited with a non-zero status of its own), or
+failed.
 
     python tools/aerostack2_survey.py [--jobs 2] [--limit 300] [FILE...]
 
@@ -14,6 +16,7 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -33,7 +36,7 @@ class Outcome:
     """How one mission's run ended."""
 
     file: str
-    verdict: str  # "flew", "refused", "failed", "timeout"
+    verdict: str  # "flew", "refused", "exited" (landed, then a non-zero exit of the script's own), "failed", "timeout"
     status: int | None
     reason: str
 
@@ -62,10 +65,16 @@ def _reason(err: str, out: Path) -> str:
 
 
 def fly(path: Path, limit: float) -> Outcome:
+    """``aeroexec run`` of the mission at ``path`` from its project's folder, as the projects' launch sessions run
+    their missions (tmuxinator's ``root: ./``): a copy of the repository's collected files, so the run's output
+    folder is made in the copy, not among the collected files."""
     name = str(path.relative_to(HELDBACK))
+    project = name.split("/", 1)[0]
     with tempfile.TemporaryDirectory(prefix="as2survey") as folder:
+        root = Path(folder) / project
+        shutil.copytree(HELDBACK / project, root)
         try:
-            done = subprocess.run([sys.executable, "-m", "aeroexec", "run", str(path)], cwd=folder,
+            done = subprocess.run([sys.executable, "-m", "aeroexec", "run", name.split("/", 1)[1]], cwd=root,
                                   capture_output=True, text=True, timeout=limit, stdin=subprocess.DEVNULL)
         except subprocess.TimeoutExpired:
             return Outcome(name, "timeout", None, f"still running after {limit:.0f} s")
@@ -73,9 +82,29 @@ def fly(path: Path, limit: float) -> Outcome:
         out = outputs[0].parent if outputs else Path(folder)
         if done.returncode == 0:
             return Outcome(name, "flew", 0, "")
-        reason = _reason(done.stderr.replace(f"{REPOSITORY}/", ""), out)  # the files as the repository names them
+        reason = _reason(done.stderr.replace(f"{folder}/", ""), out)  # the files as the held-back set names them
         refused = done.returncode == 3 or (done.returncode == 1 and not outputs)
+        if not refused and _landed_then_exited(out):
+            return Outcome(name, "exited", done.returncode, reason)
         return Outcome(name, "refused" if refused else "failed", done.returncode, reason)
+
+
+#: Records of a flight that did not go as its script asked: a request refused, a behavior failed or timed out.
+_TROUBLE = {"rejected", "failed_preconditions", "WRONG_PROGRESS", "TIME_OUT", "FAILED"}
+
+
+def _landed_then_exited(out: Path) -> bool:
+    """The run's flight ended landed with no request refused, and then the script exited with a status of its own
+    (``sys.exit(1)``): not a completion (the run's status is the script's), told apart from a failure in flight."""
+    log = out / "events.jsonl"
+    if not log.exists():
+        return False
+    records = [json.loads(line) for line in log.read_text().splitlines()]
+    kinds = [r.get("kind") for r in records]
+    failed = [r for r in records if r.get("kind") == "mission_failed"]
+    return ("drone_landed" in kinds and not _TROUBLE.intersection(kinds) and len(failed) == 1
+            and "ScriptExit: the script exited with status" in str(failed[0].get("detail"))
+            and kinds.index("drone_landed") < kinds.index("mission_failed"))
 
 
 def main(argv: list[str] | None = None) -> int:

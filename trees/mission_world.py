@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
+from aeroexec.drones.sim.world import Frame
 from aeroexec.trees.items.readers import is_item_file, load_item_mission
 from aeroexec.trees.model import TreeFormatError
 
@@ -46,11 +47,17 @@ OPEN_CEILING = 50.0
 @dataclass(frozen=True)
 class MissionGround:
     """Where a mission written for another system's world flies: ``written_for`` ("Gazebo's empty world"), the
-    GPS ``origin`` it names (None: the default world's home), and the ``places`` it names (ENU meters from there)."""
+    GPS ``origin`` it names (None: the default world's home), the ``places`` it names (ENU meters from there), and
+    the named ``frames`` of that world (:class:`~aeroexec.drones.sim.world.Frame`: its models, placed by the
+    simulator's world config the mission's project keeps, ``config`` that file) and where it spawns the drones it
+    names (``starts``: east, north meters from the home)."""
 
     written_for: str
     origin: Geodetic | None = None
     places: tuple[tuple[float, float, float], ...] = ()
+    frames: tuple[Frame, ...] = ()
+    config: str | None = None
+    starts: tuple[tuple[str, tuple[float, float]], ...] = ()
 
 
 def mission_ground(mission: Path) -> MissionGround | None:
@@ -77,8 +84,13 @@ def ground_world(ground: MissionGround, home: Geodetic | None = None) -> Any:
     elif len(home) == 2 or home[2] is None:
         home = (home[0], home[1], ground.origin[2] if ground.origin is not None else 0.0)
     reach = [(-OPEN_REACH, -OPEN_REACH, 0.0), (OPEN_REACH, OPEN_REACH, OPEN_CEILING)]
-    return open_field(home, [*ground.places, *reach],
-                      name=f"open ground at {home[0]:.5f}, {home[1]:.5f} (as {ground.written_for})")
+    written_for = ground.written_for + (f", {ground.config}" if ground.config else "")
+    starts = [(e, n, 0.0) for _, (e, n) in ground.starts]
+    world = open_field(home, [*ground.places, *(f.position for f in ground.frames), *starts, *reach],
+                       name=f"open ground at {home[0]:.5f}, {home[1]:.5f} (as {written_for})")
+    if ground.frames or ground.starts:
+        world = dataclasses.replace(world, frames=ground.frames, starts=ground.starts)
+    return world
 
 
 #: Items besides the positional ones whose altitude is flown at (a take-off's, a change of altitude's).

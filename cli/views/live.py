@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
+from aeroexec.cli.views.choice import wanted  # noqa: F401  # by its old place
 from aeroexec.console.feed import mission_line
 from aeroexec.engine.events import EngineEvent
 from aeroexec.engine.supervision.operator import operator_of
@@ -363,11 +364,6 @@ class KeyReader:
     def _show(self, prompt: str) -> None:
         if self.view is not None:
             self.view.prompt = prompt
-
-
-def wanted(args: Any) -> bool:
-    """The live view is for a person at a terminal: not with --plain or --quiet, nor when stdout is no TTY."""
-    return not getattr(args, "plain", False) and not getattr(args, "quiet", False) and sys.stdout.isatty()
 
 
 class LiveConsole:

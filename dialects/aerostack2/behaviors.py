@@ -198,12 +198,15 @@ def known(value: Any) -> bool:
 
 
 def requests(call: Method, bound: Mapping[str, Any], *, home: Sequence[float] | None = None,
-             yaw: float | None = None) -> list[Request]:
+             yaw: float | None = None, frames: Sequence[Any] = ()) -> list[Request]:
     """The catalog requests a bound call stands for. ``home`` (latitude, longitude, altitude) places GPS points
-    (without it they stay :class:`Unplaced`), ``yaw`` (degrees) is the drone's yaw now, which KEEP_YAW keeps.
+    (without it they stay :class:`Unplaced`), ``yaw`` (degrees) is the drone's yaw now, which KEEP_YAW keeps,
+    ``frames`` the world's named frames (:class:`~aeroexec.drones.sim.world.Frame`) a point may be given in.
     Values that are not numbers (not known before flight) pass through, so the static check judges the rest."""
     module, wait = _SAME.get(call.module, call.module), bool(bound.get("wait", True))
-    _check_frame(call, bound.get("frame_id"))
+    frame = _check_frame(call, bound.get("frame_id"), frames)
+    if frame is not None:
+        bound = _in_earth(call, bound, frame)
     if module == "takeoff":
         return [Request("TAKE_OFF", {"ALTITUDE": bound["height"]}, wait)]
     if module == "land":
@@ -232,12 +235,41 @@ def requests(call: Method, bound: Mapping[str, Any], *, home: Sequence[float] | 
                                     **_speed(bound["speed"])}, wait)]
 
 
-def _check_frame(call: Method, frame: Any) -> None:
+def _check_frame(call: Method, frame: Any, frames: Sequence[Any] = ()) -> Any:
+    """The world's frame ``frame`` names (None: the earth frame, or a frame not known before flight)."""
     if frame is None or not isinstance(frame, str) or frame.strip() in EARTH_FRAMES:
-        return
+        return None
+    name = frame.strip().lstrip("/")
+    found = next((f for f in frames if f.name == name), None)
+    if found is not None:
+        return found
+    known_frames = f" nor one of the world's ({', '.join(f.name for f in frames)})" if frames else ""
     raise As2Error(WRONG_VALUE, f"The frame {frame!r} of {call.spelled}() is not correct: aeroexec flies in the "
-                                f"earth frame (local ENU from home); frames of ROS 2's tf tree are not available "
-                                f"({ROS2_BEYOND})")
+                                f"earth frame (local ENU from home){known_frames}; other frames of ROS 2's tf tree "
+                                f"are not available ({ROS2_BEYOND})")
+
+
+def _in_earth(call: Method, bound: Mapping[str, Any], frame: Any) -> dict[str, Any]:
+    """``bound`` with its point or path given in ``frame`` moved into the earth frame (a value not known before
+    flight passes through)."""
+    moved = dict(bound)
+
+    def place(value: Any) -> Any:
+        value = ros_messages.point(value)
+        if isinstance(value, list | tuple) and len(value) == 3 and all(known(v) for v in value):
+            return list(frame.to_world(tuple(float(v) for v in value)))
+        return value
+
+    if "point" in moved:
+        moved["point"] = place(moved["point"])
+    elif all(k in moved and known(moved[k]) for k in ("x", "y", "z")):
+        moved["x"], moved["y"], moved["z"] = frame.to_world((moved["x"], moved["y"], moved["z"]))
+    if "path" in moved:
+        path = ros_messages.points(moved["path"])
+        if isinstance(path, list | tuple):
+            moved["path"] = [place(p) for p in path]
+    moved["frame_id"] = None
+    return moved
 
 
 def _point(call: Method, bound: Mapping[str, Any]) -> Any:

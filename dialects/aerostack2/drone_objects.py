@@ -298,7 +298,8 @@ class DroneObjects:
         world = self.checker.specialist.world
         home = getattr(world, "home", None)
         try:
-            return aerostack2.requests(found.method, found.bound, home=tuple(home) if home is not None else None)
+            return aerostack2.requests(found.method, found.bound, home=tuple(home) if home is not None else None,
+                                       frames=self.world_frames)
         except As2Error as error:
             if report:
                 self.checker.report(found.call, error.message, error.kind)
@@ -323,13 +324,26 @@ class DroneObjects:
         """A frame the check cannot know, in a program that names frames of ROS 2's tf tree: one of those, which
         the run would refuse at this call in flight; refused here, before the drone takes off."""
         frame = (found.bound or {}).get("frame_id")
-        if not isinstance(frame, Unknown) or not self.tf_frames:
-            return
-        named = ", ".join(f"{n.value!r} (line {n.lineno})" for n in self.tf_frames[:3])
+        known_frames = {f.name for f in self.world_frames}
+        unknown_frames = [n for n in self.tf_frames if n.value.strip().lstrip("/") not in known_frames]
+        if not isinstance(frame, Unknown) or not unknown_frames:
+            return  # every frame the script names is one of the world's: the run places its points
+        named = ", ".join(f"{n.value!r} (line {n.lineno})" for n in unknown_frames[:3])
+        if known_frames:
+            world = getattr(self.checker.specialist.world, "name", "the world")
+            what = (f") that are not frames of the world ({', '.join(sorted(known_frames))}: {world}): aeroexec "
+                    f"flies in the earth frame (local ENU from home) and its world's frames; other frames")
+        else:
+            what = "): aeroexec flies in the earth frame (local ENU from home); frames"
         self.checker.report(found.nodes.get("frame_id", found.call),
                             f"The frame of {found.method.spelled}() is not known before flight, and the script names "
-                            f"frames of ROS 2's tf tree ({named}): aeroexec flies in the earth frame (local ENU from "
-                            f"home); frames of ROS 2's tf tree are not available ({ROS2_BEYOND})", WRONG_VALUE)
+                            f"frames of ROS 2's tf tree ({named}{what} of ROS 2's tf tree are not available "
+                            f"({ROS2_BEYOND})", WRONG_VALUE)
+
+    @property
+    def world_frames(self) -> tuple[Any, ...]:
+        """The named frames of the world the program is checked against (a simulator world's models)."""
+        return tuple(getattr(self.checker.specialist.world, "frames", ()) or ())
 
     def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
         """What the flight-order check needs of a drone interface's call (empty when it asks for no behavior)."""

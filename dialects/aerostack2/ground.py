@@ -5,8 +5,10 @@ An Aerostack2 script (a program importing ``as2_python_api``) or behavior tree (
 Aerostack2's nodes) flies in open ground, as in the simulator its author used, not in aeroexec's default field
 (whose walls and tower stand where Aerostack2's examples fly). Its GPS origin places that ground on Earth: the
 script's ``gps.set_origin(...)`` or the tree's ``SetOrigin``, else its first GPS point (``go_to_gps_point``,
-``GoToGps``, ``GpsToCartesian``). A mission that looks for ArUco markers needs the default field's markers: it
-keeps that field (the dialect gives it no ground).
+``GoToGps``, ``GpsToCartesian``; a ``DroneInterfaceGPS``'s ``go_to`` and ``follow_path``). A script whose project
+keeps the simulator's world config (``sim_config/world.json``...: :mod:`~aeroexec.dialects.aerostack2.sim_world`)
+flies from where that config spawns its drone, among its objects' frames. A mission that looks for ArUco markers
+needs the default field's markers: it keeps that field (the dialect gives it no ground).
 """
 
 from __future__ import annotations
@@ -39,8 +41,18 @@ def _gps(value: Any) -> tuple[float, float, float] | None:
     return None
 
 
+def _gps_interface_only(tree: ast.Module) -> bool:
+    """The script's drone interfaces are all ``DroneInterfaceGPS``, whose ``go_to`` and ``follow_path`` take GPS
+    points (it imports no other drone interface)."""
+    names = {a.name.rsplit(".", 1)[-1] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom | ast.Import)
+             for a in n.names}
+    return "DroneInterfaceGPS" in names and not names & {"DroneInterface", "DroneInterfaceBase", "DroneInterfaceTeleop"}
+
+
 def _script_origin(tree: ast.Module) -> tuple[float, float, float] | None:
     from aeroexec.engine.missions.constants import NOT_CONSTANT, Constants  # here: only Aerostack2's scripts
+
+    gps_calls = _GPS_CALLS + (("go_to", "follow_path") if _gps_interface_only(tree) else ())
 
     constants = Constants(tree)
     firsts: dict[str, Any] = {}  # a loop's target -> the first item of what it loops over
@@ -66,7 +78,7 @@ def _script_origin(tree: ast.Module) -> tuple[float, float, float] | None:
             continue
         if node.func.attr == "set_origin" and set_origin is None:
             set_origin = _gps(point)
-        elif node.func.attr in _GPS_CALLS and first_point is None:
+        elif node.func.attr in gps_calls and first_point is None:
             found = _gps(point)
             first_point = (found[0], found[1], 0.0) if found is not None else None
     return set_origin or first_point
@@ -83,7 +95,20 @@ def _script_ground(path: Path, text: str) -> MissionGround | None:
     imports += [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module and not n.level]
     if not any(name.split(".")[0] in _API for name in imports):
         return None
-    return MissionGround(WRITTEN_FOR, _script_origin(tree))
+    from aeroexec.dialects.aerostack2.sim_world import project_world  # here: only Aerostack2's scripts
+    from aeroexec.engine.missions.standins import script_drones
+
+    drones = script_drones(tree)
+    world = project_world(path, drones)
+    if world is None:
+        return MissionGround(WRITTEN_FOR, _script_origin(tree))
+    try:
+        config = str(world.file.relative_to(path.parent))
+    except ValueError:
+        config = str(world.file)
+    first = drones[0] if drones else None
+    return MissionGround(WRITTEN_FOR, _script_origin(tree), frames=world.frames_from(first), config=config,
+                         starts=world.starts_from(first))
 
 
 def _number(text: str | None) -> float | None:

@@ -23,6 +23,8 @@ IMPORTS = StandIns(
     # the variable Aerostack2's simulation launch sets to the simulated drone's namespace (its examples read it)
     environment={"AEROSTACK2_SIMULATION_DRONE_ID": "drone0"},
     drones=f"{_HERE}.namespaces:script_namespaces",
+    # its behavior runs (behavior_runs.py) are not journaled calls of the mission API: such a mission is not resumed
+    unjournaled={api: f"Aerostack2's Python API ({api})" for api in _API},
 )
 CHECKS = DialectChecks(objects=f"{_HERE}.registry:drone_objects",
                        problems=f"{_HERE}.namespaces:watched_drones")

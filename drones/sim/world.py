@@ -23,6 +23,7 @@ __all__ = [
     "Box",
     "CameraSettings",
     "Cylinder",
+    "Frame",
     "Marker",
     "Obstacle",
     "Platform",
@@ -74,6 +75,26 @@ class Marker:
     def normal(self) -> Vector:
         y, p = math.radians(self.yaw), math.radians(self.pitch)
         return (math.cos(p) * math.cos(y), math.cos(p) * math.sin(y), math.sin(p))
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """A named frame of the world (a model's frame in a simulator's world: ``gate_0/link``): its origin
+    ``position`` (ENU meters from home) and its orientation ``rpy`` (roll, pitch, yaw in radians, ENU: yaw 0 looks
+    east, counterclockwise), as a simulator's world file places the model."""
+
+    name: str
+    position: Vector
+    rpy: Vector = (0.0, 0.0, 0.0)
+
+    def to_world(self, point: Vector) -> Vector:
+        """A point given in this frame, in the world's ENU meters from home."""
+        (cr, sr), (cp, sp), (cy, sy) = ((math.cos(a), math.sin(a)) for a in self.rpy)
+        x, y, z = point
+        rotated = (cy * cp * x + (cy * sp * sr - sy * cr) * y + (cy * sp * cr + sy * sr) * z,
+                   sy * cp * x + (sy * sp * sr + cy * cr) * y + (sy * sp * cr - cy * sr) * z,
+                   -sp * x + cp * sr * y + cp * cr * z)
+        return tuple(round(p + r, 6) for p, r in zip(self.position, rotated, strict=True))  # type: ignore[return-value]
 
 
 @dataclass(frozen=True, slots=True)
@@ -166,6 +187,9 @@ class World:
     name: str = "world"
     source: str | None = None  # the file it was loaded from
     fences: tuple[Fence, ...] = ()  # inclusion and exclusion zones inside the bounds (a plan's geofence)
+    frames: tuple[Frame, ...] = ()  # named frames a mission may give points in (a simulator world's models)
+    #: where named drones start (east, north meters from home), as a simulator's world config spawns them
+    starts: tuple[tuple[str, tuple[float, float]], ...] = ()
 
     # --- frames ----------------------------------------------------------------------------------
     def to_geodetic(self, enu: Vector) -> Geodetic:

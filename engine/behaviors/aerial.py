@@ -10,22 +10,24 @@ from __future__ import annotations
 
 import importlib
 import inspect
-import pkgutil
 import sys
+from typing import Any
 
-from aeroexec.engine.behaviors.communication import COMMUNICATION_PROCESSES
-from aeroexec.engine.behaviors.localization import LOCALIZATION_PROCESSES
-from aeroexec.engine.behaviors.perception import PERCEPTION_PROCESSES
-from aeroexec.engine.behaviors.planning import PLANNING_PROCESSES
-from aeroexec.engine.behaviors.recording import RECORDING_PROCESSES
-from aeroexec.engine.behaviors.targets import TARGET_PROCESSES
 from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.resources import ProcessRegistry
 
-__all__ = ["aerial_behaviors", "aerial_processes"]
+__all__ = ["PROCESS_MODULES", "aerial_behaviors", "aerial_index", "aerial_processes", "processes_of_module"]
+
+#: The modules listing capability processes, and the mapping of each that lists them, in the order they are merged
+#: (a later module's name wins).
+PROCESS_MODULES = {"perception": "PERCEPTION_PROCESSES", "communication": "COMMUNICATION_PROCESSES",
+                   "planning": "PLANNING_PROCESSES", "localization": "LOCALIZATION_PROCESSES",
+                   "targets": "TARGET_PROCESSES", "recording": "RECORDING_PROCESSES"}
 
 
 def _behavior_classes() -> list[type[BehaviorProcess]]:
+    import pkgutil  # here: a run whose library's index is kept makes processes without listing the package
+
     found = []
     package = sys.modules[__package__]  # its search path, which a test or a plugin may extend
     for info in sorted(pkgutil.iter_modules(package.__path__), key=lambda m: m.name):
@@ -36,6 +38,11 @@ def _behavior_classes() -> list[type[BehaviorProcess]]:
     return found
 
 
+def processes_of_module(module: str) -> dict[str, Any]:
+    """The capability processes the module ``module`` (of :data:`PROCESS_MODULES`) lists, by name."""
+    return dict(getattr(importlib.import_module(f"{__package__}.{module}"), PROCESS_MODULES[module]))
+
+
 def aerial_behaviors() -> BehaviorLibrary:
     """Every behavior implemented for the aerial catalog."""
     return BehaviorLibrary(_behavior_classes())
@@ -43,5 +50,19 @@ def aerial_behaviors() -> BehaviorLibrary:
 
 def aerial_processes() -> ProcessRegistry:
     """The capability processes; names without an implementation run as idle processes."""
-    return ProcessRegistry({**PERCEPTION_PROCESSES, **COMMUNICATION_PROCESSES, **PLANNING_PROCESSES,
-                            **LOCALIZATION_PROCESSES, **TARGET_PROCESSES, **RECORDING_PROCESSES})
+    registry = ProcessRegistry()
+    for module in PROCESS_MODULES:
+        for name, factory in processes_of_module(module).items():
+            registry.register(name, factory)
+    return registry
+
+
+def aerial_index() -> tuple[dict[str, str], dict[str, str]]:
+    """The module implementing each behavior, and the module of :data:`PROCESS_MODULES` listing each capability
+    process, read by importing them all (``aeroexec.engine.library`` keeps them, so a run imports only the modules
+    it uses)."""
+    behaviors = {cls.behavior: cls.__module__ for cls in _behavior_classes()}
+    processes: dict[str, str] = {}
+    for module in PROCESS_MODULES:
+        processes.update(dict.fromkeys(processes_of_module(module), module))
+    return behaviors, processes

@@ -22,8 +22,12 @@ from aeroexec.beliefs import ListTerm, Struct
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess, EngineSettings
 from aeroexec.engine.execution.resources import Process
-from aeroexec.engine.planning.exploration import ExplorationSettings, ExplorationStore
-from aeroexec.engine.planning.path_planner import PathPlanner, PlannerSettings, Point
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:  # the planners are imported when a route or a point to explore is first asked for (a run whose
+    # behaviors plan nothing never imports them: the grid, the search and the coverage, ~4 ms of a start)
+    from aeroexec.engine.planning.exploration import ExplorationSettings, ExplorationStore
+    from aeroexec.engine.planning.path_planner import PlannerSettings, Point
 
 logger = logging.getLogger(__name__)
 
@@ -34,6 +38,8 @@ EXPLORATION_MARGIN = 3.0  # m from obstacles, as the aerial catalog's GO_TO_POIN
 
 def planner_settings(settings: EngineSettings) -> PlannerSettings:
     """The path planner's settings from the engine's (``planning_resolution``, ``planning_margin``)."""
+    from aeroexec.engine.planning.path_planner import PlannerSettings
+
     extra, default = settings.extra, PlannerSettings()
     return PlannerSettings(resolution=float(extra.get("planning_resolution", default.resolution)),
                            margin=float(extra.get("planning_margin", default.margin)))
@@ -41,6 +47,8 @@ def planner_settings(settings: EngineSettings) -> PlannerSettings:
 
 def exploration_settings(settings: EngineSettings) -> ExplorationSettings:
     """The exploration planner's settings from the engine's (``exploration_*`` keys of ``extra``)."""
+    from aeroexec.engine.planning.exploration import ExplorationSettings
+
     extra, default = settings.extra, ExplorationSettings()
     return ExplorationSettings(footprint=float(extra.get("exploration_footprint", default.footprint)),
                                overlap=float(extra.get("exploration_overlap", default.overlap)),
@@ -54,6 +62,8 @@ def exploration_store(context: BehaviorContext) -> ExplorationStore:
     """The run's exploration memory, created on first use and kept on the behavior context."""
     store = getattr(context, _STORE_ATTRIBUTE, None)
     if store is None:
+        from aeroexec.engine.planning.exploration import ExplorationStore
+
         store = ExplorationStore(exploration_settings(context.settings), getattr(context, "obstacles", None))
         setattr(context, _STORE_ATTRIBUTE, store)
     return store
@@ -80,6 +90,8 @@ class RouteRequest:
         if context.obstacles is None:
             self._answer = [self.destination], f"no obstacle map: the straight line to {list(self.destination)}"
             return
+        from aeroexec.engine.planning.path_planner import PathPlanner
+
         self.planner = PathPlanner(context.obstacles, planner_settings(context.settings))
         quick = self.planner.quick(self.start, self.destination)
         if quick is not None:

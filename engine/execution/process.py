@@ -163,10 +163,13 @@ class BehaviorProcess:
 
 
 class BehaviorLibrary:
-    """Behavior implementations by catalog name."""
+    """Behavior implementations by catalog name. A library may also know behaviors by the module that implements
+    them (:meth:`served_by_module`): the module is imported when one of its behaviors is first asked for, so a run
+    imports the modules of the behaviors it uses."""
 
     def __init__(self, classes: Iterable[type[BehaviorProcess]] = ()) -> None:
         self._classes: dict[str, type[BehaviorProcess]] = {}
+        self._modules: dict[str, str] = {}  # name -> the module implementing it, not imported yet
         for cls in classes:
             self.register(cls)
 
@@ -175,15 +178,36 @@ class BehaviorLibrary:
         if not name:
             raise ValueError(f"{cls.__name__} does not say which behavior it implements (set behavior = 'NAME')")
         self._classes[name] = cls
+        self._modules.pop(name, None)
+
+    def served_by_module(self, name: str, module: str) -> None:
+        """``name`` is implemented by a :class:`BehaviorProcess` subclass of ``module`` whose ``behavior`` is
+        ``name``, registered when first asked for (a later :meth:`register` of the name wins)."""
+        self._classes.pop(name, None)
+        self._modules[name] = module
 
     def get(self, name: str) -> type[BehaviorProcess] | None:
+        cls = self._classes.get(name)
+        if cls is None and name in self._modules:
+            cls = self._load(name)
+        return cls
+
+    def _load(self, name: str) -> type[BehaviorProcess] | None:
+        import importlib
+
+        module = importlib.import_module(self._modules[name])
+        for value in vars(module).values():
+            if isinstance(value, type) and issubclass(value, BehaviorProcess) and \
+                    value.__module__ == module.__name__ and value.behavior in self._modules and \
+                    self._modules[value.behavior] == module.__name__:
+                self.register(value)
         return self._classes.get(name)
 
     def __contains__(self, name: object) -> bool:
-        return name in self._classes
+        return name in self._classes or name in self._modules
 
     def names(self) -> set[str]:
-        return set(self._classes)
+        return set(self._classes) | set(self._modules)
 
 
 def distance(a: Iterable[float], b: Iterable[float]) -> float:

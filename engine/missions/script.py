@@ -51,9 +51,9 @@ class DroneNotFound(LookupError):
 def is_script(tree: ast.Module, nodes: Iterable[ast.AST] | None = None) -> bool:
     """True for a script: no ``mission()``/``runMission()`` at top level, and an import of an API a dialect runs
     whole (Aerostack2's: :func:`.standins.script_names`), among ``nodes`` (the program's when already walked)."""
-    names_run_whole = standins.script_names()
     if any(isinstance(n, ast.FunctionDef) and n.name in ("mission", "runMission") for n in tree.body):
-        return False
+        return False  # (the dialects' stand-ins are not loaded to say so)
+    names_run_whole = standins.script_names()
     for node in ast.walk(tree) if nodes is None else nodes:
         names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                  [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level else [])

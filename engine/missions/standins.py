@@ -45,6 +45,8 @@ class StandIns:
     ``mission()`` a script, run whole. ``environment``: variables a script is run with when not set already.
     ``drones``: ``(tree: ast.Module) -> tuple[str, ...]``, the drones a script flies by the names it gives them
     (Aerostack2's namespaces, from its code or its argparse defaults); several make ``aeroexec run`` fly a fleet.
+    ``unjournaled``: name -> the API's title, for names whose missions cannot be resumed: what they run through
+    that API (Aerostack2's behavior runs) is not a journaled call of the mission API, so a resume could not replay it.
     """
 
     names: Mapping[str, str] = field(default_factory=dict)
@@ -53,6 +55,7 @@ class StandIns:
     scripts: tuple[str, ...] = ()
     environment: Mapping[str, str] = field(default_factory=dict)
     drones: str | None = None
+    unjournaled: Mapping[str, str] = field(default_factory=dict)
 
 
 @functools.cache
@@ -86,6 +89,13 @@ def judged_by_use(module: str) -> bool:
 def script_names() -> frozenset[str]:
     """The modules whose import makes a program without ``mission()`` a script, run whole."""
     return frozenset(name for s in declared() for name in s.scripts)
+
+
+def unjournaled(module: str) -> str | None:
+    """The title of the API ``module`` belongs to when a mission importing it cannot be resumed
+    (:attr:`StandIns.unjournaled`), else None."""
+    name = module.partition(".")[0]
+    return next((s.unjournaled[name] for s in declared() if name in s.unjournaled), None)
 
 
 def script_environment() -> dict[str, str]:
@@ -139,4 +149,5 @@ def mission_builtins() -> dict[str, Any]:
 
 
 __all__ = ["ENTRY_POINT_GROUP", "StandIns", "declared", "install_finders", "judged_by_use", "mission_builtins",
-           "mission_import", "script_drones", "script_environment", "script_names", "served", "stands_in"]
+           "mission_import", "script_drones", "script_environment", "script_names", "served", "stands_in",
+           "unjournaled"]

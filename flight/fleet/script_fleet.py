@@ -3,10 +3,11 @@ several namespaces), so that ``aeroexec run script.py`` flies it as ``python3 sc
 names, in this process, one flight session each, on the fleet's one clock (:class:`~.fleet_flight.FleetFlight`),
 each drone's files in ``<output>/<drone>/``.
 
-The drones are named as the script names them (the dialects say which: ``StandIns.drones``) and start
-:data:`SPACING` meters apart on an east-west line through the world's home, as a simulator's swarm launch places
-them. :func:`open_script_fleet` sets the fleet up with its Zenoh router on the loopback and credentials made in
-the output folder (the ``fleet`` extra); the caller flies it and closes it.
+The drones are named as the script names them (the dialects say which: ``StandIns.drones``) and start where the
+world spawns them (a simulator's world config the script's project keeps), else :data:`SPACING` meters apart on an
+east-west line through the world's home, as a simulator's swarm launch places them. :func:`open_script_fleet` sets
+the fleet up with its Zenoh router on the loopback and credentials made in the output folder (the ``fleet``
+extra); the caller flies it and closes it.
 """
 
 from __future__ import annotations
@@ -22,8 +23,11 @@ from typing import Any
 
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.script import is_script
-from aeroexec.flight.fleet.fleet_flight import FleetFlight
 from aeroexec.flight.spec import FlightSpec
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:  # imported by open_script_fleet: a run asks whether its mission is such a script before flying it
+    from aeroexec.flight.fleet.fleet_flight import FleetFlight
 
 logger = logging.getLogger(__name__)
 
@@ -47,6 +51,21 @@ def homes(count: int) -> list[tuple[float, float]]:
     """Where ``count`` drones start (east, north meters from the world's home): :data:`SPACING` apart on a line
     centred on the home."""
     return [(round(SPACING * (i - (count - 1) / 2), 3), 0.0) for i in range(count)]
+
+
+def spawned(drones: tuple[str, ...], world: Any) -> bool:
+    """Whether ``world`` says where each of ``drones`` starts (``World.starts``: a simulator's world config)."""
+    spawns = dict(getattr(world, "starts", ()) or ())
+    return bool(drones) and all(d in spawns for d in drones)
+
+
+def starts(drones: tuple[str, ...], world: Any) -> list[tuple[float, float]]:
+    """Where ``drones`` start: where ``world`` spawns each when it names them all (:func:`spawned`); else
+    :func:`homes`."""
+    if spawned(drones, world):
+        spawns = dict(world.starts)
+        return [tuple(spawns[d]) for d in drones]  # type: ignore[misc]
+    return homes(len(drones))
 
 
 @dataclass
@@ -76,10 +95,11 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     from aeroexec.fleet.fleet_file import DroneSpec, FleetSpec
     from aeroexec.fleet.fleet_json import FLEET_FILE, write_fleet_file
     from aeroexec.fleet.transport import free_endpoint
+    from aeroexec.flight.fleet.fleet_flight import FleetFlight
 
     name = Path(spec.mission).stem.replace(".", "_") or "script"
     fleet_spec = FleetSpec(name=name, drones=tuple(DroneSpec(d, Path(spec.mission), home, seed=spec.seed + i)
-                                                   for i, (d, home) in enumerate(zip(drones, homes(len(drones)),
+                                                   for i, (d, home) in enumerate(zip(drones, starts(drones, world),
                                                                                     strict=True))),
                            file=str(spec.mission))
     stack = ExitStack()
@@ -101,4 +121,4 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     return ScriptFleet(name, drones, flight, list(membership.endpoints), stack)
 
 
-__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "script_drones"]
+__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "script_drones", "spawned", "starts"]

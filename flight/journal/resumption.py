@@ -132,20 +132,21 @@ class Resumption:
         return found
 
     def check_program(self, path: Path) -> None:
-        """FlightError for a Python mission whose calls cannot be replayed: one that flies through Aerostack2's Python
-        API, whose behavior runs (``dialects/aerostack2/behavior_runs.py``) are not journaled calls of the mission
-        API."""
+        """FlightError for a Python mission whose calls cannot be replayed: one that flies through an API a dialect
+        names unjournaled (:attr:`StandIns.unjournaled`: Aerostack2's Python API, whose behavior runs are not journaled
+        calls of the mission API)."""
         from aeroexec.engine.missions.source import parse_source
+        from aeroexec.engine.missions.standins import unjournaled
 
         from aeroexec.limits import read_text
 
         for node in ast.walk(parse_source(read_text(path, what="the mission"), str(path))):
             names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                      [node.module] if isinstance(node, ast.ImportFrom) and node.module else [])
-            if any(name.split(".")[0] in ("as2_python_api", "python_interface") for name in names):
-                raise FlightError(f"{path}:{node.lineno}: a mission flown through Aerostack2's Python API "
-                                  f"({names[0].split('.')[0]}) cannot be resumed: its calls are not journaled; fly it "
-                                  f"again from its start (aeroexec run {path.name})")
+            api = next((title for title in map(unjournaled, names) if title), None)
+            if api is not None:
+                raise FlightError(f"{path}:{node.lineno}: a mission flown through {api} cannot be resumed: its calls "
+                                  f"are not journaled; fly it again from its start (aeroexec run {path.name})")
 
     def change_document(self, document: Any, mission: Any = "the mission") -> None:
         """Make on the tree's document, read again from its file, the changes made to it in flight (before its

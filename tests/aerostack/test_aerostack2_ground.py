@@ -3,6 +3,8 @@ like it, placed at the GPS origin they name, not in the paper's field (whose wal
 
 from __future__ import annotations
 
+import math
+
 from aeroexec.trees.mission_world import mission_world
 from flying import SCRIPTS, TREES, fly
 
@@ -46,3 +48,19 @@ def test_a_mission_looking_for_markers_keeps_the_field_with_the_markers(tmp_path
                       "uav = DroneInterface('drone0')\nuav.load_module('detect_aruco_markers_behavior')\n")
     assert mission_world(script).name == "default field"
     assert mission_world(SCRIPTS / "as2_example1.py").name.startswith("open ground at 47.39774, 8.54559")
+
+
+def test_a_gps_interfaces_follow_path_places_the_ground_at_its_first_point(tmp_path, capsys):
+    """A DroneInterfaceGPS's follow_path takes GPS points: with no origin set, the first of them places the ground,
+    as a go_to_gps_point's does (else they would lie 1 000 km from the default home)."""
+    script = tmp_path / "gps_path.py"
+    script.write_text("import rclpy\nfrom as2_python_api.drone_interface_gps import DroneInterfaceGPS\n"
+                      "rclpy.init()\nuav = DroneInterfaceGPS('drone0')\nuav.offboard()\nuav.arm()\nuav.takeoff(2.0)\n"
+                      "uav.follow_path([[40.441055, -3.6888145, 2.0], [40.441108, -3.6887864, 2.0]], 1.0)\n"
+                      "uav.land()\nuav.shutdown()\nrclpy.shutdown()\n")
+    flight = fly(script, tmp_path, capsys, world_file=None)
+    assert flight.status == 0, flight.err
+    assert flight.records[0]["home"] == [40.441055, -3.6888145, 0.0]
+    assert flight.achieved() == [T, F, L]
+    path = [r for r in flight.kinds("activated") if r["behavior"] == F][0]["arguments"]["PATH"]
+    assert path[0] == [0.0, 0.0, 2.0] and math.dist(path[1][:2], (2.384, 5.887)) < 0.01

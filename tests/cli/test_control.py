@@ -393,3 +393,23 @@ def test_ctl_from_another_directory_finds_the_live_run(tmp_path, private_runtime
     assert not list(private_runtime_dir.glob("aeroexec/run-*.json"))
     gone = subprocess.run([*command, "ctl", "status"], cwd=elsewhere, capture_output=True, text=True, timeout=60)
     assert gone.returncode == 1 and "no live run" in gone.stderr
+
+
+@pytest.mark.parametrize("tmpdir", ["writable", "missing", "read-only", ""])
+def test_without_a_runtime_directory_runs_are_listed_where_tempfile_puts_temporary_files(tmp_path, tmpdir):
+    """Without ``$XDG_RUNTIME_DIR`` the live runs are listed in ``<tmp>/aeroexec-<uid>``: the folder
+    :func:`tempfile.gettempdir` answers (``$TMPDIR`` when a file can be written there, else /tmp...), found without
+    importing :mod:`tempfile` (a run's start does not need it)."""
+    folder = tmp_path / "tmp"
+    if tmpdir != "missing":
+        folder.mkdir()
+    if tmpdir == "read-only":
+        folder.chmod(0o500)
+    env = {k: v for k, v in os.environ.items() if k not in ("XDG_RUNTIME_DIR", "TMPDIR", "TEMP", "TMP")}
+    if tmpdir:
+        env["TMPDIR"] = str(folder)
+    code = ("import sys\nfrom aeroexec.flight.control import runtime_dir\nfound = runtime_dir()\n"
+            "imported = 'tempfile' in sys.modules\nimport os, tempfile\n"
+            "print(found == __import__('pathlib').Path(tempfile.gettempdir()) / f'aeroexec-{os.getuid()}', imported)")
+    shown = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True).stdout
+    assert shown.split() == ["True", "False"]

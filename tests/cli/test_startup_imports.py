@@ -220,3 +220,77 @@ def test_a_command_that_needs_no_extra_does_not_read_the_extras_table():
     """Which extras a command line needs is known from its sub-command and options: verify needs none, and the
     extras' table (and what it imports) is read only for one that does (tests/cli/test_extras.py)."""
     assert "aeroexec.extras" not in imported_after(verify(MISSIONS / "figure10.xml"))
+
+
+def test_an_empty_run_imports_the_behaviors_its_mission_asks_for_and_no_other(tmp_path):
+    """The aerial behaviors and capability processes are known by their modules (kept in the user's cache folder),
+    each module imported when one of its behaviors is asked for or one of its processes started: figure10.py asks
+    for TAKE_OFF and the catalog starts the localization processes; recording, targets, speech... and the path
+    planner's grid (imported when a route is first planned) are not imported."""
+    run = f"""
+        import contextlib, io
+        from aeroexec.cli.main import main
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
+                  "--output", {str(tmp_path / "out")!r}])
+    """
+    imported_after(run, cache=tmp_path / "cache")  # the library's index read and kept
+    modules = imported_after(run, cache=tmp_path / "cache")
+    assert {"aeroexec.engine.behaviors.motion", "aeroexec.engine.behaviors.localization"} <= modules
+    unused = ("recording", "targets", "target_tracking", "speech", "communication", "perception", "manipulation")
+    assert sorted(modules & {f"aeroexec.engine.behaviors.{name}" for name in unused}) == []
+    planners = {m for m in modules if m.startswith("aeroexec.engine.planning.")}
+    assert sorted(planners) == ["aeroexec.engine.planning.worker"]  # the engine's planning thread, idle
+
+
+def test_the_library_serves_every_behavior_and_process_of_the_aerial_modules_when_asked(tmp_path):
+    """What the library and the process registry serve is what importing every module gives, a class or a process
+    of a module not imported yet included; a plugin's behavior of the same name wins."""
+    imported_after("from aeroexec.engine.library import default_library\ndefault_library()", cache=tmp_path)  # kept
+    imported_after("""
+        import sys
+        from aeroexec.engine.library import default_library, default_processes
+        from aeroexec.engine.execution.process import BehaviorProcess
+        library, processes = default_library(), default_processes()
+        assert "aeroexec.engine.behaviors.targets" not in sys.modules
+        assert "aeroexec.engine.behaviors.recording" not in sys.modules
+        tracker = library.get("TRACK_OBJECT_IMAGE")
+        assert tracker is not None and tracker.behavior == "TRACK_OBJECT_IMAGE"
+        assert tracker.__module__ in sys.modules
+        recorder = processes.create("video_recorder")
+        assert type(recorder).__name__ == "VideoRecorder" and recorder.name == "video_recorder"
+        assert "UNKNOWN" not in library and library.get("UNKNOWN") is None
+
+        class Mine(BehaviorProcess):
+            behavior = "GO_TO_POINT"
+
+        library.register(Mine)
+        assert library.get("GO_TO_POINT") is Mine
+
+        from aeroexec.engine.behaviors.aerial import aerial_behaviors, aerial_processes
+        everything = aerial_behaviors()
+        assert default_library().names() == everything.names()
+        assert {n: everything.get(n) for n in everything.names()} == {
+            n: default_library().get(n) for n in everything.names()}
+        assert default_processes().names() == aerial_processes().names()
+    """, cache=tmp_path)
+
+
+def test_a_run_s_set_up_is_frozen_in_the_command_s_own_process_only(tmp_path):
+    """What a run's start makes lives as long as the run: the ``aeroexec`` command pauses the cyclic collector while
+    it sets the flight up and freezes what was made (as it does for its imports); a caller running ``main(args)``
+    in its own process keeps its collector as it was."""
+    code = f"""
+        import contextlib, gc, io, sys
+        from aeroexec.cli.main import main
+        arguments = ["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0", "--output"]
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(arguments + [{str(tmp_path / "embedded")!r}])
+        embedded = gc.get_freeze_count()
+        sys.argv = ["aeroexec", *arguments, {str(tmp_path / "command")!r}]
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main()
+        print(embedded, gc.get_freeze_count() > 0, gc.isenabled(), file=sys.stderr)
+    """
+    done = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, cwd="/")
+    assert done.stderr.split()[-3:] == ["0", "True", "True"], done.stderr

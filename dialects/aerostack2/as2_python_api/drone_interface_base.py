@@ -135,6 +135,11 @@ class DroneInterfaceBase:
     def base_frame_id(self) -> str:
         return f"{self.namespace}/base_link"
 
+    @property
+    def world_frames(self) -> tuple[Any, ...]:
+        """The named frames of the world the drone flies in (a simulator world's models: ``gate_0/link``)."""
+        return tuple(getattr(getattr(self.engine.drone, "world", None), "frames", ()) or ())
+
     def telemetry(self) -> Telemetry:
         """The drone's state now (a call to the engine: a loop reading it sees time move)."""
         engine = self.engine

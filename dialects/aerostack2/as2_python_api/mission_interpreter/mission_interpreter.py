@@ -101,7 +101,8 @@ class MissionInterpreter:
         """The behavior runs of one item; None when its goal is rejected (the interpreter stops there)."""
         try:
             call = aerostack2.method(item.behavior, item.method)
-            requests = aerostack2.requests(call, call.bind((), item.args), home=drone.telemetry().home)
+            requests = aerostack2.requests(call, call.bind((), item.args), home=drone.telemetry().home,
+                                           frames=drone.world_frames)
             return [BehaviorRun(r.behavior, **r.arguments) for r in requests]
         except aerostack2.As2Error as error:
             drone.refuse(f"{item.behavior}.{item.method}", error.kind, error.message)

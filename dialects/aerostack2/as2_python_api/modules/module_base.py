@@ -58,7 +58,8 @@ class ModuleBase(BehaviorHandler):
         drone = self._drone
         try:
             telemetry = drone.telemetry()
-            requests = aerostack2.requests(call, bound, home=telemetry.home, yaw=telemetry.yaw)
+            requests = aerostack2.requests(call, bound, home=telemetry.home, yaw=telemetry.yaw,
+                                           frames=drone.world_frames)
         except As2Error as error:
             drone.refuse(call.spelled, error.kind, error.message)
             return False
