@@ -27,4 +27,21 @@ class BeliefChange:
         return f"{sign}{format_term(self.belief)} ({self.reason})"
 
 
-__all__ = ["BeliefChange"]
+_NEW = BeliefChange.__new__
+_KIND, _BELIEF, _REASON, _TIME = (BeliefChange.kind.__set__, BeliefChange.belief.__set__,  # type: ignore[attr-defined]
+                                  BeliefChange.reason.__set__, BeliefChange.time.__set__)  # type: ignore[attr-defined]
+
+
+def belief_change(kind: str, belief: Struct, reason: str, time: float) -> BeliefChange:
+    """``BeliefChange(kind, belief, reason, time)``, made by filling its slots: the frozen dataclass's ``__init__``
+    sets each field through ``object.__setattr__`` (~0.8 µs; this ~0.4 µs), and the memory makes one for every
+    change it tells its listeners of (a flying drone's position, speed and orientation: every other period)."""
+    change = _NEW(BeliefChange)
+    _KIND(change, kind)
+    _BELIEF(change, belief)
+    _REASON(change, reason)
+    _TIME(change, time)
+    return change
+
+
+__all__ = ["BeliefChange", "belief_change"]

@@ -18,7 +18,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from typing import Any
 
-from aeroexec.beliefs.changes import BeliefChange
+from aeroexec.beliefs.changes import BeliefChange, belief_change
 from aeroexec.beliefs.errors import (
     BeliefError,
     BeliefSyntaxError,
@@ -666,7 +666,7 @@ class BeliefMemory:
             hearing = self._hearing[belief.name] = (*self._listeners, *named) if named else tuple(self._listeners)
         if not hearing:
             return
-        change = BeliefChange(kind, belief, reason, self._now())
+        change = belief_change(kind, belief, reason, self._now())
         for listener in hearing:
             try:
                 listener(change)

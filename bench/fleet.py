@@ -2,8 +2,9 @@
 process and spread over worker processes.
 
 Run ``python bench/fleet.py`` (``--sizes 100 500``, ``--workers 1 2``, ``--seconds 10``, ``--speed 1``; ``--docs``
-rewrites the fleet table of ``docs/performance/run.md``). Each size is flown by ``aeroexec fleet FLEET.yaml
---workers W`` as an operator would fly it (its own router, credentials and access rules), for each number of
+rewrites the fleet table of ``docs/performance/run.md``; ``--hover``: the drones take off and hold still instead, a
+period in which nothing changes, counted in "patrolling" once they took off). Each size is flown by ``aeroexec fleet
+FLEET.yaml --workers W`` as an operator would fly it (its own router, credentials and access rules), for each number of
 workers. Printed per run: the achieved real-time factor (simulated seconds per wall second of the flight; 1.00 =
 kept up with real time), CPU use (the workers' and the router's CPU time over wall time, in cores), the CPU of one
 drone per simulated second (the flight's CPU, accounted per process: each worker's own CPU time over its flight,
@@ -45,6 +46,16 @@ def mission():  # take off and fly a 3 m square around home until the engine sto
         for dx, dy in ((1.5, 1.5), (-1.5, 1.5), (-1.5, -1.5), (1.5, -1.5)):
             if api.execute_behavior("GO_TO_POINT", coordinates=[x + dx, y + dy, 3]) != api.GOAL_ACHIEVED:
                 api.wait(1)  # refused (too near an obstacle): simulated time must pass before trying again
+"""
+
+
+HOVER = """import aeroexec.engine.api as api
+
+
+def mission():  # take off and hold still until the engine stops: a period in which nothing changes
+    api.execute_behavior("TAKE_OFF", altitude=3)
+    while True:
+        api.wait(1000)
 """
 
 
@@ -113,9 +124,11 @@ def observe(folder: str, out: str, drones: int) -> int:
     return 0
 
 
-def run(n: int, workers: int, seconds: float, speed: float) -> dict[str, float]:
+def run(n: int, workers: int, seconds: float, speed: float, hover: bool = False) -> dict[str, float]:
     folder = Path(tempfile.mkdtemp(prefix="aeroexec-bench-fleet-"))
     fleet = fleet_file(folder, n, seconds)
+    if hover:
+        (folder / "patrol.py").write_text(HOVER)
     out, latencies = folder / "out", folder / "latencies.json"
     out.mkdir()
     observer = subprocess.Popen([sys.executable, __file__, "--observe", str(out), str(latencies), str(n)],
@@ -137,7 +150,7 @@ def run(n: int, workers: int, seconds: float, speed: float) -> dict[str, float]:
     flying = 0
     for drone in status["drones"]:
         goals = sum('"GOAL_ACHIEVED"' in line for line in (out / drone / "events.jsonl").open())
-        flying += goals >= 3  # took off and reached two corners
+        flying += goals >= (1 if hover else 3)  # took off (and reached two corners)
     rtf, cores = took["simulated"] / took["wall"], took["cpu"] / took["wall"]
     whole = usage.ru_utime + usage.ru_stime
     return {"drones": n, "workers": took["workers"], "flying": flying, "rtf": rtf, "cores": cores,
@@ -157,9 +170,14 @@ def main() -> int:
     parser.add_argument("--seconds", type=float, default=10.0, help="simulated seconds per run")
     parser.add_argument("--speed", type=float, default=1.0, help="pace: times real time")
     parser.add_argument("--docs", action="store_true", help="rewrite the fleet table of docs/performance/run.md")
+    parser.add_argument("--hover", action="store_true", help="the drones take off and hold still instead (a period "
+                        "in which nothing changes; not for --docs: the table is the patrol's)")
     args = parser.parse_args()
+    if args.hover and args.docs:
+        parser.error("--docs writes the patrol's table: measure --hover without it")
     began = os.getloadavg()[0]
-    print(f"fleet patrol, {args.seconds:g} s simulated per run, paced at {args.speed:g}x real time, "
+    flown = "holding still" if args.hover else "patrol"
+    print(f"fleet {flown}, {args.seconds:g} s simulated per run, paced at {args.speed:g}x real time, "
           f"{os.cpu_count()} cores; load average {began:.2f}")
     print(f"{'drones':>6} {'workers':>7} {'patrolling':>10} {'real-time factor':>17} {'CPU cores':>10} "
           f"{'ms CPU/drone/s':>15} {'(whole)':>8} {'drones/core at RT':>18} {'link median':>12} {'link p99':>9} "
@@ -169,7 +187,7 @@ def main() -> int:
             "at real time | link median / p99 |", "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for n in args.sizes:
         for workers in args.workers:
-            r = run(n, workers, args.seconds, args.speed)
+            r = run(n, workers, args.seconds, args.speed, args.hover)
             print(f"{n:>6} {r['workers']:>7} {r['flying']:>10} {r['rtf']:>16.2f}x {r['cores']:>10.2f} "
                   f"{r['per_drone']:>12.2f} ms {r['whole_per_drone']:>5.2f} ms {r['per_core']:>18.0f} "
                   f"{r['median']:>9.2f} ms {r['p99']:>6.2f} ms {r['samples']:>8}", flush=True)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import abc
 import enum
 import threading
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 Vector = tuple[float, float, float]
 #: Where a robot's photos come from (:meth:`Robot.photo_source`).
@@ -72,6 +72,42 @@ class Telemetry:
     def speed(self) -> float:
         vx, vy, vz = self.velocity
         return (vx * vx + vy * vy + vz * vz) ** 0.5
+
+
+_TELEMETRY_FIELDS = ("time", "position", "velocity", "yaw", "battery_percent", "battery_voltage", "armed",
+                     "landed_state", "flight_mode", "link_ok", "home", "wind", "ground_link", "position_accuracy",
+                     "position_time")
+if tuple(f.name for f in fields(Telemetry)) != _TELEMETRY_FIELDS:  # pragma: no cover (a field added above)
+    raise AssertionError("telemetry_snapshot fills Telemetry's fields in their order: name every one")
+(_TIME, _POSITION, _VELOCITY, _YAW, _PERCENT, _VOLTAGE, _ARMED, _LANDED, _MODE, _LINK, _HOME, _WIND, _GROUND,
+ _ACCURACY, _POSITION_TIME) = (getattr(Telemetry, name).__set__ for name in _TELEMETRY_FIELDS)
+
+
+def telemetry_snapshot(time: float, position: Vector, velocity: Vector, yaw: float, battery_percent: float,
+                       battery_voltage: float, armed: bool, landed_state: LandedState, flight_mode: str,
+                       link_ok: bool = True, home: tuple[float, float, float] | None = None,
+                       wind: tuple[float, float] | None = None, ground_link: bool | None = None,
+                       position_accuracy: float | None = None, position_time: float | None = None) -> Telemetry:
+    """``Telemetry(...)`` of these fields, made by filling its slots: the frozen dataclass's ``__init__`` sets each of
+    its 15 fields through ``object.__setattr__`` (~2.8 µs; this ~1.3 µs), and a simulated drone makes one every
+    engine period."""
+    t = object.__new__(Telemetry)
+    _TIME(t, time)
+    _POSITION(t, position)
+    _VELOCITY(t, velocity)
+    _YAW(t, yaw)
+    _PERCENT(t, battery_percent)
+    _VOLTAGE(t, battery_voltage)
+    _ARMED(t, armed)
+    _LANDED(t, landed_state)
+    _MODE(t, flight_mode)
+    _LINK(t, link_ok)
+    _HOME(t, home)
+    _WIND(t, wind)
+    _GROUND(t, ground_link)
+    _ACCURACY(t, position_accuracy)
+    _POSITION_TIME(t, position_time)
+    return t
 
 
 class CommandHandle:

@@ -140,18 +140,22 @@ def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[st
 
 def vector(value: Any, size: int = 3) -> tuple[float, ...]:
     """A list of ``size`` finite numbers as a tuple; PayloadError otherwise."""
-    refusal = PayloadError(f"expected {size} finite numbers, got {str(value)[:200]}", f"not {size} numbers")
     if not isinstance(value, list) or len(value) != size:
-        raise refusal
+        raise _not_numbers(value, size)
     out = []
     for v in value:
-        if isinstance(v, bool) or not isinstance(v, int | float):
-            raise refusal
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise _not_numbers(value, size)
         try:
             number = float(v)
         except OverflowError:  # an integer no float holds
-            raise refusal from None
+            raise _not_numbers(value, size) from None
         if not math.isfinite(number):
-            raise refusal
+            raise _not_numbers(value, size)
         out.append(number)
     return tuple(out)
+
+
+def _not_numbers(value: Any, size: int) -> PayloadError:
+    """:func:`vector`'s refusal, made only when it refuses (every telemetry message reads two vectors)."""
+    return PayloadError(f"expected {size} finite numbers, got {str(value)[:200]}", f"not {size} numbers")

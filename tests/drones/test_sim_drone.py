@@ -357,3 +357,23 @@ def test_telemetry_asked_again_is_the_same_answer_until_an_update_or_a_command_c
     assert run.drone.telemetry().flight_mode == "HOLD"
     run.run(DT)
     assert run.drone.telemetry().time == run.t > first.time
+
+
+def test_telemetry_made_by_filling_its_slots_is_the_dataclass_of_the_same_fields():
+    from dataclasses import FrozenInstanceError, fields
+
+    from aeroexec.drones import Telemetry
+    from aeroexec.drones.interface import telemetry_snapshot
+
+    values = {f.name: (i + 0.5 if f.name != "landed_state" else LandedState.IN_AIR)
+              for i, f in enumerate(fields(Telemetry))}
+    made = telemetry_snapshot(*values.values())
+    assert made == Telemetry(**values) and repr(made) == repr(Telemetry(**values))
+    with pytest.raises(FrozenInstanceError):
+        made.yaw = 1.0
+    drone = SimulatedDrone(field(), config=SimConfig(wind=(1.0, 0.0), link_loss=(1.0, 2.0)))
+    drone.arm()
+    drone.takeoff(3.0)
+    drone.update(1.5)
+    t = drone.telemetry()
+    assert (t.wind, t.ground_link, t.link_ok, t.home, t.position_accuracy) == ((1.0, 0.0), False, True, HOME, None)

@@ -42,6 +42,7 @@ class Contacts:
         platform = world.platform
         names = [name for name, _ in self._objects] + ([platform.name] if platform is not None else [])
         self._indexed = len(set(names)) == len(names)  # touches are known by name: the broad phase needs them unique
+        self.touchables = bool(names)  # False: nothing to touch, ever (``touches`` is always empty)
         self._deck_top: float | None = None
         self._deck_box = self._touch_box = _NOWHERE
         if platform is not None and not platform.path:  # a platform nowhere: no broad phase (as before it)

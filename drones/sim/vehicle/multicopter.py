@@ -38,6 +38,7 @@ _FACE_TRAVEL_MIN = 1.0  # m: farther than this from a target, the drone turns to
 IDLE, TAKEOFF, POSITION, VELOCITY, LAND, RETURN_CLIMB, RETURN_TRAVEL, RETURN_LAND, FALL = (
     "idle", "takeoff", "position", "velocity", "land", "return_climb", "return_travel", "return_land", "fall")
 _TO_TARGET = frozenset((TAKEOFF, POSITION, RETURN_CLIMB, RETURN_TRAVEL))  # phases flying to a target point
+_AT_REST: Vector = (0.0, 0.0, 0.0)
 
 
 class Multicopter:
@@ -79,6 +80,9 @@ class Multicopter:
         self._battery_watch = max(config.failsafe_battery_percent, 0.0)  # at or below it, the battery is checked
         # above this height, a substep can reach neither the ground nor the platform's deck (at its highest)
         self._contact_height = max(self.contacts.deck_top() or 0.0, 0.0) + _GROUND_CONTACT + 1e-6
+        # what a substep need not look at in a world without it (the answer is known: no collision, no touch)
+        self._solids = bool(self._obstacles.obstacles)
+        self._touchables = self.contacts.touchables
 
     # --- reported state -----------------------------------------------------------------------------
     @property
@@ -188,14 +192,24 @@ class Multicopter:
         if not self.armed:
             self.yaw_rate = 0.0
             return
-        yaw_before = self.yaw
         x, y, previous_z = self.position
-        desired, limits = self._desired(dt)
-        self.yaw_rate = wrap180(self.yaw - yaw_before) / dt
-        velocity = accelerate(self.velocity, desired, limits, dt)
+        velocity = self.velocity
+        if velocity == _AT_REST and self.phase in _TO_TARGET and self._on_target():
+            # the controller's fixed point (hovering on its target): _desired would neither turn the yaw nor ask for
+            # a velocity, and accelerate from rest toward rest gives rest, (0.0, 0.0, 0.0): the same, without them
+            self.yaw_rate = 0.0
+            velocity = _AT_REST
+        else:
+            yaw_before = self.yaw
+            desired, limits = self._desired(dt)
+            yaw = self.yaw
+            # a yaw that did not turn: wrap180(0.0) / dt, without the call
+            self.yaw_rate = 0.0 if yaw == yaw_before else wrap180(yaw - yaw_before) / dt
+            velocity = accelerate(velocity, desired, limits, dt)
         vx, vy, vz = velocity
         airspeed = None
-        if self.wind != (0.0, 0.0) and self.airborne:  # the air moves: the motors fly the airspeed
+        wx, wy = self.wind
+        if (wx != 0.0 or wy != 0.0) and self.airborne:  # the air moves: the motors fly the airspeed
             velocity, airspeed = self._in_wind(velocity)
             vx, vy, vz = velocity
         if not self.airborne and vz <= 0.0:
@@ -216,11 +230,13 @@ class Multicopter:
             if z <= (deck or 0.0) + _GROUND_CONTACT:
                 self._touch_down(deck)
                 return
-        if self._check_collision() or (self.battery.percent <= self._battery_watch and self._check_battery()):
+        if (self._solids and self._check_collision()) or (self.battery.percent <= self._battery_watch
+                                                           and self._check_battery()):
             return
-        for name, where in self.contacts.touches(position, self.time):
-            self.emit("touched", f"{name} at ({where[0]:.1f}, {where[1]:.1f}, {where[2]:.1f})", object=name,
-                      position=where)
+        if self._touchables:
+            for name, where in self.contacts.touches(position, self.time):
+                self.emit("touched", f"{name} at ({where[0]:.1f}, {where[1]:.1f}, {where[2]:.1f})", object=name,
+                          position=where)
         low, high = self._bounds
         if (low[0] <= position[0] <= high[0] and low[1] <= position[1] <= high[1]
                 and low[2] <= z <= high[2]) and not (self._fences and not self.world.inside(position)):
@@ -228,6 +244,56 @@ class Multicopter:
         else:
             self._check_bounds()
         self._progress()
+
+    def holds_still(self) -> bool:
+        """Hovering on its position target in calm air, with nothing a substep would find: inside the geofence, off
+        every solid, touching nothing, high above the ground and the deck, no arrival to report. Then a substep
+        moves only the clock and the battery (:meth:`hold_still`), until the battery's watch changes the phase."""
+        wx, wy = self.wind
+        position = self.position
+        if not (self.phase == POSITION and self.armed and self.airborne and not self._arrival_pending
+                and wx == 0.0 and wy == 0.0 and not self._touchables and self.velocity == _AT_REST
+                and position[2] > self._contact_height and self._on_target()):
+            return False
+        low, high = self._bounds
+        inside = (low[0] <= position[0] <= high[0] and low[1] <= position[1] <= high[1]
+                  and low[2] <= position[2] <= high[2]) and not (self._fences and not self.world.inside(position))
+        return inside and not (self._solids and self._obstacles.collides(position, self.config.drone_radius))
+
+    def hold_still(self, start: float, done: int, last: int, dt: float) -> int:
+        """Substeps ``done + 1`` to ``last`` (at ``start + k * dt``) of a vehicle that :meth:`holds_still`: what
+        :meth:`step` would do, bit for bit, at the control laws' fixed point where every check finds what it found
+        the substep before (the same position; nothing that moves to touch); the number of the last substep made
+        (earlier than ``last`` once the battery's watch crashed the vehicle or made it land)."""
+        x, y, z = self.position
+        battery, watch = self.battery, self._battery_watch
+        while done < last:
+            done += 1
+            self.time = round(start + done * dt, 9)
+            self.yaw_rate = 0.0
+            self.velocity = _AT_REST
+            self.position = (x + 0.0, y + 0.0, z + 0.0)  # x + vx * dt, with vx 0.0
+            battery.drain_flying(dt, 0.0, 0.0)
+            if battery.percent <= watch:
+                if self._check_battery():
+                    return done  # crashed: the rest of the substep is not made
+                if self.phase != POSITION:  # the failsafe lands: the rest of the substep, then step again
+                    self._outside = False
+                    self._flew_since_armed = True
+                    return done
+            self._outside = False
+            self._flew_since_armed = True
+        return done
+
+    def _on_target(self) -> bool:
+        """On the target point and facing the yaw asked, as the control laws see it: ``desired_velocity`` asks for
+        none (the same distance, under its 1e-9 m) and ``turn_yaw`` leaves the yaw where it is."""
+        target_yaw = self._target_yaw
+        if target_yaw is not None and self.yaw != wrap180(target_yaw):
+            return False
+        (px, py, pz), (tx, ty, tz) = self.position, self._target
+        dx, dy, dz = tx - px, ty - py, tz - pz
+        return math.sqrt(dx * dx + dy * dy + dz * dz) < 1e-9
 
     def _in_wind(self, velocity: Vector) -> tuple[Vector, float]:
         """The ground velocity the controller gets in the wind (its airspeed at most ``max_speed``: upwind it is
