@@ -26,7 +26,8 @@ from aeroexec.limits import (
 )
 
 __all__ = ["check_expression", "check_predicates", "parse_belief",
-           "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_goal",
+           "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_fact_parts",
+           "read_flat_goal", "read_flat_parts",
            "read_rules"]
 
 #: Longest expression accepted; longer text is refused before parsing.
@@ -138,12 +139,43 @@ def check_predicates(conjunction: Conjunction, predicates: Mapping[str, int],
             )
 
 
-def read_flat_goal(text: str) -> Struct | None:
-    """A hand reading of the common shape of a goal or fact: ``name(arg, ...)``, each argument a name, a number, a
-    variable or a flat tuple of those (``position(o1, (0.5, 2.0, -3))``, ``color(o500, ?C)``). Anything else (strings,
-    lists, nested terms, comments, text that is not ASCII, a number the grammar reads otherwise) is None: read it
-    with the grammar (Lark), whose result this one equals wherever it gives one (tests check it on the fuzz corpus).
-    Lark's per-call overhead is most of what reading a short belief costs; this reads one in a few microseconds."""
+#: Values of the pieces the hand reader has read (``o500``, ``?C``, ``2.0``), by their text: a belief's text repeats
+#: most of its pieces (the names of objects, its variables, constants), so a piece read before costs one look-up.
+#: Each value is immutable (an interned atom, an int, a float, a named variable, interned too); ``?`` alone is never
+#: kept (each one is a new variable). Emptied when full.
+_PIECES: dict[str, object] = {}
+_MAX_PIECES = 50_000
+
+
+def _piece_value(piece: str):
+    """The value of one piece of a flat goal (a name, a variable, a number), None when it is not one of those."""
+    if piece.isidentifier():
+        return intern(piece)  # an atom: one object however often it is read, found in an index by identity
+    if piece[:1] == "?" and (len(piece) == 1 or ("_" + piece[1:]).isidentifier()):  # ?[A-Za-z0-9_]*
+        return Var(piece)
+    core = piece[1:] if piece[:1] in _SIGNS else piece
+    if core.isdigit():  # ASCII digits (the text is ASCII): an integer
+        return None if len(piece) > MAX_NUMBER_LENGTH else int(piece)
+    if core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
+        return None if len(piece) > MAX_NUMBER_LENGTH else float(piece)
+    return _flat_value(piece)
+
+
+def _read_piece(piece: str):
+    """:func:`_piece_value` of a piece not found in :data:`_PIECES`, kept there (``?`` alone aside)."""
+    if piece == "?":
+        return Var(piece)
+    value = _piece_value(piece)
+    if value is not None:
+        if len(_PIECES) >= _MAX_PIECES:
+            _PIECES.clear()
+        _PIECES[piece] = value
+    return value
+
+
+def read_flat_parts(text: str) -> tuple[str, tuple] | None:
+    """The name and arguments of a goal of the common shape (:func:`read_flat_goal`), without building its term:
+    ``("color", ("o500", ?C))``; None for anything else."""
     if not text.isascii() or '"' in text or "'" in text or "%" in text or "[" in text:
         return None
     body = text.strip(_LARK_SPACE)
@@ -153,7 +185,18 @@ def read_flat_goal(text: str) -> Struct | None:
     name = name.rstrip(_LARK_SPACE)
     if not found or name == "not" or not name.isidentifier():  # ASCII: [A-Za-z_][A-Za-z0-9_]*, the grammar's NAME
         return None
+    known = _PIECES.get
     args: list = []
+    if "(" not in inside:  # no tuple: each piece is an argument
+        for piece in inside.split(","):
+            piece = piece.strip(_LARK_SPACE)
+            value = known(piece)
+            if value is None:
+                value = _read_piece(piece)
+                if value is None:
+                    return None
+            args.append(value)
+        return intern(name), tuple(args)
     group: list | None = None  # the elements of the tuple being read
     for piece in inside.split(","):
         piece = piece.strip(_LARK_SPACE)
@@ -168,24 +211,11 @@ def read_flat_goal(text: str) -> Struct | None:
                 return None
             closes = True
             piece = piece[:-1].rstrip(_LARK_SPACE)
-        if piece.isidentifier():
-            value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
-        elif piece[:1] == "?" and (len(piece) == 1 or ("_" + piece[1:]).isidentifier()):  # ?[A-Za-z0-9_]*
-            value = Var(piece)
-        else:
-            core = piece[1:] if piece[:1] in _SIGNS else piece
-            if core.isdigit():  # ASCII digits (the text is ASCII): an integer
-                if len(piece) > MAX_NUMBER_LENGTH:
-                    return None
-                value = int(piece)
-            elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
-                if len(piece) > MAX_NUMBER_LENGTH:
-                    return None
-                value = float(piece)
-            else:
-                value = _flat_value(piece)
-                if value is None:
-                    return None
+        value = known(piece)
+        if value is None:
+            value = _read_piece(piece)
+            if value is None:
+                return None
         if group is None:
             args.append(value)
         else:
@@ -195,7 +225,17 @@ def read_flat_goal(text: str) -> Struct | None:
                 group = None
     if group is not None:
         return None
-    return Struct(intern(name), tuple(args))
+    return intern(name), tuple(args)
+
+
+def read_flat_goal(text: str) -> Struct | None:
+    """A hand reading of the common shape of a goal or fact: ``name(arg, ...)``, each argument a name, a number, a
+    variable or a flat tuple of those (``position(o1, (0.5, 2.0, -3))``, ``color(o500, ?C)``). Anything else (strings,
+    lists, nested terms, comments, text that is not ASCII, a number the grammar reads otherwise) is None: read it
+    with the grammar (Lark), whose result this one equals wherever it gives one (tests check it on the fuzz corpus).
+    Lark's per-call overhead is most of what reading a short belief costs; this reads one in a few microseconds."""
+    parts = read_flat_parts(text)
+    return None if parts is None else Struct(*parts)
 
 
 def _flat_value(piece: str):
@@ -212,10 +252,13 @@ def _flat_value(piece: str):
 
 def read_flat_fact(text: str) -> Struct | None:
     """A ground fact of the common shape read by hand (:func:`read_flat_goal`), None for anything else."""
-    goal = read_flat_goal(text)
-    if goal is None or "?" in text:
-        return None
-    return goal
+    parts = read_flat_fact_parts(text)
+    return None if parts is None else Struct(*parts)
+
+
+def read_flat_fact_parts(text: str) -> tuple[str, tuple] | None:
+    """The name and arguments of a ground fact of the common shape (:func:`read_flat_fact`), None otherwise."""
+    return None if "?" in text else read_flat_parts(text)
 
 
 _read_flat = read_flat_fact  # its name in the tests that hold it to the grammar
