@@ -147,36 +147,41 @@ _PIECES: dict[str, object] = {}
 _MAX_PIECES = 50_000
 
 
-def _piece_value(piece: str):
-    """The value of one piece of a flat goal (a name, a variable, a number), None when it is not one of those."""
-    if piece.isidentifier():
-        return intern(piece)  # an atom: one object however often it is read, found in an index by identity
-    if piece[:1] == "?" and (len(piece) == 1 or ("_" + piece[1:]).isidentifier()):  # ?[A-Za-z0-9_]*
-        return Var(piece)
-    core = piece[1:] if piece[:1] in _SIGNS else piece
-    if core.isdigit():  # ASCII digits (the text is ASCII): an integer
-        return None if len(piece) > MAX_NUMBER_LENGTH else int(piece)
-    if core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
-        return None if len(piece) > MAX_NUMBER_LENGTH else float(piece)
-    return _flat_value(piece)
-
-
 def _read_piece(piece: str):
-    """:func:`_piece_value` of a piece not found in :data:`_PIECES`, kept there (``?`` alone aside)."""
-    if piece == "?":
-        return Var(piece)
-    value = _piece_value(piece)
-    if value is not None:
-        if len(_PIECES) >= _MAX_PIECES:
-            _PIECES.clear()
-        _PIECES[piece] = value
+    """The value of one piece of a flat goal not found in :data:`_PIECES` (a name, a variable, a number), kept there
+    (``?`` alone aside); None when it is none of those."""
+    if piece.isidentifier():
+        value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
+    elif piece[:1] == "?":  # ?[A-Za-z0-9_]*
+        if len(piece) == 1:
+            return Var(piece)  # each ? is a variable of its own: not kept
+        if not ("_" + piece[1:]).isidentifier():
+            return None
+        value = Var(piece)
+    else:
+        core = piece[1:] if piece[:1] in _SIGNS else piece
+        if core.isdigit():  # ASCII digits (the text is ASCII): an integer
+            if len(piece) > MAX_NUMBER_LENGTH:
+                return None
+            value = int(piece)
+        elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
+            if len(piece) > MAX_NUMBER_LENGTH:
+                return None
+            value = float(piece)
+        else:
+            value = _flat_value(piece)
+            if value is None:
+                return None
+    if len(_PIECES) >= _MAX_PIECES:
+        _PIECES.clear()
+    _PIECES[piece] = value
     return value
 
 
 def read_flat_parts(text: str) -> tuple[str, tuple] | None:
     """The name and arguments of a goal of the common shape (:func:`read_flat_goal`), without building its term:
     ``("color", ("o500", ?C))``; None for anything else."""
-    if not text.isascii() or '"' in text or "'" in text or "%" in text or "[" in text:
+    if not text.isascii():  # quotes, comments, lists: in a piece, which then is not one (None)
         return None
     body = text.strip(_LARK_SPACE)
     if body[-1:] != ")":
@@ -185,9 +190,9 @@ def read_flat_parts(text: str) -> tuple[str, tuple] | None:
     name = name.rstrip(_LARK_SPACE)
     if not found or name == "not" or not name.isidentifier():  # ASCII: [A-Za-z_][A-Za-z0-9_]*, the grammar's NAME
         return None
-    known = _PIECES.get
-    args: list = []
-    if "(" not in inside:  # no tuple: each piece is an argument
+    if "(" not in inside:  # no tuple: each piece is an argument (_read_pieces, inline: the commonest shape)
+        known = _PIECES.get
+        args = []
         for piece in inside.split(","):
             piece = piece.strip(_LARK_SPACE)
             value = known(piece)
@@ -197,35 +202,54 @@ def read_flat_parts(text: str) -> tuple[str, tuple] | None:
                     return None
             args.append(value)
         return intern(name), tuple(args)
-    group: list | None = None  # the elements of the tuple being read
-    for piece in inside.split(","):
+    args = []
+    rest = inside
+    while True:  # pieces up to a tuple, the tuple; until no tuple is left
+        head, opened, rest = rest.partition("(")
+        if not opened:  # the last pieces
+            pieces = _read_pieces(head)
+            if pieces is None:
+                return None
+            args += pieces
+            break
+        head = head.rstrip(_LARK_SPACE)
+        if head:  # pieces before the tuple, the last of them followed by its comma
+            if head[-1] != ",":
+                return None
+            pieces = _read_pieces(head[:-1])
+            if pieces is None:
+                return None
+            args += pieces
+        inner, closed, rest = rest.partition(")")
+        if not closed or "(" in inner:  # not closed, or nested
+            return None
+        pieces = _read_pieces(inner)
+        if pieces is None:
+            return None
+        args.append(tuple(pieces))
+        rest = rest.lstrip(_LARK_SPACE)
+        if not rest:
+            break
+        if rest[0] != ",":
+            return None
+        rest = rest[1:]
+    return intern(name), tuple(args)
+
+
+def _read_pieces(text: str) -> list | None:
+    """The values of comma-separated pieces (each a name, a variable or a number: :func:`_read_piece`), None if
+    one is not."""
+    known = _PIECES.get
+    values = []
+    for piece in text.split(","):
         piece = piece.strip(_LARK_SPACE)
-        closes = False
-        if piece[:1] == "(":
-            if group is not None:
-                return None
-            group = []
-            piece = piece[1:].lstrip(_LARK_SPACE)
-        if piece[-1:] == ")":
-            if group is None:
-                return None
-            closes = True
-            piece = piece[:-1].rstrip(_LARK_SPACE)
         value = known(piece)
         if value is None:
             value = _read_piece(piece)
             if value is None:
                 return None
-        if group is None:
-            args.append(value)
-        else:
-            group.append(value)
-            if closes:
-                args.append(tuple(group))
-                group = None
-    if group is not None:
-        return None
-    return intern(name), tuple(args)
+        values.append(value)
+    return values
 
 
 def read_flat_goal(text: str) -> Struct | None:
