@@ -139,20 +139,19 @@ def check_predicates(conjunction: Conjunction, predicates: Mapping[str, int],
             )
 
 
-#: Values of the pieces the hand reader has read (``o500``, ``?C``, ``2.0``), by their text: a belief's text repeats
-#: most of its pieces (the names of objects, its variables, constants), so a piece read before costs one look-up.
-#: Each value is immutable (an interned atom, an int, a float, a named variable, interned too); ``?`` alone is never
-#: kept (each one is a new variable). Emptied when full.
+#: Values of the pieces the hand reader has read that are not atoms (``?C``, ``2.0``, ``500``), by their text: a
+#: belief's text repeats most of its variables and constants, so a piece read before costs one look-up. Atoms are
+#: not kept here: ``sys.intern`` is their table already. Each value is immutable (an int, a float, a named variable,
+#: interned); ``?`` alone is never kept (each one is a new variable). Small (it stays in the processor's cache
+#: while texts of new numbers pass through it), and emptied when full.
 _PIECES: dict[str, object] = {}
-_MAX_PIECES = 50_000
+_MAX_PIECES = 4096
 
 
 def _read_piece(piece: str):
     """The value of one piece of a flat goal not found in :data:`_PIECES` (a name, a variable, a number), kept there
     (``?`` alone aside); None when it is none of those."""
-    if piece.isidentifier():
-        value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
-    elif piece[:1] == "?":  # ?[A-Za-z0-9_]*
+    if piece[:1] == "?":  # ?[A-Za-z0-9_]*
         if len(piece) == 1:
             return Var(piece)  # each ? is a variable of its own: not kept
         if not ("_" + piece[1:]).isidentifier():
@@ -195,6 +194,9 @@ def read_flat_parts(text: str) -> tuple[str, tuple] | None:
         args = []
         for piece in inside.split(","):
             piece = piece.strip(_LARK_SPACE)
+            if piece.isidentifier():  # an atom: one object however often it is read, found in an index by identity
+                args.append(intern(piece))
+                continue
             value = known(piece)
             if value is None:
                 value = _read_piece(piece)
@@ -243,6 +245,9 @@ def _read_pieces(text: str) -> list | None:
     values = []
     for piece in text.split(","):
         piece = piece.strip(_LARK_SPACE)
+        if piece.isidentifier():
+            values.append(intern(piece))
+            continue
         value = known(piece)
         if value is None:
             value = _read_piece(piece)
