@@ -32,8 +32,8 @@ from aeroexec.beliefs.parser import (
     parse_belief,
     parse_expression,
     parse_rules,
-    read_flat_fact,
-    read_flat_goal,
+    read_flat_fact_parts,
+    read_flat_parts,
 )
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
@@ -49,6 +49,8 @@ from aeroexec.beliefs.terms import Struct, Var, format_term, from_python, to_pyt
 #: what a memory is asked: text, a parsed expression, or one term
 Expression = str | Conjunction | Struct
 _UNANSWERED = object()  # a question the memory's quick reading leaves to the compiled query
+_ANONYMOUS_PREFIX = Var("?")[:2]  # how an anonymous variable's name starts
+_PLAIN = frozenset((str, int, float, Struct))  # values that are their own Python value (to_python)
 
 log = logging.getLogger(__name__)
 
@@ -211,22 +213,25 @@ class BeliefMemory:
     # -- changes ------------------------------------------------------------------
     def add(self, belief: str | Struct) -> bool:
         """Add a ground belief; returns False when it was already there (its lifetime renews)."""
-        if type(belief) is not Struct:
-            read = read_flat_fact(belief) if type(belief) is str and len(belief) < 1000 else None
-            if read is None or (self._vocabulary and self._vocabulary.get(read.name) != len(read.args)):
+        if type(belief) is Struct:
+            name, args = belief.name, belief.args
+        else:
+            read = read_flat_fact_parts(belief) if type(belief) is str and len(belief) < 1000 else None
+            if read is None or (self._vocabulary and self._vocabulary.get(read[0]) != len(read[1])):
                 belief = self._parse_belief(belief)  # the grammar's reading, and the vocabulary's verdict
+                name, args = belief.name, belief.args
             else:
-                belief = read
-        if self._spellings and belief.name in self._spellings:
-            belief = respell_term(belief, self._spellings)
+                (name, args), belief = read, None  # its term is built only if something needs it
+        if self._spellings and name in self._spellings:
+            belief = respell_term(Struct(name, args) if belief is None else belief, self._spellings)
+            name, args = belief.name, belief.args
         if self._heap:
             self._expire_due()
-        args = belief.args
-        signature = (belief.name, len(args))
+        signature = (name, len(args))
         rel = self._relations.get(signature)
         if rel is None:
-            rel = self._new_relation(belief)
-        ttl = self._persistence.get(signature[0]) if self._persistence else None
+            rel = self._new_relation(Struct(name, args) if belief is None else belief)
+        ttl = self._persistence.get(name) if self._persistence else None
         if ttl is not None:
             self._schedule(signature, args, ttl)
         displaced = rel.insert(args)
@@ -243,9 +248,9 @@ class BeliefMemory:
             if self._expiry:
                 self._expiry.pop((signature, displaced), None)
             if self._listening:
-                self._notify("removed", Struct(signature[0], displaced), "replaced")
+                self._notify("removed", Struct(name, displaced), "replaced")
         if self._listening:
-            self._notify("added", belief, "add")
+            self._notify("added", Struct(name, args) if belief is None else belief, "add")
         return True
 
     def restore(self, belief: str | Struct, remaining: float | None = None) -> bool:
@@ -546,10 +551,10 @@ class BeliefMemory:
         if len(seen) > 4096:
             seen.clear()
         seen[text] = None
-        goal = read_flat_goal(text) if len(text) < 1000 else None
-        if goal is None:
+        read = read_flat_parts(text) if len(text) < 1000 else None
+        if read is None:
             return _UNANSWERED
-        name, args = goal.name, goal.args
+        name, args = read
         signature = (name, len(args))
         if (self._vocabulary and self._vocabulary.get(name) != len(args)) or signature in self._answered \
                 or signature in BUILTIN_PREDICATES or name in self._spellings \
@@ -569,7 +574,10 @@ class BeliefMemory:
         row = rel.by_key.get(args[:-1])
         if row is None:
             return None
-        return {} if last.anonymous else {last.name: to_python(row[-1])}
+        if last[:2] == _ANONYMOUS_PREFIX:  # Var.anonymous, without the property's call
+            return {}
+        value = row[-1]
+        return {str.__str__(last): value if type(value) in _PLAIN else to_python(value)}  # Var.name, to_python
 
     def _prepared(self, expression: Expression) -> tuple[CompiledQuery, Relations]:
         """The compiled query of ``expression`` and the relations to solve it in (derived ones brought up to date)."""

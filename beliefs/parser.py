@@ -26,7 +26,8 @@ from aeroexec.limits import (
 )
 
 __all__ = ["check_expression", "check_predicates", "parse_belief",
-           "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_goal",
+           "parse_expression", "parse_rules", "parse_term", "read_flat_fact", "read_flat_fact_parts",
+           "read_flat_goal", "read_flat_parts",
            "read_rules"]
 
 #: Longest expression accepted; longer text is refused before parsing.
@@ -138,13 +139,48 @@ def check_predicates(conjunction: Conjunction, predicates: Mapping[str, int],
             )
 
 
-def read_flat_goal(text: str) -> Struct | None:
-    """A hand reading of the common shape of a goal or fact: ``name(arg, ...)``, each argument a name, a number, a
-    variable or a flat tuple of those (``position(o1, (0.5, 2.0, -3))``, ``color(o500, ?C)``). Anything else (strings,
-    lists, nested terms, comments, text that is not ASCII, a number the grammar reads otherwise) is None: read it
-    with the grammar (Lark), whose result this one equals wherever it gives one (tests check it on the fuzz corpus).
-    Lark's per-call overhead is most of what reading a short belief costs; this reads one in a few microseconds."""
-    if not text.isascii() or '"' in text or "'" in text or "%" in text or "[" in text:
+#: Values of the pieces the hand reader has read that are not atoms (``?C``, ``2.0``, ``500``), by their text: a
+#: belief's text repeats most of its variables and constants, so a piece read before costs one look-up. Atoms are
+#: not kept here: ``sys.intern`` is their table already. Each value is immutable (an int, a float, a named variable,
+#: interned); ``?`` alone is never kept (each one is a new variable). Small (it stays in the processor's cache
+#: while texts of new numbers pass through it), and emptied when full.
+_PIECES: dict[str, object] = {}
+_MAX_PIECES = 4096
+
+
+def _read_piece(piece: str):
+    """The value of one piece of a flat goal not found in :data:`_PIECES` (a name, a variable, a number), kept there
+    (``?`` alone aside); None when it is none of those."""
+    if piece[:1] == "?":  # ?[A-Za-z0-9_]*
+        if len(piece) == 1:
+            return Var(piece)  # each ? is a variable of its own: not kept
+        if not ("_" + piece[1:]).isidentifier():
+            return None
+        value = Var(piece)
+    else:
+        core = piece[1:] if piece[:1] in _SIGNS else piece
+        if core.isdigit():  # ASCII digits (the text is ASCII): an integer
+            if len(piece) > MAX_NUMBER_LENGTH:
+                return None
+            value = int(piece)
+        elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
+            if len(piece) > MAX_NUMBER_LENGTH:
+                return None
+            value = float(piece)
+        else:
+            value = _flat_value(piece)
+            if value is None:
+                return None
+    if len(_PIECES) >= _MAX_PIECES:
+        _PIECES.clear()
+    _PIECES[piece] = value
+    return value
+
+
+def read_flat_parts(text: str) -> tuple[str, tuple] | None:
+    """The name and arguments of a goal of the common shape (:func:`read_flat_goal`), without building its term:
+    ``("color", ("o500", ?C))``; None for anything else."""
+    if not text.isascii():  # quotes, comments, lists: in a piece, which then is not one (None)
         return None
     body = text.strip(_LARK_SPACE)
     if body[-1:] != ")":
@@ -153,49 +189,82 @@ def read_flat_goal(text: str) -> Struct | None:
     name = name.rstrip(_LARK_SPACE)
     if not found or name == "not" or not name.isidentifier():  # ASCII: [A-Za-z_][A-Za-z0-9_]*, the grammar's NAME
         return None
-    args: list = []
-    group: list | None = None  # the elements of the tuple being read
-    for piece in inside.split(","):
-        piece = piece.strip(_LARK_SPACE)
-        closes = False
-        if piece[:1] == "(":
-            if group is not None:
-                return None
-            group = []
-            piece = piece[1:].lstrip(_LARK_SPACE)
-        if piece[-1:] == ")":
-            if group is None:
-                return None
-            closes = True
-            piece = piece[:-1].rstrip(_LARK_SPACE)
-        if piece.isidentifier():
-            value = intern(piece)  # an atom: one object however often it is read, found in an index by identity
-        elif piece[:1] == "?" and (len(piece) == 1 or ("_" + piece[1:]).isidentifier()):  # ?[A-Za-z0-9_]*
-            value = Var(piece)
-        else:
-            core = piece[1:] if piece[:1] in _SIGNS else piece
-            if core.isdigit():  # ASCII digits (the text is ASCII): an integer
-                if len(piece) > MAX_NUMBER_LENGTH:
-                    return None
-                value = int(piece)
-            elif core[-1:] != "." and core.replace(".", "", 1).isdigit():  # 0.5, .5: digits with one point inside
-                if len(piece) > MAX_NUMBER_LENGTH:
-                    return None
-                value = float(piece)
-            else:
-                value = _flat_value(piece)
+    if "(" not in inside:  # no tuple: each piece is an argument (_read_pieces, inline: the commonest shape)
+        known = _PIECES.get
+        args = []
+        for piece in inside.split(","):
+            piece = piece.strip(_LARK_SPACE)
+            if piece.isidentifier():  # an atom: one object however often it is read, found in an index by identity
+                args.append(intern(piece))
+                continue
+            value = known(piece)
+            if value is None:
+                value = _read_piece(piece)
                 if value is None:
                     return None
-        if group is None:
             args.append(value)
-        else:
-            group.append(value)
-            if closes:
-                args.append(tuple(group))
-                group = None
-    if group is not None:
-        return None
-    return Struct(intern(name), tuple(args))
+        return intern(name), tuple(args)
+    args = []
+    rest = inside
+    while True:  # pieces up to a tuple, the tuple; until no tuple is left
+        head, opened, rest = rest.partition("(")
+        if not opened:  # the last pieces
+            pieces = _read_pieces(head)
+            if pieces is None:
+                return None
+            args += pieces
+            break
+        head = head.rstrip(_LARK_SPACE)
+        if head:  # pieces before the tuple, the last of them followed by its comma
+            if head[-1] != ",":
+                return None
+            pieces = _read_pieces(head[:-1])
+            if pieces is None:
+                return None
+            args += pieces
+        inner, closed, rest = rest.partition(")")
+        if not closed or "(" in inner:  # not closed, or nested
+            return None
+        pieces = _read_pieces(inner)
+        if pieces is None:
+            return None
+        args.append(tuple(pieces))
+        rest = rest.lstrip(_LARK_SPACE)
+        if not rest:
+            break
+        if rest[0] != ",":
+            return None
+        rest = rest[1:]
+    return intern(name), tuple(args)
+
+
+def _read_pieces(text: str) -> list | None:
+    """The values of comma-separated pieces (each a name, a variable or a number: :func:`_read_piece`), None if
+    one is not."""
+    known = _PIECES.get
+    values = []
+    for piece in text.split(","):
+        piece = piece.strip(_LARK_SPACE)
+        if piece.isidentifier():
+            values.append(intern(piece))
+            continue
+        value = known(piece)
+        if value is None:
+            value = _read_piece(piece)
+            if value is None:
+                return None
+        values.append(value)
+    return values
+
+
+def read_flat_goal(text: str) -> Struct | None:
+    """A hand reading of the common shape of a goal or fact: ``name(arg, ...)``, each argument a name, a number, a
+    variable or a flat tuple of those (``position(o1, (0.5, 2.0, -3))``, ``color(o500, ?C)``). Anything else (strings,
+    lists, nested terms, comments, text that is not ASCII, a number the grammar reads otherwise) is None: read it
+    with the grammar (Lark), whose result this one equals wherever it gives one (tests check it on the fuzz corpus).
+    Lark's per-call overhead is most of what reading a short belief costs; this reads one in a few microseconds."""
+    parts = read_flat_parts(text)
+    return None if parts is None else Struct(*parts)
 
 
 def _flat_value(piece: str):
@@ -212,10 +281,13 @@ def _flat_value(piece: str):
 
 def read_flat_fact(text: str) -> Struct | None:
     """A ground fact of the common shape read by hand (:func:`read_flat_goal`), None for anything else."""
-    goal = read_flat_goal(text)
-    if goal is None or "?" in text:
-        return None
-    return goal
+    parts = read_flat_fact_parts(text)
+    return None if parts is None else Struct(*parts)
+
+
+def read_flat_fact_parts(text: str) -> tuple[str, tuple] | None:
+    """The name and arguments of a ground fact of the common shape (:func:`read_flat_fact`), None otherwise."""
+    return None if "?" in text else read_flat_parts(text)
 
 
 _read_flat = read_flat_fact  # its name in the tests that hold it to the grammar
