@@ -76,8 +76,8 @@ def read_config(file: Path) -> SimWorld | None:
             return None
         text = file.read_text(encoding="utf-8")
         data = json.loads(text) if file.suffix == ".json" else load_yaml(text, str(file))
-    except Exception as exc:  # unreadable, not JSON or YAML: not a config, skipped
-        logger.info("%s is not a simulation world config: %s", file, exc)
+    except Exception as exc:  # unreadable, not JSON or YAML: not a config, skipped, and said (it may be a broken one)
+        logger.warning("%s is not read as the project's simulation world: %s", file, exc)
         return None
     if not isinstance(data, dict) or not isinstance(data.get("drones", []), list) or not isinstance(
             data.get("objects", []), list) or not ("drones" in data or "objects" in data):
@@ -88,12 +88,16 @@ def read_config(file: Path) -> SimWorld | None:
         if xyz is not None and isinstance(drone.get("model_name"), str):
             drones[drone["model_name"]] = xyz
     frames = []
-    for item in data.get("objects") or ():
+    for number, item in enumerate(data.get("objects") or (), 1):
         if not isinstance(item, dict) or not isinstance(item.get("model_name"), str):
+            logger.warning("%s: object %d has no model_name: it is not a frame of the world", file, number)
             continue
         xyz, rpy = _triple(item.get("xyz")), _triple(item.get("rpy", [0, 0, 0]))
         if xyz is not None and rpy is not None:
             frames.append(Frame(f"{item['model_name']}/link", xyz, rpy))
+        else:
+            logger.warning("%s: object %d (%s) needs xyz and rpy of three numbers each: it is not a frame of the "
+                           "world", file, number, item["model_name"])
     return SimWorld(file, drones, tuple(frames))
 
 

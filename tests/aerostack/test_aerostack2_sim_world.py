@@ -137,3 +137,27 @@ def test_a_literal_point_in_a_frame_of_the_world_is_checked_where_it_lies():
     assert unknown == ["The frame 'gate_7/link' of go_to.go_to_point() is not correct: aeroexec flies in the earth "
                        "frame (local ENU from home) nor one of the world's (gate_0/link, gate_1/link); other frames "
                        "of ROS 2's tf tree are not available (this mission uses ROS 2 beyond the drone interface)"]
+
+
+def test_a_broken_world_config_is_named_and_its_frames_are_refused(tmp_path, capsys, caplog):
+    # a project's world config that does not parse, and one whose gate has no pose: each is said, naming the file
+    # (and the object), and the frames they would have placed are refused before flight, as unknown frames are
+    project = tmp_path / "project"
+    shutil.copytree(GATES, project)
+    (project / "sim_config" / "world_swarm.json").unlink()  # the swarm's config would be taken in its place
+    config = project / "sim_config" / "world.json"
+    good = config.read_text()
+    config.write_text(good.replace('"objects"', '"objects" :', 1))
+    flight = fly(project / "mission.py", tmp_path / "broken", capsys, world_file=None)
+    assert flight.status == 1 and flight.records == []
+    assert "names frames of ROS 2's tf tree" in flight.err
+    assert any("world.json is not read as the project's simulation world" in r.getMessage()
+               and "line" in r.getMessage() for r in caplog.records)
+    caplog.clear()
+    data = json.loads(good)
+    next(o for o in data["objects"] if o["model_name"] == "gate_1").pop("xyz")
+    config.write_text(json.dumps(data))
+    flight = fly(project / "mission.py", tmp_path / "no-pose", capsys, world_file=None)
+    assert flight.status == 1 and flight.records == []
+    assert any("world.json: object 2 (gate_1) needs xyz and rpy" in r.getMessage() for r in caplog.records)
+    assert "'gate_1/link' (line 195)) that are not frames of the world (gate_0/link" in flight.err
