@@ -39,7 +39,7 @@ CHANGES = ("skip", "jump", "insert", "modify", "delete", "replace", "load")
 EDITS = ("insert", "modify", "delete", "replace")
 PLACES = ("before", "after")
 #: An item number or id as written: ASCII digits only (``str.isdigit`` also takes "²"), at most 9 of them.
-ITEM_DIGITS = re.compile(r"[0-9]{1,9}")
+ITEM_DIGITS = r"[0-9]{1,9}"  # compiled on first use (re's cache): not at every start
 SKIPPED_BY_OPERATOR = "skipped by the operator"
 USAGE = {
     "skip": "skip",
@@ -224,7 +224,7 @@ def parse_aerostack2_update(text: str) -> tuple[str, str]:
 
 def read_item_id(word: str, said: str = "update") -> int:
     """An Aerostack2 item id as written (ASCII digits, from 0); :class:`ChangeError` names a bad one."""
-    if not ITEM_DIGITS.fullmatch(word):
+    if not re.fullmatch(ITEM_DIGITS, word):
         raise ChangeError(f"{said}: {shown(word)} is not an item id (Aerostack2 numbers items 0, 1, 2... written "
                           f"with the digits 0-9); usage: update ACTION [ITEM_ID] [FILE|FRAGMENT]")
     return int(word)
