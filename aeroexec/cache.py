@@ -16,7 +16,7 @@ TYPE_CHECKING = False  # typing is not imported at run time
 if TYPE_CHECKING:
     from typing import Any
 
-__all__ = ["keep", "kept", "sha256", "user_cache_folder"]
+__all__ = ["keep", "kept", "sha256", "unpickled", "user_cache_folder"]
 
 
 def user_cache_folder() -> Path | None:
@@ -46,6 +46,16 @@ def sha256(data: bytes = b"") -> Any:
             from hashlib import sha256 as made  # type: ignore[no-redef]
     return made(data)
 
+
+
+def unpickled(data: bytes) -> Any:
+    """The object a kept file's ``data`` holds, read by the C unpickler ``pickle.loads`` is: reading needs no more
+    (pickle.py, ~1 ms of a start, is imported by what writes a file). Raises what ``pickle.loads`` raises."""
+    try:
+        from _pickle import loads
+    except ImportError:  # an interpreter without the C unpickler
+        from pickle import loads
+    return loads(data)
 
 def kept(name: str) -> bytes | None:
     """The bytes kept under ``name`` in the user's cache folder; None when there are none (or no private folder)."""

@@ -21,7 +21,6 @@ import types
 from pathlib import Path
 from typing import Any
 
-from aeroexec.dialects.ros_messages import MESSAGES
 from aeroexec.engine import api
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.dialect_checks import DialectChecks
@@ -36,8 +35,9 @@ ROS1_PACKAGES = frozenset({"rospy", "roslib", "rosbag", "rosgraph", "rosnode", "
 ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "rosidl_runtime_py", "launch",
                            "launch_ros", "ament_index_python", "tf2_ros", "tf2_py", "tf2_geometry_msgs",
                            "tf_transformations", "python_interface", "as2_core", "as2_motion_reference_handlers"})
-#: What aeroexec provides of ROS modules, by module: the names a mission may use (``*``: the whole module).
-PROVIDED: dict[str, frozenset[str]] = {
+#: What aeroexec provides of ROS modules as the drone interface, by module: the names a mission may use (``*``: the
+#: whole module). :data:`PROVIDED` adds the messages used as data.
+_INTERFACE: dict[str, frozenset[str]] = {
     "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging"}),
     "as2_msgs": frozenset({"msg"}),
     "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
@@ -57,11 +57,36 @@ PROVIDED: dict[str, frozenset[str]] = {
         "module_base", "takeoff_module", "land_module", "goto_module", "follow_path_module", "goto_gps_module",
         "follow_path_gps_module", "gps_module", "motion_reference_handler_module"}),
     "python_interface.behaviour_actions": frozenset({"behavior_handler"}),
-    # messages used as data (dialects/ros_messages.py): built, filled and read, never published
-    **{module.partition(".")[0]: frozenset({"msg"}) for module in MESSAGES},
-    **{module: frozenset(types) for module, types in MESSAGES.items()},
     "rclpy.logging": frozenset({"get_logger"}),
 }
+
+
+def _messages() -> dict[str, dict[str, type]]:
+    """The messages used as data (dialects/ros_messages.py), by module: imported on the first ROS name a check or a
+    stand-in meets, not by every program's check (~0.5 ms of every start)."""
+    from aeroexec.dialects.ros_messages import MESSAGES
+
+    return MESSAGES
+
+
+@functools.cache
+def _provided() -> dict[str, frozenset[str]]:
+    """What aeroexec provides of ROS modules, by module: the drone interface and the messages used as data (built,
+    filled and read, never published)."""
+    messages = _messages()
+    return {**_INTERFACE, **{module.partition(".")[0]: frozenset({"msg"}) for module in messages},
+            **{module: frozenset(types) for module, types in messages.items()}}
+
+
+#: What aeroexec provides of ROS modules, by module (``*``: the whole module): :func:`_provided`, on first use.
+PROVIDED: dict[str, frozenset[str]]
+
+
+def __getattr__(name: str) -> Any:
+    if name == "PROVIDED":
+        return _provided()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 #: The words of every refusal.
 ROS2_BEYOND = "this mission uses ROS 2 beyond the drone interface"
 ROS1_BEYOND = "this mission uses ROS beyond Aerostack's mission API"
@@ -109,13 +134,14 @@ def beyond(module: str, ros1: bool = False) -> str:
 def provided(path: str, ros1: bool = False) -> bool:
     """True when ``path`` (``module`` or ``module.name``) is something aeroexec provides (ROS 2's messages as data
     only to a ROS 2 mission: ``ros1`` False)."""
-    if ros1 and f"{path.partition('.')[0]}.msg" in MESSAGES:
+    provided_names = _provided()
+    if ros1 and f"{path.partition('.')[0]}.msg" in _messages():
         return False
-    if path in PROVIDED:
+    if path in provided_names:
         return True
     module, _, name = path.rpartition(".")
     while module:
-        names = PROVIDED.get(module)
+        names = provided_names.get(module)
         if names is not None:
             return "*" in names or name in names
         module, _, name = module.rpartition(".")
@@ -154,7 +180,7 @@ def refusing_module(name: str) -> types.ModuleType:
     """A module every attribute of which is :class:`Refused` (a submodule is a module like it)."""
     module = types.ModuleType(name, f"aeroexec's stand-in for {name}: {beyond(name)}")
     module.__path__ = []  # a package: its submodules are stand-ins too
-    for type_name, message_type in MESSAGES.get(name, {}).items():  # messages used as data are served
+    for type_name, message_type in _messages().get(name, {}).items():  # messages used as data are served
         setattr(module, type_name, message_type)
     module.__getattr__ = lambda attribute: (Refused(f"{name}.{attribute}") if not attribute.startswith("__")
                                             else _no_attribute(attribute))

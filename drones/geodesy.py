@@ -18,7 +18,8 @@ Vector = tuple[float, float, float]
 Geodetic = tuple[float, float, float]  # latitude (deg), longitude (deg), altitude (m)
 
 GEO_PREFIX = "geo:"
-_GEO = re.compile(r"\s*geo:\s*([^,;\s]+)\s*,\s*([^,;\s]+)\s*(?:,\s*([^,;\s]+)\s*)?", re.IGNORECASE)
+# compiled on first use (re's cache): not at every start
+_GEO = r"(?i)\s*geo:\s*([^,;\s]+)\s*,\s*([^,;\s]+)\s*(?:,\s*([^,;\s]+)\s*)?"
 
 __all__ = ["GEO_PREFIX", "Geodetic", "enu_to_geodetic", "format_geo", "geo_to_enu", "geodetic_to_enu",
            "is_geo", "parse_geo", "parse_home", "valid_latitude_longitude"]
@@ -78,7 +79,7 @@ def parse_geo(text: str) -> Geodetic:
 
     Raises ValueError saying what is wrong (not the form, not numbers, not a place on Earth).
     """
-    match = _GEO.fullmatch(text)
+    match = re.fullmatch(_GEO, text)
     if match is None:
         raise ValueError(f"{text!r} is not a geographic point (geo:LATITUDE,LONGITUDE,ALTITUDE)")
     try:

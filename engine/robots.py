@@ -81,13 +81,13 @@ def robot_kind(name: str) -> RobotKind | None:
     return kind
 
 
-_UNKNOWN_BEHAVIOR = re.compile(r"The behavior (\S+) does not exist")
+_UNKNOWN_BEHAVIOR = r"The behavior (\S+) does not exist"  # compiled on first use (re's cache): not at every start
 
 
 def robot_kind_hint(messages: Iterable[str]) -> str | None:
     """When behaviors a mission's check found unknown (``The behavior X does not exist``) belong to an installed
     robot kind, as when ``--robot rover`` is forgotten: which kind, and the option to give; None otherwise."""
-    unknown = list(dict.fromkeys(m.group(1) for text in messages if (m := _UNKNOWN_BEHAVIOR.search(text))))
+    unknown = list(dict.fromkeys(m.group(1) for text in messages if (m := re.search(_UNKNOWN_BEHAVIOR, text))))
     if not unknown:
         return None
     best, known = None, []

@@ -14,8 +14,8 @@ import ast
 import re
 from typing import Any
 
-#: Names (of an option, a variable, a keyword) that hold drone namespaces.
-_NAMESPACE = re.compile(r"(namespace|^ns$|_ns$|^ns_|drone_?(id|name)s?$|^drones?$|^uavs?$|leader|follower)", re.I)
+#: Names (of an option, a variable, a keyword) that hold drone namespaces (compiled on first use, by re's cache).
+_NAMESPACE = r"(?i)(namespace|^ns$|_ns$|^ns_|drone_?(id|name)s?$|^drones?$|^uavs?$|leader|follower)"
 _INTERFACES = ("DroneInterface", "DroneInterfaceBase", "DroneInterfaceGPS", "DroneInterfaceTeleop")
 _NAME_ARGUMENTS = ("drone_id", "namespace", "drone_name")
 
@@ -62,11 +62,11 @@ def script_namespaces(tree: ast.Module) -> tuple[str, ...]:
                 given = node.args[0] if node.args else next(
                     (k.value for k in node.keywords if k.arg in _NAME_ARGUMENTS), None)
                 found.update(dict.fromkeys(s for s in _strings(given) if _namespace(s)))
-            elif called == "add_argument" and _NAMESPACE.search(_option(node)):
+            elif called == "add_argument" and re.search(_NAMESPACE, _option(node)):
                 default = next((k.value for k in node.keywords if k.arg == "default"), None)
                 found.update(dict.fromkeys(s for s in _strings(default) if _namespace(s)))
         elif isinstance(node, ast.Assign) and len(_strings(node.value)) > 1 and any(
-                isinstance(t, ast.Name) and _NAMESPACE.search(t.id) for t in node.targets):
+                isinstance(t, ast.Name) and re.search(_NAMESPACE, t.id) for t in node.targets):
             found.update(dict.fromkeys(s for s in _strings(node.value) if _namespace(s)))
     return tuple(found)
 

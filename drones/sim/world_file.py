@@ -354,15 +354,13 @@ def _world_key(text: str, source: str) -> str:
 
 def _kept_world(key: str) -> World | None:
     """The world kept under ``key`` in the user's cache folder; None when there is none or it cannot be read."""
-    from aeroexec.cache import kept
+    from aeroexec.cache import kept, unpickled
 
     data = kept(f"world.{key}.pickle")
     if data is None:
         return None
-    import pickle
-
     try:
-        world = pickle.loads(data)
+        world = unpickled(data)
     except Exception:  # noqa: BLE001 (a torn or stale file: the world is parsed again and the file rewritten)
         return None
     return world if isinstance(world, World) else None

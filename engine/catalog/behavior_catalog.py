@@ -11,7 +11,6 @@ import contextlib
 import copy
 import logging
 import os
-import pickle
 import sys
 from collections.abc import Iterable
 from dataclasses import replace
@@ -31,7 +30,7 @@ from aeroexec.engine.catalog.descriptors import (
 from aeroexec.engine.errors import CatalogError, Problem
 from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 
-from aeroexec.cache import sha256, user_cache_folder
+from aeroexec.cache import sha256, unpickled, user_cache_folder
 from aeroexec.limits import InputError, read_text
 
 if TYPE_CHECKING:  # neither the reader nor the memory and the rules engine are imported to load a catalog kept parsed
@@ -338,7 +337,7 @@ def _cached_catalog(key: str) -> BehaviorCatalog | None:
     except OSError:
         return None
     try:
-        catalog = pickle.loads(data)
+        catalog = unpickled(data)
     except Exception:  # noqa: BLE001 (a torn or stale file: the catalog is parsed again and the file rewritten)
         logger.debug("the cached catalog %s could not be read; parsing the file again", key)
         return None
@@ -368,6 +367,7 @@ def _keep_catalog(key: str, catalog: BehaviorCatalog) -> None:
     folder = user_cache_folder()
     if folder is None:
         return
+    import pickle  # here: only writing a catalog needs pickle.py (reading one: aeroexec.cache.unpickled)
     import tempfile  # here: only writing a catalog needs it (it imports shutil, random...: ~4 ms of a start)
 
     try:

@@ -115,7 +115,7 @@ class _EngineTime(types.ModuleType):
     perf_counter = monotonic
 
 
-_CHOICES = re.compile(r"\(([^()/]+(?:/[^()/]+)+)\)")
+_CHOICES = r"\(([^()/]+(?:/[^()/]+)+)\)"  # compiled on the first question (re's cache), not at every start
 
 
 def ask_operator(prompt: Any = "") -> str:
@@ -123,7 +123,7 @@ def ask_operator(prompt: Any = "") -> str:
     from ``--answers``, through ``aeroexec ctl answer`` or the console, or with its first possible answer when
     nobody is there; ``(y/n)`` in the prompt gives the possible answers."""
     question = str(prompt).strip()
-    found = _CHOICES.search(question)
+    found = re.search(_CHOICES, question)
     answers = [a.strip() for a in found.group(1).split("/")] if found else []
     arguments = {"question": question or "input", **({"possible_answers": answers} if answers else {})}
     answer = api.ask_behavior("ASK_OPERATOR", **arguments)

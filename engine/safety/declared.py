@@ -14,9 +14,10 @@ from aeroexec.engine.errors import Problem
 
 from aeroexec.limits import InputError, line_of_offset, read_text
 
-_SECTION = re.compile(r"<SafetyRules(?:\s[^>]*)?>(.*?)</SafetyRules\s*>", re.DOTALL)
-_CDATA = re.compile(r"^\s*<!\[CDATA\[(.*)\]\]>\s*$", re.DOTALL)
-_TREE_IDS = re.compile(r"<BehaviorTree\s[^>]*\bID\s*=\s*\"([^\"]+)\"")
+# an XML mission's: compiled on its first reading (re's cache), not at the start of every run
+_SECTION = r"(?s)<SafetyRules(?:\s[^>]*)?>(.*?)</SafetyRules\s*>"
+_CDATA = r"(?s)^\s*<!\[CDATA\[(.*)\]\]>\s*$"
+_TREE_IDS = r"<BehaviorTree\s[^>]*\bID\s*=\s*\"([^\"]+)\""
 
 
 def vocabulary(catalog: BehaviorCatalog):
@@ -51,10 +52,10 @@ def mission_rules(path: str | Path, catalog: BehaviorCatalog) -> RuleSet:
 
 def _xml_rules(text: str, file: str, catalog: BehaviorCatalog) -> RuleSet:
     found = RuleSet()
-    ids = _TREE_IDS.findall(text)
-    for match in _SECTION.finditer(text):
+    ids = re.findall(_TREE_IDS, text)
+    for match in re.finditer(_SECTION, text):
         body, start = match.group(1), match.start(1)
-        cdata = _CDATA.match(body)
+        cdata = re.match(_CDATA, body)
         if cdata:
             start += cdata.start(1)
             body = cdata.group(1)

@@ -25,7 +25,7 @@ from aeroexec.cache import sha256
 #: Latest engine time (s) a resumed run may go on from: about 116 days of flight; later is a damaged journal.
 LATEST = 1e7
 FIRST_LINE = 1 << 20  # bytes of the event log's first line read, at most
-INCLUDE = re.compile(r"""<include\s[^>]*?path\s*=\s*["']([^"']+)["']""")
+INCLUDE = r"""<include\s[^>]*?path\s*=\s*["']([^"']+)["']"""  # compiled on first use (an XML mission's)
 TAIL = 1 << 16  # bytes of the event log's end read for its last time
 
 
@@ -85,7 +85,7 @@ def included(mission: Path) -> list[Path]:
             text = including.read_text(encoding="utf-8", errors="replace")
         except OSError:
             continue
-        for name in INCLUDE.findall(text):
+        for name in re.findall(INCLUDE, text):
             path = (including.parent / name).resolve()
             if path not in seen:
                 seen.add(path)

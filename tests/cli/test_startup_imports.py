@@ -201,6 +201,26 @@ def test_an_empty_run_starts_without_the_modules_only_some_runs_need(tmp_path):
                              "aeroexec.dialects.aerostack2.behaviors"}) == []
 
 
+
+def test_an_empty_run_with_its_catalog_and_world_kept_needs_neither_pickle_py_shlex_nor_ros_messages(tmp_path):
+    """The second empty run of a mission reads its kept catalog and world with the C unpickler alone (pickle.py is for
+    writing them), reads no mission change (shlex: when one comes) and, its program naming no ROS module, builds no
+    ROS message type (dialects/ros_messages.py: on the first ROS name): ~2 ms of every run's start."""
+    runtime, cache = tmp_path / "runtime", tmp_path / "cache"
+    runtime.mkdir(mode=0o700)
+    code = f"""
+        import contextlib, io, sys
+        from aeroexec.cli.main import main
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
+                  "--output", {str(tmp_path / "out")!r}])
+    """
+    imported_after(code, cache, XDG_RUNTIME_DIR=str(runtime))  # the first run parses the catalog and world, keeps them
+    assert any(cache.rglob("catalog.*.pickle")) and any(cache.rglob("world.*.pickle"))
+    modules = imported_after(code, cache, XDG_RUNTIME_DIR=str(runtime))
+    assert "aeroexec.engine.engine" in modules and "_pickle" in modules  # it ran, and read what was kept
+    assert sorted(modules & {"pickle", "shlex", "aeroexec.dialects.ros_messages"}) == []
+
 def test_a_named_sub_command_is_parsed_alone_and_the_help_before_it_still_lists_every_one(capsys):
     """``aeroexec verify ...`` builds the verify parser alone (the others' cost every start); ``aeroexec -h verify``
     is the top-level help, listing every sub-command, and a misspelt sub-command is told the ones there are."""

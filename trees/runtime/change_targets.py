@@ -47,7 +47,7 @@ class MissionItems:
     def span(self, target: str) -> tuple[Behaviour, int, list[Behaviour]]:
         """The nodes a target names: their parent, the first one's place in it, and the nodes (siblings in order)."""
         target = target.strip()
-        if ITEM_DIGITS.fullmatch(target):
+        if re.fullmatch(ITEM_DIGITS, target):
             nodes = self._item(int(target))
         else:
             nodes = [n for n in self.visible() if n.name == target]
