@@ -207,7 +207,10 @@ class CompiledQuery:
         if var is not None and not var.anonymous and _star_length(order, bindings) == len(order) > 1 \
                 and self.names == (var,):  # goals on one variable and nothing else: the values are the answers
             name = var.name
-            return [{name: to_python(value)} for value in _star_values(order, len(order), relations)]
+            values = _star_values(order, len(order), relations)
+            if _PLAIN.issuperset(map(type, values)):  # names and numbers: each answer's dictionary as it is
+                return [{name: value} for value in values]
+            return [{name: to_python(value)} for value in values]
         return [self.result(s) for s in self.solutions(relations, bindings)]
 
     def count(self, relations: dict, bindings: dict | None = None) -> int:
@@ -219,7 +222,7 @@ class CompiledQuery:
         bindings = bindings or {}
         order = self.plan(relations, bindings)
         if _star_length(order, bindings) == len(order) > 1:
-            return len(_star_values(order, len(order), relations))
+            return len(_star_found(order, len(order), relations)[0])  # no order needed
         return sum(1 for _ in self.solutions(relations, bindings))
 
     def tuples(self, relations: dict, bindings: dict | None = None) -> Iterator[tuple]:
@@ -272,18 +275,31 @@ def _dfs(order: list, i: int, relations: dict, bindings: dict, ranges: dict) -> 
 
 def _star_values(order: list, length: int, relations: dict) -> list:
     """The values of the one variable the first ``length`` goals share, in insertion order: their cached value
-    sets intersected at C speed (the smallest walked), then only the answers sorted."""
+    sets intersected at C speed (the smallest walked), then only the answers sorted, by their rank in the smallest
+    goal's values."""
+    found, rel, step = _star_found(order, length, relations)
+    if rel is None:
+        return []
+    return sorted(found, key=rel.projection(step.constants, step.simple[0][0]).__getitem__)
+
+
+def _star_found(order: list, length: int, relations: dict) -> tuple[frozenset, Any, Any]:
+    """The set of values the first ``length`` goals share (in no order), and the goal with the fewest values (the
+    first of them) with its relation, whose ranks order them (None, None when some goal's relation does not
+    exist)."""
     sets = []
     for step in order[:length]:
         rel = relations.get(step.signature)
         if rel is None:
-            return []
-        sets.append(rel.projection(step.constants, step.simple[0][0]))
-    sets.sort(key=len)
-    found = sets[0].keys() & sets[1].keys()
-    for other in sets[2:]:
-        found = found & other.keys()
-    return sorted(found, key=sets[0].__getitem__)
+            return frozenset(), None, None
+        sets.append((rel.projection_set(step.constants, step.simple[0][0]), rel, step))
+    sets.sort(key=_size)  # stable: the first of the smallest
+    smallest, rel, step = sets[0]
+    return smallest.intersection(*[found for found, _, _ in sets[1:]]), rel, step
+
+
+def _size(entry: tuple) -> int:
+    return len(entry[0])
 
 
 def _star_length(order: list, bindings: dict) -> int:

@@ -45,7 +45,7 @@ class Relation:
         self.ordered: dict[int, SortedList] = {}
         self.version = 0
         self.journal: Journal | None = None
-        self._projections: dict[tuple, tuple[int, dict]] = {}
+        self._projections: dict[tuple, list] = {}
         self._columns: dict[tuple, tuple[int, dict, int]] = {}
 
     def __len__(self) -> int:
@@ -216,21 +216,38 @@ class Relation:
 
         Cached until the relation changes, so repeated joins intersect at C speed and sort only the answers.
         """
+        cached = self._projected(constants, position)
+        ranks = cached[2]
+        if ranks is None:
+            ranks = cached[2] = dict(zip(dict.fromkeys(map(itemgetter(position), self._matching(constants))),
+                                         count()))
+        return ranks
+
+    def projection_set(self, constants: tuple, position: int) -> frozenset:
+        """The values of :meth:`projection` as a set, cached as it is: sets intersect by the hashes they keep,
+        about twice as fast as a dict's keys do."""
+        return self._projected(constants, position)[1]
+
+    def _projected(self, constants: tuple, position: int) -> list:
+        """The cache entry of a projection: [version, its set of values, its ranks (None until asked)]."""
         key = (constants, position)
         cached = self._projections.get(key)
         if cached is not None and cached[0] == self.version:
-            return cached[1]
-        rows: Iterable[tuple] = self.rows
-        if constants:
-            rows = min((self.bucket(p, v) for p, v in constants), key=len)
-            if len(constants) > 1:
-                rows = [r for r in rows if all(r[p] == v for p, v in constants)]
-        values = dict(zip(dict.fromkeys(r[position] for r in rows), count()))
+            return cached
+        cached = [self.version, frozenset(map(itemgetter(position), self._matching(constants))), None]
         if len(self._projections) > 256:
             self._projections.clear()
-        self._projections[key] = (self.version, values)
-        return values
+        self._projections[key] = cached
+        return cached
 
+    def _matching(self, constants: tuple) -> Iterable[tuple]:
+        """The rows holding ``constants`` ((pos, value) pairs), in insertion order."""
+        if not constants:
+            return self.rows
+        rows: Iterable[tuple] = min((self.bucket(p, v) for p, v in constants), key=len)
+        if len(constants) > 1:
+            rows = [r for r in rows if all(r[p] == v for p, v in constants)]
+        return rows
 
     def columns_ready(self, position: int, taken: tuple[int, ...]) -> bool:
         """Whether :meth:`columns` of these arguments is built and current (asking it costs a look-up)."""

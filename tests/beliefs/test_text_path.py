@@ -12,7 +12,7 @@ from aeroexec.beliefs import BeliefMemory, BeliefSyntaxError, Goal, Struct, Unkn
 from aeroexec.beliefs.grammar_reading import read_expression
 from aeroexec.beliefs.parser import read_flat_fact, read_flat_goal
 from aeroexec.beliefs.terms import Var, format_term
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "fuzz"))
@@ -249,3 +249,27 @@ def test_answers_are_taken_when_asked():
     assert sorted(found) == [(1, 2), (1, 3), (2, 3)]
     assert memory.count("reachable(?A, ?B)") == 6
     assert memory.count("reachable(1, ?B)", {"?B": 4}) == 1
+
+
+
+#: a thing's text in a belief, and the value an answer gives for it
+THINGS = {"o1": "o1", "o2": "o2", "7": 7, "2.5": 2.5, "[1, 2]": [1, 2]}
+SHAPES = ("object(?, a)", "visible(?)", "color(?, red)")
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from([*SHAPES, "object(?, b)"]), st.sampled_from(sorted(THINGS)),
+                          st.booleans()), max_size=30))
+@example([(shape, thing, True) for thing in ("[1, 2]", "7") for shape in SHAPES])  # a list's answer is a list
+def test_goals_on_one_variable_answer_every_value_they_share_through_updates(changes):
+    memory = BeliefMemory(multivalued={"object", "color"})
+    held: set[tuple[str, str]] = set()
+    asked = "object(?X, a), visible(?X), color(?X, red)"
+    for shape, thing, add in changes:
+        (memory.add if add else memory.remove)(shape.replace("?", thing))
+        (held.add if add else held.discard)((shape, thing))
+        every = memory.query_all(asked)
+        shared = [value for thing, value in THINGS.items() if all((s, thing) in held for s in SHAPES)]
+        assert sorted(every, key=repr) == sorted(({"?X": value} for value in shared), key=repr)  # types too
+        assert memory.count(asked) == len(every)
+        assert (memory.query(asked) is None) == (not every)
