@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import contextlib
 import datetime
-import errno
 import json
 import logging
 import os
@@ -243,40 +242,18 @@ def runtime_dir() -> Path:
     return path
 
 
-NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
-
-
 def temporary_folder() -> str:
-    """The folder :func:`tempfile.gettempdir` answers, found as it finds it: the first of ``$TMPDIR``, ``$TEMP``,
-    ``$TMP``, /tmp, /var/tmp, /usr/tmp and the current folder where a new file can be written; without importing
-    :mod:`tempfile` (it imports shutil, bz2, lzma, random...: ~3 ms of a run's start without a runtime directory),
-    unless something imported it already (then its answer: a caller may have set ``tempfile.tempdir``)."""
+    """The folder :func:`tempfile.gettempdir` answers: the first of ``$TMPDIR``, ``$TEMP``, ``$TMP`` and /tmp that is a
+    folder this user may write in, found without importing :mod:`tempfile` (it imports shutil, bz2, lzma, random...:
+    ~3 ms of a run's start without a runtime directory); otherwise, or when something imported it already (a caller
+    may have set ``tempfile.tempdir``), tempfile's own answer."""
     imported = sys.modules.get("tempfile")
-    if imported is not None:
-        return str(imported.gettempdir())
-    candidates = [folder for folder in map(os.environ.get, ("TMPDIR", "TEMP", "TMP")) if folder]
-    candidates += ["/tmp", "/var/tmp", "/usr/tmp"]
-    try:
-        candidates.append(os.getcwd())
-    except OSError:
-        candidates.append(os.curdir)
-    for candidate in candidates:
-        folder = os.path.abspath(candidate) if candidate != os.curdir else candidate
-        for _ in range(100):  # as tempfile tries: a few names, a file written and removed
-            probe = os.path.join(folder, f"tmp{os.urandom(6).hex()}")
-            try:
-                descriptor = os.open(probe, os.O_RDWR | os.O_CREAT | os.O_EXCL | NOFOLLOW, 0o600)
-                try:
-                    os.write(descriptor, b"blat")
-                finally:
-                    os.close(descriptor)
-                    os.unlink(probe)
-                return folder
-            except FileExistsError:
-                continue
-            except OSError:
-                break
-    raise FileNotFoundError(errno.ENOENT, f"No usable temporary directory found in {candidates}")
+    if imported is None:
+        for folder in (*filter(None, map(os.environ.get, ("TMPDIR", "TEMP", "TMP"))), "/tmp"):
+            if os.path.isdir(folder) and os.access(folder, os.W_OK | os.X_OK):
+                return os.path.abspath(folder)
+        import tempfile as imported
+    return str(imported.gettempdir())
 
 
 @dataclass(frozen=True)
