@@ -2,7 +2,7 @@
 stand-ins that let a mission import a ROS module it never uses.
 
 A mission written for Aerostack (ROS 1) or Aerostack2 (ROS 2) imports ROS modules. aeroexec provides the parts
-that are the drone interface (:data:`PROVIDED`: ``rclpy.init``/``ok``/``shutdown``, Aerostack2's
+that are the drone interface (:func:`provided`: ``rclpy.init``/``ok``/``shutdown``, Aerostack2's
 ``as2_python_api`` and the constants of ``as2_msgs.msg``); any other ROS module imports as a stand-in whose every
 use raises :class:`RosFeatureError`, naming what was used and that the mission uses ROS beyond the drone
 interface. The static check (:mod:`aeroexec.engine.missions.check`) says the same before flight: a use is an error
@@ -36,7 +36,7 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
                            "launch_ros", "ament_index_python", "tf2_ros", "tf2_py", "tf2_geometry_msgs",
                            "tf_transformations", "python_interface", "as2_core", "as2_motion_reference_handlers"})
 #: What aeroexec provides of ROS modules as the drone interface, by module: the names a mission may use (``*``: the
-#: whole module). :data:`PROVIDED` adds the messages used as data.
+#: whole module). :func:`provided` adds the messages used as data.
 _INTERFACE: dict[str, frozenset[str]] = {
     "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging"}),
     "as2_msgs": frozenset({"msg"}),
@@ -77,15 +77,6 @@ def _provided() -> dict[str, frozenset[str]]:
     return {**_INTERFACE, **{module.partition(".")[0]: frozenset({"msg"}) for module in messages},
             **{module: frozenset(types) for module, types in messages.items()}}
 
-
-#: What aeroexec provides of ROS modules, by module (``*``: the whole module): :func:`_provided`, on first use.
-PROVIDED: dict[str, frozenset[str]]
-
-
-def __getattr__(name: str) -> Any:
-    if name == "PROVIDED":
-        return _provided()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 #: The words of every refusal.
 ROS2_BEYOND = "this mission uses ROS 2 beyond the drone interface"
@@ -285,6 +276,6 @@ def ros_problems(nodes: list[Any], dotted: Any) -> list[tuple[Any, str, str]]:
 IMPORTS = StandIns(finders=("aeroexec.dialects.ros:FINDER",), judged_by_use="aeroexec.dialects.ros:is_ros")
 CHECKS = DialectChecks(problems="aeroexec.dialects.ros:ros_problems")
 
-__all__ = ["BOTH_ROS_PACKAGES", "CHECKS", "FINDER", "IMAGE_LIBRARIES", "IMPORTS", "PROVIDED", "ROS1_BEYOND",
+__all__ = ["BOTH_ROS_PACKAGES", "CHECKS", "FINDER", "IMAGE_LIBRARIES", "IMPORTS", "ROS1_BEYOND",
            "ROS2_BEYOND", "Refused", "RosFeatureError",
            "beyond", "install", "installed", "is_ros", "provided", "refusing_module", "ros_problems"]
