@@ -167,7 +167,15 @@ class CommandLine(argparse.ArgumentParser):
         return self.formatter_class(prog=self.prog, width=terminal_columns() - 2)
 
     def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:  # type: ignore[override]
+        args = list(sys.argv[1:] if args is None else args)
+        rest: list[str] | None = None
+        if "--" in args:  # what follows a lone -- is the mission's own (a script's arguments: aeroexec run)
+            args, rest = args[:args.index("--")], args[args.index("--") + 1:]
         parsed, unknown = self.parse_known_args(args, namespace)
+        if rest is not None and hasattr(parsed, "script_args"):
+            parsed.script_args = rest
+        elif rest is not None:
+            unknown += ["--", *rest]
         if unknown:
             import difflib
 
