@@ -11,10 +11,9 @@ from __future__ import annotations
 import textwrap
 
 import pytest
-from flying import EMPTY_WORLD, fly
-
 from aeroexec.dialects.aerostack2.rclpy.context import RosArgumentError, ros_arguments
 from aeroexec.engine.missions.check import check_mission_source
+from flying import EMPTY_WORLD, fly
 
 T, G, L = "TAKE_OFF", "GO_TO_POINT", "LAND"
 
