@@ -25,7 +25,7 @@ WRONG_SEQUENCE = "WRONG_SEQUENCE"
 def node_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
     """``(node, severity, message[, kind])`` for each use of a script's node that needs a ROS 2 graph, and each
     spin of its nodes that nothing can end."""
-    if not any(isinstance(n, ast.ImportFrom | ast.Import) and "rclpy" in ast.dump(n) for n in nodes):
+    if not any(_imports_rclpy(n) for n in nodes):
         return []
     classes = _node_classes(nodes, dotted)
     names, attributes, executors, added = _node_names(nodes, dotted, classes)
@@ -54,6 +54,12 @@ def node_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
                                             f"ends the mission with rclpy.shutdown(), or spin_once with a "
                                             f"timeout_sec", WRONG_SEQUENCE))
     return problems
+
+
+def _imports_rclpy(node: ast.AST) -> bool:
+    if isinstance(node, ast.Import):
+        return any(alias.name.partition(".")[0] == "rclpy" for alias in node.names)
+    return isinstance(node, ast.ImportFrom) and not node.level and (node.module or "").partition(".")[0] == "rclpy"
 
 
 def _node_classes(nodes: list[ast.AST], dotted: Any) -> set[str]:

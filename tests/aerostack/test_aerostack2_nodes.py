@@ -316,3 +316,23 @@ def test_a_scripts_own_arguments_follow_a_lone_double_dash_on_run_only(capsys):
     with pytest.raises(SystemExit) as refused:
         build_parser(["verify", "m.py"]).parse_args(["verify", "m.py", "--", "-n", "x"])
     assert refused.value.code == 2 and "unrecognized arguments: -- -n x" in capsys.readouterr().err
+
+
+def test_a_timer_skips_the_periods_a_long_callback_overran_as_rcl_does(monkeypatch):
+    """rcl_timer_call: the next call a period after the one that was due; periods missed are skipped, the next
+    call the first period's end not before now (one exactly now is due at once)."""
+    from aeroexec.dialects.aerostack2.rclpy import timer as timers
+    from aeroexec.dialects.aerostack2.rclpy.clock import ROSClock
+
+    monkeypatch.setattr(timers, "now_ns", lambda: 0)
+    calls = []
+    timer = timers.Timer(lambda: calls.append(1), 1_000_000_000, ROSClock())
+    assert timer.due() == 1_000_000_000
+    timer.call(1_000_000_000)
+    assert timer.due() == 2_000_000_000 and calls == [1]
+    timer.call(5_500_000_000)  # called late (a take-off waited for in the callback before)
+    assert timer.due() == 6_000_000_000
+    timer.call(7_000_000_000)
+    assert timer.due() == 7_000_000_000
+    timer.cancel()
+    assert timer.is_canceled() and timer.due() is None

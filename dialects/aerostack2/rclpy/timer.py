@@ -1,6 +1,6 @@
 """``rclpy.timer`` as a mission sees it: a node's :class:`Timer`, whose callback the executor spinning the node
-calls every period of the engine's clock (rcl's timer: called when due, the next call a period after the one due;
-periods a long callback overran are skipped, not made up)."""
+calls every period of the engine's clock (rcl's timer, ``rcl_timer_call``: called when due, the next call a period
+after the one due; periods a long callback overran are skipped, not made up)."""
 
 from __future__ import annotations
 
@@ -66,11 +66,10 @@ class Timer:
         if self._next is None:
             return
         self._last = now
-        following = self._next + self._period
-        if following < now and self._period > 0:
-            following += ((now - following) // self._period + 1) * self._period
-        elif self._period == 0:
-            following = now
+        following = self._next + self._period  # a period after the call that was due, not after now
+        if following < now:  # periods missed: the next call is the first period's end not before now
+            following = now if self._period == 0 else \
+                following + (1 + (now - following - 1) // self._period) * self._period
         self._next = following
         if self.callback is not None:
             self.callback()
