@@ -169,13 +169,13 @@ class CommandLine(argparse.ArgumentParser):
     def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:  # type: ignore[override]
         args = list(sys.argv[1:] if args is None else args)
         rest: list[str] | None = None
-        if "--" in args:  # what follows a lone -- is the mission's own (a script's arguments: aeroexec run)
+        command = self.commands.get(next((a for a in args if not a.startswith("-")), ""))
+        if "--" in args and command is not None and command.get_default("script_args") is not None:
+            # what follows a lone -- is the mission's own: a script's arguments (aeroexec run mission.py -- ARGS)
             args, rest = args[:args.index("--")], args[args.index("--") + 1:]
         parsed, unknown = self.parse_known_args(args, namespace)
-        if rest is not None and hasattr(parsed, "script_args"):
+        if rest is not None:
             parsed.script_args = rest
-        elif rest is not None:
-            unknown += ["--", *rest]
         if unknown:
             import difflib
 
