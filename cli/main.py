@@ -167,7 +167,15 @@ class CommandLine(argparse.ArgumentParser):
         return self.formatter_class(prog=self.prog, width=terminal_columns() - 2)
 
     def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:  # type: ignore[override]
+        args = list(sys.argv[1:] if args is None else args)
+        rest: list[str] | None = None
+        command = self.commands.get(next((a for a in args if not a.startswith("-")), ""))
+        if "--" in args and command is not None and command.get_default("script_args") is not None:
+            # what follows a lone -- is the mission's own: a script's arguments (aeroexec run mission.py -- ARGS)
+            args, rest = args[:args.index("--")], args[args.index("--") + 1:]
         parsed, unknown = self.parse_known_args(args, namespace)
+        if rest is not None:
+            parsed.script_args = rest
         if unknown:
             import difflib
 

@@ -50,7 +50,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="go on with the interrupted run in RUN_DIR (killed, suspended, aborted) from where its "
                              "journal says it stopped: as it was flown (mission, drone, world, catalog, plugins, "
                              "fleet), with this command line's pacing, time limit and surfaces")
-    parser.epilog = EXIT_HELP
+    parser.set_defaults(script_args=[])
+    parser.epilog = (f"A script's own arguments follow a lone --, as python3 script.py would be given them (its "
+                     f"argparse options, ROS 2's --ros-args -p NAME:=VALUE): aeroexec run mission.py -- -n drone0 "
+                     f"--ros-args -p height:=3.0. {EXIT_HELP}")
     add_flight_arguments(parser)
     fleet = parser.add_argument_group("fleet (over Zenoh)")
     fleet.add_argument("--fleet", metavar="NAME", help="join the fleet NAME (simulated time then runs at real time "
@@ -191,7 +194,8 @@ def flight_spec(args: argparse.Namespace, watched: bool) -> FlightSpec:
                       remote_questions=watched, interactive=sys.stdin is not None and sys.stdin.isatty(),
                       web=args.web, web_host=args.web_host, groot=args.groot, link_grace=args.link_grace,
                       ready_timeout=args.ready_timeout, fleet=fleet, mcap=getattr(args, "mcap", None),
-                      foxglove=getattr(args, "foxglove", None), beliefs=launch_beliefs(args))
+                      foxglove=getattr(args, "foxglove", None), beliefs=launch_beliefs(args),
+                      script_args=tuple(getattr(args, "script_args", None) or ()))
 
 
 def launch_beliefs(args: argparse.Namespace) -> tuple[str, ...]:

@@ -2,12 +2,12 @@
 stand-ins that let a mission import a ROS module it never uses.
 
 A mission written for Aerostack (ROS 1) or Aerostack2 (ROS 2) imports ROS modules. aeroexec provides the parts
-that are the drone interface (:func:`provided`: ``rclpy.init``/``ok``/``shutdown``, Aerostack2's
-``as2_python_api`` and the constants of ``as2_msgs.msg``); any other ROS module imports as a stand-in whose every
-use raises :class:`RosFeatureError`, naming what was used and that the mission uses ROS beyond the drone
-interface. The static check (:mod:`aeroexec.engine.missions.check`) says the same before flight: a use is an error
-at its line, an import never used a warning. Registered with the core through entry points (:data:`IMPORTS`: the
-finder and the imports judged by use; :data:`CHECKS`: the check of a program's ROS uses).
+that are the drone interface (:func:`provided`: ``rclpy.init``/``ok``/``shutdown``, a script's own node and its
+spinning, Aerostack2's ``as2_python_api`` and the constants of ``as2_msgs.msg``); any other ROS module imports as
+a stand-in whose every use raises :class:`RosFeatureError`, naming what was used and that the mission uses ROS
+beyond the drone interface. The static check (:mod:`aeroexec.engine.missions.check`) says the same before flight: a
+use is an error at its line, an import never used a warning. Registered with the core through entry points
+(:data:`IMPORTS`: the finder and the imports judged by use; :data:`CHECKS`: the check of a program's ROS uses).
 """
 
 from __future__ import annotations
@@ -38,7 +38,25 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
 #: What aeroexec provides of ROS modules as the drone interface, by module: the names a mission may use (``*``: the
 #: whole module). :func:`provided` adds the messages used as data.
 _INTERFACE: dict[str, frozenset[str]] = {
-    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging"}),
+    "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging", "node", "executors", "parameter", "time",
+                        "duration", "clock", "timer", "task", "exceptions", "publisher", "utilities", "spin",
+                        "spin_once", "spin_until_future_complete", "create_node", "get_global_executor"}),
+    # a script's own node, as far as it needs no ROS 2 graph (aerostack2/rclpy/node.py; its graph's methods are
+    # refused by the check of nodes, aerostack2/ros_nodes.py)
+    "rclpy.node": frozenset({"Node"}),
+    "rclpy.executors": frozenset({"Executor", "SingleThreadedExecutor", "MultiThreadedExecutor",
+                                  "ExternalShutdownException", "ShutdownException"}),
+    "rclpy.parameter": frozenset({"Parameter"}),
+    "rclpy.time": frozenset({"Time"}),
+    "rclpy.duration": frozenset({"Duration"}),
+    "rclpy.clock": frozenset({"Clock", "ClockType", "ROSClock"}),
+    "rclpy.timer": frozenset({"Timer"}),
+    "rclpy.task": frozenset({"Future"}),
+    "rclpy.publisher": frozenset({"Publisher"}),
+    "rclpy.utilities": frozenset({"remove_ros_args", "ok", "get_default_context"}),
+    "rclpy.exceptions": frozenset({"ParameterNotDeclaredException", "ParameterAlreadyDeclaredException",
+                                   "ParameterUninitializedException", "InvalidParameterTypeException",
+                                   "ParameterException", "NotInitializedException"}),
     "as2_msgs": frozenset({"msg"}),
     "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
                                "PoseWithIDArray"}),
@@ -195,7 +213,7 @@ class _StandInLoader:  # importlib.abc.Loader's protocol, without importing impo
 
 class RosStandIns:
     """Found last on ``sys.meta_path``: a ROS module nothing else provides imports as a refusing stand-in (a
-    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.node``, aeroexec.dialects.aerostack2.rclpy.node).
+    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.qos``, aeroexec.dialects.aerostack2.rclpy.qos).
     A finder of ``importlib.abc.MetaPathFinder``'s protocol (``find_spec``), not its subclass: importing
     :mod:`importlib.abc` imports importlib.resources, tempfile, shutil and random (~5 ms of every run's start)."""
 

@@ -140,10 +140,12 @@ def no_camera(document: TreeDocument, file: str) -> list[Problem]:
 
 def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
                  report: Callable[[Problem], None] = lambda problem: None, verb: str = "fly",
-                 vehicle: Any = None, max_time: float | None = None) -> Callable[[], Any] | TreeDocument:
+                 vehicle: Any = None, max_time: float | None = None,
+                 script_args: tuple[str, ...] = ()) -> Callable[[], Any] | TreeDocument:
     """Check a mission before flight (against ``world`` when given), each problem to ``report``; the Python
     function or the tree to fly. Raises :class:`MissionFileError` when it has errors. ``verb``: what the robot
-    does (a rover does not fly); a route longer than ``max_time`` (the run's time limit) is a warning."""
+    does (a rover does not fly); a route longer than ``max_time`` (the run's time limit) is a warning;
+    ``script_args``: a script's own arguments (its ``sys.argv[1:]``)."""
     checked = check_mission(path, catalog, world, vehicle=vehicle)
     route = checked.route
     if route is not None and max_time is not None and route.duration > max_time and not route.forever:
@@ -158,19 +160,20 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
     if checked.errors:
         count = len(checked.errors)
         raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not {verb}")
-    return checked.tree if checked.tree is not None else mission_function(path)
+    return checked.tree if checked.tree is not None else mission_function(path, script_args)
 
 
-def mission_function(path: Path) -> Callable[[], Any]:
+def mission_function(path: Path, script_args: tuple[str, ...] = ()) -> Callable[[], Any]:
     """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
-    script, which has none, is run whole: :mod:`aeroexec.engine.missions.script`)."""
+    script, which has none, is run whole, with ``script_args`` as its arguments:
+    :mod:`aeroexec.engine.missions.script`)."""
     from aeroexec.engine.missions import standins
     from aeroexec.engine.missions.script import is_script, script_mission
     from aeroexec.engine.missions.source import parse_source
 
     source = read_text(path, what="the mission")
     if is_script(parse_source(source, str(path))):
-        return script_mission(path, source)
+        return script_mission(path, source, script_args)
     standins.install_finders()  # a ROS module the mission imports and never uses imports as a stand-in
     spec = importlib.util.spec_from_file_location(f"aeroexec_mission_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)

@@ -143,7 +143,7 @@ class FlightSession:
         self.vehicle = vehicle_config(spec.vehicle)  # --vehicle: the route, the simulator and the safety rules
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
                                     verb="fly" if choice.kind is None else "run",  # a rover does not fly
-                                    vehicle=self.vehicle, max_time=spec.max_time)
+                                    vehicle=self.vehicle, max_time=spec.max_time, script_args=spec.script_args)
         if self.resumption is not None and not isinstance(self.mission, TreeDocument):
             self.resumption.check_program(Path(spec.mission))
         self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report,

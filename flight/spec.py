@@ -65,6 +65,7 @@ class FlightSpec:
     beliefs: tuple[str, ...] = ()  # beliefs the operator gives at launch (--event, --alert), added as it starts
     resume: bool = False  # go on with the interrupted run in ``output`` from where its journal says it stopped
     journal: bool = True  # keep the flight journal (journal.sqlite in the output folder)
+    script_args: tuple[str, ...] = ()  # a script's own arguments (``aeroexec run script.py -- ARGS``): its sys.argv[1:]
 
     @property
     def name(self) -> str:

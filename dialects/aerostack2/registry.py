@@ -26,8 +26,17 @@ IMPORTS = StandIns(
     # its behavior runs (behavior_runs.py) are not journaled calls of the mission API: such a mission is not resumed
     unjournaled={api: f"Aerostack2's Python API ({api})" for api in _API},
 )
-CHECKS = DialectChecks(objects=f"{_HERE}.registry:drone_objects",
-                       problems=f"{_HERE}.namespaces:watched_drones")
+CHECKS = DialectChecks(objects=f"{_HERE}.registry:drone_objects", problems=f"{_HERE}.registry:script_problems")
+
+
+def script_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
+    """The problems of a whole program (``problems`` of :data:`CHECKS`): the drones it only watches
+    (:func:`.namespaces.watched_drones`), its own ROS 2 nodes' uses of a graph and spins nothing ends
+    (:func:`.ros_nodes.node_problems`)."""
+    from aeroexec.dialects.aerostack2.namespaces import watched_drones
+    from aeroexec.dialects.aerostack2.ros_nodes import node_problems
+
+    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted)]
 
 
 
@@ -67,4 +76,4 @@ def drone_objects(checker: Any) -> Any:
     return DroneObjects(checker)
 
 
-__all__ = ["CHECKS", "FORMATS", "IMPORTS", "drone_objects"]
+__all__ = ["CHECKS", "FORMATS", "IMPORTS", "drone_objects", "script_problems"]

@@ -509,8 +509,8 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
     for statement, module in missing_imports(tree, filename):
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
                        WRONG_FORMAT)
-    for node, severity, message in program_problems(checker.nodes, checker.dotted):  # a dialect's: ROS used
-        checker.report(node, message, WRONG_FORMAT if severity == "error" else "", severity)
+    for node, severity, message, *kind in program_problems(checker.nodes, checker.dotted):  # a dialect's: ROS used
+        checker.report(node, message, (kind[0] if kind else WRONG_FORMAT) if severity == "error" else "", severity)
     checker.check_program()
     entries = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name in ENTRY_POINTS}
     entry = next((entries[name] for name in ENTRY_POINTS if name in entries), None)

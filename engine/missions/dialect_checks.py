@@ -3,7 +3,8 @@
 A dialect (``aeroexec.dialects``, or another package) declares :class:`DialectChecks` through the entry-point group
 ``aeroexec.mission_checks``: the mission API modules of its own and the API function each of their functions is
 checked as (Aerostack's ``executive_engine_api``: ``executeBehavior`` is ``execute_behavior``), a check of the
-whole program (``(nodes, dotted) -> [(node, severity, message)]``: ROS used beyond the drone interface), and the
+whole program (``(nodes, dotted) -> [(node, severity, message[, kind])]``, an error's kind WRONG_FORMAT unless
+given: ROS used beyond the drone interface, a spin nothing ends), and the
 objects of a program that run behaviors (``(checker) -> ProgramObjects``: Aerostack2's drone interfaces). The
 core imports no dialect.
 """
@@ -61,8 +62,8 @@ def declared() -> tuple[DialectChecks, ...]:
     return tuple(found)
 
 
-def program_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[ast.AST, str, str]]:
-    """``(node, severity, message)`` of every dialect's check of the whole program."""
+def program_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
+    """``(node, severity, message[, kind])`` of every dialect's check of the whole program."""
     return [problem for checks in declared() if checks.problems is not None
             for problem in load_reference(checks.problems)(nodes, dotted)]
 

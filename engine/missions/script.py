@@ -5,7 +5,8 @@
 The script runs unchanged; what it takes from its surroundings is the engine's. ``time.sleep``, ``time.time``
 and ``time.monotonic`` (as the script imports them) wait on and read the engine's clock, so a simulated run is
 paced by simulated time and a ``while ...: sleep(0.1)`` loop sees the world move; ``sys.argv`` holds the script
-alone (its argparse defaults apply) and its folder is on ``sys.path`` as when Python runs a script; its threads
+and the arguments it was given (``aeroexec run script.py -- ARGS``; none: its argparse defaults apply) and its
+folder is on ``sys.path`` as when Python runs a script; its threads
 (``threading.Thread``) are the mission's (:class:`MissionThread`); ``input()`` is a question for the operator
 (:func:`ask_operator`); ``exit(0)`` ends it completed, another status fails it; the dialects' import finders are
 installed (ROS modules it imports and never uses import as stand-ins: :mod:`.standins`). Each ``DroneInterface``
@@ -240,9 +241,10 @@ class ScriptMission:
     """The script in ``path`` as a mission function: calling it runs the script whole as ``__main__`` (see the
     module's docstring)."""
 
-    def __init__(self, path: Path, source: str) -> None:
+    def __init__(self, path: Path, source: str, args: tuple[str, ...] = ()) -> None:
         self.path = Path(path)
         self.code = compile(source, str(path), "exec")
+        self.args = tuple(args)
 
     def __call__(self) -> None:
         standins.install_finders()
@@ -252,7 +254,7 @@ class ScriptMission:
         sys.meta_path.insert(0, siblings)
         environment = standins.script_environment()  # Aerostack2's: the simulated drone's namespace
         saved = sys.argv, list(sys.path), {key: os.environ.get(key) for key in environment}
-        sys.argv = [str(self.path)]
+        sys.argv = [str(self.path), *self.args]
         if folder not in sys.path:
             sys.path.insert(0, folder)
         for key, value in environment.items():
@@ -270,9 +272,9 @@ class ScriptMission:
                     os.environ.pop(key, None)
 
 
-def script_mission(path: Path, source: str) -> ScriptMission:
-    """The script in ``path`` (its ``source``) as a mission function."""
-    return ScriptMission(path, source)
+def script_mission(path: Path, source: str, args: tuple[str, ...] = ()) -> ScriptMission:
+    """The script in ``path`` (its ``source``) as a mission function, given the arguments ``args``."""
+    return ScriptMission(path, source, args)
 
 
 def fly_together(engines: Mapping[str, Any], mission: Callable[[], Any], name: str) -> threading.Thread:

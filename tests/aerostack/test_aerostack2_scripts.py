@@ -66,7 +66,8 @@ def test_the_same_gps_mission_elsewhere_is_refused_before_flight(tmp_path, capsy
 
 
 @pytest.mark.parametrize("script, line, use", [
-    ("gazebo_mission_behavior_tree.py", 46, "rclpy.node.Node"),
+    # its own node is served now (rclpy.node.Node: parameters, a publisher of data); its QoS profile is ROS 2's graph
+    ("gazebo_mission_behavior_tree.py", 57, "rclpy.qos.qos_profile_system_default"),
     ("minimal_sensing_explore.py", 34, "DroneInterface.create_subscription"),  # class Explorer(DroneInterface)
 ])
 def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(script, line, use, tmp_path,

@@ -17,16 +17,14 @@ from typing import Any
 
 from aeroexec.dialects import ros
 from aeroexec.dialects.aerostack2.as2_msgs.msg import PlatformStatus
-from aeroexec.dialects.ros_messages import Message
+from aeroexec.dialects.aerostack2.node_api import NODE_API
+from aeroexec.dialects.aerostack2.rclpy.publisher import Publisher, publisher, resolve_topic
 from aeroexec.drones.interface import LandedState, Telemetry
 from aeroexec.engine import api
 from aeroexec.engine.missions import script
 
 #: Engine seconds a drone command (arm, disarm) may take before it counts as refused.
 COMMAND_TIMEOUT = 5.0
-#: The beginnings of the names of a ROS 2 node's own methods (publishers, subscriptions, parameters...).
-_NODE_API = ("create_", "destroy_", "declare_", "get_", "set_", "has_", "add_", "remove_", "undeclare_",
-             "describe_", "list_", "count_", "wait_for_")
 _STATES = {LandedState.TAKING_OFF: PlatformStatus.TAKING_OFF, LandedState.IN_AIR: PlatformStatus.FLYING,
            LandedState.LANDING: PlatformStatus.LANDING}
 
@@ -57,38 +55,6 @@ class _Logger:
         return None
 
 
-class Publisher:
-    """What ``create_publisher`` gives: ``publish(msg)`` puts the message in the event log (``published``, the
-    topic and the message's fields); a message of another type is a TypeError, as rclpy raises."""
-
-    def __init__(self, drone: DroneInterfaceBase, msg_type: type[Message], topic: str) -> None:
-        self._drone, self.msg_type, self.topic_name = drone, msg_type, topic
-
-    @property
-    def topic(self) -> str:
-        return self.topic_name
-
-    def publish(self, msg: Message) -> None:
-        if not isinstance(msg, self.msg_type):
-            raise TypeError(f"Expected {self.msg_type.__name__}, got {type(msg).__name__}")
-        engine = self._drone.engine
-        where = api.caller_location()
-        detail = repr(msg)
-        engine.bridge.call(lambda: engine.log.record("published", self.topic_name, detail, source="mission",
-                                                     where=where))
-
-    def get_subscription_count(self) -> int:
-        return 0  # nothing in aeroexec subscribes to a mission's topics
-
-    def destroy(self) -> bool:
-        return True
-
-
-def _topic(namespace: str, topic: str) -> str:
-    """The topic's full name, as ROS 2 resolves a relative name in the node's namespace."""
-    return topic if topic.startswith("/") else f"/{namespace}/{topic.removeprefix('~/')}"
-
-
 class DroneInterfaceBase:
     """Drone interface base node: the drone ``drone_id`` (its namespace)."""
 
@@ -103,7 +69,7 @@ class DroneInterfaceBase:
 
     # -- ROS 2's node, which this is not ----------------------------------------------------------------
     def __getattr__(self, name: str) -> Any:
-        if name.startswith(_NODE_API) or name in ("context", "executor", "handle"):
+        if name.startswith(NODE_API) or name in ("context", "executor", "handle"):
             return ros.Refused(f"{type(self).__name__}.{name}")
         raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
 
@@ -111,13 +77,11 @@ class DroneInterfaceBase:
         return self._logger
 
     def create_publisher(self, msg_type: Any, topic: str, qos_profile: Any = 10, **kwargs: Any) -> Publisher:
-        """A publisher of ``msg_type`` (a message type used as data: ``std_msgs.msg.ColorRGBA``...) on ``topic``;
-        another type (an image, a type of a package aeroexec does not serve) is refused by name."""
-        if not (isinstance(msg_type, type) and issubclass(msg_type, Message)):
-            name = (object.__getattribute__(msg_type, "_name") if isinstance(msg_type, ros.Refused)
-                    else getattr(msg_type, "__name__", repr(msg_type)))
-            raise ros.RosFeatureError(f"{type(self).__name__}.create_publisher of {name}: {ros.ROS2_BEYOND}")
-        return Publisher(self, msg_type, _topic(self.namespace, str(topic)))
+        """A publisher of ``msg_type`` (a message type used as data: ``std_msgs.msg.ColorRGBA``...) on ``topic``
+        (rclpy's stand-in's: its messages go to this drone's event log); another type (an image, a type of a package
+        aeroexec does not serve) is refused by name."""
+        return publisher(type(self).__name__, msg_type, resolve_topic(str(topic), self.namespace),
+                         lambda: self.engine)
 
     def destroy_publisher(self, publisher: Publisher) -> bool:
         return publisher.destroy()

@@ -1,0 +1,5 @@
+"""``rclpy.duration``: :class:`~aeroexec.dialects.aerostack2.rclpy.time.Duration`."""
+
+from aeroexec.dialects.aerostack2.rclpy.time import Duration
+
+__all__ = ["Duration"]
