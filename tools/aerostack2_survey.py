@@ -55,6 +55,8 @@ def _reason(err: str, out: Path) -> str:
     for i, line in enumerate(lines[:-1]):  # the summary's line under "completed with refused requests": the first
         if "completed with refused requests" in line:
             return lines[i + 1][:160]
+        if ": failed at t=" in line:  # under "failed at": the last, the mission's own (a tree's: how it was halted)
+            return lines[-1][:160]
     for marker in ("error:", "refused", "failed", "Error", "not "):
         for line in lines:
             if marker in line:
