@@ -24,11 +24,14 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
+from aeroexec.dialects.aerostack2.plans import is_aerostack2_plan
+
 REPOSITORY = Path(__file__).resolve().parent.parent
 HELDBACK = REPOSITORY / "tests" / "aerostack" / "data" / "heldback"
-#: The missions of the set: the files SOURCES.md names, less the modules a script imports (no mission of their own).
-MISSION = re.compile(r"^\| `([^`]+\.(?:py|xml))` \|", re.MULTILINE)
-SUPPORT = ("/__init__.py", "follow_drone_module.py")
+#: The missions of the set: the scripts, trees and interpreter plans SOURCES.md names, less the modules a script
+#: imports (no mission of their own) and the JSON files that are not interpreter plans (world configs).
+MISSION = re.compile(r"^\| `([^`]+\.(?:py|xml|json))` \|", re.MULTILINE)
+SUPPORT = ("/__init__.py", "follow_drone_module.py", "generateMap.py")
 
 
 @dataclass
@@ -43,7 +46,8 @@ class Outcome:
 
 def missions() -> list[Path]:
     names = MISSION.findall((HELDBACK / "SOURCES.md").read_text())
-    return [HELDBACK / n for n in names if not n.endswith(SUPPORT)]
+    return [HELDBACK / n for n in names
+            if not n.endswith(SUPPORT) and (not n.endswith(".json") or is_aerostack2_plan((HELDBACK / n).read_text()))]
 
 
 def _reason(err: str, out: Path) -> str:
@@ -51,6 +55,8 @@ def _reason(err: str, out: Path) -> str:
     for i, line in enumerate(lines[:-1]):  # the summary's line under "completed with refused requests": the first
         if "completed with refused requests" in line:
             return lines[i + 1][:160]
+        if ": failed at t=" in line:  # under "failed at": the last, the mission's own (a tree's: how it was halted)
+            return lines[-1][:160]
     for marker in ("error:", "refused", "failed", "Error", "not "):
         for line in lines:
             if marker in line:

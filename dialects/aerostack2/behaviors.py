@@ -59,6 +59,13 @@ class Method:
     parameters: tuple[str, ...]
     defaults: Mapping[str, Any] = field(default_factory=dict)
     yaw_mode: int | None = None
+    #: Earlier names of parameters, still taken by keyword: Aerostack2's go_to, follow_reference and point_gimbal
+    #: wrote x, y, z as _x, _y, _z until May 2024 (as2_python_api 71859358).
+    spelled_before: Mapping[str, str] = field(default_factory=dict)
+
+    def named(self, given: str) -> str:
+        """The parameter a keyword argument names (its earlier spelling names today's)."""
+        return given if given in self.parameters else self.spelled_before.get(given, given)
 
     @property
     def spelled(self) -> str:
@@ -71,9 +78,10 @@ class Method:
             raise As2Error(WRONG_FORMAT, f"{self.spelled}() takes {len(self.parameters)} arguments "
                                          f"({', '.join(self.parameters)}), {len(args)} given")
         bound = dict(zip(self.parameters, args, strict=False))
-        for name, value in kwargs.items():
+        for given, value in kwargs.items():
+            name = self.named(given)
             if name not in self.parameters:
-                raise As2Error(WRONG_FORMAT, f"{self.spelled}() has no argument {name} "
+                raise As2Error(WRONG_FORMAT, f"{self.spelled}() has no argument {given} "
                                              f"(its arguments: {', '.join(self.parameters)})")
             if name in bound:
                 raise As2Error(WRONG_FORMAT, f"{self.spelled}() got two values for argument {name}")
@@ -95,8 +103,10 @@ class Request:
     wait: bool = True
 
 
-def _methods(module: str, table: Mapping[str, str]) -> dict[str, Method]:
-    """Methods from their Python signatures as Aerostack2 writes them (``"x, y, speed=0.5"``)."""
+def _methods(module: str, table: Mapping[str, str], spelled_before: Mapping[str, str] | None = None,
+             ) -> dict[str, Method]:
+    """Methods from their Python signatures as Aerostack2 writes them (``"x, y, speed=0.5"``); ``spelled_before``:
+    earlier names of their parameters (:attr:`Method.spelled_before`)."""
     methods = {}
     for name, signature in table.items():
         function = ast.parse(f"def f({signature}): pass").body[0]
@@ -105,7 +115,7 @@ def _methods(module: str, table: Mapping[str, str]) -> dict[str, Method]:
                                                               function.args.defaults, strict=True)}
         yaw = None if "yaw_mode" in names else FIXED_YAW if "with_yaw" in name else \
             PATH_FACING if "facing" in name else KEEP_YAW
-        methods[name] = Method(module, name, names, defaults, yaw)
+        methods[name] = Method(module, name, names, defaults, yaw, dict(spelled_before or {}))
     return methods
 
 
@@ -117,6 +127,8 @@ _GPS_METHODS = {"": "lat, lon, alt, speed", "_with_yaw": "lat, lon, alt, speed, 
                 "_path_facing": "lat, lon, alt, speed", "_point": "waypoint, speed",
                 "_point_with_yaw": "waypoint, speed, angle", "_point_path_facing": "waypoint, speed"}
 _REFERENCE = "x, y, z, frame_id, speed_x, speed_y, speed_z"
+#: x, y, z as go_to, follow_reference and point_gimbal named them from February 2023 to May 2024 (_x, _y, _z).
+_UNDERSCORED = {"_x": "x", "_y": "y", "_z": "z"}
 
 #: Aerostack2's behavior modules by alias: method name -> Method (as in as2_python_api/modules/*_module.py).
 MODULES: dict[str, dict[str, Method]] = {
@@ -124,7 +136,7 @@ MODULES: dict[str, dict[str, Method]] = {
     "land": _methods("land", {"__call__": "speed=0.5, wait=True"}),
     "go_to": _methods("go_to", {
         "__call__": "x, y, z, speed, yaw_mode=0, yaw_angle=None, frame_id=None, wait=True",
-        **{f"go_to{suffix}": signature for suffix, signature in _POINT_METHODS.items()}}),
+        **{f"go_to{suffix}": signature for suffix, signature in _POINT_METHODS.items()}}, _UNDERSCORED),
     "navigate_to": _methods("navigate_to", {
         "__call__": "x, y, z, speed, yaw_mode=2, yaw_angle=None, frame_id=None, wait=True",
         **{f"navigate_to{suffix}": signature for suffix, signature in _POINT_METHODS.items()}}),
@@ -149,12 +161,12 @@ MODULES: dict[str, dict[str, Method]] = {
         **{f"go_to_gps{suffix}": signature for suffix, signature in _GPS_METHODS.items()}}),
     "rtl": _methods("rtl", {"__call__": "height, speed, land_speed, yaw_mode=0, yaw_angle=None, wait=True"}),
     "point_gimbal": _methods("point_gimbal", {"__call__": "x, y, z, frame_id, mode=0, wait=False",
-                                              "point_gimbal": "x, y, z, frame_id, mode=0"}),
+                                              "point_gimbal": "x, y, z, frame_id, mode=0"}, _UNDERSCORED),
     "follow_reference": _methods("follow_reference", {
         "__call__": "x, y, z, frame_id, speed_x=0.0, speed_y=0.0, speed_z=0.0, yaw_mode=0, yaw_angle=None, "
                     "wait=False",
         "follow_reference": _REFERENCE, "follow_reference_with_yaw": f"{_REFERENCE}, angle",
-        "follow_reference_with_reference_facing": _REFERENCE}),
+        "follow_reference_with_reference_facing": _REFERENCE}, _UNDERSCORED),
 }
 #: What every module's behavior handler offers besides its methods (as2_python_api's BehaviorHandler).
 HANDLER_MEMBERS = ("status", "feedback", "result", "result_status", "is_running", "start", "modify", "pause",

@@ -275,7 +275,7 @@ class DroneObjects:
 
     def _bind(self, call: ast.Call, method: Method) -> As2Call:
         nodes: dict[str, ast.AST] = dict(zip(method.parameters, call.args, strict=False))
-        nodes.update({k.arg: k.value for k in call.keywords if k.arg})
+        nodes.update({method.named(k.arg): k.value for k in call.keywords if k.arg})
         if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
             return As2Call(call, method, nodes, None)
         values = [self._value(a) for a in call.args]

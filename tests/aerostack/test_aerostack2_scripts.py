@@ -189,3 +189,50 @@ def test_a_replay_question_nobody_answers_replays_once_and_the_mission_completes
     assert [d for d in said if d != "Replay? (y/n):"] == ["Replay? (y/n): y", "Replay? (y/n): n"], said
     assert "'Replay? (y/n):' asked again: answering 'n'" in caplog.text
     assert flight.kinds("run_ended")[-1]["detail"] == "completed"
+
+
+#: A mission-interpreter script as Aerostack2's were written in spring 2023: the go_to module's x, y, z spelled
+#: _x, _y, _z (as until May 2024), and ``perform_mission(debug)`` (March to May 2023).
+INTERPRETER_2023 = '''\
+import rclpy
+from as2_python_api.mission_interpreter.mission import Mission
+from as2_python_api.mission_interpreter.mission_interpreter import MissionInterpreter
+
+PLAN = """{"target": "drone0", "plan": [
+    {"behavior": "takeoff", "args": {"height": 2.0, "speed": 1.0}},
+    {"behavior": "go_to", "args": {"_x": 4.0, "_y": -3.0, "_z": 2.0, "speed": 1.0, "yaw_mode": 1}},
+    {"behavior": "land", "args": {"speed": 0.5}}]}"""
+
+rclpy.init()
+interpreter = MissionInterpreter(mission=Mission.parse_raw(PLAN))
+ARM
+interpreter.perform_mission(debug=DEBUG)
+interpreter.shutdown()
+rclpy.shutdown()
+'''
+
+
+@pytest.mark.parametrize("debug", [True, False])
+def test_a_2023_interpreter_script_flies_its_underscored_points(debug, tmp_path, capsys):
+    """debug=True: the script armed and switched to offboard itself; debug=False: the interpreter of 2023 did."""
+    arm = "interpreter.drone.arm()\ninterpreter.drone.offboard()" if debug else ""
+    script = tmp_path / "mission_planner.py"
+    script.write_text(INTERPRETER_2023.replace("ARM", arm).replace("DEBUG", str(debug)))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, G, L]
+    go_to = [r for r in flight.kinds("activated") if r["behavior"] == G][0]
+    assert "COORDINATES=(4.0, -3.0, 2.0)" in go_to["detail"]  # _x, _y, _z
+    armed = [r for r in flight.kinds("drone_command") if r["behavior"] == "ARM"]
+    take_off = [r for r in flight.kinds("activated") if r["behavior"] == T][0]
+    assert len(armed) == 1 and armed[0]["time"] <= take_off["time"], flight.kinds("drone_command")
+
+
+def test_the_underscored_spelling_is_checked_before_flight_as_the_other(tmp_path, capsys):
+    script = tmp_path / "mission.py"
+    script.write_text("import rclpy\nfrom as2_python_api.drone_interface import DroneInterface\n\nrclpy.init()\n"
+                      "drone = DroneInterface('drone0')\ndrone.arm()\ndrone.offboard()\ndrone.takeoff(2.0, 1.0)\n"
+                      "drone.go_to(_x=1.0, _y=2.0, _w=2.0, speed=1.0)\ndrone.land()\n")
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1
+    assert "mission.py:9:1: error: WRONG_FORMAT: go_to() has no argument _w" in flight.err, flight.err

@@ -114,7 +114,9 @@ def test_nodes_bound_to_ros_2_topics_are_refused_by_name(tree, line, message, tm
 def test_aeroexec_run_takes_aerostack2_trees(tree, tmp_path, capsys):
     flight = fly(TREES / tree, tmp_path, capsys, "--max-time", "60")
     if tree == "gazebo_go.xml":  # it waits for its start event, which nobody sends here: the time limit ends it
-        assert flight.status == 1 and "time limit" in flight.kinds("mission_failed")[0]["detail"]
+        detail = flight.kinds("mission_failed")[0]["detail"]
+        assert flight.status == 1 and "time limit" in detail
+        assert "it was waiting for the belief event('start', ?) (" in detail and "gazebo_go.xml:6)" in detail, detail
         assert not [r for r in flight.kinds("activated") if r["behavior"] == "TAKE_OFF"]
     else:
         assert flight.status == 0, flight.err

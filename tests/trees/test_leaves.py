@@ -136,6 +136,16 @@ def test_halting_the_tree_stops_every_behavior_it_started(engine):
     assert engine.log.events(kind="mission_failed")[-1].detail == "Main: halted (time limit)"
 
 
+def test_a_tree_halted_while_it_waits_for_a_belief_names_it(engine):
+    wait = N("KeepRunningUntilFailure", N("Inverter", N("CheckBelief", belief="cleared(runway)", line=4), line=4),
+             line=3)
+    mission = run(engine, N("Sequence", wait, N("TAKE_OFF")), max_time=5.0)
+    assert mission.done and not engine.log.events(kind="activated", behavior="TAKE_OFF")
+    assert engine.log.events(kind="mission_failed")[-1].detail == (
+        "Main: halted (time limit); it was waiting for the belief cleared(runway) (mission.xml:3), which nothing "
+        "added (aeroexec ctl add gives it; aeroexec run --event or --alert at launch)")
+
+
 def test_a_recurrent_behavior_node_succeeds_once_active_without_waiting(engine):
     tree = N("Sequence", N("TAKE_OFF"), N("PAY_ATTENTION_TO_VISUAL_MARKERS", _wait_for_completion="false"),
              N("GO_TO_POINT", COORDINATES="2, -1, 2"))

@@ -95,11 +95,31 @@ class TreeMission:
         ``kind`` (``mission_replaced`` when a new mission is loaded in its place)."""
         if self.done:
             return
+        waits = self.waiting_for()
         if self.root.status != Status.INVALID:
             self.root.stop(Status.INVALID)
         self._report(scan=self._state.foreign)
         self._notify(None)
-        self._finish(kind, f"{self.name}: halted ({reason})")
+        waited = (f"; it was waiting for {', '.join(waits)}, which nothing added (aeroexec ctl add gives it; "
+                  f"aeroexec run --event or --alert at launch)" if waits else "")
+        self._finish(kind, f"{self.name}: halted ({reason}){waited}")
+
+    def waiting_for(self) -> list[str]:
+        """The beliefs the tree waits for now, each with its place: a running wait until a belief holds
+        (``KeepRunningUntilFailure`` over an ``Inverter`` of a CheckBelief or QueryBelief, as Aerostack2's
+        WaitForEvent is mapped)."""
+        waits = []
+        for node in self.root.iterate():
+            model = getattr(node, "source", None)
+            if node.status is not Status.RUNNING or model is None or model.type != "KeepRunningUntilFailure":
+                continue
+            inverter = node.children[0] if node.children else None
+            leaf = inverter.children[0] if inverter is not None and inverter.children else None
+            leaf_model = getattr(leaf, "source", None)
+            if (getattr(inverter, "source", None) is not None and inverter.source.type == "Inverter"
+                    and leaf_model is not None and leaf_model.type in ("CheckBelief", "QueryBelief")):
+                waits.append(f"the belief {leaf_model.ports.get('belief', '')} ({model.file}:{model.line})")
+        return waits
 
     def pause(self) -> None:
         """Stop ticking the tree (the operator's pause); its running behaviors are the supervisor's business."""

@@ -1,7 +1,8 @@
 """Aerostack2's ``MissionInterpreter`` over aeroexec: a loaded plan runs on the drone's engine, one item after
 another, while the script polls ``status``/``current_behavior`` or waits (``perform_mission()``,
 ``exec_thread.join()``). Every version's calls are taken: ``MissionInterpreter(mission=...)`` with
-``perform_mission()``, ``load_mission(mid, mission)`` with ``start_mission(mid)`` or ``start_mission(mid, idx)``.
+``perform_mission()`` (of 2023: ``perform_mission(debug)``), ``load_mission(mid, mission)`` with
+``start_mission(mid)`` or ``start_mission(mid, idx)``.
 Like Aerostack2's, the interpreter goes on to the next item when one fails, and stops at a rejected goal.
 """
 
@@ -110,8 +111,13 @@ class MissionInterpreter:
             logger.error("Goal rejected by behavior %s: %s", item.behavior, rejected.message)
         return None
 
-    def perform_mission(self) -> None:
-        """Run the mission to its end."""
+    def perform_mission(self, debug: bool | None = None) -> None:
+        """Run the mission to its end. ``debug`` is the interpreter's of March to May 2023 (until as2_python_api
+        265d4722): unless it was True, the interpreter armed the drone and switched it to offboard first; since,
+        the script does (the call has no ``debug``)."""
+        if debug is False and self.drone is not None:
+            self.drone.arm()
+            self.drone.offboard()
         if self.start_mission():
             self.exec_thread.join()
 
