@@ -13,9 +13,11 @@ import functools
 import os
 import stat
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # PyYAML is imported when a YAML text is first read (~15 ms: verify reads no YAML from a cache)
+    from typing import Any
+
     import yaml
 
 #: Largest file a reader accepts (mission, catalog, world, fleet file), in bytes.

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.beliefs.terms import Struct, Var, format_term, variables
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Predicates the evaluator answers itself rather than from stored beliefs.
 BUILTIN_PREDICATES = {("belong", 2), ("less_than", 2), ("greater_than", 2)}

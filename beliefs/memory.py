@@ -16,7 +16,6 @@ import heapq
 import logging
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from typing import Any
 
 from aeroexec.beliefs.changes import BeliefChange, belief_change
 from aeroexec.beliefs.errors import (
@@ -37,14 +36,18 @@ from aeroexec.beliefs.parser import (
 )
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import PRESENT, Relation, Relations
-from aeroexec.beliefs.rules.derivation import RuleBook
-from aeroexec.beliefs.rules.joins import Budget
-from aeroexec.beliefs.rules.program import Vocabulary, check, stratify
-from aeroexec.beliefs.rules.proofs import Proof, Prover
+from aeroexec.beliefs.rules.budget import Budget
 from aeroexec.beliefs.shared import SharedView
 from aeroexec.beliefs.spellings import respell, respell_term, spelling_table
 from aeroexec.beliefs.steps import FactStep
 from aeroexec.beliefs.terms import Struct, Var, format_term, from_python, to_python
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:  # the rules' modules are imported when rules are first added, proofs when first asked for
+    from typing import Any
+
+    from aeroexec.beliefs.rules.derivation import RuleBook
+    from aeroexec.beliefs.rules.proofs import Proof
 
 #: what a memory is asked: text, a parsed expression, or one term
 Expression = str | Conjunction | Struct
@@ -402,6 +405,11 @@ class BeliefMemory:
         """
         rules = parse_rules(rules, file, first_line) if isinstance(rules, str) else list(rules)
         book = self._rulebook
+        if not rules and book is None:  # nothing to add: no rule book yet (a memory without rules needs none)
+            return rules
+        from aeroexec.beliefs.rules.derivation import RuleBook
+        from aeroexec.beliefs.rules.program import Vocabulary, check, stratify
+
         program = [*(book.rules if book else ()), *(r for r in rules if r.body.literals)]
         derived = {r.head.name for r in program}
         told: dict[str, int] = {}  # the first fact of a predicate declares it; another arity is refused
@@ -499,12 +507,16 @@ class BeliefMemory:
     def why(self, expression: str | Conjunction | Struct) -> list[Proof] | None:
         """Why the expression holds: a :class:`Proof` of each of its literals for its first answer (the rules and
         beliefs used), or None when it does not hold."""
+        from aeroexec.beliefs.rules.proofs import Prover
+
         return Prover(self).why(self._conjunction(expression))
 
     def why_not(self, expression: str | Conjunction | Struct) -> list[str]:
         """Why the expression does not hold: the first literal that fails, with the values known by then and what
         the memory holds for it, and for a derived goal the part of each of its rules that fails. Empty when it
         holds."""
+        from aeroexec.beliefs.rules.proofs import Prover
+
         return Prover(self).why_not(self._conjunction(expression))
 
     def _conjunction(self, expression: str | Conjunction | Struct) -> Conjunction:

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from itertools import chain
-from typing import Any
 
 from aeroexec.beliefs.expression import Comparison, Conjunction, Goal, Negation, literal_variables
 from aeroexec.beliefs.shared import SharedStep
@@ -25,6 +24,10 @@ from aeroexec.beliefs.steps import (
     NegationStep,
 )
 from aeroexec.beliefs.terms import Var, to_python, variables
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 _FLIP = {"<": ">", ">": "<", "<=": ">=", ">=": "<="}
 _PLAIN = frozenset((str, int, float))

@@ -19,9 +19,16 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from itertools import count
 from operator import itemgetter
-from typing import Any
 
-from sortedcontainers import SortedList
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
+
+    from sortedcontainers import SortedList
+
+
+#: Most distinct values at a position whose values in a range are counted one by one rather than in an ordered index
+FEW_VALUES = 64
 
 
 def is_number(value: Any) -> bool:
@@ -189,12 +196,20 @@ class Relation:
     def _ordered(self, position: int) -> SortedList:
         index = self.ordered.get(position)
         if index is None:
+            from sortedcontainers import SortedList  # here: only a range or order over a position needs one
+
             index = SortedList(v for v in self.by_pos[position] if is_number(v))
             self.ordered[position] = index
         return index
 
     def count_in_range(self, position: int, low: Any, high: Any, inclusive: tuple) -> int:
-        """How many distinct numeric values at ``position`` lie in the range."""
+        """How many distinct numeric values at ``position`` lie in the range (a position of a few values without an
+        ordered index is counted value by value: a planner's estimate builds no index, nor imports one)."""
+        index = self.ordered.get(position)
+        if index is None and len(self.by_pos[position]) <= FEW_VALUES:
+            return sum(1 for v in self.by_pos[position] if is_number(v)
+                       and (low is None or (v >= low if inclusive[0] else v > low))
+                       and (high is None or (v <= high if inclusive[1] else v < high)))
         index = self._ordered(position)
         lo = 0 if low is None else (
             index.bisect_left(low) if inclusive[0] else index.bisect_right(low)

@@ -15,12 +15,14 @@ listeners, its event log and ``beliefs()`` see only what the memory stores (its 
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
 
 from aeroexec.beliefs.relation import Relation
 from aeroexec.beliefs.steps import FactStep
 from aeroexec.beliefs.terms import Struct, match, variables
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 class SharedBeliefs:
     """The beliefs ``name(...)`` of arity ``arity`` several memories answer from; exclusive by default (one value per

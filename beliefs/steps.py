@@ -9,15 +9,18 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any
 
 from aeroexec.beliefs.relation import Relation, is_number
 from aeroexec.beliefs.terms import Struct, Var, from_python, is_ground, match, substitute, variables
 
-log = logging.getLogger(__name__)
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
-#: A range on one variable: (low, high, (low inclusive, high inclusive)); None is unbounded.
-Range = tuple[Any, Any, tuple[bool, bool]]
+    #: A range on one variable: (low, high, (low inclusive, high inclusive)); None is unbounded.
+    Range = tuple[Any, Any, tuple[bool, bool]]
+
+log = logging.getLogger(__name__)
 
 _NUMERIC_OPS: dict[str, Callable[[Any, Any], bool]] = {
     "<": lambda a, b: a < b,

@@ -13,7 +13,10 @@ from __future__ import annotations
 import itertools
 import re
 from collections.abc import Iterator
-from typing import Any
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 _anonymous_ids = itertools.count()
 #: Prefix of an anonymous variable's name: ``#`` cannot appear in a variable the user writes (``?[A-Za-z0-9_]*``).

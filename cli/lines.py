@@ -8,8 +8,10 @@ import io
 import sys
 import threading
 from collections.abc import Iterator
-from typing import TextIO
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import TextIO
 
 class LineWriter(io.TextIOBase):
     """Buffers each thread's text until its newline, then writes the whole line(s) to ``target`` under a lock."""

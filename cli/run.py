@@ -19,7 +19,6 @@ import os
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import TextIO
 
 from aeroexec.cli.lines import whole_lines
 from aeroexec.cli.main import lasting
@@ -31,6 +30,10 @@ from aeroexec.flight.session import FlightSession
 from aeroexec.flight.signals import ending_signals, interrupts_held
 from aeroexec.flight.spec import LINK_GRACE, MAX_TIME, READY_TIMEOUT, FleetJoin, FlightError, FlightSpec
 from aeroexec.trees import formats
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import TextIO
 
 logger = logging.getLogger(__name__)
 

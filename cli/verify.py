@@ -15,7 +15,6 @@ import argparse
 import re
 from collections.abc import Container
 from pathlib import Path
-from typing import Any
 
 from aeroexec.drones import geodesy
 from aeroexec.drones.vehicle import VehicleModel
@@ -30,6 +29,9 @@ from aeroexec.trees import formats
 
 from aeroexec.limits import InputError, read_text
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     missions = parser.add_argument("missions", nargs="+", metavar="MISSION",

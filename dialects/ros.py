@@ -19,12 +19,15 @@ import sys
 import threading
 import types
 from pathlib import Path
-from typing import Any
 
 from aeroexec.engine import api
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Packages of both ROS 1 and ROS 2 (the image stack): their use is refused in the words of the mission's ROS.
 BOTH_ROS_PACKAGES = frozenset({"message_filters", "cv_bridge", "image_transport"})

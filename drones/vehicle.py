@@ -21,10 +21,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.drones.sim.config import SimConfig
 from aeroexec.drones.sim.vehicle.battery import drain_rate
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 Point = tuple[float, float, float]
 Wind = tuple[float, float]

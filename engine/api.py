@@ -21,7 +21,6 @@ import traceback
 import weakref
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.errors import UNSUPPORTED, MissionAborted, RequestRejected, SpecificationError, unsupported_message
@@ -29,6 +28,10 @@ from aeroexec.engine.events import Outcome
 from aeroexec.engine.execution.activation import ActivationConditions
 
 from aeroexec import beliefs, drones
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: The engine each mission thread talks to (one per thread: several engines fly side by side in one process).
 _bound = threading.local()
@@ -149,7 +152,7 @@ def _check_request(engine: Any, name: str, arguments: dict[str, Any]) -> None:
         engine.specialist.resolve_arguments(name, arguments)
     except SpecificationError as error:
         _reject(engine, name, error.kind, error.message)
-    if engine.library.get(name) is None:
+    if name not in engine.library:  # implemented: its module is imported when the behavior is first activated
         _reject(engine, name, UNSUPPORTED, unsupported_message(name))
 
 

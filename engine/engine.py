@@ -16,7 +16,6 @@ import threading
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Rule
 from aeroexec.drones import Robot
@@ -31,10 +30,16 @@ from aeroexec.engine.execution.updaters import TELEMETRY_PREDICATES, ObstacleMap
 from aeroexec.engine.library import default_library, default_processes
 from aeroexec.engine.missions.bridge import DONE, MissionBridge, MissionPreempted
 from aeroexec.engine.planning.worker import PLAN_TIME, WAIT_LIMIT, PlanningWorker
-from aeroexec.engine.safety import SafetyMonitor, SafetyPredicates
+from aeroexec.engine.safety import SafetyPredicates
 from aeroexec.engine.supervision.supervisor import Supervisor
 
 from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
+
+    from aeroexec.engine.safety import SafetyMonitor
 
 logger = logging.getLogger(__name__)
 
@@ -148,7 +153,9 @@ class Engine:
         self.log.subscribe(self._mission_clock)
         self.log.subscribe(self._mission_refusals)
         self.safety: SafetyMonitor | None = None
-        if self.catalog.safety_rules:
+        if self.catalog.safety_rules:  # the monitors' modules are imported for a catalog with safety rules only
+            from aeroexec.engine.safety import SafetyMonitor
+
             self.safety = SafetyMonitor(self, self.catalog.safety_rules, self.vehicle_model, self.safety_predicates)
         #: Called at the end of every tick, on the loop's thread (a behavior tree mission ticks here).
         self.tick_callbacks: list[Callable[[], None]] = []

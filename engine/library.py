@@ -24,11 +24,13 @@ import logging
 import os
 import sys
 from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING, Any
 
 from aeroexec import cache, plugins
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # imported where they are used: verify asks for the behaviors' names only (behavior_names)
+    from typing import Any
+
     from aeroexec.beliefs import BeliefUpdater
     from aeroexec.drones import Drone
     from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess

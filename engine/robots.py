@@ -14,11 +14,13 @@ import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.plugins import entry_points_of, load_reference, reference_of
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # the engine's modules are imported when a kind's engine is made, not to name a kind (verify)
+    from typing import Any
+
     from aeroexec.engine.execution.process import BehaviorLibrary, EngineSettings
     from aeroexec.engine.execution.resources import ProcessRegistry
 

@@ -10,14 +10,16 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.errors import Problem
 
 from aeroexec.lazy import lazy_module
 from aeroexec.limits import MAX_NUMBER_LENGTH, InputError, compose_yaml, read_text
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     import yaml
 else:  # imported when a text is read: importing this module (``suggestion``, a cached catalog) reads none
     yaml = lazy_module("yaml")

@@ -16,12 +16,15 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
 
 from aeroexec.drones import Drone, LandedState
 from aeroexec.engine.catalog.contingencies import contingency_kinds
 from aeroexec.engine.supervision.supervisor import LAND_BEHAVIOR, LANDING_TIMEOUT, is_flying, start_landing
 from aeroexec.flight.spec import LINK_GRACE
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 

@@ -39,13 +39,16 @@ import os
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 from aeroexec.beliefs import BeliefChange, Struct, format_term
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.events import EngineEvent, Outcome
 
 from aeroexec.limits import MAX_NESTING, InputError, nesting_beyond, read_text
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 

@@ -27,7 +27,6 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from aeroexec.engine.catalog.contingencies import Call, Subtree
 from aeroexec.engine.errors import WRONG_SEQUENCE, Problem
@@ -42,6 +41,10 @@ from aeroexec.engine.supervision.changes import (
 )
 from aeroexec.flight.missions import CheckedMission, MissionFileError, check_mission, mission_function
 from aeroexec.trees import TreeFormatError
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 

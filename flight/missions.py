@@ -14,7 +14,6 @@ import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.drones.vehicle import VehicleModel
@@ -27,7 +26,10 @@ from aeroexec.trees.formats import TREE_VERIFIERS, described, format_of, readers
 
 from aeroexec.limits import InputError, read_text
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     from aeroexec.trees.route import RouteEstimate
 
 

@@ -9,7 +9,6 @@ import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.catalog import BehaviorCatalog, default_catalog, load_catalog
 from aeroexec.engine.library import (
@@ -23,7 +22,10 @@ from aeroexec.engine.library import make_drone as make_adapter_drone
 from aeroexec.engine.robots import DRONE, RobotKind, RobotKindError, robot_kind
 from aeroexec.flight.errors import FlightError
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     from aeroexec.engine.engine import Engine
     from aeroexec.flight.spec import FlightSpec
 

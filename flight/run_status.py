@@ -33,10 +33,13 @@ from __future__ import annotations
 from collections.abc import Collection, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 from aeroexec.engine.events import EngineEvent
 from aeroexec.flight.flight_log import event_record
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 COMPLETED = "completed"
 REFUSED = "completed with refused requests"

@@ -17,7 +17,6 @@ import logging
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.interface import CAMERA_NONE
 from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
@@ -48,7 +47,10 @@ from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
 from aeroexec.trees import TreeDocument
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # a resume's records are imported only to resume a run
+    from typing import Any
+
     from aeroexec.flight.journal.resumption import Resumption
 
 logger = logging.getLogger(__name__)

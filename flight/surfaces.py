@@ -5,9 +5,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 from aeroexec.flight.spec import FlightError
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 WEB_HOST_WARNING = "warning: --web-host {host} serves the console beyond this machine; anyone who has the URL " \
                    "(with its token) can see and command the drone"

@@ -12,9 +12,12 @@ import functools
 import math
 import re
 from collections.abc import Callable
-from typing import Any
 
 from aeroexec.limits import MAX_NUMBER_LENGTH
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Port types (BT.CPP's C++ types).
 INT, UNSIGNED, DOUBLE, BOOL, STRING, STATUS, ANY = "int", "unsigned", "double", "bool", "string", "NodeStatus", "any"

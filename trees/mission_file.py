@@ -16,7 +16,6 @@ each with its item number).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic
 from aeroexec.trees.formats import TREE_MAPPINGS, XML_DOCUMENTS, MissionFormat, expected, format_of, readers
@@ -24,6 +23,9 @@ from aeroexec.trees.model import TreeDocument, TreeFormatError
 
 from aeroexec.limits import InputError, decode, read_bytes
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 def load_mission_tree(path: str | Path, home: Geodetic | None = None) -> TreeDocument:
     """The behavior-tree mission in ``path``, read by its format (:func:`~aeroexec.trees.formats.format_of`)."""

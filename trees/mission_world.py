@@ -20,7 +20,6 @@ import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.drones.geodesy import Geodetic, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
@@ -30,7 +29,10 @@ from aeroexec.trees.model import TreeFormatError
 
 from aeroexec.plugins import installed_plugins
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # the items' records are imported for a mission planned on a map, not for every world
+    from typing import Any
+
     from aeroexec.trees.items.model import ItemMission
 
 logger = logging.getLogger(__name__)

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping
-from typing import Any
 
 from aeroexec.beliefs import format_term
 from aeroexec.beliefs.terms import from_python
@@ -23,6 +22,10 @@ from aeroexec.engine.errors import WRONG_VALUE, SpecificationError
 from aeroexec.trees.model import COMMON_ATTRIBUTES
 
 from aeroexec.limits import MAX_NUMBER_LENGTH
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 _KEY = re.compile(r"\{([^{}]+)\}")
 _NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")

@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.drones.geodesy import geo_to_enu, is_geo, parse_geo
 from aeroexec.drones.vehicle import VehicleModel
@@ -25,6 +24,10 @@ from aeroexec.engine.errors import WRONG_VALUE, MissionProblem
 from aeroexec.trees.model import TreeDocument, TreeNode
 from aeroexec.trees.ports import parse_value
 from aeroexec.trees.runtime.kinds import kind_of
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 Vector = tuple[float, float, float]
 _ITEM = re.compile(r"item (\d+) ")

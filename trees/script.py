@@ -17,7 +17,6 @@ import math
 import operator
 import sys
 from collections.abc import Callable, MutableMapping
-from typing import TYPE_CHECKING, Any
 
 __all__ = ["Script", "ScriptCompiler", "ScriptError", "compile_script", "text_of", "truth"]
 
@@ -25,12 +24,16 @@ from aeroexec.trees import conversions
 
 from aeroexec.limits import MAX_NESTING
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     from lark import Lark, Transformer, Tree
+
+    Evaluator = Callable[[MutableMapping[str, Any], Callable[[str], bool] | None], Any]
 
 _EPSILON = sys.float_info.epsilon * 2 ** 29  # float's epsilon, as BT.CPP compares doubles
 Value = int | float | str
-Evaluator = Callable[[MutableMapping[str, Any], Callable[[str], bool] | None], Any]
 
 
 class ScriptError(ValueError):

@@ -18,7 +18,8 @@ from aeroexec.beliefs.errors import EvaluationRefused
 from aeroexec.beliefs.expression import Conjunction, Goal, Rule
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import Journal, Relation, Relations
-from aeroexec.beliefs.rules.joins import EACH_COST, Budget, evaluate
+from aeroexec.beliefs.rules.budget import Budget
+from aeroexec.beliefs.rules.joins import EACH_COST, evaluate
 from aeroexec.beliefs.rules.program import Signature, Stratum
 from aeroexec.beliefs.terms import Struct, Var, match
 

@@ -10,7 +10,6 @@ solved answer by answer with the query's own steps.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
 from itertools import product, starmap
 from operator import add, itemgetter
 from typing import Any
@@ -19,12 +18,11 @@ from aeroexec.beliefs.errors import EvaluationRefused
 from aeroexec.beliefs.expression import Rule
 from aeroexec.beliefs.query import CompiledQuery
 from aeroexec.beliefs.relation import is_number
+from aeroexec.beliefs.rules.budget import MAX_ROWS, Budget, refused
 from aeroexec.beliefs.steps import ComparisonStep, FactStep, NegationStep
 from aeroexec.beliefs.terms import Struct, Var, is_ground, match, substitute, variables
 
 Rows = list[tuple]
-#: Most partial answers one evaluation of a rule's body may build
-MAX_ROWS = 5_000_000
 #: Most memory the partial answers of one rule's body may take, estimated before they are built (a row of N values
 #: is a tuple of about ROW_BYTES + 8 * N bytes, and its place in a list)
 MAX_ANSWER_BYTES = 256 * 1024 * 1024
@@ -34,32 +32,6 @@ ROW_BYTES = 64
 EACH_COST = 8
 CALL_COST = 40
 
-
-@dataclass
-class Budget:
-    """What evaluating rules may spend in one ask: ``work`` units (a partial answer built or a derived belief
-    stored is one; see :data:`EACH_COST`, :data:`CALL_COST`), None for no bound. An evaluation that would pass it
-    is refused (:class:`EvaluationRefused`) before it builds what it cannot afford."""
-
-    work: int | None = None
-    spent: int = 0
-    why: str = ""  # what the bound is for, said in a refusal
-    #: renewed at every ask; False: renewed by its owner (an engine, at each step: the bound is per step)
-    per_ask: bool = True
-
-    def left(self) -> int:
-        return MAX_ROWS if self.work is None else max(0, self.work - self.spent)  # MAX_ROWS: more than ever fits
-
-    def charge(self, units: int, rule: Rule) -> None:
-        self.spent += units
-        if self.work is not None and self.spent > self.work:
-            raise _refused(rule, self)
-
-
-def _refused(rule: Rule, budget: Budget) -> EvaluationRefused:
-    return EvaluationRefused(f"evaluating the rule {rule} takes more than {budget.work:,} units of work in one "
-                             f"{'ask' if budget.per_ask else 'engine step'}{budget.why}: refused", rule.file,
-                             rule.line)
 
 _ORDER: dict[str, Callable[[Any, Any], bool]] = {
     "<": lambda a, b: a < b, ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
@@ -118,7 +90,7 @@ def evaluate(query: CompiledQuery, relations: Any, rule: Rule, budget: Budget | 
                 f"{overflow.rows * (ROW_BYTES + 8 * width) // 2 ** 20:,} MiB), more than the limit of "
                 f"{MAX_ANSWER_BYTES // 2 ** 20} MiB (goals that share no variable?): refused before building them",
                 rule.file, rule.line) from None
-        raise _refused(rule, budget) from None
+        raise refused(rule, budget) from None
     return _project(head, schema, rows)
 
 
@@ -448,4 +420,4 @@ def _project(head: Struct, schema: list[Var], rows: Rows) -> Iterable[tuple]:
     return [tuple(substitute(a, dict(zip(schema, row, strict=True))) for a in args) for row in rows]
 
 
-__all__ = ["MAX_ANSWER_BYTES", "Budget", "evaluate"]
+__all__ = ["MAX_ANSWER_BYTES", "evaluate"]

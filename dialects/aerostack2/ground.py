@@ -15,12 +15,15 @@ from __future__ import annotations
 
 import ast
 from pathlib import Path
-from typing import Any
 
 from aeroexec.dialects.aerostack2.node_ports import PORTS
 from aeroexec.trees.mission_world import MissionGround
 
 from aeroexec.limits import MAX_FILE_BYTES
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 WRITTEN_FOR = "Gazebo's empty world"
 _API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0

@@ -12,7 +12,10 @@ from __future__ import annotations
 
 import ast
 import re
-from typing import Any
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Names (of an option, a variable, a keyword) that hold drone namespaces (compiled on first use, by re's cache).
 _NAMESPACE = r"(?i)(namespace|^ns$|_ns$|^ns_|drone_?(id|name)s?$|^drones?$|^uavs?$|leader|follower)"

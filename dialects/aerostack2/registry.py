@@ -8,11 +8,14 @@ whole, with the simulated drone's namespace in its environment), and its drone i
 from __future__ import annotations
 
 import ast
-from typing import Any
 
 from aeroexec.dialects.aerostack2.formats import FORMATS
 from aeroexec.engine.missions.dialect_checks import DialectChecks
 from aeroexec.engine.missions.standins import StandIns
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 _HERE = "aeroexec.dialects.aerostack2"
 _API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0

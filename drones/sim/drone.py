@@ -12,7 +12,6 @@ import random
 import threading
 from collections.abc import Callable
 from functools import wraps
-from typing import TypeVar
 
 from aeroexec.drones.interface import (
     CAMERA_IMAGES,
@@ -35,9 +34,14 @@ from aeroexec.drones.sim.vehicle.multicopter import FALL, IDLE, TAKEOFF, Multico
 from aeroexec.drones.sim.world import World
 from aeroexec.drones.sim.world_file import default_world
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import TypeVar
+
+    _F = TypeVar("_F", bound=Callable)
+
 logger = logging.getLogger(__name__)
 
-_F = TypeVar("_F", bound=Callable)
 _FLYING_HEIGHT = 0.3  # m: placed higher than this, a drone said to fly hovers; lower, it stands on the ground
 
 MODES = ("HOLD", "TAKEOFF", "LAND", "RETURN", "OFFBOARD")

@@ -9,11 +9,14 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic, enu_to_geodetic, geodetic_to_enu
 from aeroexec.drones.sim.geofence import Fence, breach
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 Vector = tuple[float, float, float]
 DECK_RADIUS = 0.75  # m: a platform's landing deck unless its world file says otherwise

@@ -24,7 +24,6 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from aeroexec.drones.sim.shapes import Box, Cylinder, Obstacle
 from aeroexec.drones.sim.world import (
@@ -41,6 +40,7 @@ from aeroexec.drones.sim.world import (
 from aeroexec.lazy import lazy_module
 from aeroexec.limits import InputError, compose_yaml, read_text
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     import yaml
     from yaml.nodes import Node

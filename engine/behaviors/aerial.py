@@ -11,10 +11,13 @@ from __future__ import annotations
 import importlib
 import inspect
 import sys
-from typing import Any
 
 from aeroexec.engine.execution.process import BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.resources import ProcessRegistry
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["PROCESS_MODULES", "aerial_behaviors", "aerial_index", "aerial_processes", "processes_of_module"]
 

@@ -29,12 +29,15 @@ import math
 import random
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
 
 from aeroexec.beliefs import Struct
 from aeroexec.drones import Observation
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorProcess, EngineSettings
 from aeroexec.engine.execution.resources import Process
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, ClassVar
 
 logger = logging.getLogger(__name__)
 

@@ -13,10 +13,13 @@ import math
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 from aeroexec.beliefs import BeliefError, parse_expression
 from aeroexec.drones.geodesy import is_geo, parse_geo
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Value types a catalog may name in ``allowed_values`` or ``type``.
 VALUE_TYPES = {

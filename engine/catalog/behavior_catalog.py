@@ -16,7 +16,6 @@ from collections.abc import Iterable
 from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.beliefs import RuleError
 from aeroexec.engine.catalog.descriptors import (
@@ -33,7 +32,10 @@ from aeroexec.engine.yaml_nodes import NodeReader, suggestion
 from aeroexec.cache import sha256, unpickled, user_cache_folder
 from aeroexec.limits import InputError, read_text
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # neither the reader nor the memory and the rules engine are imported to load a catalog kept parsed
+    from typing import Any
+
     from aeroexec.beliefs import BeliefMemory, Rule
     from aeroexec.engine.catalog.loader import CatalogContent
     from aeroexec.engine.catalog.safety_rules import SafetyRule

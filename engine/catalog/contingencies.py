@@ -23,12 +23,17 @@ import functools
 import logging
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, ClassVar, Protocol
 
 from aeroexec.engine.catalog.engine_behaviors import KEEP_HOVERING, LAND
 from aeroexec.engine.yaml_nodes import suggestion
 
 from aeroexec.plugins import installed_plugins as plugins
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, ClassVar, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 logger = logging.getLogger(__name__)
 

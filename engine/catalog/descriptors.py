@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.beliefs import Conjunction
 from aeroexec.engine.catalog.arguments import ArgumentDescriptor
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 GOAL_BASED = "goal_based"
 RECURRENT = "recurrent"

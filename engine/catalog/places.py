@@ -9,11 +9,13 @@ whatever the vehicle's home), before their values are checked.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
 
 from aeroexec.drones.geodesy import Geodetic, geo_to_enu, is_geo, parse_geo
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 def _placed(value: Any, home: Geodetic) -> Any:
     if is_geo(value):

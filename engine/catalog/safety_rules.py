@@ -24,7 +24,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 from aeroexec.beliefs import BeliefError, Conjunction
 from aeroexec.engine.catalog.contingencies import Contingency, ContingencyNames, contingency_syntax, parse_contingency
@@ -33,6 +32,7 @@ from aeroexec.engine.yaml_nodes import NodeReader
 
 from aeroexec.lazy import lazy_module
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     import yaml
     from aeroexec.beliefs import BeliefMemory

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.beliefs import BeliefError, Conjunction
 from aeroexec.beliefs.expression import Goal, Negation
@@ -24,7 +23,12 @@ from aeroexec.engine.catalog.world_check import WorldMap, world_problems
 from aeroexec.engine.errors import WRONG_FORMAT, WRONG_SEQUENCE, WRONG_VALUE, SpecificationError
 from aeroexec.engine.yaml_nodes import suggestion
 
-Step = str | tuple[str, Mapping[str, Any]] | Mapping[str, Any]
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
+
+    #: a step of a sequence or plan: a behavior's name, with its arguments, or a request's mapping
+    Step = str | tuple[str, Mapping[str, Any]] | Mapping[str, Any]
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,7 +8,6 @@ or computed one) and become declarations (``derived``) that missions' expression
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.beliefs import BeliefError, Conjunction, Rule, RuleError, RuleProblem, parse_rules
 from aeroexec.engine.catalog.descriptors import PredicateDeclaration
@@ -17,7 +16,10 @@ from aeroexec.engine.yaml_nodes import NodeReader
 from aeroexec.lazy import lazy_module
 from aeroexec.limits import RULES_WORK_PER_STEP, RULES_WORK_WHY
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     import yaml
     from aeroexec.beliefs import BeliefMemory
 else:  # PyYAML is imported when a text is read, not with this module (a catalog or world kept parsed reads none)

@@ -13,9 +13,14 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from typing import Any, Protocol
 
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 POINT_ARGUMENTS = ("COORDINATES", "DESTINATION")
 LOOKED_AT = ("LOOK_AT_A_POINT",)  # behaviors whose COORDINATES are looked at, not flown to: never checked

@@ -15,7 +15,6 @@ import logging
 import operator
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
 
 from aeroexec.beliefs import EvaluationRefused
 from aeroexec.engine.catalog import BehaviorSpecialist
@@ -34,6 +33,10 @@ from aeroexec.engine.execution.explain import explain_failure
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.reactive import RuleWatch
 from aeroexec.engine.execution.resources import ResourceError, ResourceManager
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 

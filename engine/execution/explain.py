@@ -4,10 +4,13 @@ derived goal, which part of each rule deriving it fails)."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
 
 from aeroexec.beliefs import BeliefMemory, Conjunction, Goal, Struct, Var, format_term
 from aeroexec.beliefs.terms import from_python, substitute
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 _SHOWN = 3  # beliefs shown as "what the memory holds"
 

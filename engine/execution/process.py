@@ -12,7 +12,6 @@ import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
 
 from aeroexec.beliefs import BeliefMemory
 from aeroexec.drones import Drone, Telemetry
@@ -20,6 +19,10 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.catalog.descriptors import BehaviorDescriptor
 from aeroexec.engine.catalog.engine_behaviors import KEEP_HOVERING
 from aeroexec.engine.events import EventLog, Outcome
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, ClassVar
 
 logger = logging.getLogger(__name__)
 

@@ -10,10 +10,13 @@ reads (the position, the speed...) change without costing the rules anything.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 from aeroexec.beliefs import BeliefMemory
 from aeroexec.engine.catalog.descriptors import ReactiveRule
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 Signature = tuple[str, int]
 

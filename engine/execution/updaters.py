@@ -14,10 +14,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any, Protocol
 
 from aeroexec.beliefs import BeliefMemory, BeliefUpdater, Struct
 from aeroexec.drones import Drone, LandedState, Telemetry
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 MOVING_ABOVE = 0.5  # m/s: faster is moving
 HOVERING_BELOW = 0.25  # m/s: slower is hovering (in between, the state does not change)

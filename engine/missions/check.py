@@ -16,7 +16,6 @@ import ast
 import contextlib
 import logging
 from pathlib import Path
-from typing import Any
 
 from aeroexec.beliefs import BeliefError, BeliefMemory, Goal, UnknownPredicateError, parse_belief, parse_rules
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
@@ -54,6 +53,10 @@ from aeroexec.engine.missions.source import parse_source
 from aeroexec.engine.yaml_nodes import suggestion
 
 from aeroexec.limits import InputError, read_text
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 

@@ -11,7 +11,10 @@ parameter, a loop variable, a name assigned twice or declared ``global`` elsewhe
 from __future__ import annotations
 
 import ast
-from typing import Any
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 NOT_CONSTANT: Any = object()
 _MAX_ITEMS = 10_000  # a constant list longer than this is left to the run

@@ -16,9 +16,14 @@ import functools
 import logging
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Protocol
 
 from aeroexec.plugins import installed_plugins, load_reference
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 logger = logging.getLogger(__name__)
 

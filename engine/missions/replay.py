@@ -23,11 +23,16 @@ import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
 
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted, RequestRejected
 from aeroexec.engine.missions.values import call_text, decode, text
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 #: The calls that wait for the engine (a behavior to end, time to pass).
 WAITING = frozenset({"execute_behavior", "ask_behavior", "run_behavior", "wait"})

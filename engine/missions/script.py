@@ -29,12 +29,15 @@ import types
 import weakref
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Any
 
 from aeroexec.engine import api
 from aeroexec.engine.errors import MissionAborted
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.bridge import MissionStalled
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 _lock = threading.RLock()
 _claimed: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()  # engine -> the namespace it flies as

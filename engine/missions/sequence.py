@@ -21,11 +21,16 @@ managers that swallow exceptions.
 from __future__ import annotations
 
 import ast
-from typing import Any, Protocol
 
 from aeroexec.engine.catalog import BehaviorCatalog, BehaviorSpecialist
 from aeroexec.engine.catalog.specialist import PhenomenonState, Request
 from aeroexec.engine.errors import WRONG_SEQUENCE
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 State = dict[str, PhenomenonState | None]  # None: unknown
 #: How deep the walk follows calls of the program's own functions into their bodies.

@@ -12,12 +12,14 @@ from __future__ import annotations
 import enum
 import json
 import math
-from typing import Any
 
 from aeroexec.beliefs import Struct, format_term, parse_term
 from aeroexec.engine.api import Unification
 from aeroexec.engine.events import Outcome
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 def encode(value: Any) -> Any:
     """``value`` as JSON-able data (see the module's docstring)."""

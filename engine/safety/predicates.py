@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.beliefs import Struct, Var
 from aeroexec.drones.vehicle import VehicleModel
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # a memory is given: the predicates are registered with it
+    from typing import Any
+
     from aeroexec.beliefs import BeliefMemory
 
 Point = tuple[float, float, float]

@@ -19,7 +19,6 @@ import math
 import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.beliefs import Struct
 from aeroexec.beliefs.expression import BUILTIN_PREDICATES
@@ -31,7 +30,10 @@ from aeroexec.engine.catalog.world_check import LOOKED_AT, PATH_ARGUMENTS, POINT
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.safety.predicates import SafetyPredicates
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     from aeroexec.beliefs import BeliefMemory
 
 KNOWN = {("position", 2), ("charge", 2), ("distance", 3), ("battery_to_home", 2), ("return_margin", 2),

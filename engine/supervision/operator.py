@@ -18,9 +18,12 @@ import threading
 from collections import deque
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, TextIO
 
 from aeroexec.limits import InputError, load_yaml, read_text
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, TextIO
 
 logger = logging.getLogger(__name__)
 

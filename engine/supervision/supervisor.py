@@ -38,7 +38,6 @@ import logging
 import threading
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Any, Protocol
 
 from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, parse_belief
 from aeroexec.drones import LandedState
@@ -52,6 +51,12 @@ from aeroexec.engine.supervision.changes import (
     parse_aerostack2_update,
 )
 from aeroexec.engine.supervision.operator import operator_of
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
 logger = logging.getLogger(__name__)
 

@@ -19,14 +19,16 @@ from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.script import is_script
 from aeroexec.flight.spec import FlightSpec
 
 TYPE_CHECKING = False
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # imported by open_script_fleet: a run asks whether its mission is such a script before flying it
+    from typing import Any
+
     from aeroexec.flight.fleet.fleet_flight import FleetFlight
 
 logger = logging.getLogger(__name__)

@@ -16,11 +16,14 @@ import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from aeroexec.flight.journal.schema import JournalError
 
 from aeroexec.cache import sha256
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: Latest engine time (s) a resumed run may go on from: about 116 days of flight; later is a damaged journal.
 LATEST = 1e7

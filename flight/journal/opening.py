@@ -6,13 +6,15 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from aeroexec.engine.missions.replay import MissionRecorder
 from aeroexec.flight.flight_log import plain
 from aeroexec.flight.journal.writer import JournalWriter
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from typing import Any
+
     from aeroexec.flight.journal.identity import FlightFile
     from aeroexec.flight.spec import FlightSpec
 

@@ -24,7 +24,6 @@ import logging
 import re
 import threading
 from pathlib import Path
-from typing import Any
 
 from aeroexec.beliefs import BeliefChange
 from aeroexec.engine.events import EngineEvent, Outcome
@@ -40,6 +39,10 @@ from aeroexec.flight.journal.looks import LookRun
 from aeroexec.flight.journal.schema import journal_path
 from aeroexec.flight.journal.store import JournalStore, Row
 from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 

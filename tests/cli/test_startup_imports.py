@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -242,11 +243,13 @@ def test_a_command_that_needs_no_extra_does_not_read_the_extras_table():
     assert "aeroexec.extras" not in imported_after(verify(MISSIONS / "figure10.xml"))
 
 
-def test_an_empty_run_imports_the_behaviors_its_mission_asks_for_and_no_other(tmp_path):
+def test_an_empty_run_imports_the_behaviors_it_activates_and_no_other(tmp_path):
     """The aerial behaviors and capability processes are known by their modules (kept in the user's cache folder),
-    each module imported when one of its behaviors is asked for or one of its processes started: figure10.py asks
-    for TAKE_OFF and the catalog starts the localization processes; recording, targets, speech... and the path
-    planner's grid (imported when a route is first planned) are not imported."""
+    each module imported when one of its behaviors is first activated or one of its processes started: the catalog
+    starts the localization processes; figure10.py's TAKE_OFF is imported when the engine activates it (checking
+    the mission's request asks only whether the library implements it), which an empty run does only when its one
+    period came to serve the request; recording, targets, speech... and the path planner's grid (imported when a
+    route is first planned) are not imported."""
     run = f"""
         import contextlib, io
         from aeroexec.cli.main import main
@@ -256,7 +259,10 @@ def test_an_empty_run_imports_the_behaviors_its_mission_asks_for_and_no_other(tm
     """
     imported_after(run, cache=tmp_path / "cache")  # the library's index read and kept
     modules = imported_after(run, cache=tmp_path / "cache")
-    assert {"aeroexec.engine.behaviors.motion", "aeroexec.engine.behaviors.localization"} <= modules
+    assert "aeroexec.engine.behaviors.localization" in modules
+    events = [json.loads(line) for line in (tmp_path / "out" / "events.jsonl").read_text().splitlines()]
+    took_off = any(e["kind"] == "activated" and e.get("behavior") == "TAKE_OFF" for e in events)
+    assert ("aeroexec.engine.behaviors.motion" in modules) == took_off
     unused = ("recording", "targets", "target_tracking", "speech", "communication", "perception", "manipulation")
     assert sorted(modules & {f"aeroexec.engine.behaviors.{name}" for name in unused}) == []
     planners = {m for m in modules if m.startswith("aeroexec.engine.planning.")}

@@ -6,16 +6,15 @@ first line (QGroundControl's legacy JSON, or WPL as PX4's own tests write it). F
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from aeroexec.trees.formats import format_of, formats
 from aeroexec.trees.model import TreeFormatError
 
 from aeroexec.limits import InputError, decode, read_bytes
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from aeroexec.trees.items.model import ItemMission
-
 
 def is_item_file(path: str | Path, text: str | bytes | None = None) -> bool:
     """Whether ``path`` is a mission-item file (a format of the table with ``items``)."""

@@ -13,13 +13,13 @@ Ports are text as an XML attribute would hold it. A YAML value becomes port text
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING
 
 from aeroexec.engine.yaml_nodes import MAP, SEQ, NodeReader
 from aeroexec.trees.runtime.manifests import ACTION, CONDITION, CONTROL, DECORATOR
 
 from aeroexec.lazy import lazy_module
 
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     import yaml
 else:  # PyYAML is imported when a text is read, not with this module (a catalog or world kept parsed reads none)

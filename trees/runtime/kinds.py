@@ -28,11 +28,14 @@ from __future__ import annotations
 import functools
 import logging
 from dataclasses import dataclass
-from typing import Any
 
 from aeroexec.trees.runtime.manifests import CONTROL, DECORATOR, MANIFESTS, SUBTREE, NodeManifest, Port
 
 from aeroexec.plugins import installed_plugins, load_reference
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 logger = logging.getLogger(__name__)
 
