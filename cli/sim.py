@@ -21,6 +21,7 @@ from aeroexec.drones.geodesy import parse_home
 from aeroexec.drones.sim import SimulatedDrone, World, WorldError, default_world, load_world
 from aeroexec.drones.sim.mavlink.vehicle import AUTOPILOTS, MavlinkVehicle, MavlinkVehicleError, normalize_url
 from aeroexec.drones.sim.open_field import field_at
+from aeroexec.flight.errors import FlightError
 
 logger = logging.getLogger("aeroexec.sim")
 
@@ -70,6 +71,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "(ArduCopter) streams nothing until asked (SET_MESSAGE_INTERVAL, REQUEST_DATA_STREAM), uses Copter mode "
         "numbers and brings its EKF up in steps (armable first, then GPS origin and home)",
     )
+    parser.add_argument("--vehicle", type=Path, metavar="FILE",
+                        help="the vehicle's profile (YAML, as run and verify take it: endurance in minutes of hover, "
+                             "speeds, rates...; docs/vehicles.md): the simulated vehicle flies with its figures "
+                             "(default: the simulated multicopter's, 20 min of hover)")
     parser.add_argument("--camera", nargs="?", const="", default=None, metavar="DIR",
                         help="give the vehicle a camera component (MAVLink component 100: IMAGE_START_CAPTURE, "
                              "CAMERA_IMAGE_CAPTURED), its photos the simulator's camera images, saved in DIR when "
@@ -83,13 +88,18 @@ def run(args: argparse.Namespace) -> int:
     try:
         normalize_url(args.connect)
         world = sim_world(args.world, args.home)
-    except (MavlinkVehicleError, WorldError) as exc:
+        config = None
+        if args.vehicle is not None:  # the profile as run and verify read it (its errors: file and line)
+            from aeroexec.flight.robot import vehicle_config
+
+            config = vehicle_config(str(args.vehicle))
+    except (MavlinkVehicleError, WorldError, FlightError) as exc:
         print(f"aeroexec sim: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
         print(f"aeroexec sim: cannot read the world file {args.world}: {exc.strerror or exc}", file=sys.stderr)
         return 2
-    drone = SimulatedDrone(world, seed=args.seed)
+    drone = SimulatedDrone(world, config=config, seed=args.seed)
     try:
         vehicle = MavlinkVehicle(drone, connect=args.connect, speed=args.speed, system_id=args.system_id,
                                  autopilot=args.autopilot, log_folder=args.logs, camera=args.camera is not None,

@@ -72,12 +72,13 @@ class _Mission:
     or a thread of the script's own (:meth:`MissionBridge.thread_started`) that is not waiting on an engine or
     joining another."""
 
-    __slots__ = ("cond", "done", "polls", "polls_at", "running")
+    __slots__ = ("cond", "done", "joiners", "polls", "polls_at", "running")
 
     def __init__(self) -> None:
         self.cond = threading.Condition()
         self.done = True
         self.running = 0  # the mission's threads running Python code now
+        self.joiners: dict[Any, int] = {}  # each of the script's own threads not ended -> its threads joining it
         self.polls, self.polls_at = 0, -1.0  # calls that did not wait, served at engine time polls_at
 
     @property
@@ -128,19 +129,35 @@ class MissionBridge:
         self._mission.running = max(0, self._mission.running + change)
         self._cond.notify_all()
 
-    def thread_started(self) -> None:
+    def thread_started(self, thread: Any) -> None:
         """A thread of the script's own starts: the mission runs while it does."""
         with self._cond:
+            self._mission.joiners[thread] = 0
             self._running(+1)
 
-    def thread_ended(self) -> None:
+    def thread_ended(self, thread: Any) -> None:
+        """A thread of the script's own ends; the threads of the mission joining it run again from this moment,
+        not from when they wake (late on a loaded machine: no engine step falls in between)."""
         with self._cond:
-            self._running(-1)
+            self._running(self._mission.joiners.pop(thread, 0) - 1)
 
-    def blocked(self, blocked: bool) -> None:
-        """A thread of the mission waits for another of its threads (``join``), or no longer does."""
+    def joining(self, thread: Any) -> bool:
+        """A thread of the mission starts waiting for ``thread`` to end (``join``): it no longer runs until
+        ``thread`` ends. False when ``thread`` is no thread of the mission still running: the joiner runs on."""
         with self._cond:
-            self._running(-1 if blocked else +1)
+            if thread not in self._mission.joiners:
+                return False
+            self._mission.joiners[thread] += 1
+            self._running(-1)
+            return True
+
+    def joined(self, thread: Any) -> None:
+        """The wait :meth:`joining` began is over. When ``thread`` ended, its end made the joiner run already;
+        otherwise (a ``join`` with a timeout that passed) the joiner runs again now."""
+        with self._cond:
+            if self._mission.joiners.get(thread, 0) > 0:
+                self._mission.joiners[thread] -= 1
+                self._running(+1)
 
     def share_mission(self, others: Iterable[MissionBridge]) -> None:
         """The bridges of other engines the same program drives see this one's mission: it runs, waits or is

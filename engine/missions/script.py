@@ -142,11 +142,11 @@ class MissionThread(threading.Thread):
 
     def start(self) -> None:
         self._engine = api.current_engine()
-        self._engine.bridge.thread_started()
+        self._engine.bridge.thread_started(self)
         try:
             super().start()
         except BaseException:
-            self._engine.bridge.thread_ended()
+            self._engine.bridge.thread_ended(self)
             raise
 
     def run(self) -> None:
@@ -157,17 +157,16 @@ class MissionThread(threading.Thread):
             pass  # the flight ended while this thread waited on it; or it polled on as the mission's thread does
         finally:
             api.unbind()
-            self._engine.bridge.thread_ended()
+            self._engine.bridge.thread_ended(self)  # its joiners run from here on, however late they wake
 
     def join(self, timeout: float | None = None) -> None:
         bridge = getattr(getattr(self, "_engine", None), "bridge", None)
-        if bridge is None or threading.current_thread() is self:
+        if bridge is None or threading.current_thread() is self or not bridge.joining(self):
             return super().join(timeout)
-        bridge.blocked(True)
         try:
             super().join(timeout)
         finally:
-            bridge.blocked(False)
+            bridge.joined(self)
 
 
 class _MissionThreading(types.ModuleType):

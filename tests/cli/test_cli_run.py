@@ -73,6 +73,15 @@ def test_bad_options_are_one_clear_line(tmp_path):
     assert "Traceback" not in result.stderr
 
 
+def test_the_simulator_s_bad_vehicle_profile_is_one_line_naming_its_file_and_line(tmp_path):
+    profile = tmp_path / "hexacopter.yaml"
+    profile.write_text("name: hexa\nendurance: long\n")
+    result = aeroexec("sim", "--vehicle", str(profile))
+    assert result.returncode == 2 and result.stderr.strip() == (
+        f"aeroexec sim: --vehicle {profile}:2: endurance (minutes of hover on a full battery) must be a number, "
+        f"not 'long'"), result.stderr
+
+
 
 @pytest.mark.mavsdk
 @pytest.mark.parametrize("autopilot", ["px4", "ardupilot"])

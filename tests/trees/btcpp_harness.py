@@ -75,6 +75,8 @@ class Run:
     error: str = ""
     #: keys BT.CPP cannot show as text (never written, or holding a queue): left out of the comparison
     unreadable: set[str] = field(default_factory=set)
+    #: when each tick began, in seconds from the first (BT.CPP's: as its steady clock measured them)
+    starts: list[float] = field(default_factory=list)
 
     def table(self) -> str:
         rows = [f"tick {i}: root {r:8s} {' '.join(f'{s:8s}' for s in t)} halts {h}"
@@ -227,9 +229,10 @@ def _run_btcpp(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path
     logger = bt.FileLogger(tree, str(path))
     run = Run()
     bounds: list[tuple[int, int]] = []
-    paced = time.monotonic()
+    paced = first = time.monotonic()
     before = 0
     for tick in range(ticks):
+        run.starts.append(time.monotonic() - first)
         start = time.time_ns() // 1000
         try:
             run.roots.append(NAMES[int(tree.tick_exactly_once())])
@@ -306,9 +309,10 @@ def _resets_children(node: Behaviour, status: Status, result: Any) -> bool:
     return status in (Status.SUCCESS, Status.FAILURE)
 
 
-def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: float = 0.0,
+def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: float | list[float] = 0.0,
                  blackboard: dict[str, Any] | None = None) -> Run:
-    """The same tree on aeroexec's tree runtime, its clock moved ``between`` seconds between ticks."""
+    """The same tree on aeroexec's tree runtime, its clock moved ``between`` seconds between ticks, or set to each
+    tick's start in turn (``between`` a list: BT.CPP's ticks as they began, ``Run.starts``)."""
     try:
         document = read_xml(xml, "parity.xml")
     except TreeFormatError as error:  # refused as it loads
@@ -346,6 +350,9 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
     state = {id(node): "IDLE" for node in nodes}
     run = Run()
     for tick in range(ticks):
+        if isinstance(between, list):
+            clock.now = between[tick] if tick < len(between) else clock.now
+        run.starts.append(clock.now)
         before = len(halts)
         events.clear()
         stops.clear()
@@ -388,7 +395,8 @@ def run_aeroexec(xml: str, scripts: dict[str, list[str]], ticks: int, between: f
         result = result_of(root)
         run.roots.append(result if isinstance(result, str) else "IDLE" if result == Status.INVALID else result.value)
         run.halts.append(sorted(halts[before:]))
-        clock.now += between
+        if not isinstance(between, list):
+            clock.now += between
     run.blackboard = {key: text_of(value) for key, value in board.items()}
     return run
 
@@ -438,10 +446,13 @@ def compare(xml: str, scripts: dict[str, list[str]], ticks: int, folder: Path, b
     theirs = run_btcpp(xml, scripts, ticks, folder, between, blackboard)
     if since_4_10:
         as_4_10(theirs, since_4_10)
-    ours = run_aeroexec(xml, scripts, ticks, between, blackboard)
+    # BT.CPP's timers run on its steady clock: ours is set to the times its ticks began, so a tick the harness made
+    # late on a loaded machine (a starved thread) is as late in both, and a timer due before it is due in both
+    ours = run_aeroexec(xml, scripts, ticks, theirs.starts if between else 0.0, blackboard)
     if _shown(theirs, theirs.unreadable) != _shown(ours, theirs.unreadable):
         raise AssertionError(f"BehaviorTree.CPP and aeroexec differ on\n{xml}\nscripts {scripts}\n"
                              f"BehaviorTree.CPP:\n{theirs.table()}\nblackboard {theirs.blackboard} (unreadable: "
                              f"{sorted(theirs.unreadable)})\n"
-                             f"aeroexec:\n{ours.table()}\nblackboard {ours.blackboard}")
+                             f"aeroexec:\n{ours.table()}\nblackboard {ours.blackboard}\n"
+                             f"ticks began at (s) {[round(t, 3) for t in theirs.starts]}")
     return theirs, ours
