@@ -80,6 +80,14 @@ def fleet_file(folder: Path, n: int, seconds: float) -> Path:
     return path
 
 
+def build() -> str:
+    """Which simulated vehicle the runs fly: the compiled build's (``tools/build-compiled``) or the Python code."""
+    import aeroexec.drones.sim.vehicle.multicopter as vehicle
+
+    compiled = not str(vehicle.__file__).endswith(".py")
+    return "the vehicle compiled (tools/build-compiled)" if compiled else "the vehicle in Python"
+
+
 def percentile(samples: list[float], q: float) -> float:
     ordered = sorted(samples)
     return ordered[min(len(ordered) - 1, int(q * len(ordered)))] if ordered else float("nan")
@@ -178,7 +186,7 @@ def main() -> int:
     began = os.getloadavg()[0]
     flown = "holding still" if args.hover else "patrol"
     print(f"fleet {flown}, {args.seconds:g} s simulated per run, paced at {args.speed:g}x real time, "
-          f"{os.cpu_count()} cores; load average {began:.2f}")
+          f"{os.cpu_count()} cores, {build()}; load average {began:.2f}")
     print(f"{'drones':>6} {'workers':>7} {'patrolling':>10} {'real-time factor':>17} {'CPU cores':>10} "
           f"{'ms CPU/drone/s':>15} {'(whole)':>8} {'drones/core at RT':>18} {'link median':>12} {'link p99':>9} "
           f"{'samples':>8}")
@@ -200,8 +208,8 @@ def main() -> int:
           f"({sys.platform})")
     said = (f"Measured by `python bench/fleet.py --sizes {' '.join(map(str, args.sizes))} --workers "
             f"{' '.join(map(str, args.workers))} --seconds {args.seconds:g} --speed {args.speed:g} --docs` (a patrol "
-            f"paced at {args.speed:g}× real time; the baseline is the goal, 2 ms of CPU per drone per simulated "
-            f"second, 500 drones per core) at {measured_at(began)}.")
+            f"paced at {args.speed:g}× real time, {build()}; the baseline is the goal, 2 ms of CPU per drone per "
+            f"simulated second, 500 drones per core) at {measured_at(began)}.")
     print(said)
     if args.docs:
         write_section(PAGE, BEGIN, END, "\n".join([*rows, "", said]))

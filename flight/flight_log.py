@@ -107,7 +107,17 @@ class FlightLogWriter:
     def on_belief(self, change: BeliefChange) -> None:
         if change.reason == "shared":  # a fleet mate's position came or went: its fleet_drone_heard event says so
             return
-        self._write_line(belief_line(change, self._texts))
+        line = belief_line(change, self._texts)
+        with self._lock:  # _write_line, without its call (every belief change of every drone)
+            if self._fd is None:
+                return
+            if self.incomplete is not None:
+                self.lost += 1
+                return
+            pending = self._pending
+            pending.append(line)
+            if len(pending) >= PENDING:
+                self._write_pending()
 
     def on_tick(self) -> None:
         now = self.engine.now()
@@ -342,7 +352,12 @@ def state_line(now: float, telemetry: Any) -> str:
 
 
 def _json(record: dict[str, Any]) -> str:
-    return json.dumps(record, allow_nan=False, separators=(",", ":"))
+    """``json.dumps(record, allow_nan=False, separators=(",", ":"))``, the same text, by one encoder made once
+    (``json.dumps`` with options makes a new one at every call: an event or sample line of every drone)."""
+    return _ENCODE(record)
+
+
+_ENCODE = json.JSONEncoder(allow_nan=False, separators=(",", ":")).encode
 
 
 _text = json.encoder.encode_basestring_ascii  # a string as json.dumps writes it

@@ -23,6 +23,7 @@ from aeroexec.engine.catalog import BehaviorCatalog, CatalogError
 from aeroexec.engine.clock import Clock, SimulatedClock, WallClock
 from aeroexec.engine.engine import Engine  # loaded with the session, before the run lists itself as starting
 from aeroexec.engine.errors import Problem
+from aeroexec.engine.missions.bridge import DONE  # (engine.engine's import: loaded already)
 from aeroexec.flight.control import ControlServer
 from aeroexec.flight.ending import FlightEnding, end_flight
 from aeroexec.flight.flight_log import FlightLogWriter, world_meta
@@ -341,8 +342,6 @@ class FlightSession:
             return False
         if self.tree is not None:
             return self.tree.done
-        from aeroexec.engine.missions.bridge import DONE
-
         return self.engine.bridge.state == DONE
 
     def halt_mission(self, reason: str) -> None:

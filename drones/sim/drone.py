@@ -29,8 +29,7 @@ from aeroexec.drones.sim.airspace import Airspace
 from aeroexec.drones.sim.camera import Camera, merge_observations
 from aeroexec.drones.sim.config import SimConfig
 from aeroexec.drones.sim.payload import PayloadBay
-from aeroexec.drones.sim.vehicle.motion import wrap180
-from aeroexec.drones.sim.vehicle.multicopter import FALL, IDLE, TAKEOFF, Multicopter
+from aeroexec.drones.sim.vehicle.multicopter import IDLE, TAKEOFF, Multicopter
 from aeroexec.drones.sim.world import World
 from aeroexec.drones.sim.world_file import default_world
 
@@ -141,18 +140,7 @@ class SimulatedDrone(Drone):
         dt = self.config.substep
         target = math.floor((now - self._start) / dt + 1e-9)
         v = self._vehicle
-        if not v.armed and v.phase != FALL:
-            self._steps = max(self._steps, target)  # nothing moves: skip ahead
-            v.time = self._start + self._steps * dt
-        while self._steps < target:
-            if v.holds_still():  # only the clock and the battery move: the substeps without the rest
-                self._steps = v.hold_still(self._start, self._steps, target, dt)
-                continue
-            self._steps += 1
-            v.step(self._start + self._steps * dt, dt)
-            if not v.armed and v.phase != FALL:
-                self._steps = target
-                v.time = self._start + target * dt
+        self._steps = v.advance(self._start, self._steps, target, dt)
         v.ride_deck()  # landed on the moving platform (even disarmed): carried along
         if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0:
             self._blow(now)
@@ -198,18 +186,12 @@ class SimulatedDrone(Drone):
         return telemetry
 
     def _read_telemetry(self, v: Multicopter) -> Telemetry:
-        # The state is at the last whole substep; carry it over the remainder (< one substep) to ``time``.
-        ahead = self._now - v.time
-        if ahead < 0.0:
-            ahead = 0.0
-        (px, py, pz), (ux, uy, uz) = v.position, v.velocity
-        z = pz + uz * ahead
-        position: Vector = (px + ux * ahead, py + uy * ahead, 0.0 if z < 0.0 else z)
-        yaw = wrap180(v.yaw + v.yaw_rate * ahead)
+        position, yaw = v.carried(self._now)  # the last whole substep's state, carried on to ``time``
         if self.config.position_noise_std > 0.0:
             position = tuple(p + n for p, n in zip(position, self._noise, strict=True))  # type: ignore[assignment]
+        battery = v.battery
         return telemetry_snapshot(  # Telemetry(...), made faster (every engine period)
-            self._now, position, v.velocity, yaw, v.battery.percent, v.battery.voltage, v.armed, v.landed_state,
+            self._now, position, v.velocity, yaw, battery.percent, battery.voltage, v.armed, v.landed_state,
             v.mode, True, self.world.home,
             v.wind if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0 else None,
             self.link_ok(self._now) if self.config.link_loss is not None else None)

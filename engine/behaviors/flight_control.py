@@ -85,9 +85,10 @@ class ProgressWatch:
 
     def stalled(self, now: float, *errors: float) -> bool:
         """Record the current errors; True once no error has improved for ``stall_time`` seconds."""
+        best = self.best
         for i, (error, step) in enumerate(zip(errors, self.steps, strict=True)):
-            if error <= self.best[i] - step or math.isinf(self.best[i]):
-                self.best[i] = error
+            if error <= best[i] - step or best[i] == math.inf or best[i] == -math.inf:  # math.isinf, without its call
+                best[i] = error
                 self.since = now
         return now - self.since >= self.stall_time
 

@@ -2,6 +2,11 @@
 calm air with nothing to touch, a period's substeps move only its clock and battery: the flight is the same, bit for
 bit, as with the control laws and every check run at every substep."""
 
+import importlib.util
+from pathlib import Path
+
+import aeroexec.drones.sim.drone as drone_module
+import aeroexec.drones.sim.vehicle as vehicle_package
 import pytest
 from aeroexec.drones.sim import SimConfig, SimulatedDrone
 from aeroexec.drones.sim.shapes import Box
@@ -9,6 +14,16 @@ from aeroexec.drones.sim.vehicle.multicopter import Multicopter
 from aeroexec.drones.sim.world import Bounds, Platform, World, WorldObject
 
 HOME = (47.397742, 8.545594, 488.0)
+
+
+def source_multicopter() -> type:
+    """``Multicopter`` as ``multicopter.py`` writes it, loaded from the source: the class the compiled build
+    (``tools/build-compiled``) replaces, when it is built, by its extension's, whose methods cannot be replaced."""
+    path = Path(next(iter(vehicle_package.__path__))) / "multicopter.py"
+    spec = importlib.util.spec_from_file_location("aeroexec.drones.sim.vehicle._multicopter_source", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.Multicopter
 
 
 def world(platform: bool, crate: bool = True) -> World:
@@ -54,7 +69,9 @@ EMPTY = {"initial_battery_percent": 11.0, "battery_hover_minutes": 2.0, "failsaf
 ], ids=["calm", "platform", "nothing-to-touch", "wind", "noise", "failsafe", "empty-battery"])
 def test_a_hover_skipping_the_control_laws_flies_as_running_them(config, platform, crate, monkeypatch):
     held = []
-    on_target, hold_still = Multicopter._on_target, Multicopter.hold_still
+    source = source_multicopter()  # its methods counted and replaced below
+    monkeypatch.setattr(drone_module, "Multicopter", source)
+    on_target, hold_still = source._on_target, source.hold_still
 
     def counted(self):
         still = on_target(self)
@@ -65,11 +82,24 @@ def test_a_hover_skipping_the_control_laws_flies_as_running_them(config, platfor
         held.append("held")
         return hold_still(self, *args)
 
-    monkeypatch.setattr(Multicopter, "_on_target", counted)
-    monkeypatch.setattr(Multicopter, "hold_still", holding)
+    monkeypatch.setattr(source, "_on_target", counted)
+    monkeypatch.setattr(source, "hold_still", holding)
     fast = fly(config, platform, crate)
-    monkeypatch.setattr(Multicopter, "_on_target", lambda self: False)  # the control laws at every substep
+    monkeypatch.setattr(source, "_on_target", lambda self: False)  # the control laws at every substep
     assert repr(fly(config, platform, crate)) == repr(fast)  # bit for bit: -0.0 is not 0.0 in a log
     assert any(h is True for h in held), "the flight never held still on its target: the test tests nothing"
     if not crate and not config.wind:  # nothing to touch in calm air: whole substeps skipped too
         assert "held" in held
+
+
+@pytest.mark.parametrize("config, platform, crate", [
+    (SimConfig(), True, True),
+    (SimConfig(wind=(1.5, -0.5), wind_gust=0.8), False, False),
+    (SimConfig(**LOW), False, False),
+], ids=["platform", "wind", "failsafe"])
+def test_the_vehicle_imported_flies_as_its_source(config, platform, crate, monkeypatch):
+    """The compiled build's vehicle (when built; else the source, imported) flies the source's flight, bit for bit."""
+    imported = fly(config, platform, crate)
+    monkeypatch.setattr(drone_module, "Multicopter", source_multicopter())
+    assert drone_module.Multicopter is not Multicopter
+    assert repr(fly(config, platform, crate)) == repr(imported)

@@ -182,7 +182,35 @@ class Multicopter:
         """Horizontal distance (m) to where the drone started."""
         return math.hypot(self.position[0] - self.home[0], self.position[1] - self.home[1])
 
-    # --- one substep ----------------------------------------------------------------------------------
+    # --- substeps -------------------------------------------------------------------------------------
+    def advance(self, start: float, done: int, target: int, dt: float) -> int:
+        """Substeps ``done + 1`` to ``target`` (at ``start + k * dt``): :meth:`hold_still` while the vehicle
+        :meth:`holds_still`, else one :meth:`step` at a time; disarmed (and not falling), nothing moves: its clock
+        skips to the last substep. The number of the last substep made (``target``, or ``done`` when later)."""
+        if not self.armed and self.phase != FALL:
+            done = max(done, target)  # nothing moves: skip ahead
+            self.time = start + done * dt
+        while done < target:
+            if self.holds_still():  # only the clock and the battery move: the substeps without the rest
+                done = self.hold_still(start, done, target, dt)
+                continue
+            done += 1
+            self.step(start + done * dt, dt)
+            if not self.armed and self.phase != FALL:
+                done = target
+                self.time = start + target * dt
+        return done
+
+    def carried(self, now: float) -> tuple[Vector, float]:
+        """Position and yaw at ``now``: the state of the last whole substep carried over the remainder (less than a
+        substep; none when ``now`` is earlier), never below the ground."""
+        ahead = now - self.time
+        if ahead < 0.0:
+            ahead = 0.0
+        (px, py, pz), (ux, uy, uz) = self.position, self.velocity
+        z = pz + uz * ahead
+        return (px + ux * ahead, py + uy * ahead, 0.0 if z < 0.0 else z), wrap180(self.yaw + self.yaw_rate * ahead)
+
     def step(self, t: float, dt: float) -> None:
         """Advance the vehicle from ``self.time`` to ``t`` (``dt`` seconds later)."""
         self.time = round(t, 9)
