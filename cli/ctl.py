@@ -22,6 +22,7 @@ from typing import Any
 
 from aeroexec.engine.supervision.output import DEFAULT_BASE
 from aeroexec.flight.control import CONTROL_FILE, live_runs, read_control_file, send_command
+from aeroexec.flight.signals import ending_signals
 
 COMMANDS = {
     "pause": "stop the mission where it is; the drone hovers",
@@ -82,7 +83,8 @@ def run(args: argparse.Namespace) -> int:
             print("aeroexec ctl --stdin reads a fleet's commands from standard input: give --fleet NAME and no "
                   "COMMAND", file=sys.stderr)
             return 2
-        return fleet_commands(args, sys.stdin)
+        with ending_signals():  # SIGTERM and SIGHUP as Ctrl-C: the links to the fleet closed before the exit
+            return fleet_commands(args, sys.stdin)
     if args.command is None:
         print(f"aeroexec ctl: give a COMMAND ({', '.join(COMMANDS)})", file=sys.stderr)
         return 2
@@ -98,7 +100,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"aeroexec ctl {args.command}: {COMMANDS[args.command]}; give the argument", file=sys.stderr)
         return 2
     if args.fleet:
-        return fleet_command(args, argument)
+        with ending_signals():
+            return fleet_command(args, argument)
     try:
         port, token = endpoint(args)
     except AmbiguousRun as error:
@@ -304,10 +307,10 @@ def fleet_command(args: argparse.Namespace, argument: str) -> int:
     try:
         with fleet_operator(args) as operator:
             answers = operator.command(args.command, argument, drone=args.drone or "*")
+            return print_fleet_answers(args, answers)  # printed before the links close (a path opening is waited for)
     except (ValueError, FleetCommandError) as error:
         print(error, file=sys.stderr)
         return 1
-    return print_fleet_answers(args, answers)
 
 
 def print_fleet_answers(args: argparse.Namespace, answers: dict[str, dict], compact: bool = False) -> int:

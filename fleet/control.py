@@ -6,6 +6,14 @@ Every router the operator names is a path: the command goes through each at once
 drone's first answer counts (a drone runs a command once, whichever path brought it first: the command's ``id``).
 Over a lossy network a path stalls while TCP retransmits; another path seldom stalls at the same time.
 
+Nothing of Zenoh outlives :meth:`FleetOperator.close`: every path's session is closed, which ends the queries still
+running (a path's copy of a command answered by the other), and every thread the operator started (a path opening,
+a query's answers, a session closing) is joined. Zenoh's calls release the GIL: a thread still inside one when the
+interpreter finalizes is ended by ``pthread_exit`` on its way back, through Zenoh's Rust frames, which abort the
+process ("FATAL: exception not rethrown", SIGABRT) after the command was done; and Zenoh cannot be called at process
+exit (``atexit``). Each wait is bounded by Zenoh's own limits: its connect timeout, a query's ``timeout``, its close
+timeout.
+
 Which drones should answer: the fleet's members the caller knows (its ``fleet.json``), and those the answering
 drones know (the first drone of each process names its fleet's members, ``fleet``); each of them that did not
 answer gets an answer of its own, ``{ok: false, answered: false}``."""
@@ -27,7 +35,6 @@ from aeroexec.fleet.transport import TransportError, close_session, open_session
 logger = logging.getLogger(__name__)
 
 TIMEOUT = 8.0  # wall seconds to wait for the drones' answers
-CLOSE_LIMIT = 5.0  # wall seconds to wait for the paths' sessions to close
 OPEN_LIMIT = 60.0  # wall seconds to wait for a path to open, when none did yet
 
 
@@ -67,8 +74,12 @@ class FleetOperator:
         self._asked: list[_Asked] = []  # the commands waiting for answers: a path that opens carries them too
         self._closed = False
         self._changed = threading.Condition()
-        for n, endpoint in enumerate(self.paths):
-            threading.Thread(target=self._open, args=(endpoint,), daemon=True, name=f"aeroexec-ctl-{n}").start()
+        #: the threads started, joined by close: none is a daemon (the interpreter waits for them rather than end
+        #: them inside Zenoh)
+        self._threads = [threading.Thread(target=self._open, args=(endpoint,), name=f"aeroexec-ctl-{n}")
+                         for n, endpoint in enumerate(self.paths)]
+        for thread in self._threads:
+            thread.start()
 
     def __enter__(self) -> FleetOperator:
         return self
@@ -97,6 +108,12 @@ class FleetOperator:
             self._changed.notify_all()
         for one in asked:
             one.send(session, self.fleet)
+
+    def started(self, thread: threading.Thread) -> None:
+        """``thread`` (one of a query's answers) started: :meth:`close` joins it."""
+        thread.start()
+        with self._changed:
+            self._threads = [t for t in self._threads if t.is_alive()] + [thread]
 
     def opening(self) -> bool:
         """Whether a path is still opening."""
@@ -133,17 +150,25 @@ class FleetOperator:
         return answers
 
     def close(self) -> None:
-        """Every path's session closed, side by side (closing a link that lost packets waits for it), within
-        CLOSE_LIMIT seconds: what the commands did is done either way."""
+        """Every path's session closed, side by side (closing a link that lost packets waits for it, at most
+        Zenoh's close timeout: then a warning, what the commands did is done either way), and every thread of the
+        operator joined: the queries end with their sessions, a path still opening closes its session itself."""
         with self._changed:
             self._closed = True
             sessions, self.sessions = self.sessions, []
-        closing = [threading.Thread(target=close_session, args=(session,), daemon=True) for session in sessions]
+        closing = [threading.Thread(target=close_session, args=(session,), name="aeroexec-ctl-close")
+                   for session in sessions]
         for thread in closing:
             thread.start()
-        end = time.monotonic() + CLOSE_LIMIT
         for thread in closing:
-            thread.join(max(0.0, end - time.monotonic()))
+            thread.join()
+        while True:  # a path that opened meanwhile may have sent a command on a thread of its own: that one too
+            with self._changed:
+                left = [thread for thread in self._threads if thread.is_alive()]
+            if not left:
+                return
+            for thread in left:
+                thread.join()
 
 
 class _Asked:
@@ -173,8 +198,8 @@ class _Asked:
                 self.sent, self.first = time.time(), time.monotonic()
             self.started += 1
             payload = json.dumps({**self.request, "sent": self.sent}).encode()
-        threading.Thread(target=self._gather, args=(session, fleet, payload), daemon=True,
-                         name="aeroexec-ctl-answers").start()
+        self.operator.started(threading.Thread(target=self._gather, args=(session, fleet, payload),
+                                               name="aeroexec-ctl-answers"))
 
     def _gather(self, session: Any, fleet: str, payload: bytes) -> None:
         try:
@@ -185,7 +210,7 @@ class _Asked:
             for reply in session.get(key(fleet, self.drone, "command"), payload=payload, timeout=self.timeout,
                                      consolidation=zenoh.ConsolidationMode.NONE):
                 self._take(reply)
-        except Exception as error:  # the session closed under the query once the command was answered
+        except Exception as error:  # the session closed under the query once the command was answered (close)
             logger.debug("fleet %s: a path's query ended: %s", fleet, error)
         finally:
             with self._changed:

@@ -24,10 +24,14 @@ class JoinedFleet:
         self.session, self.node, self.link, self.folder = session, node, link, folder
 
     def close(self) -> None:
-        self.link.leave()
-        self.node.close()
-        close_session(self.session)
-        (self.folder / FLEET_FILE).unlink(missing_ok=True)
+        """The drone out of the fleet; the session closed whatever failed before (a session left open at the exit
+        may call into Python, its queryable's callbacks, while the interpreter finalizes: the process aborts)."""
+        try:
+            self.link.leave()
+            self.node.close()
+        finally:
+            close_session(self.session)
+            (self.folder / FLEET_FILE).unlink(missing_ok=True)
 
 
 def join_fleet(engine: Any, fleet: str, name: str, folder: Path, mission: str, connect: list[str] | None = None,

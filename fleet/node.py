@@ -388,7 +388,9 @@ class FleetNode:
         self._send(said, self._lockstep.period if self._lockstep else None)  # the local drones' last words
         self._closed = True
         self._answers.put(None)
-        self._answering.join(1.0)  # an answer its engine will not give any more is not waited for
+        # joined to its end: the commands waiting are answered, at most COMMAND_TIMEOUT after they came (a thread
+        # still replying inside Zenoh when the interpreter finalizes is ended there, and the process aborts)
+        self._answering.join()
         for entity in (self._queue, *self._queryables.values(), *self._publishers.values()):
             _undeclare(entity, self.fleet)
         self.refusals.flush(final=True)

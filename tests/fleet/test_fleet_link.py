@@ -3,13 +3,15 @@ shared beliefs arrive under the sender's name and expire when it falls silent.""
 
 import json
 import logging
+import socket
+import threading
 import time
 
 import pytest
 from aeroexec.drones.sim import SimulatedDrone
 from aeroexec.engine.engine import Engine
 from aeroexec.fleet.access import Roster
-from aeroexec.fleet.control import FleetCommandError, command_fleet
+from aeroexec.fleet.control import FleetCommandError, FleetOperator, command_fleet
 from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import encode, tick
@@ -122,6 +124,28 @@ def test_commands_need_the_fleets_token(fleet):
     assert answers["d1"]["ok"] and "position" in answers["d1"]["status"]
     answers = command_fleet([endpoint], "f", "secret", "pause", drone="d1")
     assert answers["d1"]["ok"] and engine.supervisor.state == "paused"
+
+
+def test_an_operator_closed_leaves_no_thread_of_its_own_behind_even_with_a_path_still_opening(fleet):
+    """A command answered through one path while the other is still opening (its router slow to shake hands: here
+    a listener that never speaks) and while a query still runs (an answerer that holds it): closing the operator
+    waits for that path to give up and ends the query with its session, so no thread of the operator is inside
+    Zenoh when the process exits (one was, ended there by the interpreter's finalization: ctl aborted after its
+    answer with "FATAL: exception not rethrown")."""
+    endpoint, engine, link, other = fleet
+    engine.start()
+    held = []  # the queries that reached the holder, never answered: each runs until its session closes
+    holder = link.node.session.declare_queryable("aeroexec/f/d9/command", held.append)
+    with socket.create_server(("127.0.0.1", 0)) as silent:  # connections queue in its backlog, never answered
+        silent_endpoint = f"tcp/127.0.0.1:{silent.getsockname()[1]}"
+        with FleetOperator([endpoint, silent_endpoint], "f", "secret", members=["d1"]) as operator:
+            answers = operator.command("status")
+            assert answers["d1"]["ok"] and "d9" not in answers
+            assert operator.opening(), "the silent path was still opening when the command was answered"
+    assert held, "the command reached the holder: its query was still running when the operator closed"
+    assert [t.name for t in threading.enumerate() if t.name.startswith("aeroexec-ctl")] == []
+    held.clear()
+    holder.undeclare()
 
 
 def test_a_drone_shares_what_it_knows_itself_never_what_others_told_it(fleet):
