@@ -12,10 +12,13 @@ flight at its line, as a ``while True:`` with no way out is.
 from __future__ import annotations
 
 import ast
-from typing import Any
 
 from aeroexec.dialects.aerostack2.node_api import needs_graph
 from aeroexec.dialects.ros import ROS2_BEYOND
+
+TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
+if TYPE_CHECKING:
+    from typing import Any
 
 #: What makes a node: the class, and the function.
 NODE_MAKERS = ("rclpy.node.Node", "rclpy.create_node")
