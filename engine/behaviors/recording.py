@@ -217,6 +217,21 @@ class TriggerCamera(BehaviorProcess):
         self.taken += 1
         return None
 
+    def on_stop(self, outcome: Outcome) -> None:
+        """The photos the vehicle's camera answered by now are said (``photo_taken``); those asked and still
+        unanswered when the behavior stops (a halt while a reply is on the way: the vehicle may take them) are said
+        once, with their number (``photo_unanswered``), never dropped unsaid."""
+        for handle in [h for h in self.pending if h.done]:
+            self.pending.remove(handle)
+            vehicle_photo(self, handle)  # a refusal now fails nothing: the behavior has ended
+        if self.pending:
+            count = len(self.pending)
+            self.context.log.record("photo_unanswered", self.name,
+                                    f"{count} photo{'s' if count != 1 else ''} asked of the vehicle's camera had no "
+                                    f"answer when {self.name} stopped: the vehicle may have taken "
+                                    f"{'them' if count != 1 else 'it'}", count=count, camera="vehicle")
+            self.pending.clear()
+
 
 # --- video -------------------------------------------------------------------------------------------------
 

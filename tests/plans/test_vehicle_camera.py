@@ -94,4 +94,8 @@ def test_a_survey_s_distance_trigger_takes_its_photos_through_the_vehicle_s_came
     assert outcome.exit_status == 0, (outcome.status, outcome.faults)
     taken = [e for e in events if e.kind == "photo_taken" and e.behavior == "TRIGGER_CAMERA"]
     assert len(taken) >= 20 and all(e.data.get("camera") == "vehicle" for e in taken)
-    assert len(saved) == len([e for e in events if e.kind == "photo_taken"])
+    # every photo the vehicle saved is in the log: taken, or asked and unanswered when the trigger stopped (its
+    # reply on the way: the vehicle takes it, the log says it may have)
+    unanswered = sum(e.data.get("count", 0) for e in events if e.kind == "photo_unanswered")
+    said = len([e for e in events if e.kind == "photo_taken"])
+    assert said <= len(saved) <= said + unanswered
