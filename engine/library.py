@@ -44,7 +44,7 @@ UPDATERS_GROUP = "aeroexec.updaters"
 DRONES_GROUP = "aeroexec.drones"
 AERIAL_BEHAVIORS = "aeroexec.engine.behaviors:aerial_behaviors"
 AERIAL_PROCESSES = "aeroexec.engine.behaviors:aerial_processes"
-AERIAL_INDEX = "aeroexec.engine.behaviors:aerial_index"
+AERIAL_INDEX = "aeroexec.engine.behaviors:aerial_module_index"
 AERIAL_PROCESSES_OF = "aeroexec.engine.behaviors:processes_of_module"
 
 
@@ -151,9 +151,9 @@ def aerial_behavior_names() -> frozenset[str]:
 
 def aerial_index() -> tuple[dict[str, str], dict[str, str]]:
     """The module implementing each behavior of the aerial library and the module listing each of its capability
-    processes (``aeroexec.engine.behaviors.aerial``'s ``aerial_index``), without importing them when its package's
-    modules are those the index was last read from: it is kept in the user's cache folder under a hash of those
-    modules' names, sizes and modification times (every folder of the package's path), aeroexec's version and
+    processes (``aeroexec.engine.behaviors.aerial``'s ``aerial_module_index``), without importing them when its
+    package's modules are those the index was last read from: it is kept in the user's cache folder under a hash of
+    those modules' names, sizes and modification times (every folder of the package's path), aeroexec's version and
     Python's, and read from the library itself (then kept) when there is none."""
     folders = tuple(_search_path(AERIAL_BEHAVIORS.partition(":")[0]))
     # read once while the modules are as they were (the catalog's check, the library and the processes ask)

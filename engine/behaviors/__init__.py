@@ -12,9 +12,14 @@ from aeroexec.lazy import lazy_names
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 
-__all__ = ["aerial_behaviors", "aerial_index", "aerial_processes", "processes_of_module"]
-__getattr__ = lazy_names(__name__, {"aerial_behaviors": "aerial", "aerial_index": "aerial",
+__all__ = ["aerial_behaviors", "aerial_module_index", "aerial_processes", "processes_of_module"]
+__getattr__ = lazy_names(__name__, {"aerial_behaviors": "aerial", "aerial_module_index": "aerial",
                                     "aerial_processes": "aerial", "processes_of_module": "aerial"})
 
 if TYPE_CHECKING:
-    from aeroexec.engine.behaviors.aerial import aerial_behaviors, aerial_index, aerial_processes, processes_of_module
+    from aeroexec.engine.behaviors.aerial import (
+        aerial_behaviors,
+        aerial_module_index,
+        aerial_processes,
+        processes_of_module,
+    )

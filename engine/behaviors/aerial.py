@@ -19,7 +19,7 @@ TYPE_CHECKING = False  # typing is not imported at run time (type checkers read 
 if TYPE_CHECKING:
     from typing import Any
 
-__all__ = ["PROCESS_MODULES", "aerial_behaviors", "aerial_index", "aerial_processes", "processes_of_module"]
+__all__ = ["PROCESS_MODULES", "aerial_behaviors", "aerial_module_index", "aerial_processes", "processes_of_module"]
 
 #: The modules listing capability processes, and the mapping of each that lists them, in the order they are merged
 #: (a later module's name wins).
@@ -60,7 +60,7 @@ def aerial_processes() -> ProcessRegistry:
     return registry
 
 
-def aerial_index() -> tuple[dict[str, str], dict[str, str]]:
+def aerial_module_index() -> tuple[dict[str, str], dict[str, str]]:
     """The module implementing each behavior, and the module of :data:`PROCESS_MODULES` listing each capability
     process, read by importing them all (``aeroexec.engine.library`` keeps them, so a run imports only the modules
     it uses)."""
