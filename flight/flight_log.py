@@ -107,17 +107,7 @@ class FlightLogWriter:
     def on_belief(self, change: BeliefChange) -> None:
         if change.reason == "shared":  # a fleet mate's position came or went: its fleet_drone_heard event says so
             return
-        line = belief_line(change, self._texts)
-        with self._lock:  # _write_line, without its call (every belief change of every drone)
-            if self._fd is None:
-                return
-            if self.incomplete is not None:
-                self.lost += 1
-                return
-            pending = self._pending
-            pending.append(line)
-            if len(pending) >= PENDING:
-                self._write_pending()
+        self._write_line(belief_line(change, self._texts))
 
     def on_tick(self) -> None:
         now = self.engine.now()
