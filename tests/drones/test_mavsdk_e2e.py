@@ -182,8 +182,10 @@ def test_close_returns_promptly_even_with_a_command_in_flight(flight):
     time.sleep(0.2)
     start = time.monotonic()
     drone.close()
-    assert time.monotonic() - start < drone.close_timeout + 0.5
+    # CANCELLED, not an autopilot's answer or MAVSDK's retries running out: close did not wait for the command; the
+    # time is only a guard against a hang (stretched on a loaded machine)
     assert pending.done and pending.failure == Failure.CANCELLED
+    assert time.monotonic() - start < hang_guard(drone.close_timeout + 0.5)
     after = drone.land()
     assert after.done and after.failure == Failure.CANCELLED
 
