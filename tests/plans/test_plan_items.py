@@ -176,7 +176,7 @@ def test_return_to_launch_goes_to_the_nearest_rally_point_and_speed_and_yaw_foll
     assert enu(nodes[4][2]["COORDINATES"]) == (10, 10, 4) and nodes[5][0] == "LAND"
 
 
-def test_do_jump_repeats_the_items_it_jumps_back_over_and_refuses_forever_and_forward_jumps():
+def test_do_jump_repeats_the_items_it_jumps_back_over_warns_of_forever_and_refuses_forward_jumps():
     jump = plan(takeoff(), waypoint(1, 0, 5), waypoint(2, 0, 5), item(177, [2, 2, 0, 0, 0, 0, 0], 2),
                 item(20, [0] * 7, 2))
     nodes = tree(jump).root.children
@@ -184,9 +184,10 @@ def test_do_jump_repeats_the_items_it_jumps_back_over_and_refuses_forever_and_fo
     assert nodes[1].ports == {"num_cycles": "3"} and [c.name for c in nodes[1].children[0].children] == \
         ["item 2 WAYPOINT", "item 3 WAYPOINT"]
     forever = tree(plan(takeoff(), waypoint(1, 0, 5), item(177, [2, -1, 0, 0, 0, 0, 0], 2)))
-    assert any("repeats forever" in p.message and p.message.startswith("item 3:") for p in forever.problems)
+    assert any("repeats forever" in p.message and p.message.startswith("item 3:") and p.severity == "warning"
+               for p in forever.problems)
     ahead = tree(plan(takeoff(), item(177, [3, 1, 0, 0, 0, 0, 0], 2), waypoint(1, 0, 5)))
-    assert any("not before it" in p.message for p in ahead.problems)
+    assert any("not before it" in p.message and p.severity == "error" for p in ahead.problems)
 
 
 def test_a_survey_without_items_computes_its_transects_as_qgroundcontrol_did():
