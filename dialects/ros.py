@@ -69,7 +69,7 @@ _INTERFACE: dict[str, frozenset[str]] = {
                                    "ParameterException", "NotInitializedException"}),
     "as2_msgs": frozenset({"msg"}),
     "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
-                               "PoseWithIDArray"}),
+                               "PoseWithIDArray", "TrajectoryWaypoints"}),
     "as2_python_api": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
                                  "drone_interface_teleop", "modules", "behavior_actions", "mission_interpreter"}),
     "as2_python_api.modules": frozenset({
