@@ -241,7 +241,7 @@ class DroneObjects:
         if owner is not None:
             modules = owner.modules(self.loaded)
             if func.attr in modules and func.attr not in owner.own:
-                return self._bind(call, aerostack2.method(modules[func.attr]))
+                return self._bind(call, aerostack2.method(modules[func.attr]), f"{owner.interface}.{func.attr}")
             if func.attr in modules or func.attr in owner.own or func.attr in aerostack2.DRONE_MEMBERS:
                 return None
             if report:
@@ -273,7 +273,9 @@ class DroneObjects:
             self.checker.report(func, f"The function {name} does not exist in Aerostack2's {owner.interface}"
                                       f"{suggestion(name, (*modules, *aerostack2.DRONE_MEMBERS))}", WRONG_FORMAT)
 
-    def _bind(self, call: ast.Call, method: Method) -> As2Call:
+    def _bind(self, call: ast.Call, method: Method, written: str = "") -> As2Call:
+        """``call`` bound to ``method``; ``written``: the drone interface's member the script called, when its name
+        is not the module's (a DroneInterfaceGPS's ``follow_path`` is Aerostack2's ``follow_path_gps`` module)."""
         nodes: dict[str, ast.AST] = dict(zip(method.parameters, call.args, strict=False))
         nodes.update({method.named(k.arg): k.value for k in call.keywords if k.arg})
         if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
@@ -282,6 +284,10 @@ class DroneObjects:
         try:
             bound = method.bind(values, {k.arg: self._value(k.value) for k in call.keywords})
         except As2Error as error:
+            member = written.rpartition(".")[2]
+            if member and member != method.module and error.message.startswith(f"{method.spelled}()"):
+                error = As2Error(error.kind, f"{member}() ({written} is Aerostack2's {method.module} module)"
+                                             f"{error.message.removeprefix(f'{method.spelled}()')}")
             return As2Call(call, method, nodes, None, error)
         return As2Call(call, method, nodes, bound)
 
