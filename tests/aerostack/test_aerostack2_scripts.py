@@ -71,8 +71,8 @@ def test_a_script_that_only_starts_a_behavior_tree_is_refused_naming_what_flies_
     (under python3 too). It is refused before flight saying so, and what to run instead."""
     flight = fly(SCRIPTS / "gazebo_mission_behavior_tree.py", tmp_path, capsys)
     assert flight.status == 1 and not flight.records
-    assert "gazebo_mission_behavior_tree.py:56:26: error: WRONG_FORMAT: Nothing in this script flies a drone: it uses " \
-           "no drone interface of Aerostack2's Python API" in flight.err
+    assert "gazebo_mission_behavior_tree.py:56:26: error: WRONG_FORMAT: Nothing in this script flies a drone: it " \
+           "uses no drone interface of Aerostack2's Python API" in flight.err
     assert "It publishes 'start' (line 56) for another program: the one that flies the drone (a behavior tree " \
            "waiting for it with WaitForEvent flies with aeroexec run TREE.xml --event start=VALUE)" in flight.err
 
