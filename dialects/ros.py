@@ -43,7 +43,8 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
 _INTERFACE: dict[str, frozenset[str]] = {
     "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging", "node", "executors", "parameter", "time",
                         "duration", "clock", "timer", "task", "exceptions", "publisher", "utilities", "spin",
-                        "spin_once", "spin_until_future_complete", "create_node", "get_global_executor", "qos"}),
+                        "spin_once", "spin_until_future_complete", "create_node", "get_global_executor", "qos",
+                        "callback_groups"}),
     # a script's own node, as far as it needs no ROS 2 graph (aerostack2/rclpy/node.py; its graph's methods are
     # refused by the check of nodes, aerostack2/ros_nodes.py)
     "rclpy.node": frozenset({"Node"}),
@@ -56,6 +57,7 @@ _INTERFACE: dict[str, frozenset[str]] = {
     "rclpy.timer": frozenset({"Timer"}),
     "rclpy.task": frozenset({"Future"}),
     "rclpy.publisher": frozenset({"Publisher"}),
+    "rclpy.callback_groups": frozenset({"CallbackGroup", "MutuallyExclusiveCallbackGroup", "ReentrantCallbackGroup"}),
     # QoS profiles as data, for the publishers served (aerostack2/rclpy/qos.py: its __all__)
     "rclpy.qos": frozenset({
         "DurabilityPolicy", "HistoryPolicy", "InvalidQoSProfileException", "LivelinessPolicy", "QoSDurabilityPolicy",

@@ -245,7 +245,7 @@ class DroneObjects:
             if func.attr in modules or func.attr in owner.own or func.attr in aerostack2.DRONE_MEMBERS:
                 return None
             if report:
-                self._unknown(func, owner, owner.modules(self.loaded))
+                self._unknown(func, owner, owner.modules(self.loaded), call)
             return None
         if isinstance(func.value, ast.Attribute):
             owner = self.drone(func.value.value)
@@ -265,10 +265,11 @@ class DroneObjects:
                                           f"{suggestion(func.attr, methods)}", WRONG_FORMAT)
         return None
 
-    def _unknown(self, func: ast.Attribute, owner: DroneClass, modules: dict[str, str]) -> None:
+    def _unknown(self, func: ast.Attribute, owner: DroneClass, modules: dict[str, str],
+                 call: ast.Call | None = None) -> None:
         name = func.attr
         if name.startswith(NODE_API):
-            self.checker.report(func, f"{owner.interface}.{name}: {ROS2_BEYOND}", WRONG_FORMAT)
+            self.checker.report(func, f"{owner.interface}.{name}: {ROS2_BEYOND}{_topic_of(func, call)}", WRONG_FORMAT)
         elif not owner.own and not owner.any_module:
             self.checker.report(func, f"The function {name} does not exist in Aerostack2's {owner.interface}"
                                       f"{suggestion(name, (*modules, *aerostack2.DRONE_MEMBERS))}", WRONG_FORMAT)
@@ -365,6 +366,15 @@ class DroneObjects:
     def node_of(self, found: As2Call, argument: str) -> ast.AST:
         """Where in the call the catalog argument ``argument`` came from (the call itself if not told apart)."""
         return next((found.nodes[p] for p in _SOURCES.get(argument, ()) if p in found.nodes), found.call)
+
+
+def _topic_of(func: ast.Attribute, call: ast.Call | None) -> str:
+    """For a subscription of a topic the call names: whose the topic is (another program's, which a ROS 2 graph
+    brings; none runs here)."""
+    if func.attr != "create_subscription" or call is None or len(call.args) < 2 or \
+            not isinstance(call.args[1], ast.Constant) or not isinstance(call.args[1].value, str):
+        return ""
+    return f" (a subscription to {call.args[1].value}, which another program publishes)"
 
 
 def unknown(value: Any) -> bool:

@@ -90,6 +90,30 @@ def test_a_timer_driven_node_flies_its_mission_and_shutdown_in_a_callback_ends_t
     assert "completed" in flight.out
 
 
+def test_a_timer_in_a_callback_group_flies_and_a_subscription_is_refused_naming_its_topic(tmp_path, capsys):
+    """Callback groups (rclpy.callback_groups) are data: a timer given one is served, the node's callbacks one at a
+    time as either group allows. A subscription is still refused before flight, naming the topic another program
+    would publish (project_gazebo's click-to-navigate: RViz's /clicked_point)."""
+    grouped = SQUARE.replace("from rclpy.node import Node\n", "from rclpy.node import Node\n"
+                             "from rclpy.callback_groups import MutuallyExclusiveCallbackGroup\n")
+    grouped = grouped.replace("self.create_timer(0.5, self.tick)",
+                              "self.create_timer(0.5, self.tick, callback_group=MutuallyExclusiveCallbackGroup())")
+    script = tmp_path / "grouped.py"
+    script.write_text(grouped)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, G, G, G, G, L]
+    clicks = tmp_path / "clicks.py"
+    clicks.write_text("import rclpy\nfrom as2_python_api.drone_interface import DroneInterface\n"
+                      "from geometry_msgs.msg import PointStamped\n\n\nclass Drone(DroneInterface):\n"
+                      "    def __init__(self):\n        super().__init__('drone0')\n"
+                      "        self.create_subscription(PointStamped, '/clicked_point', print, 10)\n")
+    refused = fly(clicks, tmp_path, capsys)
+    assert refused.status == 1 and not refused.records
+    assert "clicks.py:9:9: error: WRONG_FORMAT: DroneInterface.create_subscription: this mission uses ROS 2 beyond " \
+           "the drone interface (a subscription to /clicked_point, which another program publishes)" in refused.err
+
+
 def test_parameters_given_with_ros_args_change_what_it_flies(tmp_path, capsys):
     """Declared defaults fly a 4 m square at 2 m; ``-- --ros-args -p height:=3.0 -p square_mission:side:=2.5``
     (the second for that node only, as rcl reads it) flies a 2.5 m square at 3 m."""
