@@ -136,15 +136,17 @@ def _spun(call: ast.Call, dotted: Any, names: set[str], attributes: set[str], ex
 
 
 def flies_nothing(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
-    """An error for a script of ``rclpy`` alone: one that imports no drone interface of Aerostack2's Python API and
-    nothing of its own folder (the caller knows it names no API; here: every import is ROS's or Python's), and so
+    """An error for a script of ``rclpy`` alone: one that starts ROS 2 (``rclpy.init()``), imports no drone interface of
+    Aerostack2's Python API and nothing of its own folder (the caller knows it names no API; here: every import is
+    ROS's or Python's), and so
     flies no drone — run alone, under ``python3`` too, the drone stays on the ground. Its publishers' topics say
     what it is for: another program's input (project_gazebo's ``mission_behavior_tree.py`` publishes ``start`` for
     the behavior tree that ``as2_behavior_tree`` runs and that waits for it)."""
     from aeroexec.dialects.ros import is_ros
 
-    if not any(_imports_rclpy(n) for n in nodes):
-        return []
+    if not any(_imports_rclpy(n) for n in nodes) or \
+            not any(isinstance(n, ast.Call) and dotted(n.func) == "rclpy.init" for n in nodes):
+        return []  # a module of rclpy's nodes that a script imports is no script: the script starts ROS 2
     for node in nodes:
         if isinstance(node, ast.ImportFrom) and node.level:
             return []

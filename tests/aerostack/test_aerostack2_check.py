@@ -204,7 +204,8 @@ def test_ros_2_beyond_the_drone_interface_is_refused_where_it_is_used():
     assert found == [
         # ROS 2's messages are data now (issue 42): PoseStamped and String are served; the subscription is refused;
         # a script's own node and spinning are served (rclpy.node.Node, rclpy.spin_once: aerostack2/rclpy/node.py)
-        (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface"),
+        (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface (a "
+                     "subscription to chatter, which another program publishes)"),
     ]
 
 

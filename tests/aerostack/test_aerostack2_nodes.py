@@ -186,7 +186,11 @@ def test_a_subscription_of_a_node_is_still_refused_at_its_line(tmp_path, capsys)
         rclpy.spin(node)
         '''
     beyond = "this mission uses ROS 2 beyond the drone interface"
-    assert check(source) == [(10, "error", f"WRONG_FORMAT: Node.create_subscription: {beyond}"),
+    assert check(source) == [(3, "error", "WRONG_FORMAT: Nothing in this script flies a drone: it uses no drone "
+                                          "interface of Aerostack2's Python API (as2_python_api's DroneInterface), "
+                                          "so run alone, under python3 too, the drone stays on the ground. It makes "
+                                          "ROS 2 nodes of its own and no drone interface"),
+                             (10, "error", f"WRONG_FORMAT: Node.create_subscription: {beyond}"),
                              (22, "error", f"WRONG_FORMAT: Node.create_client: {beyond}")]
     script = tmp_path / "follower.py"
     script.write_text(textwrap.dedent(source))
@@ -247,6 +251,7 @@ def test_a_spin_whose_timers_never_shut_down_ends_at_the_time_limit(tmp_path, ca
     script.write_text(textwrap.dedent('''
         import rclpy
         from rclpy.node import Node
+        from as2_python_api.drone_interface import DroneInterface
 
 
         class Ticker(Node):
@@ -260,11 +265,16 @@ def test_a_spin_whose_timers_never_shut_down_ends_at_the_time_limit(tmp_path, ca
 
 
         rclpy.init()
+        uav = DroneInterface('drone0')
+        uav.arm()
+        uav.offboard()
+        uav.takeoff(2.0, 1.0)
         rclpy.spin(Ticker())
         '''))
     flight = fly(script, tmp_path, capsys, "--max-time", "20")
     assert flight.status == 1
     assert "20 s of engine time have passed" in flight.out + flight.err
+    assert flight.achieved() == [T, L]  # its take-off; the run lands the drone at the time limit
 
 
 EXECUTORS = '''
