@@ -5,17 +5,21 @@ each in its own process with a time limit, from its project's folder (a copy of 
 sessions run their missions, and a table of how each ended, read from the run's event logs (one per drone):
 
 - ``flew``: flew to completion — every drone took off, every behavior the mission requested reached its goal, none
-  of its requests was refused, the drone landed and was disarmed, and the run ended completed (status 0);
+  of its requests was refused, the drone landed before the mission ended and was disarmed, and the run ended
+  completed (status 0);
 - ``flew, then exited N``: all of that, and then the script ended itself with ``sys.exit(N)``, N not 0, as it
   would under ``python3`` (the status is its author's);
+- ``flew, left in the air``: status 0 and all of the first, but the script ended with the drone flying (it never
+  lands it: under ``python3`` it would be left hovering; aeroexec's run lands it). Counted apart too;
 - ``incomplete``: the run ended with status 0 but its logs show no flight to completion (the reason: a drone that
   never took off, a behavior that ended short of its goal, a request refused, a drone not landed or not disarmed);
 - ``refused`` (before flight, with the reason the run gave), ``failed`` (the reason), ``timeout``.
 
     python tools/aerostack2_survey.py [--jobs 2] [--limit 300] [FILE...]
 
-The last line gives the figure, how many of the set flew to completion, and beside it how many flew to completion
-and then exited with a non-zero status of the script's own.
+The last line gives the figure, how many of the set flew to completion, and beside it, apart, how many flew to
+completion and then exited with a non-zero status of the script's own, and how many flew what they asked and left
+the drone in the air.
 """
 
 from __future__ import annotations
@@ -46,7 +50,8 @@ class Outcome:
     """How one mission's run ended."""
 
     file: str
-    verdict: str  # "flew", "flew, then exited N", "incomplete", "refused", "failed", "timeout"
+    verdict: str  # "flew", "flew, then exited N", "flew, left in the air", "incomplete", "refused", "failed",
+    # "timeout"
     status: int | None
     reason: str
 
@@ -101,8 +106,11 @@ def fly(path: Path, limit: float, project: Path | None = None) -> Outcome:
         flight = flight_of(logs)
         if flight.completed and done.returncode == 0 and flight.exit_status is None:
             return Outcome(name, "flew", 0, "")
-        if flight.completed and flight.exit_status is not None and flight.exit_status == done.returncode:
-            return Outcome(name, f"flew, then exited {done.returncode}", done.returncode, reason)
+        if flight.completed and flight.exit_status is not None and done.returncode != 0:  # the run: failed (1)
+            return Outcome(name, f"flew, then exited {flight.exit_status}", done.returncode,
+                           f"landed and disarmed, then the script's own exit: sys.exit({flight.exit_status})")
+        if done.returncode == 0 and flight.left_in_air:  # what it asked flew; it never landed the drone itself
+            return Outcome(name, "flew, left in the air", 0, flight.short_of)
         if done.returncode == 0:  # ended as its author meant, yet not a flight to completion (an LED test...)
             return Outcome(name, "incomplete", 0, flight.short_of)
         return Outcome(name, "failed", done.returncode, reason)
@@ -116,8 +124,11 @@ class Flight:
     completed: bool
     short_of: str  # why it did not fly to completion ("" when it did)
     exit_status: int | None  # the script's own exit status, when its exit ended the run (not 0)
+    left_in_air: bool = False  # all else held, but the mission ended with a drone in the air (the run landed it)
 
 
+#: Why a flight whose every other check held is not one to completion: the script left the drone flying.
+IN_AIR = "the mission ended with the drone in the air (the run landed it)"
 #: A behavior's ends short of its goal.
 _SHORT = ("TIME_OUT", "WRONG_PROGRESS", "FAILED", "INTERRUPTED")
 _SCRIPT_EXIT = re.compile(r"ScriptExit: the script exited with status (-?\d+)$")
@@ -128,16 +139,22 @@ def flight_of(logs: list[Path]) -> Flight:
     mission requested reached its goal (none ended ``TIME_OUT``, ``WRONG_PROGRESS``, ``FAILED`` or
     ``INTERRUPTED``) and none of its requests was refused (``rejected``, ``failed_preconditions``); the drone landed
     after its last take-off and was disarmed after that landing; the run ended ``completed``, or ``failed`` by the
-    script's own exit with a non-zero status (``ScriptExit``) and nothing else (``exit_status``)."""
+    script's own exit with a non-zero status (``ScriptExit``) and nothing else (``exit_status``). The landing is the
+    mission's: before the mission ended, not the run's landing of a drone the mission left in the air."""
     if not logs:
         return Flight(False, "no event log", None)
     statuses: set[int | None] = set()
+    in_air = []
     for log in logs:
         short_of, status = _drone_flight(log)
-        if short_of:
-            drone = f"{log.parent.name}: " if len(logs) > 1 else ""
+        drone = f"{log.parent.name}: " if len(logs) > 1 else ""
+        if short_of == IN_AIR:
+            in_air.append(f"{drone}{short_of}")
+        elif short_of:
             return Flight(False, f"{drone}{short_of}", None)
         statuses.add(status)
+    if in_air:
+        return Flight(False, in_air[0], None, left_in_air=True)
     if len(statuses) != 1:
         return Flight(False, "the drones' runs ended differently", None)
     return Flight(True, "", statuses.pop())
@@ -146,7 +163,7 @@ def flight_of(logs: list[Path]) -> Flight:
 def _drone_flight(log: Path) -> tuple[str, int | None]:
     """Why one drone's run did not fly to completion ("" when it did), and the script's own exit status, if any."""
     records = [json.loads(line) for line in log.read_text().splitlines() if line.strip()]
-    took_off = landed = disarmed = -1
+    took_off = landed = disarmed = ended_at = -1
     achieved = 0
     ended: dict | None = None
     for i, record in enumerate(records):
@@ -164,12 +181,16 @@ def _drone_flight(log: Path) -> tuple[str, int | None]:
             landed = i
         elif kind == "drone_disarmed":
             disarmed = i
+        elif kind in ("mission_completed", "mission_failed") and ended_at < 0:
+            ended_at = i
         elif kind == "run_ended":
             ended = record
     if took_off < 0 or not achieved:
         return "the drone never took off", None
     if landed < took_off:
         return "the drone did not land after its last take-off", None
+    if 0 <= ended_at < landed:
+        return IN_AIR, None
     if disarmed < landed:
         return "the drone was not disarmed after landing", None
     if ended is None:
@@ -192,6 +213,13 @@ def main(argv: list[str] | None = None) -> int:
     files = [p.resolve() for p in arguments.files] or missions()
     with ThreadPoolExecutor(arguments.jobs) as pool:
         outcomes = list(pool.map(lambda p: fly(p, arguments.limit), files))
+    report(outcomes)
+    return 0
+
+
+def report(outcomes: list[Outcome]) -> None:
+    """The table, one line a mission, and the figures: flown to completion, and beside it (not in it) flown to
+    completion and then exited non-zero by the script's own exit."""
     width = max(len(o.file) for o in outcomes)
     verdicts = max(len(o.verdict) for o in outcomes)
     for outcome in outcomes:
@@ -199,9 +227,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{outcome.file:<{width}}  {outcome.verdict:<{verdicts}} {status:>2}  {outcome.reason}")
     flew = sum(o.verdict == "flew" for o in outcomes)
     exited = sum(o.verdict.startswith("flew, then exited") for o in outcomes)
+    in_air = sum(o.verdict == "flew, left in the air" for o in outcomes)
     print(f"flew to completion: {flew} of {len(outcomes)}; "
-          f"flew to completion, then exited non-zero by the script's own exit: {exited} of {len(outcomes)}")
-    return 0
+          f"flew to completion, then exited non-zero by the script's own exit: {exited} of {len(outcomes)}; "
+          f"flew what it asked, then left the drone in the air (the run landed it): {in_air} of {len(outcomes)}")
 
 
 if __name__ == "__main__":
