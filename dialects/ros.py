@@ -43,7 +43,8 @@ ROS2_PACKAGES = frozenset({"rclpy", "rclpy_message_converter", "rosbag2_py", "ro
 _INTERFACE: dict[str, frozenset[str]] = {
     "rclpy": frozenset({"init", "shutdown", "try_shutdown", "ok", "logging", "node", "executors", "parameter", "time",
                         "duration", "clock", "timer", "task", "exceptions", "publisher", "utilities", "spin",
-                        "spin_once", "spin_until_future_complete", "create_node", "get_global_executor"}),
+                        "spin_once", "spin_until_future_complete", "create_node", "get_global_executor", "qos",
+                        "callback_groups"}),
     # a script's own node, as far as it needs no ROS 2 graph (aerostack2/rclpy/node.py; its graph's methods are
     # refused by the check of nodes, aerostack2/ros_nodes.py)
     "rclpy.node": frozenset({"Node"}),
@@ -56,13 +57,21 @@ _INTERFACE: dict[str, frozenset[str]] = {
     "rclpy.timer": frozenset({"Timer"}),
     "rclpy.task": frozenset({"Future"}),
     "rclpy.publisher": frozenset({"Publisher"}),
+    "rclpy.callback_groups": frozenset({"CallbackGroup", "MutuallyExclusiveCallbackGroup", "ReentrantCallbackGroup"}),
+    # QoS profiles as data, for the publishers served (aerostack2/rclpy/qos.py: its __all__)
+    "rclpy.qos": frozenset({
+        "DurabilityPolicy", "HistoryPolicy", "InvalidQoSProfileException", "LivelinessPolicy", "QoSDurabilityPolicy",
+        "QoSHistoryPolicy", "QoSLivelinessPolicy", "QoSPresetProfiles", "QoSProfile", "QoSReliabilityPolicy",
+        "ReliabilityPolicy", "qos_profile_action_status_default", "qos_profile_parameter_events",
+        "qos_profile_parameters", "qos_profile_sensor_data", "qos_profile_services_default",
+        "qos_profile_system_default"}),
     "rclpy.utilities": frozenset({"remove_ros_args", "ok", "get_default_context"}),
     "rclpy.exceptions": frozenset({"ParameterNotDeclaredException", "ParameterAlreadyDeclaredException",
                                    "ParameterUninitializedException", "InvalidParameterTypeException",
                                    "ParameterException", "NotInitializedException"}),
     "as2_msgs": frozenset({"msg"}),
     "as2_msgs.msg": frozenset({"YawMode", "BehaviorStatus", "PlatformStatus", "AlertEvent", "PoseWithID",
-                               "PoseWithIDArray"}),
+                               "PoseWithIDArray", "TrajectoryWaypoints"}),
     "as2_python_api": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
                                  "drone_interface_teleop", "modules", "behavior_actions", "mission_interpreter"}),
     "as2_python_api.modules": frozenset({
@@ -216,7 +225,7 @@ class _StandInLoader:  # importlib.abc.Loader's protocol, without importing impo
 
 class RosStandIns:
     """Found last on ``sys.meta_path``: a ROS module nothing else provides imports as a refusing stand-in (a
-    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.qos``, aeroexec.dialects.aerostack2.rclpy.qos).
+    module of ROS's that aeroexec's own stand-ins lack too: ``rclpy.action``, ...aerostack2.rclpy.action).
     A finder of ``importlib.abc.MetaPathFinder``'s protocol (``find_spec``), not its subclass: importing
     :mod:`importlib.abc` imports importlib.resources, tempfile, shutil and random (~5 ms of every run's start)."""
 

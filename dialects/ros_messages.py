@@ -102,6 +102,12 @@ GEOGRAPHIC = {t.__name__: t for t in (GeoPoint, GeoPose, GeoPoseStamped, GeoPath
 GEOGRAPHIC["GeoPointStamped"] = message("geographic_msgs", "GeoPointStamped", header=Header, position=GeoPoint)
 PoseWithID = message("as2_msgs", "PoseWithID", id=str, pose=Pose)
 PoseWithIDArray = message("as2_msgs", "PoseWithIDArray", header=Header, poses=_list)
+#: as2_msgs/msg/TrajectoryWaypoints.msg: a path of PoseStamped with its yaw mode and speed, and the yaw modes
+#: python_interface's follow_path took before 2022-12-14 (its goal's trajectory_waypoints; YawMode's since)
+TrajectoryWaypoints = message("as2_msgs", "TrajectoryWaypoints", header=Header, yaw_mode=int, max_speed=float,
+                              poses=_list)
+TrajectoryWaypoints.KEEP_YAW, TrajectoryWaypoints.PATH_FACING = 0, 1  # type: ignore[attr-defined]
+TrajectoryWaypoints.GENERATE_YAW_TRAJ, TrajectoryWaypoints.YAW_FROM_TOPIC = 2, 3  # type: ignore[attr-defined]
 
 #: The message types by the module a mission imports them from.
 MESSAGES: dict[str, dict[str, type[Message]]] = {
@@ -139,4 +145,4 @@ def points(value: Any) -> Any:
 
 
 __all__ = ["MESSAGES", "Message", "NavSatFix", "Path", "Point", "Pose", "PoseStamped", "PoseWithID",
-           "PoseWithIDArray", "message", "point", "points"]
+           "PoseWithIDArray", "TrajectoryWaypoints", "message", "point", "points"]

@@ -241,11 +241,11 @@ class DroneObjects:
         if owner is not None:
             modules = owner.modules(self.loaded)
             if func.attr in modules and func.attr not in owner.own:
-                return self._bind(call, aerostack2.method(modules[func.attr]))
+                return self._bind(call, aerostack2.method(modules[func.attr]), f"{owner.interface}.{func.attr}")
             if func.attr in modules or func.attr in owner.own or func.attr in aerostack2.DRONE_MEMBERS:
                 return None
             if report:
-                self._unknown(func, owner, owner.modules(self.loaded))
+                self._unknown(func, owner, owner.modules(self.loaded), call)
             return None
         if isinstance(func.value, ast.Attribute):
             owner = self.drone(func.value.value)
@@ -265,15 +265,18 @@ class DroneObjects:
                                           f"{suggestion(func.attr, methods)}", WRONG_FORMAT)
         return None
 
-    def _unknown(self, func: ast.Attribute, owner: DroneClass, modules: dict[str, str]) -> None:
+    def _unknown(self, func: ast.Attribute, owner: DroneClass, modules: dict[str, str],
+                 call: ast.Call | None = None) -> None:
         name = func.attr
         if name.startswith(NODE_API):
-            self.checker.report(func, f"{owner.interface}.{name}: {ROS2_BEYOND}", WRONG_FORMAT)
+            self.checker.report(func, f"{owner.interface}.{name}: {ROS2_BEYOND}{_topic_of(func, call)}", WRONG_FORMAT)
         elif not owner.own and not owner.any_module:
             self.checker.report(func, f"The function {name} does not exist in Aerostack2's {owner.interface}"
                                       f"{suggestion(name, (*modules, *aerostack2.DRONE_MEMBERS))}", WRONG_FORMAT)
 
-    def _bind(self, call: ast.Call, method: Method) -> As2Call:
+    def _bind(self, call: ast.Call, method: Method, written: str = "") -> As2Call:
+        """``call`` bound to ``method``; ``written``: the drone interface's member the script called, when its name
+        is not the module's (a DroneInterfaceGPS's ``follow_path`` is Aerostack2's ``follow_path_gps`` module)."""
         nodes: dict[str, ast.AST] = dict(zip(method.parameters, call.args, strict=False))
         nodes.update({method.named(k.arg): k.value for k in call.keywords if k.arg})
         if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
@@ -282,6 +285,10 @@ class DroneObjects:
         try:
             bound = method.bind(values, {k.arg: self._value(k.value) for k in call.keywords})
         except As2Error as error:
+            member = written.rpartition(".")[2]
+            if member and member != method.module and error.message.startswith(f"{method.spelled}()"):
+                error = As2Error(error.kind, f"{member}() ({written} is Aerostack2's {method.module} module)"
+                                             f"{error.message.removeprefix(f'{method.spelled}()')}")
             return As2Call(call, method, nodes, None, error)
         return As2Call(call, method, nodes, bound)
 
@@ -359,6 +366,15 @@ class DroneObjects:
     def node_of(self, found: As2Call, argument: str) -> ast.AST:
         """Where in the call the catalog argument ``argument`` came from (the call itself if not told apart)."""
         return next((found.nodes[p] for p in _SOURCES.get(argument, ()) if p in found.nodes), found.call)
+
+
+def _topic_of(func: ast.Attribute, call: ast.Call | None) -> str:
+    """For a subscription of a topic the call names: whose the topic is (another program's, which a ROS 2 graph
+    brings; none runs here)."""
+    if func.attr != "create_subscription" or call is None or len(call.args) < 2 or \
+            not isinstance(call.args[1], ast.Constant) or not isinstance(call.args[1].value, str):
+        return ""
+    return f" (a subscription to {call.args[1].value}, which another program publishes)"
 
 
 def unknown(value: Any) -> bool:

@@ -35,11 +35,13 @@ CHECKS = DialectChecks(objects=f"{_HERE}.registry:drone_objects", problems=f"{_H
 def script_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
     """The problems of a whole program (``problems`` of :data:`CHECKS`): the drones it only watches
     (:func:`.namespaces.watched_drones`), its own ROS 2 nodes' uses of a graph and spins nothing ends
-    (:func:`.ros_nodes.node_problems`)."""
+    (:func:`.ros_nodes.node_problems`), and a script of ``rclpy`` alone, which flies nothing
+    (:func:`.ros_nodes.flies_nothing`)."""
     from aeroexec.dialects.aerostack2.namespaces import watched_drones
-    from aeroexec.dialects.aerostack2.ros_nodes import node_problems
+    from aeroexec.dialects.aerostack2.ros_nodes import flies_nothing, node_problems
 
-    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted)]
+    alone = [] if any(_names_api(node) for node in nodes) else flies_nothing(nodes, dotted)
+    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted), *alone]
 
 
 

@@ -12,6 +12,7 @@ flight at its line, as a ``while True:`` with no way out is.
 from __future__ import annotations
 
 import ast
+import sys
 
 from aeroexec.dialects.aerostack2.node_api import needs_graph
 from aeroexec.dialects.ros import ROS2_BEYOND
@@ -134,4 +135,37 @@ def _spun(call: ast.Call, dotted: Any, names: set[str], attributes: set[str], ex
     return None
 
 
-__all__ = ["NODE_MAKERS", "node_problems"]
+def flies_nothing(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
+    """An error for a script of ``rclpy`` alone: one that starts ROS 2 (``rclpy.init()``), imports no drone interface of
+    Aerostack2's Python API and nothing of its own folder (the caller knows it names no API; here: every import is
+    ROS's or Python's), and so
+    flies no drone — run alone, under ``python3`` too, the drone stays on the ground. Its publishers' topics say
+    what it is for: another program's input (project_gazebo's ``mission_behavior_tree.py`` publishes ``start`` for
+    the behavior tree that ``as2_behavior_tree`` runs and that waits for it)."""
+    from aeroexec.dialects.ros import is_ros
+
+    if not any(_imports_rclpy(n) for n in nodes) or \
+            not any(isinstance(n, ast.Call) and dotted(n.func) == "rclpy.init" for n in nodes):
+        return []  # a module of rclpy's nodes that a script imports is no script: the script starts ROS 2
+    for node in nodes:
+        if isinstance(node, ast.ImportFrom) and node.level:
+            return []
+        modules = [a.name for a in node.names] if isinstance(node, ast.Import) else \
+            [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+        if any(not is_ros(m) and m.partition(".")[0] not in sys.stdlib_module_names for m in modules):
+            return []
+    topics = [(call, call.args[1].value) for call in nodes
+              if isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)
+              and call.func.attr == "create_publisher" and len(call.args) > 1
+              and isinstance(call.args[1], ast.Constant) and isinstance(call.args[1].value, str)]
+    where = topics[0][0] if topics else next(n for n in nodes if _imports_rclpy(n))
+    heard = (f"It publishes {', '.join(repr(t) for _, t in topics)} (line {where.lineno}) for another program: the "
+             f"one that flies the drone (a behavior tree waiting for it with WaitForEvent flies with aeroexec run "
+             f"TREE.xml --event {topics[0][1]}=VALUE)") if topics else \
+        "It makes ROS 2 nodes of its own and no drone interface"
+    return [(where, "error", f"Nothing in this script flies a drone: it uses no drone interface of Aerostack2's "
+                             f"Python API (as2_python_api's DroneInterface), so run alone, under python3 too, the "
+                             f"drone stays on the ground. {heard}")]
+
+
+__all__ = ["NODE_MAKERS", "flies_nothing", "node_problems"]

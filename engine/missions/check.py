@@ -509,7 +509,8 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
         return [MissionProblem("error", f"The mission is not valid Python: {exc.msg}", filename, line,
                                WRONG_FORMAT, max(exc.offset or 0, 0) if exc.lineno else 0)]  # f-strings: < 0
     checker = MissionChecker(tree, filename, BehaviorSpecialist(catalog, world))
-    for statement, module in missing_imports(tree, filename):
+    missing = missing_imports(tree, filename)
+    for statement, module in missing:
         checker.report(statement, f"The module {module} cannot be found: the mission would stop at this import",
                        WRONG_FORMAT)
     for node, severity, message, *kind in program_problems(checker.nodes, checker.dotted):  # a dialect's: ROS used
@@ -530,8 +531,11 @@ def check_mission_source(source: str, filename: str, catalog: BehaviorCatalog | 
         if checker.sequence_checkable():
             SequenceWalker(checker).check_body(tree.body)
     elif entry is None:
-        checker.problems.append(MissionProblem("error", "The mission has no mission() or runMission() function",
-                                               filename, 0, WRONG_FORMAT))
+        modules = list(dict.fromkeys(m.partition(".")[0] for _, m in missing))
+        foreign = (f", and imports no mission API that runs scripts whole: a program for other software, whose "
+                   f"modules {', '.join(modules)} cannot be found here" if modules else "")
+        checker.problems.append(MissionProblem("error", f"The mission has no mission() or runMission() "
+                                                        f"function{foreign}", filename, 0, WRONG_FORMAT))
     elif entry.args.args[len(entry.args.defaults):] or entry.args.posonlyargs or [
             a for a, d in zip(entry.args.kwonlyargs, entry.args.kw_defaults, strict=True) if d is None]:
         checker.report(entry, f"The function {entry.name}() is called without arguments: it cannot require any",

@@ -47,6 +47,18 @@ def test_methods_and_arguments_aerostack2_does_not_have_are_errors_at_their_line
     ]
 
 
+def test_a_member_named_otherwise_than_its_module_is_named_as_the_script_wrote_it():
+    """project_px4_controller_tuning calls a DroneInterfaceGPS's follow_path() with no path: Aerostack2's
+    follow_path_gps module there, a TypeError under python3; the error names what the script wrote."""
+    header = "import rclpy\nfrom as2_python_api.drone_interface_gps import DroneInterfaceGPS\n"
+    assert problems("""
+        uav = DroneInterfaceGPS("drone0")
+        uav.takeoff(2.0, 1.0)
+        uav.follow_path()
+        """, header=header) == [(5, "error", "follow_path() (DroneInterfaceGPS.follow_path is Aerostack2's "
+                                             "follow_path_gps module) needs argument geopath")]
+
+
 def test_values_are_checked_at_the_argument_that_gave_them():
     found = check_mission_source(HEADER + textwrap.dedent("""\
         uav = DroneInterface("drone0")
@@ -192,7 +204,8 @@ def test_ros_2_beyond_the_drone_interface_is_refused_where_it_is_used():
     assert found == [
         # ROS 2's messages are data now (issue 42): PoseStamped and String are served; the subscription is refused;
         # a script's own node and spinning are served (rclpy.node.Node, rclpy.spin_once: aerostack2/rclpy/node.py)
-        (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface"),
+        (9, "error", "DroneInterface.create_subscription: this mission uses ROS 2 beyond the drone interface (a "
+                     "subscription to chatter, which another program publishes)"),
     ]
 
 

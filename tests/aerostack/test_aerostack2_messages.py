@@ -111,6 +111,49 @@ def test_an_led_publisher_flies_and_its_messages_are_in_the_event_log(tmp_path, 
         ("/drone0/status", "std_msgs.msg.ColorRGBA(r=0.0, g=1.0, b=0.0, a=0.0)", "leds.py:24")]
 
 
+QOS = """import rclpy
+from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data, qos_profile_system_default
+from as2_python_api.drone_interface import DroneInterface
+from std_msgs.msg import ColorRGBA
+
+rclpy.init()
+uav = DroneInterface("drone0")
+assert qos_profile_sensor_data.depth == 5 and qos_profile_sensor_data.reliability == ReliabilityPolicy.BEST_EFFORT
+leds = uav.create_publisher(ColorRGBA, "leds/control", qos_profile_system_default)
+status = uav.create_publisher(ColorRGBA, "status", QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE))
+uav.arm()
+uav.offboard()
+uav.takeoff(1.0, 0.5)
+leds.publish(ColorRGBA(r=1.0))
+status.publish(ColorRGBA(g=1.0))
+uav.land(0.5)
+"""
+
+
+def test_qos_profiles_are_data_for_the_publishers_served(tmp_path, capsys):
+    """rclpy.qos's profiles given to a publisher (qos_profile_system_default, a QoSProfile of the script's) were
+    refused before flight as ROS 2 beyond the drone interface; they are data, with rclpy's values: the script flies
+    and its messages are in the event log."""
+    script = tmp_path / "qos.py"
+    script.write_text(QOS)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, L]
+    assert [(r["behavior"], r["data"]["where"]) for r in flight.kinds("published")] == [
+        ("/drone0/leds/control", "qos.py:14"), ("/drone0/status", "qos.py:15")]
+
+
+def test_a_qos_profile_without_history_or_depth_fails_as_in_rclpy(tmp_path, capsys):
+    script = tmp_path / "bad_qos.py"
+    script.write_text(QOS.replace("QoSProfile(depth=10, reliability", "QoSProfile(reliability"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1
+    assert [r for r in flight.kinds("activated") if r["data"]["source"] == "mission"] == []  # it failed on the ground
+    assert [r["detail"] for r in flight.kinds("mission_failed")] == [
+        "bad_qos.py at bad_qos.py:10: InvalidQoSProfileException: Invalid QoSProfile: History and/or depth settings "
+        "are required."]
+
+
 def test_publishing_what_aeroexec_does_not_serve_is_refused_by_name_before_flight(tmp_path, capsys):
     script = tmp_path / "camera.py"
     script.write_text("import rclpy\nfrom as2_python_api.drone_interface import DroneInterface\n"

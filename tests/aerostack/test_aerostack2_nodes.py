@@ -90,6 +90,30 @@ def test_a_timer_driven_node_flies_its_mission_and_shutdown_in_a_callback_ends_t
     assert "completed" in flight.out
 
 
+def test_a_timer_in_a_callback_group_flies_and_a_subscription_is_refused_naming_its_topic(tmp_path, capsys):
+    """Callback groups (rclpy.callback_groups) are data: a timer given one is served, the node's callbacks one at a
+    time as either group allows. A subscription is still refused before flight, naming the topic another program
+    would publish (project_gazebo's click-to-navigate: RViz's /clicked_point)."""
+    grouped = SQUARE.replace("from rclpy.node import Node\n", "from rclpy.node import Node\n"
+                             "from rclpy.callback_groups import MutuallyExclusiveCallbackGroup\n")
+    grouped = grouped.replace("self.create_timer(0.5, self.tick)",
+                              "self.create_timer(0.5, self.tick, callback_group=MutuallyExclusiveCallbackGroup())")
+    script = tmp_path / "grouped.py"
+    script.write_text(grouped)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, G, G, G, G, L]
+    clicks = tmp_path / "clicks.py"
+    clicks.write_text("import rclpy\nfrom as2_python_api.drone_interface import DroneInterface\n"
+                      "from geometry_msgs.msg import PointStamped\n\n\nclass Drone(DroneInterface):\n"
+                      "    def __init__(self):\n        super().__init__('drone0')\n"
+                      "        self.create_subscription(PointStamped, '/clicked_point', print, 10)\n")
+    refused = fly(clicks, tmp_path, capsys)
+    assert refused.status == 1 and not refused.records
+    assert "clicks.py:9:9: error: WRONG_FORMAT: DroneInterface.create_subscription: this mission uses ROS 2 beyond " \
+           "the drone interface (a subscription to /clicked_point, which another program publishes)" in refused.err
+
+
 def test_parameters_given_with_ros_args_change_what_it_flies(tmp_path, capsys):
     """Declared defaults fly a 4 m square at 2 m; ``-- --ros-args -p height:=3.0 -p square_mission:side:=2.5``
     (the second for that node only, as rcl reads it) flies a 2.5 m square at 3 m."""
@@ -162,7 +186,11 @@ def test_a_subscription_of_a_node_is_still_refused_at_its_line(tmp_path, capsys)
         rclpy.spin(node)
         '''
     beyond = "this mission uses ROS 2 beyond the drone interface"
-    assert check(source) == [(10, "error", f"WRONG_FORMAT: Node.create_subscription: {beyond}"),
+    assert check(source) == [(3, "error", "WRONG_FORMAT: Nothing in this script flies a drone: it uses no drone "
+                                          "interface of Aerostack2's Python API (as2_python_api's DroneInterface), "
+                                          "so run alone, under python3 too, the drone stays on the ground. It makes "
+                                          "ROS 2 nodes of its own and no drone interface"),
+                             (10, "error", f"WRONG_FORMAT: Node.create_subscription: {beyond}"),
                              (22, "error", f"WRONG_FORMAT: Node.create_client: {beyond}")]
     script = tmp_path / "follower.py"
     script.write_text(textwrap.dedent(source))
@@ -223,6 +251,7 @@ def test_a_spin_whose_timers_never_shut_down_ends_at_the_time_limit(tmp_path, ca
     script.write_text(textwrap.dedent('''
         import rclpy
         from rclpy.node import Node
+        from as2_python_api.drone_interface import DroneInterface
 
 
         class Ticker(Node):
@@ -236,11 +265,16 @@ def test_a_spin_whose_timers_never_shut_down_ends_at_the_time_limit(tmp_path, ca
 
 
         rclpy.init()
+        uav = DroneInterface('drone0')
+        uav.arm()
+        uav.offboard()
+        uav.takeoff(2.0, 1.0)
         rclpy.spin(Ticker())
         '''))
     flight = fly(script, tmp_path, capsys, "--max-time", "20")
     assert flight.status == 1
     assert "20 s of engine time have passed" in flight.out + flight.err
+    assert flight.achieved() == [T, L]  # its take-off; the run lands the drone at the time limit
 
 
 EXECUTORS = '''

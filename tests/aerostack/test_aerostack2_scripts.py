@@ -65,9 +65,19 @@ def test_the_same_gps_mission_elsewhere_is_refused_before_flight(tmp_path, capsy
            "COORDINATES for behavior GO_TO_POINT is not correct" in flight.err
 
 
+def test_a_script_that_only_starts_a_behavior_tree_is_refused_naming_what_flies_the_drone(tmp_path, capsys):
+    """project_gazebo's mission_behavior_tree.py is a node that publishes ``start`` for the behavior tree
+    as2_behavior_tree runs (WaitForEvent): its node and QoS profile are served, and run alone it would fly nothing
+    (under python3 too). It is refused before flight saying so, and what to run instead."""
+    flight = fly(SCRIPTS / "gazebo_mission_behavior_tree.py", tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "gazebo_mission_behavior_tree.py:56:26: error: WRONG_FORMAT: Nothing in this script flies a drone: it " \
+           "uses no drone interface of Aerostack2's Python API" in flight.err
+    assert "It publishes 'start' (line 56) for another program: the one that flies the drone (a behavior tree " \
+           "waiting for it with WaitForEvent flies with aeroexec run TREE.xml --event start=VALUE)" in flight.err
+
+
 @pytest.mark.parametrize("script, line, use", [
-    # its own node is served now (rclpy.node.Node: parameters, a publisher of data); its QoS profile is ROS 2's graph
-    ("gazebo_mission_behavior_tree.py", 57, "rclpy.qos.qos_profile_system_default"),
     ("minimal_sensing_explore.py", 34, "DroneInterface.create_subscription"),  # class Explorer(DroneInterface)
 ])
 def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(script, line, use, tmp_path,

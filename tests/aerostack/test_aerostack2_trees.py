@@ -154,3 +154,13 @@ def test_what_aeroexec_makes_of_aerostack2_trees_is_behaviortree_cpp_4_that_it_t
     ElementTree.ElementTree(root).write(tmp_path / "bare.xml")
     ticked = factory.create_tree_from_file(str(tmp_path / "bare.xml"), bt.Blackboard.create())
     assert ticked.tick_while_running() == bt.NodeStatus.SUCCESS
+
+
+def test_a_palette_of_node_models_is_refused_saying_it_holds_no_tree(tmp_path, capsys):
+    """behaviour_trees' resource/actions.xml: Aerostack2's node models for Groot, no BehaviorTree to run."""
+    palette = tmp_path / "actions.xml"
+    palette.write_text('<root>\n  <TreeNodesModel>\n    <Action ID="Arm"/>\n  </TreeNodesModel>\n</root>\n')
+    flight = fly(palette, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert f"{palette}:1: error: the file declares no <BehaviorTree>: it holds only a <TreeNodesModel>, the models " \
+           f"of nodes (a palette for Groot and the trees that use them), no tree to run" in flight.err

@@ -36,6 +36,24 @@ def test_without_the_event_it_waits_until_the_time_limit_and_fails(tmp_path):
     assert run.returncode == 1 and ": failed at t=" in run.stderr
 
 
+def test_a_tree_waiting_for_an_event_nobody_gave_says_so_at_launch(tmp_path):
+    """It does not wait silently: at its first tick the run prints one line naming the event, where the tree waits
+    for it, and how to give it; given at launch, the line is not there."""
+    run = aeroexec("run", str(SQUARE), "--world", str(EMPTY_WORLD), "--max-time", "5", "--plain",
+                   "--output", str(tmp_path / "run"))
+    assert run.returncode == 1
+    said = [line for line in run.stdout.splitlines() if "] waiting: " in line]
+    assert said == [f"[    0.00] waiting: gazebo_square.xml waits for event('start', ?) ({SQUARE}:6), which nothing "
+                    f"has given: give it at launch with --event start=VALUE, or while it runs with aeroexec ctl add "
+                    f"\"event('start', VALUE)\""]
+    assert run.stdout.index("] waiting: ") < run.stdout.index("engine_time_limit")
+    given = aeroexec("run", str(SQUARE), "--world", str(EMPTY_WORLD), "--event", "start=go", "--plain",
+                     "--output", str(tmp_path / "given"))
+    assert given.returncode == 0 and "] waiting: " not in given.stdout
+    records = [json.loads(line) for line in (tmp_path / "given" / "events.jsonl").read_text().splitlines()]
+    assert not [r for r in records if r["kind"] == "waiting"]
+
+
 def test_an_alert_is_given_as_alert_topic_data(tmp_path):
     run = aeroexec("run", str(SQUARE), "--world", str(EMPTY_WORLD), "--event", "start=go", "--alert",
                    "/battery=low level", "--quiet", "--output", str(tmp_path / "run"))

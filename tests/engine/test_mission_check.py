@@ -256,6 +256,19 @@ def test_a_missing_mission_function():
         "The function mission() is called without arguments: it cannot require any"]
 
 
+def test_a_program_for_other_software_says_so_with_its_missing_modules(tmp_path):
+    """project_pegasus_isaac_sim's Isaac Sim launcher: no mission function and no mission API; the first error says
+    it is another software's program and names the modules it needs, not only that mission() is missing."""
+    program = tmp_path / "launcher.py"
+    program.write_text("import argparse\nimport carb\nfrom omni.isaac.core.world import World\n\nWorld()\n")
+    found = check_mission_source(program.read_text(), str(program))
+    assert [(p.line, p.message) for p in found] == [
+        (0, "The mission has no mission() or runMission() function, and imports no mission API that runs scripts "
+            "whole: a program for other software, whose modules carb, omni cannot be found here"),
+        (2, "The module carb cannot be found: the mission would stop at this import"),
+        (3, "The module omni cannot be found: the mission would stop at this import")]
+
+
 def test_an_unreadable_file(tmp_path):
     found = check_mission_file(tmp_path / "none.py")
     assert len(found) == 1 and found[0].message.startswith("The mission cannot be read: ")

@@ -345,7 +345,10 @@ def _main_tree(reader: _XmlReader, root: _Element, file: str, declared: list[str
     if len(known) == 1:
         return known[0]
     if not known:
-        reader.error(file, root.line, "the file declares no <BehaviorTree>")
+        models = any(child.tag == "TreeNodesModel" for child in root.children)
+        reader.error(file, root.line, "the file declares no <BehaviorTree>" + (
+            ": it holds only a <TreeNodesModel>, the models of nodes (a palette for Groot and the trees that use "
+            "them), no tree to run" if models else ""))
     elif root.tag == "root":
         reader.error(file, root.line, f"main_tree_to_execute is missing and there are {len(known)} trees "
                                       f"({', '.join(known)}): say which one to execute")

@@ -49,6 +49,7 @@ class TreeMission:
         self.started = False
         self.done = False
         self.paused = False  # by the operator (engine.supervisor): the tree is not ticked
+        self._launched = False  # its first tick done (the waits nothing gave at launch said then)
         self.observers: list[Callable[[list[tuple[Behaviour, str]] | None], None]] = []  # e.g. the .btlog writer
         self.restructured: list[Callable[[], None]] = []  # told when a change gave the tree other nodes
 
@@ -84,6 +85,9 @@ class TreeMission:
             return
         self.status = self.root.status
         self._report(scan=state.foreign)
+        if not self._launched:
+            self._launched = True
+            self._say_waits()
         if state.visits is not None:
             self._notify([(node, result_name(result)) for node, result in state.visits])
         if self.status in (Status.SUCCESS, Status.FAILURE):
@@ -100,13 +104,26 @@ class TreeMission:
             self.root.stop(Status.INVALID)
         self._report(scan=self._state.foreign)
         self._notify(None)
-        waited = (f"; it was waiting for {', '.join(waits)}, which nothing added (aeroexec ctl add gives it; "
-                  f"aeroexec run --event or --alert at launch)" if waits else "")
+        waited = (f"; it was waiting for {', '.join(f'the belief {b} ({where})' for b, where in waits)}, which "
+                  f"nothing added (aeroexec ctl add gives it; aeroexec run --event or --alert at launch)"
+                  if waits else "")
         self._finish(kind, f"{self.name}: halted ({reason}){waited}")
 
-    def waiting_for(self) -> list[str]:
-        """The beliefs the tree waits for now, each with its place: a running wait until a belief holds
-        (``KeepRunningUntilFailure`` over an ``Inverter`` of a CheckBelief or QueryBelief, as Aerostack2's
+    def _say_waits(self) -> None:
+        """After the first tick: a ``waiting`` event for each wait the tree is in that nothing gave at launch
+        (Aerostack2's ``WaitForEvent start`` before anything flies), saying how to give it, so a tree does not wait
+        silently until the time limit."""
+        for belief, where in self.waiting_for():
+            topic = _event_topic(belief)
+            how = (f"give it at launch with --{topic[0]} {topic[1]}=VALUE, or while it runs with aeroexec ctl add "
+                   f"\"{topic[0]}('{topic[1]}', VALUE)\"" if topic else
+                   f"give it while it runs with aeroexec ctl add \"{belief}\"")
+            self.engine.log.record("waiting", detail=f"{self.name} waits for {belief} ({where}), which nothing has "
+                                                     f"given: {how}", belief=belief, where=where)
+
+    def waiting_for(self) -> list[tuple[str, str]]:
+        """The beliefs the tree waits for now, each with its place (``file:line``): a running wait until a belief
+        holds (``KeepRunningUntilFailure`` over an ``Inverter`` of a CheckBelief or QueryBelief, as Aerostack2's
         WaitForEvent is mapped)."""
         waits = []
         for node in self.root.iterate():
@@ -118,7 +135,7 @@ class TreeMission:
             leaf_model = getattr(leaf, "source", None)
             if (getattr(inverter, "source", None) is not None and inverter.source.type == "Inverter"
                     and leaf_model is not None and leaf_model.type in ("CheckBelief", "QueryBelief")):
-                waits.append(f"the belief {leaf_model.ports.get('belief', '')} ({model.file}:{model.line})")
+                waits.append((leaf_model.ports.get("belief", ""), f"{model.file}:{model.line}"))
         return waits
 
     def pause(self) -> None:
@@ -200,3 +217,12 @@ class TreeMission:
     def display(self) -> str:
         """The tree as text, one node a line with its status (``[RUNNING] GO_TO_POINT``)."""
         return "\n".join(f"{'  ' * depth}[{status_name(node)}] {node.name}" for depth, node in self.nodes)
+
+
+def _event_topic(belief: str) -> tuple[str, str] | None:
+    """``("event", "start")`` for the belief ``event('start', ?)`` a WaitForEvent waits for (``alert`` likewise),
+    else None."""
+    import re
+
+    found = re.fullmatch(r"\s*(event|alert)\(\s*'((?:[^'\\]|\\.)*)'\s*,.*\)\s*", belief)
+    return (found.group(1), found.group(2)) if found else None

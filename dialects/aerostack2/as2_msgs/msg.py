@@ -65,6 +65,7 @@ class AlertEvent:
 
 PoseWithID = ros_messages.PoseWithID  # as2_msgs/msg/PoseWithID.msg: a path's point (an id and a pose), as data
 PoseWithIDArray = ros_messages.PoseWithIDArray
+TrajectoryWaypoints = ros_messages.TrajectoryWaypoints  # a path and its yaw mode, with its constants, as data
 
 
 def __getattr__(name: str) -> Any:

@@ -2,10 +2,11 @@
 
 ``init`` (with the ROS arguments of the script's command line: ``aeroexec run script.py -- --ros-args -p
 NAME:=VALUE``), ``ok``, ``shutdown``, ``logging.get_logger``; a script's own node (``rclpy.node.Node``: logger,
-name, parameters, clock, timers, publishers of messages used as data) and its spinning (``spin``, ``spin_once``,
-``spin_until_future_complete``, the executors of ``rclpy.executors``), whose timer callbacks run on the engine's
-clock. Any other use raises :class:`~aeroexec.dialects.ros.RosFeatureError`: this mission uses ROS 2 beyond the drone
-interface (``aeroexec verify`` says so before flight, at the line).
+name, parameters, clock, timers, publishers of messages used as data; ``rclpy.qos``' profiles and
+``rclpy.callback_groups`` as data) and its spinning (``spin``, ``spin_once``, ``spin_until_future_complete``, the
+executors of ``rclpy.executors``), whose timer callbacks run on the engine's clock. Any other use raises
+:class:`~aeroexec.dialects.ros.RosFeatureError`: this mission uses ROS 2 beyond the drone interface (``aeroexec
+verify`` says so before flight, at the line).
 """
 
 from __future__ import annotations
@@ -100,7 +101,9 @@ task = importlib.import_module(f"{__name__}.task")
 exceptions = importlib.import_module(f"{__name__}.exceptions")
 publisher = importlib.import_module(f"{__name__}.publisher")
 utilities = importlib.import_module(f"{__name__}.utilities")
+qos = importlib.import_module(f"{__name__}.qos")
+callback_groups = importlib.import_module(f"{__name__}.callback_groups")
 
-__all__ = ["clock", "create_node", "duration", "exceptions", "executors", "get_global_executor", "init", "logging",
-           "node", "ok", "parameter", "publisher", "shutdown", "spin", "spin_once", "spin_until_future_complete",
-           "task", "time", "timer", "try_shutdown", "utilities"]
+__all__ = ["callback_groups", "clock", "create_node", "duration", "exceptions", "executors", "get_global_executor",
+           "init", "logging", "node", "ok", "parameter", "publisher", "qos", "shutdown", "spin", "spin_once",
+           "spin_until_future_complete", "task", "time", "timer", "try_shutdown", "utilities"]
