@@ -177,7 +177,8 @@ class FleetFlight:
             # period makes and keeps is collected every YOUNG_GENERATION objects, not every 700 (a few periods)
             gc.freeze()
             thresholds = gc.get_threshold()
-            gc.set_threshold(max(thresholds[0], YOUNG_GENERATION), *thresholds[1:])
+            if thresholds[0]:  # 0: automatic collection is off, and stays so
+                gc.set_threshold(max(thresholds[0], YOUNG_GENERATION), *thresholds[1:])
         else:
             thresholds = None
         try:
