@@ -44,6 +44,8 @@ logger = logging.getLogger(__name__)
 Vector = tuple[float, float, float]
 
 OWNER = "self_localization"  # the name under which the estimate claims position(self)
+NORMAL_PAIRS = 64  # pairs of the odometry's normal draws made at once
+_TWO_PI = 2.0 * math.pi  # random.TWOPI
 PUBLISH_PERIOD = 0.1  # s between two beliefs of the estimate
 LOOK_PERIOD = 0.2  # s between two looks at the markers in view
 _STATE_ATTRIBUTE = "localization_state"
@@ -91,6 +93,22 @@ def _sub(a: Vector, b: Vector) -> Vector:
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
+def normal_draws(rng: random.Random, pairs: int) -> list[float]:
+    """The next ``2 * pairs`` values of ``rng.gauss(0.0, 1.0)``, the same numbers in the same order (and ``rng`` left
+    as that many calls leave it, its ``gauss_next`` empty), made together: ``random.gauss``'s own Box-Muller pairs,
+    without a call per value. ``rng.gauss_next`` must be empty (its first value is the pair's second)."""
+    if rng.gauss_next is not None:  # type: ignore[attr-defined]
+        raise ValueError("normal_draws: the generator holds half a pair (gauss_next): draw it with gauss first")
+    uniform, out = rng.random, []
+    append = out.append
+    for _ in range(pairs):
+        x2pi = uniform() * _TWO_PI
+        g2rad = math.sqrt(-2.0 * math.log(1.0 - uniform()))
+        append(0.0 + math.cos(x2pi) * g2rad)  # mu + z * sigma, with mu 0.0 and sigma 1.0 (z * 1.0 is z)
+        append(0.0 + math.sin(x2pi) * g2rad)
+    return out
+
+
 def _platform_markers(context: BehaviorContext) -> set[str]:
     """Names of the markers on the world's moving platform (never landmarks)."""
     platform = getattr(context.obstacles, "platform", None)
@@ -121,6 +139,8 @@ class OdometryEstimator(Process):
             state.estimate = tuple(float(v) for v in telemetry.position)
         self._last: tuple[float, Vector] | None = None
         self._published: float | None = None
+        self._normal: list[float] = []  # the random walk's draws of self._rng.gauss(0.0, 1.0), made ahead in pairs
+        self._drawn = 0  # how many of them were used
 
     def step(self, now: float) -> None:
         state = localization_state(self.context)
@@ -141,12 +161,17 @@ class OdometryEstimator(Process):
             mx, my, mz = (vx + lx) / 2 * dt, (vy + ly) / 2 * dt, (vz + lz) / 2 * dt  # moved
             travelled = math.hypot(mx, my, mz)
             if travelled > 1e-6:
-                root, gauss, (bx, by, bz) = math.sqrt(travelled), self._rng.gauss, self._bias
-                step = self._noise * root
+                normal, k = self._normal, self._drawn
+                if k + 3 > len(normal):  # three draws of self._rng.gauss(0.0, 1.0) a step, in the order they came
+                    normal = self._normal = normal[k:] + normal_draws(self._rng, NORMAL_PAIRS)
+                    k = 0
+                self._drawn = k + 3
+                bx, by, bz = self._bias
+                step = self._noise * math.sqrt(travelled)
                 ex, ey, ez = state.estimate  # + moved + error, as _add(_add(estimate, moved), error)
-                state.estimate = (ex + mx + (bx * travelled + step * gauss(0.0, 1.0)),
-                                  ey + my + (by * travelled + step * gauss(0.0, 1.0)),
-                                  ez + mz + (bz * travelled + step * gauss(0.0, 1.0) * 0.5))
+                state.estimate = (ex + mx + (bx * travelled + step * normal[k]),
+                                  ey + my + (by * travelled + step * normal[k + 1]),
+                                  ez + mz + (bz * travelled + step * normal[k + 2] * 0.5))
                 state.travelled += travelled
         self._last = (now, velocity)
         if self._published is None or now - self._published >= PUBLISH_PERIOD - 1e-9:

@@ -262,3 +262,22 @@ def test_verify_voice_command():
     silent = make_engine()
     assert verify(silent, VOICE_COMMAND="land now") is False  # no operator channel
     silent.stop()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 7919])
+def test_the_odometry_draws_made_together_are_the_generators_own_gauss_draws_bit_for_bit(seed):
+    import random
+    import struct
+
+    from aeroexec.engine.behaviors.localization import normal_draws
+
+    one, together = random.Random(seed), random.Random(seed)
+    for rng in (one, together):  # as the estimator's start uses it first
+        rng.uniform(0.0, 2 * math.pi), rng.uniform(-0.25, 0.25)
+    expected = [one.gauss(0.0, 1.0) for _ in range(2 * 500)]
+    drawn = normal_draws(together, 300) + normal_draws(together, 200)
+    assert [struct.pack("<d", v) for v in drawn] == [struct.pack("<d", v) for v in expected]
+    assert together.getstate() == one.getstate()  # the generator left as the calls leave it
+    one.gauss(0.0, 1.0)
+    with pytest.raises(ValueError, match="half a pair"):
+        normal_draws(one, 1)

@@ -170,3 +170,39 @@ def test_each_drone_of_a_fleet_flies_with_its_vehicle_profile_and_a_wrong_one_is
     err = capsys.readouterr().err
     assert f"{fleet}:5: " in err and "cruise_speed (m/s) must be a number, not 'fast'" in err, err
     assert "Traceback" not in err
+
+
+def test_a_fleet_flies_with_a_larger_young_generation_in_the_command_s_own_process_only(tmp_path):
+    """The command's own process collects what a fleet's periods keep every YOUNG_GENERATION objects while it flies,
+    and sets the collector back after; a caller running ``main(args)`` in its own process keeps its collector as it
+    is."""
+    import subprocess
+    import sys
+    import textwrap
+
+    (tmp_path / "hop.py").write_text("import aeroexec.engine.api as api\n\n\ndef mission():\n"
+                                     "    api.execute_behavior('TAKE_OFF', altitude=2)\n"
+                                     "    api.execute_behavior('LAND')\n")
+    (tmp_path / "pair.yaml").write_text("fleet: pair\ndrones:\n  - {name: a, mission: hop.py, home: [0, 0]}\n"
+                                        "  - {name: b, mission: hop.py, home: [4, 0]}\n")
+    code = f"""
+        import contextlib, gc, io, sys
+        from aeroexec.cli.main import main
+        from aeroexec.flight.fleet.fleet_flight import FleetFlight, YOUNG_GENERATION
+        seen = []
+        loop = FleetFlight._loop
+        def watched(self, max_time):
+            seen.append(gc.get_threshold()[0])
+            loop(self, max_time)
+        FleetFlight._loop = watched
+        before = gc.get_threshold()
+        arguments = ["fleet", {str(tmp_path / "pair.yaml")!r}, "--quiet", "--output"]
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            assert main(arguments + [{str(tmp_path / "embedded")!r}]) == 0
+        sys.argv = ["aeroexec", *arguments, {str(tmp_path / "command")!r}]
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            assert main() == 0
+        print(seen == [before[0], YOUNG_GENERATION], gc.get_threshold() == before, file=sys.stderr)
+    """
+    done = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, cwd="/")
+    assert done.stderr.split()[-2:] == ["True", "True"], done.stderr
