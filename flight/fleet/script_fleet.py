@@ -12,7 +12,6 @@ extra); the caller flies it and closes it.
 
 from __future__ import annotations
 
-import ast
 import logging
 import os
 from collections.abc import Callable
@@ -22,6 +21,7 @@ from pathlib import Path
 
 from aeroexec.engine.missions import standins
 from aeroexec.engine.missions.script import is_script
+from aeroexec.engine.missions.source import parse_source
 from aeroexec.flight.spec import FlightSpec
 
 TYPE_CHECKING = False
@@ -43,7 +43,7 @@ def script_drones(mission: Path) -> tuple[str, ...]:
     if Path(mission).suffix != ".py":
         return ()
     try:
-        tree = ast.parse(Path(mission).read_text(encoding="utf-8"), str(mission))
+        tree = parse_source(Path(mission).read_text(encoding="utf-8"), str(mission))  # (the check's parse, kept)
     except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
         return ()
     return standins.script_drones(tree) if is_script(tree) else ()
