@@ -176,6 +176,23 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
     return checked.tree if checked.tree is not None else mission_function(path, script_args)
 
 
+def script_drones(mission: Path) -> tuple[str, ...]:
+    """The drones the Python script ``mission`` flies, by the names it gives them; empty for a mission that is not
+    such a script (or that cannot be read: its check says why). A run asks it of every mission it flies on the
+    simulator (``aeroexec run``: a script of several drones is flown as a fleet, :mod:`.fleet.script_fleet`)."""
+    from aeroexec.engine.missions import standins
+    from aeroexec.engine.missions.script import is_script
+    from aeroexec.engine.missions.source import parse_source
+
+    if Path(mission).suffix != ".py":
+        return ()
+    try:
+        tree = parse_source(Path(mission).read_text(encoding="utf-8"), str(mission))  # (the check's parse, kept)
+    except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
+        return ()
+    return standins.script_drones(tree) if is_script(tree) else ()
+
+
 def mission_function(path: Path, script_args: tuple[str, ...] = ()) -> Callable[[], Any]:
     """Import a checked Python mission and return its ``mission()`` or ``runMission()`` function (an Aerostack2
     script, which has none, is run whole, with ``script_args`` as its arguments:
