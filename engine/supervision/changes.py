@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision import CHANGES
+from aeroexec.engine.supervision.commands import CHANGES
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:

@@ -43,7 +43,7 @@ from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, pa
 from aeroexec.drones import LandedState
 from aeroexec.engine.catalog.engine_behaviors import LAND
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision import CHANGES
+from aeroexec.engine.supervision.commands import CHANGES
 from aeroexec.engine.supervision.operator import operator_of
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
