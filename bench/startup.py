@@ -4,9 +4,10 @@ as a ratio to ``python -c pass`` of the same interpreter, measured in the same r
 The interpreter is the one a user gets from ``pip install .``: run from a checkout, the bench makes a virtualenv of
 its own and installs the checkout into it, not editable (an editable install's ``__editable__`` finder runs at every
 start of the interpreter, ``python -c pass`` included, and flatters every ratio). The virtualenv is kept in the
-temporary folder (``aeroexec-bench-<user>/startup-venv-pyX.Y``) and installed again only when the checkout's files
-differ from what it holds, so a second run starts at once; ``--python PATH`` measures another interpreter's
-installed ``aeroexec`` instead. The commands are the ones a user types: the virtualenv's ``aeroexec`` script.
+temporary folder (``aeroexec-bench-<user>/startup-venv-pyX.Y-<checkout>``: one per checkout, so two worktrees measured
+at once never install over each other's) and installed again only when the checkout's files differ from what it
+holds, so a second run starts at once; ``--python PATH`` measures another interpreter's installed ``aeroexec``
+instead. The commands are the ones a user types: the virtualenv's ``aeroexec`` script.
 
 Run ``python bench/startup.py`` (``--repeat N``, 7 by default; ``--docs`` rewrites the start-up table of
 ``docs/performance/run.md`` with what it measured, between its ``startup-table`` markers: the table is regenerated,
@@ -14,7 +15,9 @@ never edited by hand). The commands run interleaved (one of each per round, so a
 them alike), each after a warm-up run, with bytecode caching on as an installed package runs
 (``PYTHONDONTWRITEBYTECODE`` removed). A process's CPU time (user + system) is what a command costs; its wall time
 also counts the other processes that took the cores meanwhile. Where the time goes:
-``VENV/bin/python -X importtime -m aeroexec.cli.main verify ...``.
+``VENV/bin/python -X importtime -m aeroexec.cli.main verify ...`` (it leaves out the modules imported through
+``importlib.import_module``: aeroexec's lazy names, plugins, the aerial behaviors); every instruction, the same in
+every run whatever the load: ``valgrind --tool=callgrind VENV/bin/aeroexec run ...``, against ``python -c pass``'s.
 """
 
 from __future__ import annotations
@@ -136,8 +139,11 @@ def table(results: dict[str, list[tuple[float, float, float]]], load: float, int
 
 
 def default_venv() -> Path:
+    """The bench's virtualenv of this checkout: one per checkout (its folder's hash in the name), so two checkouts
+    measured at once (worktrees) never install themselves over each other's virtualenv mid-measurement."""
     version = f"{sys.version_info.major}.{sys.version_info.minor}"
-    return Path(tempfile.gettempdir()) / f"aeroexec-bench-{getpass.getuser()}" / f"startup-venv-py{version}"
+    checkout = hashlib.sha256(str(ROOT).encode()).hexdigest()[:8]
+    return Path(tempfile.gettempdir()) / f"aeroexec-bench-{getpass.getuser()}" / f"startup-venv-py{version}-{checkout}"
 
 
 def main() -> int:

@@ -290,7 +290,7 @@ def run(args: argparse.Namespace) -> int:
 def fleet_of_script(args: argparse.Namespace, spec: FlightSpec) -> tuple[str, ...]:
     """The drones of a script that names several (an Aerostack2 swarm), when this run flies it on the simulator
     from its start; empty otherwise (the run flies one drone)."""
-    from aeroexec.flight.fleet.script_fleet import script_drones
+    from aeroexec.flight.missions import script_drones
     from aeroexec.flight.robot import robot_choice
 
     if getattr(args, "resume", None) or spec.fleet is not None or spec.drone != "sim" or \

@@ -25,13 +25,14 @@ from pathlib import Path
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.errors import UNSUPPORTED, MissionAborted, RequestRejected, SpecificationError, unsupported_message
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.execution.activation import ActivationConditions
 
 from aeroexec import beliefs, drones
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from typing import Any
+
+    from aeroexec.engine.execution.activation import ActivationConditions
 
 #: The engine each mission thread talks to (one per thread: several engines fly side by side in one process).
 _bound = threading.local()
@@ -189,6 +190,8 @@ def list_to_tuple(value: Any) -> Any:
 def _conditions(options: dict[str, Any]) -> ActivationConditions | None:
     if not any(k.startswith("activation_") for k in options):
         return None
+    from aeroexec.engine.execution.activation import ActivationConditions  # here: most requests have none
+
     point, distance = options.get("activation_distance", (None, None))
     yaw = options.get("activation_yaw")
     return ActivationConditions(tuple(point) if point is not None else None, distance,

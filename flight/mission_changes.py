@@ -32,19 +32,13 @@ from aeroexec.engine.catalog.contingencies import Call, Subtree
 from aeroexec.engine.errors import WRONG_SEQUENCE, Problem
 from aeroexec.engine.events import Outcome
 from aeroexec.engine.missions.bridge import MissionPreempted
-from aeroexec.engine.supervision.changes import (
-    ChangeError,
-    ChangeOutcome,
-    MissionChange,
-    not_cut_short,
-    program_change,
-)
 from aeroexec.flight.missions import CheckedMission, MissionFileError, check_mission, mission_function
-from aeroexec.trees import TreeFormatError
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from typing import Any
+
+    from aeroexec.engine.supervision.changes import ChangeOutcome, MissionChange
 
 logger = logging.getLogger(__name__)
 
@@ -85,6 +79,9 @@ class MissionChanges:
     # -- on the engine's thread ------------------------------------------------------------------------------
     def change(self, change: MissionChange, origin: str, prepared: Any = None) -> ChangeOutcome:
         """Check and make ``change`` now (the supervisor calls it on the engine's thread)."""
+        # here, as in each method that makes a change: a flight whose mission is never changed never imports them
+        from aeroexec.engine.supervision.changes import ChangeOutcome, program_change
+
         self.count += 1
         if change.command == "load":
             return self._load(change, prepared if prepared is not None else self.prepare(change))
@@ -109,6 +106,8 @@ class MissionChanges:
         return self._changes[id(tree)]
 
     def _tree_change(self, tree: Any, change: MissionChange) -> ChangeOutcome:
+        from aeroexec.engine.supervision.changes import ChangeError, ChangeOutcome
+        from aeroexec.trees import TreeFormatError  # here: the tree model is a tree mission's only
         from aeroexec.trees.change_check import check_change
         from aeroexec.trees.loaders.fragment import read_fragment
 
@@ -183,6 +182,8 @@ class MissionChanges:
         return kept
 
     def _load(self, change: MissionChange, prepared: PreparedLoad) -> ChangeOutcome:
+        from aeroexec.engine.supervision.changes import ChangeOutcome, not_cut_short
+
         if prepared.refusal:
             return ChangeOutcome(False, prepared.refusal, list(prepared.problems))
         engine, session = self.engine, self.session

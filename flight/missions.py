@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import sys
 import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
@@ -21,7 +22,6 @@ from aeroexec.engine.catalog import BehaviorCatalog
 from aeroexec.engine.errors import Problem
 from aeroexec.engine.robots import robot_kind_hint
 from aeroexec.flight.errors import FlightError
-from aeroexec.trees import TreeDocument, TreeFormatError, load_mission_tree
 from aeroexec.trees.formats import TREE_VERIFIERS, described, format_of, readers, suffixes
 
 from aeroexec.limits import InputError, read_text
@@ -30,6 +30,7 @@ TYPE_CHECKING = False  # typing is not imported at run time (type checkers read 
 if TYPE_CHECKING:
     from typing import Any
 
+    from aeroexec.trees import TreeDocument
     from aeroexec.trees.route import RouteEstimate
 
 
@@ -80,6 +81,8 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
                                f"formats {described()}")
     if fmt.tree:
         # here, not at the top: a Python mission needs none of tree verification (its checks, the format readers)
+        # nor the tree model
+        from aeroexec.trees import TreeFormatError, load_mission_tree
         from aeroexec.trees.route import estimate_route
         from aeroexec.trees.verify import verify_document, verify_leaves
 
@@ -115,6 +118,14 @@ def check_mission(path: Path, catalog: BehaviorCatalog, world: Any = None, home:
     checked.problems = fmt.reader()(checked.source, str(path), catalog, world)
     return checked
 
+
+
+def is_tree_document(mission: object) -> bool:
+    """Whether ``mission`` (what :func:`load_mission` returns) is a tree document, not a Python mission's function:
+    asked without importing the tree model, which a flight of a Python mission never needs (no document exists
+    before it is imported)."""
+    model = sys.modules.get("aeroexec.trees.model")
+    return model is not None and isinstance(mission, model.TreeDocument)
 
 
 def photo_behaviors(document: TreeDocument) -> list[Any]:
@@ -163,6 +174,23 @@ def load_mission(path: Path, catalog: BehaviorCatalog, world: Any = None,
         count = len(checked.errors)
         raise MissionFileError(f"{path}: {count} error{'s' if count != 1 else ''}; the mission will not {verb}")
     return checked.tree if checked.tree is not None else mission_function(path, script_args)
+
+
+def script_drones(mission: Path) -> tuple[str, ...]:
+    """The drones the Python script ``mission`` flies, by the names it gives them; empty for a mission that is not
+    such a script (or that cannot be read: its check says why). A run asks it of every mission it flies on the
+    simulator (``aeroexec run``: a script of several drones is flown as a fleet, :mod:`.fleet.script_fleet`)."""
+    from aeroexec.engine.missions import standins
+    from aeroexec.engine.missions.script import is_script
+    from aeroexec.engine.missions.source import parse_source
+
+    if Path(mission).suffix != ".py":
+        return ()
+    try:
+        tree = parse_source(Path(mission).read_text(encoding="utf-8"), str(mission))  # (the check's parse, kept)
+    except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
+        return ()
+    return standins.script_drones(tree) if is_script(tree) else ()
 
 
 def mission_function(path: Path, script_args: tuple[str, ...] = ()) -> Callable[[], Any]:

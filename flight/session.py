@@ -30,7 +30,7 @@ from aeroexec.flight.flight_log import FlightLogWriter, world_meta
 from aeroexec.flight.journal import JournalError, JournalWriter, open_journal
 from aeroexec.flight.journal.identity import FlightFile, flight_files, new_run_id
 from aeroexec.flight.mission_changes import MissionChanges, contingency_handlers
-from aeroexec.flight.missions import load_mission, no_camera, watched_catalog
+from aeroexec.flight.missions import is_tree_document, load_mission, no_camera, watched_catalog
 from aeroexec.flight.output import NO_SPACE, no_space, prepare_output
 from aeroexec.flight.robot import (
     RobotChoice,
@@ -46,13 +46,13 @@ from aeroexec.flight.run_status import FAILED, FlightOutcome, flight_status, rec
 from aeroexec.flight.signals import interrupts_held
 from aeroexec.flight.spec import FlightError, FlightSpec
 from aeroexec.flight.surfaces import Surfaces, serve_console, serve_groot
-from aeroexec.trees import TreeDocument
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # a resume's records are imported only to resume a run
     from typing import Any
 
     from aeroexec.flight.journal.resumption import Resumption
+    from aeroexec.trees import TreeDocument
 
 logger = logging.getLogger(__name__)
 
@@ -147,7 +147,7 @@ class FlightSession:
         self.mission = load_mission(Path(spec.mission), self.catalog, self.world, self.report,
                                     verb="fly" if choice.kind is None else "run",  # a rover does not fly
                                     vehicle=self.vehicle, max_time=spec.max_time, script_args=spec.script_args)
-        if self.resumption is not None and not isinstance(self.mission, TreeDocument):
+        if self.resumption is not None and not is_tree_document(self.mission):
             self.resumption.check_program(Path(spec.mission))
         self.catalog = watched_catalog(Path(spec.mission), self.catalog, spec.safety_rules, self.world, self.report,
                                        self.vehicle)
@@ -169,7 +169,7 @@ class FlightSession:
         self.engine.supervisor.changes = self.changes
         if spec.fleet is not None or self.fleet_node is not None:
             self._join_fleet()
-        if self.resumption is not None and isinstance(self.mission, TreeDocument):  # refused before any output
+        if self.resumption is not None and is_tree_document(self.mission):  # refused before any output
             self.resumption.check_tree(self.mission, self.engine, spec.mission)
         run = self.resumption.run if self.resumption is not None else new_run_id()
         meta = {"mission": spec.name, "world": str(Path(world_path).resolve()) if world_path else None,
@@ -200,7 +200,7 @@ class FlightSession:
         self.engine.log.subscribe(self._warn_of_early_link_loss)
         if self.control is not None:
             self.control.attach(self.engine)
-        if isinstance(self.mission, TreeDocument):
+        if is_tree_document(self.mission):
             from aeroexec.trees.groot.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 
@@ -223,7 +223,7 @@ class FlightSession:
     def _check_camera(self) -> None:
         """A vehicle without a camera and a mission that takes photos: a warning before flight (the photos are
         skipped, each behavior says so in the event log)."""
-        if not isinstance(self.mission, TreeDocument) or not callable(getattr(self.robot, "photo_source", None)):
+        if not is_tree_document(self.mission) or not callable(getattr(self.robot, "photo_source", None)):
             return
         warning = no_camera(self.mission, str(self.spec.mission))
         if not warning or self.robot.photo_source() != CAMERA_NONE:
@@ -249,7 +249,7 @@ class FlightSession:
         interrupted run's going on (a resume)."""
         try:
             self.journal = open_journal(self.engine, self.spec, self.folder, meta,
-                                        python=not isinstance(self.mission, TreeDocument), resumption=self.resumption,
+                                        python=not is_tree_document(self.mission), resumption=self.resumption,
                                         files=files)
         except JournalError as error:
             if error.no_space:
@@ -316,7 +316,7 @@ class FlightSession:
         was halted); a tree's ``.btlog`` is ``mission-N.btlog``."""
         engine, name = self.engine, Path(path).name
         self.mission = mission
-        if isinstance(mission, TreeDocument):
+        if is_tree_document(mission):
             from aeroexec.trees.groot.btlog import BtlogWriter
             from aeroexec.trees.runtime.runner import TreeMission
 

@@ -25,7 +25,6 @@ from aeroexec.drones.geodesy import Geodetic, geo_to_enu
 from aeroexec.drones.sim.geofence import Fence
 from aeroexec.drones.sim.world import Frame
 from aeroexec.trees.items.readers import is_item_file, load_item_mission
-from aeroexec.trees.model import TreeFormatError
 
 from aeroexec.plugins import installed_plugins
 
@@ -163,6 +162,8 @@ def mission_world(mission: Path | None, world_file: str | None = None, home: Geo
             world = dataclasses.replace(world, home=(home[0], home[1], home[2] if home[2] is not None
                                                      else world.home[2]))
         if mission is not None and is_item_file(mission):
+            from aeroexec.trees.model import TreeFormatError  # here: only an item mission needs the tree model
+
             try:
                 fences = _fences(load_item_mission(mission), world.home)
             except TreeFormatError:
@@ -171,6 +172,8 @@ def mission_world(mission: Path | None, world_file: str | None = None, home: Geo
                 world = dataclasses.replace(world, fences=(*world.fences, *fences))
         return world
     if mission is not None and is_item_file(mission):
+        from aeroexec.trees.model import TreeFormatError
+
         try:
             generated = world_for(load_item_mission(mission), home)
         except TreeFormatError:

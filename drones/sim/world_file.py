@@ -333,8 +333,10 @@ _PARSED_IN_PROCESS = 16
 
 
 def _world_key(text: str, source: str) -> str:
-    """A hash of a world file's name and text, of the modules that read it and make its records, and of the
-    versions of aeroexec and Python: a changed reader never serves a world another one parsed."""
+    """A hash of a world file's name and text, of the sizes and times of the modules that read it and make its
+    records (as a cached catalog's key has them: their files are not read again at every start), and of the versions
+    of aeroexec and Python: a changed reader never serves a world another one parsed."""
+    import os
     import sys
 
     from aeroexec.drones.sim import geofence, shapes, world
@@ -342,13 +344,14 @@ def _world_key(text: str, source: str) -> str:
     import aeroexec
     from aeroexec.cache import sha256
 
-    digest = sha256(repr((source, aeroexec.__version__, sys.version_info[:2])).encode() + b"\0")
+    stamp = [source, aeroexec.__version__, sys.version_info[:2]]
     for module in (world, shapes, geofence, sys.modules[__name__]):
         try:
-            with open(module.__file__ or "", "rb") as file:
-                digest.update(file.read() + b"\0")
+            info = os.stat(module.__file__ or "")
+            stamp.append((module.__name__, info.st_size, info.st_mtime_ns))
         except OSError:
-            digest.update(f"{module.__name__}: unread\0".encode())
+            stamp.append(f"{module.__name__}: unread")
+    digest = sha256(repr(stamp).encode() + b"\0")
     return digest.hexdigest()[:32] + sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:32]
 
 

@@ -28,7 +28,6 @@ from aeroexec.engine.events import (
     time_out_message,
     wrong_progress_message,
 )
-from aeroexec.engine.execution.activation import ActivationConditions
 from aeroexec.engine.execution.explain import explain_failure
 from aeroexec.engine.execution.process import BehaviorContext, BehaviorLibrary, BehaviorProcess
 from aeroexec.engine.execution.reactive import RuleWatch
@@ -37,6 +36,8 @@ from aeroexec.engine.execution.resources import ResourceError, ResourceManager
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from typing import Any
+
+    from aeroexec.engine.execution.activation import ActivationConditions
 
 logger = logging.getLogger(__name__)
 

@@ -12,10 +12,24 @@ import warnings
 from aeroexec.limits import MAX_NESTING
 
 _LONG_DOTTED = re.compile(rf"^[ \t]*(?:import|from)[ \t]+(?:\w+[ \t]*\.[ \t]*){{{MAX_NESTING}}}", re.MULTILINE)
+#: The last source parsed, its file name and its AST: a run reads its mission's AST several times (whether it is a
+#: script that names drones, its check, whether to run it as a script), and parses it once.
+_last: tuple[str, str, ast.Module] | None = None
 
 
 def parse_source(source: str, filename: str) -> ast.Module:
-    """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``."""
+    """The AST of a mission; SyntaxError (with a line) for invalid Python or nesting beyond ``MAX_NESTING``. The
+    same text of the same file gives the same AST object, read once: its readers never change it."""
+    global _last
+    last = _last
+    if last is not None and last[0] == source and last[1] == filename:
+        return last[2]
+    tree = _parsed(source, filename)
+    _last = (source, filename, tree)
+    return tree
+
+
+def _parsed(source: str, filename: str) -> ast.Module:
     dotted = _LONG_DOTTED.search(source)  # Python's parser joins an imported dotted name in quadratic time
     if dotted is not None:
         raise SyntaxError(f"a dotted name of more than {MAX_NESTING} parts",

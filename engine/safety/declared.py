@@ -75,6 +75,8 @@ def _unescape(text: str) -> str:
 
 
 def _python_rules(text: str, file: str, catalog: BehaviorCatalog) -> RuleSet:
+    if "SAFETY_RULES" not in text and text.isascii():  # (a name of other letters may read as it: NFKC)
+        return RuleSet()  # declares none: not parsed again (its check has parsed it)
     try:
         tree = ast.parse(text, file)
     except (SyntaxError, ValueError, MemoryError, RecursionError):

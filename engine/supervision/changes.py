@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 from aeroexec.engine.catalog.descriptors import RECURRENT
 from aeroexec.engine.events import Outcome
+from aeroexec.engine.supervision.commands import CHANGES
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
@@ -37,7 +38,6 @@ if TYPE_CHECKING:
 
 logger = logging.getLogger(__name__)
 
-CHANGES = ("skip", "jump", "insert", "modify", "delete", "replace", "load")
 #: Changes that edit the mission's items (a Python program cannot be edited while it runs).
 EDITS = ("insert", "modify", "delete", "replace")
 PLACES = ("before", "after")

@@ -43,18 +43,14 @@ from aeroexec.beliefs import BeliefError, UnknownPredicateError, format_term, pa
 from aeroexec.drones import LandedState
 from aeroexec.engine.catalog.engine_behaviors import LAND
 from aeroexec.engine.events import Outcome
-from aeroexec.engine.supervision.changes import (
-    CHANGES,
-    ChangeError,
-    MissionChange,
-    make_change,
-    parse_aerostack2_update,
-)
+from aeroexec.engine.supervision.commands import CHANGES
 from aeroexec.engine.supervision.operator import operator_of
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from typing import Any, Protocol
+
+    from aeroexec.engine.supervision.changes import MissionChange
 else:
     Protocol = object  # a structural type to type checkers; a plain class at run time, without typing
 
@@ -129,6 +125,8 @@ class Supervisor:
     def submit(self, command: str, argument: str = "", origin: str = "ctl") -> Ticket:
         """Queue a command for the engine's thread; the ticket tells its result once executed. A mission to load
         is read and checked here, on the caller's thread."""
+        if command in ("update", "load"):  # here: a flight whose mission is never changed never imports them
+            from aeroexec.engine.supervision.changes import ChangeError, MissionChange, parse_aerostack2_update
         if command == "update":  # Aerostack2's mission update: one of the changes below, or refused as it is
             try:
                 command, argument = parse_aerostack2_update(argument)
@@ -324,6 +322,8 @@ class Supervisor:
 
     # -- changes of the running mission ------------------------------------------------------------------
     def _change(self, command: str, argument: str, origin: str, prepared: Any = None) -> CommandResult:
+        from aeroexec.engine.supervision.changes import make_change
+
         outcome = make_change(self.engine, self.changes, self.state == ABORTED, command, argument, origin, prepared)
         return CommandResult(outcome.ok, outcome.message, {"problems": outcome.problems} if outcome.problems else {})
 

@@ -12,7 +12,6 @@ extra); the caller flies it and closes it.
 
 from __future__ import annotations
 
-import ast
 import logging
 import os
 from collections.abc import Callable
@@ -20,11 +19,8 @@ from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from aeroexec.engine.missions import standins
-from aeroexec.engine.missions.script import is_script
 from aeroexec.flight.spec import FlightSpec
 
-TYPE_CHECKING = False
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:  # imported by open_script_fleet: a run asks whether its mission is such a script before flying it
     from typing import Any
@@ -35,18 +31,6 @@ logger = logging.getLogger(__name__)
 
 #: Meters between two drones' starts.
 SPACING = 2.0
-
-
-def script_drones(mission: Path) -> tuple[str, ...]:
-    """The drones the Python script ``mission`` flies, by the names it gives them; empty for a mission that is not
-    such a script (or that cannot be read: its check says why)."""
-    if Path(mission).suffix != ".py":
-        return ()
-    try:
-        tree = ast.parse(Path(mission).read_text(encoding="utf-8"), str(mission))
-    except (OSError, SyntaxError, UnicodeDecodeError, ValueError):
-        return ()
-    return standins.script_drones(tree) if is_script(tree) else ()
 
 
 def homes(count: int) -> list[tuple[float, float]]:
@@ -123,4 +107,4 @@ def open_script_fleet(spec: FlightSpec, drones: tuple[str, ...], folder: Path, w
     return ScriptFleet(name, drones, flight, list(membership.endpoints), stack)
 
 
-__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "script_drones", "spawned", "starts"]
+__all__ = ["SPACING", "ScriptFleet", "homes", "open_script_fleet", "spawned", "starts"]

@@ -35,7 +35,6 @@ from aeroexec.flight.flight_log import (
     plain,
     state_line,
 )
-from aeroexec.flight.journal.looks import LookRun
 from aeroexec.flight.journal.schema import journal_path
 from aeroexec.flight.journal.store import JournalStore, Row
 from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
@@ -43,6 +42,8 @@ from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from typing import Any
+
+    from aeroexec.flight.journal.looks import LookRun
 
 logger = logging.getLogger(__name__)
 
@@ -256,6 +257,8 @@ class JournalWriter:
                 if looks is None or not looks.add(number, after, key, time):
                     if looks is not None and looks.dirty:
                         self._rows.append((_LOOKS, looks.row(self.segment)))
+                    from aeroexec.flight.journal.looks import LookRun  # here: a mission that never looks needs none
+
                     looks = self._looks = LookRun(self._seq(), number, after)
                     looks.add(number, after, key, time)
             return

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 from aeroexec.cli.main import main
-from aeroexec.flight.fleet.script_fleet import script_drones
+from aeroexec.flight.missions import script_drones
 from flying import EMPTY_WORLD, SCRIPTS
 
 

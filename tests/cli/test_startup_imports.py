@@ -203,6 +203,26 @@ def test_an_empty_run_starts_without_the_modules_only_some_runs_need(tmp_path):
 
 
 
+def test_an_empty_run_of_a_python_mission_imports_no_tree_model_change_script_fleet_or_runs_of_looks(tmp_path):
+    """A Python mission's run needs no tree model (a tree mission's: ``trees.model``, ``trees.mission_file``), no
+    mission change until the operator asks one (``engine.supervision.changes``), no script fleet unless its script
+    flies several drones (``flight.fleet.script_fleet``) and no runs of looks until the mission first looks
+    (``flight.journal.looks``, with zlib): ~6M instructions of every such start (bench/startup.py)."""
+    runtime = tmp_path / "runtime"
+    runtime.mkdir(mode=0o700)
+    modules = imported_after(f"""
+        import contextlib, io, sys
+        from aeroexec.cli.main import main
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
+                  "--output", {str(tmp_path / "out")!r}])
+    """, XDG_RUNTIME_DIR=str(runtime))
+    assert "aeroexec.engine.engine" in modules and "aeroexec.flight.mission_changes" in modules  # it ran
+    assert sorted(modules & {"aeroexec.trees.model", "aeroexec.trees.mission_file",
+                             "aeroexec.engine.supervision.changes", "aeroexec.flight.fleet.script_fleet",
+                             "aeroexec.flight.journal.looks", "zlib"}) == []
+
+
 def test_an_empty_run_with_its_catalog_and_world_kept_needs_neither_pickle_py_shlex_nor_ros_messages(tmp_path):
     """The second empty run of a mission reads its kept catalog and world with the C unpickler alone (pickle.py is for
     writing them), reads no mission change (shlex: when one comes) and, its program naming no ROS module, builds no

@@ -82,6 +82,11 @@ def test_rules_come_from_the_catalog_a_tree_and_a_python_mission(tmp_path):
     wrong = write(tmp_path / "w.py", python.read_text().replace("call go_home", "call go_hom"))
     (problem,) = mission_rules(wrong, catalog).problems
     assert problem.line == 6 and "go_hom" in problem.message and "go_home" in problem.message  # did you mean
+    # a mission that never names SAFETY_RULES declares none (it is not parsed again for them); one whose name is
+    # written in other letters Python reads as it (NFKC: fullwidth S) still declares its rules
+    assert mission_rules(write(tmp_path / "n.py", "def mission():\n    pass\n"), catalog).rules == []
+    wide = write(tmp_path / "u.py", python.read_text().replace("SAFETY_RULES =", "\uff33AFETY_RULES ="))
+    assert [r.name for r in mission_rules(wide, catalog).rules] == ["wind", "clock"]
     from pathlib import Path
 
     text = Path(default_catalog().source).read_text()

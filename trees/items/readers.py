@@ -8,7 +8,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from aeroexec.trees.formats import format_of, formats
-from aeroexec.trees.model import TreeFormatError
 
 from aeroexec.limits import InputError, decode, read_bytes
 
@@ -25,6 +24,8 @@ def is_item_file(path: str | Path, text: str | bytes | None = None) -> bool:
 def read_item_mission(text: str | bytes, file: str) -> ItemMission:
     """The item mission in ``text`` (``file`` names it; its suffix, and for ``.mission`` the text, choose the
     reader)."""
+    from aeroexec.trees.model import TreeFormatError  # here: a mission in local meters needs no tree model
+
     fmt = format_of(file, text)
     if fmt is None or not fmt.items:
         known = ", ".join(s for f in formats() if f.items for s in f.suffixes)
@@ -39,6 +40,8 @@ def read_item_mission(text: str | bytes, file: str) -> ItemMission:
 
 def load_item_mission(path: str | Path) -> ItemMission:
     """The item mission in the file ``path``."""
+    from aeroexec.trees.model import TreeFormatError
+
     try:
         data = read_bytes(path, what="the mission")
     except InputError as exc:
