@@ -52,7 +52,7 @@ if TYPE_CHECKING:  # the rules' modules are imported when rules are first added,
 #: what a memory is asked: text, a parsed expression, or one term
 Expression = str | Conjunction | Struct
 _UNANSWERED = object()  # a question the memory's quick reading leaves to the compiled query
-_ANONYMOUS_PREFIX = Var("?")[:2]  # how an anonymous variable's name starts
+_ANONYMOUS_MARK = Var("?")[1]  # the second character of an anonymous variable's name (?#1), never a named one's
 _PLAIN = frozenset((str, int, float, Struct))  # values that are their own Python value (to_python)
 
 log = logging.getLogger(__name__)
@@ -89,6 +89,9 @@ class BeliefMemory:
         self._answered: dict[tuple[str, int], tuple[Any, int | None]] = {}
         self._queries: dict[Any, CompiledQuery] = {}
         self._asked_once: dict[str, None] = {}  # texts answered without compiling them (compiled when asked again)
+        #: the relations a question asked once reads straight, by signature: stored beliefs (not computed, shared,
+        #: derived or respelled; declared, if there is a vocabulary), found so by :meth:`_quick_relation`
+        self._quick: dict[tuple[str, int], Relation] = {}
         self._listeners: list[Callable[[BeliefChange], None]] = []  # of every change
         self._named: dict[str, list[Callable[[BeliefChange], None]]] = {}  # predicate name -> its listeners
         self._listening = False  # whether anyone listens
@@ -130,7 +133,7 @@ class BeliefMemory:
             self._multivalued.add(name)
         if persistence is not None:
             self._persistence[name] = float(persistence)
-        self._queries.clear()
+        self._forget_plans()
         self.version += 1
 
     def accepts(self, name: str) -> bool:
@@ -150,7 +153,7 @@ class BeliefMemory:
             raise ValueError(f"{name}/{arity} cannot have {inputs} input arguments")
         self._computed[(name, arity)] = (function, inputs)
         self._answered[(name, arity)] = (function, inputs)
-        self._queries.clear()
+        self._forget_plans()
         self.version += 1
 
     def share(self, view: SharedView) -> None:
@@ -159,7 +162,7 @@ class BeliefMemory:
         self._answered[view.signature] = (view, None)
         if self._rulebook is not None:
             self._rulebook.share({view.signature})
-        self._queries.clear()
+        self._forget_plans()
         self.version += 1
 
     def announce(self, kind: str, belief: Struct) -> None:
@@ -432,7 +435,7 @@ class BeliefMemory:
                 rel.by_key = None
         book.load(program, strata)
         book.share({s for s, (_, inputs) in self._answered.items() if inputs is None})
-        self._queries.clear()
+        self._forget_plans()
         self.version += 1
         for fact in rules:
             if not fact.body.literals:
@@ -563,33 +566,51 @@ class BeliefMemory:
         if len(seen) > 4096:
             seen.clear()
         seen[text] = None
-        read = read_flat_parts(text) if len(text) < 1000 else None
+        read = read_flat_parts(text, False) if len(text) < 1000 else None
         if read is None:
             return _UNANSWERED
         name, args = read
         signature = (name, len(args))
-        if (self._vocabulary and self._vocabulary.get(name) != len(args)) or signature in self._answered \
-                or signature in BUILTIN_PREDICATES or name in self._spellings \
-                or (self._rulebook is not None and self._rulebook.is_derived(signature)):
-            return _UNANSWERED
         if self._heap:
             self._expire_due()
-        rel = self._relations.get(signature)
-        variables = text.count("?")
-        if not variables:
-            return {} if rel is not None and args in rel.rows else None
+        rel = self._quick.get(signature)
         if rel is None:
-            return None
+            rel = self._quick_relation(signature)
+            if rel is None or rel is _UNANSWERED:
+                return rel  # no belief of it (None), or not stored beliefs alone
+        if "?" not in text:
+            return {} if args in rel.rows else None
         last = args[-1]
-        if variables != 1 or type(last) is not Var or rel.by_key is None:
+        by_key = rel.by_key
+        if type(last) is not Var or by_key is None or text.count("?") != 1:
             return _UNANSWERED
-        row = rel.by_key.get(args[:-1])
+        row = by_key.get(args[:-1])
         if row is None:
             return None
-        if last[:2] == _ANONYMOUS_PREFIX:  # Var.anonymous, without the property's call
+        if last[1] == _ANONYMOUS_MARK:  # Var.anonymous without the property's call: a named one is ?[A-Za-z0-9_]+
             return {}
         value = row[-1]
         return {str.__str__(last): value if type(value) in _PLAIN else to_python(value)}  # Var.name, to_python
+
+    def _quick_relation(self, signature: tuple[str, int]) -> Relation | None | object:
+        """The relation of ``signature`` when a question asked once may read it straight (kept in ``_quick`` until
+        the plans are forgotten), None when there is none yet (no belief of it: no answer), :data:`_UNANSWERED` when
+        something else answers it (computed, shared, derived, respelled) or the vocabulary refuses it."""
+        name, arity = signature
+        if (self._vocabulary and self._vocabulary.get(name) != arity) or signature in self._answered \
+                or signature in BUILTIN_PREDICATES or name in self._spellings \
+                or (self._rulebook is not None and self._rulebook.is_derived(signature)):
+            return _UNANSWERED
+        rel = self._relations.get(signature)
+        if rel is not None:
+            self._quick[signature] = rel
+        return rel
+
+    def _forget_plans(self) -> None:
+        """What was compiled from the vocabulary, the computed and shared predicates and the rules is forgotten:
+        one of them changed."""
+        self._queries.clear()
+        self._quick.clear()
 
     def _prepared(self, expression: Expression) -> tuple[CompiledQuery, Relations]:
         """The compiled query of ``expression`` and the relations to solve it in (derived ones brought up to date)."""

@@ -177,9 +177,12 @@ def _read_piece(piece: str):
     return value
 
 
-def read_flat_parts(text: str) -> tuple[str, tuple] | None:
+def read_flat_parts(text: str, stored: bool = True) -> tuple[str, tuple] | None:
     """The name and arguments of a goal of the common shape (:func:`read_flat_goal`), without building its term:
-    ``("color", ("o500", ?C))``; None for anything else."""
+    ``("color", ("o500", ?C))``; None for anything else. ``stored=False``: the arguments only look beliefs up
+    (a question asked once), so the atoms of a goal without a tuple are not interned (equal text finds them in an
+    index all the same; ``sys.intern``'s table is as large as the memory's objects, and its look-up is one more
+    cache miss a question)."""
     if not text.isascii():  # quotes, comments, lists: in a piece, which then is not one (None)
         return None
     body = text.strip(_LARK_SPACE)
@@ -195,7 +198,10 @@ def read_flat_parts(text: str) -> tuple[str, tuple] | None:
         for piece in inside.split(","):
             piece = piece.strip(_LARK_SPACE)
             if piece.isidentifier():  # an atom: one object however often it is read, found in an index by identity
-                args.append(intern(piece))
+                args.append(intern(piece) if stored else piece)
+                continue
+            if piece.isdigit() and len(piece) <= MAX_NUMBER_LENGTH:  # an integer (ASCII digits): int() is as cheap
+                args.append(int(piece))  # as a look-up, and a text of new numbers would only churn the table
                 continue
             value = known(piece)
             if value is None:
@@ -203,7 +209,7 @@ def read_flat_parts(text: str) -> tuple[str, tuple] | None:
                 if value is None:
                     return None
             args.append(value)
-        return intern(name), tuple(args)
+        return intern(name) if stored else name, tuple(args)
     args = []
     rest = inside
     while True:  # pieces up to a tuple, the tuple; until no tuple is left

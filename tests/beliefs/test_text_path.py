@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from aeroexec.beliefs import BeliefMemory, BeliefSyntaxError, Goal, Struct, UnknownPredicateError, parse_expression
 from aeroexec.beliefs.grammar_reading import read_expression
-from aeroexec.beliefs.parser import read_flat_fact, read_flat_goal
+from aeroexec.beliefs.parser import read_flat_fact, read_flat_goal, read_flat_parts
 from aeroexec.beliefs.terms import Var, format_term
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
@@ -71,6 +71,8 @@ def _agrees(text: str) -> None:
         f"{text!r}: a ? read again is the variable of the first reading"
     fact = read_flat_fact(text)
     assert fact is None or (fact == grammar and format_term(fact) == format_term(grammar))
+    asked = read_flat_parts(text, stored=False)  # a question asked once: its atoms not interned, read alike
+    assert asked is not None and _same(Struct(*asked), grammar), f"{text!r}: read unstored as {asked}"
 
 
 def _anonymous(goal: Struct) -> list[Var]:
@@ -177,6 +179,26 @@ def test_a_question_asked_once_respects_the_vocabulary_and_its_spellings():
         memory.query("code(o1, 1, 2)")
     with pytest.raises(UnknownPredicateError):
         memory.add("code(o1, 1, 2)")
+
+
+def test_a_question_asked_once_follows_what_answers_its_predicate():
+    """The relation a question asked once read straight is read so no longer once its predicate is respelled,
+    computed, shared or derived: each new text answers as the parsed expression does."""
+    memory = BeliefMemory()
+    memory.add("state(battery, low)")
+    assert memory.query("state(battery, low)") == {}
+    memory.declare("state", 2, values=["low", "high"])
+    assert memory.query("state(battery, LOW)") == {}
+    memory = BeliefMemory()
+    memory.add_all(["near(o1, o2)", "seen(o1, a)", "link(o1, b)"])
+    assert memory.query("near(o1, ?Y)") == {"?Y": "o2"}
+    memory.register("near", 2, lambda a: "o3")
+    assert memory.query("near(o1,  ?Y)") == {"?Y": "o3"}
+    assert memory.query("seen(o1, ?X)") == {"?X": "a"}
+    memory.add_rules("seen(?A, ?B) :- link(?A, ?B).")
+    for text in ["seen(o1,  b)", "seen(o1, ?X)"]:
+        assert memory.query(text) == memory.query(parse_expression(text)), text
+    assert memory.query("seen(o1,  b)") == {}
 
 
 def test_a_question_asked_once_sees_expired_beliefs_gone():
