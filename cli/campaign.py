@@ -32,6 +32,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         metavar="KIND", help="also draw a fault kind that finds a defect not fixed yet: "
                                              + ("; ".join(f"{k}: {v}" for k, v in GATED.items())
                                                 or "none now, every kind is drawn"))
+    parser.add_argument("--outcomes", metavar="FILE",
+                        help="write each case's outcome to FILE as JSON lines (seed, how it ended, parts, the "
+                             "invariants it violated), in the order of the seeds: two runs compared seed by seed")
     parser.add_argument("--output", metavar="DIR", default="aeroexec_campaign",
                         help="where a replayed case's files go (default aeroexec_campaign)")
 
@@ -62,6 +65,11 @@ def run(args: argparse.Namespace) -> int:
         return 2
     seeds = range(args.first, args.first + args.flights)
     done, failed = [0], [0]
+    try:
+        outcomes = open(args.outcomes, "w", encoding="utf-8") if args.outcomes else None  # noqa: SIM115
+    except OSError as error:
+        print(f"--outcomes {args.outcomes}: {error.strerror}", file=sys.stderr)
+        return 2
     began = time.perf_counter()
 
     def progress(result) -> None:  # noqa: ANN001
@@ -69,6 +77,9 @@ def run(args: argparse.Namespace) -> int:
         failed[0] += result.failed
         if result.violations:
             print(result.report(), flush=True)
+        if outcomes is not None:
+            outcomes.write(result.outcome_line() + "\n")
+            outcomes.flush()
         if done[0] % 250 == 0:
             wall = time.perf_counter() - began
             print(f"{done[0]} flights in {wall:.0f} s: {done[0] / wall * 60:.0f} flights per minute, "
@@ -80,6 +91,9 @@ def run(args: argparse.Namespace) -> int:
     except Interrupted as interrupt:  # Ctrl-C: the figures of what was flown
         results, interrupted = interrupt.results, True
         print(f"interrupted after {len(results)} of {args.flights} flights", file=sys.stderr)
+    finally:
+        if outcomes is not None:
+            outcomes.close()
     found = figures(results, time.perf_counter() - began)
     ended = ", ".join(f"{n} {word}" for word, n in sorted(found.ended.items(), key=lambda item: -item[1]))
     print(f"{found.flights} flights in {found.wall:.1f} s: {found.per_minute:.0f} flights per minute; {ended}")

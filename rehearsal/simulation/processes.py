@@ -1,13 +1,18 @@
 """A case flown by real ``aeroexec run`` processes: what the operator sees (the exit status, the last line) against
-what the run's files say. Faults are those of a process: SIGTERM, or ``kill -9`` then ``aeroexec run --resume``,
-sent once the event log has grown to the fault's time (a process is watched through its files, never timed), and a
-full disk (the event log's writer given a disk that fills after a number of bytes)."""
+what the run's files say. Faults are those of a process: SIGTERM, SIGHUP, or ``kill -9`` then ``aeroexec run
+--resume``, and a full disk (the event log's writer given a disk that fills after a number of bytes).
+
+A signal is sent at the fault's engine time by the process to itself (:data:`SIGNAL_AT`: a tick callback of its
+engine, at the first period at or after that time), never by this process watching the run's files: a run without
+a terminal flies as fast as it can, so a signal sent from outside lands wherever the run has got to when the sender
+is scheduled (seconds of engine time later on a loaded machine, or after the run ended), and the case's seed would
+not decide its outcome. The signal is a real one all the same: the kernel delivers it, the run's handlers take it
+as they take ``kill``'s."""
 
 from __future__ import annotations
 
 import contextlib
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -19,13 +24,14 @@ from aeroexec.rehearsal.simulation.cases import Case
 from aeroexec.rehearsal.simulation.flights import Flown, Part
 
 LIMIT = 300.0  # wall seconds a process may take before it is called hung (a violation, never a wait that fails)
-FULL_DISK = """
+# python -c FULL_DISK ROOM ARGS...: the event log's writer on a disk that fills after ROOM bytes
+FULL_DISK_PART = """
 import errno, os, sys
 from aeroexec.flight import flight_log
 
 
 class FullDisk:
-    room = int(sys.argv[1])
+    room = int(sys.argv.pop(1))
 
     def __getattr__(self, name):
         return getattr(os, name)
@@ -39,9 +45,37 @@ class FullDisk:
 
 
 flight_log.os = FullDisk()
-from aeroexec.cli.main import main
-sys.exit(main(sys.argv[2:]))
 """
+# python -c SIGNAL_AT NAME TIME ARGS...: the signal NAME (SIGTERM, SIGHUP, SIGKILL) sent by the process to itself at
+# the first engine period at or after TIME s of engine time (none if the run ends before)
+SIGNAL_AT = """
+import os, signal, sys
+from aeroexec.flight.session import FlightSession
+
+SIGNAL, AT = signal.Signals[sys.argv.pop(1)], float(sys.argv.pop(1))
+opened = FlightSession.open
+
+
+def open_then_signal(session, *args, **kwargs):
+    result = opened(session, *args, **kwargs)
+    engine, sent = session.engine, []
+
+    def at_time():
+        if not sent and engine.now() >= AT:
+            sent.append(SIGNAL)
+            os.kill(os.getpid(), SIGNAL)
+
+    engine.tick_callbacks.append(at_time)
+    return result
+
+
+FlightSession.open = open_then_signal
+"""
+MAIN = """
+from aeroexec.cli.main import main
+sys.exit(main(sys.argv[1:]))
+"""
+FULL_DISK = FULL_DISK_PART + MAIN
 
 
 def last_state(part: Part, states: list[dict]) -> None:
@@ -60,24 +94,6 @@ def _records(folder: Path) -> list[dict[str, Any]]:
             with contextlib.suppress(ValueError):
                 found.append(json.loads(line))
     return found
-
-
-def _grown_to(folder: Path, seconds: float, process: subprocess.Popen) -> None:
-    """Wait until the run's event log reaches ``seconds`` of engine time (or the process ends)."""
-    path = folder / "events.jsonl"
-    while process.poll() is None:
-        if path.is_file():
-            with open(path, "rb") as file:
-                file.seek(max(0, os.path.getsize(path) - 4096))
-                tail = file.read().splitlines()
-            for line in reversed(tail[1:] if len(tail) > 1 else tail):
-                try:
-                    if float(json.loads(line).get("time", 0.0)) >= seconds:
-                        return
-                    break
-                except ValueError:
-                    continue
-        time.sleep(0.02)
 
 
 def _part(folder: Path, process: Any, err: str, killed: bool, parts_before: int = 0
@@ -139,18 +155,16 @@ def fly_process(case: Case, scratch: Path) -> Flown:
     killer = next((f for f in case.faults if f.kind in ("crash", "sigterm", "sighup")), None)
     command = ["run", str(mission), "--quiet", "--output", str(folder), *options]
     head = [sys.executable, "-c", FULL_DISK, str(disk.size)] if disk else [sys.executable, "-m", "aeroexec.cli.main"]
-    began = time.perf_counter()
-    process = subprocess.Popen([*head, *command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                               cwd=scratch)
-    killed = False
-    sent: int | None = None  # the signal sent, if the process was still there to get it
+    first = head
+    sent: int | None = None  # the signal the process sends itself at the fault's time, if it is still running then
     if killer is not None:
-        _grown_to(folder, killer.time, process)
-        if process.poll() is None:
-            sent = signal.SIGKILL if killer.kind == "crash" else \
-                signal.SIGTERM if killer.kind == "sigterm" else signal.SIGHUP
-            process.send_signal(sent)
-            killed = killer.kind == "crash"
+        sent = signal.SIGKILL if killer.kind == "crash" else \
+            signal.SIGTERM if killer.kind == "sigterm" else signal.SIGHUP
+        first = [sys.executable, "-c", (FULL_DISK_PART if disk else "") + SIGNAL_AT + MAIN,
+                 *([str(disk.size)] if disk else []), sent.name, f"{killer.time!r}"]
+    began = time.perf_counter()
+    process = subprocess.Popen([*first, *command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                               cwd=scratch)
     try:
         _, err = process.communicate(timeout=LIMIT)
     except subprocess.TimeoutExpired:
@@ -158,6 +172,7 @@ def fly_process(case: Case, scratch: Path) -> Flown:
         _, err = process.communicate()
         flown.parts.append(Part(error=f"the process did not end within {LIMIT:g} s"))
         return flown
+    killed = sent == signal.SIGKILL and process.returncode == -signal.SIGKILL
     closed = any(r.get("kind") == "log_closed" for r in _records(folder))
     # the process died of the signal itself with its run recorded whole: the signal came after the run had ended
     # (its handlers gone, the process exiting), and the exit is the signal's, not the run's

@@ -8,6 +8,7 @@ import contextlib
 import gc
 import logging
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -17,7 +18,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from aeroexec.rehearsal.simulation.cases import Case, draw
-from aeroexec.rehearsal.simulation.flights import fly_case
+from aeroexec.rehearsal.simulation.flights import Part, fly_case
 from aeroexec.rehearsal.simulation.invariants import Violation, check
 
 logger = logging.getLogger(__name__)
@@ -36,6 +37,8 @@ class CaseResult:
     seed: int
     violations: list[Violation] = field(default_factory=list)
     ended: str = ""
+    why: str = ""  # the run's reasons (the refusal, the failure), or the set-up's refusal
+    steps: int = 0  # engine steps flown, over every part
     parts: int = 0
     wall: float = 0.0
     cpu: float = 0.0
@@ -47,6 +50,14 @@ class CaseResult:
     @property
     def failed(self) -> bool:
         return bool(self.violations)
+
+    def outcome_line(self) -> str:
+        """The case's outcome as one JSON line: its seed, how it ended, its parts and the invariants it violated
+        (no costs: two runs of the same seeds give the same lines)."""
+        import json
+
+        return json.dumps({"seed": self.seed, "ended": self.ended, "why": self.why, "steps": self.steps,
+                           "parts": self.parts, "violated": sorted({v.invariant for v in self.violations})})
 
     def report(self) -> str:
         """Each violation with its invariant's name, the case, and the command that replays it."""
@@ -83,8 +94,21 @@ def judge(case: Case, keep: Path | None = None, extra: Iterable[str] = ()) -> Ca
     last = flown.parts[-1] if flown.parts else None
     ended = ("refused" if last is None or last.refused is not None else "killed" if last.crashed
              else "error" if last.error or last.outcome is None else last.outcome.status.word)
-    return CaseResult(case.seed, violations, ended, len(flown.parts), round(flown.wall, 3), round(flown.cpu, 3),
+    return CaseResult(case.seed, violations, ended, _why(last, where), sum(p.steps for p in flown.parts),
+                      len(flown.parts), round(flown.wall, 3), round(flown.cpu, 3),
                       max((p.longest_step for p in flown.parts), default=0.0), flown.peak_memory, case.describe())
+
+
+def _why(last: Part | None, where: Path) -> str:
+    """Why the case's last part ended as it did, without what differs run to run by design: its scratch folder's
+    name and the runs' identities (``run-`` and a random UUID)."""
+    if last is None:
+        return ""
+    if last.refused is not None or last.error or last.outcome is None:
+        text = last.refused or last.error or ""
+    else:
+        text = "; ".join(last.outcome.status.reasons)
+    return re.sub(r"run-[0-9a-f]{32}", "run-ID", text.replace(str(where), "CASE"))
 
 
 def _again(case: Case, violations: list[Violation], extra: frozenset[str]) -> list[Violation]:

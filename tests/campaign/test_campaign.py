@@ -188,3 +188,52 @@ def test_a_hold_crossed_at_speed_lands_where_the_rule_holds_not_past_it(tmp_path
     landed = next(r for r in records if r["kind"] == "drone_landed")
     assert math.dist(landed["data"]["position"][:2], (0.0, 0.0)) <= 12.5  # on the fence, not metres outside it
     assert any("flown back there before it lands" in r.get("detail", "") for r in records)
+
+
+def _records_of(folder: Path, kind: str) -> list[dict]:
+    return [r for r in map(json.loads, (folder / "events.jsonl").read_text().splitlines()) if r.get("kind") == kind]
+
+
+def test_a_real_process_gets_its_signal_at_the_faults_engine_time(tmp_path):
+    """Found by the campaign (seed 70243, a real ``aeroexec run`` process given SIGHUP at t=1.92): the signal was
+    sent from outside once the event log had reached the fault's time, while the run flew on as fast as it could,
+    so it landed seconds of engine time later, by how soon the sender was scheduled (the abort said "landing" in
+    one run, "the drone is on the ground" in another; under load a run could end before its signal came). The
+    process now sends it itself at the first period at or after the fault's time: the seed decides the outcome."""
+    from aeroexec.rehearsal.simulation.processes import fly_process
+
+    case = draw(70243)
+    assert case.subprocess and [(f.kind, f.time) for f in case.faults] == [("sighup", 1.92)]
+    flown = fly_process(case, tmp_path)
+    interrupts = _records_of(tmp_path / "run", "operator_interrupt")
+    assert [(r["time"], r["detail"]) for r in interrupts] == [(1.95, "SIGHUP")]  # the period after 1.9 < 1.92
+    assert flown.parts[-1].outcome.status.word == "aborted"
+    assert not check(flown)
+
+
+def test_a_real_process_killed_at_the_faults_engine_time_is_resumed(tmp_path):
+    """``kill -9`` as the process's own SIGKILL at the fault's time: its event log stops in that period, and
+    ``aeroexec run --resume`` flies the rest."""
+    from aeroexec.rehearsal.simulation.processes import fly_process
+
+    case = replace(draw(70243), faults=(Fault("crash", 2.0),))
+    flown = fly_process(case, tmp_path)
+    assert len(flown.parts) == 2 and flown.parts[0].crashed
+    first = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").read_text().splitlines()]
+    resumed = next(i for i, r in enumerate(first) if r.get("kind") == "log_resumed")
+    assert max(r.get("time", 0.0) for r in first[:resumed]) == 2.0
+    assert not check(flown)
+
+
+def test_outcomes_are_written_one_json_line_per_seed_the_same_each_run(tmp_path, capsys):
+    runs = []
+    for name in ("a.jsonl", "b.jsonl"):
+        assert main(["campaign", "--flights", "4", "--first", "70052", "--workers", "1",
+                     "--outcomes", str(tmp_path / name)]) == 0
+        runs.append((tmp_path / name).read_text())
+    lines = [json.loads(line) for line in runs[0].splitlines()]
+    assert [line["seed"] for line in lines] == [70052, 70053, 70054, 70055]
+    assert set(lines[0]) == {"seed", "ended", "why", "steps", "parts", "violated"}
+    assert runs[0] == runs[1]  # no scratch folders, run identities or costs in them
+    assert main(["campaign", "--flights", "1", "--outcomes", str(tmp_path / "no" / "such" / "x.jsonl")]) == 2
+    assert "--outcomes" in capsys.readouterr().err
