@@ -178,6 +178,19 @@ def test_verifying_a_behavior_tree_does_not_import_the_tml_dialect_or_elementtre
                              "aeroexec.dialects.tml.verify", "xml.etree.ElementTree"}) == []
 
 
+def empty_run_modules(tmp_path) -> set[str]:
+    """The modules imported by an empty run of missions/figure10.py (``aeroexec run ... --max-time 0``)."""
+    runtime = tmp_path / "runtime"
+    runtime.mkdir(mode=0o700)
+    return imported_after(f"""
+        import contextlib, io, sys
+        from aeroexec.cli.main import main
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
+                  "--output", {str(tmp_path / "out")!r}])
+    """, XDG_RUNTIME_DIR=str(runtime))
+
+
 def test_an_empty_run_starts_without_the_modules_only_some_runs_need(tmp_path):
     """A run's start (``aeroexec run MISSION --max-time 0``) makes its control token and run id from os.urandom, keys
     its files with CPython's own SHA-256, probes its output folder, and finds a script's sibling modules and ROS
@@ -185,15 +198,7 @@ def test_an_empty_run_starts_without_the_modules_only_some_runs_need(tmp_path):
     importlib.resources), nor what only a resumed run reads (its resume point, the journal's reader), nor Aerostack2's
     drone interfaces for a program that never names its API: together ~25 ms of every run. (hmac is imported when a
     client asks the control socket; tempfile when there is no runtime directory.)"""
-    runtime = tmp_path / "runtime"
-    runtime.mkdir(mode=0o700)
-    modules = imported_after(f"""
-        import contextlib, io, sys
-        from aeroexec.cli.main import main
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
-                  "--output", {str(tmp_path / "out")!r}])
-    """, XDG_RUNTIME_DIR=str(runtime))
+    modules = empty_run_modules(tmp_path)
     assert "aeroexec.engine.engine" in modules  # it ran
     assert sorted(modules & {"secrets", "hmac", "hashlib", "_hashlib", "uuid", "platform", "tempfile",
                              "importlib.abc", "importlib.resources", "subprocess", "aeroexec.flight.journal.resumption",
@@ -208,15 +213,7 @@ def test_an_empty_run_of_a_python_mission_imports_no_tree_model_change_script_fl
     mission change until the operator asks one (``engine.supervision.changes``), no script fleet unless its script
     flies several drones (``flight.fleet.script_fleet``) and no runs of looks until the mission first looks
     (``flight.journal.looks``, with zlib): ~6M instructions of every such start (bench/startup.py)."""
-    runtime = tmp_path / "runtime"
-    runtime.mkdir(mode=0o700)
-    modules = imported_after(f"""
-        import contextlib, io, sys
-        from aeroexec.cli.main import main
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            main(["run", {str(MISSIONS / "figure10.py")!r}, "--plain", "--max-time", "0",
-                  "--output", {str(tmp_path / "out")!r}])
-    """, XDG_RUNTIME_DIR=str(runtime))
+    modules = empty_run_modules(tmp_path)
     assert "aeroexec.engine.engine" in modules and "aeroexec.flight.mission_changes" in modules  # it ran
     assert sorted(modules & {"aeroexec.trees.model", "aeroexec.trees.mission_file",
                              "aeroexec.engine.supervision.changes", "aeroexec.flight.fleet.script_fleet",
