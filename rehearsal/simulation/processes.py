@@ -23,6 +23,8 @@ from typing import Any
 from aeroexec.rehearsal.simulation.cases import Case
 from aeroexec.rehearsal.simulation.flights import Flown, Part
 
+#: the faults that are a signal to the process, and their signal
+SIGNALS = {"crash": signal.SIGKILL, "sigterm": signal.SIGTERM, "sighup": signal.SIGHUP}
 LIMIT = 300.0  # wall seconds a process may take before it is called hung (a violation, never a wait that fails)
 # python -c FULL_DISK ROOM ARGS...: the event log's writer on a disk that fills after ROOM bytes
 FULL_DISK_PART = """
@@ -152,14 +154,13 @@ def fly_process(case: Case, scratch: Path) -> Flown:
     flown = Flown(case, folder)
     flown.allowed_points.update(tuple(round(v, 1) for v in p) for p in case.mission.points)
     disk = case.fault("disk_full")
-    killer = next((f for f in case.faults if f.kind in ("crash", "sigterm", "sighup")), None)
+    killer = next((f for f in case.faults if f.kind in SIGNALS), None)
     command = ["run", str(mission), "--quiet", "--output", str(folder), *options]
     head = [sys.executable, "-c", FULL_DISK, str(disk.size)] if disk else [sys.executable, "-m", "aeroexec.cli.main"]
     first = head
     sent: int | None = None  # the signal the process sends itself at the fault's time, if it is still running then
     if killer is not None:
-        sent = signal.SIGKILL if killer.kind == "crash" else \
-            signal.SIGTERM if killer.kind == "sigterm" else signal.SIGHUP
+        sent = SIGNALS[killer.kind]
         first = [sys.executable, "-c", (FULL_DISK_PART if disk else "") + SIGNAL_AT + MAIN,
                  *([str(disk.size)] if disk else []), sent.name, f"{killer.time!r}"]
     began = time.perf_counter()
