@@ -33,7 +33,18 @@ def _behavior_names(prefix: str, parsed_args: argparse.Namespace, **_: object) -
 
 
 def run(args: argparse.Namespace) -> int:
-    logging.getLogger("aeroexec.engine.catalog").setLevel(logging.ERROR)  # problems are printed below
+    """The command: the catalog's own problems are printed below, not logged (the logger's level is put back after,
+    for a program that called the command in its own process)."""
+    logger = logging.getLogger("aeroexec.engine.catalog")
+    level = logger.level
+    logger.setLevel(logging.ERROR)
+    try:
+        return _run(args)
+    finally:
+        logger.setLevel(level)
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.check:
         return _check(args.check)
     if args.worlds:

@@ -172,15 +172,22 @@ def warm_up() -> None:
 
 
 def _worker(arguments: tuple) -> CaseResult:
-    logging.getLogger("aeroexec").setLevel(logging.ERROR)  # what a run logs below an error stays in the run
-    warm_up()
-    seed, extra = arguments
+    """One case in a worker, or in this process (one worker): what a run logs below an error stays in the run, and
+    the engine's loggers are left at the level they had (a program that runs a campaign keeps its warnings)."""
+    engine = logging.getLogger("aeroexec")
+    level = engine.level
+    engine.setLevel(logging.ERROR)
     try:
-        return run_case(seed, extra)
-    except Exception as error:  # noqa: BLE001 - the campaign's own failure, said for its seed
-        return CaseResult(seed, [Violation("no_internal_error", f"the case could not be flown: "
-                                                                f"{type(error).__name__}: {error}")],
-                          "error", extra=tuple(sorted(extra)))
+        warm_up()
+        seed, extra = arguments
+        try:
+            return run_case(seed, extra)
+        except Exception as error:  # noqa: BLE001 - the campaign's own failure, said for its seed
+            return CaseResult(seed, [Violation("no_internal_error", f"the case could not be flown: "
+                                                                    f"{type(error).__name__}: {error}")],
+                              "error", extra=tuple(sorted(extra)))
+    finally:
+        engine.setLevel(level)
 
 
 def run_campaign(seeds: Iterable[int], extra: tuple[str, ...] = (), workers: int | None = None,

@@ -237,3 +237,13 @@ def test_outcomes_are_written_one_json_line_per_seed_the_same_each_run(tmp_path,
     assert runs[0] == runs[1]  # no scratch folders, run identities or costs in them
     assert main(["campaign", "--flights", "1", "--outcomes", str(tmp_path / "no" / "such" / "x.jsonl")]) == 2
     assert "--outcomes" in capsys.readouterr().err
+
+
+def test_a_campaign_flown_in_this_process_leaves_the_engines_warnings_on(caplog):
+    # one worker flies the cases in the calling process: what the runs log below an error stays in the runs, but
+    # the program's own warnings afterwards are still logged (a campaign left the engine's loggers at ERROR)
+    import logging
+
+    assert main(["campaign", "--flights", "1", "--first", "70052", "--workers", "1"]) == 0
+    logging.getLogger("aeroexec.dialects.aerostack2.sim_world").warning("heard after the campaign")
+    assert "heard after the campaign" in caplog.text

@@ -68,3 +68,16 @@ def test_check_a_missing_file():
     result = aeroexec("catalog", "--check", "no/such/catalog.yaml")
     assert result.returncode == 1 and "cannot read the file" in result.stdout
     assert "Traceback" not in result.stderr
+
+
+def test_the_catalog_command_called_in_a_program_leaves_its_catalog_warnings_on(caplog, capsys):
+    # the command prints the catalog's problems itself (its logger quiet meanwhile); a program that called it keeps
+    # the catalog's warnings afterwards
+    import logging
+
+    from aeroexec.cli.main import main
+
+    assert main(["catalog", "TAKE_OFF"]) == 0
+    assert "TAKE_OFF" in capsys.readouterr().out
+    logging.getLogger("aeroexec.engine.catalog").warning("heard after the command")
+    assert "heard after the command" in caplog.text
