@@ -41,7 +41,20 @@ def script_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
     from aeroexec.dialects.aerostack2.ros_nodes import flies_nothing, node_problems
 
     alone = [] if any(_names_api(node) for node in nodes) else flies_nothing(nodes, dotted)
-    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted), *alone]
+    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted), *alone, *_era_rules(nodes)]
+
+
+def _era_rules(nodes: list[ast.AST]) -> list[tuple[Any, ...]]:
+    """A warning naming the rule of an earlier era a script is flown by (:mod:`.eras`): its follow_path from the
+    ground, for a script importing python_interface that follows a path."""
+    if not any(isinstance(n, ast.Attribute) and n.attr == "follow_path" for n in nodes):
+        return []
+    from aeroexec.dialects.aerostack2.eras import NOT_ARMED, RULE, arms, imports_era_api
+
+    imported = imports_era_api(nodes)
+    if imported is None:
+        return []
+    return [(imported, "warning", RULE if arms(nodes) else NOT_ARMED)]
 
 
 
@@ -54,7 +67,8 @@ class _NoDrones:
     def check(self, call: ast.Call) -> None:
         return None
 
-    def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+    def sequence_requests(self, call: ast.Call, state: Any = None) -> list[tuple[str, str | None, dict[str, Any],
+                                                                                set[str]]]:
         return []
 
     def runs_behaviors(self, call: ast.Call) -> bool:

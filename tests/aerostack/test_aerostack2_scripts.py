@@ -135,6 +135,66 @@ def test_a_follow_path_from_the_ground_is_refused_as_the_catalog_orders_flight(t
            "start of the mission (flight is landed; FOLLOW_PATH needs hovering or moving)" in flight.err
 
 
+#: A script of ours written as python_interface's own examples/ex_fp.py is (before the package's rename in December
+#: 2022): offboard, arm, a follow_path from the ground as its take-off, a path flown, then the landing.
+PYTHON_INTERFACE_TAKE_OFF_BY_PATH = """import rclpy
+from python_interface.drone_interface import DroneInterface
+
+rclpy.init()
+uav = DroneInterface("drone0", verbose=False)
+uav.offboard()
+uav.arm()
+uav.follow_path([[0, 0, 2.5]], 1)
+uav.follow_path([[4, 0, 2.5], [4, 4, 2.5], [0, 0, 2.5]], 2)
+uav.land(0.3)
+uav.shutdown()
+"""
+
+
+def test_a_python_interface_follow_path_from_the_ground_takes_off_by_its_path(tmp_path, capsys):
+    """Aerostack2 before 96d3a3f3 (2022-12-14) took a follow_path from the ground: the script of that era (it imports
+    python_interface) takes off to the path's first altitude, then flies the path; the check says which rule it used
+    and agrees with the run; the follow_path made in the air is flown as it is."""
+    script = tmp_path / "take_off_by_path.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert "take_off_by_path.py:2:1: warning: follow_path from the ground takes off by its path, as Aerostack2 " \
+           "before December 2022 did" in flight.err
+    assert flight.achieved() == [T, F, F, L]
+    activated = [(r["behavior"], r["detail"]) for r in flight.kinds("activated") if r["behavior"] in (T, F)]
+    assert activated[0] == (T, "ALTITUDE=2.5")  # then the path's one point, reached: achieved at once
+    assert [b for b, _ in activated] == [T, F]  # no take-off before the path flown in the air
+    landed = flight.kinds("drone_landed")
+    assert landed and landed[-1]["time"] > flight.kinds("drone_takeoff_complete")[0]["time"]
+
+
+def test_a_python_interface_follow_path_from_the_ground_needs_an_armed_drone(tmp_path, capsys):
+    """Then, a drone not armed and in offboard mode did not move (as2_core 6959a15): the script is refused."""
+    script = tmp_path / "never_armed.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace("uav.arm()\n", ""))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "never_armed.py:2:1: warning: follow_path from the ground took off by its path in Aerostack2 before " \
+           "December 2022 (this script imports python_interface) only on a drone armed and in offboard mode" \
+           in flight.err
+    assert "never_armed.py:7:1: error: WRONG_SEQUENCE: The execution of behavior FOLLOW_PATH cannot be done at " \
+           "the start of the mission (flight is landed; FOLLOW_PATH needs hovering or moving)" in flight.err
+
+
+def test_a_python_interface_go_to_from_the_ground_is_still_refused(tmp_path, capsys):
+    """go_to rejected a goal on the ground from 2022-11-17 (goto_behaviour bd5740a), while the package was still
+    python_interface: no earlier rule is given it."""
+    script = tmp_path / "go_to_first.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace("uav.follow_path([[0, 0, 2.5]], 1)",
+                                                               "uav.go_to(0, 0, 2.5, 1)"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "go_to_first.py:8:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at " \
+           "the start of the mission" in flight.err
+    assert "takes off by its path" in flight.err  # the script follows a path later: the rule is named, not used
+
+
 def test_motion_references_on_the_ground_are_refused_and_the_run_says_so(tmp_path, capsys):
     flight = fly(SCRIPTS / "rosconches24_example1.py", tmp_path, capsys)  # never takes off
     assert flight.status == 3, flight.err  # completed with refused requests
