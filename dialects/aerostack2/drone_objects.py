@@ -39,7 +39,8 @@ class MissionChecker(Protocol):
     def value(self, node: ast.AST) -> Any: ...
     def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None: ...
 
-#: Aerostack2's Python API, by its names: ``as2_python_api``, and ``python_interface`` (Aerostack2 1.0).
+#: Aerostack2's Python API, by its names: ``as2_python_api``, and ``python_interface``: Aerostack2 before 1.0 (the
+#: package was renamed as2_python_api in December 2022).
 APIS = ("as2_python_api.", "python_interface.")
 _INTERPRETER = "MissionInterpreter"
 #: The beginnings of a ROS 2 node's own methods: on a drone interface they use ROS 2 beyond it.

@@ -1,9 +1,10 @@
 """Aerostack2 registered with the core, as another package would be (pyproject.toml's entry points): its mission
 interpreter's plans in the table of mission formats, its Python API served under the names its scripts import
-(``as2_python_api``, ``as2_msgs``, ``rclpy``, and
-``python_interface``, its name in Aerostack2 1.0; a program importing ``as2_python_api`` or ``rclpy`` is a script run
-whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check
-(with the drones a script only watches). (Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
+(``as2_python_api``, ``as2_msgs``, ``rclpy``, and ``python_interface``, its name in Aerostack2 before 1.0 (the
+package was renamed as2_python_api in December 2022); a program importing ``as2_python_api`` or ``rclpy`` is a
+script run whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static
+check (with the drones a script only watches; and that version's rule for a follow_path from the ground:
+:mod:`.eras`). (Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ if TYPE_CHECKING:
     from typing import Any
 
 _HERE = "aeroexec.dialects.aerostack2"
-_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0
+_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name before 1.0
 
 IMPORTS = StandIns(
     names={name: f"{_HERE}.{name}" for name in ("rclpy", "as2_python_api", "as2_msgs", "python_interface")},

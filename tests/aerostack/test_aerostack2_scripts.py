@@ -20,7 +20,7 @@ FLIES = {
     "px4_vision_mission_interpreter.py": [T, G, G, G, G, L],  # MissionInterpreter(mission=...).perform_mission()
     "minimal_sensing_mission.py": [T, G, G, G, G, G, L],
     "rosconches24_example2.py": [T, G, G, G, G, L],
-    "f450_mission.py": [T, F, F, F, *[G] * 15, L],  # Aerostack2 1.0's drone.goto
+    "f450_mission.py": [T, F, F, F, *[G] * 15, L],  # drone.goto of Aerostack2 before 1.0
 }
 
 
@@ -88,7 +88,7 @@ def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(
         flight.err
 
 
-AEROSTACK2_1_0 = """import rclpy
+BEFORE_1_0 = """import rclpy
 from time import sleep
 from python_interface.drone_interface import DroneInterface
 from python_interface.modules.goto_module import GotoModule
@@ -107,11 +107,12 @@ drone.shutdown()
 """
 
 
-def test_an_aerostack2_1_0_script_of_python_interface_flies(tmp_path, capsys):
-    """python_interface, as as2_python_api was called in Aerostack2 1.0 (its examples/example1.py): the same drone
-    interface under that version's module names; it was refused as ROS 2 beyond the drone interface."""
-    script = tmp_path / "example_1_0.py"
-    script.write_text(AEROSTACK2_1_0)
+def test_a_script_of_python_interface_before_1_0_flies(tmp_path, capsys):
+    """python_interface, Aerostack2 before 1.0 (the package was renamed as2_python_api in December 2022; its
+    examples/example1.py): the same drone interface under that version's module names; it was refused as ROS 2 beyond
+    the drone interface."""
+    script = tmp_path / "example_before_1_0.py"
+    script.write_text(BEFORE_1_0)
     flight = fly(script, tmp_path, capsys)
     assert flight.status == 0, flight.err
     assert flight.achieved() == [T, G, F, L]
@@ -119,13 +120,13 @@ def test_an_aerostack2_1_0_script_of_python_interface_flies(tmp_path, capsys):
     assert "COORDINATES=(0, 5, 3)" in goal
 
 
-def test_an_aerostack2_1_0_script_is_checked_as_aerostack2_scripts_are(tmp_path, capsys):
-    script = tmp_path / "fp_1_0.py"
-    script.write_text(AEROSTACK2_1_0.replace("drone.takeoff(3, 2)", "pass"))
+def test_a_script_of_python_interface_before_1_0_is_checked_as_aerostack2_scripts_are(tmp_path, capsys):
+    script = tmp_path / "fp_before_1_0.py"
+    script.write_text(BEFORE_1_0.replace("drone.takeoff(3, 2)", "pass"))
     flight = fly(script, tmp_path, capsys)
     assert flight.status == 1 and not flight.records
-    assert "fp_1_0.py:13:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at the " \
-           "start of the mission" in flight.err
+    assert "fp_before_1_0.py:13:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at " \
+           "the start of the mission" in flight.err
 
 
 def test_a_follow_path_from_the_ground_is_refused_as_the_catalog_orders_flight(tmp_path, capsys):
