@@ -73,9 +73,10 @@ def take_off_by_path(module: str, requests: Sequence[Request]) -> list[Request]:
 
 
 def landed(state: Mapping[str, Any] | None) -> bool:
-    """True when the check's phenomena say the drone is known to be on the ground (the catalog's flight state)."""
+    """True when the check's phenomena say the drone is known to be on the ground where the mission started it (the
+    catalog's flight state, landed by no behavior): a drone a LAND brought down was disarmed by it, then as here."""
     flight = (state or {}).get("flight")
-    return flight is not None and getattr(flight, "state", None) == "landed"
+    return flight is not None and getattr(flight, "state", None) == "landed" and getattr(flight, "since", 0) is None
 
 
 __all__ = ["BY_PATH", "ERA_API", "NOT_ARMED", "RULE", "arms", "imports_era_api", "landed", "take_off_by_path"]

@@ -183,6 +183,31 @@ def test_a_python_interface_follow_path_from_the_ground_needs_an_armed_drone(tmp
            "the start of the mission (flight is landed; FOLLOW_PATH needs hovering or moving)" in flight.err
 
 
+def test_a_python_interface_follow_path_takes_off_by_the_drone_s_state_in_flight(tmp_path, capsys):
+    """In a loop the check cannot tell the flight's state at the call (it reports nothing); the run takes off by the
+    drone's own: on the ground at the first pass, in the air at the second."""
+    script = tmp_path / "in_a_loop.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace(
+        "uav.follow_path([[0, 0, 2.5]], 1)\n", "for altitude in (2, 3):\n    uav.follow_path([[0, 0, altitude]], 1)\n"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, F, F, F, L]
+    activated = [(r["behavior"], r["detail"]) for r in flight.kinds("activated") if r["behavior"] in (T, F)]
+    assert activated[0] == (T, "ALTITUDE=2") and activated[1][0] == F and "PATH=((0, 0, 3),)" in activated[1][1]
+
+
+def test_a_python_interface_follow_path_after_a_landing_is_refused_as_the_run_would(tmp_path, capsys):
+    """A landing disarms the drone (then, by the land behavior, as here): a follow_path after it would not move it, so
+    the check does not take off for it, and says so before flight."""
+    script = tmp_path / "after_landing.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace("uav.land(0.3)\n",
+                                                               "uav.land(0.3)\nuav.follow_path([[0, 0, 2]], 1)\n"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "after_landing.py:11:1: error: WRONG_SEQUENCE: The execution of behavior FOLLOW_PATH cannot be done after " \
+           "the execution of LAND" in flight.err
+
+
 def test_a_python_interface_go_to_from_the_ground_is_still_refused(tmp_path, capsys):
     """go_to rejected a goal on the ground from 2022-11-17 (goto_behaviour bd5740a), while the package was still
     python_interface: no earlier rule is given it."""
