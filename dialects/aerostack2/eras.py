@@ -17,7 +17,10 @@ Such a call is flown here as ``TAKE_OFF`` to the altitude of the path's first po
 straight up at the vehicle's take-off speed (the era's trajectory climbed at the path's speed along a curve to the
 first point: the same place when that point is above the drone, as in every such script found, or nearly: 0.1 m).
 On a drone not armed, or not in offboard mode, nothing moved then (the behavior waited for ever): the call is
-refused as today.
+refused as today. The platform's state machine stayed LANDED in such a flight: a ``land()`` after it lands here, as
+0.2.0's land behavior did (aerostack2/land_behaviour fe0b6e0: the state machine's refused LAND event was only
+logged), the version python_interface's ex_fp.py was written against; from 2022-11-17 (d590455) to the follow_path
+check the land behavior rejected it.
 ``go_to`` is not given this rule: the go_to behavior rejected a goal unless FLYING from 2022-11-17
 (aerostack2/goto_behaviour bd5740a), while the package was still ``python_interface``, so a script of that name
 cannot tell which rule it was written for. Scripts importing ``as2_python_api`` keep the catalog's preconditions.
