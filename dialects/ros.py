@@ -80,7 +80,8 @@ _INTERFACE: dict[str, frozenset[str]] = {
         "follow_reference_module", "gps_module", "motion_reference_handler_module"}),
     "as2_python_api.behavior_actions": frozenset({"behavior_handler"}),
     "as2_python_api.mission_interpreter": frozenset({"mission", "mission_interpreter"}),
-    # Aerostack2 1.0's name of as2_python_api, with that version's module names
+    # as2_python_api's name in Aerostack2 before 1.0 (the package was renamed as2_python_api in December 2022),
+    # with that version's module names
     "python_interface": frozenset({"drone_interface", "drone_interface_base", "drone_interface_gps",
                                    "drone_interface_teleop", "modules", "behaviour_actions"}),
     "python_interface.modules": frozenset({

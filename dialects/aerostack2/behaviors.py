@@ -150,7 +150,8 @@ MODULES: dict[str, dict[str, Method]] = {
         **{f"go_to_gps{suffix}": signature for suffix, signature in _GPS_METHODS.items()}}),
     "follow_path_gps": _methods("follow_path_gps", {
         "__call__": "geopath, speed, yaw_mode=0, yaw_angle=0.0, wait=True"}),
-    # Aerostack2 1.0's spellings (before February 2023): the module goto (x, y, z written _x, _y, _z), goto_gps
+    # The spellings of Aerostack2 before 1.0 (go_to since February 2023): the module goto (x, y, z written _x, _y, _z),
+    # goto_gps
     "goto": _methods("goto", {
         "__call__": "_x, _y, _z, speed, yaw_mode=2, yaw_angle=None, wait=True",
         "go_to": "_x, _y, _z, speed", "go_to_with_yaw": "_x, _y, _z, speed, angle",
@@ -201,7 +202,7 @@ def method(module: str, name: str = "__call__") -> Method:
     return found
 
 
-_SAME = {"goto": "go_to", "goto_gps": "go_to_gps"}  # Aerostack2 1.0's modules
+_SAME = {"goto": "go_to", "goto_gps": "go_to_gps"}  # the modules of Aerostack2 before 1.0
 
 
 def known(value: Any) -> bool:

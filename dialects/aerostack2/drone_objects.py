@@ -12,10 +12,12 @@ from __future__ import annotations
 
 import ast
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 from aeroexec.dialects.aerostack2 import behaviors as aerostack2
+from aeroexec.dialects.aerostack2 import eras
 from aeroexec.dialects.aerostack2.behaviors import As2Error, Method, Request
 from aeroexec.dialects.ros import ROS2_BEYOND
 from aeroexec.engine.catalog import BehaviorSpecialist
@@ -37,7 +39,8 @@ class MissionChecker(Protocol):
     def value(self, node: ast.AST) -> Any: ...
     def report(self, node: ast.AST | None, message: str, kind: str = "", severity: str = "error") -> None: ...
 
-#: Aerostack2's Python API, by its names: ``as2_python_api``, and ``python_interface`` (Aerostack2 1.0).
+#: Aerostack2's Python API, by its names: ``as2_python_api``, and ``python_interface``: Aerostack2 before 1.0 (the
+#: package was renamed as2_python_api in December 2022).
 APIS = ("as2_python_api.", "python_interface.")
 _INTERPRETER = "MissionInterpreter"
 #: The beginnings of a ROS 2 node's own methods: on a drone interface they use ROS 2 beyond it.
@@ -86,6 +89,8 @@ class DroneObjects:
         self.interpreters: set[str] = set()  # names bound to a mission interpreter
         self.loaded: set[str] = set()  # modules loaded with load_module("...")
         self.constructions: list[ast.Call] = []  # where drone interfaces are made
+        #: python_interface's era, an armed drone: a follow_path from the ground takes off by its path (.eras)
+        self.takes_off_by_path = eras.imports_era_api(checker.nodes) is not None and eras.arms(checker.nodes)
         self.annotated: dict[int, dict[str, DroneClass]] = {}  # id(function) -> parameter -> class
         self.methods_of: dict[int, DroneClass] = {}  # id(function) -> the class whose method it is
         self._found: dict[int, As2Call | None] = {}
@@ -352,14 +357,19 @@ class DroneObjects:
         """The named frames of the world the program is checked against (a simulator world's models)."""
         return tuple(getattr(self.checker.specialist.world, "frames", ()) or ())
 
-    def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
-        """What the flight-order check needs of a drone interface's call (empty when it asks for no behavior)."""
+    def sequence_requests(self, call: ast.Call, state: Mapping[str, Any] | None = None,
+                          ) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+        """What the flight-order check needs of a drone interface's call (empty when it asks for no behavior),
+        made where the phenomena are in ``state``: a script of python_interface's era that arms its drone takes off
+        by a follow_path made on the ground (:mod:`.eras`)."""
         found = self.as2_call(call)
         if found is None:
             return []
         requests = self.requests(found)
         if requests is None:
             return [("execute_behavior", None, {}, set())]
+        if self.takes_off_by_path and eras.landed(state):
+            requests = eras.take_off_by_path(found.method.module, requests)
         return [("execute_behavior" if r.wait else "activate_behavior", r.behavior, r.arguments,
                  {k for k, v in r.arguments.items() if unknown(v)}) for r in requests]
 

@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from typing import Any
 
 WRITTEN_FOR = "Gazebo's empty world"
-_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0
+_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name before 1.0
 #: What a mission uses that is only in the default field (its markers).
 _FIELD_WORDS = ("aruco", "marker")
 _GPS_CALLS = ("go_to_gps_point", "go_to_gps_point_path_facing", "go_to_gps", "go_to_gps_path_facing",

@@ -1,9 +1,10 @@
 """Aerostack2 registered with the core, as another package would be (pyproject.toml's entry points): its mission
 interpreter's plans in the table of mission formats, its Python API served under the names its scripts import
-(``as2_python_api``, ``as2_msgs``, ``rclpy``, and
-``python_interface``, its name in Aerostack2 1.0; a program importing ``as2_python_api`` or ``rclpy`` is a script run
-whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static check
-(with the drones a script only watches). (Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
+(``as2_python_api``, ``as2_msgs``, ``rclpy``, and ``python_interface``, its name in Aerostack2 before 1.0 (the
+package was renamed as2_python_api in December 2022); a program importing ``as2_python_api`` or ``rclpy`` is a
+script run whole, with the simulated drone's namespace in its environment), and its drone interfaces in the static
+check (with the drones a script only watches; and that version's rule for a follow_path from the ground:
+:mod:`.eras`). (Its behavior-tree nodes are mapped through ``aeroexec.tree_mappings``.)"""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ if TYPE_CHECKING:
     from typing import Any
 
 _HERE = "aeroexec.dialects.aerostack2"
-_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name in Aerostack2 1.0
+_API = ("as2_python_api", "python_interface")  # Aerostack2's Python API, and its name before 1.0
 
 IMPORTS = StandIns(
     names={name: f"{_HERE}.{name}" for name in ("rclpy", "as2_python_api", "as2_msgs", "python_interface")},
@@ -41,7 +42,20 @@ def script_problems(nodes: list[ast.AST], dotted: Any) -> list[tuple[Any, ...]]:
     from aeroexec.dialects.aerostack2.ros_nodes import flies_nothing, node_problems
 
     alone = [] if any(_names_api(node) for node in nodes) else flies_nothing(nodes, dotted)
-    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted), *alone]
+    return [*watched_drones(nodes, dotted), *node_problems(nodes, dotted), *alone, *_era_rules(nodes)]
+
+
+def _era_rules(nodes: list[ast.AST]) -> list[tuple[Any, ...]]:
+    """A warning naming the rule of an earlier era a script is flown by (:mod:`.eras`): its follow_path from the
+    ground, for a script importing python_interface that follows a path."""
+    if not any(isinstance(n, ast.Attribute) and n.attr == "follow_path" for n in nodes):
+        return []
+    from aeroexec.dialects.aerostack2.eras import NOT_ARMED, RULE, arms, imports_era_api
+
+    imported = imports_era_api(nodes)
+    if imported is None:
+        return []
+    return [(imported, "warning", RULE if arms(nodes) else NOT_ARMED)]
 
 
 
@@ -54,7 +68,8 @@ class _NoDrones:
     def check(self, call: ast.Call) -> None:
         return None
 
-    def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+    def sequence_requests(self, call: ast.Call, state: Any = None) -> list[tuple[str, str | None, dict[str, Any],
+                                                                                set[str]]]:
         return []
 
     def runs_behaviors(self, call: ast.Call) -> bool:

@@ -56,6 +56,7 @@ from aeroexec.limits import InputError, read_text
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
+    from collections.abc import Mapping
     from typing import Any
 
 logger = logging.getLogger(__name__)
@@ -292,13 +293,16 @@ class MissionChecker:
             self.report(node, exc.message, WRONG_FORMAT)
 
     # -- sequences ------------------------------------------------------------------------
-    def behavior_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+    def behavior_requests(self, call: ast.Call, state: Mapping[str, Any] | None = None,
+                          ) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
         """For a call that runs or inhibits behaviors (an API function, or a drone interface's module), each
         request: the API function, the behavior name (None when not known), its catalog-cased arguments and the
-        names of those not known (``**`` for ``**kwargs``); empty for any other call."""
+        names of those not known (``**`` for ``**kwargs``); empty for any other call. ``state``: the phenomena's
+        states where the call is made (None when not walking the program), which a dialect's objects may ask
+        (a rule of an earlier era of their API that depends on the flight state)."""
         function = self.api_function(call.func)
         if function not in SEQUENCE:
-            return [request for objects in self.objects for request in objects.sequence_requests(call)]
+            return [request for objects in self.objects for request in objects.sequence_requests(call, state)]
         node = self.name_node(call)
         name = self.value(node) if node is not None else NOT_CONSTANT
         if not isinstance(name, str):

@@ -39,8 +39,11 @@ class ProgramObjects(Protocol):
     def check(self, call: ast.Call) -> None:
         """Report (to the checker) what is wrong with ``call`` when it is a call of such an object."""
 
-    def sequence_requests(self, call: ast.Call) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
-        """The requests ``call`` makes (as the checker's ``behavior_requests``); empty for any other call."""
+    def sequence_requests(self, call: ast.Call, state: Mapping[str, Any] | None = None,
+                          ) -> list[tuple[str, str | None, dict[str, Any], set[str]]]:
+        """The requests ``call`` makes (as the checker's ``behavior_requests``), where the phenomena are in
+        ``state`` (phenomenon -> :class:`~aeroexec.engine.catalog.specialist.PhenomenonState`, None unknown; None
+        when not known at all); empty for any other call."""
 
     def runs_behaviors(self, call: ast.Call) -> bool:
         """True when ``call`` runs or stops behaviors."""

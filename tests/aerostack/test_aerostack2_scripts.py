@@ -20,7 +20,7 @@ FLIES = {
     "px4_vision_mission_interpreter.py": [T, G, G, G, G, L],  # MissionInterpreter(mission=...).perform_mission()
     "minimal_sensing_mission.py": [T, G, G, G, G, G, L],
     "rosconches24_example2.py": [T, G, G, G, G, L],
-    "f450_mission.py": [T, F, F, F, *[G] * 15, L],  # Aerostack2 1.0's drone.goto
+    "f450_mission.py": [T, F, F, F, *[G] * 15, L],  # drone.goto of Aerostack2 before 1.0
 }
 
 
@@ -88,7 +88,7 @@ def test_scripts_using_ros_2_beyond_the_drone_interface_are_refused_at_the_line(
         flight.err
 
 
-AEROSTACK2_1_0 = """import rclpy
+BEFORE_1_0 = """import rclpy
 from time import sleep
 from python_interface.drone_interface import DroneInterface
 from python_interface.modules.goto_module import GotoModule
@@ -107,11 +107,12 @@ drone.shutdown()
 """
 
 
-def test_an_aerostack2_1_0_script_of_python_interface_flies(tmp_path, capsys):
-    """python_interface, as as2_python_api was called in Aerostack2 1.0 (its examples/example1.py): the same drone
-    interface under that version's module names; it was refused as ROS 2 beyond the drone interface."""
-    script = tmp_path / "example_1_0.py"
-    script.write_text(AEROSTACK2_1_0)
+def test_a_script_of_python_interface_before_1_0_flies(tmp_path, capsys):
+    """python_interface, Aerostack2 before 1.0 (the package was renamed as2_python_api in December 2022; its
+    examples/example1.py): the same drone interface under that version's module names; it was refused as ROS 2 beyond
+    the drone interface."""
+    script = tmp_path / "example_before_1_0.py"
+    script.write_text(BEFORE_1_0)
     flight = fly(script, tmp_path, capsys)
     assert flight.status == 0, flight.err
     assert flight.achieved() == [T, G, F, L]
@@ -119,13 +120,13 @@ def test_an_aerostack2_1_0_script_of_python_interface_flies(tmp_path, capsys):
     assert "COORDINATES=(0, 5, 3)" in goal
 
 
-def test_an_aerostack2_1_0_script_is_checked_as_aerostack2_scripts_are(tmp_path, capsys):
-    script = tmp_path / "fp_1_0.py"
-    script.write_text(AEROSTACK2_1_0.replace("drone.takeoff(3, 2)", "pass"))
+def test_a_script_of_python_interface_before_1_0_is_checked_as_aerostack2_scripts_are(tmp_path, capsys):
+    script = tmp_path / "fp_before_1_0.py"
+    script.write_text(BEFORE_1_0.replace("drone.takeoff(3, 2)", "pass"))
     flight = fly(script, tmp_path, capsys)
     assert flight.status == 1 and not flight.records
-    assert "fp_1_0.py:13:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at the " \
-           "start of the mission" in flight.err
+    assert "fp_before_1_0.py:13:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at " \
+           "the start of the mission" in flight.err
 
 
 def test_a_follow_path_from_the_ground_is_refused_as_the_catalog_orders_flight(tmp_path, capsys):
@@ -133,6 +134,91 @@ def test_a_follow_path_from_the_ground_is_refused_as_the_catalog_orders_flight(t
     assert flight.status == 1 and not flight.records
     assert "as2_ex_fp.py:43:1: error: WRONG_SEQUENCE: The execution of behavior FOLLOW_PATH cannot be done at the " \
            "start of the mission (flight is landed; FOLLOW_PATH needs hovering or moving)" in flight.err
+
+
+#: A script of ours written as python_interface's own examples/ex_fp.py is (before the package's rename in December
+#: 2022): offboard, arm, a follow_path from the ground as its take-off, a path flown, then the landing.
+PYTHON_INTERFACE_TAKE_OFF_BY_PATH = """import rclpy
+from python_interface.drone_interface import DroneInterface
+
+rclpy.init()
+uav = DroneInterface("drone0", verbose=False)
+uav.offboard()
+uav.arm()
+uav.follow_path([[0, 0, 2.5]], 1)
+uav.follow_path([[4, 0, 2.5], [4, 4, 2.5], [0, 0, 2.5]], 2)
+uav.land(0.3)
+uav.shutdown()
+"""
+
+
+def test_a_python_interface_follow_path_from_the_ground_takes_off_by_its_path(tmp_path, capsys):
+    """Aerostack2 before 96d3a3f3 (2022-12-14) took a follow_path from the ground: the script of that era (it imports
+    python_interface) takes off to the path's first altitude, then flies the path; the check says which rule it used
+    and agrees with the run; the follow_path made in the air is flown as it is."""
+    script = tmp_path / "take_off_by_path.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH)
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert "take_off_by_path.py:2:1: warning: follow_path from the ground takes off by its path, as Aerostack2 " \
+           "before December 2022 did" in flight.err
+    assert flight.achieved() == [T, F, F, L]
+    activated = [(r["behavior"], r["detail"]) for r in flight.kinds("activated") if r["behavior"] in (T, F)]
+    assert activated[0] == (T, "ALTITUDE=2.5")  # then the path's one point, reached: achieved at once
+    assert [b for b, _ in activated] == [T, F]  # no take-off before the path flown in the air
+    landed = flight.kinds("drone_landed")
+    assert landed and landed[-1]["time"] > flight.kinds("drone_takeoff_complete")[0]["time"]
+
+
+def test_a_python_interface_follow_path_from_the_ground_needs_an_armed_drone(tmp_path, capsys):
+    """Then, a drone not armed and in offboard mode did not move (as2_core 6959a15): the script is refused."""
+    script = tmp_path / "never_armed.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace("uav.arm()\n", ""))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "never_armed.py:2:1: warning: follow_path from the ground took off by its path in Aerostack2 before " \
+           "December 2022 (this script imports python_interface) only on a drone armed and in offboard mode" \
+           in flight.err
+    assert "never_armed.py:7:1: error: WRONG_SEQUENCE: The execution of behavior FOLLOW_PATH cannot be done at " \
+           "the start of the mission (flight is landed; FOLLOW_PATH needs hovering or moving)" in flight.err
+
+
+def test_a_python_interface_follow_path_takes_off_by_the_drone_s_state_in_flight(tmp_path, capsys):
+    """In a loop the check cannot tell the flight's state at the call (it reports nothing); the run takes off by the
+    drone's own: on the ground at the first pass, in the air at the second."""
+    script = tmp_path / "in_a_loop.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace(
+        "uav.follow_path([[0, 0, 2.5]], 1)\n", "for altitude in (2, 3):\n    uav.follow_path([[0, 0, altitude]], 1)\n"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 0, flight.err
+    assert flight.achieved() == [T, F, F, F, L]
+    activated = [(r["behavior"], r["detail"]) for r in flight.kinds("activated") if r["behavior"] in (T, F)]
+    assert activated[0] == (T, "ALTITUDE=2") and activated[1][0] == F and "PATH=((0, 0, 3),)" in activated[1][1]
+
+
+def test_a_python_interface_follow_path_after_a_landing_is_refused_as_the_run_would(tmp_path, capsys):
+    """A landing disarms the drone (then, by the land behavior, as here): a follow_path after it would not move it, so
+    the check does not take off for it, and says so before flight."""
+    script = tmp_path / "after_landing.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace("uav.land(0.3)\n",
+                                                               "uav.land(0.3)\nuav.follow_path([[0, 0, 2]], 1)\n"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "after_landing.py:11:1: error: WRONG_SEQUENCE: The execution of behavior FOLLOW_PATH cannot be done after " \
+           "the execution of LAND" in flight.err
+
+
+def test_a_python_interface_go_to_from_the_ground_is_still_refused(tmp_path, capsys):
+    """go_to rejected a goal on the ground from 2022-11-17 (goto_behaviour bd5740a), while the package was still
+    python_interface: no earlier rule is given it."""
+    script = tmp_path / "go_to_first.py"
+    script.write_text(PYTHON_INTERFACE_TAKE_OFF_BY_PATH.replace("uav.follow_path([[0, 0, 2.5]], 1)",
+                                                               "uav.go_to(0, 0, 2.5, 1)"))
+    flight = fly(script, tmp_path, capsys)
+    assert flight.status == 1 and not flight.records
+    assert "go_to_first.py:8:1: error: WRONG_SEQUENCE: The execution of behavior GO_TO_POINT cannot be done at " \
+           "the start of the mission" in flight.err
+    assert "takes off by its path" in flight.err  # the script follows a path later: the rule is named, not used
 
 
 def test_motion_references_on_the_ground_are_refused_and_the_run_says_so(tmp_path, capsys):

@@ -19,7 +19,7 @@ class DroneInterface(DroneInterfaceBase):
         super().__init__(drone_id=drone_id, verbose=verbose, use_sim_time=use_sim_time, spin_rate=spin_rate)
         self.takeoff = TakeoffModule(drone=self)
         self.go_to = GoToModule(drone=self)
-        self.goto = GotoModule(drone=self)  # Aerostack2 1.0's spelling
+        self.goto = GotoModule(drone=self)  # the spelling of Aerostack2 before 1.0
         self.follow_path = FollowPathModule(drone=self)
         self.land = LandModule(drone=self)
 

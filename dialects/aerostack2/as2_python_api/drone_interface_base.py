@@ -58,6 +58,10 @@ class _Logger:
 class DroneInterfaceBase:
     """Drone interface base node: the drone ``drone_id`` (its namespace)."""
 
+    #: A follow_path from the ground takes off by its path, as before December 2022 (python_interface's
+    #: interfaces: :mod:`aeroexec.dialects.aerostack2.eras`); as2_python_api's refuse it, as Aerostack2 does now.
+    takes_off_by_path = False
+
     def __init__(self, drone_id: str = "drone0", verbose: bool = False, use_sim_time: bool = False,
                  spin_rate: float = 20.0, executor: Any = None) -> None:
         self.modules: dict[str, Any] = {}

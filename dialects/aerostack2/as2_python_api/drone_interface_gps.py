@@ -21,6 +21,6 @@ class DroneInterfaceGPS(DroneInterfaceBase):
         self.gps = GpsModule(drone=self)
         self.takeoff = TakeoffModule(drone=self)
         self.go_to = GoToGpsModule(drone=self)
-        self.goto = GotoGpsModule(drone=self)  # Aerostack2 1.0's spelling
+        self.goto = GotoGpsModule(drone=self)  # the spelling of Aerostack2 before 1.0
         self.follow_path = FollowPathGpsModule(drone=self)
         self.land = LandModule(drone=self)

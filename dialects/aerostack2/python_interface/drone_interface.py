@@ -1,5 +1,14 @@
-"""Aerostack2 1.0's ``python_interface.drone_interface``: ``as2_python_api.drone_interface``."""
+"""``python_interface.drone_interface``, the Python API of Aerostack2 before 1.0 (the package was renamed
+as2_python_api in December 2022): ``as2_python_api.drone_interface``'s DroneInterface, flown by that era's rule for
+a follow_path from the ground (:mod:`aeroexec.dialects.aerostack2.eras`)."""
 
-from aeroexec.dialects.aerostack2.as2_python_api.drone_interface import DroneInterface
+from aeroexec.dialects.aerostack2.as2_python_api.drone_interface import DroneInterface as _DroneInterface
+
+
+class DroneInterface(_DroneInterface):
+    """DroneInterface of python_interface: a follow_path from the ground takes off by its path, as it did then."""
+
+    takes_off_by_path = True
+
 
 __all__ = ["DroneInterface"]

@@ -12,7 +12,7 @@ class GoToGpsModule(ModuleBase):
 
 
 class GotoGpsModule(ModuleBase):
-    """Aerostack2 1.0's goto module of GPS drone interfaces (``drone.goto``)."""
+    """The goto module of GPS drone interfaces of Aerostack2 before 1.0 (``drone.goto``)."""
 
     __alias__ = "goto_gps"
     __deps__ = ["gps"]

@@ -11,6 +11,6 @@ class GoToModule(ModuleBase):
 
 
 class GotoModule(ModuleBase):
-    """Aerostack2 1.0's goto module (``drone.goto``), as go_to with x, y, z written _x, _y, _z."""
+    """The goto module of Aerostack2 before 1.0 (``drone.goto``), as go_to with x, y, z written _x, _y, _z."""
 
     __alias__ = "goto"

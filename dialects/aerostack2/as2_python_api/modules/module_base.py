@@ -10,8 +10,10 @@ from typing import TYPE_CHECKING, Any
 
 from aeroexec.dialects import ros
 from aeroexec.dialects.aerostack2 import behaviors as aerostack2
+from aeroexec.dialects.aerostack2 import eras
 from aeroexec.dialects.aerostack2.as2_python_api.behavior_actions.behavior_handler import BehaviorHandler
 from aeroexec.dialects.aerostack2.behaviors import As2Error
+from aeroexec.drones.interface import LandedState
 
 if TYPE_CHECKING:
     from aeroexec.dialects.aerostack2.as2_python_api.drone_interface_base import DroneInterfaceBase
@@ -63,6 +65,12 @@ class ModuleBase(BehaviorHandler):
         except As2Error as error:
             drone.refuse(call.spelled, error.kind, error.message)
             return False
+        if drone.takes_off_by_path and telemetry.landed_state is LandedState.ON_GROUND and telemetry.armed \
+                and drone.info["offboard"]:
+            by_path = eras.take_off_by_path(call.module, requests)
+            if len(by_path) > len(requests):
+                logger.warning("%s: %s", drone.drone_id, eras.RULE)
+                requests = by_path
         return self._perform(requests)
 
     @classmethod

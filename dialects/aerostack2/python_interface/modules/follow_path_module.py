@@ -1,4 +1,5 @@
-"""Aerostack2 1.0's ``python_interface.modules.follow_path_module``: ``as2_python_api.modules.follow_path_module``."""
+"""``python_interface.modules.follow_path_module`` of Aerostack2 before 1.0 (the package was renamed as2_python_api in
+December 2022): ``as2_python_api.modules.follow_path_module``."""
 
 from aeroexec.dialects.aerostack2.as2_python_api.modules.follow_path_module import FollowPathModule
 

@@ -1,4 +1,5 @@
-"""Aerostack2 1.0's ``python_interface.modules.goto_module``: ``as2_python_api.modules.go_to_module``."""
+"""``python_interface.modules.goto_module`` of Aerostack2 before 1.0 (the package was renamed as2_python_api in December
+2022): ``as2_python_api.modules.go_to_module``."""
 
 from aeroexec.dialects.aerostack2.as2_python_api.modules.go_to_module import GotoModule
 
