@@ -171,7 +171,8 @@ class FlightLogWriter:
             return
         self._end += len(data)
         self.lines += len(lines)
-        self._tap(data)
+        if self.taps:
+            self._tap(data)
 
     def _tap(self, data: bytes) -> None:
         for tap in self.taps:
@@ -372,9 +373,12 @@ def event_record(event: EngineEvent) -> dict[str, Any]:
     data.pop("result", None)
     if event.kind in REASON_KINDS:
         record["reason"] = event.detail
-    if data:
-        record["data"] = {str(k): plain(v) for k, v in data.items()}
+    if data:  # a value JSON holds as it is (most of them) is taken as it is
+        record["data"] = {str(k): v if type(v) in _AS_IS else plain(v) for k, v in data.items()}
     return record
+
+
+_AS_IS = frozenset({str, int, bool, type(None)})  # what plain() gives back unchanged (exactly these types)
 
 
 def state_record(now: float, telemetry: Any) -> dict[str, Any]:
