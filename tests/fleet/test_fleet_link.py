@@ -331,3 +331,18 @@ def test_a_mate_is_where_its_telemetry_says_only_when_that_is_three_finite_numbe
     news = table.take([("d2", "telemetry", {"position": position, "velocity": [0.0, 0.0, 0.0]})], 1.0)
     assert table.where.get("d2") == where and news.came == ([("d2", where)] if where else [])
     assert refused == ([] if where else ["telemetry: not 3 numbers"])
+
+
+def test_a_drone_nobody_listened_to_is_heard_by_a_listener_that_comes_mid_flight(fleet):
+    """A tick nobody outside the process listens to is not made; one that comes is heard from then on."""
+    endpoint, engine, link, other = fleet
+    for _ in range(10):  # nobody listens: no tick is made
+        engine.step(0.05)
+    heard, came = [], threading.Event()
+    listener = other.declare_subscriber("aeroexec/f/d1/tick", lambda sample: (
+        heard.append(json.loads(bytes(sample.payload))), came.set()))
+    try:
+        assert settle(engine, came.is_set)
+    finally:
+        listener.undeclare()
+    assert heard[0]["drone"] == "d1" and [topic for topic, _ in heard[0]["said"]]
