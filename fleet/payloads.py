@@ -145,6 +145,10 @@ def decode(key_expr: str, payload: bytes, fleet: str) -> tuple[str, str, dict[st
 
 def vector(value: Any, size: int = 3) -> tuple[float, ...]:
     """A list of ``size`` finite numbers as a tuple; PayloadError otherwise."""
+    if size == 3 and type(value) is list and len(value) == 3:  # a position, a velocity: three floats, as said
+        x, y, z = value
+        if type(x) is float and type(y) is float and type(z) is float and _finite(x) and _finite(y) and _finite(z):
+            return x, y, z
     if not isinstance(value, list) or len(value) != size:
         raise _not_numbers(value, size)
     out = []
@@ -159,6 +163,9 @@ def vector(value: Any, size: int = 3) -> tuple[float, ...]:
             raise _not_numbers(value, size)
         out.append(number)
     return tuple(out)
+
+
+_finite = math.isfinite
 
 
 def _not_numbers(value: Any, size: int) -> PayloadError:

@@ -171,7 +171,8 @@ class FlightLogWriter:
             return
         self._end += len(data)
         self.lines += len(lines)
-        self._tap(data)
+        if self.taps:
+            self._tap(data)
 
     def _tap(self, data: bytes) -> None:
         for tap in self.taps:
@@ -343,11 +344,17 @@ def state_line(now: float, telemetry: Any) -> str:
 
 def _json(record: dict[str, Any]) -> str:
     """``json.dumps(record, allow_nan=False, separators=(",", ":"))``, the same text, by one encoder made once
-    (``json.dumps`` with options makes a new one at every call: an event or sample line of every drone)."""
-    return _ENCODE(record)
+    (``json.dumps`` with options makes a new one at every call, and ``JSONEncoder.encode`` its C encoder: an event or
+    sample line of every drone)."""
+    return "".join(_ENCODE(record, 0))
 
 
-_ENCODE = json.JSONEncoder(allow_nan=False, separators=(",", ":")).encode
+_OPTIONS = json.JSONEncoder(allow_nan=False, separators=(",", ":"))
+# the C encoder JSONEncoder.encode makes at each call, made once (without the check for circular references, which
+# shares a dictionary between calls: the records are made afresh, plain and acyclic); json's own where there is none
+_ENCODE = (json.encoder.c_make_encoder(None, _OPTIONS.default, json.encoder.encode_basestring_ascii, None, ":", ",",
+                                       False, False, False)
+           if json.encoder.c_make_encoder is not None else lambda record, _: (_OPTIONS.encode(record),))
 
 
 _text = json.encoder.encode_basestring_ascii  # a string as json.dumps writes it
@@ -372,9 +379,12 @@ def event_record(event: EngineEvent) -> dict[str, Any]:
     data.pop("result", None)
     if event.kind in REASON_KINDS:
         record["reason"] = event.detail
-    if data:
-        record["data"] = {str(k): plain(v) for k, v in data.items()}
+    if data:  # a value JSON holds as it is (most of them) is taken as it is
+        record["data"] = {str(k): v if type(v) in _AS_IS else plain(v) for k, v in data.items()}
     return record
+
+
+_AS_IS = frozenset({str, int, bool, type(None)})  # what plain() gives back unchanged (exactly these types)
 
 
 def state_record(now: float, telemetry: Any) -> dict[str, Any]:

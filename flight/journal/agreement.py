@@ -1,13 +1,12 @@
 """Whether a run's journal and its event log agree (:func:`disagreements`): the invariant a test, or a campaign of
-simulated flights, checks after a run however it ended (completed, interrupted, killed and resumed).
-
-Both hold the run's records, part by part (``log_started``, then a ``log_resumed`` line per resume; the journal's
-segments). They agree when, in each part, the records both are to hold are the same records in the same order:
-every event and every belief change, but the drone's own motion (``position``/``speed``/``orientation`` of
-``self``: the journal keeps state samples instead), a fleet mate's shared position (the event log says it as a
-``fleet_drone_heard`` event) and the state samples (each file samples on its own). A part that ended (the journal
-says how) holds the same records in both; a part whose process was killed may hold more in the event log (its
-last lines, written before the journal's next commit), never fewer, never others.
+simulated flights, checks after a run however it ended (completed, interrupted, killed and resumed). Both hold the
+run's records, part by part (``log_started``, then a ``log_resumed`` line per resume; the journal's segments). They
+agree when, in each part, the records both are to hold are the same records in the same order: every event and every
+belief change, but the drone's own motion (``position``/``speed``/``orientation`` of ``self``: the journal keeps
+state samples instead) and the state samples (each file samples on its own). Neither holds a fleet mate's shared
+position (it is not the drone's state: both say it as a ``fleet_drone_heard`` event). A part that ended (the journal
+says how) holds the same records in both; a part whose process was killed may hold more in the event log (its last
+lines, written before the journal's next commit), never fewer, never others.
 """
 
 from __future__ import annotations
@@ -31,7 +30,7 @@ def _held_by_both(record: dict[str, Any]) -> bool:
         return False
     if kind in ("belief_added", "belief_removed"):
         belief = str(record.get("belief", "")).replace(" ", "")
-        return not belief.startswith(MOTION) and record.get("reason") != "shared"
+        return not belief.startswith(MOTION)
     return True
 
 

@@ -170,6 +170,8 @@ class JournalWriter:
         belief = change.belief
         if belief.name in MOTION and belief.args and belief.args[0] == "self":
             return
+        if change.reason == "shared":  # a fleet mate's position came or went: not this drone's state (a resume
+            return  # hears it again from the fleet); its fleet_drone_heard event says so, as in events.jsonl
         lifetime = self.engine.memory.lifetime(belief.name) if change.kind == "added" else None
         time = round(float(change.time), 3)
         self._add([(_EVENT, (self._seq(), self.segment, time, f"belief_{change.kind}", "", "", belief_line(change),

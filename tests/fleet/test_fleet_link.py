@@ -16,6 +16,7 @@ from aeroexec.fleet.link import FleetLink
 from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import encode, tick
 from aeroexec.fleet.refusals import Refusals
+from aeroexec.fleet.table import FleetTable
 from aeroexec.fleet.transport import free_endpoint, open_session
 from patience import hang_guard
 
@@ -318,3 +319,30 @@ def test_a_link_whose_close_times_out_is_a_warning_not_an_error(caplog):
     with caplog.at_level(logging.WARNING):
         close_session(Stuck())
     assert "the fleet link did not close cleanly: close operation timed out!" in caplog.text
+
+
+@pytest.mark.parametrize(("position", "where"), [
+    ([1.5, -2.0, 3.0], (1.5, -2.0, 3.0)), ([1, 2, 3], (1.0, 2.0, 3.0)), ([float("nan"), 0.0, 0.0], None),
+    ([1.0, float("-inf"), 0.0], None), ([True, 0.0, 0.0], None), ([1.0, 2.0], None), ([10**400, 0.0, 0.0], None),
+    ("1, 2, 3", None)], ids=["floats", "integers", "NaN", "infinity", "a boolean", "two", "too large", "text"])
+def test_a_mate_is_where_its_telemetry_says_only_when_that_is_three_finite_numbers(position, where):
+    refused = []
+    table = FleetTable(lambda sender, reason, example, what: refused.append(reason))
+    news = table.take([("d2", "telemetry", {"position": position, "velocity": [0.0, 0.0, 0.0]})], 1.0)
+    assert table.where.get("d2") == where and news.came == ([("d2", where)] if where else [])
+    assert refused == ([] if where else ["telemetry: not 3 numbers"])
+
+
+def test_a_drone_nobody_listened_to_is_heard_by_a_listener_that_comes_mid_flight(fleet):
+    """A tick nobody outside the process listens to is not made; one that comes is heard from then on."""
+    endpoint, engine, link, other = fleet
+    for _ in range(10):  # nobody listens: no tick is made
+        engine.step(0.05)
+    heard, came = [], threading.Event()
+    listener = other.declare_subscriber("aeroexec/f/d1/tick", lambda sample: (
+        heard.append(json.loads(bytes(sample.payload))), came.set()))
+    try:
+        assert settle(engine, came.is_set)
+    finally:
+        listener.undeclare()
+    assert heard[0]["drone"] == "d1" and [topic for topic, _ in heard[0]["said"]]

@@ -162,3 +162,24 @@ def test_a_patrol_sigtermed_mid_flight_keeps_every_record_in_its_journal(tmp_pat
     assert records(folder)[-1]["kind"] == "log_closed"
     found = disagreements(folder)
     assert found == [], found
+
+
+def test_a_fleet_drones_journal_keeps_its_own_state_not_where_its_mates_are(tmp_path, capsys):
+    """A mate's position is heard from the fleet (a resumed drone hears it again), not this drone's state: its
+    journal, as its event log, says the mate was heard and keeps no belief change of where it is."""
+    from aeroexec.cli.main import main
+
+    fleet = tmp_path / "pair.yaml"
+    fleet.write_text(f"fleet: pair\ndrones:\n  - {{name: d1, mission: {MISSIONS / 'figure10.xml'}, home: [0, 0]}}\n"
+                     f"  - {{name: d2, mission: {MISSIONS / 'figure10.xml'}, home: [4, 0]}}\n")
+    assert main(["fleet", str(fleet), "--quiet", "--output", str(tmp_path / "out")]) == 0
+    for drone, mate in (("d1", "d2"), ("d2", "d1")):
+        folder = tmp_path / "out" / drone
+        assert disagreements(folder) == []  # a shared position in the journal alone would be a disagreement
+        with Journal(folder) as journal:
+            heard = journal.rows("SELECT record FROM events WHERE kind = 'fleet_drone_heard'")
+            assert [json.loads(r["record"])["data"]["drones"] for r in heard] == [[mate]]
+            assert journal.rows("SELECT count(*) FROM events WHERE record LIKE '%\"reason\":\"shared\"%'")[0][0] == 0
+        capsys.readouterr()
+        assert main(["journal", str(folder), "--belief", f"position({mate}, ?P)"]) == 0
+        assert f"no change of position({mate}, ?P) in the journal" in capsys.readouterr().err
