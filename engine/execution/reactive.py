@@ -4,7 +4,8 @@ changed since the rules were last evaluated, and whether each rule held then.
 A rule's condition is evaluated again only when a belief it reads has changed (always, when it reads a computed
 predicate: those change without any belief doing so). The coordinator runs the rules at all only after a behavior
 event or a change of a belief some rule reads (any belief, when one reads a computed predicate), so beliefs no rule
-reads (the position, the speed...) change without costing the rules anything.
+reads (the position, the speed...) change without costing the rules anything: once the rules have first run (when
+what they read is known), the memory tells the watch only of the predicates they read.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ class RuleWatch:
         self._inputs: dict[int, tuple[frozenset, bool]] = {}  # rule -> its predicates, and if any is computed
         self._read: frozenset[Signature] | None = None  # what the rules read (None: any belief, or not known yet)
         self._read_known = False
-        memory.subscribe(self._belief_changed)
+        self._unsubscribe = memory.subscribe(self._belief_changed)  # every belief, until what the rules read is known
 
     def due(self) -> bool:
         """Whether a belief a rule reads has changed since the rules were last run."""
@@ -44,6 +45,10 @@ class RuleWatch:
         """The predicates changed since the rules were last run (the rules run now)."""
         if not self._read_known:  # at the first run: the vocabulary and the computed predicates are set by now
             self._read, self._read_known = self._rules_read(), True
+            if self._read is not None:  # from now on, only the predicates the rules read (none: nothing)
+                self._unsubscribe()
+                if self._read:
+                    self._unsubscribe = self.memory.subscribe(self._belief_changed, {name for name, _ in self._read})
         self._seen = self._version
         changed, self._changed = self._changed, set()
         return changed
