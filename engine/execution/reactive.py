@@ -29,17 +29,14 @@ class RuleWatch:
         self.rules = rules
         self.memory = memory
         self.held: dict[int, bool] = {}  # rule index -> whether its condition held when last evaluated
-        self._version = 0  # moves with every change of a belief a rule reads
-        self._seen = -1  # the version the rules were last run at
+        #: whether a belief a rule reads has changed since the rules were last run (read every engine period: an
+        #: attribute, not a call); True until they first run
+        self.due = True
         self._changed: set[Signature] = set()  # predicates changed since the rules were last run
         self._inputs: dict[int, tuple[frozenset, bool]] = {}  # rule -> its predicates, and if any is computed
         self._read: frozenset[Signature] | None = None  # what the rules read (None: any belief, or not known yet)
         self._read_known = False
         self._unsubscribe = memory.subscribe(self._belief_changed)  # every belief, until what the rules read is known
-
-    def due(self) -> bool:
-        """Whether a belief a rule reads has changed since the rules were last run."""
-        return self._version != self._seen
 
     def take_changes(self) -> set[Signature]:
         """The predicates changed since the rules were last run (the rules run now)."""
@@ -49,7 +46,7 @@ class RuleWatch:
                 self._unsubscribe()
                 if self._read:
                     self._unsubscribe = self.memory.subscribe(self._belief_changed, {name for name, _ in self._read})
-        self._seen = self._version
+        self.due = False
         changed, self._changed = self._changed, set()
         return changed
 
@@ -89,4 +86,4 @@ class RuleWatch:
         signature = (belief.name, len(belief.args))  # Struct.signature, without the property's call
         self._changed.add(signature)
         if self._read is None or signature in self._read:  # else no rule reads it: nothing to run them for
-            self._version += 1
+            self.due = True
