@@ -46,27 +46,31 @@ def _raise(signum: int, _frame: object) -> None:
 
 class _InterruptsHeld:
     """:func:`interrupts_held`'s block: a class rather than a generator, entered once per engine period of every
-    drone (a generator-based context manager costs several times as much to enter and leave)."""
+    drone (a generator-based context manager costs several times as much to enter and leave), and one object for
+    every block: it keeps nothing, the depth is the thread's own (``_held``). Any thread counts its blocks, but only
+    the main thread's count holds a signal back: Python runs signal handlers in the main thread, so the handler
+    reads the main thread's depth, and only the main thread has one waiting."""
 
-    __slots__ = ("held",)
+    __slots__ = ()
 
     def __enter__(self) -> None:
-        self.held = threading.get_ident() == threading.main_thread().ident
-        if self.held:
-            _held.depth += 1
+        _held.depth += 1
 
     def __exit__(self, *_: object) -> None:
-        if self.held:
-            _held.depth -= 1
-            if not _held.depth and _held.waiting is not None:
-                interrupt, _held.waiting = _held.waiting, None
-                raise interrupt
+        held = _held
+        held.depth -= 1
+        if not held.depth and held.waiting is not None:
+            interrupt, held.waiting = held.waiting, None
+            raise interrupt
+
+
+_HOLD = _InterruptsHeld()
 
 
 def interrupts_held() -> contextlib.AbstractContextManager[None]:
     """Within the block (in the main thread), an ending signal or Ctrl-C is raised at the block's end, not within
     it; a second one is raised at once."""
-    return _InterruptsHeld()
+    return _HOLD
 
 
 @contextlib.contextmanager

@@ -70,14 +70,18 @@ def localization_state(context: BehaviorContext) -> LocalizationState:
     return state
 
 
-def publish(context: BehaviorContext) -> None:
-    """Believe the estimate as ``position(self, ...)`` when a localization mode is set (claiming the belief)."""
-    state = localization_state(context)
-    if state.mode is None or state.estimate is None:
+def publish(context: BehaviorContext, state: LocalizationState | None = None) -> None:
+    """Believe the estimate as ``position(self, ...)`` when a localization mode is set (claiming the belief);
+    ``state``: the run's :func:`localization_state`, when the caller holds it (the odometry, every other period)."""
+    if state is None:
+        state = localization_state(context)
+    estimate = state.estimate
+    if state.mode is None or estimate is None:
         return
-    if context.position_source is not None:
-        context.position_source.claim(OWNER)
-    x, y, z = state.estimate
+    source = context.position_source
+    if source is not None and source.owner != OWNER:
+        source.claim(OWNER)
+    x, y, z = estimate
     context.memory.add(Struct("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
 
 
@@ -123,6 +127,8 @@ class OdometryEstimator(Process):
 
     def on_start(self) -> None:
         self.follows = bool(getattr(self.context.drone, "estimates_position", True))
+        self._state = localization_state(self.context)  # kept on the context for the run: looked up once
+        self._telemetry = self.context.drone.telemetry
         if self.follows:
             localization_state(self.context).estimate = tuple(float(v) for v in self.context.drone.telemetry().position)
             self._published: float | None = None
@@ -143,16 +149,16 @@ class OdometryEstimator(Process):
         self._drawn = 0  # how many of them were used
 
     def step(self, now: float) -> None:
-        state = localization_state(self.context)
+        state = self._state
         if self.follows:  # the autopilot's own estimate (GPS and its EKF), not dead reckoning on it
-            telemetry = self.context.drone.telemetry()
+            telemetry = self._telemetry()
             state.travelled += math.dist(telemetry.position, state.estimate) if state.estimate else 0.0
             state.estimate = tuple(float(v) for v in telemetry.position)
             if self._published is None or now - self._published >= PUBLISH_PERIOD - 1e-9:
                 self._published = now
-                publish(self.context)
+                publish(self.context, state)
             return
-        vx, vy, vz = self.context.drone.telemetry().velocity
+        vx, vy, vz = self._telemetry().velocity
         velocity = (float(vx), float(vy), float(vz))
         last = self._last
         if last is not None and now > last[0]:
@@ -174,9 +180,10 @@ class OdometryEstimator(Process):
                                   ez + mz + (bz * travelled + step * normal[k + 2] * 0.5))
                 state.travelled += travelled
         self._last = (now, velocity)
-        if self._published is None or now - self._published >= PUBLISH_PERIOD - 1e-9:
+        published = self._published
+        if published is None or now - published >= PUBLISH_PERIOD - 1e-9:
             self._published = now
-            publish(self.context)
+            publish(self.context, state)
 
     def on_stop(self) -> None:
         if self.context.position_source is not None:

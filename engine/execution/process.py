@@ -121,11 +121,11 @@ class BehaviorProcess:
         return self.context.settings
 
     def now(self) -> float:
-        return self.context.now()
+        return self.context.clock()  # the context's now(), one call fewer (a motion behavior asks it every period)
 
     @property
     def elapsed(self) -> float:
-        return self.context.now() - self.started_at
+        return self.context.clock() - self.started_at
 
     def telemetry(self) -> Telemetry:
         return self.context.drone.telemetry()

@@ -4,7 +4,8 @@ changed since the rules were last evaluated, and whether each rule held then.
 A rule's condition is evaluated again only when a belief it reads has changed (always, when it reads a computed
 predicate: those change without any belief doing so). The coordinator runs the rules at all only after a behavior
 event or a change of a belief some rule reads (any belief, when one reads a computed predicate), so beliefs no rule
-reads (the position, the speed...) change without costing the rules anything.
+reads (the position, the speed...) change without costing the rules anything: once the rules have first run (when
+what they read is known), the memory tells the watch only of the predicates they read.
 """
 
 from __future__ import annotations
@@ -28,23 +29,24 @@ class RuleWatch:
         self.rules = rules
         self.memory = memory
         self.held: dict[int, bool] = {}  # rule index -> whether its condition held when last evaluated
-        self._version = 0  # moves with every change of a belief a rule reads
-        self._seen = -1  # the version the rules were last run at
+        #: whether a belief a rule reads has changed since the rules were last run (read every engine period: an
+        #: attribute, not a call); True until they first run
+        self.due = True
         self._changed: set[Signature] = set()  # predicates changed since the rules were last run
         self._inputs: dict[int, tuple[frozenset, bool]] = {}  # rule -> its predicates, and if any is computed
         self._read: frozenset[Signature] | None = None  # what the rules read (None: any belief, or not known yet)
         self._read_known = False
-        memory.subscribe(self._belief_changed)
-
-    def due(self) -> bool:
-        """Whether a belief a rule reads has changed since the rules were last run."""
-        return self._version != self._seen
+        self._unsubscribe = memory.subscribe(self._belief_changed)  # every belief, until what the rules read is known
 
     def take_changes(self) -> set[Signature]:
         """The predicates changed since the rules were last run (the rules run now)."""
         if not self._read_known:  # at the first run: the vocabulary and the computed predicates are set by now
             self._read, self._read_known = self._rules_read(), True
-        self._seen = self._version
+            if self._read is not None:  # from now on, only the predicates the rules read (none: nothing)
+                self._unsubscribe()
+                if self._read:
+                    self._unsubscribe = self.memory.subscribe(self._belief_changed, {name for name, _ in self._read})
+        self.due = False
         changed, self._changed = self._changed, set()
         return changed
 
@@ -84,4 +86,4 @@ class RuleWatch:
         signature = (belief.name, len(belief.args))  # Struct.signature, without the property's call
         self._changed.add(signature)
         if self._read is None or signature in self._read:  # else no rule reads it: nothing to run them for
-            self._version += 1
+            self.due = True

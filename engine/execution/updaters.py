@@ -97,7 +97,7 @@ class TelemetryUpdater(BeliefUpdater):
     def update(self, memory: BeliefMemory, now: float) -> None:
         if memory is not self._memory:  # hear removals, so a belief someone retracts is written again
             self._memory, self._written = memory, {}
-            memory.subscribe(self._changed)
+            memory.subscribe(self._changed, TELEMETRY_PREDICATES)  # of what it writes only
         t = self.drone.telemetry()
         self._state = flight_state(t, self._state)
         percent = t.battery_percent

@@ -324,3 +324,17 @@ def test_holds_standing_never_stands_for_beliefs_that_expire_or_computed_answers
     clock.t = 1.5
     level[0] = 1
     assert [m.holds_standing(q)[0] for q in ("visible(m1)", "seen(m1)", "level(?L), ?L > 2")] == [False] * 3
+
+
+def test_a_belief_added_again_with_the_value_it_has_changes_nothing_and_tells_no_listener():
+    memory = BeliefMemory()
+    memory.add("position(self, (1.0, 2.0, 3.0))")
+    heard = []
+    memory.subscribe(heard.append)
+    version, changes = memory.version, memory.changes
+    assert not memory.add(Struct("position", ("self", (1.0, 2.0, 3.0))))
+    assert not memory.add("position(self, (1.0, 2.0, 3.0))")
+    assert heard == [] and (memory.version, memory.changes) == (version, changes)
+    assert memory.add(Struct("position", ("self", (1.0, 2.0, 3.5))))  # another value replaces it: both are told
+    assert [(c.kind, c.reason, str(c.belief)) for c in heard] == [
+        ("removed", "replaced", "position(self, (1.0, 2.0, 3.0))"), ("added", "add", "position(self, (1.0, 2.0, 3.5))")]

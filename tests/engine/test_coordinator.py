@@ -166,6 +166,36 @@ def test_lower_priority_reaction_waits_for_the_active_motion_to_finish(engine):
     assert engine.log.events(kind="reactive", behavior="HOVER")
 
 
+def test_a_reaction_is_activated_in_the_period_its_belief_changes_once_the_rules_have_run(engine):
+    engine.step(1.0)  # the rules have run: what they read is known, and only those changes reach them
+    assert not engine.coordinator.is_active("HOVER")
+    engine.memory.add("position(self, (1.0, 2.0, 3.0))")  # a belief no rule reads: nothing to react to
+    engine.step(0.05)
+    assert not engine.coordinator.is_active("HOVER")
+    engine.memory.add("flag(hover, yes)")
+    changed = engine.now()
+    engine.step(0.05)  # one period
+    assert engine.coordinator.is_active("HOVER")
+    assert [e.time for e in engine.log.events(kind="reactive", behavior="HOVER")] == [changed]
+
+
+def test_a_reaction_over_a_derived_belief_wakes_on_the_stored_belief_it_is_derived_from():
+    text = textwrap.dedent(CATALOG)
+    old = '{behavior: HOVER, condition: "flag(hover, yes)"'
+    assert old in text
+    text = text.replace(old, '{behavior: HOVER, condition: "hovering_wanted"')
+    text += "rules: |\n  hovering_wanted :- flag(hover, yes).\n"
+    catalog = parse_catalog(text, "test.yaml")
+    engine = Engine(SimulatedDrone(), catalog=catalog, library=library())
+    engine.step(1.0)
+    assert not engine.coordinator.is_active("HOVER")
+    engine.memory.add("flag(hover, yes)")  # not what the rule names: what its condition is derived from
+    changed = engine.now()
+    engine.step(0.05)
+    assert [e.time for e in engine.log.events(kind="reactive", behavior="HOVER")] == [changed]
+    engine.stop()
+
+
 def test_battery_below_10_preempts_the_mission():
     catalog = parse_catalog(textwrap.dedent(CATALOG), "test.yaml")
     drone = SimulatedDrone(config=SimConfig(initial_battery_percent=10.2))

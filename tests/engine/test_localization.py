@@ -98,6 +98,19 @@ def test_odometry_is_the_default_and_its_drift_grows_with_the_distance_flown(eng
     assert math.dist(engine.drone.telemetry().position, (15, -8, 3)) < 0.3  # the flight itself followed telemetry
 
 
+def test_the_odometry_writes_its_position_only_when_it_moved_and_a_rewrite_wakes_nobody(engine):
+    take_off(engine, 2.0)
+    engine.run_until(lambda: engine.drone.telemetry().speed == 0.0, 30)  # holding still on its target
+    engine.step(0.2)
+    heard = []
+    engine.memory.subscribe(heard.append, {"position"})
+    version = engine.memory.version
+    engine.step(2.0)  # twenty of the odometry's publishing periods without a metre travelled
+    assert heard == [] and engine.memory.version == version
+    fly(engine, (2, 0, 2))
+    assert heard and {(c.kind, c.reason) for c in heard} == {("removed", "replaced"), ("added", "add")}
+
+
 def odometry_flight(seed):
     engine = make_engine(odometry_seed=seed)
     take_off(engine)
