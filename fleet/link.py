@@ -109,9 +109,9 @@ class FleetLink(BeliefUpdater):
 
     # -- the node ------------------------------------------------------------------------------
     def hear(self, news: News) -> None:
-        """What the process's table took at the end of a period (applied on this drone's next tick); the node tells
-        only news that changed something."""
-        self._news.append(news)
+        """What the process's table took at the end of a period (applied on this drone's next tick)."""
+        if news or self._news:
+            self._news.append(news)
 
     def refused(self, sender: str, reason: str, example: str) -> None:
         """The node refused a message of ``sender`` for a new ``reason``: an event on this drone's next tick."""
@@ -141,15 +141,13 @@ class FleetLink(BeliefUpdater):
                 refusals, self._refusals = self._refusals, []
             for sender, reason, example in refusals:
                 self._note_refusal(sender, reason, example)
-        if self._news:
-            news, self._news = self._news, []
-            for taken in news:
-                self._take(taken)
+        news, self._news = self._news, []
+        for taken in news:
+            self._take(taken)
         if self._messages and now >= self._next_check:
             self._next_check = now + CHECK_PERIOD
             self._expire(now)
-        if self._events:
-            self._publish_events()
+        self._publish_events()
         if now >= self._next_telemetry:
             self._next_telemetry = now + self.telemetry_period
             self._publish_telemetry(now)

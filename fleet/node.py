@@ -1,15 +1,14 @@
 """One process's place in a fleet: its drones' messages sent and the fleet's taken once per engine period, the table
 of what it heard (:mod:`aeroexec.fleet.table`), one command queryable per local drone.
 
-What a local drone says in a period is kept and put at the period's end (:meth:`FleetNode.exchange`) as one ``tick``
-message on its own key (the fleet's router lets only its identity put there), while another session listens to that
-key (Zenoh's matching status: a tick nobody outside the process hears is not made); what arrived from the fleet
+What a local drone says in a period is kept and put at the period's end (:meth:`FleetNode.exchange`) as one
+``tick`` message on its own key (the fleet's router lets only its identity put there); what arrived from the fleet
 waits in Zenoh's queue (never a Python callback per message) and is taken then too, local and remote messages
 together, ordered by drone, so what a local drone hears at period k is what the process's drones said at period
 k - 1, whatever the load. A local drone's messages never leave through Zenoh and come back. A fleet spread over worker
-processes (:meth:`FleetNode.lockstep`) ends each period with a ``step`` message and takes every other worker's ticks
-of the period before going on (:mod:`aeroexec.fleet.lockstep`), so its drones hear what they would hear in one
-process.
+processes (:meth:`FleetNode.lockstep`) ends each period with a ``step`` message and takes every other worker's
+ticks of the period before going on (:mod:`aeroexec.fleet.lockstep`), so its drones hear what they would hear in
+one process.
 
 Refused here, counted (one log line per sender and reason per interval, :mod:`~aeroexec.fleet.refusals`) and told to
 the links for their event logs: malformed or foreign messages, a sender that is not in the fleet's roster, a
@@ -99,8 +98,6 @@ class FleetNode:
         self._kinds: list[tuple[str, str, str]] = []  # every local drone hears of these refusals, even drones to come
         self._said: list[tuple[str, str, dict[str, Any]]] = []  # what the local drones said this period
         self._publishers: dict[tuple[str, str], Any] = {}
-        self._listened: dict[str, bool] = {}  # whether another session listens to a local drone's ticks (Zenoh's)
-        self._matching: list[Any] = []  # the listeners that keep it
         self._queryables: dict[str, Any] = {}
         self._lock = threading.Lock()
         self._answers: queue.Queue[tuple[Any, str, str, Any, float, float | None] | None] = queue.Queue()
@@ -180,9 +177,8 @@ class FleetNode:
         messages = said + heard
         messages.sort(key=_drone)  # stable: each drone's messages stay in the order it said them
         news = self.table.take(messages, now, outside)
-        if news:  # a period in which nothing changed tells the links nothing
-            for link in list(self.links.values()):
-                link.hear(news)
+        for link in list(self.links.values()):
+            link.hear(news)
         self.refusals.flush()
         return not (ended and (lockstep is None or lockstep.everyone_ended))
 
@@ -241,38 +237,18 @@ class FleetNode:
         by_drone: dict[str, list[list[Any]]] = {}
         for drone, topic, fields in said:
             by_drone.setdefault(drone, []).append([topic, fields])
-        listened = self._listened
         for drone, messages in by_drone.items():  # each stamped as it is put: the link's latency, put -> arrival
-            # a tick nobody outside this process listens to is not even made (this process's drones heard it from
-            # ``said``); in lockstep every tick is put, the step counts them
-            if period is not None or listened.get(drone) is not False:
-                self._put(drone, payloads.tick(drone, messages, time.time(), period))
+            self._put(drone, payloads.tick(drone, messages, time.time(), period))
         return len(by_drone)
 
-    def _publisher(self, drone: str, topic: str) -> Any:
-        """``drone``'s publisher of ``topic``, declared at its first use (None when it cannot be). A tick's knows
-        whether another session listens (:attr:`_listened`, kept by Zenoh's matching status)."""
-        publisher = self._publishers.get((drone, topic))
-        if publisher is None:
-            try:
+    def _put(self, drone: str, payload: bytes, topic: str = "tick") -> None:
+        try:
+            publisher = self._publishers.get((drone, topic))
+            if publisher is None:
                 session = self.sessions.get(drone, self.session)
                 publisher = session.declare_publisher(key(self.fleet, drone, topic),
                                                       **qos(self._lockstep is not None))
-                if topic == "tick":
-                    self._matching.append(publisher.declare_matching_listener(
-                        _direct(lambda status: self._listened.__setitem__(drone, status.matching))))
-                    self._listened.setdefault(drone, publisher.matching_status.matching)
-            except Exception as error:  # a closed session: the drone flies on
-                logger.debug("fleet %s: no publisher of %s's %s: %s", self.fleet, drone, topic, error)
-                return None
-            self._publishers[drone, topic] = publisher
-        return publisher
-
-    def _put(self, drone: str, payload: bytes, topic: str = "tick") -> None:
-        publisher = self._publisher(drone, topic)
-        if publisher is None:
-            return
-        try:
+                self._publishers[drone, topic] = publisher
             publisher.put(payload)
         except Exception as error:  # a closed session or a full queue: the drone flies on
             logger.debug("fleet %s: %s's %s not sent: %s", self.fleet, drone, topic, error)
@@ -415,7 +391,7 @@ class FleetNode:
         # joined to its end: the commands waiting are answered, at most COMMAND_TIMEOUT after they came (a thread
         # still replying inside Zenoh when the interpreter finalizes is ended there, and the process aborts)
         self._answering.join()
-        for entity in (self._queue, *self._queryables.values(), *self._matching, *self._publishers.values()):
+        for entity in (self._queue, *self._queryables.values(), *self._publishers.values()):
             _undeclare(entity, self.fleet)
         self.refusals.flush(final=True)
 
