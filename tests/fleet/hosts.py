@@ -180,6 +180,21 @@ def seen(lines: list[str], text: str, after: int = 0) -> bool:
     return any(text in line for line in lines[after:])
 
 
+def reported_silent(lines: list[str], mate: str, after: int) -> bool:
+    """Whether a drone's event lines say ``mate`` is silent since line ``after``: said after it, or said before it and
+    not heard again since (under loss a link may stall for seconds: a mate silent already when a fault comes is not
+    said silent a second time)."""
+    if seen(lines, f"fleet_drone_silent: {mate}:", after):
+        return True
+    mentioned = re.compile(rf"\b{re.escape(mate)}\b")
+    for line in reversed(lines[:after]):
+        if f"fleet_drone_silent: {mate}:" in line:
+            return True
+        if "fleet_drone_heard:" in line and mentioned.search(line.split("fleet_drone_heard:", 1)[1]):
+            return False
+    return False
+
+
 def mates_heard(lines: list[str]) -> int:
     """How many other drones a drone said it heard (``fleet_drone_heard: d2, d3 and 2 more are in the fleet``)."""
     count = 0
