@@ -253,8 +253,9 @@ class BeliefMemory:
             self._changes += 2
             if self._expiry:
                 self._expiry.pop((signature, displaced), None)
-            if self._listening:  # the value it replaced, then itself, in one call (a position every other period)
-                self._notify_replaced(name, displaced, Struct(name, args) if belief is None else belief)
+            if self._listening:  # the value it replaced, then itself: every listener hears the removal first
+                self._notify("removed", Struct(name, displaced), "replaced")
+                self._notify("added", Struct(name, args) if belief is None else belief, "add")
             return True
         if self._listening:
             self._notify("added", Struct(name, args) if belief is None else belief, "add")
@@ -708,30 +709,6 @@ class BeliefMemory:
         if not hearing:
             return
         change = belief_change(kind, belief, reason, self._now())
-        for listener in hearing:
-            try:
-                listener(change)
-            except Exception:  # a faulty listener must not corrupt the memory
-                log.exception("belief listener %r failed on %s", listener, change)
-
-    def _notify_replaced(self, name: str, displaced: tuple, belief: Struct) -> None:
-        """``_notify("removed", name(displaced), "replaced")`` then ``_notify("added", belief, "add")``: every
-        listener hears the removal before any hears the addition, as from the two calls."""
-        hearing = self._hearing.get(name)
-        if hearing is None:
-            hearing = self._heard(name)
-        if not hearing:
-            return
-        change = belief_change("removed", Struct(name, displaced), "replaced", self._now())
-        for listener in hearing:
-            try:
-                listener(change)
-            except Exception:  # a faulty listener must not corrupt the memory
-                log.exception("belief listener %r failed on %s", listener, change)
-        hearing = self._hearing.get(name)  # (a listener may have subscribed or left meanwhile)
-        if hearing is None:
-            hearing = self._heard(name)
-        change = belief_change("added", belief, "add", self._now())
         for listener in hearing:
             try:
                 listener(change)
