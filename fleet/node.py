@@ -177,8 +177,9 @@ class FleetNode:
         messages = said + heard
         messages.sort(key=_drone)  # stable: each drone's messages stay in the order it said them
         news = self.table.take(messages, now, outside)
-        for link in list(self.links.values()):
-            link.hear(news)
+        if news:  # most periods nothing changed: no link has anything to hear
+            for link in list(self.links.values()):
+                link.hear(news)
         self.refusals.flush()
         return not (ended and (lockstep is None or lockstep.everyone_ended))
 

@@ -67,6 +67,7 @@ class FlightLogWriter:
         """``resumed``: the segment of a resumed run, whose records go on after the interrupted run's (a
         ``log_resumed`` line first) instead of starting a new log."""
         self.engine = engine
+        self._clock = engine.clock  # the engine's time (Engine.now, without its call)
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.sample_period = sample_period
@@ -110,10 +111,13 @@ class FlightLogWriter:
         self._write_line(belief_line(change, self._texts))
 
     def on_tick(self) -> None:
-        now = self.engine.now()
-        if self._last_sample is None or now - self._last_sample >= self.sample_period - 1e-9:
+        now = self._clock.now()
+        last = self._last_sample
+        if last is None or now - last >= self.sample_period - 1e-9:
             self.sample(now)
-        self.flush()
+        if self._pending:  # as flush(), without its call: the end of every period of every drone
+            with self._lock:
+                self._write_pending()
 
     def sample(self, now: float | None = None) -> None:
         """Write the drone's state now."""

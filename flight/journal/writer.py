@@ -81,6 +81,7 @@ class JournalWriter:
     def __init__(self, engine: Any, folder: str | Path, *, meta: dict[str, Any] | None = None,
                  supersede_from: int | None = None, sample_period: float = 2 * SAMPLE_PERIOD) -> None:
         self.engine = engine
+        self._clock = engine.clock  # the engine's time (Engine.now, without its call)
         self.path = journal_path(folder)
         self.sample_period = sample_period
         self.supersede_from = supersede_from
@@ -181,8 +182,9 @@ class JournalWriter:
         # Registered before a tree's tick (and a Python mission's calls, served after the tick): a commit holds what
         # the mission did in the last period with the behavior events of this tick that settle it (a broadcast sent
         # and its goal reached), so a resume never sees the one without the other. Keep it first.
-        now = self.engine.now()
-        if self._last_periodic is None or now - self._last_periodic >= self.sample_period - 1e-9:
+        now = self._clock.now()
+        last = self._last_periodic
+        if last is None or now - last >= self.sample_period - 1e-9:
             self._last_periodic = now  # as events.jsonl samples: at the same times
             self.sample(now)
         if self._urgent or now >= self._next_flush:
