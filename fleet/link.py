@@ -355,12 +355,14 @@ class FleetLink(BeliefUpdater):
 
     # -- saying --------------------------------------------------------------------------------
     def _publish_telemetry(self, now: float) -> None:
-        t = self.engine.drone.telemetry()
-        active = sorted(self.engine.coordinator.active())
-        self.node.say(self.name, "telemetry", time=round(now, 3), position=[round(v, 3) for v in t.position],
-                      velocity=[round(v, 3) for v in t.velocity], yaw=round(t.yaw, 2),
+        engine = self.engine
+        t = engine.drone.telemetry()
+        x, y, z = t.position
+        vx, vy, vz = t.velocity
+        self.node.say(self.name, "telemetry", time=round(now, 3), position=[round(x, 3), round(y, 3), round(z, 3)],
+                      velocity=[round(vx, 3), round(vy, 3), round(vz, 3)], yaw=round(t.yaw, 2),
                       battery=round(t.battery_percent, 1), state=str(getattr(t.landed_state, "value", t.landed_state)),
-                      mission=self.mission, status=self.state, active=active)
+                      mission=self.mission, status=self.state, active=sorted(engine.coordinator.active()))
 
     def _publish_beliefs(self) -> None:
         shared = []

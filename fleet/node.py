@@ -25,6 +25,7 @@ from __future__ import annotations
 import hmac
 import json
 import logging
+import operator
 import queue
 import threading
 import time
@@ -45,6 +46,7 @@ COMMAND_TIMEOUT = 5.0  # wall seconds a command waits for the drones' engines to
 QUEUED = 1 << 16  # samples Zenoh keeps for the next period's end (then it waits: back-pressure, nothing lost)
 MAX_ID = 64  # characters of a command's id
 REMEMBERED = 1024  # commands remembered by their id, so a copy arriving by another path is not run again
+_drone = operator.itemgetter(0)  # a message's drone: what a period's messages are ordered by
 
 
 def qos(lockstep: bool = False) -> dict[str, Any]:
@@ -395,10 +397,6 @@ class FleetNode:
         for entity in (self._queue, *self._queryables.values(), *self._publishers.values()):
             _undeclare(entity, self.fleet)
         self.refusals.flush(final=True)
-
-
-def _drone(message: tuple[str, str, dict[str, Any]]) -> str:
-    return message[0]
 
 
 def _undeclare(entity: Any, fleet: str) -> None:

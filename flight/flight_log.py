@@ -301,6 +301,23 @@ def flat_text(term: Struct) -> str:
     """:func:`~aeroexec.beliefs.format_term` of a belief, the same text, made faster for what telemetry writes:
     arguments that are numbers, atoms and tuples of floats (anything else is formatted by ``format_term``)."""
     args = term.args
+    if len(args) == 2 and type(args[0]) is str:  # of one thing (self, a drone): what telemetry writes, made at once
+        first = _ATOMS.get(args[0])
+        if first is not None:
+            value = args[1]
+            kind = type(value)
+            if kind is float:
+                return f"{term.name}({first}, {value!r})"
+            if kind is tuple and len(value) == 3:
+                x, y, z = value
+                if type(x) is float and type(y) is float and type(z) is float:
+                    return f"{term.name}({first}, ({x!r}, {y!r}, {z!r}))"
+            elif kind is int:
+                return f"{term.name}({first}, {value})"
+            elif kind is str:
+                second = _ATOMS.get(value)
+                if second is not None:
+                    return f"{term.name}({first}, {second})"
     if not args:
         return format_term(term)
     parts = []
