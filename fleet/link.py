@@ -41,8 +41,6 @@ from aeroexec.fleet.node import FleetNode
 from aeroexec.fleet.payloads import check_name
 from aeroexec.fleet.table import MAX_BELIEFS, News, Said
 
-from aeroexec.decimals import rounded
-
 logger = logging.getLogger(__name__)
 
 SOCIAL = "SOCIAL_COMMUNICATION"
@@ -361,12 +359,10 @@ class FleetLink(BeliefUpdater):
         t = engine.drone.telemetry()
         x, y, z = t.position
         vx, vy, vz = t.velocity
-        self.node.say(self.name, "telemetry", time=rounded(now, 3),
-                      position=[rounded(x, 3), rounded(y, 3), rounded(z, 3)],
-                      velocity=[rounded(vx, 3), rounded(vy, 3), rounded(vz, 3)], yaw=rounded(t.yaw, 2),
-                      battery=rounded(t.battery_percent, 1),
-                      state=str(getattr(t.landed_state, "value", t.landed_state)), mission=self.mission,
-                      status=self.state, active=sorted(engine.coordinator.active()))
+        self.node.say(self.name, "telemetry", time=round(now, 3), position=[round(x, 3), round(y, 3), round(z, 3)],
+                      velocity=[round(vx, 3), round(vy, 3), round(vz, 3)], yaw=round(t.yaw, 2),
+                      battery=round(t.battery_percent, 1), state=str(getattr(t.landed_state, "value", t.landed_state)),
+                      mission=self.mission, status=self.state, active=sorted(engine.coordinator.active()))
 
     def _publish_beliefs(self) -> None:
         shared = []
@@ -388,7 +384,7 @@ class FleetLink(BeliefUpdater):
         if event.kind in QUIET:
             return
         with self._lock:
-            self._events.append({"time": rounded(event.time, 3), "kind": event.kind, "behavior": event.behavior,
+            self._events.append({"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
                                  "detail": event.detail})
 
     def _publish_events(self) -> None:

@@ -31,8 +31,6 @@ from aeroexec.beliefs import BeliefError, ListTerm, Struct, parse_belief
 from aeroexec.beliefs.shared import SharedBeliefs
 from aeroexec.fleet.payloads import PayloadError, vector
 
-from aeroexec.decimals import rounded
-
 PERSISTENCE = 5.0  # engine seconds a position or a belief heard from another drone lasts unless said again
 SILENT_AFTER = 2.0  # engine seconds without telemetry after which a drone is silent
 MAX_BELIEFS = 500  # per snapshot
@@ -186,7 +184,7 @@ class FleetTable:
         except PayloadError:  # telemetry without a velocity: none known
             self.velocities.drop((drone,))
         else:
-            self.velocities.put((drone, (rounded(vx, 1), rounded(vy, 1), rounded(vz, 1))))
+            self.velocities.put((drone, (round(vx, 1), round(vy, 1), round(vz, 1))))
         self._schedule(SILENCE, drone, None, now + self.silent_after)
         self._schedule(POSITION, drone, None, now + self.persistence)
 

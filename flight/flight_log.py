@@ -44,7 +44,6 @@ from aeroexec.beliefs import BeliefChange, Struct, format_term
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.events import EngineEvent, Outcome
 
-from aeroexec.decimals import rounded
 from aeroexec.limits import MAX_NESTING, InputError, nesting_beyond, read_text
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
@@ -289,7 +288,7 @@ def belief_line(change: BeliefChange, texts: dict[str, tuple[tuple, str]] | None
                 texts[belief.name] = (belief.args, text)
         at, stamp = _LINES.time
         if change.time is not at:  # the changes of a period (of every drone of a fleet) share the clock's time
-            stamp = _number(rounded(float(change.time), 3))
+            stamp = _number(round(float(change.time), 3))
             _LINES.time = (change.time, stamp)
         # as _json writes the record, without building it: the log's most frequent line (ordered keys, compact)
         line = (f'{{"time":{stamp},"kind":{_KINDS.get(change.kind) or _kind(change)},'
@@ -392,7 +391,7 @@ def _number(value: float) -> str:
 def event_record(event: EngineEvent) -> dict[str, Any]:
     """An engine event as a log line's object."""
     data = dict(event.data)
-    record: dict[str, Any] = {"time": rounded(event.time, 3), "kind": event.kind, "behavior": event.behavior,
+    record: dict[str, Any] = {"time": round(event.time, 3), "kind": event.kind, "behavior": event.behavior,
                               "detail": event.detail}
     if "arguments" in data:
         record["arguments"] = plain(data.pop("arguments"))
@@ -412,14 +411,14 @@ _AS_IS = frozenset({str, int, bool, type(None)})  # what plain() gives back unch
 def state_record(now: float, telemetry: Any) -> dict[str, Any]:
     """A drone state sample as a log line's object; ``measured`` is when the position came from a vehicle that
     reports it over a link (the engine reads it up to a stream period later)."""
-    record = {"time": rounded(now, 3), "kind": "state",
-              "position": [rounded(float(v), 3) for v in telemetry.position],
-              "velocity": [rounded(float(v), 3) for v in telemetry.velocity],
-              "yaw": rounded(float(telemetry.yaw), 2), "battery": rounded(float(telemetry.battery_percent), 2),
+    record = {"time": round(now, 3), "kind": "state",
+              "position": [round(float(v), 3) for v in telemetry.position],
+              "velocity": [round(float(v), 3) for v in telemetry.velocity],
+              "yaw": round(float(telemetry.yaw), 2), "battery": round(float(telemetry.battery_percent), 2),
               "armed": bool(telemetry.armed), "landed_state": plain(telemetry.landed_state)}
     measured = getattr(telemetry, "position_time", None)
     if measured is not None:
-        record["measured"] = rounded(float(measured), 3)
+        record["measured"] = round(float(measured), 3)
     return record
 
 

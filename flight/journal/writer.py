@@ -39,8 +39,6 @@ from aeroexec.flight.journal.schema import journal_path
 from aeroexec.flight.journal.store import JournalStore, Row
 from aeroexec.flight.run_status import HIGHER, REACTION, safety_reaction
 
-from aeroexec.decimals import rounded
-
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
 if TYPE_CHECKING:
     from typing import Any
@@ -141,7 +139,7 @@ class JournalWriter:
     # -- the engine's side ------------------------------------------------------------------------------------
     def on_event(self, event: EngineEvent) -> None:
         seq = self._seq()
-        time = rounded(event.time, 3)
+        time = round(event.time, 3)
         kind, name, data = event.kind, event.behavior, event.data
         rows = [(_EVENT, (seq, self.segment, time, kind, name, event.detail, event_line(event), None))]
         source = data.get("source", "")
@@ -176,9 +174,9 @@ class JournalWriter:
         if change.reason == "shared":  # a fleet mate's position came or went: not this drone's state (a resume
             return  # hears it again from the fleet); its fleet_drone_heard event says so, as in events.jsonl
         lifetime = self.engine.memory.lifetime(belief.name) if change.kind == "added" else None
-        time = rounded(float(change.time), 3)
+        time = round(float(change.time), 3)
         self._add([(_EVENT, (self._seq(), self.segment, time, f"belief_{change.kind}", "", "", belief_line(change),
-                             None if lifetime is None else rounded(time + lifetime, 3)))])
+                             None if lifetime is None else round(time + lifetime, 3)))])
 
     def on_tick(self) -> None:
         # Registered before a tree's tick (and a Python mission's calls, served after the tick): a commit holds what
@@ -196,7 +194,7 @@ class JournalWriter:
         """Write the drone's state now (the event log's line of it, made once for both); the line (None when the
         drone cannot say)."""
         now = self.engine.now() if now is None else now
-        self._last_sample = rounded(now, 3)
+        self._last_sample = round(now, 3)
         try:
             telemetry = self.engine.drone.telemetry()
             line = state_line(now, telemetry)
