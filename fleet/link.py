@@ -109,8 +109,9 @@ class FleetLink(BeliefUpdater):
 
     # -- the node ------------------------------------------------------------------------------
     def hear(self, news: News) -> None:
-        """What the process's table took at the end of a period (applied on this drone's next tick)."""
-        if news or self._news:
+        """What the process's table took at the end of a period (applied on this drone's next tick; news of nothing
+        changes nothing)."""
+        if news:
             self._news.append(news)
 
     def refused(self, sender: str, reason: str, example: str) -> None:
@@ -141,13 +142,15 @@ class FleetLink(BeliefUpdater):
                 refusals, self._refusals = self._refusals, []
             for sender, reason, example in refusals:
                 self._note_refusal(sender, reason, example)
-        news, self._news = self._news, []
-        for taken in news:
-            self._take(taken)
+        if self._news:  # a new list only when there is news (most periods have none)
+            news, self._news = self._news, []
+            for taken in news:
+                self._take(taken)
         if self._messages and now >= self._next_check:
             self._next_check = now + CHECK_PERIOD
             self._expire(now)
-        self._publish_events()
+        if self._events:
+            self._publish_events()
         if now >= self._next_telemetry:
             self._next_telemetry = now + self.telemetry_period
             self._publish_telemetry(now)
@@ -352,12 +355,14 @@ class FleetLink(BeliefUpdater):
 
     # -- saying --------------------------------------------------------------------------------
     def _publish_telemetry(self, now: float) -> None:
-        t = self.engine.drone.telemetry()
-        active = sorted(self.engine.coordinator.active())
-        self.node.say(self.name, "telemetry", time=round(now, 3), position=[round(v, 3) for v in t.position],
-                      velocity=[round(v, 3) for v in t.velocity], yaw=round(t.yaw, 2),
+        engine = self.engine
+        t = engine.drone.telemetry()
+        x, y, z = t.position
+        vx, vy, vz = t.velocity
+        self.node.say(self.name, "telemetry", time=round(now, 3), position=[round(x, 3), round(y, 3), round(z, 3)],
+                      velocity=[round(vx, 3), round(vy, 3), round(vz, 3)], yaw=round(t.yaw, 2),
                       battery=round(t.battery_percent, 1), state=str(getattr(t.landed_state, "value", t.landed_state)),
-                      mission=self.mission, status=self.state, active=active)
+                      mission=self.mission, status=self.state, active=sorted(engine.coordinator.active()))
 
     def _publish_beliefs(self) -> None:
         shared = []

@@ -25,6 +25,7 @@ from __future__ import annotations
 import hmac
 import json
 import logging
+import operator
 import queue
 import threading
 import time
@@ -45,6 +46,7 @@ COMMAND_TIMEOUT = 5.0  # wall seconds a command waits for the drones' engines to
 QUEUED = 1 << 16  # samples Zenoh keeps for the next period's end (then it waits: back-pressure, nothing lost)
 MAX_ID = 64  # characters of a command's id
 REMEMBERED = 1024  # commands remembered by their id, so a copy arriving by another path is not run again
+_drone = operator.itemgetter(0)  # a message's drone: what a period's messages are ordered by
 
 
 def qos(lockstep: bool = False) -> dict[str, Any]:
@@ -177,8 +179,9 @@ class FleetNode:
         messages = said + heard
         messages.sort(key=_drone)  # stable: each drone's messages stay in the order it said them
         news = self.table.take(messages, now, outside)
-        for link in list(self.links.values()):
-            link.hear(news)
+        if news:  # most periods nothing changed: no link has anything to hear
+            for link in list(self.links.values()):
+                link.hear(news)
         self.refusals.flush()
         return not (ended and (lockstep is None or lockstep.everyone_ended))
 
@@ -394,10 +397,6 @@ class FleetNode:
         for entity in (self._queue, *self._queryables.values(), *self._publishers.values()):
             _undeclare(entity, self.fleet)
         self.refusals.flush(final=True)
-
-
-def _drone(message: tuple[str, str, dict[str, Any]]) -> str:
-    return message[0]
 
 
 def _undeclare(entity: Any, fleet: str) -> None:

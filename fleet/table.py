@@ -180,11 +180,11 @@ class FleetTable:
             if was is None:
                 news.came.append((drone, where))
         try:
-            moving = tuple(round(v, 1) for v in vector(fields.get("velocity")))
+            vx, vy, vz = vector(fields.get("velocity"))
         except PayloadError:  # telemetry without a velocity: none known
             self.velocities.drop((drone,))
         else:
-            self.velocities.put((drone, moving))
+            self.velocities.put((drone, (round(vx, 1), round(vy, 1), round(vz, 1))))
         self._schedule(SILENCE, drone, None, now + self.silent_after)
         self._schedule(POSITION, drone, None, now + self.persistence)
 

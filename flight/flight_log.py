@@ -67,6 +67,7 @@ class FlightLogWriter:
         """``resumed``: the segment of a resumed run, whose records go on after the interrupted run's (a
         ``log_resumed`` line first) instead of starting a new log."""
         self.engine = engine
+        self._clock = engine.clock  # the engine's time (Engine.now, without its call)
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.sample_period = sample_period
@@ -110,10 +111,13 @@ class FlightLogWriter:
         self._write_line(belief_line(change, self._texts))
 
     def on_tick(self) -> None:
-        now = self.engine.now()
-        if self._last_sample is None or now - self._last_sample >= self.sample_period - 1e-9:
+        now = self._clock.now()
+        last = self._last_sample
+        if last is None or now - last >= self.sample_period - 1e-9:
             self.sample(now)
-        self.flush()
+        if self._pending:  # as flush(), without its call: the end of every period of every drone
+            with self._lock:
+                self._write_pending()
 
     def sample(self, now: float | None = None) -> None:
         """Write the drone's state now."""
@@ -297,6 +301,23 @@ def flat_text(term: Struct) -> str:
     """:func:`~aeroexec.beliefs.format_term` of a belief, the same text, made faster for what telemetry writes:
     arguments that are numbers, atoms and tuples of floats (anything else is formatted by ``format_term``)."""
     args = term.args
+    if len(args) == 2 and type(args[0]) is str:  # of one thing (self, a drone): what telemetry writes, made at once
+        first = _ATOMS.get(args[0])
+        if first is not None:
+            value = args[1]
+            kind = type(value)
+            if kind is float:
+                return f"{term.name}({first}, {value!r})"
+            if kind is tuple and len(value) == 3:
+                x, y, z = value
+                if type(x) is float and type(y) is float and type(z) is float:
+                    return f"{term.name}({first}, ({x!r}, {y!r}, {z!r}))"
+            elif kind is int:
+                return f"{term.name}({first}, {value})"
+            elif kind is str:
+                second = _ATOMS.get(value)
+                if second is not None:
+                    return f"{term.name}({first}, {second})"
     if not args:
         return format_term(term)
     parts = []

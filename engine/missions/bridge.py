@@ -217,10 +217,11 @@ class MissionBridge:
     @property
     def state(self) -> str:
         mission = self._mission
-        if mission.state == RUNNING and mission.polls >= CALLS_PER_TICK and self._now is not None \
+        state = mission.state
+        if state == RUNNING and mission.polls >= CALLS_PER_TICK and self._now is not None \
                 and mission.polls_at == self._now():
             return POLLING
-        return mission.state
+        return state
 
     @property
     def queued(self) -> int:
@@ -236,10 +237,12 @@ class MissionBridge:
     def serve(self, lockstep: bool, until_wall: float | None = None) -> None:
         """Execute queued calls. In lockstep, return only when the mission waits or is done;
         otherwise return at ``until_wall`` (a ``time.monotonic`` deadline) or when nothing is queued."""
-        if self._state == DONE and until_wall is None and self._queue.empty():
-            return  # no mission, nothing queued: nothing to wait for (a call queued now is served next period)
-        if not lockstep and until_wall is None and (self._held or self._queue.empty()):
-            return  # nothing to serve now and nothing to wait for (a fleet's period asks every drone's mission)
+        if until_wall is None:
+            if not lockstep:
+                if self._held or self._queue.empty():
+                    return  # nothing to serve now and nothing to wait for (a fleet's period asks every drone's mission)
+            elif self._state == DONE and self._queue.empty():
+                return  # no mission, nothing queued: nothing to wait for (a call queued now is served next period)
         warned_at = time.monotonic() + _STALL_WARNING
         served = 0
         while True:

@@ -242,34 +242,41 @@ class FleetFlight:
             self.clock.sleep_until(now + period, self._stop)
 
     def _period(self) -> None:
-        for m in self.members:
-            m.engine.tick()  # a drone whose flight ended is still heard (telemetry) and still hears
-        self._serve([m for m in self.members if m.ending is None])
-        for m in self.members:
-            if m.ending is None and m.session.mission_done:
-                m.ending = m.session.ending()
-            if m.ending is not None and not m.ended and m.ending.step():
-                m.ended, m.faults = True, m.ending.faults
+        members = self.members
+        for m in members:
+            m.session.engine.tick()  # a drone whose flight ended is still heard (telemetry) and still hears
+        self._serve([m for m in members if m.ending is None])
+        for m in members:
+            ending = m.ending
+            if ending is None:
+                if not m.session.mission_done:
+                    continue
+                ending = m.ending = m.session.ending()
+            if ending is not None and not m.ended and ending.step():
+                m.ended, m.faults = True, ending.faults
 
     def _serve(self, members: list[Member]) -> None:
         """Serve every Python mission until each waits on its engine (lockstep, as ``Engine.step``); the
         mission threads run side by side meanwhile, so N missions cost about one hand-over, not N."""
-        waiting = members
-        warned_at = time.monotonic() + STALL_WARNING
-        while waiting:
-            busy = []
+        warned_at = None
+        while True:
+            waiting = []
             for m in members:  # a script flying several drones may be waiting on any of them
-                m.engine.bridge.serve(lockstep=False)  # what is queued now; returns when the queue is empty
-                if m.engine.bridge.state == RUNNING and not m.engine.supervisor.paused and not m.engine.stopped:
-                    busy.append(m)
-            waiting = busy
-            if waiting:
-                time.sleep(HAND_OVER)
-                if time.monotonic() > warned_at:
-                    logger.warning("the missions of %s have been busy for %.0f s of wall time without calling "
-                                   "their engines; simulated time waits for them",
-                                   ", ".join(m.name for m in waiting), STALL_WARNING)
-                    warned_at = time.monotonic() + STALL_WARNING
+                engine = m.session.engine
+                bridge = engine.bridge
+                bridge.serve(lockstep=False)  # what is queued now; returns when the queue is empty
+                if bridge.state == RUNNING and not engine.supervisor.paused and not engine.stopped:
+                    waiting.append(m)
+            if not waiting:
+                return
+            if warned_at is None:
+                warned_at = time.monotonic() + STALL_WARNING
+            time.sleep(HAND_OVER)
+            if time.monotonic() > warned_at:
+                logger.warning("the missions of %s have been busy for %.0f s of wall time without calling their "
+                               "engines; simulated time waits for them", ", ".join(m.name for m in waiting),
+                               STALL_WARNING)
+                warned_at = time.monotonic() + STALL_WARNING
 
     def _write_status(self, outcomes: dict[str, FlightOutcome]) -> None:
         write_status(self.output, self.node.fleet, {name: drone_status(o) for name, o in outcomes.items()},

@@ -60,7 +60,11 @@ OUTCOMES = frozenset(o.value for o in Outcome)
 BACKGROUND = ("capability_", "drone_")
 _TAKEN_OVER = re.compile(r"^stopped for (\S+) \(reactive\)$")
 
-_EVENT = "INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)"
+_EVENT = "INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, NULL)"  # a record that does not expire (nearly all)
+# a None bound to a statement is looked up as an adapter's (~3,000 instructions, a failed attribute look-up): NULL is
+# written in the statement instead
+_EXPIRING = "INSERT INTO events VALUES (?, ?, ?, ?, ?, ?, ?, ?)"  # a belief that lasts a while: when it expires
+_CALLED = "INSERT INTO calls VALUES (?, ?, ?, ?, ?, ?, ?, NULL, NULL, NULL, 0, 0)"  # a call requested, not returned
 _ACTIVATED = "INSERT INTO behaviors VALUES (?, ?, ?, ?, ?, ?, ?, NULL, NULL, NULL, NULL, NULL)"
 _REFUSED = "INSERT INTO behaviors VALUES (?, ?, ?, '{}', ?, NULL, ?, ?, ?, ?, ?, ?)"
 _ENDED = "UPDATE behaviors SET ended_seq = ?, ended_at = ?, outcome = ?, message = ?, result = ? WHERE seq = ?"
@@ -81,6 +85,7 @@ class JournalWriter:
     def __init__(self, engine: Any, folder: str | Path, *, meta: dict[str, Any] | None = None,
                  supersede_from: int | None = None, sample_period: float = 2 * SAMPLE_PERIOD) -> None:
         self.engine = engine
+        self._clock = engine.clock  # the engine's time (Engine.now, without its call)
         self.path = journal_path(folder)
         self.sample_period = sample_period
         self.supersede_from = supersede_from
@@ -140,7 +145,7 @@ class JournalWriter:
         seq = self._seq()
         time = round(event.time, 3)
         kind, name, data = event.kind, event.behavior, event.data
-        rows = [(_EVENT, (seq, self.segment, time, kind, name, event.detail, event_line(event), None))]
+        rows = [(_EVENT, (seq, self.segment, time, kind, name, event.detail, event_line(event)))]
         source = data.get("source", "")
         urgent = not kind.startswith(BACKGROUND)
         if kind == "activated":
@@ -174,15 +179,16 @@ class JournalWriter:
             return  # hears it again from the fleet); its fleet_drone_heard event says so, as in events.jsonl
         lifetime = self.engine.memory.lifetime(belief.name) if change.kind == "added" else None
         time = round(float(change.time), 3)
-        self._add([(_EVENT, (self._seq(), self.segment, time, f"belief_{change.kind}", "", "", belief_line(change),
-                             None if lifetime is None else round(time + lifetime, 3)))])
+        row = (self._seq(), self.segment, time, f"belief_{change.kind}", "", "", belief_line(change))
+        self._add([(_EVENT, row) if lifetime is None else (_EXPIRING, (*row, round(time + lifetime, 3)))])
 
     def on_tick(self) -> None:
         # Registered before a tree's tick (and a Python mission's calls, served after the tick): a commit holds what
         # the mission did in the last period with the behavior events of this tick that settle it (a broadcast sent
         # and its goal reached), so a resume never sees the one without the other. Keep it first.
-        now = self.engine.now()
-        if self._last_periodic is None or now - self._last_periodic >= self.sample_period - 1e-9:
+        now = self._clock.now()
+        last = self._last_periodic
+        if last is None or now - last >= self.sample_period - 1e-9:
             self._last_periodic = now  # as events.jsonl samples: at the same times
             self.sample(now)
         if self._urgent or now >= self._next_flush:
@@ -199,7 +205,7 @@ class JournalWriter:
         except Exception:  # a drone that cannot answer: no sample, the journal goes on
             logger.exception("no drone state for the journal")
             return None
-        self._add([(_EVENT, (self._seq(), self.segment, self._last_sample, "state", "", "", line, None))])
+        self._add([(_EVENT, (self._seq(), self.segment, self._last_sample, "state", "", "", line))])
         return line
 
     # -- a tree mission ---------------------------------------------------------------------------------------
@@ -246,8 +252,8 @@ class JournalWriter:
     def call_requested(self, number: int, function: str, arguments: str, location: str, time: float) -> None:
         seq = self._seq()
         self._waiting[number] = seq
-        self._add([(_CALL, (seq, self.segment, number, function, arguments, location, round(time, 3), None, None,
-                            None, 0))], urgent=True, looks_end=True)
+        self._add([(_CALLED, (seq, self.segment, number, function, arguments, location, round(time, 3)))],
+                  urgent=True, looks_end=True)
 
     def call_returned(self, number: int, function: str, arguments: str, location: str, time: float,
                       result: str | None, error: dict[str, Any] | None) -> None:

@@ -10,6 +10,8 @@ from aeroexec.engine.supervision.output import choose_output_folder
 from aeroexec.flight.flight_log import FlightLogWriter, plain, read_flight_log
 from aeroexec.flight.output import prepare_output
 from aeroexec.flight.summary import final_beliefs, summarize
+from hypothesis import given
+from hypothesis import strategies as st
 
 
 def test_the_writer_logs_events_belief_changes_and_samples_then_closes(tmp_path):
@@ -134,6 +136,26 @@ def test_the_event_log_writes_a_belief_as_its_text_and_a_replaced_one_as_it_was_
     removed = json.loads(belief_line(BeliefChange("removed", type(term)(term.name, term.args), "replaced", 2.0), texts))
     assert added["belief"] == removed["belief"] == format_term(term)
     assert (removed["kind"], removed["reason"], removed["time"]) == ("belief_removed", "replaced", 2.0)
+
+
+_FIRSTS = st.sampled_from(["self", "d1", "scout-4", "Self", "taking off", "", "h\u00e9llo", 'a"b', "_x"])
+_FLOATS = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from([0.0, -0.0, 1e17, 1e-07, 2.5e300])
+_SECONDS = (_FLOATS | st.integers(-10**20, 10**20) | st.booleans() | _FIRSTS
+            | st.tuples(_FLOATS, _FLOATS, _FLOATS) | st.tuples(_FLOATS, st.integers(), _FLOATS)
+            | st.tuples(_FLOATS, _FLOATS))
+
+
+@given(st.sampled_from(["position", "speed", "orientation", "flight_state"]), _FIRSTS, _SECONDS)
+def test_the_fast_text_of_a_belief_of_one_thing_is_its_term_text(name, first, second):
+    """A belief of two arguments, the first an atom (what telemetry writes: a position, a speed, a state): its text
+    made at once, the atoms known (the second call), is format_term's, for every float (-0.0, NaN, 1e17), int, bool,
+    atom that must be quoted and tuple."""
+    from aeroexec.beliefs import Struct, format_term
+    from aeroexec.flight.flight_log import flat_text
+
+    term = Struct(name, (first, second))
+    assert flat_text(term) == format_term(term)
+    assert flat_text(term) == format_term(term)  # its atoms known now: the fast path
 
 
 def test_a_state_line_is_of_the_telemetry_it_is_asked_for_when_another_takes_a_freed_ones_place():

@@ -192,3 +192,40 @@ def test_the_journal_is_checkpointed_while_the_run_flies_and_whole_after_a_kill(
     with Journal(folder) as journal:
         assert [r["outcome"] for r in journal.behavior("TAKE_OFF")] == ["GOAL_ACHIEVED"]
         assert journal.rows("SELECT count(*) FROM events")[0][0] > 20
+
+
+def test_the_journal_writes_null_where_nothing_is_known_as_it_did_binding_none(tmp_path):
+    """A record that does not expire and a call not yet returned are written by statements that say NULL (binding
+    None costs an adapter look-up): the rows hold what binding None wrote, NULL and 0, and a belief that lasts a
+    while still has the time it expires at."""
+    from aeroexec.drones.sim import SimulatedDrone, default_world
+    from aeroexec.engine.engine import Engine
+    from aeroexec.flight.journal.writer import JournalWriter
+
+    world = default_world()
+    engine = Engine(SimulatedDrone(world), obstacles=world)
+    engine.memory.declare("seen", 1, persistence=2.5)
+    engine.memory.declare("noted", 1)
+    writer = JournalWriter(engine, tmp_path)
+    try:
+        engine.step(0.1)
+        engine.memory.add("seen(box)")
+        engine.memory.add("noted(box)")
+        writer.call_requested(1, "consult_belief", "['seen(box)']", "m.py:3", engine.now())
+        writer.call_requested(2, "execute_behavior", "['LAND']", "m.py:4", engine.now())
+        writer.call_returned(2, "execute_behavior", "['LAND']", "m.py:4", engine.now(), '"GOAL_ACHIEVED"', None)
+        engine.step(0.1)
+    finally:
+        writer.close()
+        engine.stop()
+    db = sqlite3.connect(tmp_path / "journal.sqlite")
+    added = dict(db.execute("SELECT json_extract(record, '$.belief'), expires_at FROM events "
+                            "WHERE kind = 'belief_added' AND json_extract(record, '$.belief') LIKE '%(box)'"))
+    time_added = db.execute("SELECT time FROM events WHERE record LIKE '%seen(box)%'").fetchone()[0]
+    assert added == {"seen(box)": round(time_added + 2.5, 3), "noted(box)": None}
+    assert db.execute("SELECT count(*) FROM events WHERE expires_at IS NOT NULL AND kind != 'belief_added'"
+                      ).fetchone()[0] == 0
+    calls = db.execute("SELECT number, returned_at, result, error, after_stop, superseded, typeof(after_stop) "
+                       "FROM calls ORDER BY number").fetchall()
+    assert calls[0] == (1, None, None, None, 0, 0, "integer")
+    assert calls[1][1:] == (calls[1][1], '"GOAL_ACHIEVED"', None, 0, 0, "integer") and calls[1][1] is not None
