@@ -19,6 +19,8 @@ import math
 import re
 from typing import Any
 
+from aeroexec.compact_json import compact_encoder
+
 VERSION = 2
 TOPICS = ("tick", "step", "command")  # the keys' last chunk
 SAID = ("telemetry", "events", "beliefs", "broadcast")  # what a drone says in a tick
@@ -58,17 +60,11 @@ def check_name(name: str, what: str) -> str:
 
 
 def encode(drone: str, **fields: Any) -> bytes:
-    return "".join(_ENCODE({"v": VERSION, "drone": drone, **fields}, 0)).encode()
+    return _ENCODE({"v": VERSION, "drone": drone, **fields}).encode()
 
 
-# json.dumps(..., separators=(",", ":")), the same text, by one encoder made once: json.dumps with options makes a new
-# JSONEncoder at every call, and JSONEncoder.encode its C encoder (each drone's tick, every period). Made without the
-# check for circular references (a dictionary shared between calls): the messages are made afresh, plain and acyclic;
-# json's own where there is no C encoder
-_OPTIONS = json.JSONEncoder(separators=(",", ":"))
-_ENCODE = (json.encoder.c_make_encoder(None, _OPTIONS.default, json.encoder.encode_basestring_ascii, None, ":", ",",
-                                       False, False, True)
-           if json.encoder.c_make_encoder is not None else lambda message, _: (_OPTIONS.encode(message),))
+# json.dumps(..., separators=(",", ":")), the same text, by one encoder made once (each drone's tick, every period)
+_ENCODE = compact_encoder()
 
 
 def tick(drone: str, messages: list[list[Any]], sent: float | None = None, period: int | None = None) -> bytes:

@@ -44,6 +44,7 @@ from aeroexec.beliefs import BeliefChange, Struct, format_term
 from aeroexec.engine.clock import SimulatedClock
 from aeroexec.engine.events import EngineEvent, Outcome
 
+from aeroexec.compact_json import compact_encoder
 from aeroexec.limits import MAX_NESTING, InputError, nesting_beyond, read_text
 
 TYPE_CHECKING = False  # typing is not imported at run time (type checkers read the block below)
@@ -363,19 +364,9 @@ def state_line(now: float, telemetry: Any) -> str:
     return line
 
 
-def _json(record: dict[str, Any]) -> str:
-    """``json.dumps(record, allow_nan=False, separators=(",", ":"))``, the same text, by one encoder made once
-    (``json.dumps`` with options makes a new one at every call, and ``JSONEncoder.encode`` its C encoder: an event or
-    sample line of every drone)."""
-    return "".join(_ENCODE(record, 0))
-
-
-_OPTIONS = json.JSONEncoder(allow_nan=False, separators=(",", ":"))
-# the C encoder JSONEncoder.encode makes at each call, made once (without the check for circular references, which
-# shares a dictionary between calls: the records are made afresh, plain and acyclic); json's own where there is none
-_ENCODE = (json.encoder.c_make_encoder(None, _OPTIONS.default, json.encoder.encode_basestring_ascii, None, ":", ",",
-                                       False, False, False)
-           if json.encoder.c_make_encoder is not None else lambda record, _: (_OPTIONS.encode(record),))
+#: ``json.dumps(record, allow_nan=False, separators=(",", ":"))``, the same text, by one encoder made once (an event or
+#: sample line of every drone)
+_json: Callable[[dict[str, Any]], str] = compact_encoder(allow_nan=False)
 
 
 _text = json.encoder.encode_basestring_ascii  # a string as json.dumps writes it
