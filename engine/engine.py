@@ -183,17 +183,19 @@ class Engine:
             if not self._started:
                 self._begin()
             now = self.clock.now()
-            self.drone.update(now)
-            for event in self.drone.events():  # at the time it happened (the robot's clock is the engine's)
+            drone, memory = self.drone, self.memory
+            drone.update(now)
+            for event in drone.events():  # at the time it happened (the robot's clock is the engine's)
                 self.log.record(f"drone_{event.kind}", detail=event.detail, at=min(event.time, now), **event.data)
             for updater in self.updaters:
-                updater.tick(self.memory, now)
+                updater.tick(memory, now)
             for capability, reason in self.resources.update(now):
                 self.coordinator.fail_users(capability, reason)
             if self.safety is not None:  # before the behaviors are monitored: a contingency preempts in this tick
                 self.safety.tick(now)
             self.coordinator.tick()
-            self.timers.run_due()
+            if self.timers._due:  # (none due: run_due's answer, without its call)
+                self.timers.run_due()
             if self.tick_callbacks:
                 for callback in list(self.tick_callbacks):
                     try:
