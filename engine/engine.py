@@ -101,6 +101,8 @@ class Engine:
         if rules:  # a rules file (--rules): checked against the catalog, RuleError with file:line
             self.catalog = self.catalog.with_rules(rules)
         self.clock = clock or SimulatedClock()
+        #: the clock's time now: the clock's own method (every period, the event log and the journal ask it)
+        self.now: Callable[[], float] = self.clock.now
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
         self.memory = BeliefMemory(clock=self.clock)
@@ -173,9 +175,6 @@ class Engine:
         self._lock = threading.RLock()
 
     # -- the loop ------------------------------------------------------------------------------
-    def now(self) -> float:
-        return self.clock.now()
-
     def tick(self) -> None:
         """One period of the engine, at the clock's current time."""
         with self._lock, self.period_guard():

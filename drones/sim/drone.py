@@ -419,9 +419,9 @@ class SimulatedDrone(Drone):
         v = self._vehicle
         return to_png(self._renderer.render(v.position, v.yaw, self.camera, self._now, width, height))
 
-    @_locked
     def payload(self) -> list[str]:
-        """The items the drone carries, in the order they are released."""
+        """The items the drone carries, in the order they are released (a copy made at once, without the lock: the
+        telemetry beliefs ask it every update)."""
         return list(self._payload.carried)
 
     @_command

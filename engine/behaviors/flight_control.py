@@ -172,13 +172,13 @@ class MotionBehavior(BehaviorProcess):
     def no_progress(self, what: str | Callable[[], str], *errors: float) -> Outcome | None:
         """WRONG_PROGRESS when none of ``errors`` shrank for ``stall_time``; ``what`` completes the reason (a function
         giving it, on the hot path: the text is made only when someone will read it)."""
-        if self.progress.stalled(self.now(), *errors):
+        if self.progress.stalled(self.context.clock(), *errors):  # (self.now(), one call fewer: every period)
             return self.fail(f"no progress {what() if callable(what) else what} for {self.settings.stall_time:g} s")
         return None
 
     def arrived(self, telemetry: Telemetry, point: Sequence[float]) -> bool:
         """Within the position tolerance of ``point`` and nearly still."""
-        return (math.dist(telemetry.position, point) <= self.settings.position_tolerance
+        return (math.dist(telemetry.position, point) <= self.context.settings.position_tolerance
                 and telemetry.speed < ARRIVAL_SPEED)
 
     # -- the common checks ----------------------------------------------------------------------------
