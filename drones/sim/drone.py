@@ -132,35 +132,32 @@ class SimulatedDrone(Drone):
     # --- time --------------------------------------------------------------------------------------
     def update(self, now: float) -> None:
         """Integrate fixed substeps up to ``now`` (earlier times are ignored)."""
-        with self._lock:  # (every engine period: the lock taken here, without a wrapper's call)
-            self._update(now)
-
-    def _update(self, now: float) -> None:
-        if now <= self._now:
-            return
-        self._now = now
-        self._telemetry = None
-        dt = self.config.substep
-        target = math.floor((now - self._start) / dt + 1e-9)
-        v = self._vehicle
-        self._steps = v.advance(self._start, self._steps, target, dt)
-        if v.contacts.riding is not None:  # (ride_deck does nothing off the deck: not called)
-            v.ride_deck()  # landed on the moving platform (even disarmed): carried along
-        if self._windy:
-            self._blow(now)
-        if self.config.link_loss is not None and self.link_ok(now) != self._link_up:
-            self._link_up = not self._link_up
-            if self._link_up:
-                v.emit("ground_link_restored")
-            else:
-                v.emit("ground_link_lost", "the simulated ground link dropped", altitude=round(v.position[2], 2),
-                       in_air=v.airborne)
-        if self._noisy:
-            s = self.config.position_noise_std
-            self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
-        self._observations = None
-        if self._payload.falling:  # (_settle_payload has nothing to settle otherwise: not called)
-            self._settle_payload()
+        with self._lock:  # (every engine period: the lock taken here and the update inline, without a call)
+            if now <= self._now:
+                return
+            self._now = now
+            self._telemetry = None
+            dt = self.config.substep
+            target = math.floor((now - self._start) / dt + 1e-9)
+            v = self._vehicle
+            self._steps = v.advance(self._start, self._steps, target, dt)
+            if v.contacts.riding is not None:  # (ride_deck does nothing off the deck: not called)
+                v.ride_deck()  # landed on the moving platform (even disarmed): carried along
+            if self._windy:
+                self._blow(now)
+            if self.config.link_loss is not None and self.link_ok(now) != self._link_up:
+                self._link_up = not self._link_up
+                if self._link_up:
+                    v.emit("ground_link_restored")
+                else:
+                    v.emit("ground_link_lost", "the simulated ground link dropped", altitude=round(v.position[2], 2),
+                           in_air=v.airborne)
+            if self._noisy:
+                s = self.config.position_noise_std
+                self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
+            self._observations = None
+            if self._payload.falling:  # (_settle_payload has nothing to settle otherwise: not called)
+                self._settle_payload()
 
     def _blow(self, now: float) -> None:
         """The wind at ``now``: the mean plus gusts that wander about it (an Ornstein-Uhlenbeck process, 5 s)."""
