@@ -101,6 +101,8 @@ class Engine:
         if rules:  # a rules file (--rules): checked against the catalog, RuleError with file:line
             self.catalog = self.catalog.with_rules(rules)
         self.clock = clock or SimulatedClock()
+        #: the clock's time now: the clock's own method (every period, the event log and the journal ask it)
+        self.now: Callable[[], float] = self.clock.now
         self.period = 1.0 / rate
         self.settings = settings or EngineSettings()
         self.memory = BeliefMemory(clock=self.clock)
@@ -173,9 +175,6 @@ class Engine:
         self._lock = threading.RLock()
 
     # -- the loop ------------------------------------------------------------------------------
-    def now(self) -> float:
-        return self.clock.now()
-
     def tick(self) -> None:
         """One period of the engine, at the clock's current time."""
         with self._lock, self.period_guard():
@@ -183,17 +182,19 @@ class Engine:
             if not self._started:
                 self._begin()
             now = self.clock.now()
-            self.drone.update(now)
-            for event in self.drone.events():  # at the time it happened (the robot's clock is the engine's)
+            drone, memory = self.drone, self.memory
+            drone.update(now)
+            for event in drone.events():  # at the time it happened (the robot's clock is the engine's)
                 self.log.record(f"drone_{event.kind}", detail=event.detail, at=min(event.time, now), **event.data)
             for updater in self.updaters:
-                updater.tick(self.memory, now)
+                updater.tick(memory, now)
             for capability, reason in self.resources.update(now):
                 self.coordinator.fail_users(capability, reason)
             if self.safety is not None:  # before the behaviors are monitored: a contingency preempts in this tick
                 self.safety.tick(now)
             self.coordinator.tick()
-            self.timers.run_due()
+            if self.timers._due:  # (none due: run_due's answer, without its call)
+                self.timers.run_due()
             if self.tick_callbacks:
                 for callback in list(self.tick_callbacks):
                     try:

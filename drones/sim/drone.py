@@ -99,6 +99,9 @@ class SimulatedDrone(Drone):
         self._blown = start_time  # when the gusts were last drawn
         self._link_up = True
         self._weather = random.Random(seed + 7919)  # the gusts and dropped detections (apart from the noise)
+        # what the (frozen) configuration asks of every period, read once
+        self._windy = self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0
+        self._noisy = self.config.position_noise_std > 0.0
 
     @_locked
     def place(self, position: Vector, yaw: float = 0.0, *, flying: bool = False,
@@ -129,33 +132,32 @@ class SimulatedDrone(Drone):
     # --- time --------------------------------------------------------------------------------------
     def update(self, now: float) -> None:
         """Integrate fixed substeps up to ``now`` (earlier times are ignored)."""
-        with self._lock:  # (every engine period: the lock taken here, without a wrapper's call)
-            self._update(now)
-
-    def _update(self, now: float) -> None:
-        if now <= self._now:
-            return
-        self._now = now
-        self._telemetry = None
-        dt = self.config.substep
-        target = math.floor((now - self._start) / dt + 1e-9)
-        v = self._vehicle
-        self._steps = v.advance(self._start, self._steps, target, dt)
-        v.ride_deck()  # landed on the moving platform (even disarmed): carried along
-        if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0:
-            self._blow(now)
-        if self.config.link_loss is not None and self.link_ok(now) != self._link_up:
-            self._link_up = not self._link_up
-            if self._link_up:
-                v.emit("ground_link_restored")
-            else:
-                v.emit("ground_link_lost", "the simulated ground link dropped", altitude=round(v.position[2], 2),
-                       in_air=v.airborne)
-        if self.config.position_noise_std > 0.0:
-            s = self.config.position_noise_std
-            self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
-        self._observations = None
-        self._settle_payload()
+        with self._lock:  # (every engine period: the lock taken here and the update inline, without a call)
+            if now <= self._now:
+                return
+            self._now = now
+            self._telemetry = None
+            dt = self.config.substep
+            target = math.floor((now - self._start) / dt + 1e-9)
+            v = self._vehicle
+            self._steps = v.advance(self._start, self._steps, target, dt)
+            if v.contacts.riding is not None:  # (ride_deck does nothing off the deck: not called)
+                v.ride_deck()  # landed on the moving platform (even disarmed): carried along
+            if self._windy:
+                self._blow(now)
+            if self.config.link_loss is not None and self.link_ok(now) != self._link_up:
+                self._link_up = not self._link_up
+                if self._link_up:
+                    v.emit("ground_link_restored")
+                else:
+                    v.emit("ground_link_lost", "the simulated ground link dropped", altitude=round(v.position[2], 2),
+                           in_air=v.airborne)
+            if self._noisy:
+                s = self.config.position_noise_std
+                self._noise = (self._rng.gauss(0.0, s), self._rng.gauss(0.0, s), self._rng.gauss(0.0, s))
+            self._observations = None
+            if self._payload.falling:  # (_settle_payload has nothing to settle otherwise: not called)
+                self._settle_payload()
 
     def _blow(self, now: float) -> None:
         """The wind at ``now``: the mean plus gusts that wander about it (an Ornstein-Uhlenbeck process, 5 s)."""
@@ -187,13 +189,13 @@ class SimulatedDrone(Drone):
 
     def _read_telemetry(self, v: Multicopter) -> Telemetry:
         position, yaw = v.carried(self._now)  # the last whole substep's state, carried on to ``time``
-        if self.config.position_noise_std > 0.0:
+        if self._noisy:
             position = tuple(p + n for p, n in zip(position, self._noise, strict=True))  # type: ignore[assignment]
         battery = v.battery
         return telemetry_snapshot(  # Telemetry(...), made faster (every engine period)
             self._now, position, v.velocity, yaw, battery.percent, battery.voltage, v.armed, v.landed_state,
             v.mode, True, self.world.home,
-            v.wind if self.config.wind != (0.0, 0.0) or self.config.wind_gust > 0.0 else None,
+            v.wind if self._windy else None,
             self.link_ok(self._now) if self.config.link_loss is not None else None)
 
     @_locked
@@ -414,9 +416,9 @@ class SimulatedDrone(Drone):
         v = self._vehicle
         return to_png(self._renderer.render(v.position, v.yaw, self.camera, self._now, width, height))
 
-    @_locked
     def payload(self) -> list[str]:
-        """The items the drone carries, in the order they are released."""
+        """The items the drone carries, in the order they are released (a copy made at once, without the lock: the
+        telemetry beliefs ask it every update)."""
         return list(self._payload.carried)
 
     @_command

@@ -85,9 +85,12 @@ class ProgressWatch:
 
     def stalled(self, now: float, *errors: float) -> bool:
         """Record the current errors; True once no error has improved for ``stall_time`` seconds."""
-        best = self.best
-        for i, (error, step) in enumerate(zip(errors, self.steps, strict=True)):
-            if error <= best[i] - step or best[i] == math.inf or best[i] == -math.inf:  # math.isinf, without its call
+        best, steps = self.best, self.steps
+        if len(errors) != len(steps):
+            raise ValueError(f"{len(errors)} errors watched with {len(steps)} progress steps")
+        for i in range(len(steps)):  # (every period of a motion behavior: no zip, no enumerate)
+            error, was = errors[i], best[i]
+            if error <= was - steps[i] or was == math.inf or was == -math.inf:  # math.isinf, without its call
                 best[i] = error
                 self.since = now
         return now - self.since >= self.stall_time
@@ -130,13 +133,21 @@ class MotionBehavior(BehaviorProcess):
         self.begin(t)
 
     def on_run(self) -> Outcome | None:
-        t = self.telemetry()
+        t = self.context.drone.telemetry()  # self.telemetry(), one call fewer (every period)
         if not t.link_ok:
             return self.fail("the link to the drone is lost")
-        self._was_armed = self._was_armed or t.armed
-        trouble = self._command_trouble() or self._flight_trouble(t)
-        if trouble:
-            return self.fail(trouble)
+        armed = t.armed
+        self._was_armed = self._was_armed or armed
+        # the common checks, each called only when it may find trouble: no command waiting for its answer once one
+        # was accepted leaves _command_trouble nothing to do, and a drone armed in the air none to _flight_trouble
+        if self._commands or not self._answered:
+            trouble = self._command_trouble()
+            if trouble:
+                return self.fail(trouble)
+        if not armed or t.landed_state is not LandedState.IN_AIR:
+            trouble = self._flight_trouble(t)
+            if trouble:
+                return self.fail(trouble)
         return self.step(t)
 
     def on_stop(self, outcome: Outcome) -> None:
@@ -161,13 +172,13 @@ class MotionBehavior(BehaviorProcess):
     def no_progress(self, what: str | Callable[[], str], *errors: float) -> Outcome | None:
         """WRONG_PROGRESS when none of ``errors`` shrank for ``stall_time``; ``what`` completes the reason (a function
         giving it, on the hot path: the text is made only when someone will read it)."""
-        if self.progress.stalled(self.now(), *errors):
+        if self.progress.stalled(self.context.clock(), *errors):  # (self.now(), one call fewer: every period)
             return self.fail(f"no progress {what() if callable(what) else what} for {self.settings.stall_time:g} s")
         return None
 
     def arrived(self, telemetry: Telemetry, point: Sequence[float]) -> bool:
         """Within the position tolerance of ``point`` and nearly still."""
-        return (math.dist(telemetry.position, point) <= self.settings.position_tolerance
+        return (math.dist(telemetry.position, point) <= self.context.settings.position_tolerance
                 and telemetry.speed < ARRIVAL_SPEED)
 
     # -- the common checks ----------------------------------------------------------------------------

@@ -299,20 +299,25 @@ class BehaviorCoordinator:
             if not activation.running:
                 self._begin_when_ready(activation)
                 continue
-            outcome, message = self._monitor(activation, now)
+            process = activation.process  # Algorithm 2's monitoring, inline (every active behavior, every tick)
+            try:
+                outcome = process.on_run()
+            except Exception as exc:
+                logger.exception("behavior %s raised", activation.name)
+                process.reason = f"it raised {type(exc).__name__}: {exc}"
+                outcome = Outcome.WRONG_PROGRESS
+            if outcome is None and (activation.timeout is None or now - activation.started_at < activation.timeout):
+                continue  # goes on (the usual answer): what _judged would say, without its call
+            outcome, message = self._judged(activation, outcome, now)
             if outcome is not None:
                 self._finish(activation, outcome, message)
         if self._react or self._rules.due:
             self.react()
 
-    def _monitor(self, activation: Activation, now: float) -> tuple[Outcome | None, str]:
+    def _judged(self, activation: Activation, outcome: Outcome | None, now: float) -> tuple[Outcome | None, str]:
+        """What ends ``activation`` after its process's ``on_run`` answered ``outcome`` at ``now`` (None: it goes
+        on), and the message saying why."""
         process = activation.process
-        try:
-            outcome = process.on_run()
-        except Exception as exc:
-            logger.exception("behavior %s raised", activation.name)
-            process.reason = f"it raised {type(exc).__name__}: {exc}"
-            outcome = Outcome.WRONG_PROGRESS
         if outcome is Outcome.WRONG_PROGRESS:
             reason = f" ({process.reason})" if process.reason else ""
             return outcome, wrong_progress_message(activation.name) + reason

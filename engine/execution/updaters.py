@@ -59,6 +59,9 @@ def battery_level(percent: float) -> str:
 TELEMETRY_PREDICATES = {"position": 2, "flight_state": 2, "charge": 2, "battery_level": 2, "armed": 2,
                         "orientation": 2, "speed": 2, "flight_mode": 2, "communication": 2, "position_accuracy": 2,
                         "wind": 2}
+#: The first argument of each belief the telemetry updater writes (the second is the value it reads)
+SUBJECTS = {name: "self" for name in TELEMETRY_PREDICATES} | {"charge": "battery", "communication": "wireless"}
+_UNWRITTEN = object()  # the value of a belief not written (or retracted since): never equal to a value read
 
 
 class PositionSource:
@@ -91,7 +94,7 @@ class TelemetryUpdater(BeliefUpdater):
         self.position_source = position_source or PositionSource()
         self._state: str | None = None
         self._carried: set[str] = set()  # the items the drone said it carries, as believed
-        self._written: dict[str, tuple] = {}  # predicate -> the arguments last believed (and still believed)
+        self._written: dict[str, Any] = {}  # predicate -> the value last believed (and still believed)
         self._memory: BeliefMemory | None = None
 
     def update(self, memory: BeliefMemory, now: float) -> None:
@@ -99,33 +102,55 @@ class TelemetryUpdater(BeliefUpdater):
             self._memory, self._written = memory, {}
             memory.subscribe(self._changed, TELEMETRY_PREDICATES)  # of what it writes only
         t = self.drone.telemetry()
-        self._state = flight_state(t, self._state)
+        state = self._state = flight_state(t, self._state)
         percent = t.battery_percent
-        facts = [
-            ("flight_state", ("self", self._state)),
-            ("charge", ("battery", int(math.floor(percent)))),
-            ("battery_level", ("self", battery_level(percent))),
-            ("armed", ("self", "yes" if t.armed else "no")),
-            ("orientation", ("self", round(t.yaw))),
-            ("speed", ("self", round(t.speed, 1))),
-            ("flight_mode", ("self", t.flight_mode)),
-            ("communication", ("wireless", "ok" if t.link_ok and t.ground_link is not False else "lost")),
-        ]
+        # Each value is compared with the one last believed before its belief is made: only what changed is written,
+        # in this order (a belief with a lifetime is renewed every time).
+        written, renewed, unwritten = self._written, memory.lifetimes, _UNWRITTEN
+        if written.get("flight_state", unwritten) != state or "flight_state" in renewed:
+            self._write(memory, "flight_state", state)
+        value: Any = int(math.floor(percent))
+        if written.get("charge", unwritten) != value or "charge" in renewed:
+            self._write(memory, "charge", value)
+        value = battery_level(percent)
+        if written.get("battery_level", unwritten) != value or "battery_level" in renewed:
+            self._write(memory, "battery_level", value)
+        value = "yes" if t.armed else "no"
+        if written.get("armed", unwritten) != value or "armed" in renewed:
+            self._write(memory, "armed", value)
+        value = round(t.yaw)
+        if written.get("orientation", unwritten) != value or "orientation" in renewed:
+            self._write(memory, "orientation", value)
+        value = round(t.speed, 1)
+        if written.get("speed", unwritten) != value or "speed" in renewed:
+            self._write(memory, "speed", value)
+        value = t.flight_mode
+        if written.get("flight_mode", unwritten) != value or "flight_mode" in renewed:
+            self._write(memory, "flight_mode", value)
+        value = "ok" if t.link_ok and t.ground_link is not False else "lost"
+        if written.get("communication", unwritten) != value or "communication" in renewed:
+            self._write(memory, "communication", value)
         if t.wind is not None:  # to half a meter per second: gusts do not rewrite it every update
-            facts.append(("wind", ("self", round(2.0 * math.hypot(*t.wind)) / 2.0)))
-        if self.position_source.from_telemetry:
+            value = round(2.0 * math.hypot(*t.wind)) / 2.0
+            if written.get("wind", unwritten) != value or "wind" in renewed:
+                self._write(memory, "wind", value)
+        if self.position_source.owner is None:  # from_telemetry, without the property's call
             x, y, z = t.position
-            facts.append(("position", ("self", (round(x, 2), round(y, 2), round(z, 2)))))
+            value = (round(x, 2), round(y, 2), round(z, 2))
+            if written.get("position", unwritten) != value or "position" in renewed:
+                self._write(memory, "position", value)
         if t.position_accuracy is not None:  # the vehicle's own estimate says how far off it may be
-            facts.append(("position_accuracy", ("self", round(t.position_accuracy, 1))))
-        written, lifetimes = self._written, memory.lifetimes
-        for name, args in facts:  # only what changed (a belief with a lifetime is renewed every time)
-            if written.get(name) != args or name in lifetimes:
-                memory.add(Struct(name, args))
-                written[name] = args
+            value = round(t.position_accuracy, 1)
+            if written.get("position_accuracy", unwritten) != value or "position_accuracy" in renewed:
+                self._write(memory, "position_accuracy", value)
         carried = self.drone.payload()  # carry(self, X) follows what the drone says it carries
         if carried or self._carried:
             self._carry(memory, set(carried))
+
+    def _write(self, memory: BeliefMemory, name: str, value: Any) -> None:
+        """Believe ``name(subject, value)`` (its subject: :data:`SUBJECTS`), and remember it was written."""
+        memory.add(Struct(name, (SUBJECTS[name], value)))
+        self._written[name] = value
 
     def _carry(self, memory: BeliefMemory, carried: set[str]) -> None:
         for item in sorted(carried - self._carried):
@@ -136,8 +161,10 @@ class TelemetryUpdater(BeliefUpdater):
 
     def _changed(self, change: Any) -> None:
         """A belief this updater wrote was retracted (by a mission, an operator, an exclusive value): forget it."""
-        if change.kind == "removed" and self._written.get(change.belief.name) == change.belief.args:
-            del self._written[change.belief.name]
+        if change.kind == "removed":
+            name, args = change.belief.name, change.belief.args
+            if name in self._written and args == (SUBJECTS[name], self._written[name]):
+                del self._written[name]
 
 
 def register_computed(memory: BeliefMemory, drone: Drone, cruise_speed: float,

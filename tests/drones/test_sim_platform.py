@@ -145,3 +145,25 @@ def test_landing_on_the_deck_is_deterministic():
         return clock.drone.telemetry().position, [(e.time, e.kind) for e in clock.events]
 
     assert trajectory() == trajectory()
+
+
+def test_a_period_skips_riding_the_deck_only_when_riding_it_would_move_nothing():
+    """The drone's period calls ``ride_deck`` only while the vehicle stands on the deck (``contacts.riding``): at
+    every other period of a flight that lands on the deck, rides it and takes off again, riding would change
+    nothing."""
+    clock = land_on_the_deck()
+    drone = clock.drone
+    skipped = ridden = 0
+    for period in range(300):
+        if period == 60:
+            assert drone.takeoff(2.5).ok
+        clock.run(DT)
+        v = drone._vehicle
+        if v.contacts.riding is None:
+            before = (v.position, v.velocity, v.airborne)
+            v.ride_deck()
+            assert (v.position, v.velocity, v.airborne) == before
+            skipped += 1
+        else:
+            ridden += 1
+    assert skipped > 10 and ridden > 10, "the flight neither rode the deck nor left it: the test tests nothing"

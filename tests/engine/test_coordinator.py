@@ -230,6 +230,25 @@ def test_time_out(engine):
     assert event.detail == "The goal of behavior SLOW has not been reached in the expected time (1 seconds)"
 
 
+@pytest.mark.parametrize("name, answer", [("SLOW", None), ("HOVER", Outcome.GOAL_ACHIEVED)],
+                         ids=["going-on-until-its-time-is-out", "recurrent-goal-achieved-goes-on"])
+def test_the_monitors_end_a_behavior_at_the_tick_judging_it_would(engine, name, answer):
+    """The tick's monitoring skips judging an answer that goes on (None, within the timeout): the behavior ends at
+    the very tick at which judging its process's answer ends it, and not before."""
+    assert engine.coordinator.activate(name, timeout=1.0).accepted
+    activation = engine.coordinator.active()[name]
+    activation.process.on_run = lambda: answer
+    ticks = 0
+    while ticks < 60:  # 1 s of timeout at 20 Hz
+        judged, _ = engine.coordinator._judged(activation, answer, engine.now())  # at the next tick's time
+        engine.step(engine.period)
+        ticks += 1
+        assert engine.coordinator.is_active(name) == (judged is None)
+        if judged is not None:
+            break
+    assert ticks > 10 and kinds(engine, name)[-1] == "TIME_OUT"
+
+
 def test_timeout_overridden_per_request(engine):
     engine.coordinator.activate("MOVE", timeout=0.5)
     engine.step(1.0)

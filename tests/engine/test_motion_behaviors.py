@@ -434,3 +434,54 @@ def test_a_drone_that_does_not_answer_or_move_gives_wrong_progress(drone_class, 
     started = engine.log.events(kind="activated", behavior="GO_TO_POINT")[-1].time
     if after is not None:  # the time the settings allow
         assert event.time - started == pytest.approx(getattr(engine.settings, after), abs=0.1)
+
+
+# -- the common checks' fast path ------------------------------------------------------------------------------
+def _checks_called_every_period(self):
+    """``MotionBehavior.on_run`` as it was, calling both common checks every period: the slow path."""
+    t = self.telemetry()
+    if not t.link_ok:
+        return self.fail("the link to the drone is lost")
+    self._was_armed = self._was_armed or t.armed
+    trouble = self._command_trouble() or self._flight_trouble(t)
+    if trouble:
+        return self.fail(trouble)
+    return self.step(t)
+
+
+def _flown_and_landed_by_the_drone() -> list[tuple]:
+    """A take-off, a flight to a point, and a flight the drone ends by landing on its own (its land command sent
+    behind the behavior's back): each common check finds nothing, then trouble."""
+    engine = make_engine()
+    execute(engine, "TAKE_OFF", {"ALTITUDE": 3})
+    execute(engine, "GO_TO_POINT", {"COORDINATES": [2.0, 1.0, 3.0]})
+    assert engine.coordinator.activate("GO_TO_POINT", {"COORDINATES": [15.0, 0.0, 3.0], "SPEED": 0.5}).accepted
+    engine.step(2.0)
+    engine.drone.land()
+    engine.step(10.0)
+    return [(e.time, e.kind, e.behavior, e.detail) for e in engine.log.events()]
+
+
+def test_the_common_checks_skipped_in_the_air_end_the_flight_as_calling_them_every_period(monkeypatch):
+    from aeroexec.engine.behaviors.flight_control import MotionBehavior
+
+    fast = _flown_and_landed_by_the_drone()
+    assert any(kind == "WRONG_PROGRESS" and "landing on its own" in detail for _, kind, _, detail in fast), \
+        "the drone's landing did not end the flight: the test tests nothing"
+    monkeypatch.setattr(MotionBehavior, "on_run", _checks_called_every_period)
+    assert _flown_and_landed_by_the_drone() == fast
+
+
+def test_the_flight_check_skipped_for_a_drone_armed_in_the_air_finds_no_trouble():
+    engine = airborne()
+    assert engine.coordinator.activate("KEEP_HOVERING").accepted
+    process = engine.coordinator.active()["KEEP_HOVERING"].process
+    t = tel(engine)
+    for was_armed in (True, False):
+        for needs_flight in (True, False):
+            process._was_armed, process.needs_flight = was_armed, needs_flight
+            assert process._flight_trouble(dataclasses.replace(t, armed=True, landed_state=LandedState.IN_AIR)) is None
+    engine.step(0.5)
+    assert process._commands == [] and process._answered  # the command check's fast path: nothing waits
+    since = process.progress.since
+    assert process._command_trouble() is None and process.progress.since == since and process._commands == []

@@ -6,9 +6,10 @@ import json
 import math
 
 import pytest
-from aeroexec.compact_json import compact_encoder
 from hypothesis import given
 from hypothesis import strategies as st
+
+from aeroexec.compact_json import compact_encoder
 
 VALUES = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(),
                       lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(), inner, max_size=4),
