@@ -49,19 +49,21 @@ class Timers:
 
     def __init__(self, clock: Callable[[], float]) -> None:
         self._clock = clock
-        self._due: list[tuple[float, int, Callable[[], None]]] = []
+        #: the callbacks to run, a heap by their time (empty: :meth:`run_due` has nothing to do)
+        self.scheduled: list[tuple[float, int, Callable[[], None]]] = []
         self._count = 0
 
     def after(self, seconds: float, callback: Callable[[], None]) -> None:
         self._count += 1
-        heapq.heappush(self._due, (self._clock() + seconds, self._count, callback))
+        heapq.heappush(self.scheduled, (self._clock() + seconds, self._count, callback))
 
     def run_due(self) -> None:
-        if not self._due:
+        due = self.scheduled
+        if not due:
             return
         now = self._clock()
-        while self._due and self._due[0][0] <= now + 1e-9:
-            _, _, callback = heapq.heappop(self._due)
+        while due and due[0][0] <= now + 1e-9:
+            _, _, callback = heapq.heappop(due)
             try:
                 callback()
             except Exception:
@@ -193,7 +195,7 @@ class Engine:
             if self.safety is not None:  # before the behaviors are monitored: a contingency preempts in this tick
                 self.safety.tick(now)
             self.coordinator.tick()
-            if self.timers._due:  # (none due: run_due's answer, without its call)
+            if self.timers.scheduled:  # (none scheduled: run_due's answer, without its call)
                 self.timers.run_due()
             if self.tick_callbacks:
                 for callback in list(self.tick_callbacks):

@@ -106,51 +106,31 @@ class TelemetryUpdater(BeliefUpdater):
         percent = t.battery_percent
         # Each value is compared with the one last believed before its belief is made: only what changed is written,
         # in this order (a belief with a lifetime is renewed every time).
-        written, renewed, unwritten = self._written, memory.lifetimes, _UNWRITTEN
-        if written.get("flight_state", unwritten) != state or "flight_state" in renewed:
-            self._write(memory, "flight_state", state)
-        value: Any = int(math.floor(percent))
-        if written.get("charge", unwritten) != value or "charge" in renewed:
-            self._write(memory, "charge", value)
-        value = battery_level(percent)
-        if written.get("battery_level", unwritten) != value or "battery_level" in renewed:
-            self._write(memory, "battery_level", value)
-        value = "yes" if t.armed else "no"
-        if written.get("armed", unwritten) != value or "armed" in renewed:
-            self._write(memory, "armed", value)
-        value = round(t.yaw)
-        if written.get("orientation", unwritten) != value or "orientation" in renewed:
-            self._write(memory, "orientation", value)
-        value = round(t.speed, 1)
-        if written.get("speed", unwritten) != value or "speed" in renewed:
-            self._write(memory, "speed", value)
-        value = t.flight_mode
-        if written.get("flight_mode", unwritten) != value or "flight_mode" in renewed:
-            self._write(memory, "flight_mode", value)
-        value = "ok" if t.link_ok and t.ground_link is not False else "lost"
-        if written.get("communication", unwritten) != value or "communication" in renewed:
-            self._write(memory, "communication", value)
+        values: list[tuple[str, Any]] = [
+            ("flight_state", state),
+            ("charge", int(math.floor(percent))),
+            ("battery_level", battery_level(percent)),
+            ("armed", "yes" if t.armed else "no"),
+            ("orientation", round(t.yaw)),
+            ("speed", round(t.speed, 1)),
+            ("flight_mode", t.flight_mode),
+            ("communication", "ok" if t.link_ok and t.ground_link is not False else "lost"),
+        ]
         if t.wind is not None:  # to half a meter per second: gusts do not rewrite it every update
-            value = round(2.0 * math.hypot(*t.wind)) / 2.0
-            if written.get("wind", unwritten) != value or "wind" in renewed:
-                self._write(memory, "wind", value)
+            values.append(("wind", round(2.0 * math.hypot(*t.wind)) / 2.0))
         if self.position_source.owner is None:  # from_telemetry, without the property's call
             x, y, z = t.position
-            value = (round(x, 2), round(y, 2), round(z, 2))
-            if written.get("position", unwritten) != value or "position" in renewed:
-                self._write(memory, "position", value)
+            values.append(("position", (round(x, 2), round(y, 2), round(z, 2))))
         if t.position_accuracy is not None:  # the vehicle's own estimate says how far off it may be
-            value = round(t.position_accuracy, 1)
-            if written.get("position_accuracy", unwritten) != value or "position_accuracy" in renewed:
-                self._write(memory, "position_accuracy", value)
+            values.append(("position_accuracy", round(t.position_accuracy, 1)))
+        written, renewed = self._written, memory.lifetimes
+        for name, value in values:
+            if written.get(name, _UNWRITTEN) != value or name in renewed:
+                memory.add(Struct(name, (SUBJECTS[name], value)))
+                written[name] = value
         carried = self.drone.payload()  # carry(self, X) follows what the drone says it carries
         if carried or self._carried:
             self._carry(memory, set(carried))
-
-    def _write(self, memory: BeliefMemory, name: str, value: Any) -> None:
-        """Believe ``name(subject, value)`` (its subject: :data:`SUBJECTS`), and remember it was written."""
-        memory.add(Struct(name, (SUBJECTS[name], value)))
-        self._written[name] = value
 
     def _carry(self, memory: BeliefMemory, carried: set[str]) -> None:
         for item in sorted(carried - self._carried):
